@@ -1,0 +1,33 @@
+// Diagnostics for load and parse time: every error names the file (or BML block),
+// the place (line:column, joint or track name) and what was expected.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace marionette {
+
+enum class Severity { Note, Warning, Error };
+
+struct Diagnostic {
+  Severity severity = Severity::Error;
+  std::string file;     // file path or BML block id; may be empty
+  int line = 0;         // 1-based; 0 when unknown
+  int column = 0;       // 1-based; 0 when unknown
+  std::string message;  // what is wrong and what was expected
+
+  // "file:line:col: error: message" (the place parts left out when unknown).
+  [[nodiscard]] std::string format() const;
+};
+
+// A list of diagnostics collected while loading; `ok()` is false if any is an error.
+struct Diagnostics {
+  std::vector<Diagnostic> items;
+
+  void error(std::string file, std::string message, int line = 0, int column = 0);
+  void warning(std::string file, std::string message, int line = 0, int column = 0);
+  [[nodiscard]] bool ok() const noexcept;
+  [[nodiscard]] bool hasWarnings() const noexcept;
+  [[nodiscard]] std::string format() const;  // one line per diagnostic
+};
+
+}  // namespace marionette

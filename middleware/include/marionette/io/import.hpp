@@ -1,0 +1,43 @@
+// Loading characters and motions from files. The format is chosen by extension:
+// .gltf .glb .vrm .vrma through tinygltf; .fbx .dae .bvh .md5mesh .md5anim .x
+// (and anything else Assimp reads) through Assimp when built with it.
+#pragma once
+#include <optional>
+#include <string>
+
+#include "marionette/core/diagnostic.hpp"
+#include "marionette/io/asset.hpp"
+
+namespace marionette {
+
+struct ImportOptions {
+  bool loadMeshes = true;     // false: skeleton and clips only (faster; what a motion file needs)
+  bool loadAnimations = true;
+  // Multiplies every length (translations, positions) after the file's own unit
+  // conversion. FBX files are converted to metres from their UnitScaleFactor;
+  // BVH has no unit, so its numbers are kept unless this says otherwise.
+  float extraScale = 1.0f;
+};
+
+struct ImportResult {
+  std::optional<Asset> asset;  // empty when loading failed
+  Diagnostics diagnostics;     // errors and warnings, each naming the file
+  [[nodiscard]] bool ok() const noexcept { return asset.has_value() && diagnostics.ok(); }
+};
+
+// Never throws; never returns NaN data (non-finite values are an error naming the place).
+[[nodiscard]] ImportResult importAsset(const std::string& path, const ImportOptions& options = {});
+
+// The individual importers (importAsset dispatches to them).
+[[nodiscard]] ImportResult importGltf(const std::string& path, const ImportOptions& options);
+#ifdef MARIONETTE_HAS_ASSIMP
+[[nodiscard]] ImportResult importWithAssimp(const std::string& path, const ImportOptions& options);
+#endif
+
+// Re-targets a clip's joint indices from one skeleton to another by exact joint
+// name (same naming, e.g. a Pab motion file onto the Pab character). Tracks of
+// joints the target lacks are dropped and counted in `unmatched` when given.
+[[nodiscard]] Clip bindClipByName(const Clip& clip, const Skeleton& from, const Skeleton& to,
+                                  int* unmatched = nullptr);
+
+}  // namespace marionette

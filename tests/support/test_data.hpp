@@ -1,0 +1,26 @@
+// Where the tests find third-party data. Missing data is a test failure, never a skip.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace marionette::test {
+
+inline std::string sharedAsset(const std::string& relative) {
+  return std::string(MARIONETTE_SHARED_DIR) + "/assets/" + relative;
+}
+inline std::string assimpModel(const std::string& relative) {
+  return std::string(MARIONETTE_ASSIMP_MODELS) + "/" + relative;
+}
+inline std::string sourceFile(const std::string& relative) {
+  return std::string(MARIONETTE_SOURCE_DIR) + "/" + relative;
+}
+
+// Fails the current test (fatally) if the file is missing, naming it.
+#define MARIONETTE_REQUIRE_FILE(path)                                                              \
+  ASSERT_TRUE(std::filesystem::exists(path))                                                       \
+      << "test data missing: " << (path)                                                          \
+      << " (../shared beside the checkout, and Debian assimp-testmodels, must be present)"
+
+}  // namespace marionette::test
