@@ -1,0 +1,32 @@
+// Blending local poses: N weighted layers with optional per-joint masks, then
+// additive layers. Per-frame code: no allocation, no exceptions, never NaN.
+#pragma once
+#include <span>
+
+#include "marionette/core/transform.hpp"
+
+namespace marionette {
+
+struct BlendLayer {
+  std::span<const Transform> pose;        // one transform per joint
+  float weight = 1.0f;                    // layer weight, >= 0 (negative and NaN count as 0)
+  std::span<const float> jointWeights{};  // optional per-joint mask in [0, 1]; empty = all 1
+  bool additive = false;                  // pose is a delta made by makeAdditiveDelta()
+};
+
+// Normal layers: per joint, the weighted mean of the layers' transforms with
+// weights w = layer.weight * mask[j]. Weights are relative when they sum to 1 or
+// more; below 1 the rest pose fills the remainder (a single layer fading in goes
+// from rest to the clip; all weights 0 gives the rest pose, never NaN).
+// Rotations: sign-aligned to the rest rotation before summing (q and -q are one
+// rotation), then normalized.
+// Additive layers are applied after, in order: rotation r = r * slerp(1, d, w),
+// translation t += w * dt, scale s *= mix(1, ds, w).
+void blendPoses(std::span<const BlendLayer> layers, std::span<const Transform> rest,
+                std::span<Transform> out) noexcept;
+
+// Delta that, applied additively at weight 1 on `reference`, gives `pose`.
+void makeAdditiveDelta(std::span<const Transform> pose, std::span<const Transform> reference,
+                       std::span<Transform> outDelta) noexcept;
+
+}  // namespace marionette

@@ -1,0 +1,100 @@
+// A character: a rig, a world placement, clip layers, and the TransformBuffer
+// it writes every frame. Created and owned by a Scene.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "marionette/animation/blending.hpp"
+#include "marionette/animation/sampling.hpp"
+#include "marionette/scene/listener.hpp"
+#include "marionette/scene/rig.hpp"
+#include "marionette/scene/transform_buffer.hpp"
+
+namespace marionette {
+
+class Scene;
+
+struct PlayOptions {
+  float weight = 1.0f;               // target weight (blend is relative; see blendPoses)
+  float speed = 1.0f;                // playback rate; 0 holds, negative plays backwards
+  WrapMode wrap = WrapMode::Loop;    // Clamp holds the last frame
+  double startTime = 0.0;            // clip-local time to start at
+  float fadeIn = 0.0f;               // seconds to reach `weight` (0: at once)
+  bool additive = false;             // play as a delta against the clip's first frame
+  bool rootMotion = false;           // move the character by the clip's root motion
+  std::vector<float> jointMask;      // optional per-joint weights in [0,1]; empty = whole body
+};
+
+struct CharacterStats {
+  double lastUpdateMicros = 0.0;  // wall time of the last update (when stats are on)
+  int activeLayers = 0;           // clip layers that exist now
+  bool sampledDirect = false;     // the last frame took the one-clip fast path
+};
+
+class Character {
+ public:
+  static constexpr int kMaxLayers = 8;
+
+  Character(std::string name, std::shared_ptr<const Rig> rig);
+
+  [[nodiscard]] const std::string& name() const noexcept { return name_; }
+  [[nodiscard]] const Rig& rig() const noexcept { return *rig_; }
+  [[nodiscard]] const Skeleton& skeleton() const noexcept { return rig_->skeleton(); }
+  [[nodiscard]] const TransformBuffer& transformBuffer() const noexcept { return buffer_; }
+  [[nodiscard]] TransformBuffer& transformBuffer() noexcept { return buffer_; }
+  [[nodiscard]] std::span<const Transform> localPose() const noexcept { return pose_; }
+  [[nodiscard]] const CharacterStats& stats() const noexcept { return stats_; }
+
+  // World placement: position in metres, heading in radians about +Y (0 faces +Z).
+  void setPosition(const glm::vec3& p) noexcept;
+  void setHeading(float radians) noexcept;
+  [[nodiscard]] glm::vec3 position() const noexcept { return position_; }
+  [[nodiscard]] float heading() const noexcept { return heading_; }
+  [[nodiscard]] glm::mat4 worldMatrix() const noexcept;
+
+  // Starts a clip on a layer (0..kMaxLayers-1), replacing what played there.
+  // Returns false (and logs through the scene) for a bad layer or a null clip.
+  bool play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options = {});
+  bool play(int layer, std::string_view clipName, const PlayOptions& options = {});
+  void stop(int layer, float fadeOut = 0.0f);
+  [[nodiscard]] int layerCount() const noexcept;  // layers in use
+  [[nodiscard]] double layerTime(int layer) const noexcept;
+
+  // Advances the layers by dt seconds and writes the transform buffer. Per-frame:
+  // no allocation, no exceptions. dt must be finite and >= 0 (Scene checks).
+  void update(double dt) noexcept;
+
+ private:
+  friend class Scene;
+  struct Layer {
+    std::shared_ptr<const AnimationClip> clip;
+    PlayOptions options;
+    double time = 0.0;        // clip-local time, unwrapped (loops keep counting)
+    float weight = 0.0f;      // current weight (fades)
+    float fadeRate = 0.0f;    // weight per second, signed
+    bool stopping = false;
+    SamplingCursor cursor, rootCursor;
+    std::vector<Transform> pose, reference;  // reference: first frame, for additive layers
+  };
+  void notify(ChangeKind kind, std::string_view what) const;
+  void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
+  void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
+                       float& turn) const noexcept;
+
+  std::string name_;
+  std::shared_ptr<const Rig> rig_;
+  Scene* scene_ = nullptr;
+  glm::vec3 position_{0.0f};
+  float heading_ = 0.0f;
+  std::array<Layer, kMaxLayers> layers_;
+  std::vector<Transform> pose_;
+  std::vector<BlendLayer> blend_;  // capacity kMaxLayers, reserved once
+  TransformBuffer buffer_;
+  CharacterStats stats_;
+};
+
+}  // namespace marionette

@@ -1,0 +1,35 @@
+// SceneListener: how an engine hears what the runtime does. Every callback has
+// a no-op default, so a listener overrides only what it needs. Callbacks come
+// from Scene::update (and from the calls that change a scene) on the caller's
+// thread; the string views are valid only during the call.
+#pragma once
+#include <string_view>
+
+namespace marionette {
+
+class Character;
+
+enum class LogLevel { Info, Warning, Error };
+
+enum class ChangeKind {
+  ClipStarted,   // a clip layer began playing
+  ClipStopped,   // a clip layer was stopped or faded out
+  Placement,     // position or heading set
+};
+
+class SceneListener {
+ public:
+  virtual ~SceneListener() = default;
+  virtual void onCharacterCreated(const Character& /*character*/) {}
+  virtual void onCharacterRemoved(const Character& /*character*/) {}
+  virtual void onCharacterChanged(const Character& /*character*/, ChangeKind /*kind*/, std::string_view /*what*/) {}
+  // BML feedback: a block reached a sync point (e.g. "start", "stroke", "end").
+  virtual void onBehaviorProgress(const Character& /*character*/, std::string_view /*blockId*/,
+                                  std::string_view /*syncPoint*/, double /*time*/) {}
+  virtual void onViseme(const Character& /*character*/, std::string_view /*viseme*/, float /*weight*/,
+                        double /*time*/) {}
+  virtual void onChannelChanged(const Character& /*character*/, std::string_view /*channel*/, float /*value*/) {}
+  virtual void onLog(LogLevel /*level*/, std::string_view /*message*/) {}
+};
+
+}  // namespace marionette

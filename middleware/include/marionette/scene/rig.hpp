@@ -1,0 +1,44 @@
+// Rig: what many characters made from one asset share (read-only once shared):
+// the asset (skeleton, meshes, morph targets) and a library of clips bound to its
+// skeleton, with their root motion. One copy of the data for 1000 characters.
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "marionette/animation/root_motion.hpp"
+#include "marionette/io/asset.hpp"
+
+namespace marionette {
+
+struct AnimationClip {
+  Clip clip;              // as authored, bound to the rig's skeleton
+  RootMotion rootMotion;  // empty when the clip has no root translation
+  Clip inPlaceRoot;       // the root joint's track with root motion removed (one track)
+};
+
+// Extracts root motion (horizontal travel and yaw of the first translated joint,
+// or `rootJoint`) alongside the clip; the clip itself is kept as authored.
+[[nodiscard]] std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton& skeleton,
+                                                                      int rootJoint = -1);
+
+class Rig {
+ public:
+  explicit Rig(std::shared_ptr<const Asset> asset);  // wraps the asset's own clips
+
+  [[nodiscard]] const Asset& asset() const noexcept { return *asset_; }
+  [[nodiscard]] const Skeleton& skeleton() const noexcept { return asset_->skeleton; }
+  [[nodiscard]] const std::vector<std::shared_ptr<const AnimationClip>>& clips() const noexcept { return clips_; }
+  [[nodiscard]] std::shared_ptr<const AnimationClip> findClip(std::string_view name) const noexcept;
+
+  // Adds a clip from another file of the same skeleton naming (bound by joint
+  // name). Returns the number of its tracks that found no joint.
+  int addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string name = {});
+
+ private:
+  std::shared_ptr<const Asset> asset_;
+  std::vector<std::shared_ptr<const AnimationClip>> clips_;
+};
+
+}  // namespace marionette

@@ -1,0 +1,196 @@
+#include "marionette/scene/character.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "marionette/animation/pose.hpp"
+#include "marionette/scene/scene.hpp"
+
+namespace marionette {
+
+Character::Character(std::string name, std::shared_ptr<const Rig> rig) : name_(std::move(name)), rig_(std::move(rig)) {
+  const Skeleton& s = rig_->skeleton();
+  pose_ = s.restPose;
+  blend_.reserve(kMaxLayers);
+  buffer_.resize(s.jointCount(), rig_->asset().morphTargets.size());
+}
+
+void Character::notify(ChangeKind kind, std::string_view what) const {
+  if (scene_) scene_->forEachListener([&](SceneListener& l) { l.onCharacterChanged(*this, kind, what); });
+}
+
+void Character::setPosition(const glm::vec3& p) noexcept {
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+    if (scene_) scene_->log(LogLevel::Warning, "setPosition: non-finite position rejected");
+    return;
+  }
+  position_ = p;
+  notify(ChangeKind::Placement, "position");
+}
+
+void Character::setHeading(float radians) noexcept {
+  if (!std::isfinite(radians)) {
+    if (scene_) scene_->log(LogLevel::Warning, "setHeading: non-finite heading rejected");
+    return;
+  }
+  heading_ = std::remainder(radians, 6.28318530718f);
+  notify(ChangeKind::Placement, "heading");
+}
+
+glm::mat4 Character::worldMatrix() const noexcept {
+  Transform t;
+  t.translation = position_;
+  t.rotation = glm::angleAxis(heading_, glm::vec3(0, 1, 0));
+  return t.matrix();
+}
+
+bool Character::play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options) {
+  if (layer < 0 || layer >= kMaxLayers || !clip) {
+    if (scene_) scene_->log(LogLevel::Warning, "play: layer out of range or no clip; nothing started");
+    return false;
+  }
+  Layer& l = layers_[layer];
+  const std::size_t n = skeleton().jointCount();
+  l.clip = std::move(clip);
+  l.options = options;
+  if (!l.options.jointMask.empty()) l.options.jointMask.resize(n, 0.0f);
+  l.time = std::isfinite(options.startTime) ? options.startTime : 0.0;
+  const float target = std::isfinite(options.weight) ? std::max(0.0f, options.weight) : 0.0f;
+  l.options.weight = target;
+  if (!std::isfinite(l.options.speed)) l.options.speed = 1.0f;
+  if (options.fadeIn > 0.0f && std::isfinite(options.fadeIn)) {
+    l.weight = 0.0f;
+    l.fadeRate = target / options.fadeIn;
+  } else {
+    l.weight = target;
+    l.fadeRate = 0.0f;
+  }
+  l.stopping = false;
+  l.cursor.reset(l.clip->clip);
+  l.rootCursor.reset(l.clip->inPlaceRoot);
+  l.pose.resize(n);  // allocated here (command time), reused every frame
+  if (options.additive) {
+    l.reference.resize(n);
+    sampleClip(l.clip->clip, 0.0f, skeleton().restPose, l.reference);
+  }
+  notify(ChangeKind::ClipStarted, l.clip->clip.name);
+  return true;
+}
+
+bool Character::play(int layer, std::string_view clipName, const PlayOptions& options) {
+  auto clip = rig_->findClip(clipName);
+  if (!clip) {
+    if (scene_) scene_->log(LogLevel::Warning, "play: no clip of that name in the character's rig");
+    return false;
+  }
+  return play(layer, std::move(clip), options);
+}
+
+void Character::stop(int layer, float fadeOut) {
+  if (layer < 0 || layer >= kMaxLayers || !layers_[layer].clip) return;
+  Layer& l = layers_[layer];
+  if (fadeOut > 0.0f && std::isfinite(fadeOut)) {
+    l.stopping = true;
+    l.fadeRate = -std::max(l.weight, 1e-6f) / fadeOut;
+    return;
+  }
+  notify(ChangeKind::ClipStopped, l.clip->clip.name);
+  l.clip.reset();
+}
+
+int Character::layerCount() const noexcept {
+  int n = 0;
+  for (const Layer& l : layers_) n += l.clip ? 1 : 0;
+  return n;
+}
+
+double Character::layerTime(int layer) const noexcept {
+  return (layer >= 0 && layer < kMaxLayers) ? layers_[layer].time : 0.0;
+}
+
+void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
+  const AnimationClip& ac = *layer.clip;
+  const float t = wrapClipTime(layer.time, ac.clip.duration, layer.options.wrap);
+  sampleClip(ac.clip, t, skeleton().restPose, out, &layer.cursor);
+  if (layer.options.rootMotion && !ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, out, &layer.rootCursor);
+  if (layer.options.additive) makeAdditiveDelta(out, layer.reference, out);
+}
+
+void Character::applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
+                                float& turn) const noexcept {
+  const RootMotion& rm = layer.clip->rootMotion;
+  if (!layer.options.rootMotion || rm.empty() || t0 == t1) return;
+  glm::vec3 d;
+  float y;
+  if (t1 > t0) {
+    rm.between(t0, t1, layer.options.wrap, d, y);
+  } else {  // backwards: the inverse of the forward motion from t1 to t0
+    rm.between(t1, t0, layer.options.wrap, d, y);
+    d = glm::angleAxis(-y, glm::vec3(0, 1, 0)) * -d;
+    y = -y;
+  }
+  move += d * weight;
+  turn += y * weight;
+}
+
+void Character::update(double dt) noexcept {
+  glm::vec3 move(0.0f);
+  float turn = 0.0f;
+  int active = 0;
+  Layer* only = nullptr;
+  blend_.clear();
+  for (Layer& l : layers_) {
+    if (!l.clip) continue;
+    // Fade.
+    if (l.fadeRate != 0.0f) {
+      l.weight += static_cast<float>(l.fadeRate * dt);
+      if (l.fadeRate > 0.0f && l.weight >= l.options.weight) {
+        l.weight = l.options.weight;
+        l.fadeRate = 0.0f;
+      }
+      if (l.stopping && l.weight <= 0.0f) {
+        notify(ChangeKind::ClipStopped, l.clip->clip.name);
+        l.clip.reset();
+        continue;
+      }
+    }
+    const double t0 = l.time;
+    l.time += dt * l.options.speed;
+    if (l.options.wrap == WrapMode::Clamp) l.time = std::clamp(l.time, 0.0, static_cast<double>(l.clip->clip.duration));
+    applyRootMotion(l, t0, l.time, l.weight, move, turn);
+    ++active;
+    only = &l;
+  }
+  // Idle fast path: one full-weight, whole-body, normal layer samples straight into the pose.
+  const bool direct = active == 1 && !only->options.additive && only->options.jointMask.empty() && only->weight >= 1.0f;
+  if (active == 0) {
+    std::copy(skeleton().restPose.begin(), skeleton().restPose.end(), pose_.begin());
+  } else if (direct) {
+    sampleLayer(*only, pose_);
+  } else {
+    for (Layer& l : layers_) {
+      if (!l.clip) continue;
+      sampleLayer(l, l.pose);
+      blend_.push_back({l.pose, l.weight, l.options.jointMask, l.options.additive});
+    }
+    blendPoses(blend_, skeleton().restPose, pose_);
+  }
+  // Morph weights: layers in order, later layers override the targets they animate.
+  std::span<float> morphs = buffer_.writeMorphWeights();
+  for (Layer& l : layers_)
+    if (l.clip && !l.clip->clip.morphTracks.empty())
+      sampleMorphWeights(l.clip->clip, wrapClipTime(l.time, l.clip->clip.duration, l.options.wrap), morphs);
+
+  if (move != glm::vec3(0.0f) || turn != 0.0f) {
+    position_ += glm::angleAxis(heading_, glm::vec3(0, 1, 0)) * move;
+    heading_ = std::remainder(heading_ + turn, 6.28318530718f);
+  }
+  localToModel(skeleton(), pose_, buffer_.writeModel());
+  skinningPalette(buffer_.modelMatrices(), skeleton().inverseBind, buffer_.writeSkinning());
+  buffer_.setWorld(worldMatrix());
+  buffer_.finishFrame();
+  stats_.activeLayers = active;
+  stats_.sampledDirect = direct;
+}
+
+}  // namespace marionette
