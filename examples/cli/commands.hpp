@@ -1,0 +1,12 @@
+// Subcommands of the `marionette` tool. Each returns the process exit code:
+// 0 success, 1 warnings, 2 errors (errors on stderr as file:line:col: error: ...).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace marionette::cli {
+
+int inspectCommand(const std::vector<std::string>& args);
+int runCommand(const std::vector<std::string>& args);
+
+}  // namespace marionette::cli

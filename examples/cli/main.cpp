@@ -1,0 +1,33 @@
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+
+namespace {
+void usage() {
+  std::fputs(
+      "usage: marionette <command> [arguments]\n"
+      "  inspect FILE [--json]    skeleton, clips, morph targets and meshes of a character or motion file\n"
+      "  run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]\n"
+      "                           step a scene headless; --trace writes\n"
+      "                           frame,time,character,joint,px,py,pz,qx,qy,qz,qw (world space, metres)\n"
+      "exit status: 0 success, 1 warnings, 2 errors\n",
+      stderr);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
+    usage();
+    return args.empty() ? 2 : 0;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  if (command == "inspect") return marionette::cli::inspectCommand(args);
+  if (command == "run") return marionette::cli::runCommand(args);
+  std::fprintf(stderr, "marionette: error: unknown command '%s'\n", command.c_str());
+  usage();
+  return 2;
+}

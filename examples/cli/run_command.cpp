@@ -1,0 +1,159 @@
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "commands.hpp"
+#include "marionette/core/transform.hpp"
+#include "marionette/scene/scene_file.hpp"
+
+namespace marionette::cli {
+
+namespace {
+struct RunArgs {
+  std::string scene, trace;
+  long frames = 120;
+  double fps = 60.0;
+  bool stats = false;
+};
+
+bool parseNumber(const std::string& text, double& out) {
+  char* end = nullptr;
+  out = std::strtod(text.c_str(), &end);
+  return end && *end == '\0' && !text.empty() && std::isfinite(out);
+}
+
+int parseArgs(const std::vector<std::string>& args, RunArgs& r) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* what) -> const std::string* {
+      if (i + 1 >= args.size()) {
+        std::fprintf(stderr, "marionette run: error: %s needs a value\n", what);
+        return nullptr;
+      }
+      return &args[++i];
+    };
+    double v;
+    if (a == "--frames") {
+      const std::string* s = value("--frames");
+      if (!s || !parseNumber(*s, v) || v < 1 || v > 1e7 || v != std::floor(v)) {
+        if (s) std::fprintf(stderr, "marionette run: error: --frames expects a whole number from 1 to 10000000\n");
+        return 2;
+      }
+      r.frames = static_cast<long>(v);
+    } else if (a == "--fps") {
+      const std::string* s = value("--fps");
+      if (!s || !parseNumber(*s, v) || v <= 0 || v > 1e4) {
+        if (s) std::fprintf(stderr, "marionette run: error: --fps expects a number in (0, 10000]\n");
+        return 2;
+      }
+      r.fps = v;
+    } else if (a == "--trace") {
+      const std::string* s = value("--trace");
+      if (!s) return 2;
+      r.trace = *s;
+    } else if (a == "--stats") {
+      r.stats = true;
+    } else if (!a.empty() && a[0] == '-') {
+      std::fprintf(stderr, "marionette run: error: unknown option '%s'\n", a.c_str());
+      return 2;
+    } else if (r.scene.empty()) {
+      r.scene = a;
+    } else {
+      std::fprintf(stderr, "marionette run: error: one scene file expected, got '%s' too\n", a.c_str());
+      return 2;
+    }
+  }
+  if (r.scene.empty()) {
+    std::fputs("usage: marionette run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]\n", stderr);
+    return 2;
+  }
+  return 0;
+}
+
+// Counts warnings the runtime reports while running.
+struct WarningCounter : SceneListener {
+  int warnings = 0;
+  void onLog(LogLevel level, std::string_view message) override {
+    if (level == LogLevel::Info) return;
+    ++warnings;
+    std::fprintf(stderr, "marionette: %s: %.*s\n", level == LogLevel::Error ? "error" : "warning",
+                 static_cast<int>(message.size()), message.data());
+  }
+};
+
+void writeTraceRows(std::FILE* out, long frame, double time, const Character& c) {
+  const TransformBuffer& b = c.transformBuffer();
+  const glm::mat4& world = b.worldMatrix();
+  const Skeleton& s = c.skeleton();
+  for (std::size_t j = 0; j < b.jointCount(); ++j) {
+    const Transform t = decompose(world * b.modelMatrices()[j]);
+    std::fprintf(out, "%ld,%.6f,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", frame, time, c.name().c_str(),
+                 s.names[j].c_str(), t.translation.x, t.translation.y, t.translation.z, t.rotation.x, t.rotation.y,
+                 t.rotation.z, t.rotation.w);
+  }
+}
+}  // namespace
+
+int runCommand(const std::vector<std::string>& args) {
+  RunArgs r;
+  if (int rc = parseArgs(args, r)) return rc;
+  Scene scene;
+  WarningCounter counter;
+  scene.addListener(&counter);
+  const auto loadStart = std::chrono::steady_clock::now();
+  SceneLoadResult loaded = loadSceneFile(r.scene, scene);
+  const double loadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loadStart).count();
+  std::fputs(loaded.diagnostics.format().c_str(), stderr);
+  if (!loaded.ok()) return 2;
+
+  std::FILE* trace = nullptr;
+  if (!r.trace.empty()) {
+    trace = std::fopen(r.trace.c_str(), "w");
+    if (!trace) {
+      std::fprintf(stderr, "%s: error: cannot open the trace file for writing\n", r.trace.c_str());
+      return 2;
+    }
+    std::fputs("frame,time,character,joint,px,py,pz,qx,qy,qz,qw\n", trace);
+  }
+  scene.setStatsEnabled(r.stats);
+  std::vector<double> totalMicros(scene.characters().size(), 0.0);
+  const double dt = 1.0 / r.fps;
+  const auto runStart = std::chrono::steady_clock::now();
+  for (long f = 0; f < r.frames; ++f) {
+    scene.update(f == 0 ? 0.0 : dt);  // frame 0 is the pose at t = 0
+    for (std::size_t i = 0; i < scene.characters().size(); ++i) {
+      totalMicros[i] += scene.characters()[i]->stats().lastUpdateMicros;
+      if (trace) writeTraceRows(trace, f, scene.time(), *scene.characters()[i]);
+    }
+  }
+  const double runMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - runStart).count();
+  if (trace && std::fclose(trace) != 0) {
+    std::fprintf(stderr, "%s: error: writing the trace failed\n", r.trace.c_str());
+    return 2;
+  }
+
+  std::printf("scene %s: %d characters from %d files loaded in %.1f ms\n", r.scene.c_str(), loaded.charactersAdded,
+              loaded.assetsLoaded, loadMs);
+  std::printf("ran %ld frames at %g fps (%.3f s of scene time) in %.1f ms\n", r.frames, r.fps, scene.time(), runMs);
+  for (const auto& c : scene.characters()) {
+    glm::vec3 p = c->position();
+    std::printf("  %-16s %3zu joints  layers %d  at (%.3f, %.3f, %.3f) heading %.1f deg\n", c->name().c_str(),
+                c->skeleton().jointCount(), c->layerCount(), p.x, p.y, p.z, glm::degrees(c->heading()));
+  }
+  if (r.stats) {
+    std::printf("stats (mean wall time per update, per character):\n");
+    for (std::size_t i = 0; i < scene.characters().size(); ++i) {
+      const Character& c = *scene.characters()[i];
+      std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s\n", c.name().c_str(),
+                  totalMicros[i] / static_cast<double>(r.frames), c.layerCount(),
+                  c.layerCount() == 0 ? " (rest pose only)" : (c.stats().sampledDirect ? " (one-clip fast path)" : " (blend)"));
+    }
+  }
+  if (trace) std::printf("trace: %s\n", r.trace.c_str());
+  if (!loaded.diagnostics.items.empty() || counter.warnings > 0) return loaded.diagnostics.hasWarnings() || counter.warnings ? 1 : 0;
+  return 0;
+}
+
+}  // namespace marionette::cli
