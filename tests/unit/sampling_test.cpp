@@ -96,8 +96,8 @@ TEST(Sampling, CubicSplineMatchesHermite) {
 TEST(Sampling, CursorGivesTheSameResultAsBinarySearch) {
   std::vector<float> times, angles;
   for (int k = 0; k < 100; ++k) {
-    times.push_back(k * 0.1f);
-    angles.push_back(std::sin(k * 0.37f));
+    times.push_back(static_cast<float>(k) * 0.1f);
+    angles.push_back(std::sin(static_cast<float>(k) * 0.37f));
   }
   Clip c = oneTrackClip(rotationTrack(0, times, angles));
   SamplingCursor cursor;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace marionette {
 
@@ -74,6 +75,8 @@ T hermite(const T* v, std::uint32_t i, float u, float span) noexcept {
   return p0 * (2 * u3 - 3 * u2 + 1) + m0 * (u3 - 2 * u2 + u) + p1 * (-2 * u3 + 3 * u2) + m1 * (u3 - u2);
 }
 
+// Quaternion results are unit: nlerp normalizes, step keys are unit (importers
+// normalize), and the cubic case is normalized here.
 template <class T>
 T evaluate(const Track<T>& track, float t, std::uint32_t* hint) noexcept {
   const KeyPos k = locate(track.times, t, hint);
@@ -82,7 +85,10 @@ T evaluate(const Track<T>& track, float t, std::uint32_t* hint) noexcept {
     case Interpolation::Step:
       return v[k.i];
     case Interpolation::CubicSpline:
-      return k.single ? v[k.i * 3 + 1] : hermite(v, k.i, k.u, k.span);
+      if constexpr (std::is_same_v<T, glm::quat>)
+        return safeNormalize(k.single ? v[k.i * 3 + 1] : hermite(v, k.i, k.u, k.span));
+      else
+        return k.single ? v[k.i * 3 + 1] : hermite(v, k.i, k.u, k.span);
     case Interpolation::Linear:
     default:
       return k.single ? v[k.i] : lerpValue(v[k.i], v[k.i + 1], k.u);
@@ -105,7 +111,7 @@ void sampleClipTracks(const Clip& clip, float time, std::span<Transform> out, Sa
     std::uint32_t* h = hints ? hints + k * 3 : scratch;
     Transform& o = out[jt.joint];
     if (!jt.translation.empty()) o.translation = evaluate(jt.translation, time, h + 0);
-    if (!jt.rotation.empty()) o.rotation = safeNormalize(evaluate(jt.rotation, time, h + 1));
+    if (!jt.rotation.empty()) o.rotation = evaluate(jt.rotation, time, h + 1);
     if (!jt.scale.empty()) o.scale = evaluate(jt.scale, time, h + 2);
   }
 }

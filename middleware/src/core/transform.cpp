@@ -4,16 +4,6 @@
 
 namespace marionette {
 
-glm::mat4 Transform::matrix() const noexcept {
-  glm::mat3 r = glm::mat3_cast(rotation);
-  glm::mat4 m(1.0f);
-  m[0] = glm::vec4(r[0] * scale.x, 0.0f);
-  m[1] = glm::vec4(r[1] * scale.y, 0.0f);
-  m[2] = glm::vec4(r[2] * scale.z, 0.0f);
-  m[3] = glm::vec4(translation, 1.0f);
-  return m;
-}
-
 Transform decompose(const glm::mat4& m) noexcept {
   Transform t;
   t.translation = glm::vec3(m[3]);
@@ -25,20 +15,6 @@ Transform decompose(const glm::mat4& m) noexcept {
               sz != 0.0f ? c2 / sz : glm::vec3(0, 0, 1));
   t.rotation = safeNormalize(glm::quat_cast(r));
   return t;
-}
-
-glm::quat safeNormalize(const glm::quat& q) noexcept {
-  float len2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
-  if (!(len2 > 1e-30f) || !std::isfinite(len2)) return glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
-  float inv = 1.0f / std::sqrt(len2);
-  return glm::quat(q.w * inv, q.x * inv, q.y * inv, q.z * inv);
-}
-
-glm::quat nlerpShortest(const glm::quat& a, const glm::quat& b, float t) noexcept {
-  float d = a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
-  float s = d < 0.0f ? -t : t;
-  float u = 1.0f - t;
-  return safeNormalize(glm::quat(u * a.w + s * b.w, u * a.x + s * b.x, u * a.y + s * b.y, u * a.z + s * b.z));
 }
 
 glm::quat slerpShortest(const glm::quat& a, const glm::quat& b, float t) noexcept {
