@@ -1,0 +1,120 @@
+// Runs the `marionette` tool as a user would and checks its output, trace and exit codes.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "test_data.hpp"
+
+using namespace marionette::test;
+
+namespace {
+struct CliRun {
+  int status;
+  std::string out;  // stdout and stderr
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = std::string(MARIONETTE_CLI) + " " + args + " 2>&1";
+  CliRun r{-1, {}};
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
+  const int s = pclose(p);
+  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  return r;
+}
+
+std::string tempFile(const std::string& name, const std::string& content) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << content;
+  return path;
+}
+}  // namespace
+
+TEST(Cli, UsageAndUnknownCommandsExitWithTwo) {
+  EXPECT_EQ(run("").status, 2);
+  EXPECT_EQ(run("frobnicate").status, 2);
+  EXPECT_EQ(run("run").status, 2);
+  EXPECT_EQ(run("run x.json --frames zero").status, 2);
+  EXPECT_EQ(run("inspect").status, 2);
+  EXPECT_EQ(run("--help").status, 0);
+}
+
+TEST(Cli, InspectMissingFileIsAnErrorNamingIt) {
+  CliRun r = run("inspect /nonexistent/robot.glb");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("/nonexistent/robot.glb: error: file does not exist"), std::string::npos) << r.out;
+}
+
+TEST(Cli, InspectJsonListsJointsClipsAndMorphs) {
+  const std::string file = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(file);
+  CliRun r = run("inspect " + file + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  auto j = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.out;
+  EXPECT_EQ(j["joints"].size(), 43u);
+  EXPECT_EQ(j["joints"][0], "Bone");
+  ASSERT_EQ(j["clips"].size(), 14u);
+  std::map<std::string, double> durations;
+  for (auto& c : j["clips"]) durations[c["name"]] = c["duration"];
+  EXPECT_NEAR(durations["Walking"], 0.958, 0.002);
+  std::vector<std::string> morphs = j["morphTargets"];
+  EXPECT_NE(std::find(morphs.begin(), morphs.end(), "Surprised"), morphs.end());
+}
+
+TEST(Cli, RunWritesTheTraceContract) {
+  const std::string asset = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(asset);
+  const std::string scene =
+      tempFile("cli_scene.json", R"({"characters": [{"name": "robot", "asset": ")" + asset + R"("}]})");
+  const std::string trace = ::testing::TempDir() + "cli_trace.csv";
+  CliRun r = run("run " + scene + " --frames 10 --fps 30 --trace " + trace + " --stats");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("controllers"), std::string::npos) << r.out;
+  std::ifstream in(trace);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "frame,time,character,joint,px,py,pz,qx,qy,qz,qw");
+  int rows = 0;
+  double lastTime = -1;
+  while (std::getline(in, line)) {
+    ++rows;
+    std::stringstream ss(line);
+    std::string cell;
+    std::vector<std::string> cells;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 11u) << line;
+    EXPECT_EQ(cells[2], "robot");
+    double qx = std::stod(cells[7]), qy = std::stod(cells[8]), qz = std::stod(cells[9]), qw = std::stod(cells[10]);
+    EXPECT_NEAR(qx * qx + qy * qy + qz * qz + qw * qw, 1.0, 1e-4) << line;
+    lastTime = std::stod(cells[1]);
+  }
+  EXPECT_EQ(rows, 10 * 43);
+  EXPECT_NEAR(lastTime, 9.0 / 30.0, 1e-6);
+}
+
+TEST(Cli, RunBadSceneGivesFileLineColumnAndExitTwo) {
+  const std::string scene = tempFile("bad_scene.json", "{\n \"characters\": [ {\"name\": } ]\n}\n");
+  CliRun r = run("run " + scene);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find(scene + ":2:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("error:"), std::string::npos);
+}
+
+TEST(Cli, RunWithWarningsExitsWithOne) {
+  const std::string asset = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(asset);
+  const std::string scene = tempFile(
+      "warn_scene.json", R"({"characters": [{"name": "robot", "asset": ")" + asset + R"(", "colour": "red"}]})");
+  CliRun r = run("run " + scene + " --frames 2");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("unknown key 'colour'"), std::string::npos) << r.out;
+}

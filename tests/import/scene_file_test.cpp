@@ -1,0 +1,77 @@
+#include <gtest/gtest.h>
+
+#include "marionette/scene/scene_file.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+using namespace marionette::test;
+
+namespace {
+SceneLoadResult load(const std::string& json, Scene& scene) {
+  return loadSceneText(json, "scene.json", std::string(MARIONETTE_SHARED_DIR) + "/assets/characters", scene);
+}
+std::string errors(const SceneLoadResult& r) { return r.diagnostics.format(); }
+}  // namespace
+
+TEST(SceneFile, SyntaxErrorNamesLineAndColumn) {
+  Scene scene;
+  auto r = load("{\n  \"characters\": [\n    {\"name\": \"a\",, }\n  ]\n}", scene);
+  ASSERT_FALSE(r.ok());
+  ASSERT_EQ(r.diagnostics.items.size(), 1u);
+  EXPECT_EQ(r.diagnostics.items[0].line, 3);
+  EXPECT_GT(r.diagnostics.items[0].column, 10);
+  EXPECT_NE(errors(r).find("scene.json:3:"), std::string::npos) << errors(r);
+}
+
+TEST(SceneFile, SemanticErrorsNameThePath) {
+  Scene scene;
+  auto r = load(R"({"characters": [{"name": "a"}, {"asset": "x.glb"}, {"name": "c", "asset": "RobotExpressive.glb", "position": [0, "up", 0]}]})", scene);
+  ASSERT_FALSE(r.ok());
+  const std::string e = errors(r);
+  EXPECT_NE(e.find("/characters/0: missing \"asset\""), std::string::npos) << e;
+  EXPECT_NE(e.find("/characters/1: missing \"name\""), std::string::npos) << e;
+  EXPECT_NE(e.find("/characters/2/position/1: expected a finite number"), std::string::npos) << e;
+  EXPECT_TRUE(scene.characters().empty());  // nothing added on error
+  auto top = load("[1, 2]", scene);
+  EXPECT_NE(errors(top).find("\"characters\" array"), std::string::npos);
+}
+
+TEST(SceneFile, MissingAssetAndUnknownClipAreErrors) {
+  Scene scene;
+  auto r = load(R"({"characters": [{"name": "a", "asset": "nope.glb"}]})", scene);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(errors(r).find("nope.glb"), std::string::npos);
+  EXPECT_NE(errors(r).find("does not exist"), std::string::npos);
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  auto c = load(R"({"characters": [{"name": "a", "asset": "RobotExpressive.glb", "play": "Moonwalk"}]})", scene);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(errors(c).find("no clip named 'Moonwalk'"), std::string::npos) << errors(c);
+  EXPECT_NE(errors(c).find("Walking"), std::string::npos);  // lists what exists
+  EXPECT_TRUE(scene.characters().empty());
+}
+
+TEST(SceneFile, MinimalFormDefaultsAndSharedAssets) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  Scene scene;
+  auto r = load(R"({"characters": [
+      {"name": "robot", "asset": "RobotExpressive.glb"},
+      {"name": "twin", "asset": "RobotExpressive.glb", "position": [2, 0, 1], "heading": 90,
+       "play": [{"clip": "Walking", "rootMotion": true}, {"clip": "Wave", "weight": 0.5, "layer": 1}]}]})",
+                scene);
+  ASSERT_TRUE(r.ok()) << errors(r);
+  EXPECT_EQ(r.charactersAdded, 2);
+  EXPECT_EQ(r.assetsLoaded, 1);  // loaded once, shared
+  Character* robot = scene.findCharacter("robot");
+  Character* twin = scene.findCharacter("twin");
+  ASSERT_TRUE(robot && twin);
+  EXPECT_EQ(&robot->rig(), &twin->rig());
+  EXPECT_EQ(robot->position(), glm::vec3(0.0f));
+  EXPECT_EQ(robot->heading(), 0.0f);
+  EXPECT_EQ(robot->layerCount(), 1);  // plays its first clip
+  EXPECT_EQ(twin->layerCount(), 2);
+  EXPECT_NEAR(glm::degrees(twin->heading()), 90.0f, 1e-4f);
+  for (int i = 0; i < 60; ++i) scene.update(1.0 / 60.0);
+  // Walking with root motion while facing +X moves the twin along +X.
+  EXPECT_GT(twin->position().x, 2.3f);
+  EXPECT_NEAR(twin->position().z, 1.0f, 0.25f);
+}
