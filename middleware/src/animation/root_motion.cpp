@@ -20,6 +20,22 @@ glm::mat4 parentRestModel(const Skeleton& s, int joint) {
 
 }  // namespace
 
+int pickRootMotionJoint(const Clip& clip, const Skeleton& skeleton) {
+  // The translated joint with the most descendants: the hips or the armature
+  // root, not an IK target that happens to come first (RobotExpressive lists
+  // Foot.L before Body).
+  const std::size_t n = skeleton.jointCount();
+  std::vector<int> descendants(n, 0);
+  for (std::size_t i = n; i-- > 0;)
+    if (skeleton.parents[i] >= 0) descendants[skeleton.parents[i]] += descendants[i] + 1;
+  int best = -1;
+  for (const JointTrack& jt : clip.tracks) {
+    if (jt.translation.empty() || jt.joint < 0 || static_cast<std::size_t>(jt.joint) >= n) continue;
+    if (best < 0 || descendants[jt.joint] > descendants[best]) best = jt.joint;
+  }
+  return best;
+}
+
 float yawOf(const glm::quat& q) noexcept {
   // Twist about Y: project the quaternion onto (w, 0, y, 0).
   const float w = q.w, y = q.y;
@@ -96,13 +112,7 @@ void RootMotion::between(double t0, double t1, WrapMode mode, glm::vec3& delta, 
 
 RootMotion extractRootMotion(Clip& clip, const Skeleton& skeleton, int rootJoint) {
   RootMotion rm;
-  if (rootJoint < 0) {
-    for (const JointTrack& jt : clip.tracks)
-      if (!jt.translation.empty()) {
-        rootJoint = jt.joint;
-        break;
-      }
-  }
+  if (rootJoint < 0) rootJoint = pickRootMotionJoint(clip, skeleton);
   if (rootJoint < 0 || static_cast<std::size_t>(rootJoint) >= skeleton.jointCount()) return rm;
   auto it = std::find_if(clip.tracks.begin(), clip.tracks.end(),
                          [&](const JointTrack& jt) { return jt.joint == rootJoint; });

@@ -96,51 +96,55 @@ bool isFbxHelper(const aiNode& node) {
 
 // ---------------------------------------------------------------- before reading
 
-// Assimp's OFF reader allocates (and zero-fills) as many vertices as the header
-// declares before it notices that the file is short, so a 300-byte file declaring
-// 10^11 vertices costs gigabytes and minutes. Refuse counts the file cannot hold.
-bool checkOffCounts(const std::string& path, std::uintmax_t size, Diagnostics& diag) {
+// The first `count` whitespace-separated words of a text file, skipping '#' comments.
+std::vector<std::string> firstWords(const std::string& path, std::size_t count) {
   std::ifstream in(path, std::ios::binary);
   std::string head(4096, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
-
-  std::vector<std::string> tokens;
-  std::size_t i = 0;
-  while (i < head.size() && tokens.size() < 4) {
-    if (head[i] == '#') {  // comment to the end of the line
+  auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  std::vector<std::string> words;
+  for (std::size_t i = 0; i < head.size() && words.size() < count;) {
+    if (head[i] == '#') {
       while (i < head.size() && head[i] != '\n') ++i;
-    } else if (std::isspace(static_cast<unsigned char>(head[i]))) {
+    } else if (space(head[i])) {
       ++i;
     } else {
-      std::size_t start = i;
-      while (i < head.size() && !std::isspace(static_cast<unsigned char>(head[i])) && head[i] != '#') ++i;
-      tokens.push_back(head.substr(start, i - start));
+      const std::size_t start = i;
+      while (i < head.size() && !space(head[i]) && head[i] != '#') ++i;
+      words.push_back(head.substr(start, i - start));
     }
   }
-  std::size_t first = 0;
-  if (!tokens.empty() && tokens[0].size() >= 3 && tokens[0].compare(tokens[0].size() - 3, 3, "OFF") == 0) {
-    // [ST][C][N][4][n]OFF: the 'n' variant puts a dimension before the counts.
-    first = tokens[0].find('n') != std::string::npos ? 2 : 1;
-  }
-  if (tokens.size() < first + 2) return true;  // let Assimp report the broken header
+  return words;
+}
 
-  auto count = [](const std::string& t) -> std::optional<std::uint64_t> {
-    if (t.empty() || !std::all_of(t.begin(), t.end(), [](unsigned char c) { return std::isdigit(c); }))
-      return std::nullopt;
-    if (t.size() > 18) return std::numeric_limits<std::uint64_t>::max();
-    return std::stoull(t);
-  };
-  const auto vertices = count(tokens[first]), faces = count(tokens[first + 1]);
+// A non-negative decimal count (saturating), or nothing if `word` is not one.
+std::optional<std::uint64_t> parseCount(const std::string& word) {
+  if (word.empty() || !std::all_of(word.begin(), word.end(), [](unsigned char c) { return std::isdigit(c); }))
+    return std::nullopt;
+  if (word.size() > 18) return std::numeric_limits<std::uint64_t>::max();
+  return std::stoull(word);
+}
+
+// Assimp's OFF reader allocates (and zero-fills) as many vertices as the header
+// declares before it notices that the file is short, so a 300-byte file declaring
+// 10^11 vertices costs gigabytes and minutes. Refuse counts the file cannot hold.
+bool checkOffCounts(const std::string& path, std::uintmax_t size, Diagnostics& diag) {
+  const std::vector<std::string> words = firstWords(path, 4);
+  std::size_t first = 0;  // a header-less OFF starts with the counts
+  if (!words.empty() && words[0].size() >= 3 && words[0].compare(words[0].size() - 3, 3, "OFF") == 0) {
+    // [ST][C][N][4][n]OFF: the 'n' variant puts a dimension before the counts.
+    first = words[0].find('n') != std::string::npos ? 2 : 1;
+  }
+  if (words.size() < first + 2) return true;  // Assimp reports a broken header itself
+  const auto vertices = parseCount(words[first]), faces = parseCount(words[first + 1]);
   if (!vertices || !faces) return true;
   // Every vertex and every face needs at least two bytes ("0\n").
   const std::uint64_t room = size / 2;
-  if (*vertices > room || *faces > room) {
-    diag.error(path, "OFF header declares " + tokens[first] + " vertices and " + tokens[first + 1] +
-                         " faces, more than a file of " + std::to_string(size) + " bytes can hold");
-    return false;
-  }
-  return true;
+  if (*vertices <= room && *faces <= room) return true;
+  diag.error(path, "OFF header declares " + words[first] + " vertices and " + words[first + 1] +
+                       " faces, more than a file of " + std::to_string(size) + " bytes can hold");
+  return false;
 }
 
 bool checkFile(const std::string& path, Diagnostics& diag) {
@@ -285,6 +289,9 @@ void keepAll(const aiNode& node, NodeSet& kept) {
   for (unsigned i = 0; i < node.mNumChildren; ++i) keepAll(*node.mChildren[i], kept);
 }
 
+// BVH "End Site" nodes (Assimp names them "EndSite_<joint>") carry no channels and
+// no bones, so they are not wanted and the skeleton has exactly the file's ROOT and
+// JOINT entries.
 NodeSet chooseJointNodes(const aiScene& scene) {
   const NameSet wanted = wantedJointNames(scene);
   const aiNode& root = *scene.mRootNode;
@@ -540,7 +547,8 @@ double earliestKey(const std::vector<std::pair<int, const aiNodeAnim*>>& channel
 
 void reportKeyIssues(Importing& im, const std::string& clip, const KeyIssues& issues) {
   if (issues.unsorted)
-    im.warning("clip '" + clip + "': " + std::to_string(issues.unsorted) + " tracks had keys out of time order; sorted");
+    im.warning("clip '" + clip + "': " + std::to_string(issues.unsorted) +
+               " tracks had keys out of time order; sorted");
   if (issues.conflictingDuplicates)
     im.warning("clip '" + clip + "': " + std::to_string(issues.conflictingDuplicates) +
                " keys share a time with a different value; the last of each was kept");
@@ -693,7 +701,8 @@ bool readTriangles(Importing& im, const aiMesh& mesh, const std::string& where, 
       p.indices.push_back(face.mIndices[k]);
     }
   }
-  if (skipped) im.warning(where + ": " + std::to_string(skipped) + " point / line faces skipped (only triangles are kept)");
+  if (skipped)
+    im.warning(where + ": " + std::to_string(skipped) + " point / line faces skipped (only triangles are kept)");
   return true;
 }
 
@@ -728,7 +737,8 @@ bool readSkin(Importing& im, const aiMesh& mesh, int nodeJoint, const std::strin
       if (vw.mWeight > 0.0f) influences[vw.mVertexId].add(it->second, vw.mWeight);
     }
   }
-  if (!unbound.empty()) im.warning(where + ": bones " + listNames(unbound) + " match no node; their weights were dropped");
+  if (!unbound.empty())
+    im.warning(where + ": bones " + listNames(unbound) + " match no node; their weights were dropped");
   p.joints.resize(mesh.mNumVertices);
   p.weights.resize(mesh.mNumVertices);
   for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
@@ -800,7 +810,8 @@ bool convertPrimitive(Importing& im, const aiMesh& source, bool skinned, int nod
 bool convertNodeMeshes(Importing& im, const aiNode& node) {
   Mesh mesh;
   mesh.name = str(node.mName);
-  if (mesh.name.empty() && node.mMeshes[0] < im.scene.mNumMeshes) mesh.name = str(im.scene.mMeshes[node.mMeshes[0]]->mName);
+  if (mesh.name.empty() && node.mMeshes[0] < im.scene.mNumMeshes)
+    mesh.name = str(im.scene.mMeshes[node.mMeshes[0]]->mName);
   if (mesh.name.empty()) mesh.name = "mesh_" + std::to_string(im.asset.meshes.size());
   for (unsigned i = 0; i < node.mNumMeshes; ++i)
     if (node.mMeshes[i] < im.scene.mNumMeshes && im.scene.mMeshes[node.mMeshes[i]]->HasBones()) mesh.skinned = true;

@@ -28,9 +28,14 @@ struct RootMotion {
 
 // Takes the horizontal translation (x, z in model space) and yaw of `rootJoint`
 // out of `clip` (the clip then stays over its first key's position and heading)
-// and returns them. `rootJoint` < 0 picks the first joint that has a translation
-// track. Works for roots under a static parent chain (rest pose of the ancestors).
+// and returns them. `rootJoint` < 0 picks the translated joint with the most
+// descendants (pickRootMotionJoint). Works for roots under a static parent chain
+// (rest pose of the ancestors).
 [[nodiscard]] RootMotion extractRootMotion(Clip& clip, const Skeleton& skeleton, int rootJoint = -1);
+
+// The joint whose translation is the character's travel: of the joints the clip
+// translates, the one with the most descendants; -1 if none.
+[[nodiscard]] int pickRootMotionJoint(const Clip& clip, const Skeleton& skeleton);
 
 // Yaw (rotation about +Y, radians) of a rotation, by swing-twist decomposition.
 [[nodiscard]] float yawOf(const glm::quat& q) noexcept;

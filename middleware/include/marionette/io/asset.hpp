@@ -19,7 +19,7 @@ struct MorphTargetDelta {
 struct MeshPrimitive {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
-  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec2> uvs;         // glTF convention: origin at the top-left of the image
   std::vector<glm::u16vec4> joints;  // indices into the Skeleton (not the file's skin order)
   std::vector<glm::vec4> weights;
   std::vector<std::uint32_t> indices;  // triangles
@@ -32,6 +32,7 @@ struct Mesh {
   std::vector<MeshPrimitive> primitives;  // one per sub-mesh / material
   std::vector<int> morphTargets;          // indices into Asset::morphTargets
   bool skinned = false;
+  int joint = -1;  // for an unskinned mesh: the joint it is attached to (rigid parts), or -1
 };
 
 struct Material {
@@ -56,7 +57,7 @@ struct Asset {
   std::vector<std::string> morphTargets;  // the character's morph-target order (unique names)
   bool hasHumanoid = false;
   Humanoid humanoid;
-  float unitScale = 1.0f;  // metres per file unit that was applied on import
+  float unitScale = 1.0f;  // metres per file unit, including ImportOptions::extraScale
 };
 
 }  // namespace marionette
