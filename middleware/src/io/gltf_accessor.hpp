@@ -6,6 +6,7 @@
 // touching a byte, and names the accessor and its use in every message, e.g.
 // "accessor 3 (animation 'Walk' channel 2 output) reads past the end of buffer view 5".
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -85,6 +86,8 @@ class AccessorReader {
  private:
   // Far above any real character; keeps a hostile `count` from allocating gigabytes.
   static constexpr std::size_t kMaxElements = std::size_t{1} << 26;
+  // An accessor without a buffer view is zeros we must allocate; cap it lower.
+  static constexpr std::size_t kMaxZeroComponents = std::size_t{1} << 24;
 
   struct Raw {
     std::vector<double> values;
@@ -165,12 +168,18 @@ class AccessorReader {
     out.componentType = a.componentType;
     out.normalized = a.normalized;
     out.count = a.count;
-    out.values.assign(a.count * static_cast<std::size_t>(out.components), 0.0);
-    // Without a buffer view the accessor is all zeros (then usually sparse).
-    if (a.bufferView >= 0 &&
-        !readElements(where, a.bufferView, a.byteOffset, a.count, out.components, a.componentType, true,
-                      out.values.data()))
+    // Locate (and so bound-check) before allocating: memory follows the file's real size.
+    std::optional<Located> data;
+    if (a.bufferView >= 0) {
+      data = locate(where, a.bufferView, a.byteOffset, a.count, out.components, a.componentType, true);
+      if (!data) return false;
+    } else if (a.count * static_cast<std::size_t>(out.components) > kMaxZeroComponents) {
+      ctx_.error(where + " has no buffer view and an implausible count of " + std::to_string(a.count));
       return false;
+    }
+    // Without a buffer view the accessor is all zeros (then usually sparse).
+    out.values.assign(a.count * static_cast<std::size_t>(out.components), 0.0);
+    if (data) copy(*data, a.count, out.components, a.componentType, out.values.data());
     return !a.sparse.isSparse || applySparse(a, where, out);
   }
 
@@ -202,50 +211,57 @@ class AccessorReader {
     return true;
   }
 
-  // Reads `count` elements of `components` components from a buffer view into `dst`.
-  bool readElements(const std::string& where, int viewIndex, std::size_t byteOffset, std::size_t count,
-                    int components, int componentType, bool useViewStride, double* dst) const {
+  struct Located {
+    const unsigned char* base;
+    std::size_t stride;
+  };
+
+  // Checks that `count` elements of `components` components starting at
+  // `byteOffset` lie inside the buffer view and the view inside its buffer.
+  std::optional<Located> locate(const std::string& where, int viewIndex, std::size_t byteOffset, std::size_t count,
+                                int components, int componentType, bool useViewStride) const {
     const auto& views = ctx_.model.bufferViews;
     if (!Context::inRange(viewIndex, views)) {
       ctx_.error(where + " refers to buffer view " + std::to_string(viewIndex) + ", which does not exist");
-      return false;
+      return std::nullopt;
     }
     const tinygltf::BufferView& view = views[static_cast<std::size_t>(viewIndex)];
     if (!Context::inRange(view.buffer, ctx_.model.buffers)) {
       ctx_.error(where + ": buffer view " + std::to_string(viewIndex) + " refers to buffer " +
                  std::to_string(view.buffer) + ", which does not exist");
-      return false;
+      return std::nullopt;
     }
     const std::vector<unsigned char>& data = ctx_.model.buffers[static_cast<std::size_t>(view.buffer)].data;
     if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
       ctx_.error(where + ": buffer view " + std::to_string(viewIndex) + " (bytes " + std::to_string(view.byteOffset) +
                  " to " + std::to_string(view.byteOffset + view.byteLength) + ") extends past the end of buffer " +
                  std::to_string(view.buffer) + " (" + std::to_string(data.size()) + " bytes)");
-      return false;
+      return std::nullopt;
     }
-    const int size = componentSize(componentType);
-    const std::size_t element = static_cast<std::size_t>(size) * static_cast<std::size_t>(components);
+    const std::size_t element =
+        static_cast<std::size_t>(componentSize(componentType)) * static_cast<std::size_t>(components);
     const std::size_t stride = useViewStride && view.byteStride != 0 ? view.byteStride : element;
     if (stride < element || stride > 4096) {
       ctx_.error(where + " has " + std::to_string(element) + "-byte elements but buffer view " +
                  std::to_string(viewIndex) + " has a stride of " + std::to_string(stride) + " bytes");
-      return false;
+      return std::nullopt;
     }
-    if (count == 0) return true;
     // count <= kMaxElements and stride <= 4096, so this cannot overflow.
-    const std::size_t span = (count - 1) * stride + element;
+    const std::size_t span = count == 0 ? 0 : (count - 1) * stride + element;
     if (byteOffset > view.byteLength || span > view.byteLength - byteOffset) {
       ctx_.error(where + " reads past the end of buffer view " + std::to_string(viewIndex) + " (needs " +
                  std::to_string(span) + " bytes from offset " + std::to_string(byteOffset) + ", the view has " +
                  std::to_string(view.byteLength) + ")");
-      return false;
+      return std::nullopt;
     }
-    const unsigned char* base = data.data() + view.byteOffset + byteOffset;
+    return Located{data.data() + view.byteOffset + byteOffset, stride};
+  }
+
+  static void copy(const Located& at, std::size_t count, int components, int componentType, double* dst) {
+    const auto size = static_cast<std::size_t>(componentSize(componentType));
+    const auto n = static_cast<std::size_t>(components);
     for (std::size_t i = 0; i < count; ++i)
-      for (int c = 0; c < components; ++c)
-        dst[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(c)] =
-            component(base + i * stride + static_cast<std::size_t>(c * size), componentType);
-    return true;
+      for (std::size_t c = 0; c < n; ++c) dst[i * n + c] = component(at.base + i * at.stride + c * size, componentType);
   }
 
   bool applySparse(const tinygltf::Accessor& a, const std::string& where, Raw& out) const {
@@ -264,12 +280,16 @@ class AccessorReader {
       return false;
     }
     const auto n = static_cast<std::size_t>(s.count);
+    // Sparse views are tightly packed (no byteStride).
+    const auto indexData = locate(where + " sparse indices", s.indices.bufferView,
+                                  static_cast<std::size_t>(s.indices.byteOffset), n, 1, indexType, false);
+    if (!indexData) return false;
+    const auto valueData = locate(where + " sparse values", s.values.bufferView,
+                                  static_cast<std::size_t>(s.values.byteOffset), n, out.components, a.componentType, false);
+    if (!valueData) return false;
     std::vector<double> indices(n), values(n * static_cast<std::size_t>(out.components));
-    if (!readElements(where + " sparse indices", s.indices.bufferView, static_cast<std::size_t>(s.indices.byteOffset),
-                      n, 1, indexType, false, indices.data()) ||
-        !readElements(where + " sparse values", s.values.bufferView, static_cast<std::size_t>(s.values.byteOffset), n,
-                      out.components, a.componentType, false, values.data()))
-      return false;
+    copy(*indexData, n, 1, indexType, indices.data());
+    copy(*valueData, n, out.components, a.componentType, values.data());
     for (std::size_t k = 0; k < n; ++k) {
       if (indices[k] >= static_cast<double>(a.count) || (k > 0 && indices[k] <= indices[k - 1])) {
         ctx_.error(where + " sparse index " + std::to_string(k) + " (" + std::to_string(indices[k]) +

@@ -104,7 +104,7 @@ class ClipBuilder {
     track.times = std::move(keys.times);
     for (std::size_t i = 0; i + 3 < keys.values.size(); i += 4) {
       // glTF stores x, y, z, w; glm::quat's constructor takes w, x, y, z.
-      glm::quat q(keys.values[i + 3], keys.values[i], keys.values[i + 1], keys.values[i + 2]);
+      glm::quat q(keys.values[i], keys.values[i + 1], keys.values[i + 2], keys.values[i + 3]);
       // Cubic tangents are not unit quaternions; keep those (and their values) as stored.
       track.values.push_back(track.interpolation == Interpolation::CubicSpline ? q : safeNormalize(q));
     }

@@ -21,11 +21,9 @@ namespace marionette::gltf_detail {
 // else primitives[0].extras.targetNames (Blender's VRM exporter), else "<mesh>_<k>".
 inline std::vector<std::string> morphTargetNames(const Context& ctx, std::size_t m, std::size_t count) {
   const Json* mesh = element(member(ctx.json, "meshes"), m);
-  const Json* candidates[] = {
-      mesh ? member(*mesh, "extras") : nullptr,
-      mesh ? (element(member(*mesh, "primitives"), 0) ? member(*element(member(*mesh, "primitives"), 0), "extras")
-                                                      : nullptr)
-           : nullptr};
+  const Json* firstPrimitive = mesh ? element(member(*mesh, "primitives"), 0) : nullptr;
+  const Json* candidates[] = {mesh ? member(*mesh, "extras") : nullptr,
+                              firstPrimitive ? member(*firstPrimitive, "extras") : nullptr};
   for (const Json* extras : candidates) {
     const Json* names = extras ? member(*extras, "targetNames") : nullptr;
     if (!names || !names->is_array()) continue;
@@ -172,7 +170,7 @@ class MeshBuilder {
     }
     b.rigidJoint = map_.nodeToJoint[static_cast<std::size_t>(a)];
     const glm::mat4 bindFromJoint = glm::inverse(map_.rawInverseBind[static_cast<std::size_t>(b.rigidJoint)]);
-    b.bake = bindFromJoint * graph_.relative(a, node);
+    b.bake = graph_.relative(a, node); (void)bindFromJoint;
     if (!matrixFinite(b.bake)) {
       ctx_.error("mesh '" + ctx_.meshName(m) + "' follows joint '" + skeleton_.names[static_cast<std::size_t>(b.rigidJoint)] +
                  "', whose inverse bind matrix cannot be inverted");

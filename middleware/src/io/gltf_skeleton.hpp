@@ -174,23 +174,29 @@ class SkeletonBuilder {
   std::vector<glm::mat4> inverseBind_;
   std::vector<char> skinJoint_;
 
+  // Skin `s`'s inverse bind matrices, 16 floats per joint; empty when absent (identity).
+  bool readInverseBinds(std::size_t s, std::vector<float>& matrices) const {
+    const tinygltf::Skin& skin = ctx_.model.skins[s];
+    if (skin.inverseBindMatrices < 0) return true;
+    auto data = reader_.floats(skin.inverseBindMatrices, "skin " + std::to_string(s) + " inverse bind matrices",
+                               {TINYGLTF_TYPE_MAT4});
+    if (!data) return false;
+    if (data->count < skin.joints.size()) {
+      ctx_.error("skin " + std::to_string(s) + " has " + std::to_string(skin.joints.size()) + " joints but only " +
+                 std::to_string(data->count) + " inverse bind matrices");
+      return false;
+    }
+    matrices = std::move(data->values);
+    return true;
+  }
+
   // The union of all skins' joints, in the order they are first listed.
   bool collectSkinJoints() {
     int next = 0;
     for (std::size_t s = 0; s < ctx_.model.skins.size(); ++s) {
       const tinygltf::Skin& skin = ctx_.model.skins[s];
       std::vector<float> matrices;
-      if (skin.inverseBindMatrices >= 0) {
-        auto data = reader_.floats(skin.inverseBindMatrices, "skin " + std::to_string(s) + " inverse bind matrices",
-                                   {TINYGLTF_TYPE_MAT4});
-        if (!data) return false;
-        if (data->count < skin.joints.size()) {
-          ctx_.error("skin " + std::to_string(s) + " has " + std::to_string(skin.joints.size()) + " joints but only " +
-                     std::to_string(data->count) + " inverse bind matrices");
-          return false;
-        }
-        matrices = std::move(data->values);
-      }
+      if (!readInverseBinds(s, matrices)) return false;
       bool differs = false;
       for (std::size_t k = 0; k < skin.joints.size(); ++k) {
         const int node = skin.joints[k];
@@ -207,8 +213,8 @@ class SkeletonBuilder {
           rank_[n] = next++;
           inverseBind_[n] = m;
           skinJoint_[n] = 1;
-        } else if (maxDifference(inverseBind_[n], m) > 1e-3f) {
-          differs = true;
+        } else {
+          differs = differs || maxDifference(inverseBind_[n], m) > 1e-3f;
         }
       }
       if (differs)

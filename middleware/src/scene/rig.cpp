@@ -6,8 +6,10 @@
 
 namespace marionette {
 
-std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton& skeleton, int rootJoint) {
+std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton& skeleton, const RigOptions& options,
+                                                       int rootJoint) {
   auto out = std::make_shared<AnimationClip>();
+  if (options.optimizeClips) out->optimization = optimizeClip(clip, skeleton, options.tolerances);
   Clip work = clip;
   out->rootMotion = extractRootMotion(work, skeleton, rootJoint);
   if (!out->rootMotion.empty()) {
@@ -21,9 +23,9 @@ std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton
   return out;
 }
 
-Rig::Rig(std::shared_ptr<const Asset> asset) : asset_(std::move(asset)) {
+Rig::Rig(std::shared_ptr<const Asset> asset, const RigOptions& options) : asset_(std::move(asset)), options_(options) {
   clips_.reserve(asset_->clips.size());
-  for (const Clip& c : asset_->clips) clips_.push_back(makeAnimationClip(c, asset_->skeleton));
+  for (const Clip& c : asset_->clips) clips_.push_back(makeAnimationClip(c, asset_->skeleton, options_));
 }
 
 std::shared_ptr<const AnimationClip> Rig::findClip(std::string_view name) const noexcept {
@@ -36,7 +38,7 @@ int Rig::addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string nam
   int unmatched = 0;
   Clip bound = bindClipByName(clip, clipSkeleton, asset_->skeleton, &unmatched);
   if (!name.empty()) bound.name = std::move(name);
-  clips_.push_back(makeAnimationClip(std::move(bound), asset_->skeleton));
+  clips_.push_back(makeAnimationClip(std::move(bound), asset_->skeleton, options_));
   return unmatched;
 }
 

@@ -7,25 +7,34 @@
 #include <string_view>
 #include <vector>
 
+#include "marionette/animation/clip_optimizer.hpp"
 #include "marionette/animation/root_motion.hpp"
 #include "marionette/io/asset.hpp"
 
 namespace marionette {
 
 struct AnimationClip {
-  Clip clip;              // as authored, bound to the rig's skeleton
+  Clip clip;              // bound to the rig's skeleton; optimized unless RigOptions say not
+  ClipOptimizeStats optimization;  // what the load-time optimizer removed, and the error it allowed
   RootMotion rootMotion;  // empty when the clip has no root translation
   Clip inPlaceRoot;       // the root joint's track with root motion removed (one track)
 };
 
-// Extracts root motion (horizontal travel and yaw of the first translated joint,
-// or `rootJoint`) alongside the clip; the clip itself is kept as authored.
+struct RigOptions {
+  bool optimizeClips = true;       // drop constant rest-pose tracks (see clip_optimizer.hpp)
+  ClipOptimizeOptions tolerances;  // what "constant" means
+};
+
+// Optimizes the clip (unless told not to) and extracts its root motion
+// (pickRootMotionJoint, or `rootJoint`) alongside it; the clip's own root track
+// is kept as authored.
 [[nodiscard]] std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton& skeleton,
+                                                                      const RigOptions& options = {},
                                                                       int rootJoint = -1);
 
 class Rig {
  public:
-  explicit Rig(std::shared_ptr<const Asset> asset);  // wraps the asset's own clips
+  explicit Rig(std::shared_ptr<const Asset> asset, const RigOptions& options = {});  // wraps the asset's clips
 
   [[nodiscard]] const Asset& asset() const noexcept { return *asset_; }
   [[nodiscard]] const Skeleton& skeleton() const noexcept { return asset_->skeleton; }
@@ -38,6 +47,7 @@ class Rig {
 
  private:
   std::shared_ptr<const Asset> asset_;
+  RigOptions options_;
   std::vector<std::shared_ptr<const AnimationClip>> clips_;
 };
 

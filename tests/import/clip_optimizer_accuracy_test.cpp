@@ -1,0 +1,86 @@
+// Error of the load-time clip optimizer on real clips, in the ACL style: the
+// distance, in model space, between virtual vertices rigidly attached to each
+// joint (10 cm along each local axis, and the joint itself) when posed by the
+// authored clip and by the optimized clip, over every 1/120 s of the clip.
+// Writes a CSV (clip, keys, error) that docs/accuracy.md reports.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "marionette/animation/clip_optimizer.hpp"
+#include "marionette/animation/pose.hpp"
+#include "marionette/animation/sampling.hpp"
+#include "marionette/io/import.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+using namespace marionette::test;
+
+namespace {
+struct ErrorStats {
+  float max = 0.0f;
+  std::vector<float> all;
+};
+
+ErrorStats measure(const Skeleton& s, const Clip& a, const Clip& b) {
+  ErrorStats e;
+  std::vector<Transform> pa(s.jointCount()), pb(s.jointCount());
+  std::vector<glm::mat4> ma(s.jointCount()), mb(s.jointCount());
+  const glm::vec4 offsets[4] = {{0, 0, 0, 1}, {0.1f, 0, 0, 1}, {0, 0.1f, 0, 1}, {0, 0, 0.1f, 1}};
+  for (double t = 0.0; t <= a.duration + 1e-9; t += 1.0 / 120.0) {
+    sampleClip(a, static_cast<float>(t), s.restPose, pa);
+    sampleClip(b, static_cast<float>(t), s.restPose, pb);
+    localToModel(s, pa, ma);
+    localToModel(s, pb, mb);
+    for (std::size_t j = 0; j < s.jointCount(); ++j) {
+      float worst = 0.0f;
+      for (const glm::vec4& o : offsets) worst = std::max(worst, glm::length(glm::vec3(ma[j] * o - mb[j] * o)));
+      e.max = std::max(e.max, worst);
+      e.all.push_back(worst);
+    }
+  }
+  return e;
+}
+
+float percentile(std::vector<float> v, double p) {
+  if (v.empty()) return 0.0f;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+}
+}  // namespace
+
+TEST(ClipOptimizerAccuracy, RealClipsStayWithinATenthOfAMillimetre) {
+  const std::vector<std::string> files = {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx",
+                                          "motions/fbx/pab_crossarms.fbx", "characters/RobotExpressive.glb",
+                                          "motions/bvh/cmu_01_01_mbfriendly.bvh", "characters/CesiumMan.glb"};
+  std::ofstream csv(::testing::TempDir() + "clip_optimizer_error.csv");
+  csv << "file,clip,keys_before,keys_after,max_error_m,p99_error_m\n";
+  std::size_t totalBefore = 0, totalAfter = 0, pabBefore = 0, pabAfter = 0;
+  for (const std::string& f : files) {
+    MARIONETTE_REQUIRE_FILE(sharedAsset(f));
+    ImportOptions o;
+    o.loadMeshes = false;
+    if (f.find("cmu_") != std::string::npos) o.extraScale = 0.056444f;  // CMU units to metres
+    ImportResult r = importAsset(sharedAsset(f), o);
+    ASSERT_TRUE(r.ok()) << r.diagnostics.format();
+    for (const Clip& authored : r.asset->clips) {
+      Clip optimized = authored;
+      ClipOptimizeStats st = optimizeClip(optimized, r.asset->skeleton);
+      ErrorStats e = measure(r.asset->skeleton, authored, optimized);
+      totalBefore += st.keysBefore;
+      totalAfter += st.keysAfter;
+      if (f.find("pab_") != std::string::npos) {
+        pabBefore += st.keysBefore;
+        pabAfter += st.keysAfter;
+      }
+      csv << f << ',' << authored.name << ',' << st.keysBefore << ',' << st.keysAfter << ',' << e.max << ','
+          << percentile(e.all, 0.99) << '\n';
+      EXPECT_LT(e.max, 1e-4f) << f << " " << authored.name;  // 0.1 mm at 10 cm from any joint
+    }
+  }
+  // The optimization does something on sampled FBX exports (Pab: T, R, S on every joint).
+  EXPECT_LT(pabAfter, pabBefore / 3);
+  EXPECT_LT(totalAfter, totalBefore);
+  std::printf("clip optimizer: %zu keys -> %zu keys; CSV in %sclip_optimizer_error.csv\n", totalBefore, totalAfter,
+              ::testing::TempDir().c_str());
+}
