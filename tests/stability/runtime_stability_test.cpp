@@ -12,13 +12,17 @@ using namespace marionette;
 using namespace marionette::test;
 
 namespace {
-std::shared_ptr<const Rig> robotRig(float scale = 1.0f) {
+// `optimize` off compares the runtime alone: the optimizer's tolerance is in
+// metres, so it drops different tracks at different scales (by design).
+std::shared_ptr<const Rig> robotRig(float scale = 1.0f, bool optimize = true) {
   ImportOptions o;
   o.loadMeshes = false;
   o.extraScale = scale;
   ImportResult r = importAsset(sharedAsset("characters/RobotExpressive.glb"), o);
   if (!r.ok()) return nullptr;
-  return std::make_shared<Rig>(std::make_shared<Asset>(std::move(*r.asset)));
+  RigOptions ro;
+  ro.optimizeClips = optimize;
+  return std::make_shared<Rig>(std::make_shared<Asset>(std::move(*r.asset)), ro);
 }
 
 bool allFinite(const TransformBuffer& b) {
@@ -123,7 +127,7 @@ TEST(Stability, LoopingForAThousandCyclesDoesNotDrift) {
 TEST(Stability, ExtremeScalesScaleLinearly) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
   for (float s : {0.01f, 100.0f}) {
-    auto unit = robotRig(1.0f), scaled = robotRig(s);
+    auto unit = robotRig(1.0f, false), scaled = robotRig(s, false);
     ASSERT_TRUE(unit && scaled);
     Scene scene;
     Character* u = scene.addCharacter("u", unit);
