@@ -50,9 +50,12 @@ float percentile(std::vector<float> v, double p) {
 }  // namespace
 
 TEST(ClipOptimizerAccuracy, RealClipsStayWithinATenthOfAMillimetre) {
-  const std::vector<std::string> files = {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx",
-                                          "motions/fbx/pab_crossarms.fbx", "characters/RobotExpressive.glb",
-                                          "motions/bvh/cmu_01_01_mbfriendly.bvh", "characters/CesiumMan.glb"};
+  std::vector<std::string> files = {"characters/RobotExpressive.glb", "characters/CesiumMan.glb"};
+#ifdef MARIONETTE_HAS_ASSIMP
+  for (const char* f : {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx", "motions/fbx/pab_crossarms.fbx",
+                        "motions/bvh/cmu_01_01_mbfriendly.bvh"})
+    files.push_back(f);
+#endif
   std::ofstream csv(::testing::TempDir() + "clip_optimizer_error.csv");
   csv << "file,clip,keys_before,keys_after,max_error_m,p99_error_m\n";
   std::size_t totalBefore = 0, totalAfter = 0, pabBefore = 0, pabAfter = 0;
@@ -79,7 +82,9 @@ TEST(ClipOptimizerAccuracy, RealClipsStayWithinATenthOfAMillimetre) {
     }
   }
   // The optimization does something on sampled FBX exports (Pab: T, R, S on every joint).
+#ifdef MARIONETTE_HAS_ASSIMP
   EXPECT_LT(pabAfter, pabBefore / 3);
+#endif
   EXPECT_LT(totalAfter, totalBefore);
   std::printf("clip optimizer: %zu keys -> %zu keys; CSV in %sclip_optimizer_error.csv\n", totalBefore, totalAfter,
               ::testing::TempDir().c_str());
