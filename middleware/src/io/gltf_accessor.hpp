@@ -102,64 +102,110 @@ class AccessorReader {
   static int componentSize(int componentType) {
     switch (componentType) {
       case TINYGLTF_COMPONENT_TYPE_BYTE:
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return 1;
       case TINYGLTF_COMPONENT_TYPE_SHORT:
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return 2;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-      default: return 0;  // INT and DOUBLE are not glTF 2.0 component types
+      case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return 4;
+      default:
+        return 0;  // INT and DOUBLE are not glTF 2.0 component types
     }
   }
   static int componentCount(int type) {
     switch (type) {
-      case TINYGLTF_TYPE_SCALAR: return 1;
-      case TINYGLTF_TYPE_VEC2: return 2;
-      case TINYGLTF_TYPE_VEC3: return 3;
-      case TINYGLTF_TYPE_VEC4: return 4;
-      case TINYGLTF_TYPE_MAT2: return 4;
-      case TINYGLTF_TYPE_MAT3: return 9;
-      case TINYGLTF_TYPE_MAT4: return 16;
-      default: return 0;
+      case TINYGLTF_TYPE_SCALAR:
+        return 1;
+      case TINYGLTF_TYPE_VEC2:
+        return 2;
+      case TINYGLTF_TYPE_VEC3:
+        return 3;
+      case TINYGLTF_TYPE_VEC4:
+        return 4;
+      case TINYGLTF_TYPE_MAT2:
+        return 4;
+      case TINYGLTF_TYPE_MAT3:
+        return 9;
+      case TINYGLTF_TYPE_MAT4:
+        return 16;
+      default:
+        return 0;
     }
   }
   static std::string typeName(int type) {
     switch (type) {
-      case TINYGLTF_TYPE_SCALAR: return "SCALAR";
-      case TINYGLTF_TYPE_VEC2: return "VEC2";
-      case TINYGLTF_TYPE_VEC3: return "VEC3";
-      case TINYGLTF_TYPE_VEC4: return "VEC4";
-      case TINYGLTF_TYPE_MAT2: return "MAT2";
-      case TINYGLTF_TYPE_MAT3: return "MAT3";
-      case TINYGLTF_TYPE_MAT4: return "MAT4";
-      default: return "unknown (" + std::to_string(type) + ")";
+      case TINYGLTF_TYPE_SCALAR:
+        return "SCALAR";
+      case TINYGLTF_TYPE_VEC2:
+        return "VEC2";
+      case TINYGLTF_TYPE_VEC3:
+        return "VEC3";
+      case TINYGLTF_TYPE_VEC4:
+        return "VEC4";
+      case TINYGLTF_TYPE_MAT2:
+        return "MAT2";
+      case TINYGLTF_TYPE_MAT3:
+        return "MAT3";
+      case TINYGLTF_TYPE_MAT4:
+        return "MAT4";
+      default:
+        return "unknown (" + std::to_string(type) + ")";
     }
   }
   static double normalized(double v, int componentType) {
     switch (componentType) {
-      case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(v / 127.0, -1.0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return v / 255.0;
-      case TINYGLTF_COMPONENT_TYPE_SHORT: return std::max(v / 32767.0, -1.0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return v / 65535.0;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return v / 4294967295.0;
-      default: return v;
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+        return std::max(v / 127.0, -1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return v / 255.0;
+      case TINYGLTF_COMPONENT_TYPE_SHORT:
+        return std::max(v / 32767.0, -1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return v / 65535.0;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        return v / 4294967295.0;
+      default:
+        return v;
     }
   }
   static double component(const unsigned char* p, int componentType) {
     switch (componentType) {
-      case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t v; std::memcpy(&v, p, 1); return v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *p;
-      case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
-      default: { float v; std::memcpy(&v, p, 4); return v; }
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        std::int8_t v;
+        std::memcpy(&v, p, 1);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return *p;
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        std::int16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      default: {
+        float v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
     }
   }
 
   bool decode(int index, const std::string& what, std::initializer_list<int> types, Raw& out) const {
     const std::string where = label(index, what);
     if (!Context::inRange(index, ctx_.model.accessors)) {
-      ctx_.error(where + " does not exist; the file has " + std::to_string(ctx_.model.accessors.size()) +
-                 " accessors");
+      ctx_.error(where + " does not exist; the file has " + std::to_string(ctx_.model.accessors.size()) + " accessors");
       return false;
     }
     const tinygltf::Accessor& a = ctx_.model.accessors[static_cast<std::size_t>(index)];
@@ -284,8 +330,9 @@ class AccessorReader {
     const auto indexData = locate(where + " sparse indices", s.indices.bufferView,
                                   static_cast<std::size_t>(s.indices.byteOffset), n, 1, indexType, false);
     if (!indexData) return false;
-    const auto valueData = locate(where + " sparse values", s.values.bufferView,
-                                  static_cast<std::size_t>(s.values.byteOffset), n, out.components, a.componentType, false);
+    const auto valueData =
+        locate(where + " sparse values", s.values.bufferView, static_cast<std::size_t>(s.values.byteOffset), n,
+               out.components, a.componentType, false);
     if (!valueData) return false;
     std::vector<double> indices(n), values(n * static_cast<std::size_t>(out.components));
     copy(*indexData, n, 1, indexType, indices.data());

@@ -78,9 +78,10 @@ class ClipBuilder {
     }
     JointTrack& track = tracks[joint];
     track.joint = joint;
-    return ch.target_path == "rotation" ? addRotation(a, c, track.rotation)
-                                        : addVec3(a, c, ch.target_path == "translation" ? track.translation : track.scale,
-                                                  ch.target_path == "translation");
+    return ch.target_path == "rotation"
+               ? addRotation(a, c, track.rotation)
+               : addVec3(a, c, ch.target_path == "translation" ? track.translation : track.scale,
+                         ch.target_path == "translation");
   }
 
   bool addVec3(std::size_t a, std::size_t c, Track<glm::vec3>& track, bool isTranslation) const {
@@ -104,7 +105,7 @@ class ClipBuilder {
     track.times = std::move(keys.times);
     for (std::size_t i = 0; i + 3 < keys.values.size(); i += 4) {
       // glTF stores x, y, z, w; glm::quat's constructor takes w, x, y, z.
-      glm::quat q(keys.values[i], keys.values[i + 1], keys.values[i + 2], keys.values[i + 3]);
+      glm::quat q(keys.values[i + 3], keys.values[i], keys.values[i + 1], keys.values[i + 2]);
       // Cubic tangents are not unit quaternions; keep those (and their values) as stored.
       track.values.push_back(track.interpolation == Interpolation::CubicSpline ? q : safeNormalize(q));
     }
@@ -115,7 +116,8 @@ class ClipBuilder {
     const std::string where = channelLabel(a, c);
     const int mesh = ctx_.model.nodes[node].mesh;
     if (mesh < 0 || morphs_[static_cast<std::size_t>(mesh)].empty()) {
-      ctx_.warning(where + " animates morph weights of " + ctx_.nodeLabel(node) + ", which has no morph targets; ignored");
+      ctx_.warning(where + " animates morph weights of " + ctx_.nodeLabel(node) +
+                   ", which has no morph targets; ignored");
       return true;
     }
     const std::vector<int>& targets = morphs_[static_cast<std::size_t>(mesh)];
@@ -136,10 +138,14 @@ class ClipBuilder {
   }
 
   bool interpolation(const std::string& name, Interpolation& out) const {
-    if (name == "LINEAR" || name.empty()) out = Interpolation::Linear;
-    else if (name == "STEP") out = Interpolation::Step;
-    else if (name == "CUBICSPLINE") out = Interpolation::CubicSpline;
-    else return false;
+    if (name == "LINEAR" || name.empty())
+      out = Interpolation::Linear;
+    else if (name == "STEP")
+      out = Interpolation::Step;
+    else if (name == "CUBICSPLINE")
+      out = Interpolation::CubicSpline;
+    else
+      return false;
     return true;
   }
 
@@ -212,7 +218,9 @@ inline bool genericName(const std::string& name) {
     const std::string p(prefix);
     if (lower.rfind(p, 0) != 0) continue;
     const std::string rest = lower.substr(p.size());
-    if (std::all_of(rest.begin(), rest.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)) || ch == '_' || ch == ' ' || ch == '-' || ch == '.'; }))
+    if (std::all_of(rest.begin(), rest.end(), [](char ch) {
+          return std::isdigit(static_cast<unsigned char>(ch)) || ch == '_' || ch == ' ' || ch == '-' || ch == '.';
+        }))
       return true;
   }
   return name.empty();

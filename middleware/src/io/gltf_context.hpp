@@ -3,10 +3,10 @@
 // only as generic values), the options and the diagnostics sink — plus the
 // validated node hierarchy.
 #pragma once
+#include <tiny_gltf.h>
+
 #include <string>
 #include <vector>
-
-#include <tiny_gltf.h>
 
 #include "gltf_json.hpp"
 #include "marionette/core/diagnostic.hpp"
@@ -51,10 +51,10 @@ struct Context {
 // The node hierarchy after validation (a forest: one parent at most, no cycles).
 // Transforms are in file units; ImportOptions::extraScale is applied later.
 struct NodeGraph {
-  std::vector<int> parent;          // -1 for a root
-  std::vector<Transform> local;     // local TRS (a `matrix` decomposed)
+  std::vector<int> parent;             // -1 for a root
+  std::vector<Transform> local;        // local TRS (a `matrix` decomposed)
   std::vector<glm::mat4> localMatrix;  // exact local matrix (as written when given as `matrix`)
-  std::vector<glm::mat4> world;     // scene-space matrix
+  std::vector<glm::mat4> world;        // scene-space matrix
 
   // Product of the local matrices strictly below `ancestor` down to and
   // including `node`; identity when node == ancestor.

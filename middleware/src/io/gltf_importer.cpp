@@ -68,9 +68,7 @@ bool readFile(const std::string& path, Source& src, Diagnostics& diag) {
   return true;
 }
 
-bool hasGlbMagic(const std::vector<unsigned char>& b) {
-  return b.size() >= 4 && std::memcmp(b.data(), "glTF", 4) == 0;
-}
+bool hasGlbMagic(const std::vector<unsigned char>& b) { return b.size() >= 4 && std::memcmp(b.data(), "glTF", 4) == 0; }
 
 // Checks the 12-byte header and the JSON chunk and extracts the JSON text, so that
 // a truncated file is reported as such rather than as a vague parse failure.
@@ -92,7 +90,8 @@ bool splitGlb(const std::string& path, Source& src, Diagnostics& diag) {
     return false;
   }
   if (jsonType != 0x4E4F534Au || jsonLength == 0 || 20ull + jsonLength > length) {
-    diag.error(path, "GLB first chunk is not a JSON chunk that fits in the file (length " + std::to_string(jsonLength) + ")");
+    diag.error(path,
+               "GLB first chunk is not a JSON chunk that fits in the file (length " + std::to_string(jsonLength) + ")");
     return false;
   }
   src.glbLength = length;
@@ -103,7 +102,8 @@ bool splitGlb(const std::string& path, Source& src, Diagnostics& diag) {
 bool prepareSource(const std::string& path, Source& src, Diagnostics& diag) {
   if (!readFile(path, src, diag)) return false;
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   // .glb, .vrm and .vrma are GLB containers; a .gltf is JSON unless it carries the GLB magic.
   src.binary = ext == ".glb" || ext == ".vrm" || ext == ".vrma" || hasGlbMagic(src.bytes);
   if (!src.binary) {
@@ -128,6 +128,13 @@ bool requiredExtensionSupported(const std::string& name) {
 }
 
 bool checkDocument(const std::string& path, const Json& doc, Diagnostics& diag) {
+  // Real files nest a dozen levels; the limit only stops stack-exhausting input.
+  constexpr std::size_t kMaxDepth = 128;
+  if (const std::size_t depth = nestingDepth(doc); depth > kMaxDepth) {
+    diag.error(path, "JSON is nested " + std::to_string(depth) + " levels deep; at most " + std::to_string(kMaxDepth) +
+                         " are accepted");
+    return false;
+  }
   const auto problems = SchemaChecker().check(doc);
   for (const std::string& p : problems) diag.error(path, "glTF schema: " + p);
   if (!problems.empty()) return false;
@@ -287,7 +294,8 @@ class ReferenceChecker {
       const auto& mat = m_.materials[i];
       const std::string where = "material " + std::to_string(i);
       ref(mat.pbrMetallicRoughness.baseColorTexture.index, m_.textures, where + " base color", "texture");
-      ref(mat.pbrMetallicRoughness.metallicRoughnessTexture.index, m_.textures, where + " metallic-roughness", "texture");
+      ref(mat.pbrMetallicRoughness.metallicRoughnessTexture.index, m_.textures, where + " metallic-roughness",
+          "texture");
       ref(mat.normalTexture.index, m_.textures, where + " normal map", "texture");
       ref(mat.occlusionTexture.index, m_.textures, where + " occlusion map", "texture");
       ref(mat.emissiveTexture.index, m_.textures, where + " emissive map", "texture");
@@ -316,21 +324,25 @@ void checkFinite(const Context& ctx, const Asset& asset) {
       const MeshPrimitive& prim = mesh.primitives[p];
       bool ok = finiteVectors(prim.positions) && finiteVectors(prim.normals) && finiteVectors(prim.uvs) &&
                 finiteVectors(prim.weights);
-      for (const MorphTargetDelta& d : prim.morphTargets) ok = ok && finiteVectors(d.positions) && finiteVectors(d.normals);
-      if (!ok) ctx.error("mesh '" + mesh.name + "' primitive " + std::to_string(p) + " has non-finite vertex data after transformation and scaling");
+      for (const MorphTargetDelta& d : prim.morphTargets)
+        ok = ok && finiteVectors(d.positions) && finiteVectors(d.normals);
+      if (!ok)
+        ctx.error("mesh '" + mesh.name + "' primitive " + std::to_string(p) +
+                  " has non-finite vertex data after transformation and scaling");
     }
   for (const Clip& clip : asset.clips) {
     bool ok = true;
     for (const JointTrack& jt : clip.tracks) {
-      ok = ok && finiteVectors(jt.translation.values) && finiteVectors(jt.scale.values) && finiteFloats(jt.translation.times) &&
-           finiteFloats(jt.rotation.times) && finiteFloats(jt.scale.times);
+      ok = ok && finiteVectors(jt.translation.values) && finiteVectors(jt.scale.values) &&
+           finiteFloats(jt.translation.times) && finiteFloats(jt.rotation.times) && finiteFloats(jt.scale.times);
       for (const glm::quat& q : jt.rotation.values)
         ok = ok && std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
     }
     for (const MorphTrack& m : clip.morphTracks) ok = ok && finiteFloats(m.times) && finiteFloats(m.weights);
     if (!ok) ctx.error("clip '" + clip.name + "' has non-finite key values after scaling");
   }
-  if (!matrixFinite(asset.skeleton.rootTransform)) ctx.error("the skeleton's root transform is not finite after scaling");
+  if (!matrixFinite(asset.skeleton.rootTransform))
+    ctx.error("the skeleton's root transform is not finite after scaling");
 }
 
 void validate(const Context& ctx, const Asset& asset) {
@@ -376,8 +388,8 @@ std::optional<Asset> buildAsset(const Context& ctx) {
 void importInto(const std::string& path, const ImportOptions& options, ImportResult& result) {
   Diagnostics& diag = result.diagnostics;
   if (!std::isfinite(options.extraScale) || !(options.extraScale > 0.0f)) {
-    diag.error(path, "ImportOptions::extraScale must be a positive finite number, got " +
-                         std::to_string(options.extraScale));
+    diag.error(path,
+               "ImportOptions::extraScale must be a positive finite number, got " + std::to_string(options.extraScale));
     return;
   }
   Source src;

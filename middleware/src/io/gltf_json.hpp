@@ -7,15 +7,15 @@
 // the one that was written. We want such files rejected with a message that
 // names the property.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace marionette::gltf_detail {
 
@@ -62,15 +62,31 @@ inline std::string asString(const Json* v, std::string fallback = {}) {
   return v && v->is_string() ? v->get<std::string>() : fallback;
 }
 
+// Nesting depth of a document, computed without recursion. tinygltf converts
+// `extras` and `extensions` recursively, so an absurdly deep file would
+// overflow its stack; we measure first.
+inline std::size_t nestingDepth(const Json& doc) {
+  std::size_t deepest = 0;
+  std::vector<std::pair<const Json*, std::size_t>> stack{{&doc, 1}};
+  while (!stack.empty()) {
+    const auto [v, depth] = stack.back();
+    stack.pop_back();
+    deepest = std::max(deepest, depth);
+    if (v->is_structured())
+      for (const Json& child : *v) stack.emplace_back(&child, depth + 1);
+  }
+  return deepest;
+}
+
 // ---- schema ------------------------------------------------------------------
 
 enum class Kind {
-  Index,         // non-negative integer
-  Number,        // finite number
+  Index,   // non-negative integer
+  Number,  // finite number
   String,
   Bool,
-  Object,        // object checked against `schema`
-  ObjectArray,   // array of objects checked against `schema`
+  Object,       // object checked against `schema`
+  ObjectArray,  // array of objects checked against `schema`
   IndexArray,
   NumberArray,
   StringArray,
@@ -92,11 +108,15 @@ struct Schema {
 // Every glTF object may also carry `name` (string), `extensions` (object of
 // objects) and `extras` (anything); those are checked for all objects.
 namespace schema {
-inline constexpr Field kTextureInfo[] = {{"index", Kind::Index, nullptr, true}, {"texCoord", Kind::Index},
-                                         {"scale", Kind::Number}, {"strength", Kind::Number}};
+inline constexpr Field kTextureInfo[] = {{"index", Kind::Index, nullptr, true},
+                                         {"texCoord", Kind::Index},
+                                         {"scale", Kind::Number},
+                                         {"strength", Kind::Number}};
 inline constexpr Schema kTextureInfoS{kTextureInfo};
-inline constexpr Field kPbr[] = {{"baseColorFactor", Kind::NumberArray}, {"baseColorTexture", Kind::Object, &kTextureInfoS},
-                                 {"metallicFactor", Kind::Number},       {"roughnessFactor", Kind::Number},
+inline constexpr Field kPbr[] = {{"baseColorFactor", Kind::NumberArray},
+                                 {"baseColorTexture", Kind::Object, &kTextureInfoS},
+                                 {"metallicFactor", Kind::Number},
+                                 {"roughnessFactor", Kind::Number},
                                  {"metallicRoughnessTexture", Kind::Object, &kTextureInfoS}};
 inline constexpr Schema kPbrS{kPbr};
 inline constexpr Field kMaterial[] = {{"pbrMetallicRoughness", Kind::Object, &kPbrS},
@@ -107,17 +127,26 @@ inline constexpr Field kMaterial[] = {{"pbrMetallicRoughness", Kind::Object, &kP
                                       {"alphaMode", Kind::String},
                                       {"alphaCutoff", Kind::Number},
                                       {"doubleSided", Kind::Bool}};
-inline constexpr Field kAsset[] = {{"version", Kind::String, nullptr, true}, {"generator", Kind::String},
-                                   {"minVersion", Kind::String}, {"copyright", Kind::String}};
+inline constexpr Field kAsset[] = {{"version", Kind::String, nullptr, true},
+                                   {"generator", Kind::String},
+                                   {"minVersion", Kind::String},
+                                   {"copyright", Kind::String}};
 inline constexpr Field kScene[] = {{"nodes", Kind::IndexArray}};
-inline constexpr Field kNode[] = {{"camera", Kind::Index},       {"children", Kind::IndexArray}, {"skin", Kind::Index},
-                                  {"matrix", Kind::NumberArray}, {"mesh", Kind::Index},          {"rotation", Kind::NumberArray},
-                                  {"scale", Kind::NumberArray},  {"translation", Kind::NumberArray}, {"weights", Kind::NumberArray}};
-inline constexpr Field kPrimitive[] = {{"attributes", Kind::IndexMap, nullptr, true}, {"indices", Kind::Index},
-                                       {"material", Kind::Index}, {"mode", Kind::Index}, {"targets", Kind::IndexMapArray}};
+inline constexpr Field kNode[] = {{"camera", Kind::Index},       {"children", Kind::IndexArray},
+                                  {"skin", Kind::Index},         {"matrix", Kind::NumberArray},
+                                  {"mesh", Kind::Index},         {"rotation", Kind::NumberArray},
+                                  {"scale", Kind::NumberArray},  {"translation", Kind::NumberArray},
+                                  {"weights", Kind::NumberArray}};
+inline constexpr Field kPrimitive[] = {{"attributes", Kind::IndexMap, nullptr, true},
+                                       {"indices", Kind::Index},
+                                       {"material", Kind::Index},
+                                       {"mode", Kind::Index},
+                                       {"targets", Kind::IndexMapArray}};
 inline constexpr Schema kPrimitiveS{kPrimitive};
-inline constexpr Field kMesh[] = {{"primitives", Kind::ObjectArray, &kPrimitiveS, true}, {"weights", Kind::NumberArray}};
-inline constexpr Field kSparseIndices[] = {{"bufferView", Kind::Index, nullptr, true}, {"byteOffset", Kind::Index},
+inline constexpr Field kMesh[] = {{"primitives", Kind::ObjectArray, &kPrimitiveS, true},
+                                  {"weights", Kind::NumberArray}};
+inline constexpr Field kSparseIndices[] = {{"bufferView", Kind::Index, nullptr, true},
+                                           {"byteOffset", Kind::Index},
                                            {"componentType", Kind::Index, nullptr, true}};
 inline constexpr Schema kSparseIndicesS{kSparseIndices};
 inline constexpr Field kSparseValues[] = {{"bufferView", Kind::Index, nullptr, true}, {"byteOffset", Kind::Index}};
@@ -135,30 +164,33 @@ inline constexpr Field kAccessor[] = {{"bufferView", Kind::Index},
                                       {"max", Kind::NumberArray},
                                       {"min", Kind::NumberArray},
                                       {"sparse", Kind::Object, &kSparseS}};
-inline constexpr Field kBufferView[] = {{"buffer", Kind::Index, nullptr, true}, {"byteOffset", Kind::Index},
-                                        {"byteLength", Kind::Index, nullptr, true}, {"byteStride", Kind::Index},
+inline constexpr Field kBufferView[] = {{"buffer", Kind::Index, nullptr, true},
+                                        {"byteOffset", Kind::Index},
+                                        {"byteLength", Kind::Index, nullptr, true},
+                                        {"byteStride", Kind::Index},
                                         {"target", Kind::Index}};
 inline constexpr Field kBuffer[] = {{"uri", Kind::String}, {"byteLength", Kind::Index, nullptr, true}};
 inline constexpr Field kTarget[] = {{"node", Kind::Index}, {"path", Kind::String, nullptr, true}};
 inline constexpr Schema kTargetS{kTarget};
-inline constexpr Field kChannel[] = {{"sampler", Kind::Index, nullptr, true}, {"target", Kind::Object, &kTargetS, true}};
+inline constexpr Field kChannel[] = {{"sampler", Kind::Index, nullptr, true},
+                                     {"target", Kind::Object, &kTargetS, true}};
 inline constexpr Schema kChannelS{kChannel};
-inline constexpr Field kSampler[] = {{"input", Kind::Index, nullptr, true}, {"interpolation", Kind::String},
-                                     {"output", Kind::Index, nullptr, true}};
+inline constexpr Field kSampler[] = {
+    {"input", Kind::Index, nullptr, true}, {"interpolation", Kind::String}, {"output", Kind::Index, nullptr, true}};
 inline constexpr Schema kSamplerS{kSampler};
 inline constexpr Field kAnimation[] = {{"channels", Kind::ObjectArray, &kChannelS, true},
                                        {"samplers", Kind::ObjectArray, &kSamplerS, true}};
-inline constexpr Field kSkin[] = {{"inverseBindMatrices", Kind::Index}, {"skeleton", Kind::Index},
-                                  {"joints", Kind::IndexArray, nullptr, true}};
+inline constexpr Field kSkin[] = {
+    {"inverseBindMatrices", Kind::Index}, {"skeleton", Kind::Index}, {"joints", Kind::IndexArray, nullptr, true}};
 inline constexpr Field kTexture[] = {{"sampler", Kind::Index}, {"source", Kind::Index}};
 inline constexpr Field kImage[] = {{"uri", Kind::String}, {"mimeType", Kind::String}, {"bufferView", Kind::Index}};
-inline constexpr Field kTexSampler[] = {{"magFilter", Kind::Index}, {"minFilter", Kind::Index},
-                                        {"wrapS", Kind::Index}, {"wrapT", Kind::Index}};
+inline constexpr Field kTexSampler[] = {
+    {"magFilter", Kind::Index}, {"minFilter", Kind::Index}, {"wrapS", Kind::Index}, {"wrapT", Kind::Index}};
 inline constexpr Field kCamera[] = {{"type", Kind::String, nullptr, true}};
 
 inline constexpr Schema kMaterialS{kMaterial}, kAssetS{kAsset}, kSceneS{kScene}, kNodeS{kNode}, kMeshS{kMesh},
-    kAccessorS{kAccessor}, kBufferViewS{kBufferView}, kBufferS{kBuffer}, kAnimationS{kAnimation},
-    kSkinS{kSkin}, kTextureS{kTexture}, kImageS{kImage}, kTexSamplerS{kTexSampler}, kCameraS{kCamera};
+    kAccessorS{kAccessor}, kBufferViewS{kBufferView}, kBufferS{kBuffer}, kAnimationS{kAnimation}, kSkinS{kSkin},
+    kTextureS{kTexture}, kImageS{kImage}, kTexSamplerS{kTexSampler}, kCameraS{kCamera};
 
 inline constexpr Field kRoot[] = {{"asset", Kind::Object, &kAssetS, true},
                                   {"scene", Kind::Index},
@@ -269,14 +301,22 @@ class SchemaChecker {
 
   void value(const Json& v, const Field& f, const std::string& where) {
     switch (f.kind) {
-      case Kind::Object: return object(v, *f.schema, where);
-      case Kind::ObjectArray: return array(v, Kind::Object, f.schema, where);
-      case Kind::IndexArray: return array(v, Kind::Index, nullptr, where);
-      case Kind::NumberArray: return array(v, Kind::Number, nullptr, where);
-      case Kind::StringArray: return array(v, Kind::String, nullptr, where);
-      case Kind::IndexMap: return indexMap(v, where);
-      case Kind::IndexMapArray: return array(v, Kind::IndexMap, nullptr, where);
-      default: return scalar(v, f.kind, where);
+      case Kind::Object:
+        return object(v, *f.schema, where);
+      case Kind::ObjectArray:
+        return array(v, Kind::Object, f.schema, where);
+      case Kind::IndexArray:
+        return array(v, Kind::Index, nullptr, where);
+      case Kind::NumberArray:
+        return array(v, Kind::Number, nullptr, where);
+      case Kind::StringArray:
+        return array(v, Kind::String, nullptr, where);
+      case Kind::IndexMap:
+        return indexMap(v, where);
+      case Kind::IndexMapArray:
+        return array(v, Kind::IndexMap, nullptr, where);
+      default:
+        return scalar(v, f.kind, where);
     }
   }
 };

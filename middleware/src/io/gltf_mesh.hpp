@@ -27,7 +27,8 @@ inline std::vector<std::string> morphTargetNames(const Context& ctx, std::size_t
   for (const Json* extras : candidates) {
     const Json* names = extras ? member(*extras, "targetNames") : nullptr;
     if (!names || !names->is_array()) continue;
-    if (names->size() != count || !std::all_of(names->begin(), names->end(), [](const Json& n) { return n.is_string(); })) {
+    if (names->size() != count ||
+        !std::all_of(names->begin(), names->end(), [](const Json& n) { return n.is_string(); })) {
       ctx.warning("mesh '" + ctx.meshName(m) + "' has targetNames that do not match its " + std::to_string(count) +
                   " morph targets; using generated names");
       break;
@@ -72,9 +73,9 @@ inline std::vector<std::vector<int>> collectMorphTargets(const Context& ctx, std
 
 // How a mesh's vertices relate to the skeleton.
 struct MeshBinding {
-  int skin = -1;               // the skin of the instancing node, or -1
-  int rigidJoint = -1;         // skeleton joint a rigid mesh follows, or -1
-  glm::mat4 bake{1.0f};        // applied to positions (file units) before extraScale
+  int skin = -1;                 // the skin of the instancing node, or -1
+  int rigidJoint = -1;           // skeleton joint a rigid mesh follows, or -1
+  glm::mat4 bake{1.0f};          // applied to positions (file units) before extraScale
   std::vector<int> skinToJoint;  // skin joint index -> skeleton joint index
 };
 
@@ -129,8 +130,9 @@ class MeshBuilder {
         continue;
       }
       if (prim.targets.size() != mesh.morphTargets.size()) {
-        ctx_.error(where + " has " + std::to_string(prim.targets.size()) + " morph targets but the mesh's first primitive has " +
-                   std::to_string(mesh.morphTargets.size()) + "; all primitives must have the same number");
+        ctx_.error(where + " has " + std::to_string(prim.targets.size()) +
+                   " morph targets but the mesh's first primitive has " + std::to_string(mesh.morphTargets.size()) +
+                   "; all primitives must have the same number");
         return false;
       }
       if (!prim.attributes.count("POSITION")) {
@@ -170,9 +172,10 @@ class MeshBuilder {
     }
     b.rigidJoint = map_.nodeToJoint[static_cast<std::size_t>(a)];
     const glm::mat4 bindFromJoint = glm::inverse(map_.rawInverseBind[static_cast<std::size_t>(b.rigidJoint)]);
-    b.bake = graph_.relative(a, node); (void)bindFromJoint;
+    b.bake = bindFromJoint * graph_.relative(a, node);
     if (!matrixFinite(b.bake)) {
-      ctx_.error("mesh '" + ctx_.meshName(m) + "' follows joint '" + skeleton_.names[static_cast<std::size_t>(b.rigidJoint)] +
+      ctx_.error("mesh '" + ctx_.meshName(m) + "' follows joint '" +
+                 skeleton_.names[static_cast<std::size_t>(b.rigidJoint)] +
                  "', whose inverse bind matrix cannot be inverted");
       return false;
     }
@@ -231,7 +234,8 @@ class MeshBuilder {
     for (std::size_t i = 0; i < out.size(); ++i) {
       if (out[i] >= vertexCount) {
         ctx_.error(where + ": vertex index " + std::to_string(out[i]) + " (at position " + std::to_string(i) +
-                   " of the index list) is out of range; the primitive has " + std::to_string(vertexCount) + " vertices");
+                   " of the index list) is out of range; the primitive has " + std::to_string(vertexCount) +
+                   " vertices");
         return false;
       }
     }
@@ -270,7 +274,8 @@ class MeshBuilder {
     out.weights.resize(count);
     std::size_t fixed = 0;
     for (std::size_t v = 0; v < count; ++v) {
-      glm::vec4 w(weights->values[v * 4], weights->values[v * 4 + 1], weights->values[v * 4 + 2], weights->values[v * 4 + 3]);
+      glm::vec4 w(weights->values[v * 4], weights->values[v * 4 + 1], weights->values[v * 4 + 2],
+                  weights->values[v * 4 + 3]);
       for (int c = 0; c < 4; ++c) {
         const std::uint32_t j = (*joints)[v * 4 + static_cast<std::size_t>(c)];
         if (w[c] < 0.0f) w[c] = 0.0f, ++fixed;
@@ -278,7 +283,8 @@ class MeshBuilder {
           // Exporters pad unused influences with arbitrary numbers; only a used one is an error.
           if (w[c] > 0.0f) {
             ctx_.error(where + " vertex " + std::to_string(v) + ": JOINTS_0 refers to skin joint " + std::to_string(j) +
-                       " but skin " + std::to_string(b.skin) + " has " + std::to_string(b.skinToJoint.size()) + " joints");
+                       " but skin " + std::to_string(b.skin) + " has " + std::to_string(b.skinToJoint.size()) +
+                       " joints");
             return false;
           }
           out.joints[v][c] = 0;

@@ -2,13 +2,12 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_inverse.hpp>
 #include <map>
 #include <queue>
 #include <set>
 #include <tuple>
 #include <vector>
-
-#include <glm/gtc/matrix_inverse.hpp>
 
 #include "gltf_accessor.hpp"
 #include "marionette/skeleton/skeleton.hpp"
@@ -104,7 +103,8 @@ inline bool findParents(const Context& ctx, std::vector<int>& parent) {
       std::string loop;
       for (auto it = std::find(walk.begin(), walk.end(), n); it != walk.end(); ++it)
         loop += ctx.nodeLabel(static_cast<std::size_t>(*it)) + " -> ";
-      ctx.error("the node hierarchy has a cycle (child -> parent): " + loop + ctx.nodeLabel(static_cast<std::size_t>(n)));
+      ctx.error("the node hierarchy has a cycle (child -> parent): " + loop +
+                ctx.nodeLabel(static_cast<std::size_t>(n)));
       return false;
     }
     for (int w : walk) state[static_cast<std::size_t>(w)] = 2;
@@ -125,7 +125,8 @@ inline bool buildNodeGraph(const Context& ctx, NodeGraph& g) {
   std::vector<char> done(count, 0);
   for (std::size_t i = 0; i < count; ++i) {
     std::vector<int> chain;
-    for (int n = static_cast<int>(i); n >= 0 && !done[static_cast<std::size_t>(n)]; n = g.parent[static_cast<std::size_t>(n)])
+    for (int n = static_cast<int>(i); n >= 0 && !done[static_cast<std::size_t>(n)];
+         n = g.parent[static_cast<std::size_t>(n)])
       chain.push_back(n);
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
       const auto n = static_cast<std::size_t>(*it);
@@ -140,9 +141,9 @@ inline bool buildNodeGraph(const Context& ctx, NodeGraph& g) {
 // ---- skeleton --------------------------------------------------------------------
 
 struct SkeletonMap {
-  std::vector<int> nodeToJoint;            // -1 when the node is not a joint
+  std::vector<int> nodeToJoint;  // -1 when the node is not a joint
   std::vector<int> jointToNode;
-  std::vector<glm::mat4> rawInverseBind;   // per joint, file units (before extraScale)
+  std::vector<glm::mat4> rawInverseBind;  // per joint, file units (before extraScale)
 };
 
 class SkeletonBuilder {
@@ -169,8 +170,8 @@ class SkeletonBuilder {
   const Context& ctx_;
   const AccessorReader& reader_;
   const NodeGraph& graph_;
-  std::vector<int> rank_;          // preferred position; -1 when the node is not in the skeleton
-  std::vector<int> tier_;          // tie-break: 0 for intermediate nodes, which must precede their joint
+  std::vector<int> rank_;  // preferred position; -1 when the node is not in the skeleton
+  std::vector<int> tier_;  // tie-break: 0 for intermediate nodes, which must precede their joint
   std::vector<glm::mat4> inverseBind_;
   std::vector<char> skinJoint_;
 
@@ -308,8 +309,8 @@ class SkeletonBuilder {
       Transform rest = graph_.local[u];
       if (parentJoint < 0) rest = rootRest(u, haveRoot, rootRaw);
       rest.translation *= s;
-      map.nodeToJoint[u] = skeleton.addJoint(ctx_.nodeName(u), parentJoint, rest,
-                                             scaledTranslation(inverseBind_[u], s), skinJoint_[u] != 0);
+      map.nodeToJoint[u] = skeleton.addJoint(ctx_.nodeName(u), parentJoint, rest, scaledTranslation(inverseBind_[u], s),
+                                             skinJoint_[u] != 0);
       map.jointToNode.push_back(n);
       map.rawInverseBind.push_back(inverseBind_[u]);
     }
@@ -331,7 +332,8 @@ class SkeletonBuilder {
     const glm::mat4 inv = glm::inverse(rootRaw);
     const glm::mat4 baked = inv * parentWorld * graph_.localMatrix[node];
     if (!matrixFinite(baked)) {
-      ctx_.warning(ctx_.nodeLabel(node) + ": cannot express its parent space relative to the skeleton root; kept as is");
+      ctx_.warning(ctx_.nodeLabel(node) +
+                   ": cannot express its parent space relative to the skeleton root; kept as is");
       return graph_.local[node];
     }
     return decompose(baked);

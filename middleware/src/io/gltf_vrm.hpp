@@ -53,8 +53,8 @@ class HumanoidReader {
     }
     const int joint = map_.nodeToJoint[static_cast<std::size_t>(*n)];
     if (joint < 0) {
-      ctx_.warning(std::string(ext) + " humanoid bone '" + bone + "' is " + ctx_.nodeLabel(static_cast<std::size_t>(*n)) +
-                   ", which is not a skeleton joint; ignored");
+      ctx_.warning(std::string(ext) + " humanoid bone '" + bone + "' is " +
+                   ctx_.nodeLabel(static_cast<std::size_t>(*n)) + ", which is not a skeleton joint; ignored");
       return;
     }
     h.bones[bone] = skeleton_.names[static_cast<std::size_t>(joint)];
@@ -79,15 +79,16 @@ class HumanoidReader {
   int morphIndex(long long mesh, long long index) const {
     if (mesh < 0 || static_cast<std::size_t>(mesh) >= morphs_.size()) return -1;
     const auto& targets = morphs_[static_cast<std::size_t>(mesh)];
-    return index >= 0 && static_cast<std::size_t>(index) < targets.size() ? targets[static_cast<std::size_t>(index)] : -1;
+    return index >= 0 && static_cast<std::size_t>(index) < targets.size() ? targets[static_cast<std::size_t>(index)]
+                                                                          : -1;
   }
 
   // Visemes get a format-independent upper-case alias: VRM 0.0 writes the
   // presets "a".."o", VRM 1.0 "aa", "ih", "ou", "ee", "oh"; both become "A".."O".
   static std::string visemeAlias(const std::string& preset) {
-    static const std::pair<const char*, const char*> kAliases[] = {
-        {"a", "A"}, {"i", "I"}, {"u", "U"}, {"e", "E"}, {"o", "O"},
-        {"aa", "A"}, {"ih", "I"}, {"ou", "U"}, {"ee", "E"}, {"oh", "O"}};
+    static const std::pair<const char*, const char*> kAliases[] = {{"a", "A"},  {"i", "I"},  {"u", "U"},  {"e", "E"},
+                                                                   {"o", "O"},  {"aa", "A"}, {"ih", "I"}, {"ou", "U"},
+                                                                   {"ee", "E"}, {"oh", "O"}};
     for (const auto& [from, to] : kAliases)
       if (preset == from) return to;
     return {};
@@ -112,10 +113,12 @@ class HumanoidReader {
       const Json* list = member(g, "binds");
       for (std::size_t i = 0; list && list->is_array() && i < list->size(); ++i) {
         const Json& b = (*list)[i];
-        const int target = morphIndex(asIndex(member(b, "mesh")).value_or(-1), asIndex(member(b, "index")).value_or(-1));
+        const int target =
+            morphIndex(asIndex(member(b, "mesh")).value_or(-1), asIndex(member(b, "index")).value_or(-1));
         const double weight = asNumber(member(b, "weight")).value_or(100.0);
         if (target < 0 || !std::isfinite(weight)) {
-          ctx_.warning("VRM blend shape group '" + key + "' bind " + std::to_string(i) + " refers to no morph target; ignored");
+          ctx_.warning("VRM blend shape group '" + key + "' bind " + std::to_string(i) +
+                       " refers to no morph target; ignored");
           continue;
         }
         binds.emplace_back(target, static_cast<float>(std::clamp(weight / 100.0, 0.0, 1.0)));
