@@ -7,19 +7,6 @@
 namespace marionette::bml {
 
 namespace {
-std::pair<int, int> lineColumn(std::string_view text, std::ptrdiff_t offset) {
-  if (offset < 0) return {0, 0};
-  int line = 1, col = 1;
-  for (std::ptrdiff_t i = 0; i < offset && i < static_cast<std::ptrdiff_t>(text.size()); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return {line, col};
-}
 
 std::string_view localName(const char* name) {
   std::string_view n(name);
@@ -57,13 +44,13 @@ ParseResult parseBlock(std::string_view text, const std::string& source) {
   pugi::xml_document doc;
   pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!parsed) {
-    auto [line, col] = lineColumn(text, parsed.offset);
+    auto [line, col] = lineColumnAt(text, parsed.offset);
     result.diagnostics.error(source, std::string("malformed XML: ") + parsed.description(), line, col);
     return result;
   }
   pugi::xml_node root = doc.document_element();
   // offset_debug() points at the element name; report the '<' before it.
-  auto place = [&](const pugi::xml_node& n) { return lineColumn(text, n.offset_debug() - 1); };
+  auto place = [&](const pugi::xml_node& n) { return lineColumnAt(text, n.offset_debug() - 1); };
   if (!root || localName(root.name()) != "bml") {
     auto [line, col] = root ? place(root) : std::pair{0, 0};
     result.diagnostics.error(source, "expected a <bml> element at the top", line, col);

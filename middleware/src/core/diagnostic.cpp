@@ -1,5 +1,7 @@
 #include "marionette/core/diagnostic.hpp"
 
+#include <algorithm>
+
 namespace marionette {
 
 std::string Diagnostic::format() const {
@@ -45,6 +47,21 @@ std::string Diagnostics::format() const {
   std::string out;
   for (const auto& d : items) out += d.format() + '\n';
   return out;
+}
+
+std::pair<int, int> lineColumnAt(std::string_view text, std::ptrdiff_t offset) noexcept {
+  if (offset < 0) return {0, 0};
+  int line = 1, column = 1;
+  const auto end = std::min(static_cast<std::size_t>(offset), text.size());
+  for (std::size_t i = 0; i < end; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return {line, column};
 }
 
 }  // namespace marionette

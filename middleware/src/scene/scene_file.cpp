@@ -17,20 +17,6 @@ namespace {
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
 
-// Line and column (1-based) of a byte offset in text.
-std::pair<int, int> lineColumn(const std::string& text, std::size_t offset) {
-  int line = 1, col = 1;
-  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return {line, col};
-}
-
 struct PlaySpec {
   std::string clip;
   int layer = 0;
@@ -177,7 +163,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
   try {  // load time, not per frame: nlohmann reports the byte offset only through its exception
     doc = Json::parse(text);
   } catch (const Json::parse_error& e) {
-    auto [line, col] = lineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
+    auto [line, col] = lineColumnAt(text, e.byte > 0 ? static_cast<std::ptrdiff_t>(e.byte) - 1 : 0);
     std::string msg = e.what();
     auto pos = msg.find("syntax error");
     diags.error(name, pos != std::string::npos ? msg.substr(pos) : msg, line, col);

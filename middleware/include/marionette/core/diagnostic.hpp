@@ -1,7 +1,10 @@
 // Diagnostics for load and parse time: every error names the file (or BML block),
 // the place (line:column, joint or track name) and what was expected.
 #pragma once
+#include <cstddef>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace marionette {
@@ -29,5 +32,8 @@ struct Diagnostics {
   [[nodiscard]] bool hasWarnings() const noexcept;
   [[nodiscard]] std::string format() const;  // one line per diagnostic
 };
+
+// 1-based line and column of a byte offset in text ({0, 0} for a negative offset).
+[[nodiscard]] std::pair<int, int> lineColumnAt(std::string_view text, std::ptrdiff_t offset) noexcept;
 
 }  // namespace marionette
