@@ -33,6 +33,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "isolated_call.hpp"
 #include "marionette/io/import.hpp"
 
 namespace marionette {
@@ -873,6 +874,28 @@ void convertScene(Importing& im) {
   if (im.diag.ok()) validate(im);
 }
 
+// Reads the file once in a child process first: if Assimp crashes, hangs or
+// runs out of memory there, the caller gets an error instead (isolated_call.hpp).
+// The in-process read that follows is the same deterministic code on the same
+// bytes, so it succeeds where the child did.
+bool parsesInIsolation(const std::string& path, const ImportOptions& options, Diagnostics& diag) {
+  const detail::IsolatedOutcome outcome = detail::runIsolated(
+      [&] {
+        Assimp::Importer importer;
+        configure(importer);
+        Diagnostics ignored;
+        return readScene(importer, path, options.loadMeshes, ignored) ? 0 : 1;
+      },
+      options.parserTimeoutSeconds, options.parserMemoryLimitBytes);
+  using Kind = detail::IsolatedOutcome::Kind;
+  if (outcome.kind == Kind::Crashed || outcome.kind == Kind::TimedOut) {
+    diag.error(path, "Assimp's reader " + outcome.describe(options.parserTimeoutSeconds) +
+                         " on this file; it is malformed or too large, and nothing was loaded");
+    return false;
+  }
+  return true;  // Completed (either way) or Unavailable: the in-process read reports the details
+}
+
 void importInto(ImportResult& result, const std::string& path, const ImportOptions& options) {
   Diagnostics& diag = result.diagnostics;
   if (!std::isfinite(options.extraScale) || options.extraScale <= 0.0f) {
@@ -880,6 +903,7 @@ void importInto(ImportResult& result, const std::string& path, const ImportOptio
     return;
   }
   if (!checkFile(path, diag)) return;
+  if (options.isolateThirdPartyParsers && !parsesInIsolation(path, options, diag)) return;
   Assimp::Importer importer;
   configure(importer);
   const aiScene* scene = readScene(importer, path, options.loadMeshes, diag);

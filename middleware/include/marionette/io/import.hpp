@@ -2,6 +2,7 @@
 // .gltf .glb .vrm .vrma through tinygltf; .fbx .dae .bvh .md5mesh .md5anim .x
 // (and anything else Assimp reads) through Assimp when built with it.
 #pragma once
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -17,6 +18,14 @@ struct ImportOptions {
   // conversion. FBX files are converted to metres from their UnitScaleFactor;
   // BVH has no unit, so its numbers are kept unless this says otherwise.
   float extraScale = 1.0f;
+  // Assimp's readers can crash or hang on malformed files (a bug in the
+  // dependency, not catchable in-process). When true, the file is first read in
+  // a forked child with these limits, and a crash or hang there becomes an error.
+  // Costs one extra parse of Assimp formats; turn off for trusted files, or in a
+  // process where fork() is not allowed.
+  bool isolateThirdPartyParsers = true;
+  double parserTimeoutSeconds = 60.0;
+  std::size_t parserMemoryLimitBytes = std::size_t{4} << 30;  // 4 GiB of address space
 };
 
 struct ImportResult {
