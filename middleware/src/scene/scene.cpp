@@ -6,9 +6,9 @@
 
 namespace marionette {
 
-Scene::~Scene() {
-  for (auto& c : characters_) forEachListener([&](SceneListener& l) { l.onCharacterRemoved(*c); });
-}
+// No listener calls here: listeners are often declared after the scene and so
+// destroyed before it (UBSan caught exactly that in the tests).
+Scene::~Scene() = default;
 
 Character* Scene::addCharacter(std::string name, std::shared_ptr<const Rig> rig) {
   if (!rig) {

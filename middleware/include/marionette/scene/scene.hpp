@@ -24,6 +24,9 @@ class Scene {
   [[nodiscard]] Character* findCharacter(std::string_view name) noexcept;
   [[nodiscard]] const std::vector<std::unique_ptr<Character>>& characters() const noexcept { return characters_; }
 
+  // Listeners are not owned. They are called until removed, never from ~Scene
+  // (destroying a scene sends no onCharacterRemoved), so a listener may die
+  // before the scene as long as it is not used after its own destruction.
   void addListener(SceneListener* listener);
   void removeListener(SceneListener* listener);
 
