@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -17,6 +18,9 @@ TEST(AssimpIsolation, RunIsolatedReportsCrashTimeoutAndExitCode) {
   auto crash = detail::runIsolated([] { std::raise(SIGSEGV); return 0; }, 10.0, 0);
   EXPECT_EQ(crash.kind, IsolatedOutcome::Kind::Crashed);
   EXPECT_EQ(crash.signal, SIGSEGV);
+  auto exited = detail::runIsolated([]() -> int { std::_Exit(1); }, 10.0, 0);  // as a sanitizer report ends
+  EXPECT_EQ(exited.kind, IsolatedOutcome::Kind::Crashed);
+  EXPECT_NE(exited.describe(1.0).find("exit code 1"), std::string::npos);
   auto hang = detail::runIsolated([] { for (;;) std::this_thread::sleep_for(std::chrono::seconds(1)); return 0; }, 0.3, 0);
   EXPECT_EQ(hang.kind, IsolatedOutcome::Kind::TimedOut);
   EXPECT_NE(hang.describe(0.3).find("did not finish"), std::string::npos);

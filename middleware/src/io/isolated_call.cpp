@@ -24,12 +24,15 @@ constexpr bool kAddressSanitizer = false;
 #else
 constexpr bool kAddressSanitizer = false;
 #endif
+// Exit codes below this did not come from `work` returning.
+constexpr int kExitBase = 64;
 }  // namespace
 
 std::string IsolatedOutcome::describe(double timeoutSeconds) const {
   switch (kind) {
     case Kind::Completed: return "completed with exit code " + std::to_string(exitCode);
     case Kind::Crashed: {
+      if (signal == 0) return "crashed (ended abnormally with exit code " + std::to_string(exitCode) + ")";
       const char* name = strsignal(signal);
       return "crashed (signal " + std::to_string(signal) + (name ? std::string(", ") + name : "") + ")";
     }
@@ -48,13 +51,16 @@ IsolatedOutcome runIsolated(const std::function<int()>& work, double timeoutSeco
       rlimit limit{memoryLimitBytes, memoryLimitBytes};
       setrlimit(RLIMIT_AS, &limit);
     }
+    // A crash should end the child by its signal; a sanitizer's handler would
+    // turn it into an ordinary exit, hence also the exit-code offset below.
+    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, SIG_DFL);
     int code = 3;
     try {
       code = work();
     } catch (...) {
       code = 4;
     }
-    _exit(code);  // no atexit handlers, no flushing the parent's buffers twice
+    _exit(kExitBase + (code & 0x3f));  // no atexit handlers, no flushing the parent's buffers twice
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutSeconds);
   auto pause = std::chrono::microseconds(200);
@@ -62,8 +68,11 @@ IsolatedOutcome runIsolated(const std::function<int()>& work, double timeoutSeco
     int status = 0;
     const pid_t done = waitpid(pid, &status, WNOHANG);
     if (done == pid) {
-      if (WIFEXITED(status)) {
+      if (WIFEXITED(status) && WEXITSTATUS(status) >= kExitBase) {
         out.kind = IsolatedOutcome::Kind::Completed;
+        out.exitCode = WEXITSTATUS(status) - kExitBase;
+      } else if (WIFEXITED(status)) {  // ended before `work` returned: a sanitizer report, exit() in a library
+        out.kind = IsolatedOutcome::Kind::Crashed;
         out.exitCode = WEXITSTATUS(status);
       } else if (WIFSIGNALED(status)) {
         out.kind = IsolatedOutcome::Kind::Crashed;

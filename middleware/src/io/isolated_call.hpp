@@ -15,13 +15,14 @@ namespace marionette::detail {
 
 struct IsolatedOutcome {
   enum class Kind { Completed, Crashed, TimedOut, Unavailable } kind = Kind::Unavailable;
-  int exitCode = 0;  // when Completed
-  int signal = 0;    // when Crashed
+  int exitCode = 0;  // what `work` returned (Completed), or the raw exit code of an abnormal end (Crashed)
+  int signal = 0;    // the signal that ended the child (Crashed), 0 if it exited
   [[nodiscard]] std::string describe(double timeoutSeconds) const;
 };
 
-// `work` runs in the child; its return value is the child's exit code. The
-// child never returns into the caller's code (it ends with _exit).
+// `work` runs in the child and returns a code in [0, 63]. The child never
+// returns into the caller's code (it ends with _exit). An exit that did not come
+// from `work` returning (a sanitizer turning a SEGV into exit(1)) counts as a crash.
 [[nodiscard]] IsolatedOutcome runIsolated(const std::function<int()>& work, double timeoutSeconds,
                                           std::size_t memoryLimitBytes);
 
