@@ -123,3 +123,29 @@ TEST(Blending, AdditiveRoundTrip) {
   blendPoses(halfLayers, ref, out);
   EXPECT_NEAR(angleBetween(out[0].rotation, glm::angleAxis(0.55f, glm::vec3(0, 1, 0))), 0.0f, 1e-4f);
 }
+
+TEST(Blending, AccumulatorMatchesBlendPoses) {
+  // The runtime's layer-at-a-time blend gives exactly what blendPoses gives.
+  std::vector<Transform> rest(3), a(3), b(3), d(3), out1(3), out2(3);
+  for (int j = 0; j < 3; ++j) {
+    const float f = static_cast<float>(j + 1);
+    rest[j].rotation = glm::angleAxis(0.1f * f, glm::vec3(0, 1, 0));
+    a[j] = {{f, 0, 0}, glm::angleAxis(0.5f * f, glm::vec3(1, 0, 0)), {1, 1, 1}};
+    b[j] = {{0, f, 0}, -glm::angleAxis(-0.7f * f, glm::vec3(0, 0, 1)), {2, 1, 1}};
+    d[j] = {{0, 0, 0.1f}, glm::angleAxis(0.2f, glm::vec3(0, 1, 0)), {1, 1, 1}};
+  }
+  std::vector<float> mask = {1.0f, 0.5f, 0.0f};
+  BlendLayer layers[] = {{a, 0.4f}, {b, 0.3f, mask}, {d, 0.8f, {}, true}};
+  blendPoses(layers, rest, out1);
+  BlendAccumulator acc;
+  acc.reset(3);
+  acc.addNormal(a, 0.4f, {}, rest);
+  acc.addNormal(b, 0.3f, mask, rest);
+  acc.finish(rest, out2);
+  applyAdditive(d, 0.8f, {}, out2);
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_EQ(out1[j].translation, out2[j].translation);
+    EXPECT_EQ(out1[j].rotation, out2[j].rotation);
+    EXPECT_EQ(out1[j].scale, out2[j].scale);
+  }
+}

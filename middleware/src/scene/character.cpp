@@ -8,10 +8,15 @@
 
 namespace marionette {
 
+void FrameScratch::reserve(std::size_t joints) {
+  if (pose.size() >= joints) return;
+  pose.resize(joints);
+  accumulator.reset(joints);
+}
+
 Character::Character(std::string name, std::shared_ptr<const Rig> rig) : name_(std::move(name)), rig_(std::move(rig)) {
   const Skeleton& s = rig_->skeleton();
   pose_ = s.restPose;
-  blend_.reserve(kMaxLayers);
   buffer_.resize(s.jointCount(), rig_->asset().morphTargets.size());
 }
 
@@ -68,7 +73,11 @@ bool Character::play(int layer, std::shared_ptr<const AnimationClip> clip, const
   l.stopping = false;
   l.cursor.reset(l.clip->clip);
   l.rootCursor.reset(l.clip->inPlaceRoot);
-  l.pose.resize(n);  // allocated here (command time), reused every frame
+  if (!scratch_) {  // a character outside a scene blends in its own scratch (allocated here, at command time)
+    ownScratch_ = std::make_unique<FrameScratch>();
+    scratch_ = ownScratch_.get();
+  }
+  scratch_->reserve(n);
   if (options.additive) {
     l.reference.resize(n);
     sampleClip(l.clip->clip, 0.0f, skeleton().restPose, l.reference);
@@ -116,6 +125,25 @@ void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
   if (layer.options.additive) makeAdditiveDelta(out, layer.reference, out);
 }
 
+void Character::blendLayers() noexcept {
+  // Normal layers are summed one at a time through the scratch pose, then the
+  // additive layers are applied in order on the result (as blendPoses does).
+  const std::span<const Transform> rest = skeleton().restPose;
+  const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(rest.size());
+  scratch_->accumulator.reset(rest.size());  // no allocation: sized at play time
+  for (Layer& l : layers_) {
+    if (!l.clip || l.options.additive) continue;
+    sampleLayer(l, scratch);
+    scratch_->accumulator.addNormal(scratch, l.weight, l.options.jointMask, rest);
+  }
+  scratch_->accumulator.finish(rest, pose_);
+  for (Layer& l : layers_) {
+    if (!l.clip || !l.options.additive) continue;
+    sampleLayer(l, scratch);
+    applyAdditive(scratch, l.weight, l.options.jointMask, pose_);
+  }
+}
+
 void Character::applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                                 float& turn) const noexcept {
   const RootMotion& rm = layer.clip->rootMotion;
@@ -138,7 +166,6 @@ void Character::update(double dt) noexcept {
   float turn = 0.0f;
   int active = 0;
   Layer* only = nullptr;
-  blend_.clear();
   for (Layer& l : layers_) {
     if (!l.clip) continue;
     // Fade.
@@ -168,12 +195,7 @@ void Character::update(double dt) noexcept {
   } else if (direct) {
     sampleLayer(*only, pose_);
   } else {
-    for (Layer& l : layers_) {
-      if (!l.clip) continue;
-      sampleLayer(l, l.pose);
-      blend_.push_back({l.pose, l.weight, l.options.jointMask, l.options.additive});
-    }
-    blendPoses(blend_, skeleton().restPose, pose_);
+    blendLayers();
   }
   // Morph weights: layers in order, later layers override the targets they animate.
   std::span<float> morphs = buffer_.writeMorphWeights();

@@ -2,6 +2,7 @@
 // additive layers. Per-frame code: no allocation, no exceptions, never NaN.
 #pragma once
 #include <span>
+#include <vector>
 
 #include "marionette/core/transform.hpp"
 
@@ -24,6 +25,29 @@ struct BlendLayer {
 // translation t += w * dt, scale s *= mix(1, ds, w).
 void blendPoses(std::span<const BlendLayer> layers, std::span<const Transform> rest,
                 std::span<Transform> out) noexcept;
+
+// Layer-at-a-time form of blendPoses, what the runtime uses: sample a layer into
+// any scratch pose, add it, reuse the scratch for the next layer. The same
+// result as blendPoses (tested) with one scratch pose for all layers and all
+// characters of a scene, instead of one pose per layer per character.
+class BlendAccumulator {
+ public:
+  void reset(std::size_t joints);  // allocates only when `joints` grows
+  void addNormal(std::span<const Transform> pose, float weight, std::span<const float> jointWeights,
+                 std::span<const Transform> rest) noexcept;
+  // Weighted mean, rest filling the remainder below total weight 1 (as blendPoses).
+  void finish(std::span<const Transform> rest, std::span<Transform> out) const noexcept;
+
+ private:
+  std::size_t joints_ = 0;
+  std::vector<glm::vec3> translation_, scale_;
+  std::vector<glm::quat> rotation_;
+  std::vector<float> weight_;
+};
+
+// Applies an additive delta layer to `pose` in place (as blendPoses does).
+void applyAdditive(std::span<const Transform> delta, float weight, std::span<const float> jointWeights,
+                   std::span<Transform> pose) noexcept;
 
 // Delta that, applied additively at weight 1 on `reference`, gives `pose`.
 void makeAdditiveDelta(std::span<const Transform> pose, std::span<const Transform> reference,

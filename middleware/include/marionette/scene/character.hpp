@@ -29,6 +29,15 @@ struct PlayOptions {
   std::vector<float> jointMask;      // optional per-joint weights in [0,1]; empty = whole body
 };
 
+// Per-frame working memory that characters share: the scene owns one, sized to
+// its largest skeleton, so blending N layers on 1000 characters touches one
+// scratch pose (hot in cache) instead of N poses per character.
+struct FrameScratch {
+  std::vector<Transform> pose;
+  BlendAccumulator accumulator;
+  void reserve(std::size_t joints);  // grows only
+};
+
 struct CharacterStats {
   double lastUpdateMicros = 0.0;  // wall time of the last update (when stats are on)
   int activeLayers = 0;           // clip layers that exist now
@@ -78,10 +87,11 @@ class Character {
     float fadeRate = 0.0f;    // weight per second, signed
     bool stopping = false;
     SamplingCursor cursor, rootCursor;
-    std::vector<Transform> pose, reference;  // reference: first frame, for additive layers
+    std::vector<Transform> reference;  // first frame, for additive layers
   };
   void notify(ChangeKind kind, std::string_view what) const;
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
+  void blendLayers() noexcept;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                        float& turn) const noexcept;
 
@@ -92,7 +102,8 @@ class Character {
   float heading_ = 0.0f;
   std::array<Layer, kMaxLayers> layers_;
   std::vector<Transform> pose_;
-  std::vector<BlendLayer> blend_;  // capacity kMaxLayers, reserved once
+  FrameScratch* scratch_ = nullptr;             // the scene's, or ownScratch_ when standalone
+  std::unique_ptr<FrameScratch> ownScratch_;
   TransformBuffer buffer_;
   CharacterStats stats_;
 };

@@ -50,6 +50,7 @@ class Scene {
  private:
   std::vector<std::unique_ptr<Character>> characters_;
   std::vector<SceneListener*> listeners_;
+  FrameScratch scratch_;  // shared by the characters' blends, sized to the largest skeleton
   double time_ = 0.0;
   std::uint64_t frame_ = 0;
   bool stats_ = false;
