@@ -26,7 +26,7 @@ struct PlayOptions {
   float fadeIn = 0.0f;               // seconds to reach `weight` (0: at once)
   bool additive = false;             // play as a delta against the clip's first frame
   bool rootMotion = false;           // move the character by the clip's root motion
-  std::vector<float> jointMask;      // optional per-joint weights in [0,1]; empty = whole body
+  std::vector<float> jointMask{};    // optional per-joint weights in [0,1]; empty = whole body
 };
 
 // Per-frame working memory that characters share: the scene owns one, sized to
