@@ -1,22 +1,15 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "marionette/bml/document.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
+using marionette::test::readFile;
 
 namespace {
 std::string corpus(const std::string& name) { return std::string(MARIONETTE_SHARED_DIR) + "/bml-corpus/openbmlparser/" + name; }
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 }  // namespace
 
 TEST(BmlDocument, MalformedXmlNamesFileLineAndColumn) {

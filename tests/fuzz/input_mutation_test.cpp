@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
-#include <sstream>
 
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene_file.hpp"
@@ -29,12 +28,6 @@ int iterations(int fallback) {
   return env ? std::max(1, std::atoi(env)) : fallback;
 }
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::string mutate(const std::string& seed, std::mt19937& rng) {
   std::string s = seed;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace marionette::test {
@@ -15,6 +17,14 @@ inline std::string assimpModel(const std::string& relative) {
 }
 inline std::string sourceFile(const std::string& relative) {
   return std::string(MARIONETTE_SOURCE_DIR) + "/" + relative;
+}
+
+// The whole file as bytes (empty when it cannot be read).
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 // Fails the current test (fatally) if the file is missing, naming it.

@@ -33,6 +33,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "file_extension.hpp"
 #include "isolated_call.hpp"
 #include "marionette/io/import.hpp"
 
@@ -78,11 +79,7 @@ glm::mat4 scaleLengths(glm::mat4 m, float s) {
 
 std::string str(const aiString& s) { return std::string(s.C_Str()); }
 
-std::string lowerExtension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
+using detail::lowerExtension;
 
 std::string listNames(const std::vector<std::string>& names) {
   std::string out;

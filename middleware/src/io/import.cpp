@@ -1,18 +1,14 @@
 #include "marionette/io/import.hpp"
 
+#include "file_extension.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
 
 namespace marionette {
 
-namespace {
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
-}  // namespace
+using detail::lowerExtension;
 
 ImportResult importAsset(const std::string& path, const ImportOptions& options) {
   ImportResult result;
