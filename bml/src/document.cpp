@@ -1,102 +1,281 @@
 #include "marionette/bml/document.hpp"
 
+#include <array>
+#include <map>
 #include <tuple>
 
 #include <pugixml.hpp>
+
+#include "marionette/core/diagnostic.hpp"
 
 namespace marionette::bml {
 
 namespace {
 
-std::string_view localName(const char* name) {
-  std::string_view n(name);
+constexpr std::array kCoreBehaviors = {"posture",  "postureShift", "locomotion", "gaze",     "gazeShift",
+                                       "head",     "headDirectionShift", "faceLexeme", "faceFacs", "face",
+                                       "faceShift", "gesture",     "pointing",   "speech",   "wait"};
+
+bool isCoreBehavior(std::string_view name) {
+  for (const char* b : kCoreBehaviors)
+    if (name == b) return true;
+  return false;
+}
+
+std::string_view localName(std::string_view n) {
   auto colon = n.find(':');
   return colon == std::string_view::npos ? n : n.substr(colon + 1);
 }
-
-std::string trimmed(std::string s) {
-  const char* ws = " \t\r\n";
-  auto b = s.find_first_not_of(ws);
-  if (b == std::string::npos) return {};
-  return s.substr(b, s.find_last_not_of(ws) - b + 1);
+std::string_view prefixOf(std::string_view n) {
+  auto colon = n.find(':');
+  return colon == std::string_view::npos ? std::string_view{} : n.substr(0, colon);
 }
 
-void collectText(const pugi::xml_node& n, std::string& out) {
-  for (pugi::xml_node c : n.children()) {
-    if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) {
-      if (!out.empty()) out += ' ';
-      out += trimmed(c.value());
-    } else if (c.type() == pugi::node_element) {
-      collectText(c, out);
+std::string collapse(const std::string& s) {
+  std::string out;
+  bool space = false;
+  for (char c : s) {
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+      space = !out.empty();
+    } else {
+      if (space) out += ' ';
+      space = false;
+      out += c;
     }
   }
+  return out;
 }
+
+class Parser {
+ public:
+  explicit Parser(std::string_view text) : text_(text) {}
+
+  ParseResult run() {
+    pugi::xml_document doc;
+    const pugi::xml_parse_result parsed =
+        doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
+    if (!parsed) {
+      auto [line, col] = lineColumnAt(text_, parsed.offset);
+      fatal(WarningType::ParsingFailure, "", std::string("malformed XML: ") + parsed.description(), line, col);
+      return std::move(result_);
+    }
+    pugi::xml_node root = doc.document_element();
+    // SmartBody dialect: <act><bml>...</bml></act>.
+    if (root && localName(root.name()) == "act") {
+      pugi::xml_node inner = root.child("bml");
+      if (!inner)
+        for (pugi::xml_node c : root.children())
+          if (c.type() == pugi::node_element && localName(c.name()) == "bml") inner = c;
+      if (inner) root = inner;
+    }
+    if (!root || localName(root.name()) != "bml") {
+      auto [line, col] = root ? place(root) : std::pair{0, 0};
+      fatal(WarningType::ParsingFailure, "", "expected a <bml> element at the top", line, col);
+      return std::move(result_);
+    }
+    collectNamespaces(root);
+    Block block;
+    std::tie(block.line, block.column) = place(root);
+    block.id = root.attribute("id").as_string();
+    blockId_ = block.id;
+    block.characterId = root.attribute("characterId").as_string();
+    block.composition = root.attribute("composition").as_string("MERGE");
+    if (block.id.empty()) {
+      fatal(WarningType::ParsingFailure, "", "<bml> has no id (BML 1.0 requires one)", block.line, block.column);
+      return std::move(result_);
+    }
+    if (block.composition != "MERGE" && block.composition != "APPEND" && block.composition != "REPLACE") {
+      warn(WarningType::ParsingFailure, "", "composition '" + block.composition + "' is not MERGE, APPEND or REPLACE; using MERGE",
+           block.line, block.column);
+      block.composition = "MERGE";
+    }
+    readChildren(root, false, block);
+    result_.block = std::move(block);
+    return std::move(result_);
+  }
+
+ private:
+  std::pair<int, int> place(const pugi::xml_node& n) const { return lineColumnAt(text_, n.offset_debug() - 1); }
+
+  void warn(WarningType type, std::string behavior, std::string message, int line, int col, bool isFatal = false) {
+    result_.warnings.push_back({type, blockId_, std::move(behavior), line, col, std::move(message), isFatal});
+  }
+  void fatal(WarningType type, std::string behavior, std::string message, int line, int col) {
+    warn(type, std::move(behavior), std::move(message), line, col, true);
+  }
+
+  // xmlns and xmlns:prefix declarations (on the root; enough for BML blocks).
+  void collectNamespaces(const pugi::xml_node& n) {
+    for (pugi::xml_attribute a : n.attributes()) {
+      std::string_view name = a.name();
+      if (name == "xmlns") defaultNs_ = a.value();
+      else if (name.substr(0, 6) == "xmlns:") prefixes_[std::string(name.substr(6))] = a.value();
+    }
+  }
+  std::string namespaceOf(std::string_view qualified, bool isAttribute) const {
+    const std::string_view prefix = prefixOf(qualified);
+    if (prefix.empty()) return isAttribute ? std::string(kBmlNamespace) : defaultNs_;
+    auto it = prefixes_.find(std::string(prefix));
+    return it == prefixes_.end() ? "undeclared prefix '" + std::string(prefix) + "'" : it->second;
+  }
+  static bool isBmlNamespace(std::string_view ns) {
+    return ns.empty() || ns == kBmlNamespace || ns == kCoreExtensionsNamespace;
+  }
+
+  void readChildren(const pugi::xml_node& parent, bool required, Block& block) {
+    for (pugi::xml_node n : parent.children()) {
+      if (n.type() != pugi::node_element) continue;
+      const std::string_view qualified = n.name();
+      const std::string type(localName(qualified));
+      auto [line, col] = place(n);
+      const std::string id = n.attribute("id").as_string();
+      const std::string ns = namespaceOf(qualified, false);
+      if (!isBmlNamespace(ns)) {
+        warn(WarningType::CustomBehaviorNotSupported, id,
+             "<" + std::string(qualified) + "> is a custom behavior (" + ns + "); it is not supported and was left out",
+             line, col);
+        continue;
+      }
+      if (type == "required") {
+        readChildren(n, true, block);
+      } else if (type == "constraint") {
+        readConstraint(n, required, block);
+      } else if (type == "body" && prefixOf(qualified).empty() && n.attribute("posture")) {
+        readBehavior(n, "posture", required, block);  // SmartBody <body posture="..."/>
+      } else if (isCoreBehavior(type)) {
+        readBehavior(n, type, required, block);
+      } else {
+        warn(WarningType::BehaviorTypeNotSupported, id, "<" + type + "> is not a BML 1.0 behavior; it was left out", line,
+             col);
+      }
+    }
+  }
+
+  void readBehavior(const pugi::xml_node& n, const std::string& type, bool required, Block& block) {
+    Behavior b;
+    b.type = type;
+    b.required = required;
+    std::tie(b.line, b.column) = place(n);
+    for (pugi::xml_attribute a : n.attributes()) {
+      const std::string_view name = a.name();
+      if (name == "id") {
+        b.id = a.value();
+        continue;
+      }
+      if (name == "xmlns" || name.substr(0, 6) == "xmlns:") continue;
+      const std::string ns = namespaceOf(name, true);
+      if (!isBmlNamespace(ns) || prefixOf(name) == "sbm") {
+        warn(WarningType::CustomAttributeNotSupported, b.id,
+             "attribute '" + std::string(name) + "' (" + (prefixOf(name) == "sbm" ? "SmartBody" : ns) +
+                 ") is not supported and was ignored",
+             b.line, b.column);
+        continue;
+      }
+      b.attributes.push_back({std::string(localName(name)), a.value(), b.line, b.column});
+    }
+    if (b.id.empty()) {
+      warn(required ? WarningType::ParsingFailure : WarningType::ParsingFailure, "",
+           "<" + type + "> has no id (BML 1.0 requires one on every behavior); it was left out", b.line, b.column,
+           required);
+      return;
+    }
+    for (const Behavior& other : block.behaviors)
+      if (other.id == b.id) {
+        warn(WarningType::ParsingFailure, b.id, "behavior id '" + b.id + "' is used twice in the block; the second was left out",
+             b.line, b.column, required);
+        return;
+      }
+    if (type == "speech") readSpeech(n, b);
+    block.behaviors.push_back(std::move(b));
+  }
+
+  // Text and <sync id> word marks, with character offsets into the collapsed text.
+  void readSpeech(const pugi::xml_node& n, Behavior& b) {
+    pugi::xml_node textNode = n.child("text");
+    if (!textNode)
+      for (pugi::xml_node c : n.children())
+        if (c.type() == pugi::node_element && localName(c.name()) == "text") textNode = c;
+    const pugi::xml_node source = textNode ? textNode : n;
+    std::string raw;
+    for (pugi::xml_node c : source.children()) {
+      if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) {
+        raw += c.value();
+      } else if (c.type() == pugi::node_element && localName(c.name()) == "sync") {
+        const std::string id = c.attribute("id").as_string();
+        auto [line, col] = place(c);
+        if (id.empty()) {
+          warn(WarningType::ParsingFailure, b.id, "<sync> in speech text has no id; it was ignored", line, col);
+          continue;
+        }
+        // Offset in the collapsed text where the next word starts.
+        const std::string sofar = collapse(raw);
+        const bool gap = !sofar.empty() && !raw.empty() && (raw.back() == ' ' || raw.back() == '\n' || raw.back() == '\t');
+        b.marks.push_back({id, sofar.size() + (gap ? 1 : 0)});
+      }
+    }
+    b.text = collapse(raw);
+  }
+
+  void readConstraint(const pugi::xml_node& n, bool required, Block& block) {
+    for (pugi::xml_node c : n.children()) {
+      if (c.type() != pugi::node_element) continue;
+      const std::string kind(localName(c.name()));
+      Constraint k;
+      k.id = n.attribute("id").as_string();
+      k.required = required;
+      std::tie(k.line, k.column) = place(c);
+      if (kind == "synchronize") k.kind = Constraint::Kind::Synchronize;
+      else if (kind == "before") k.kind = Constraint::Kind::Before;
+      else if (kind == "after") k.kind = Constraint::Kind::After;
+      else {
+        warn(WarningType::ParsingFailure, k.id, "<" + kind + "> in <constraint>: expected synchronize, before or after",
+             k.line, k.column);
+        continue;
+      }
+      if (k.kind != Constraint::Kind::Synchronize) {
+        k.anchor = {c.attribute("ref").as_string(), k.line, k.column};
+        if (k.anchor.ref.empty()) {
+          warn(WarningType::ParsingFailure, k.id, "<" + kind + "> needs a ref attribute; the constraint was left out", k.line,
+               k.column);
+          continue;
+        }
+      }
+      for (pugi::xml_node s : c.children()) {
+        if (s.type() != pugi::node_element || localName(s.name()) != "sync") continue;
+        auto [line, col] = place(s);
+        k.syncs.push_back({s.attribute("ref").as_string(), line, col});
+      }
+      block.constraints.push_back(std::move(k));
+    }
+  }
+
+  std::string_view text_;
+  ParseResult result_;
+  std::string blockId_;
+  std::string defaultNs_;
+  std::map<std::string, std::string> prefixes_;
+};
 }  // namespace
 
-const std::string* Behavior::attribute(std::string_view name) const noexcept {
+const Attribute* Behavior::attribute(std::string_view name) const noexcept {
   for (const Attribute& a : attributes)
-    if (a.name == name) return &a.value;
+    if (a.name == name) return &a;
   return nullptr;
 }
 
-ParseResult parseBlock(std::string_view text, const std::string& source) {
-  ParseResult result;
-  pugi::xml_document doc;
-  pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
-  if (!parsed) {
-    auto [line, col] = lineColumnAt(text, parsed.offset);
-    result.diagnostics.error(source, std::string("malformed XML: ") + parsed.description(), line, col);
-    return result;
+std::string ParseResult::format(const std::string& source) const {
+  std::string out;
+  for (const Warning& w : warnings) {
+    std::string where;
+    if (!w.blockId.empty()) where += "block '" + w.blockId + "'";
+    if (!w.behaviorId.empty()) where += std::string(where.empty() ? "" : ", ") + "behavior '" + w.behaviorId + "'";
+    Diagnostic d{w.fatal ? Severity::Error : Severity::Warning, source, w.line, w.column,
+                 std::string(toString(w.type)) + ": " + (where.empty() ? "" : where + ": ") + w.message};
+    out += d.format() + '\n';
   }
-  pugi::xml_node root = doc.document_element();
-  // offset_debug() points at the element name; report the '<' before it.
-  auto place = [&](const pugi::xml_node& n) { return lineColumnAt(text, n.offset_debug() - 1); };
-  if (!root || localName(root.name()) != "bml") {
-    auto [line, col] = root ? place(root) : std::pair{0, 0};
-    result.diagnostics.error(source, "expected a <bml> element at the top", line, col);
-    return result;
-  }
-  Block block;
-  std::tie(block.line, block.column) = place(root);
-  block.id = root.attribute("id").as_string();
-  block.characterId = root.attribute("characterId").as_string();
-  block.composition = root.attribute("composition").as_string("MERGE");
-  if (block.id.empty()) {
-    result.diagnostics.error(source, "<bml> has no id (BML 1.0 requires one)", block.line, block.column);
-    return result;
-  }
-  const std::string where = source + " (block " + block.id + ")";
-  // <required> wraps behaviors that must not be dropped; <constraint> needs no id.
-  auto readBehaviors = [&](auto& self, const pugi::xml_node& parent, bool required) -> void {
-    for (pugi::xml_node n : parent.children()) {
-      if (n.type() != pugi::node_element) continue;
-      Behavior b;
-      b.type = std::string(localName(n.name()));
-      if (b.type == "required") {
-        self(self, n, true);
-        continue;
-      }
-      b.required = required;
-      std::tie(b.line, b.column) = place(n);
-      for (pugi::xml_attribute a : n.attributes()) {
-        if (std::string_view(a.name()) == "id") b.id = a.value();
-        else b.attributes.push_back({a.name(), a.value()});
-      }
-      if (b.id.empty() && b.type != "constraint") {
-        result.diagnostics.error(where, "<" + b.type + "> has no id (BML 1.0 requires one on every behavior)", b.line,
-                                 b.column);
-        continue;
-      }
-      for (const Behavior& other : block.behaviors)
-        if (!b.id.empty() && other.id == b.id)
-          result.diagnostics.error(where, "behavior id '" + b.id + "' is used twice in the block", b.line, b.column);
-      collectText(n, b.text);
-      block.behaviors.push_back(std::move(b));
-    }
-  };
-  readBehaviors(readBehaviors, root, false);
-  if (result.diagnostics.ok()) result.block = std::move(block);
-  return result;
+  return out;
 }
+
+ParseResult parseBlock(std::string_view text) { return Parser(text).run(); }
 
 }  // namespace marionette::bml

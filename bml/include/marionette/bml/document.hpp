@@ -1,46 +1,75 @@
-// BML 1.0 blocks as parsed documents: the block, its behaviors and their
-// attributes, each with its line:column in the source. Scheduling and
-// realization come on top of this (issue 3); this layer only reads and checks
-// the XML structure and reports errors a user can act on.
+// BML 1.0 blocks as parsed documents: the block, its behaviors (with their
+// attributes and speech word marks) and its constraints, each with its
+// line:column in the source. Every problem is a typed BML warning; nothing is
+// dropped silently.
 #pragma once
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "marionette/core/diagnostic.hpp"
+#include "marionette/bml/feedback.hpp"
 
 namespace marionette::bml {
 
+inline constexpr std::string_view kBmlNamespace = "http://www.bml-initiative.org/bml/bml-1.0";
+inline constexpr std::string_view kCoreExtensionsNamespace = "http://www.bml-initiative.org/bml/coreextensions-1.0";
+
 struct Attribute {
   std::string name, value;
+  int line = 0, column = 0;
+};
+
+// A <sync id> inside speech text: its id and how many characters of text come before it.
+struct WordMark {
+  std::string id;
+  std::size_t characterOffset = 0;
 };
 
 struct Behavior {
-  std::string type;  // element name without namespace prefix: "head", "speech", "gaze", ...
+  std::string type;  // local element name: "head", "speech", "gaze", ...
   std::string id;
-  std::vector<Attribute> attributes;  // all attributes except id, in source order
-  std::string text;                   // concatenated text content (speech), trimmed
-  bool required = false;              // inside <required>: must not be dropped
+  std::vector<Attribute> attributes;  // attributes in the BML namespaces, except id, in source order
+  std::string text;                   // speech: the text, whitespace collapsed
+  std::vector<WordMark> marks;        // speech: word marks in text order
+  bool required = false;              // inside <required>
   int line = 0, column = 0;
 
-  [[nodiscard]] const std::string* attribute(std::string_view name) const noexcept;
+  [[nodiscard]] const Attribute* attribute(std::string_view name) const noexcept;
+};
+
+struct ConstraintSync {
+  std::string ref;  // the sync reference text
+  int line = 0, column = 0;
+};
+
+struct Constraint {
+  enum class Kind { Synchronize, Before, After } kind = Kind::Synchronize;
+  std::string id;
+  ConstraintSync anchor;             // before/after: the ref="..." of the element
+  std::vector<ConstraintSync> syncs; // synchronize: all equal; before/after: each before/after the anchor
+  bool required = false;
+  int line = 0, column = 0;
 };
 
 struct Block {
   std::string id;
-  std::string characterId;  // BML 1.0 default "" = the default character
+  std::string characterId;  // "" = the default character
   std::string composition;  // "MERGE" (default), "APPEND", "REPLACE"
   std::vector<Behavior> behaviors;
+  std::vector<Constraint> constraints;
   int line = 0, column = 0;
 };
 
 struct ParseResult {
-  std::optional<Block> block;  // empty on an error
-  Diagnostics diagnostics;     // each names the source (file or block) and line:column
+  std::optional<Block> block;     // empty when the block failed as a whole
+  std::vector<Warning> warnings;  // every problem, typed, with line:column
+
+  // "source:line:col: warning: TYPE: message" lines (error: for fatal ones).
+  [[nodiscard]] std::string format(const std::string& source) const;
 };
 
-// Parses one <bml> block. `source` names the file or stream in diagnostics.
-[[nodiscard]] ParseResult parseBlock(std::string_view text, const std::string& source);
+// Parses one <bml> block (or a SmartBody <act> wrapping one).
+[[nodiscard]] ParseResult parseBlock(std::string_view text);
 
 }  // namespace marionette::bml
