@@ -1,0 +1,556 @@
+#include "marionette/bml/scheduler.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "marionette/bml/sync_ref.hpp"
+
+namespace marionette::bml {
+
+namespace {
+
+constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+constexpr double kEpsilon = 1e-6;
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  out.erase(std::remove(out.begin(), out.end(), '-'), out.end());  // "stroke-end" = "strokeEnd"
+  return out;
+}
+
+// Default sync times: proportions of a default duration, in the standard order.
+SyncTemplate fromProportions(std::initializer_list<std::pair<const char*, double>> p, double duration,
+                             bool stretchable = true) {
+  SyncTemplate t;
+  t.stretchable = stretchable;
+  for (auto [name, f] : p) t.syncs.push_back({name, f * duration});
+  return t;
+}
+
+double numberAttribute(const Behavior& b, const char* name, double fallback) {
+  const Attribute* a = b.attribute(name);
+  if (!a) return fallback;
+  char* end = nullptr;
+  const double v = std::strtod(a->value.c_str(), &end);
+  return (end && *end == '\0' && std::isfinite(v) && v > 0) ? v : fallback;
+}
+
+}  // namespace
+
+SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
+  const std::string& t = b.type;
+  const double reps = std::floor(numberAttribute(b, "repetition", 1.0));
+  if (t == "speech") {
+    SyncTemplate s;
+    s.stretchable = false;  // speech keeps its own timing
+    const double spc = options.speechSecondsPerCharacter;
+    s.syncs.push_back({"start", 0.0});
+    for (const WordMark& m : b.marks) s.syncs.push_back({m.id, static_cast<double>(m.characterOffset) * spc});
+    s.syncs.push_back({"end", std::max(options.minimumSpeechSeconds, static_cast<double>(b.text.size()) * spc)});
+    return s;
+  }
+  // Gestures and head movements have the full BML 1.0 phase structure.
+  if (t == "head" || t == "gesture" || t == "pointing")
+    return fromProportions({{"start", 0}, {"ready", .1}, {"strokeStart", .2}, {"stroke", .3}, {"strokeEnd", .5},
+                            {"relax", .8}, {"end", 1}},
+                           (t == "head" ? 1.0 : 2.0) * reps);
+  if (t == "gaze" || t == "posture" || t == "locomotion")
+    return fromProportions({{"start", 0}, {"ready", .25}, {"relax", .75}, {"end", 1}}, 2.0);
+  if (t == "faceLexeme" || t == "faceFacs" || t == "face")
+    return fromProportions({{"start", 0}, {"attackPeak", .2}, {"relax", .8}, {"end", 1}}, 1.5);
+  if (t == "wait") return fromProportions({{"start", 0}, {"end", 1}}, 0.0);
+  // gazeShift, headDirectionShift, postureShift, faceShift: a transition to a new state.
+  return fromProportions({{"start", 0}, {"end", 1}}, 1.0);
+}
+
+std::optional<double> ScheduledBehavior::time(std::string_view sync) const {
+  const std::string key = lower(sync);
+  for (const SyncTime& s : syncs)
+    if (lower(s.name) == key) return s.time;
+  return std::nullopt;
+}
+
+const ScheduledBehavior* Schedule::find(std::string_view id) const noexcept {
+  for (const ScheduledBehavior& b : behaviors)
+    if (b.id == id) return &b;
+  return nullptr;
+}
+
+std::optional<double> Schedule::time(std::string_view behavior, std::string_view sync) const {
+  const ScheduledBehavior* b = find(behavior);
+  return b ? b->time(sync) : std::nullopt;
+}
+
+namespace {
+
+// Union-find over pegs with offsets: time(x) = time(root(x)) + offset(x).
+class PegGroups {
+ public:
+  int add() {
+    parent_.push_back(static_cast<int>(parent_.size()));
+    offset_.push_back(0.0);
+    return parent_.back();
+  }
+  std::pair<int, double> find(int x) {
+    double off = 0.0;
+    int r = x;
+    while (parent_[r] != r) {
+      off += offset_[r];
+      r = parent_[r];
+    }
+    // Path compression keeping offsets exact.
+    double rest = off;
+    for (int y = x; parent_[y] != y;) {
+      const int next = parent_[y];
+      const double o = offset_[y];
+      parent_[y] = r;
+      offset_[y] = rest;
+      rest -= o;
+      y = next;
+    }
+    return {r, off};
+  }
+  // Requires time(a) + da == time(b) + db. False on a contradiction.
+  bool unite(int a, double da, int b, double db) {
+    auto [ra, oa] = find(a);
+    auto [rb, ob] = find(b);
+    // time(ra) + oa + da == time(rb) + ob + db
+    if (ra == rb) return std::fabs((oa + da) - (ob + db)) < kEpsilon;
+    parent_[rb] = ra;
+    offset_[rb] = (oa + da) - (ob + db);
+    return true;
+  }
+
+ private:
+  std::vector<int> parent_;
+  std::vector<double> offset_;
+};
+
+struct Peg {
+  int behavior;
+  std::size_t sync;
+};
+
+class Scheduler {
+ public:
+  Scheduler(const Block& block, const SchedulerOptions& options) : block_(block), options_(options) {}
+
+  Schedule run() {
+    Schedule out;
+    out.blockId = block_.id;
+    active_.assign(block_.behaviors.size(), true);
+    for (const Behavior& b : block_.behaviors) templates_.push_back(defaultSyncs(b, options_));
+    // Solve, remove what cannot be met, solve again (each pass removes at least one behavior).
+    for (std::size_t pass = 0; pass <= block_.behaviors.size(); ++pass) {
+      if (solve()) break;
+    }
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i) {
+      if (!active_[i]) continue;
+      const Behavior& b = block_.behaviors[i];
+      ScheduledBehavior s{b.id, b.type, {}, b.required, b.line, b.column};
+      for (std::size_t k = 0; k < templates_[i].syncs.size(); ++k) s.syncs.push_back({templates_[i].syncs[k].name, times_[i][k]});
+      out.behaviors.push_back(std::move(s));
+    }
+    out.warnings = std::move(warnings_);
+    out.failed = failed_;
+    return out;
+  }
+
+ private:
+  // ------------------------------------------------------------------ one pass
+  // Returns true when nothing had to be removed.
+  bool solve() {
+    groups_ = PegGroups();
+    blockStart_ = groups_.add();
+    pegIds_.assign(block_.behaviors.size(), {});
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
+      for (std::size_t k = 0; k < templates_[i].syncs.size(); ++k) pegIds_[i].push_back(groups_.add());
+    passWarnings_.clear();
+    toRemove_.clear();
+    applyAttributeConstraints();
+    applySynchronizeConstraints();
+    if (!toRemove_.empty()) return commitRemovals();
+    propagate();
+    checkBehaviors();
+    if (!toRemove_.empty()) return commitRemovals();
+    applyOrdering();
+    for (Warning& w : passWarnings_) warnings_.push_back(std::move(w));
+    return true;
+  }
+
+  bool commitRemovals() {
+    for (auto& [index, warning] : toRemove_) {
+      if (!active_[index]) continue;
+      active_[index] = false;
+      const Behavior& b = block_.behaviors[index];
+      warning.message += "; the behavior was removed";
+      if (b.required) {
+        warning.fatal = true;
+        warning.message += " and, being required, made the block fail";
+        failed_ = true;
+      }
+      warnings_.push_back(std::move(warning));
+    }
+    return false;
+  }
+
+  void removeBehavior(std::size_t index, WarningType type, std::string message, int line, int column) {
+    if (toRemove_.count(index)) return;
+    toRemove_[index] = Warning{type, block_.id, block_.behaviors[index].id, line, column, std::move(message), false};
+  }
+
+  int behaviorIndex(std::string_view id) const {
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
+      if (active_[i] && block_.behaviors[i].id == id) return static_cast<int>(i);
+    return -1;
+  }
+
+  int syncIndex(std::size_t behavior, std::string_view name) const {
+    const std::string key = lower(name);
+    const auto& syncs = templates_[behavior].syncs;
+    for (std::size_t k = 0; k < syncs.size(); ++k)
+      if (lower(syncs[k].name) == key) return static_cast<int>(k);
+    return -1;
+  }
+
+  // Resolves a reference to (peg, offset). On failure fills `problem`.
+  std::optional<std::pair<int, double>> resolve(const SyncRef& ref, std::string& problem, WarningType& type) {
+    if (ref.absolute) return std::pair{blockStart_, ref.offset};
+    if (!ref.block.empty() && ref.block != block_.id) {
+      type = WarningType::NoSuchTarget;
+      problem = "refers to block '" + ref.block + "', which is not this block (references to other blocks need them scheduled first)";
+      return std::nullopt;
+    }
+    const int b = behaviorIndex(ref.behavior);
+    if (b < 0) {
+      type = WarningType::NoSuchTarget;
+      problem = "refers to behavior '" + ref.behavior + "', which the block does not have (or which was removed)";
+      return std::nullopt;
+    }
+    const int k = syncIndex(static_cast<std::size_t>(b), ref.syncPoint);
+    if (k < 0) {
+      type = WarningType::NoSuchTarget;
+      problem = "behavior '" + ref.behavior + "' (" + block_.behaviors[b].type + ") has no sync point '" + ref.syncPoint + "'";
+      return std::nullopt;
+    }
+    if (ref.repetition > 1)
+      passWarnings_.push_back({WarningType::ImpossibleToSchedule, block_.id, block_.behaviors[b].id, block_.behaviors[b].line,
+                               block_.behaviors[b].column,
+                               "repetition index :" + std::to_string(ref.repetition) +
+                                   " is not supported yet; the first repetition's '" + ref.syncPoint + "' is used",
+                               false});
+    return std::pair{pegIds_[b][k], ref.offset};
+  }
+
+  void applyAttributeConstraints() {
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i) {
+      if (!active_[i]) continue;
+      const Behavior& b = block_.behaviors[i];
+      for (const Attribute& a : b.attributes) {
+        const int k = syncIndex(i, a.name);
+        if (k < 0) continue;  // not a sync attribute (lexeme, target, ...)
+        const SyncRefParse parsed = parseSyncRef(a.value);
+        if (!parsed.ref) {
+          removeBehavior(i, WarningType::ParsingFailure,
+                         a.name + "=\"" + a.value + "\": " + parsed.error + " (expected a time or [block:]behavior:sync[+/-seconds])",
+                         b.line, b.column);
+          continue;
+        }
+        std::string problem;
+        WarningType type = WarningType::NoSuchTarget;
+        auto target = resolve(*parsed.ref, problem, type);
+        if (!target) {
+          removeBehavior(i, type, a.name + "=\"" + a.value + "\" " + problem, b.line, b.column);
+          continue;
+        }
+        if (!groups_.unite(pegIds_[i][k], 0.0, target->first, target->second))
+          removeBehavior(i, WarningType::ImpossibleToSchedule,
+                         a.name + "=\"" + a.value + "\" contradicts the block's other timing constraints", b.line, b.column);
+      }
+    }
+  }
+
+  void applySynchronizeConstraints() {
+    for (const Constraint& c : block_.constraints) {
+      if (c.kind != Constraint::Kind::Synchronize) continue;
+      std::optional<std::pair<int, double>> first;
+      for (const ConstraintSync& s : c.syncs) {
+        auto target = resolveConstraintSync(c, s);
+        if (!target) continue;
+        if (!first) {
+          first = target;
+        } else if (!groups_.unite(first->first, first->second, target->first, target->second)) {
+          passWarnings_.push_back({WarningType::ImpossibleToSchedule, block_.id, c.id, s.line, s.column,
+                                   "<synchronize> on '" + s.ref + "' contradicts the block's other timing constraints; "
+                                   "this sync was not synchronized",
+                                   c.required});
+          if (c.required) failed_ = true;
+        }
+      }
+    }
+  }
+
+  std::optional<std::pair<int, double>> resolveConstraintSync(const Constraint& c, const ConstraintSync& s) {
+    const SyncRefParse parsed = parseSyncRef(s.ref);
+    std::string problem;
+    WarningType type = WarningType::ParsingFailure;
+    std::optional<std::pair<int, double>> target;
+    if (!parsed.ref) problem = "'" + s.ref + "': " + parsed.error;
+    else if (!(target = resolve(*parsed.ref, problem, type))) problem = "'" + s.ref + "' " + problem;
+    if (!target) {
+      passWarnings_.push_back({type, block_.id, c.id, s.line, s.column, "constraint sync " + problem + "; it was left out",
+                               c.required});
+      if (c.required) failed_ = true;
+    }
+    return target;
+  }
+
+  // ------------------------------------------------------------------ timing
+  // Known group times; behaviors take their pegs' times from their defaults.
+  void propagate() {
+    known_.clear();
+    component_.clear();
+    {
+      auto [root, off] = groups_.find(blockStart_);
+      known_[root] = -off;  // the block start is at 0
+    }
+    times_.assign(block_.behaviors.size(), {});
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i) times_[i].assign(templates_[i].syncs.size(), kUnknown);
+    std::vector<bool> done(block_.behaviors.size(), false);
+    int freeComponent = 0;
+    for (;;) {
+      // Most constrained first: rigid behaviors (speech) and behaviors with two or
+      // more timed pegs; a stretchable behavior with a single timed peg waits, so
+      // that its defaults never pin a peg a more constrained behavior decides.
+      for (;;) {
+        bool progress = false;
+        for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
+          if (active_[i] && !done[i] && (!templates_[i].stretchable || anchorCount(i) >= 2) && timeBehavior(i))
+            done[i] = progress = true;
+        if (progress) continue;
+        for (std::size_t i = 0; i < block_.behaviors.size() && !progress; ++i)
+          if (active_[i] && !done[i] && timeBehavior(i)) done[i] = progress = true;
+        if (!progress) break;
+      }
+      // Stalled: seed the first untimed behavior (document order) at 0, as a free group.
+      std::size_t seed = block_.behaviors.size();
+      for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
+        if (active_[i] && !done[i]) {
+          seed = i;
+          break;
+        }
+      if (seed == block_.behaviors.size()) break;
+      ++freeComponent;
+      const int root = groups_.find(pegIds_[seed][0]).first;
+      known_[root] = -groups_.find(pegIds_[seed][0]).second;
+      component_[root] = freeComponent;
+    }
+    shiftFreeComponents();
+  }
+
+  int anchorCount(std::size_t i) {
+    int n = 0;
+    for (std::size_t k = 0; k < templates_[i].syncs.size(); ++k) n += !std::isnan(pegTime(i, k));
+    return n;
+  }
+
+  double pegTime(std::size_t i, std::size_t k) {
+    auto [root, off] = groups_.find(pegIds_[i][k]);
+    auto it = known_.find(root);
+    return it == known_.end() ? kUnknown : it->second + off;
+  }
+
+  // Times all of behavior i's pegs if any is known. Returns true if it did.
+  bool timeBehavior(std::size_t i) {
+    const auto& tpl = templates_[i].syncs;
+    std::vector<std::pair<std::size_t, double>> anchors;  // (sync index, time)
+    for (std::size_t k = 0; k < tpl.size(); ++k)
+      if (double t = pegTime(i, k); !std::isnan(t)) anchors.emplace_back(k, t);
+    if (anchors.empty()) return false;
+    int comp = 0;
+    for (auto [k, t] : anchors) comp = std::max(comp, componentOf(pegIds_[i][k]));
+    std::vector<double>& out = times_[i];
+    if (!templates_[i].stretchable || anchors.size() == 1) {
+      const auto [k0, t0] = anchors.front();
+      for (std::size_t k = 0; k < tpl.size(); ++k) out[k] = t0 + (tpl[k].time - tpl[k0].time);
+    } else {
+      // Piecewise linear between anchors; outside them, default spacing.
+      for (std::size_t k = 0; k < tpl.size(); ++k) {
+        auto next = std::find_if(anchors.begin(), anchors.end(), [&](const auto& a) { return a.first >= k; });
+        if (next == anchors.end()) {
+          const auto [ka, ta] = anchors.back();
+          out[k] = ta + (tpl[k].time - tpl[ka].time);
+        } else if (next == anchors.begin()) {
+          const auto [kb, tb] = *next;
+          out[k] = tb - (tpl[kb].time - tpl[k].time);
+        } else {
+          const auto [ka, ta] = *(next - 1);
+          const auto [kb, tb] = *next;
+          const double span = tpl[kb].time - tpl[ka].time;
+          const double u = span > 0 ? (tpl[k].time - tpl[ka].time) / span
+                                    : static_cast<double>(k - ka) / static_cast<double>(kb - ka);
+          out[k] = ta + u * (tb - ta);
+        }
+      }
+    }
+    // Record the times of this behavior's groups (a group already timed keeps its time;
+    // a mismatch is found by checkBehaviors).
+    for (std::size_t k = 0; k < tpl.size(); ++k) {
+      auto [root, off] = groups_.find(pegIds_[i][k]);
+      if (!known_.count(root)) {
+        known_[root] = out[k] - off;
+        if (comp) component_[root] = comp;
+      }
+    }
+    return true;
+  }
+
+  int componentOf(int peg) {
+    auto it = component_.find(groups_.find(peg).first);
+    return it == component_.end() ? 0 : it->second;
+  }
+
+  // A free group of behaviors (nothing anchors it to the block start) starts at 0.
+  void shiftFreeComponents() {
+    std::map<int, double> earliest;
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i) {
+      if (!active_[i]) continue;
+      for (std::size_t k = 0; k < times_[i].size(); ++k) {
+        const int c = componentOf(pegIds_[i][k]);
+        if (c == 0) continue;
+        auto [it, inserted] = earliest.emplace(c, times_[i][k]);
+        if (!inserted) it->second = std::min(it->second, times_[i][k]);
+      }
+    }
+    shift(earliest, -1.0);
+  }
+
+  // Adds `sign * amount[component]` to every peg of the listed components.
+  void shift(const std::map<int, double>& amount, double sign) {
+    if (amount.empty()) return;
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i) {
+      if (!active_[i]) continue;
+      for (std::size_t k = 0; k < times_[i].size(); ++k) {
+        auto it = amount.find(componentOf(pegIds_[i][k]));
+        if (it != amount.end()) times_[i][k] += sign * it->second;
+      }
+    }
+    for (auto& [root, t] : known_) {
+      auto c = component_.find(root);
+      if (c != component_.end()) {
+        auto it = amount.find(c->second);
+        if (it != amount.end()) t += sign * it->second;
+      }
+    }
+  }
+
+  // Each behavior's times must match its groups, be in order, and not be negative.
+  void checkBehaviors() {
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i) {
+      if (!active_[i]) continue;
+      const Behavior& b = block_.behaviors[i];
+      const auto& tpl = templates_[i].syncs;
+      for (std::size_t k = 0; k < tpl.size(); ++k) {
+        const double group = pegTime(i, k);
+        if (!std::isnan(group) && std::fabs(group - times_[i][k]) > 1e-4) {
+          removeBehavior(i, WarningType::ImpossibleToSchedule,
+                         "sync point '" + tpl[k].name + "' is constrained to " + fmt(group) + " s but the behavior's timing puts it at " +
+                             fmt(times_[i][k]) + " s" + (templates_[i].stretchable ? "" : " (a " + b.type + " cannot be stretched)"),
+                         b.line, b.column);
+          break;
+        }
+        if (k > 0 && times_[i][k] < times_[i][k - 1] - kEpsilon) {
+          removeBehavior(i, WarningType::ImpossibleToSchedule,
+                         "sync point '" + tpl[k].name + "' (" + fmt(times_[i][k]) + " s) would come before '" + tpl[k - 1].name +
+                             "' (" + fmt(times_[i][k - 1]) + " s)",
+                         b.line, b.column);
+          break;
+        }
+        if (times_[i][k] < -kEpsilon) {
+          removeBehavior(i, WarningType::ImpossibleToSchedule,
+                         "sync point '" + tpl[k].name + "' would be at " + fmt(times_[i][k]) + " s, before the block starts",
+                         b.line, b.column);
+          break;
+        }
+      }
+    }
+  }
+
+  // before/after: each sync must come before/after the anchor. A free group is
+  // moved later to satisfy it; otherwise a warning.
+  void applyOrdering() {
+    for (const Constraint& c : block_.constraints) {
+      if (c.kind == Constraint::Kind::Synchronize) continue;
+      auto anchor = resolveConstraintSync(c, c.anchor);
+      if (!anchor) continue;
+      for (const ConstraintSync& s : c.syncs) {
+        auto target = resolveConstraintSync(c, s);
+        if (!target) continue;
+        const double ta = timeOfPeg(anchor->first) + anchor->second;
+        const double ts = timeOfPeg(target->first) + target->second;
+        const bool after = c.kind == Constraint::Kind::After;
+        const double deficit = after ? ta - ts : ts - ta;  // > 0: violated
+        if (deficit <= kEpsilon) continue;
+        const int movable = after ? componentOf(target->first) : componentOf(anchor->first);
+        if (movable != 0 && movable != componentOf(after ? anchor->first : target->first)) {
+          shift({{movable, deficit}}, 1.0);
+          continue;
+        }
+        passWarnings_.push_back({WarningType::ImpossibleToSchedule, block_.id, c.id, s.line, s.column,
+                                 "'" + s.ref + "' should come " + (after ? "after" : "before") + " '" + c.anchor.ref +
+                                     "' but is " + fmt(std::fabs(deficit)) + " s " + (after ? "earlier" : "later") +
+                                     "; the times of other constraints were kept",
+                                 c.required});
+        if (c.required) failed_ = true;
+      }
+    }
+  }
+
+  double timeOfPeg(int peg) {
+    for (std::size_t i = 0; i < pegIds_.size(); ++i)
+      for (std::size_t k = 0; k < pegIds_[i].size(); ++k)
+        if (pegIds_[i][k] == peg) return times_[i][k];
+    return 0.0;  // the block start
+  }
+
+  static std::string fmt(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+  }
+
+  const Block& block_;
+  const SchedulerOptions& options_;
+  std::vector<SyncTemplate> templates_;
+  std::vector<bool> active_;
+  std::vector<std::vector<int>> pegIds_;
+  std::vector<std::vector<double>> times_;
+  PegGroups groups_;
+  int blockStart_ = 0;
+  std::map<int, double> known_;    // group root -> time
+  std::map<int, int> component_;   // group root -> free component (absent = anchored)
+  std::map<std::size_t, Warning> toRemove_;
+  std::vector<Warning> warnings_, passWarnings_;
+  bool failed_ = false;
+};
+
+}  // namespace
+
+Schedule scheduleBlock(const Block& block, const SchedulerOptions& options) { return Scheduler(block, options).run(); }
+
+Schedule scheduleText(std::string_view bmlText, const SchedulerOptions& options) {
+  ParseResult parsed = parseBlock(bmlText);
+  Schedule s;
+  if (parsed.block) s = scheduleBlock(*parsed.block, options);
+  s.warnings.insert(s.warnings.begin(), parsed.warnings.begin(), parsed.warnings.end());
+  for (const Warning& w : parsed.warnings) s.failed |= w.fatal;
+  if (!parsed.block) s.failed = true;
+  return s;
+}
+
+}  // namespace marionette::bml
