@@ -137,6 +137,10 @@ class Parser {
         continue;
       }
       if (type == "required") {
+        if (required) {  // BML 1.0 has <required> only directly under <bml>; no recursion on nesting
+          warn(WarningType::ParsingFailure, id, "<required> inside <required>; its content was left out", line, col, true);
+          continue;
+        }
         readChildren(n, true, block);
       } else if (type == "constraint") {
         readConstraint(n, required, block);
