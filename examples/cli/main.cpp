@@ -12,6 +12,11 @@ void usage() {
       "  run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]\n"
       "                           step a scene headless; --trace writes\n"
       "                           frame,time,character,joint,px,py,pz,qx,qy,qz,qw (world space, metres)\n"
+#ifdef MARIONETTE_CLI_HAS_BML
+      "  bml-check FILE.xml... [--json]\n"
+      "                           parse and schedule BML blocks: predicted sync-point times and\n"
+      "                           warnings as file:line:col: warning: TYPE: message\n"
+#endif
       "exit status: 0 success, 1 warnings, 2 errors\n",
       stderr);
 }
@@ -27,6 +32,9 @@ int main(int argc, char** argv) {
   args.erase(args.begin());
   if (command == "inspect") return marionette::cli::inspectCommand(args);
   if (command == "run") return marionette::cli::runCommand(args);
+#ifdef MARIONETTE_CLI_HAS_BML
+  if (command == "bml-check") return marionette::cli::bmlCheckCommand(args);
+#endif
   std::fprintf(stderr, "marionette: error: unknown command '%s'\n", command.c_str());
   usage();
   return 2;

@@ -118,3 +118,54 @@ TEST(Cli, RunWithWarningsExitsWithOne) {
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("unknown key 'colour'"), std::string::npos) << r.out;
 }
+
+#ifdef MARIONETTE_CLI_HAS_BML
+namespace {
+std::string corpusFile(const std::string& name) {
+  return std::string(MARIONETTE_SHARED_DIR) + "/bml-corpus/openbmlparser/" + name;
+}
+}  // namespace
+
+TEST(CliBmlCheck, ExitCodesFollowTheWorstBlock) {
+  MARIONETTE_REQUIRE_FILE(corpusFile("testnod.xml"));
+  EXPECT_EQ(run("bml-check " + corpusFile("testnod.xml")).status, 0);
+  CliRun warned = run("bml-check " + corpusFile("testnod.xml") + " " + corpusFile("testspeech_invalidtime.xml"));
+  EXPECT_EQ(warned.status, 1);
+  // file:line:col: warning: TYPE: message
+  EXPECT_NE(warned.out.find(corpusFile("testspeech_invalidtime.xml") + ":17:2: warning: IMPOSSIBLE_TO_SCHEDULE: behavior 'speech1'"),
+            std::string::npos)
+      << warned.out;
+  CliRun failed = run("bml-check " + corpusFile("testinvalidxml.xml"));
+  EXPECT_EQ(failed.status, 2);
+  EXPECT_NE(failed.out.find(":26:3: error: PARSING_FAILURE: malformed XML"), std::string::npos) << failed.out;
+  EXPECT_EQ(run("bml-check /nonexistent.xml").status, 2);
+  EXPECT_EQ(run("bml-check").status, 2);
+}
+
+TEST(CliBmlCheck, JsonHasTheDocumentedShape) {
+  MARIONETTE_REQUIRE_FILE(corpusFile("testoffset.xml"));
+  CliRun r = run("bml-check --json " + corpusFile("testoffset.xml") + " " + corpusFile("testspeech_invalidtime.xml"));
+  ASSERT_EQ(r.status, 1) << r.out;
+  auto j = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_TRUE(j.is_array()) << r.out;
+  ASSERT_EQ(j.size(), 2u);
+  const auto& block = j[0]["blocks"][0];
+  EXPECT_EQ(block["id"], "bml1");
+  EXPECT_EQ(block["status"], "ok");
+  ASSERT_EQ(block["behaviors"].size(), 3u);
+  bool sawG1 = false;
+  for (const auto& b : block["behaviors"])
+    if (b["id"] == "g1") {
+      sawG1 = true;
+      EXPECT_DOUBLE_EQ(b["syncPoints"]["start"].get<double>(), 4.0);
+    }
+  EXPECT_TRUE(sawG1);
+  const auto& second = j[1]["blocks"][0];
+  EXPECT_EQ(second["status"], "warnings");
+  EXPECT_TRUE(second["behaviors"].empty());  // the dropped speech does not appear
+  ASSERT_EQ(second["warnings"].size(), 1u);
+  EXPECT_EQ(second["warnings"][0]["type"], "IMPOSSIBLE_TO_SCHEDULE");
+  EXPECT_EQ(second["warnings"][0]["behavior"], "speech1");
+  EXPECT_EQ(second["warnings"][0]["line"], 17);
+}
+#endif

@@ -1,0 +1,85 @@
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "marionette/bml/scheduler.hpp"
+#include "marionette/core/diagnostic.hpp"
+
+namespace marionette::cli {
+
+namespace {
+const char* status(const bml::Schedule& s) {
+  if (s.failed) return "failed";
+  return s.warnings.empty() ? "ok" : "warnings";
+}
+
+std::string warningLine(const std::string& file, const bml::Warning& w) {
+  std::string where;
+  if (!w.behaviorId.empty()) where = "behavior '" + w.behaviorId + "': ";
+  Diagnostic d{w.fatal ? Severity::Error : Severity::Warning, file, w.line, w.column,
+               std::string(bml::toString(w.type)) + ": " + where + w.message};
+  return d.format();
+}
+}  // namespace
+
+int bmlCheckCommand(const std::vector<std::string>& args) {
+  bool json = false;
+  std::vector<std::string> files;
+  for (const std::string& a : args) {
+    if (a == "--json") json = true;
+    else if (!a.empty() && a[0] == '-') {
+      std::fprintf(stderr, "marionette bml-check: error: unknown option '%s'\n", a.c_str());
+      return 2;
+    } else files.push_back(a);
+  }
+  if (files.empty()) {
+    std::fputs("usage: marionette bml-check FILE.xml... [--json]\n", stderr);
+    return 2;
+  }
+  int worst = 0;
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const std::string& file : files) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) {
+      std::fprintf(stderr, "%s: error: cannot open the file\n", file.c_str());
+      worst = 2;
+      continue;
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const bml::Schedule s = bml::scheduleText(ss.str());
+    worst = std::max(worst, s.failed ? 2 : (s.warnings.empty() ? 0 : 1));
+    if (json) {
+      nlohmann::ordered_json block;
+      block["id"] = s.blockId;
+      block["status"] = status(s);
+      auto& behaviors = block["behaviors"] = nlohmann::ordered_json::array();
+      for (const auto& b : s.behaviors) {
+        nlohmann::ordered_json syncs = nlohmann::ordered_json::object();
+        for (const auto& sync : b.syncs) syncs[sync.name] = sync.time;
+        behaviors.push_back({{"id", b.id}, {"type", b.type}, {"syncPoints", syncs}});
+      }
+      auto& warnings = block["warnings"] = nlohmann::ordered_json::array();
+      for (const auto& w : s.warnings)
+        warnings.push_back({{"type", bml::toString(w.type)}, {"behavior", w.behaviorId}, {"line", w.line},
+                            {"column", w.column}, {"message", w.message}});
+      out.push_back({{"file", file}, {"blocks", nlohmann::json::array({block})}});
+      continue;
+    }
+    std::printf("%s: block '%s': %s\n", file.c_str(), s.blockId.c_str(), status(s));
+    for (const auto& b : s.behaviors) {
+      std::printf("  %-14s %-12s", b.id.c_str(), b.type.c_str());
+      for (const auto& sync : b.syncs) std::printf(" %s=%.3f", sync.name.c_str(), sync.time);
+      std::printf("\n");
+    }
+    for (const auto& w : s.warnings) std::fprintf(stderr, "%s\n", warningLine(file, w).c_str());
+  }
+  if (json) std::cout << out.dump(2) << '\n';
+  return worst;
+}
+
+}  // namespace marionette::cli
