@@ -48,14 +48,14 @@ std::string collapse(const std::string& s) {
 
 class Parser {
  public:
-  explicit Parser(std::string_view text) : text_(text) {}
+  explicit Parser(std::string_view text) : text_(text), lines_(text) {}
 
   ParseResult run() {
     pugi::xml_document doc;
     const pugi::xml_parse_result parsed =
         doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
     if (!parsed) {
-      auto [line, col] = lineColumnAt(text_, parsed.offset);
+      auto [line, col] = lines_.at(parsed.offset);
       fatal(WarningType::ParsingFailure, "", std::string("malformed XML: ") + parsed.description(), line, col);
       return std::move(result_);
     }
@@ -95,7 +95,7 @@ class Parser {
   }
 
  private:
-  std::pair<int, int> place(const pugi::xml_node& n) const { return lineColumnAt(text_, n.offset_debug() - 1); }
+  std::pair<int, int> place(const pugi::xml_node& n) const { return lines_.at(n.offset_debug() - 1); }
 
   void warn(WarningType type, std::string behavior, std::string message, int line, int col, bool isFatal = false) {
     result_.warnings.push_back({type, blockId_, std::move(behavior), line, col, std::move(message), isFatal});
@@ -254,6 +254,7 @@ class Parser {
   }
 
   std::string_view text_;
+  LineIndex lines_;
   ParseResult result_;
   std::string blockId_;
   std::string defaultNs_;

@@ -96,6 +96,7 @@ class PegGroups {
     offset_.push_back(0.0);
     return parent_.back();
   }
+  [[nodiscard]] std::size_t size() const noexcept { return parent_.size(); }
   std::pair<int, double> find(int x) {
     double off = 0.0;
     int r = x;
@@ -144,9 +145,15 @@ class Scheduler {
     Schedule out;
     out.blockId = block_.id;
     active_.assign(block_.behaviors.size(), true);
-    for (const Behavior& b : block_.behaviors) templates_.push_back(defaultSyncs(b, options_));
-    // Solve, remove what cannot be met, solve again (each pass removes at least one behavior).
-    for (std::size_t pass = 0; pass <= block_.behaviors.size(); ++pass) {
+    for (const Behavior& b : block_.behaviors) {
+      templates_.push_back(defaultSyncs(b, options_));
+      std::vector<std::string> keys;
+      for (const SyncTime& sync : templates_.back().syncs) keys.push_back(lower(sync.name));
+      keys_.push_back(std::move(keys));
+    }
+    // Solve, remove what cannot be met (or retry with a rigid behavior placed
+    // first), solve again; each pass removes a behavior or marks one to place first.
+    for (std::size_t pass = 0; pass <= 2 * block_.behaviors.size() + 1; ++pass) {
       if (solve()) break;
     }
     for (std::size_t i = 0; i < block_.behaviors.size(); ++i) {
@@ -170,13 +177,19 @@ class Scheduler {
     pegIds_.assign(block_.behaviors.size(), {});
     for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
       for (std::size_t k = 0; k < templates_[i].syncs.size(); ++k) pegIds_[i].push_back(groups_.add());
+    pegCount_ = groups_.size();
     passWarnings_.clear();
     toRemove_.clear();
     applyAttributeConstraints();
     applySynchronizeConstraints();
     if (!toRemove_.empty()) return commitRemovals();
     propagate();
+    retry_ = false;
     checkBehaviors();
+    if (retry_) {  // place a rigid behavior first and look again before removing anything
+      toRemove_.clear();
+      return false;
+    }
     if (!toRemove_.empty()) return commitRemovals();
     applyOrdering();
     for (Warning& w : passWarnings_) warnings_.push_back(std::move(w));
@@ -212,9 +225,9 @@ class Scheduler {
 
   int syncIndex(std::size_t behavior, std::string_view name) const {
     const std::string key = lower(name);
-    const auto& syncs = templates_[behavior].syncs;
-    for (std::size_t k = 0; k < syncs.size(); ++k)
-      if (lower(syncs[k].name) == key) return static_cast<int>(k);
+    const auto& keys = keys_[behavior];
+    for (std::size_t k = 0; k < keys.size(); ++k)
+      if (keys[k] == key) return static_cast<int>(k);
     return -1;
   }
 
@@ -313,8 +326,9 @@ class Scheduler {
   // ------------------------------------------------------------------ timing
   // Known group times; behaviors take their pegs' times from their defaults.
   void propagate() {
-    known_.clear();
-    component_.clear();
+    // Indexed by peg id (dense): NaN = not timed yet, component 0 = anchored.
+    known_.assign(pegCount_, kUnknown);
+    component_.assign(pegCount_, 0);
     {
       auto [root, off] = groups_.find(blockStart_);
       known_[root] = -off;  // the block start is at 0
@@ -325,25 +339,28 @@ class Scheduler {
     int freeComponent = 0;
     for (;;) {
       // Most constrained first: rigid behaviors (speech) and behaviors with two or
-      // more timed pegs; a stretchable behavior with a single timed peg waits, so
-      // that its defaults never pin a peg a more constrained behavior decides.
-      for (;;) {
-        bool progress = false;
-        for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
-          if (active_[i] && !done[i] && (!templates_[i].stretchable || anchorCount(i) >= 2) && timeBehavior(i))
-            done[i] = progress = true;
-        if (progress) continue;
-        for (std::size_t i = 0; i < block_.behaviors.size() && !progress; ++i)
-          if (active_[i] && !done[i] && timeBehavior(i)) done[i] = progress = true;
-        if (!progress) break;
-      }
-      // Stalled: seed the first untimed behavior (document order) at 0, as a free group.
-      std::size_t seed = block_.behaviors.size();
+      // more timed pegs; then a behavior marked to be placed first (seeded at 0 as
+      // a free group); only then a stretchable behavior with a single timed peg,
+      // so that its defaults never pin a peg a more constrained behavior decides.
+      bool progress = false;
       for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
-        if (active_[i] && !done[i]) {
+        if (active_[i] && !done[i] && (!templates_[i].stretchable || anchorCount(i) >= 2) && timeBehavior(i))
+          done[i] = progress = true;
+      if (progress) continue;
+      std::size_t seed = block_.behaviors.size();
+      for (std::size_t i : placeFirst_)
+        if (active_[i] && !done[i] && anchorCount(i) == 0) {
           seed = i;
           break;
         }
+      if (seed == block_.behaviors.size()) {
+        for (std::size_t i = 0; i < block_.behaviors.size() && !progress; ++i)
+          if (active_[i] && !done[i] && timeBehavior(i)) done[i] = progress = true;
+        if (progress) continue;
+        // Stalled: seed the first untimed behavior (document order) at 0, as a free group.
+        for (std::size_t i = 0; i < block_.behaviors.size() && seed == block_.behaviors.size(); ++i)
+          if (active_[i] && !done[i]) seed = i;
+      }
       if (seed == block_.behaviors.size()) break;
       ++freeComponent;
       const int root = groups_.find(pegIds_[seed][0]).first;
@@ -351,6 +368,15 @@ class Scheduler {
       component_[root] = freeComponent;
     }
     shiftFreeComponents();
+  }
+
+  // True if one of the behavior's own sync attributes names an absolute time or
+  // it is synchronized to one (then its place is not the others' choice).
+  bool anchoredDirectly(std::size_t i) {
+    const int blockRoot = groups_.find(blockStart_).first;
+    for (std::size_t k = 0; k < pegIds_[i].size(); ++k)
+      if (groups_.find(pegIds_[i][k]).first == blockRoot) return true;
+    return false;
   }
 
   int anchorCount(std::size_t i) {
@@ -361,8 +387,7 @@ class Scheduler {
 
   double pegTime(std::size_t i, std::size_t k) {
     auto [root, off] = groups_.find(pegIds_[i][k]);
-    auto it = known_.find(root);
-    return it == known_.end() ? kUnknown : it->second + off;
+    return known_[root] + off;  // NaN stays NaN
   }
 
   // Times all of behavior i's pegs if any is known. Returns true if it did.
@@ -402,7 +427,7 @@ class Scheduler {
     // a mismatch is found by checkBehaviors).
     for (std::size_t k = 0; k < tpl.size(); ++k) {
       auto [root, off] = groups_.find(pegIds_[i][k]);
-      if (!known_.count(root)) {
+      if (std::isnan(known_[root])) {
         known_[root] = out[k] - off;
         if (comp) component_[root] = comp;
       }
@@ -411,8 +436,7 @@ class Scheduler {
   }
 
   int componentOf(int peg) {
-    auto it = component_.find(groups_.find(peg).first);
-    return it == component_.end() ? 0 : it->second;
+    return component_[groups_.find(peg).first];
   }
 
   // A free group of behaviors (nothing anchors it to the block start) starts at 0.
@@ -440,12 +464,10 @@ class Scheduler {
         if (it != amount.end()) times_[i][k] += sign * it->second;
       }
     }
-    for (auto& [root, t] : known_) {
-      auto c = component_.find(root);
-      if (c != component_.end()) {
-        auto it = amount.find(c->second);
-        if (it != amount.end()) t += sign * it->second;
-      }
+    for (std::size_t root = 0; root < known_.size(); ++root) {
+      if (component_[root] == 0 || std::isnan(known_[root])) continue;
+      auto it = amount.find(component_[root]);
+      if (it != amount.end()) known_[root] += sign * it->second;
     }
   }
 
@@ -472,6 +494,13 @@ class Scheduler {
           break;
         }
         if (times_[i][k] < -kEpsilon) {
+          // A rigid behavior placed by others' defaults: try again with it placed first.
+          if (!templates_[i].stretchable && !placeFirst_.count(i) && componentOf(pegIds_[i][k]) == 0 &&
+              !anchoredDirectly(i)) {
+            placeFirst_.insert(i);
+            retry_ = true;
+            break;
+          }
           removeBehavior(i, WarningType::ImpossibleToSchedule,
                          "sync point '" + tpl[k].name + "' would be at " + fmt(times_[i][k]) + " s, before the block starts",
                          b.line, b.column);
@@ -527,16 +556,20 @@ class Scheduler {
   const Block& block_;
   const SchedulerOptions& options_;
   std::vector<SyncTemplate> templates_;
+  std::vector<std::vector<std::string>> keys_;  // lower-case sync names, per behavior
   std::vector<bool> active_;
   std::vector<std::vector<int>> pegIds_;
   std::vector<std::vector<double>> times_;
   PegGroups groups_;
   int blockStart_ = 0;
-  std::map<int, double> known_;    // group root -> time
-  std::map<int, int> component_;   // group root -> free component (absent = anchored)
+  std::size_t pegCount_ = 0;
+  std::vector<double> known_;   // group root -> time (NaN: not yet)
+  std::vector<int> component_;  // group root -> free component (0: anchored)
   std::map<std::size_t, Warning> toRemove_;
   std::vector<Warning> warnings_, passWarnings_;
   bool failed_ = false;
+  bool retry_ = false;
+  std::set<std::size_t> placeFirst_;
 };
 
 }  // namespace

@@ -98,3 +98,16 @@ TEST(Scheduler, DeepNestingAndHugeBlocksFailCleanlyAndQuickly) {
   EXPECT_GT(*h.time("h", "start"), 1000.0);  // ten megabytes of speech take a while
   EXPECT_LT(seconds, 30.0);                   // a bound against runaway work, not a speed goal
 }
+
+TEST(Scheduler, RigidSpeechIsPlacedBeforeStretchingWhatDependsOnIt) {
+  // A gaze anchored at 0 whose end follows the speech: the speech must not be
+  // pushed before the block start by the gaze's default length; the gaze stretches.
+  Schedule s = scheduleText(
+      "<bml id='b'><speech id='s1'><text>Hello there, <sync id='w1'/>nice to see you again.</text></speech>"
+      "<gaze id='z1' target='user' start='0' end='s1:end+0.5'/><gesture id='g1' lexeme='BEAT' stroke='s1:w1'/></bml>");
+  ASSERT_TRUE(s.warnings.empty()) << s.warnings[0].message;
+  EXPECT_DOUBLE_EQ(*s.time("s1", "start"), 0.0);
+  EXPECT_DOUBLE_EQ(*s.time("z1", "start"), 0.0);
+  EXPECT_NEAR(*s.time("z1", "end"), *s.time("s1", "end") + 0.5, 1e-9);
+  EXPECT_NEAR(*s.time("g1", "stroke"), *s.time("s1", "w1"), 1e-9);
+}

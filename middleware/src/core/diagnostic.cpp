@@ -64,4 +64,17 @@ std::pair<int, int> lineColumnAt(std::string_view text, std::ptrdiff_t offset) n
   return {line, column};
 }
 
+LineIndex::LineIndex(std::string_view text) : size_(text.size()) {
+  lineStarts_.push_back(0);
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') lineStarts_.push_back(i + 1);
+}
+
+std::pair<int, int> LineIndex::at(std::ptrdiff_t offset) const noexcept {
+  if (offset < 0) return {0, 0};
+  const std::size_t o = std::min(static_cast<std::size_t>(offset), size_);
+  const auto it = std::upper_bound(lineStarts_.begin(), lineStarts_.end(), o) - 1;
+  return {static_cast<int>(it - lineStarts_.begin()) + 1, static_cast<int>(o - *it) + 1};
+}
+
 }  // namespace marionette

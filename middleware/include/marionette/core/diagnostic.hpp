@@ -34,6 +34,18 @@ struct Diagnostics {
 };
 
 // 1-based line and column of a byte offset in text ({0, 0} for a negative offset).
+// Scans from the start: for one place. For many places in one text, LineIndex.
 [[nodiscard]] std::pair<int, int> lineColumnAt(std::string_view text, std::ptrdiff_t offset) noexcept;
+
+// Line starts of a text, found once; then line and column of any offset in O(log lines).
+class LineIndex {
+ public:
+  explicit LineIndex(std::string_view text);
+  [[nodiscard]] std::pair<int, int> at(std::ptrdiff_t offset) const noexcept;
+
+ private:
+  std::vector<std::size_t> lineStarts_;
+  std::size_t size_ = 0;
+};
 
 }  // namespace marionette
