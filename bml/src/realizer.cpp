@@ -1,0 +1,195 @@
+#include "marionette/bml/realizer.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace marionette::bml {
+
+std::string xmlEscape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+namespace {
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+}  // namespace
+
+std::string Feedback::xml() const {
+  const std::string ns = " xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\"";
+  const std::string id = xmlEscape(blockId) + (behaviorId.empty() ? "" : ":" + xmlEscape(behaviorId));
+  const std::string global = " globalTime=\"" + number(sceneTime) + "\"";
+  const std::string who = character.empty() ? "" : " characterId=\"" + xmlEscape(character) + "\"";
+  switch (kind) {
+    case Kind::BlockProgress:
+      return "<blockProgress" + ns + " id=\"" + xmlEscape(blockId) + ":" + syncPoint + "\"" + global + who + "/>";
+    case Kind::SyncPointProgress:
+      return "<syncPointProgress" + ns + " id=\"" + id + ":" + xmlEscape(syncPoint) + "\" time=\"" + number(blockTime) +
+             "\"" + global + who + "/>";
+    case Kind::Prediction:
+      return "<predictionFeedback" + ns + " id=\"" + id + ":" + xmlEscape(syncPoint) + "\" time=\"" + number(blockTime) +
+             "\"" + global + who + "/>";
+    case Kind::Warning:
+      return "<warningFeedback" + ns + " id=\"" + id + "\" type=\"" + std::string(toString(warning.type)) + "\"" +
+             who + ">" + xmlEscape(warning.message) + "</warningFeedback>";
+  }
+  return {};
+}
+
+void Realizer::emit(const Feedback& f) {
+  for (const FeedbackListener& l : listeners_) l(f);
+  if (f.kind == Feedback::Kind::Warning) {
+    scene_.log(f.warning.fatal ? LogLevel::Error : LogLevel::Warning, f.xml());
+    return;
+  }
+  if (f.kind == Feedback::Kind::Prediction) return;
+  if (Character* c = scene_.findCharacter(f.character)) {
+    const std::string sync = f.kind == Feedback::Kind::BlockProgress ? f.syncPoint : f.behaviorId + ":" + f.syncPoint;
+    scene_.forEachListener([&](SceneListener& l) { l.onBehaviorProgress(*c, f.blockId, sync, f.sceneTime); });
+  }
+}
+
+Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options) {
+  ParseResult parsed = parseBlock(bmlText);
+  Schedule schedule;
+  if (parsed.block) schedule = scheduleBlock(*parsed.block, options);
+  schedule.warnings.insert(schedule.warnings.begin(), parsed.warnings.begin(), parsed.warnings.end());
+  for (const Warning& w : parsed.warnings) schedule.failed |= w.fatal;
+  if (!parsed.block) schedule.failed = true;
+
+  std::string who(character);
+  if (who.empty() && parsed.block) who = parsed.block->characterId;
+  if (who.empty() && !scene_.characters().empty()) who = scene_.characters().front()->name();
+  if (!schedule.failed && !scene_.findCharacter(who)) {
+    schedule.warnings.push_back({WarningType::NoSuchTarget, schedule.blockId, "", parsed.block->line, parsed.block->column,
+                                 who.empty() ? "the scene has no character to perform the block"
+                                             : "the scene has no character named '" + who + "'",
+                                 true});
+    schedule.failed = true;
+  }
+  const double now = scene_.time();
+  for (const Warning& w : schedule.warnings) {
+    Feedback f;
+    f.kind = Feedback::Kind::Warning;
+    f.character = who;
+    f.blockId = w.blockId.empty() ? schedule.blockId : w.blockId;
+    f.behaviorId = w.behaviorId;
+    f.sceneTime = now;
+    f.warning = w;
+    emit(f);
+  }
+  if (schedule.failed) return schedule;
+
+  // Composition.
+  double start = now;
+  const std::string composition = parsed.block->composition;
+  if (composition == "REPLACE") {
+    for (Active& b : blocks_)
+      if (b.character == who) finish(b, now);
+    blocks_.erase(std::remove_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.character == who; }),
+                  blocks_.end());
+  } else if (composition == "APPEND") {
+    for (const Active& b : blocks_)
+      if (b.character == who) start = std::max(start, b.end);
+  }
+  Active a;
+  a.character = who;
+  a.blockId = schedule.blockId;
+  a.start = start;
+  double blockEnd = 0.0;
+  for (const ScheduledBehavior& b : schedule.behaviors)
+    for (const SyncTime& s : b.syncs) {
+      a.events.push_back({start + s.time, b.id, s.name, s.time});
+      blockEnd = std::max(blockEnd, s.time);
+    }
+  std::stable_sort(a.events.begin(), a.events.end(), [](const Event& x, const Event& y) { return x.sceneTime < y.sceneTime; });
+  a.end = start + blockEnd;
+  for (const Event& e : a.events) {
+    Feedback f;
+    f.kind = Feedback::Kind::Prediction;
+    f.character = who;
+    f.blockId = a.blockId;
+    f.behaviorId = e.behaviorId;
+    f.syncPoint = e.syncPoint;
+    f.blockTime = e.blockTime;
+    f.sceneTime = e.sceneTime;
+    emit(f);
+  }
+  blocks_.push_back(std::move(a));
+  return schedule;
+}
+
+void Realizer::finish(Active& block, double sceneTime) {
+  Feedback f;
+  f.kind = Feedback::Kind::BlockProgress;
+  f.character = block.character;
+  f.blockId = block.blockId;
+  f.syncPoint = "end";
+  f.sceneTime = sceneTime;
+  f.blockTime = sceneTime - block.start;
+  emit(f);
+}
+
+void Realizer::update() {
+  const double now = scene_.time();
+  for (Active& b : blocks_) {
+    if (!b.started && now >= b.start) {
+      b.started = true;
+      Feedback f;
+      f.kind = Feedback::Kind::BlockProgress;
+      f.character = b.character;
+      f.blockId = b.blockId;
+      f.syncPoint = "start";
+      f.sceneTime = b.start;
+      emit(f);
+    }
+    while (b.started && b.next < b.events.size() && b.events[b.next].sceneTime <= now) {
+      const Event& e = b.events[b.next++];
+      Feedback f;
+      f.kind = Feedback::Kind::SyncPointProgress;
+      f.character = b.character;
+      f.blockId = b.blockId;
+      f.behaviorId = e.behaviorId;
+      f.syncPoint = e.syncPoint;
+      f.blockTime = e.blockTime;
+      f.sceneTime = e.sceneTime;
+      emit(f);
+    }
+  }
+  // Blocks whose last sync point has passed end now.
+  for (Active& b : blocks_)
+    if (b.started && b.next == b.events.size() && now >= b.end) finish(b, b.end);
+  blocks_.erase(std::remove_if(blocks_.begin(), blocks_.end(),
+                               [&](const Active& b) { return b.started && b.next == b.events.size() && now >= b.end; }),
+                blocks_.end());
+}
+
+bool Realizer::interrupt(std::string_view blockId) {
+  auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == blockId; });
+  if (it == blocks_.end()) return false;
+  finish(*it, scene_.time());
+  blocks_.erase(it);
+  return true;
+}
+
+std::optional<double> Realizer::blockStart(std::string_view blockId) const {
+  for (const Active& b : blocks_)
+    if (b.blockId == blockId) return b.start;
+  return std::nullopt;
+}
+
+}  // namespace marionette::bml
