@@ -1,6 +1,7 @@
 #include "marionette/bml/realizer.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace marionette::bml {
@@ -63,7 +64,8 @@ void Realizer::emit(const Feedback& f) {
   }
 }
 
-Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options) {
+Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
+                           std::optional<double> at) {
   ParseResult parsed = parseBlock(bmlText);
   Schedule schedule;
   if (parsed.block) schedule = scheduleBlock(*parsed.block, options);
@@ -81,7 +83,7 @@ Schedule Realizer::perform(std::string_view bmlText, std::string_view character,
                                  true});
     schedule.failed = true;
   }
-  const double now = scene_.time();
+  const double now = at && std::isfinite(*at) ? *at : scene_.time();
   for (const Warning& w : schedule.warnings) {
     Feedback f;
     f.kind = Feedback::Kind::Warning;

@@ -5,14 +5,24 @@
 #include <string>
 
 #include "commands.hpp"
+#include "marionette/core/diagnostic.hpp"
 #include "marionette/core/transform.hpp"
 #include "marionette/scene/scene_file.hpp"
+#ifdef MARIONETTE_CLI_HAS_BML
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "marionette/bml/realizer.hpp"
+#endif
 
 namespace marionette::cli {
 
 namespace {
 struct RunArgs {
-  std::string scene, trace;
+  std::string scene, trace, feedback;
+  std::vector<std::string> bml;
   long frames = 120;
   double fps = 60.0;
   bool stats = false;
@@ -53,6 +63,15 @@ int parseArgs(const std::vector<std::string>& args, RunArgs& r) {
       const std::string* s = value("--trace");
       if (!s) return 2;
       r.trace = *s;
+    } else if (a == "--bml" || a == "--feedback") {
+#ifndef MARIONETTE_CLI_HAS_BML
+      std::fprintf(stderr, "marionette run: error: %s needs a build with MARIONETTE_WITH_BML=ON\n", a.c_str());
+      return 2;
+#endif
+      const std::string* s = value(a.c_str());
+      if (!s) return 2;
+      if (a == "--bml") r.bml.push_back(*s);
+      else r.feedback = *s;
     } else if (a == "--stats") {
       r.stats = true;
     } else if (!a.empty() && a[0] == '-') {
@@ -66,7 +85,9 @@ int parseArgs(const std::vector<std::string>& args, RunArgs& r) {
     }
   }
   if (r.scene.empty()) {
-    std::fputs("usage: marionette run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]\n", stderr);
+    std::fputs("usage: marionette run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]"
+               " [--bml FILE.xml]... [--feedback OUT.jsonl]\n",
+               stderr);
     return 2;
   }
   return 0;
@@ -77,6 +98,8 @@ struct WarningCounter : SceneListener {
   int warnings = 0;
   void onLog(LogLevel level, std::string_view message) override {
     if (level == LogLevel::Info) return;
+    // BML warnings are printed by the run loop with their file:line:col.
+    if (message.substr(0, 16) == "<warningFeedback") return;
     ++warnings;
     std::fprintf(stderr, "marionette: %s: %.*s\n", level == LogLevel::Error ? "error" : "warning",
                  static_cast<int>(message.size()), message.data());
@@ -118,11 +141,60 @@ int runCommand(const std::vector<std::string>& args) {
     std::fputs("frame,time,character,joint,px,py,pz,qx,qy,qz,qw\n", trace);
   }
   scene.setStatsEnabled(r.stats);
+#ifdef MARIONETTE_CLI_HAS_BML
+  // BML: files from the scene (at their times) and from --bml (at 0), sent as the clock reaches them.
+  bml::Realizer realizer(scene);
+  std::vector<TimedFile> sends = loaded.bml;
+  for (const std::string& f : r.bml) sends.push_back({f, 0.0, {}});
+  std::stable_sort(sends.begin(), sends.end(), [](const TimedFile& a, const TimedFile& b) { return a.time < b.time; });
+  std::size_t nextSend = 0;
+  int bmlProblems = 0, bmlErrors = 0;
+  std::FILE* feedback = nullptr;
+  if (!r.feedback.empty() && !(feedback = std::fopen(r.feedback.c_str(), "w"))) {
+    std::fprintf(stderr, "%s: error: cannot open the feedback file for writing\n", r.feedback.c_str());
+    return 2;
+  }
+  realizer.addFeedbackListener([&](const bml::Feedback& f) {
+    if (!feedback) return;
+    static const char* kinds[] = {"prediction", "blockProgress", "syncPointProgress", "warning"};
+    nlohmann::ordered_json j{{"kind", kinds[static_cast<int>(f.kind)]}, {"character", f.character}, {"block", f.blockId},
+                             {"behavior", f.behaviorId}, {"sync", f.syncPoint}, {"blockTime", f.blockTime},
+                             {"sceneTime", f.sceneTime}, {"xml", f.xml()}};
+    std::fprintf(feedback, "%s\n", j.dump().c_str());
+  });
+  auto sendDue = [&](double now) {
+    for (; nextSend < sends.size() && sends[nextSend].time <= now + 1e-9; ++nextSend) {
+      std::ifstream in(sends[nextSend].path, std::ios::binary);
+      if (!in) {
+        std::fprintf(stderr, "%s: error: cannot open the BML file\n", sends[nextSend].path.c_str());
+        ++bmlProblems;
+        ++bmlErrors;
+        continue;
+      }
+      std::stringstream text;
+      text << in.rdbuf();
+      bml::Schedule s = realizer.perform(text.str(), sends[nextSend].character, {}, sends[nextSend].time);
+      for (const bml::Warning& w : s.warnings) {
+        Diagnostic d{w.fatal ? Severity::Error : Severity::Warning, sends[nextSend].path, w.line, w.column,
+                     std::string(bml::toString(w.type)) + ": " + (w.behaviorId.empty() ? "" : "behavior '" + w.behaviorId + "': ") + w.message};
+        std::fprintf(stderr, "%s\n", d.format().c_str());
+        ++bmlProblems;
+        bmlErrors += w.fatal ? 1 : 0;
+      }
+    }
+  };
+#endif
   std::vector<double> totalMicros(scene.characters().size(), 0.0);
   const double dt = 1.0 / r.fps;
   const auto runStart = std::chrono::steady_clock::now();
   for (long f = 0; f < r.frames; ++f) {
+#ifdef MARIONETTE_CLI_HAS_BML
+    sendDue(scene.time() + (f == 0 ? 0.0 : dt));
+#endif
     scene.update(f == 0 ? 0.0 : dt);  // frame 0 is the pose at t = 0
+#ifdef MARIONETTE_CLI_HAS_BML
+    realizer.update();
+#endif
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
       totalMicros[i] += scene.characters()[i]->stats().lastUpdateMicros;
       if (trace) writeTraceRows(trace, f, scene.time(), *scene.characters()[i]);
@@ -152,6 +224,16 @@ int runCommand(const std::vector<std::string>& args) {
     }
   }
   if (trace) std::printf("trace: %s\n", r.trace.c_str());
+#ifdef MARIONETTE_CLI_HAS_BML
+  if (feedback && std::fclose(feedback) != 0) {
+    std::fprintf(stderr, "%s: error: writing the feedback failed\n", r.feedback.c_str());
+    return 2;
+  }
+  if (feedback) std::printf("feedback: %s\n", r.feedback.c_str());
+  if (!sends.empty()) std::printf("bml: %zu blocks sent, %d warnings or errors\n", sends.size(), bmlProblems);
+  if (bmlErrors > 0) return 2;
+  if (bmlProblems > 0) counter.warnings += bmlProblems;
+#endif
   if (!loaded.diagnostics.items.empty() || counter.warnings > 0) return loaded.diagnostics.hasWarnings() || counter.warnings ? 1 : 0;
   return 0;
 }

@@ -169,3 +169,46 @@ TEST(CliBmlCheck, JsonHasTheDocumentedShape) {
   EXPECT_EQ(second["warnings"][0]["line"], 17);
 }
 #endif
+
+#ifdef MARIONETTE_CLI_HAS_BML
+TEST(CliRunBml, SceneBmlAtItsTimeAndFeedbackLines) {
+  const std::string asset = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(asset);
+  MARIONETTE_REQUIRE_FILE(corpusFile("testoffset.xml"));
+  const std::string scene = tempFile("bml_scene.json", R"({"characters": [{"name": "robot", "asset": ")" + asset +
+                                                           R"("}], "bml": [{"file": ")" + corpusFile("testoffset.xml") +
+                                                           R"(", "time": 0.5}]})");
+  const std::string feedback = ::testing::TempDir() + "feedback.jsonl";
+  CliRun r = run("run " + scene + " --frames 600 --fps 60 --feedback " + feedback);
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::ifstream in(feedback);
+  std::string line;
+  int predictions = 0, syncs = 0;
+  double start = -1, end = -1;
+  while (std::getline(in, line)) {
+    auto j = nlohmann::json::parse(line, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << line;
+    if (j["kind"] == "prediction") ++predictions;
+    if (j["kind"] == "syncPointProgress") ++syncs;
+    if (j["kind"] == "blockProgress" && j["sync"] == "start") start = j["sceneTime"];
+    if (j["kind"] == "blockProgress" && j["sync"] == "end") end = j["sceneTime"];
+    EXPECT_NE(j["xml"].get<std::string>().find("xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\""), std::string::npos);
+  }
+  EXPECT_EQ(predictions, 21);  // head 7 + 2 gestures x 7
+  EXPECT_EQ(syncs, 21);
+  EXPECT_DOUBLE_EQ(start, 0.5);
+  EXPECT_DOUBLE_EQ(end, 0.5 + 7.0);  // h1 ends at 7 s block time
+}
+
+TEST(CliRunBml, BmlWarningsAndFailuresSetTheExitCode) {
+  const std::string asset = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(asset);
+  const std::string scene = tempFile("bml_scene2.json", R"({"characters": [{"name": "robot", "asset": ")" + asset + R"("}]})");
+  CliRun warned = run("run " + scene + " --frames 5 --bml " + corpusFile("testspeech_invalidtime.xml"));
+  EXPECT_EQ(warned.status, 1) << warned.out;
+  EXPECT_NE(warned.out.find(":17:2: warning: IMPOSSIBLE_TO_SCHEDULE"), std::string::npos) << warned.out;
+  CliRun failed = run("run " + scene + " --frames 5 --bml " + corpusFile("testinvalidxml.xml"));
+  EXPECT_EQ(failed.status, 2) << failed.out;
+  EXPECT_EQ(run("run " + scene + " --frames 5 --bml /nonexistent.xml").status, 2);
+}
+#endif

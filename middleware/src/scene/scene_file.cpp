@@ -1,5 +1,6 @@
 #include "marionette/scene/scene_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -174,7 +175,34 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     r.fail("/", "expected an object with a \"characters\" array");
     return result;
   }
-  r.unknownKeys(doc, "", {"characters", "comment"});
+  r.unknownKeys(doc, "", {"characters", "comment", "bml"});
+  if (doc.contains("bml")) {
+    const Json& list = doc["bml"];
+    if (!list.is_array()) {
+      r.fail("/bml", "expected an array of {\"file\", \"time\", \"character\"}");
+    } else {
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string where = "/bml/" + std::to_string(i);
+        const Json& e = list[i];
+        TimedFile t;
+        std::string file;
+        float time = 0.0f;
+        if (!e.is_object() || !e.contains("file")) {
+          r.fail(where, "expected {\"file\": PATH, \"time\": SECONDS, \"character\": NAME}");
+          continue;
+        }
+        r.unknownKeys(e, where, {"file", "time", "character"});
+        if (!r.string(e["file"], where + "/file", file)) continue;
+        if (e.contains("time") && !r.number(e["time"], where + "/time", time, 0.0f, 1e9f)) continue;
+        if (e.contains("character") && !r.string(e["character"], where + "/character", t.character)) continue;
+        t.path = resolve(baseDir, file);
+        t.time = time;
+        result.bml.push_back(std::move(t));
+      }
+      std::stable_sort(result.bml.begin(), result.bml.end(),
+                       [](const TimedFile& a, const TimedFile& b) { return a.time < b.time; });
+    }
+  }
   std::vector<CharacterSpec> specs;
   std::set<std::string> names;
   const Json& list = doc["characters"];

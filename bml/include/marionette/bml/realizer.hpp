@@ -17,6 +17,7 @@
 // scheduled behavior to them through Scene/Character once they exist.
 #pragma once
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -50,8 +51,11 @@ class Realizer {
 
   // Parses and schedules `bmlText` for `character` (the block's characterId
   // when empty) and queues it. Returns the schedule (with its warnings, which are
-  // also sent as feedback). A failed block is not queued.
-  Schedule perform(std::string_view bmlText, std::string_view character = {}, const SchedulerOptions& options = {});
+  // also sent as feedback). A failed block is not queued. `at` is the scene time
+  // the block is sent at (default: now); a caller stepping in frames passes the
+  // exact time so a block does not start a frame early.
+  Schedule perform(std::string_view bmlText, std::string_view character = {}, const SchedulerOptions& options = {},
+                   std::optional<double> at = std::nullopt);
 
   // Emits progress for what the scene clock has passed since the last call.
   void update();

@@ -12,7 +12,13 @@
 //       // "play": [ { "clip": "Walking", "layer": 0, "weight": 1, "speed": 1, "loop": true,
 //       //             "rootMotion": false, "fadeIn": 0, "additive": false, "start": 0 } ]
 //       // ("clip" may be left out in a layer: the first clip)
-//     } ] }
+//     } ],
+//   "bml": [ { "file": "greet.xml", "time": 1.5, "character": "robot" } ]  // optional
+// }
+//
+// "bml" lists files to send at scene times; the middleware does not read BML
+// (module rule): it resolves the paths and hands the list to whoever drives a
+// BML realizer (the `marionette` tool does).
 //
 // Without "play", a character plays its first clip (or stands in its rest pose).
 // Assets are loaded once per (file, scale, clip files) and shared by the
@@ -29,10 +35,17 @@ struct SceneLoadOptions {
   bool loadMeshes = false;  // a renderer wants them; a headless run does not
 };
 
+struct TimedFile {
+  std::string path;       // resolved against the scene file
+  double time = 0.0;      // scene time at which to send it
+  std::string character;  // empty = the block's characterId or the first character
+};
+
 struct SceneLoadResult {
   Diagnostics diagnostics;  // each names the scene file (or asset) and the place
   int charactersAdded = 0;
   int assetsLoaded = 0;
+  std::vector<TimedFile> bml;  // the file's "bml" list, sorted by time
   [[nodiscard]] bool ok() const noexcept { return diagnostics.ok(); }
 };
 
