@@ -97,9 +97,14 @@ SyncRefParse parseSyncRef(std::string_view text) {
     // A trailing all-digit part is a repetition index ("beat1:stroke:2").
     if (parts.size() >= 3 && std::all_of(parts.back().begin(), parts.back().end(),
                                          [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
-      ref.repetition = std::stoi(parts.back());
+      // from_chars, not stoi: a 100-digit index must be an error, not an exception (found by libFuzzer).
+      const std::string& digits = parts.back();
+      int rep = 0;
+      auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), rep);
+      if (ec != std::errc() || ptr != digits.data() + digits.size() || rep < 1 || rep > 100000)
+        return fail("repetition index must be a whole number from 1 to 100000", i);
+      ref.repetition = rep;
       parts.pop_back();
-      if (ref.repetition < 1) return fail("repetition index must be 1 or more", i);
     }
     if (parts.size() == 2) {
       ref.behavior = parts[0];

@@ -1,10 +1,15 @@
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "marionette/bml/sync_ref.hpp"
 
 using namespace marionette::bml;
 
 TEST(SyncRef, RejectsMalformedReferences) {
+  // Regression (libFuzzer): a repetition index too large for an int threw from std::stoi.
+  EXPECT_FALSE(parseSyncRef("a:b:" + std::string(100, '4')).ref);
+  EXPECT_FALSE(parseSyncRef("a:b:99999999999").ref);
   for (const char* bad : {"", "   ", "nod1", "nod1:", ":start", "a:b:c:d:e", "nod1:start+", "nod1:start*2", "nod1:start+x",
                           "1e999", "nod1:start:0", "--2"}) {
     SyncRefParse r = parseSyncRef(bad);
