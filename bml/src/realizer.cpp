@@ -66,12 +66,8 @@ void Realizer::emit(const Feedback& f) {
 
 Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
                            std::optional<double> at) {
-  ParseResult parsed = parseBlock(bmlText);
-  Schedule schedule;
-  if (parsed.block) schedule = scheduleBlock(*parsed.block, options);
-  schedule.warnings.insert(schedule.warnings.begin(), parsed.warnings.begin(), parsed.warnings.end());
-  for (const Warning& w : parsed.warnings) schedule.failed |= w.fatal;
-  if (!parsed.block) schedule.failed = true;
+  const ParseResult parsed = parseBlock(bmlText);
+  Schedule schedule = scheduleParsed(parsed, options);
 
   std::string who(character);
   if (who.empty() && parsed.block) who = parsed.block->characterId;
@@ -120,19 +116,21 @@ Schedule Realizer::perform(std::string_view bmlText, std::string_view character,
     }
   std::stable_sort(a.events.begin(), a.events.end(), [](const Event& x, const Event& y) { return x.sceneTime < y.sceneTime; });
   a.end = start + blockEnd;
-  for (const Event& e : a.events) {
-    Feedback f;
-    f.kind = Feedback::Kind::Prediction;
-    f.character = who;
-    f.blockId = a.blockId;
-    f.behaviorId = e.behaviorId;
-    f.syncPoint = e.syncPoint;
-    f.blockTime = e.blockTime;
-    f.sceneTime = e.sceneTime;
-    emit(f);
-  }
+  for (const Event& e : a.events) emit(syncFeedback(Feedback::Kind::Prediction, a, e));
   blocks_.push_back(std::move(a));
   return schedule;
+}
+
+Feedback Realizer::syncFeedback(Feedback::Kind kind, const Active& block, const Event& e) {
+  Feedback f;
+  f.kind = kind;
+  f.character = block.character;
+  f.blockId = block.blockId;
+  f.behaviorId = e.behaviorId;
+  f.syncPoint = e.syncPoint;
+  f.blockTime = e.blockTime;
+  f.sceneTime = e.sceneTime;
+  return f;
 }
 
 void Realizer::finish(Active& block, double sceneTime) {
@@ -160,16 +158,7 @@ void Realizer::update() {
       emit(f);
     }
     while (b.started && b.next < b.events.size() && b.events[b.next].sceneTime <= now) {
-      const Event& e = b.events[b.next++];
-      Feedback f;
-      f.kind = Feedback::Kind::SyncPointProgress;
-      f.character = b.character;
-      f.blockId = b.blockId;
-      f.behaviorId = e.behaviorId;
-      f.syncPoint = e.syncPoint;
-      f.blockTime = e.blockTime;
-      f.sceneTime = e.sceneTime;
-      emit(f);
+      emit(syncFeedback(Feedback::Kind::SyncPointProgress, b, b.events[b.next++]));
     }
   }
   // Blocks whose last sync point has passed end now.

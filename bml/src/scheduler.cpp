@@ -577,7 +577,10 @@ class Scheduler {
 Schedule scheduleBlock(const Block& block, const SchedulerOptions& options) { return Scheduler(block, options).run(); }
 
 Schedule scheduleText(std::string_view bmlText, const SchedulerOptions& options) {
-  ParseResult parsed = parseBlock(bmlText);
+  return scheduleParsed(parseBlock(bmlText), options);
+}
+
+Schedule scheduleParsed(const ParseResult& parsed, const SchedulerOptions& options) {
   Schedule s;
   if (parsed.block) s = scheduleBlock(*parsed.block, options);
   s.warnings.insert(s.warnings.begin(), parsed.warnings.begin(), parsed.warnings.end());

@@ -104,7 +104,7 @@ std::map<std::string, std::vector<std::string>> headerSections(const std::string
   std::string line, current;
   while (std::getline(in, line)) {
     std::smatch m;
-    if (std::regex_match(line, m, std::regex(R"(\s*([A-Z][A-Za-z ]+):\s*(.*))")) && m[1].str().find(' ') == std::string::npos ||
+    if ((std::regex_match(line, m, std::regex(R"(\s*([A-Z][A-Za-z ]+):\s*(.*))")) && m[1].str().find(' ') == std::string::npos) ||
         std::regex_match(line, m, std::regex(R"(\s*((?:Required|Expected) (?:timing|behavior|execution)|Realization|Error|Warning):\s*(.*))"))) {
       current = m[1];
       if (!m[2].str().empty()) out[current].push_back(m[2]);
@@ -235,7 +235,9 @@ TEST_P(Corpus, FileDoesWhatItsHeaderStates) {
     EXPECT_NEAR(*s.time("nod1", "start"), *s.time("beat1", "strokeEnd"), 1e-6);
   }
   // A header with timing statements had at least one of them checked (or its divergence recorded).
-  if (statements > 0 && !diverges) EXPECT_GT(checked, 0);
+  if (statements > 0 && !diverges) {
+    EXPECT_GT(checked, 0);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(OpenBmlParser, Corpus, ::testing::ValuesIn([] {
@@ -247,8 +249,8 @@ INSTANTIATE_TEST_SUITE_P(OpenBmlParser, Corpus, ::testing::ValuesIn([] {
                            if (files.empty()) files.push_back("MISSING-bml-corpus");  // fails loudly in the test
                            return files;
                          }()),
-                         [](const auto& info) {
-                           std::string n = info.param;
+                         [](const auto& test) {
+                           std::string n = test.param;
                            for (char& c : n)
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return n;

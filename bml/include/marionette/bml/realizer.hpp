@@ -81,6 +81,7 @@ class Realizer {
     bool started = false;
   };
   void emit(const Feedback& f);
+  static Feedback syncFeedback(Feedback::Kind kind, const Active& block, const Event& event);
   void finish(Active& block, double sceneTime);
 
   Scene& scene_;

@@ -63,5 +63,7 @@ struct SyncTemplate {
 [[nodiscard]] Schedule scheduleBlock(const Block& block, const SchedulerOptions& options = {});
 // Parse and schedule: parse warnings are carried into the schedule.
 [[nodiscard]] Schedule scheduleText(std::string_view bmlText, const SchedulerOptions& options = {});
+// Schedule an already parsed block; the parse warnings come first in the result.
+[[nodiscard]] Schedule scheduleParsed(const ParseResult& parsed, const SchedulerOptions& options = {});
 
 }  // namespace marionette::bml
