@@ -51,6 +51,32 @@ std::string Feedback::xml() const {
   return {};
 }
 
+std::string bodyChannel(const Behavior& b) {
+  const std::string& t = b.type;
+  if (t == "head" || t == "headDirectionShift") return "head";
+  if (t == "gaze" || t == "gazeShift") return "gaze";
+  if (t == "speech") return "voice";
+  if (t == "posture" || t == "postureShift") return "posture";
+  if (t == "locomotion") return "locomotion";
+  if (t == "gesture" || t == "pointing") {
+    const Attribute* mode = b.attribute("mode");
+    if (mode && mode->value == "LEFT_HAND") return "leftHand";
+    if (mode && mode->value == "RIGHT_HAND") return "rightHand";
+    return "hands";
+  }
+  return {};  // face behaviors combine; wait drives nothing
+}
+
+namespace {
+// "hands" overlaps both hands.
+bool channelsOverlap(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  const bool handA = a == "hands" || a == "leftHand" || a == "rightHand";
+  const bool handB = b == "hands" || b == "leftHand" || b == "rightHand";
+  return handA && handB && (a == "hands" || b == "hands");
+}
+}  // namespace
+
 void Realizer::emit(const Feedback& f) {
   for (const FeedbackListener& l : listeners_) l(f);
   if (f.kind == Feedback::Kind::Warning) {
@@ -116,9 +142,66 @@ Schedule Realizer::perform(std::string_view bmlText, std::string_view character,
     }
   std::stable_sort(a.events.begin(), a.events.end(), [](const Event& x, const Event& y) { return x.sceneTime < y.sceneTime; });
   a.end = start + blockEnd;
+  claimChannels(a, *parsed.block, schedule, who);
   for (const Event& e : a.events) emit(syncFeedback(Feedback::Kind::Prediction, a, e));
   blocks_.push_back(std::move(a));
   return schedule;
+}
+
+void Realizer::claimChannels(Active& a, const Block& block, const Schedule& schedule, const std::string& who) {
+  // Claims in text order; each new claim that overlaps an earlier one (this
+  // block's or a queued block's) on the same channel wins there, with a warning.
+  for (const ScheduledBehavior& sb : schedule.behaviors) {
+    auto parsedIt = std::find_if(block.behaviors.begin(), block.behaviors.end(),
+                                 [&](const Behavior& b) { return b.id == sb.id; });
+    if (parsedIt == block.behaviors.end() || sb.syncs.empty()) continue;
+    const std::string channel = bodyChannel(*parsedIt);
+    if (channel.empty()) continue;
+    Claim claim{channel, sb.id, a.start + sb.syncs.front().time, a.start + sb.syncs.back().time, ++order_};
+    auto report = [&](const std::string& otherBlock, const Claim& other) {
+      const double from = std::max(claim.start, other.start), to = std::min(claim.end, other.end);
+      if (to <= from) return;
+      Feedback f;
+      f.kind = Feedback::Kind::Warning;
+      f.character = who;
+      f.blockId = a.blockId;
+      f.behaviorId = sb.id;
+      f.sceneTime = scene_.time();
+      char span[64];
+      std::snprintf(span, sizeof span, "%.3g s to %.3g s", from - a.start, to - a.start);
+      f.warning = {WarningType::ImpossibleToSchedule, a.blockId, sb.id, parsedIt->line, parsedIt->column,
+                   "overlaps behavior '" + other.behaviorId + "'" + (otherBlock == a.blockId ? "" : " of block '" + otherBlock + "'") +
+                       " on the " + channel + " channel from " + span + " (block time); the later behavior, '" + sb.id +
+                       "', drives the channel there",
+                   false};
+      emit(f);
+    };
+    for (const Active& other : blocks_)
+      if (other.character == who)
+        for (const Claim& c : other.claims)
+          if (channelsOverlap(c.channel, channel)) report(other.blockId, c);
+    for (const Claim& c : a.claims)
+      if (channelsOverlap(c.channel, channel)) report(a.blockId, c);
+    a.claims.push_back(std::move(claim));
+  }
+}
+
+std::optional<std::pair<std::string, std::string>> Realizer::channelOwner(std::string_view character,
+                                                                         std::string_view channel,
+                                                                         double sceneTime) const {
+  const Claim* best = nullptr;
+  const Active* bestBlock = nullptr;
+  for (const Active& b : blocks_) {
+    if (b.character != character) continue;
+    for (const Claim& c : b.claims)
+      if (channelsOverlap(c.channel, std::string(channel)) && c.start <= sceneTime && sceneTime <= c.end &&
+          (!best || c.order > best->order)) {
+        best = &c;
+        bestBlock = &b;
+      }
+  }
+  if (!best) return std::nullopt;
+  return std::pair{bestBlock->blockId, best->behaviorId};
 }
 
 Feedback Realizer::syncFeedback(Feedback::Kind kind, const Active& block, const Event& e) {

@@ -110,3 +110,45 @@ TEST(Realizer, FeedbackXmlEscapesIds) {
   EXPECT_NE(x.find("time=\"0.3\""), std::string::npos);
   EXPECT_EQ(x.find("<&"), std::string::npos);
 }
+
+TEST(Realizer, MergeConflictsOnABodyChannelLaterWinsWithAWarning) {
+  Scene scene;
+  scene.addCharacter("robot", test::makeSyntheticRig());
+  Realizer r(scene);
+  Recorder rec;
+  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+  r.perform("<bml id='a'><head id='nod' lexeme='NOD' start='0' end='2'/></bml>");
+  EXPECT_TRUE(rec.of(Feedback::Kind::Warning).empty());
+  r.perform("<bml id='b'><head id='shake' lexeme='SHAKE' start='1' end='3'/>"
+            "<faceLexeme id='smile' lexeme='SMILE' start='1'/></bml>");
+  const auto warnings = rec.of(Feedback::Kind::Warning);
+  ASSERT_EQ(warnings.size(), 1u);  // the face lexeme combines; the heads conflict
+  EXPECT_EQ(warnings[0]->warning.type, WarningType::ImpossibleToSchedule);
+  EXPECT_EQ(warnings[0]->behaviorId, "shake");
+  EXPECT_NE(warnings[0]->warning.message.find("'nod' of block 'a' on the head channel"), std::string::npos)
+      << warnings[0]->warning.message;
+  // Who drives the head: nod before the overlap, shake during and after it.
+  EXPECT_EQ(r.channelOwner("robot", "head", 0.5)->second, "nod");
+  EXPECT_EQ(r.channelOwner("robot", "head", 1.5)->second, "shake");
+  EXPECT_EQ(r.channelOwner("robot", "head", 2.5)->second, "shake");
+  EXPECT_FALSE(r.channelOwner("robot", "head", 3.5));
+  EXPECT_FALSE(r.channelOwner("robot", "gaze", 1.0));
+}
+
+TEST(Realizer, HandsConflictOnlyWhenTheyShareAHand) {
+  Scene scene;
+  scene.addCharacter("robot", test::makeSyntheticRig());
+  Realizer r(scene);
+  Recorder rec;
+  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+  r.perform("<bml id='a'><gesture id='l' lexeme='BEAT' mode='LEFT_HAND' start='0'/>"
+            "<gesture id='rr' lexeme='BEAT' mode='RIGHT_HAND' start='0'/></bml>");
+  EXPECT_TRUE(rec.of(Feedback::Kind::Warning).empty());
+  r.perform("<bml id='b'><gesture id='both' lexeme='WAVE' start='1'/></bml>");
+  EXPECT_EQ(rec.of(Feedback::Kind::Warning).size(), 2u);  // overlaps each hand's gesture
+  EXPECT_EQ(r.channelOwner("robot", "leftHand", 1.5)->second, "both");
+  EXPECT_EQ(r.channelOwner("robot", "leftHand", 0.5)->second, "l");
+  // Within one block, the later behavior in the text wins.
+  r.perform("<bml id='c' composition='REPLACE'><head id='h1' lexeme='NOD' start='0'/><head id='h2' lexeme='TILT' start='0.5'/></bml>");
+  EXPECT_EQ(r.channelOwner("robot", "head", scene.time() + 0.75)->second, "h2");
+}

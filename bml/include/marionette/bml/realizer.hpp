@@ -17,7 +17,9 @@
 // scheduled behavior to them through Scene/Character once they exist.
 #pragma once
 #include <functional>
+#include <cstdint>
 #include <optional>
+#include <utility>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,14 +69,28 @@ class Realizer {
   // Scene time at which a queued block starts (APPEND may start it later than perform()).
   [[nodiscard]] std::optional<double> blockStart(std::string_view blockId) const;
 
+  // Which behavior drives a body channel of a character at a scene time: of the
+  // queued behaviors on that channel whose [start, end] holds the time, the one
+  // performed last (within a block, the later in the text). Deterministic; the
+  // controllers follow it. Returns {blockId, behaviorId}.
+  [[nodiscard]] std::optional<std::pair<std::string, std::string>> channelOwner(std::string_view character,
+                                                                               std::string_view channel,
+                                                                               double sceneTime) const;
+
  private:
   struct Event {
     double sceneTime;
     std::string behaviorId, syncPoint;
     double blockTime;
   };
+  struct Claim {  // a behavior's hold on a body channel
+    std::string channel, behaviorId;
+    double start, end;     // scene time
+    std::uint64_t order;   // perform order, then text order: the larger wins
+  };
   struct Active {
     std::string character, blockId;
+    std::vector<Claim> claims;
     double start = 0.0, end = 0.0;  // scene time
     std::vector<Event> events;      // sync points, sorted by time
     std::size_t next = 0;
@@ -82,12 +98,20 @@ class Realizer {
   };
   void emit(const Feedback& f);
   static Feedback syncFeedback(Feedback::Kind kind, const Active& block, const Event& event);
+  void claimChannels(Active& block, const Block& parsed, const Schedule& schedule, const std::string& character);
   void finish(Active& block, double sceneTime);
 
   Scene& scene_;
   std::vector<FeedbackListener> listeners_;
   std::vector<Active> blocks_;
+  std::uint64_t order_ = 0;
 };
+
+// The body channel a behavior drives, for conflicts between behaviors that run
+// at once: "head", "gaze", "leftHand", "rightHand", "hands" (both), "voice",
+// "posture", "locomotion"; empty for behaviors that combine freely (face
+// lexemes add up, wait drives nothing).
+[[nodiscard]] std::string bodyChannel(const Behavior& behavior);
 
 // Escapes &, <, >, " and ' for XML attribute values.
 [[nodiscard]] std::string xmlEscape(std::string_view text);
