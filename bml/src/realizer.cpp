@@ -80,7 +80,7 @@ bool channelsOverlap(const std::string& a, const std::string& b) {
 void Realizer::emit(const Feedback& f) {
   for (const FeedbackListener& l : listeners_) l(f);
   if (f.kind == Feedback::Kind::Warning) {
-    scene_.log(f.warning.fatal ? LogLevel::Error : LogLevel::Warning, f.xml());
+    if (forwardWarnings_) scene_.log(f.warning.fatal ? LogLevel::Error : LogLevel::Warning, f.xml());
     return;
   }
   if (f.kind == Feedback::Kind::Prediction) return;

@@ -98,8 +98,6 @@ struct WarningCounter : SceneListener {
   int warnings = 0;
   void onLog(LogLevel level, std::string_view message) override {
     if (level == LogLevel::Info) return;
-    // BML warnings are printed by the run loop with their file:line:col.
-    if (message.substr(0, 16) == "<warningFeedback") return;
     ++warnings;
     std::fprintf(stderr, "marionette: %s: %.*s\n", level == LogLevel::Error ? "error" : "warning",
                  static_cast<int>(message.size()), message.data());
@@ -144,6 +142,7 @@ int runCommand(const std::vector<std::string>& args) {
 #ifdef MARIONETTE_CLI_HAS_BML
   // BML: files from the scene (at their times) and from --bml (at 0), sent as the clock reaches them.
   bml::Realizer realizer(scene);
+  realizer.setForwardWarningsToScene(false);  // the run loop prints them with their file:line:col
   std::vector<TimedFile> sends = loaded.bml;
   for (const std::string& f : r.bml) sends.push_back({f, 0.0, {}});
   std::stable_sort(sends.begin(), sends.end(), [](const TimedFile& a, const TimedFile& b) { return a.time < b.time; });

@@ -24,6 +24,17 @@ struct ProgressListener : SceneListener {
   }
 };
 
+// A scene with one character, a realizer, and a recorder of its feedback.
+struct RealizerWithRobot : ::testing::Test {
+  Scene scene;
+  Realizer r{scene};
+  Recorder rec;
+  RealizerWithRobot() {
+    scene.addCharacter("robot", test::makeSyntheticRig());
+    r.addFeedbackListener([this](const Feedback& f) { rec.all.push_back(f); });
+  }
+};
+
 void step(Scene& scene, Realizer& r, double seconds, double dt = 0.05) {
   for (double t = 0; t < seconds - 1e-9; t += dt) {
     scene.update(dt);
@@ -47,14 +58,9 @@ TEST(Realizer, UnknownCharacterAndBrokenBlocksFailWithWarningFeedback) {
   EXPECT_EQ(r.activeBlocks(), 0u);
 }
 
-TEST(Realizer, PredictionsThenProgressInOrderThenBlockEnd) {
-  Scene scene;
-  scene.addCharacter("robot", test::makeSyntheticRig());
+TEST_F(RealizerWithRobot, PredictionsThenProgressInOrderThenBlockEnd) {
   ProgressListener progress;
   scene.addListener(&progress);
-  Realizer r(scene);
-  Recorder rec;
-  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
   Schedule s = r.perform("<bml id='b1'><head id='h' lexeme='NOD' start='0.5'/><gaze id='g' target='x' start='h:end'/></bml>");
   ASSERT_FALSE(s.failed);
   EXPECT_EQ(rec.of(Feedback::Kind::Prediction).size(), 7u + 4u);  // head: 7 sync points, gaze: 4
@@ -76,12 +82,7 @@ TEST(Realizer, PredictionsThenProgressInOrderThenBlockEnd) {
   EXPECT_EQ(progress.events.size(), 13u);
 }
 
-TEST(Realizer, AppendWaitsReplaceEndsInterruptStops) {
-  Scene scene;
-  scene.addCharacter("robot", test::makeSyntheticRig());
-  Realizer r(scene);
-  Recorder rec;
-  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+TEST_F(RealizerWithRobot, AppendWaitsReplaceEndsInterruptStops) {
   r.perform("<bml id='a'><gesture id='g' lexeme='BEAT'/></bml>");  // 0..2 s
   r.perform("<bml id='b' composition='APPEND'><head id='h' lexeme='NOD'/></bml>");
   EXPECT_DOUBLE_EQ(*r.blockStart("b"), 2.0);
@@ -111,12 +112,7 @@ TEST(Realizer, FeedbackXmlEscapesIds) {
   EXPECT_EQ(x.find("<&"), std::string::npos);
 }
 
-TEST(Realizer, MergeConflictsOnABodyChannelLaterWinsWithAWarning) {
-  Scene scene;
-  scene.addCharacter("robot", test::makeSyntheticRig());
-  Realizer r(scene);
-  Recorder rec;
-  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+TEST_F(RealizerWithRobot, MergeConflictsOnABodyChannelLaterWinsWithAWarning) {
   r.perform("<bml id='a'><head id='nod' lexeme='NOD' start='0' end='2'/></bml>");
   EXPECT_TRUE(rec.of(Feedback::Kind::Warning).empty());
   r.perform("<bml id='b'><head id='shake' lexeme='SHAKE' start='1' end='3'/>"
@@ -135,12 +131,7 @@ TEST(Realizer, MergeConflictsOnABodyChannelLaterWinsWithAWarning) {
   EXPECT_FALSE(r.channelOwner("robot", "gaze", 1.0));
 }
 
-TEST(Realizer, HandsConflictOnlyWhenTheyShareAHand) {
-  Scene scene;
-  scene.addCharacter("robot", test::makeSyntheticRig());
-  Realizer r(scene);
-  Recorder rec;
-  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+TEST_F(RealizerWithRobot, HandsConflictOnlyWhenTheyShareAHand) {
   r.perform("<bml id='a'><gesture id='l' lexeme='BEAT' mode='LEFT_HAND' start='0'/>"
             "<gesture id='rr' lexeme='BEAT' mode='RIGHT_HAND' start='0'/></bml>");
   EXPECT_TRUE(rec.of(Feedback::Kind::Warning).empty());

@@ -119,7 +119,7 @@ double Character::layerTime(int layer) const noexcept {
 
 void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
   const AnimationClip& ac = *layer.clip;
-  const float t = wrapClipTime(layer.time, ac.clip.duration, layer.options.wrap);
+  const float t = layer.clipTime;
   sampleClip(ac.clip, t, skeleton().restPose, out, &layer.cursor);
   if (layer.options.rootMotion && !ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, out, &layer.rootCursor);
   if (layer.options.additive) makeAdditiveDelta(out, layer.reference, out);
@@ -184,6 +184,7 @@ void Character::update(double dt) noexcept {
     const double t0 = l.time;
     l.time += dt * l.options.speed;
     if (l.options.wrap == WrapMode::Clamp) l.time = std::clamp(l.time, 0.0, static_cast<double>(l.clip->clip.duration));
+    l.clipTime = wrapClipTime(l.time, l.clip->clip.duration, l.options.wrap);
     applyRootMotion(l, t0, l.time, l.weight, move, turn);
     ++active;
     only = &l;
@@ -201,7 +202,7 @@ void Character::update(double dt) noexcept {
   std::span<float> morphs = buffer_.writeMorphWeights();
   for (Layer& l : layers_)
     if (l.clip && !l.clip->clip.morphTracks.empty())
-      sampleMorphWeights(l.clip->clip, wrapClipTime(l.time, l.clip->clip.duration, l.options.wrap), morphs);
+      sampleMorphWeights(l.clip->clip, l.clipTime, morphs);
 
   if (move != glm::vec3(0.0f) || turn != 0.0f) {
     position_ += glm::angleAxis(heading_, glm::vec3(0, 1, 0)) * move;

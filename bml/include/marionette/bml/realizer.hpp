@@ -50,6 +50,9 @@ class Realizer {
   explicit Realizer(Scene& scene) : scene_(scene) {}
 
   void addFeedbackListener(FeedbackListener listener) { listeners_.push_back(std::move(listener)); }
+  // Warnings also go to the scene's listeners (onLog) unless turned off, e.g. by a
+  // caller that reports them itself from a FeedbackListener.
+  void setForwardWarningsToScene(bool forward) noexcept { forwardWarnings_ = forward; }
 
   // Parses and schedules `bmlText` for `character` (the block's characterId
   // when empty) and queues it. Returns the schedule (with its warnings, which are
@@ -105,6 +108,7 @@ class Realizer {
   std::vector<FeedbackListener> listeners_;
   std::vector<Active> blocks_;
   std::uint64_t order_ = 0;
+  bool forwardWarnings_ = true;
 };
 
 // The body channel a behavior drives, for conflicts between behaviors that run

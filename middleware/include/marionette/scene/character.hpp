@@ -83,6 +83,7 @@ class Character {
     std::shared_ptr<const AnimationClip> clip;
     PlayOptions options;
     double time = 0.0;        // clip-local time, unwrapped (loops keep counting)
+    float clipTime = 0.0f;    // `time` wrapped or clamped into the clip, once per frame
     float weight = 0.0f;      // current weight (fades)
     float fadeRate = 0.0f;    // weight per second, signed
     bool stopping = false;
