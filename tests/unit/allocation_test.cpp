@@ -47,11 +47,28 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
     wave.jointMask = {0, 0, 1, 1};
     c->play(1, "wave", wave);
     c->transformBuffer().setPacked3x4(i % 3 == 0);
+    // Behavior requests: one that ends (and is pruned) and one cancelled mid-run.
+    BehaviorRequest g;
+    g.id = "g";
+    g.kind = BehaviorKind::Gesture;
+    g.clip = "wave";
+    g.syncs = {{"start", 0.0}, {"ready", 0.2}, {"relax", 1.0}, {"end", 2.0}};
+    c->addBehavior(g);
+    g.id = "long";
+    g.clip = "walk";
+    g.loop = true;
+    g.syncs = {{"start", 0.5}, {"end", 1000.0}};
+    c->addBehavior(g);
   }
   scene.setStatsEnabled(true);
   scene.update(1.0 / 60.0);  // warm-up
   const long before = g_allocations.load();
-  for (int f = 0; f < 500; ++f) scene.update(f % 7 == 0 ? 0.5 : 1.0 / 60.0);
+  for (int f = 0; f < 500; ++f) {
+    scene.update(f % 7 == 0 ? 0.5 : 1.0 / 60.0);
+    if (f == 250)
+      for (const auto& c : scene.characters()) c->cancelBehavior("long", 0.3);
+  }
+  for (const auto& c : scene.characters()) EXPECT_TRUE(c->behaviors().empty());
   scene.update(-1.0);  // a rejected dt warns without allocating
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(listener.events, 1);

@@ -125,4 +125,20 @@ void makeAdditiveDelta(std::span<const Transform> pose, std::span<const Transfor
   }
 }
 
+void blendOver(std::span<Transform> pose, std::span<const Transform> layer, float weight,
+               std::span<const float> jointWeights) noexcept {
+  const float lw = std::min(sanitizeWeight(weight), 1.0f);
+  if (lw <= 0.0f) return;
+  const std::size_t n = std::min(pose.size(), layer.size());
+  for (std::size_t j = 0; j < n; ++j) {
+    const float w = std::min(jointWeight(lw, jointWeights, j), 1.0f);
+    if (w <= 0.0f) continue;
+    Transform& p = pose[j];
+    const Transform& l = layer[j];
+    p.translation = glm::mix(p.translation, l.translation, w);
+    p.scale = glm::mix(p.scale, l.scale, w);
+    p.rotation = slerpShortest(p.rotation, l.rotation, w);
+  }
+}
+
 }  // namespace marionette

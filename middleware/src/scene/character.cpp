@@ -18,6 +18,7 @@ Character::Character(std::string name, std::shared_ptr<const Rig> rig) : name_(s
   const Skeleton& s = rig_->skeleton();
   pose_ = s.restPose;
   buffer_.resize(s.jointCount(), rig_->asset().morphTargets.size());
+  morphScratch_.resize(rig_->asset().morphTargets.size());
 }
 
 void Character::notify(ChangeKind kind, std::string_view what) const {
@@ -117,6 +118,87 @@ double Character::layerTime(int layer) const noexcept {
   return (layer >= 0 && layer < kMaxLayers) ? layers_[layer].time : 0.0;
 }
 
+BehaviorResult Character::addBehavior(BehaviorRequest request) {
+  BehaviorResult result;
+  result.message = behaviors_.check(request);
+  std::shared_ptr<const AnimationClip> clip;
+  if (result.message.empty() && !request.clip.empty()) {
+    clip = rig_->findClip(request.clip);
+    if (!clip) {
+      result.message = "behavior request '" + request.id + "': the character's rig has no clip named '" + request.clip + "'";
+      if (!rig_->clips().empty()) {
+        result.message += " (it has";
+        for (std::size_t i = 0; i < rig_->clips().size() && i < 8; ++i)
+          result.message += (i ? ", '" : " '") + rig_->clips()[i]->clip.name + "'";
+        result.message += rig_->clips().size() > 8 ? ", ...)" : ")";
+      }
+    }
+  }
+  if (result.message.empty() && request.kind == BehaviorKind::Clip && request.clip.empty())
+    result.message = "behavior request '" + request.id + "' is of kind clip but names no clip";
+  if (!result.message.empty()) {
+    if (scene_) scene_->log(LogLevel::Warning, result.message);
+    return result;
+  }
+  const BehaviorKind kind = request.kind;
+  BehaviorTimeline::Entry& e = behaviors_.add(std::move(request));
+  result.added = true;
+  if (clip) {
+    const std::size_t n = skeleton().jointCount();
+    e.mask.assign(n, 0.0f);
+    for (const JointTrack& t : clip->clip.tracks)
+      if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n &&
+          (!t.translation.empty() || !t.rotation.empty() || !t.scale.empty()))
+        e.mask[static_cast<std::size_t>(t.joint)] = 1.0f;
+    e.cursor.reset(clip->clip);
+    e.rootCursor.reset(clip->inPlaceRoot);
+    e.clip = std::move(clip);
+    if (!scratch_) {
+      ownScratch_ = std::make_unique<FrameScratch>();
+      scratch_ = ownScratch_.get();
+    }
+    scratch_->reserve(n);
+    result.realized = true;
+  } else if (kind == BehaviorKind::Wait) {
+    result.realized = true;  // nothing to move
+  } else {
+    result.message = "no controller for " + std::string(toString(kind)) +
+                     " behaviors exists yet; its timing, channel and feedback run but the body does not move";
+  }
+  return result;
+}
+
+bool Character::cancelBehavior(std::string_view id, double blendOut) { return behaviors_.cancel(id, clock_, blendOut); }
+
+std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOut) {
+  return behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
+}
+
+void Character::applyBehaviorClips() noexcept {
+  const std::span<const Transform> rest = skeleton().restPose;
+  const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(rest.size());
+  const std::span<float> morphs = buffer_.writeMorphWeights();
+  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (!e.clip) continue;
+    const float w = BehaviorTimeline::weightAt(e, clock_);
+    if (w <= 0.0f) continue;
+    const AnimationClip& ac = *e.clip;
+    const double start = e.request.start(), span = e.request.end() - start;
+    const float t = e.request.loop || span <= 0.0
+                        ? wrapClipTime(clock_ - start, ac.clip.duration, e.request.loop ? WrapMode::Loop : WrapMode::Clamp)
+                        : static_cast<float>(std::clamp((clock_ - start) / span, 0.0, 1.0) * ac.clip.duration);
+    sampleClip(ac.clip, t, rest, scratch, &e.cursor);
+    // A clip that travels is played in place: behaviors do not move the character.
+    if (!ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, scratch, &e.rootCursor);
+    blendOver(pose_, scratch, w, e.mask);
+    if (!ac.clip.morphTracks.empty() && !morphs.empty()) {
+      std::copy(morphs.begin(), morphs.end(), morphScratch_.begin());
+      sampleMorphWeights(ac.clip, t, morphScratch_);
+      for (std::size_t i = 0; i < morphs.size(); ++i) morphs[i] += w * (morphScratch_[i] - morphs[i]);
+    }
+  }
+}
+
 void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
   const AnimationClip& ac = *layer.clip;
   const float t = layer.clipTime;
@@ -162,6 +244,7 @@ void Character::applyRootMotion(const Layer& layer, double t0, double t1, float 
 }
 
 void Character::update(double dt) noexcept {
+  clock_ += dt;
   glm::vec3 move(0.0f);
   float turn = 0.0f;
   int active = 0;
@@ -203,6 +286,10 @@ void Character::update(double dt) noexcept {
   for (Layer& l : layers_)
     if (l.clip && !l.clip->clip.morphTracks.empty())
       sampleMorphWeights(l.clip->clip, l.clipTime, morphs);
+  if (!behaviors_.empty()) {
+    applyBehaviorClips();
+    behaviors_.prune(clock_);
+  }
 
   if (move != glm::vec3(0.0f) || turn != 0.0f) {
     position_ += glm::angleAxis(heading_, glm::vec3(0, 1, 0)) * move;

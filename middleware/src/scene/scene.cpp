@@ -22,6 +22,7 @@ Character* Scene::addCharacter(std::string name, std::shared_ptr<const Rig> rig)
   characters_.push_back(std::make_unique<Character>(std::move(name), std::move(rig)));
   Character* c = characters_.back().get();
   c->scene_ = this;
+  c->clock_ = time_;
   scratch_.reserve(c->skeleton().jointCount());
   c->scratch_ = &scratch_;
   forEachListener([&](SceneListener& l) { l.onCharacterCreated(*c); });

@@ -49,6 +49,13 @@ class BlendAccumulator {
 void applyAdditive(std::span<const Transform> delta, float weight, std::span<const float> jointWeights,
                    std::span<Transform> pose) noexcept;
 
+// Blends `layer` over `pose` in place: per joint, pose = mix(pose, layer, w) with
+// w = weight * mask[j] (slerp on the shortest arc for rotations). Layers blended
+// over one another in order give "the later wins at full weight", which is how
+// behaviors on one body channel hand over smoothly.
+void blendOver(std::span<Transform> pose, std::span<const Transform> layer, float weight,
+               std::span<const float> jointWeights) noexcept;
+
 // Delta that, applied additively at weight 1 on `reference`, gives `pose`.
 void makeAdditiveDelta(std::span<const Transform> pose, std::span<const Transform> reference,
                        std::span<Transform> outDelta) noexcept;

@@ -10,6 +10,7 @@
 
 #include "marionette/animation/blending.hpp"
 #include "marionette/animation/sampling.hpp"
+#include "marionette/behavior/behavior_timeline.hpp"
 #include "marionette/scene/listener.hpp"
 #include "marionette/scene/rig.hpp"
 #include "marionette/scene/transform_buffer.hpp"
@@ -36,6 +37,13 @@ struct FrameScratch {
   std::vector<Transform> pose;
   BlendAccumulator accumulator;
   void reserve(std::size_t joints);  // grows only
+};
+
+// What became of a behavior request (Character::addBehavior).
+struct BehaviorResult {
+  bool added = false;     // on the timeline: it has a channel, a weight envelope, an owner
+  bool realized = false;  // some controller moves the body for it
+  std::string message;    // why not added, or why not realized; empty when both hold
 };
 
 struct CharacterStats {
@@ -73,6 +81,20 @@ class Character {
   [[nodiscard]] int layerCount() const noexcept;  // layers in use
   [[nodiscard]] double layerTime(int layer) const noexcept;
 
+  // Timed behavior requests (see behavior_request.hpp); the C++ API an engine
+  // uses without BML, and what the BML realizer calls. A request naming a clip
+  // is played by the clip controller: blended over the clip layers on the joints
+  // the clip animates, time-warped onto [start, end] (or looping), weighted by
+  // the request's envelope. Requests of other kinds wait for their controllers
+  // (BehaviorResult::realized says whether one exists). Command time: may allocate.
+  BehaviorResult addBehavior(BehaviorRequest request);
+  // Ends requests now, blending them out over `blendOut` seconds.
+  bool cancelBehavior(std::string_view id, double blendOut);
+  std::size_t cancelBehaviors(std::string_view idPrefix, double blendOut);
+  [[nodiscard]] const BehaviorTimeline& behaviors() const noexcept { return behaviors_; }
+  // The character's clock: the scene's time for a character in a scene.
+  [[nodiscard]] double time() const noexcept { return clock_; }
+
   // Advances the layers by dt seconds and writes the transform buffer. Per-frame:
   // no allocation, no exceptions. dt must be finite and >= 0 (Scene checks).
   void update(double dt) noexcept;
@@ -93,6 +115,7 @@ class Character {
   void notify(ChangeKind kind, std::string_view what) const;
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
   void blendLayers() noexcept;
+  void applyBehaviorClips() noexcept;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                        float& turn) const noexcept;
 
@@ -103,6 +126,9 @@ class Character {
   float heading_ = 0.0f;
   std::array<Layer, kMaxLayers> layers_;
   std::vector<Transform> pose_;
+  BehaviorTimeline behaviors_;
+  std::vector<float> morphScratch_;  // one per morph target, for weighted clip morphs
+  double clock_ = 0.0;
   FrameScratch* scratch_ = nullptr;             // the scene's, or ownScratch_ when standalone
   std::unique_ptr<FrameScratch> ownScratch_;
   TransformBuffer buffer_;

@@ -1,0 +1,79 @@
+// A timed behavior request: what a character should do, between which scene
+// times, on which body channels. The BML realizer makes these from BML blocks;
+// an engine can make them directly, without BML:
+//
+//   BehaviorRequest wave;
+//   wave.id = "wave1";
+//   wave.kind = BehaviorKind::Gesture;
+//   wave.clip = "Wave";                       // a clip of the character's rig
+//   wave.syncs = {{"start", t}, {"ready", t + 0.3}, {"relax", t + 1.7}, {"end", t + 2.0}};
+//   character.addBehavior(std::move(wave));
+//
+// Sync times are on the scene clock (seconds). The weight of a request rises
+// from 0 at "start" to 1 at "ready" and falls back to 0 from "relax" to "end"
+// (smoothstep); without ready/relax it blends over a short default time.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace marionette {
+
+// What kind of behavior a request is; controllers pick the kinds they realize.
+// The names are BML 1.0's element names (toString / behaviorKindFromName).
+enum class BehaviorKind : std::uint8_t {
+  Posture, PostureShift, Locomotion, Gaze, GazeShift, Head, HeadDirectionShift,
+  FaceLexeme, FaceFacs, Face, FaceShift, Gesture, Pointing, Speech, Wait,
+  Clip,  // play a clip of the rig, nothing more (no BML element)
+};
+[[nodiscard]] std::string_view toString(BehaviorKind kind) noexcept;
+[[nodiscard]] std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept;
+
+// Body channels, as bits. Requests whose channels overlap conflict while both
+// run: the one added later is blended over the earlier one, so it wins at full
+// weight and the earlier one shows through while it blends in or out.
+// Face channels are not exclusive (lexemes add up): a face request has no bits.
+enum BodyChannel : std::uint32_t {
+  kChannelPosture = 1u << 0,
+  kChannelLocomotion = 1u << 1,
+  kChannelLeftHand = 1u << 2,
+  kChannelRightHand = 1u << 3,
+  kChannelHands = kChannelLeftHand | kChannelRightHand,
+  kChannelHead = 1u << 4,
+  kChannelGaze = 1u << 5,
+  kChannelVoice = 1u << 6,
+};
+// The channels a kind drives by default (gestures: both hands).
+[[nodiscard]] std::uint32_t defaultChannels(BehaviorKind kind) noexcept;
+// "posture", "leftHand", "hands", ... joined with '+'; "" for none.
+[[nodiscard]] std::string channelNames(std::uint32_t channels);
+
+struct BehaviorSync {
+  std::string name;  // "start", "ready", "stroke", ... or any name the caller gives
+  double time = 0.0; // scene seconds
+};
+
+struct BehaviorRequest {
+  std::string id;        // unique among the character's requests (the realizer uses "block:behavior")
+  BehaviorKind kind = BehaviorKind::Clip;
+  std::optional<std::uint32_t> channels;  // unset: defaultChannels(kind)
+  std::vector<BehaviorSync> syncs;        // in time order; the first is the start, the last the end
+  std::vector<std::pair<std::string, std::string>> parameters;  // lexeme, target, amount, ... as given
+  std::string clip;      // a clip of the rig to play, time-warped onto [start, end]; "" = none
+  bool loop = false;     // play the clip at its own speed, looping, instead of warping it
+  bool persistent = false;  // keeps full weight after its end until replaced or cancelled (postureShift)
+  float weight = 1.0f;   // peak weight in [0, 1]
+
+  [[nodiscard]] double start() const noexcept { return syncs.empty() ? 0.0 : syncs.front().time; }
+  [[nodiscard]] double end() const noexcept { return syncs.empty() ? 0.0 : syncs.back().time; }
+  // Time of a sync point by name (case-sensitive), if present.
+  [[nodiscard]] std::optional<double> time(std::string_view sync) const noexcept;
+  // Value of a parameter, or "" when absent.
+  [[nodiscard]] std::string_view parameter(std::string_view name) const noexcept;
+  [[nodiscard]] std::uint32_t channelBits() const noexcept { return channels ? *channels : defaultChannels(kind); }
+};
+
+}  // namespace marionette

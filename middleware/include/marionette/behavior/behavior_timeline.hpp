@@ -1,0 +1,84 @@
+// A character's behavior timeline: the timed requests it has been given, each
+// with its weight envelope over scene time, cancellation with a blend-out
+// (BML REPLACE and interrupt), and which request drives a body channel when.
+// Requests are added at command time (may allocate); evaluating weights and
+// pruning finished requests is per-frame code (no allocation, no exceptions).
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "marionette/animation/sampling.hpp"
+#include "marionette/behavior/behavior_request.hpp"
+
+namespace marionette {
+
+struct AnimationClip;
+
+class BehaviorTimeline {
+ public:
+  // Blend time used when a request has no ready (relax) sync point: this long,
+  // or a quarter of the request's duration if that is shorter.
+  static constexpr double kDefaultBlendSeconds = 0.3;
+
+  struct Entry {
+    BehaviorRequest request;
+    std::uint64_t order = 0;     // larger = added later = wins conflicts
+    double blendInEnd = 0.0;     // weight reaches request.weight here ("ready")
+    double blendOutStart = 0.0;  // and starts to fall here ("relax")
+    double cancelAt = std::numeric_limits<double>::infinity();
+    double cancelBlend = 0.0;    // seconds of blend-out after cancelAt
+    // Clip playback, when the request names a clip the rig has (bound by Character).
+    std::shared_ptr<const AnimationClip> clip;
+    SamplingCursor cursor, rootCursor;
+    std::vector<float> mask;     // per joint: 1 where the clip animates it
+    bool done = false;           // prune()'s mark
+
+    [[nodiscard]] bool cancelled() const noexcept { return cancelAt != std::numeric_limits<double>::infinity(); }
+    // Time after which the request has no effect (infinite for a persistent one).
+    [[nodiscard]] double finishTime() const noexcept;
+  };
+
+  // Empty if the request can be added, else what is wrong with it (naming the
+  // request and the field): an empty or duplicate id, no sync points, a
+  // non-finite time, sync points out of order, a weight outside [0, 1].
+  [[nodiscard]] std::string check(const BehaviorRequest& request) const;
+  // Adds a request that passed check(). Returns its entry (valid until the next add or prune).
+  Entry& add(BehaviorRequest request);
+
+  // Ends a request at scene time `at`, blending it out over `blendOut` seconds.
+  // A request that had not started by then is removed at once. False if unknown.
+  bool cancel(std::string_view id, double at, double blendOut);
+  // Cancels every request whose id starts with `prefix` ("block1:" ends a BML
+  // block's behaviors). Returns how many.
+  std::size_t cancelPrefix(std::string_view prefix, double at, double blendOut);
+
+  // Weight of an entry at scene time t, in [0, request.weight]: smoothstep in
+  // from start to blendInEnd, out from blendOutStart to end (not for persistent
+  // requests), times the cancellation blend-out.
+  [[nodiscard]] static float weightAt(const Entry& entry, double t) noexcept;
+
+  // The request driving any of `channels` at time t: of those with a weight
+  // above zero there, the one added last. nullptr if none.
+  [[nodiscard]] const BehaviorRequest* owner(std::uint32_t channels, double t) const noexcept;
+
+  // Drops requests that can no longer have an effect at time t: finished, or
+  // persistent and fully covered by a later request on all of their channels.
+  // Per-frame: no allocation.
+  void prune(double t) noexcept;
+
+  [[nodiscard]] std::span<Entry> entries() noexcept { return entries_; }
+  [[nodiscard]] std::span<const Entry> entries() const noexcept { return entries_; }
+  [[nodiscard]] const Entry* find(std::string_view id) const noexcept;
+  [[nodiscard]] bool empty() const noexcept { return entries_.empty(); }
+
+ private:
+  std::vector<Entry> entries_;  // in add order (ascending `order`)
+  std::uint64_t nextOrder_ = 0;
+};
+
+}  // namespace marionette

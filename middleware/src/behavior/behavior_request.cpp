@@ -1,0 +1,79 @@
+#include "marionette/behavior/behavior_request.hpp"
+
+#include <array>
+
+namespace marionette {
+
+namespace {
+constexpr std::array<std::string_view, 16> kKindNames = {
+    "posture",   "postureShift", "locomotion", "gaze", "gazeShift", "head",    "headDirectionShift", "faceLexeme",
+    "faceFacs", "face",         "faceShift",  "gesture", "pointing", "speech", "wait",               "clip"};
+}  // namespace
+
+std::string_view toString(BehaviorKind kind) noexcept {
+  const auto i = static_cast<std::size_t>(kind);
+  return i < kKindNames.size() ? kKindNames[i] : std::string_view("unknown");
+}
+
+std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept {
+  for (std::size_t i = 0; i < kKindNames.size(); ++i)
+    if (kKindNames[i] == name) return static_cast<BehaviorKind>(i);
+  return std::nullopt;
+}
+
+std::uint32_t defaultChannels(BehaviorKind kind) noexcept {
+  switch (kind) {
+    case BehaviorKind::Posture:
+    case BehaviorKind::PostureShift: return kChannelPosture;
+    case BehaviorKind::Locomotion: return kChannelLocomotion;
+    case BehaviorKind::Gaze:
+    case BehaviorKind::GazeShift: return kChannelGaze;
+    case BehaviorKind::Head:
+    case BehaviorKind::HeadDirectionShift: return kChannelHead;
+    case BehaviorKind::Gesture:
+    case BehaviorKind::Pointing: return kChannelHands;
+    case BehaviorKind::Speech: return kChannelVoice;
+    case BehaviorKind::Clip: return kChannelPosture;  // a whole-body clip stands in for the posture
+    default: return 0;                                // face behaviors combine; wait drives nothing
+  }
+}
+
+std::string channelNames(std::uint32_t channels) {
+  static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 6> kNames = {{
+      {kChannelPosture, "posture"},
+      {kChannelLocomotion, "locomotion"},
+      {kChannelHands, "hands"},  // before the single hands, so both read "hands"
+      {kChannelHead, "head"},
+      {kChannelGaze, "gaze"},
+      {kChannelVoice, "voice"},
+  }};
+  std::string out;
+  auto append = [&](std::string_view s) {
+    if (!out.empty()) out += '+';
+    out += s;
+  };
+  for (auto [bits, name] : kNames) {
+    if (bits == kChannelHands) {
+      if ((channels & kChannelHands) == kChannelHands) append(name);
+      else if (channels & kChannelLeftHand) append("leftHand");
+      else if (channels & kChannelRightHand) append("rightHand");
+    } else if (channels & bits) {
+      append(name);
+    }
+  }
+  return out;
+}
+
+std::optional<double> BehaviorRequest::time(std::string_view sync) const noexcept {
+  for (const BehaviorSync& s : syncs)
+    if (s.name == sync) return s.time;
+  return std::nullopt;
+}
+
+std::string_view BehaviorRequest::parameter(std::string_view name) const noexcept {
+  for (const auto& [key, value] : parameters)
+    if (key == name) return value;
+  return {};
+}
+
+}  // namespace marionette
