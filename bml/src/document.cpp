@@ -90,6 +90,7 @@ class Parser {
       block.composition = "MERGE";
     }
     readChildren(root, false, block);
+    if (tooLarge_) return std::move(result_);  // the block failed; its partial content is not scheduled
     result_.block = std::move(block);
     return std::move(result_);
   }
@@ -125,6 +126,7 @@ class Parser {
   void readChildren(const pugi::xml_node& parent, bool required, Block& block) {
     for (pugi::xml_node n : parent.children()) {
       if (n.type() != pugi::node_element) continue;
+      if (tooLarge_) return;
       const std::string_view qualified = n.name();
       const std::string type(localName(qualified));
       auto [line, col] = place(n);
@@ -189,6 +191,14 @@ class Parser {
              b.line, b.column, required);
         return;
       }
+    if (block.behaviors.size() >= kMaxBehaviorsPerBlock) {
+      tooLarge_ = true;
+      fatal(WarningType::ParsingFailure, b.id,
+            "the block has more than " + std::to_string(kMaxBehaviorsPerBlock) +
+                " behaviors; split it into several blocks (the limit bounds scheduling time and memory)",
+            b.line, b.column);
+      return;
+    }
     if (type == "speech") readSpeech(n, b);
     block.behaviors.push_back(std::move(b));
   }
@@ -247,6 +257,14 @@ class Parser {
       for (pugi::xml_node s : c.children()) {
         if (s.type() != pugi::node_element || localName(s.name()) != "sync") continue;
         auto [line, col] = place(s);
+        if (++constraintSyncs_ > kMaxConstraintSyncsPerBlock) {
+          tooLarge_ = true;
+          fatal(WarningType::ParsingFailure, k.id,
+                "the block's constraints have more than " + std::to_string(kMaxConstraintSyncsPerBlock) +
+                    " sync references; split it into several blocks (the limit bounds scheduling time)",
+                line, col);
+          return;
+        }
         k.syncs.push_back({s.attribute("ref").as_string(), line, col});
       }
       block.constraints.push_back(std::move(k));
@@ -259,6 +277,8 @@ class Parser {
   std::string blockId_;
   std::string defaultNs_;
   std::map<std::string, std::string> prefixes_;
+  std::size_t constraintSyncs_ = 0;
+  bool tooLarge_ = false;
 };
 }  // namespace
 

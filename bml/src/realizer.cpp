@@ -1,6 +1,7 @@
 #include "marionette/bml/realizer.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -51,32 +52,6 @@ std::string Feedback::xml() const {
   return {};
 }
 
-std::string bodyChannel(const Behavior& b) {
-  const std::string& t = b.type;
-  if (t == "head" || t == "headDirectionShift") return "head";
-  if (t == "gaze" || t == "gazeShift") return "gaze";
-  if (t == "speech") return "voice";
-  if (t == "posture" || t == "postureShift") return "posture";
-  if (t == "locomotion") return "locomotion";
-  if (t == "gesture" || t == "pointing") {
-    const Attribute* mode = b.attribute("mode");
-    if (mode && mode->value == "LEFT_HAND") return "leftHand";
-    if (mode && mode->value == "RIGHT_HAND") return "rightHand";
-    return "hands";
-  }
-  return {};  // face behaviors combine; wait drives nothing
-}
-
-namespace {
-// "hands" overlaps both hands.
-bool channelsOverlap(const std::string& a, const std::string& b) {
-  if (a == b) return true;
-  const bool handA = a == "hands" || a == "leftHand" || a == "rightHand";
-  const bool handB = b == "hands" || b == "leftHand" || b == "rightHand";
-  return handA && handB && (a == "hands" || b == "hands");
-}
-}  // namespace
-
 void Realizer::emit(const Feedback& f) {
   for (const FeedbackListener& l : listeners_) l(f);
   if (f.kind == Feedback::Kind::Warning) {
@@ -90,45 +65,100 @@ void Realizer::emit(const Feedback& f) {
   }
 }
 
+namespace {
+// Sync point names compare as the scheduler does: case-insensitive, '-' ignored.
+std::string syncKey(std::string_view s) {
+  std::string out;
+  for (char c : s)
+    if (c != '-') out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::pair<std::string, std::string> splitRequestId(std::string_view id) {
+  const std::size_t colon = id.find(':');
+  if (colon == std::string_view::npos) return {std::string(id), {}};
+  return {std::string(id.substr(0, colon)), std::string(id.substr(colon + 1))};
+}
+}  // namespace
+
+void Realizer::warn(const std::string& character, const std::string& blockId, double sceneTime, Warning warning) {
+  Feedback f;
+  f.kind = Feedback::Kind::Warning;
+  f.character = character;
+  f.blockId = warning.blockId.empty() ? blockId : warning.blockId;
+  f.behaviorId = warning.behaviorId;
+  f.sceneTime = sceneTime;
+  f.warning = std::move(warning);
+  emit(f);
+}
+
+SchedulerOptions::ExternalSync Realizer::resolveExternal(const SyncRef& ref, double blockStart) const {
+  auto block = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == ref.block; });
+  if (block == blocks_.end())
+    return {std::nullopt, "no block '" + ref.block + "' is queued on the realizer (it has ended, failed, or was never performed)"};
+  const std::string wanted = syncKey(ref.syncPoint) + (ref.repetition > 1 ? ":" + std::to_string(ref.repetition) : "");
+  bool behaviorFound = false;
+  for (const Event& e : block->events) {
+    if (e.behaviorId != ref.behavior) continue;
+    behaviorFound = true;
+    if (syncKey(e.syncPoint) == wanted) return {e.sceneTime - blockStart, {}};
+  }
+  if (!behaviorFound) return {std::nullopt, "block '" + ref.block + "' has no behavior '" + ref.behavior + "'"};
+  return {std::nullopt, "behavior '" + ref.behavior + "' of block '" + ref.block + "' has no sync point '" + ref.syncPoint +
+                            (ref.repetition > 1 ? ":" + std::to_string(ref.repetition) : "") + "'"};
+}
+
 Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
                            std::optional<double> at) {
   const ParseResult parsed = parseBlock(bmlText);
-  Schedule schedule = scheduleParsed(parsed, options);
-
   std::string who(character);
   if (who.empty() && parsed.block) who = parsed.block->characterId;
   if (who.empty() && !scene_.characters().empty()) who = scene_.characters().front()->name();
-  if (!schedule.failed && !scene_.findCharacter(who)) {
+  Character* target = scene_.findCharacter(who);
+  const double now = at && std::isfinite(*at) ? *at : scene_.time();
+
+  // Composition decides the start first: references to other blocks are relative to it.
+  const std::string composition = parsed.block ? parsed.block->composition : std::string();
+  double start = now;
+  if (composition == "APPEND")
+    for (const Active& b : blocks_)
+      if (b.character == who) start = std::max(start, b.end);
+  SchedulerOptions opts = options;
+  if (!opts.externalSync) opts.externalSync = [&](const SyncRef& ref) { return resolveExternal(ref, start); };
+  if (!opts.defaultDuration && target)
+    opts.defaultDuration = [rig = &target->rig()](const Behavior& b) { return naturalDuration(b, *rig); };
+  Schedule schedule = scheduleParsed(parsed, opts);
+
+  if (!schedule.failed && !target) {
     schedule.warnings.push_back({WarningType::NoSuchTarget, schedule.blockId, "", parsed.block->line, parsed.block->column,
                                  who.empty() ? "the scene has no character to perform the block"
                                              : "the scene has no character named '" + who + "'",
                                  true});
     schedule.failed = true;
   }
-  const double now = at && std::isfinite(*at) ? *at : scene_.time();
-  for (const Warning& w : schedule.warnings) {
-    Feedback f;
-    f.kind = Feedback::Kind::Warning;
-    f.character = who;
-    f.blockId = w.blockId.empty() ? schedule.blockId : w.blockId;
-    f.behaviorId = w.behaviorId;
-    f.sceneTime = now;
-    f.warning = w;
-    emit(f);
+  if (!schedule.failed) {
+    for (const Active& b : blocks_)
+      if (b.blockId == schedule.blockId && !(composition == "REPLACE" && b.character == who)) {
+        schedule.warnings.push_back({WarningType::ImpossibleToSchedule, schedule.blockId, "", parsed.block->line,
+                                     parsed.block->column,
+                                     "a block with id '" + b.blockId + "' is still queued (for '" + b.character +
+                                         "'); block ids must be unique while their blocks run",
+                                     true});
+        schedule.failed = true;
+        break;
+      }
   }
+  for (const Warning& w : schedule.warnings) warn(who, schedule.blockId, now, w);
   if (schedule.failed) return schedule;
 
-  // Composition.
-  double start = now;
-  const std::string composition = parsed.block->composition;
   if (composition == "REPLACE") {
     for (Active& b : blocks_)
-      if (b.character == who) finish(b, now);
+      if (b.character == who) {
+        finish(b, now);
+        target->cancelBehaviors(b.blockId + ":", replaceBlend_);
+      }
     blocks_.erase(std::remove_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.character == who; }),
                   blocks_.end());
-  } else if (composition == "APPEND") {
-    for (const Active& b : blocks_)
-      if (b.character == who) start = std::max(start, b.end);
   }
   Active a;
   a.character = who;
@@ -142,66 +172,91 @@ Schedule Realizer::perform(std::string_view bmlText, std::string_view character,
     }
   std::stable_sort(a.events.begin(), a.events.end(), [](const Event& x, const Event& y) { return x.sceneTime < y.sceneTime; });
   a.end = start + blockEnd;
-  claimChannels(a, *parsed.block, schedule, who);
+  if (!submit(*target, a, *parsed.block, schedule)) return schedule;
   for (const Event& e : a.events) emit(syncFeedback(Feedback::Kind::Prediction, a, e));
   blocks_.push_back(std::move(a));
   return schedule;
 }
 
-void Realizer::claimChannels(Active& a, const Block& block, const Schedule& schedule, const std::string& who) {
-  // Claims in text order; each new claim that overlaps an earlier one (this
-  // block's or a queued block's) on the same channel wins there, with a warning.
+bool Realizer::submit(Character& character, const Active& a, const Block& block, Schedule& schedule) {
+  const double now = scene_.time();
   for (const ScheduledBehavior& sb : schedule.behaviors) {
     auto parsedIt = std::find_if(block.behaviors.begin(), block.behaviors.end(),
                                  [&](const Behavior& b) { return b.id == sb.id; });
     if (parsedIt == block.behaviors.end() || sb.syncs.empty()) continue;
-    const std::string channel = bodyChannel(*parsedIt);
-    if (channel.empty()) continue;
-    Claim claim{channel, sb.id, a.start + sb.syncs.front().time, a.start + sb.syncs.back().time, ++order_};
-    auto report = [&](const std::string& otherBlock, const Claim& other) {
-      const double from = std::max(claim.start, other.start), to = std::min(claim.end, other.end);
-      if (to <= from) return;
-      Feedback f;
-      f.kind = Feedback::Kind::Warning;
-      f.character = who;
-      f.blockId = a.blockId;
-      f.behaviorId = sb.id;
-      f.sceneTime = scene_.time();
-      char span[64];
-      std::snprintf(span, sizeof span, "%.3g s to %.3g s", from - a.start, to - a.start);
-      f.warning = {WarningType::ImpossibleToSchedule, a.blockId, sb.id, parsedIt->line, parsedIt->column,
-                   "overlaps behavior '" + other.behaviorId + "'" + (otherBlock == a.blockId ? "" : " of block '" + otherBlock + "'") +
-                       " on the " + channel + " channel from " + span + " (block time); the later behavior, '" + sb.id +
-                       "', drives the channel there",
-                   false};
-      emit(f);
-    };
-    for (const Active& other : blocks_)
-      if (other.character == who)
-        for (const Claim& c : other.claims)
-          if (channelsOverlap(c.channel, channel)) report(other.blockId, c);
-    for (const Claim& c : a.claims)
-      if (channelsOverlap(c.channel, channel)) report(a.blockId, c);
-    a.claims.push_back(std::move(claim));
+    const BehaviorResult res = character.addBehavior(toRequest(*parsedIt, sb, a.blockId, a.start, character.rig()));
+    if (!res.added) {
+      Warning w{WarningType::CannotCreateBehavior, a.blockId, sb.id, sb.line, sb.column, res.message, sb.required};
+      if (sb.required) {
+        w.message += "; being required, it made the block fail";
+        character.cancelBehaviors(a.blockId + ":", 0.0);
+        schedule.failed = true;
+      }
+      schedule.warnings.push_back(w);
+      warn(a.character, a.blockId, now, std::move(w));
+      if (schedule.failed) return false;
+      continue;
+    }
+    const std::span<const BehaviorTimeline::Entry> entries = character.behaviors().entries();
+    reportConflicts(character, a, entries.back(), *parsedIt, schedule);
+    if (!res.realized && reportUnrealized_) {
+      Warning w{WarningType::CannotCreateBehavior, a.blockId, sb.id, sb.line, sb.column,
+                "character '" + character.name() + "': " + res.message, false};
+      schedule.warnings.push_back(w);
+      warn(a.character, a.blockId, now, std::move(w));
+    }
   }
+  return true;
+}
+
+void Realizer::reportConflicts(const Character& character, const Active& a, const BehaviorTimeline::Entry& added,
+                               const Behavior& behavior, Schedule& schedule) {
+  // The new request overlaps earlier ones (of this block or another) on a
+  // channel: it wins there (the timeline blends it over), with one warning that
+  // names the latest of them (one per behavior, so warnings stay linear in the input).
+  const std::uint32_t bits = added.request.channelBits();
+  if (bits == 0) return;
+  const BehaviorTimeline::Entry* latest = nullptr;
+  double from = 0.0, to = 0.0;
+  std::size_t others = 0;
+  const auto entries = character.behaviors().entries();
+  for (auto it = entries.rbegin(); it != entries.rend(); ++it) {
+    const BehaviorTimeline::Entry& other = *it;
+    if (other.order >= added.order || (other.request.channelBits() & bits) == 0) continue;
+    const double f = std::max(added.request.start(), other.request.start());
+    const double t = std::min(added.request.end(), std::min(other.request.end(), other.finishTime()));
+    if (t <= f) continue;
+    if (latest) {
+      ++others;
+      continue;
+    }
+    latest = &other;
+    from = f;
+    to = t;
+  }
+  if (!latest) return;
+  const auto [otherBlock, otherBehavior] = splitRequestId(latest->request.id);
+  char span[64];
+  std::snprintf(span, sizeof span, "%.3g s to %.3g s", from - a.start, to - a.start);
+  Warning w{WarningType::ImpossibleToSchedule, a.blockId, behavior.id, behavior.line, behavior.column,
+            "overlaps behavior '" + otherBehavior + "'" + (otherBlock == a.blockId ? "" : " of block '" + otherBlock + "'") +
+                (others ? " (and " + std::to_string(others) + " other" + (others > 1 ? "s" : "") + ")" : "") +
+                " on the " + channelNames(latest->request.channelBits() & bits) + " channel from " + span +
+                " (block time); the later behavior, '" + behavior.id + "', drives the channel there",
+            false};
+  schedule.warnings.push_back(w);
+  warn(a.character, a.blockId, scene_.time(), std::move(w));
 }
 
 std::optional<std::pair<std::string, std::string>> Realizer::channelOwner(std::string_view character,
                                                                          std::string_view channel,
                                                                          double sceneTime) const {
-  const Claim* best = nullptr;
-  const Active* bestBlock = nullptr;
-  for (const Active& b : blocks_) {
-    if (b.character != character) continue;
-    for (const Claim& c : b.claims)
-      if (channelsOverlap(c.channel, std::string(channel)) && c.start <= sceneTime && sceneTime <= c.end &&
-          (!best || c.order > best->order)) {
-        best = &c;
-        bestBlock = &b;
-      }
-  }
-  if (!best) return std::nullopt;
-  return std::pair{bestBlock->blockId, best->behaviorId};
+  Character* c = scene_.findCharacter(character);
+  const std::uint32_t bits = channelFromName(channel);
+  if (!c || bits == 0) return std::nullopt;
+  const BehaviorRequest* owner = c->behaviors().owner(bits, sceneTime);
+  if (!owner) return std::nullopt;
+  return splitRequestId(owner->id);
 }
 
 Feedback Realizer::syncFeedback(Feedback::Kind kind, const Active& block, const Event& e) {
@@ -256,6 +311,7 @@ bool Realizer::interrupt(std::string_view blockId) {
   auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == blockId; });
   if (it == blocks_.end()) return false;
   finish(*it, scene_.time());
+  if (Character* c = scene_.findCharacter(it->character)) c->cancelBehaviors(it->blockId + ":", replaceBlend_);
   blocks_.erase(it);
   return true;
 }

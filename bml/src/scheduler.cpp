@@ -32,19 +32,50 @@ SyncTemplate fromProportions(std::initializer_list<std::pair<const char*, double
   return t;
 }
 
-double numberAttribute(const Behavior& b, const char* name, double fallback) {
-  const Attribute* a = b.attribute(name);
-  if (!a) return fallback;
-  char* end = nullptr;
-  const double v = std::strtod(a->value.c_str(), &end);
-  return (end && *end == '\0' && std::isfinite(v) && v > 0) ? v : fallback;
+// repetition="R": a whole number >= 1; anything else counts as 1. Values above
+// kMaxBehaviorRepetitions are clamped (digits are read saturating, so no overflow).
+int repetitionsOf(const Behavior& b) {
+  const Attribute* a = b.attribute("repetition");
+  if (!a || a->value.empty()) return 1;
+  long long n = 0;
+  for (char c : a->value) {
+    if (c < '0' || c > '9') return 1;
+    n = std::min<long long>(n * 10 + (c - '0'), kMaxBehaviorRepetitions);
+  }
+  return n < 1 ? 1 : static_cast<int>(n);
+}
+
+bool repeats(std::string_view type) { return type == "head" || type == "gesture" || type == "pointing"; }
+
+// The full BML 1.0 phase structure with the stroke phase repeated `reps` times,
+// each repetition `unit` long. The proportions of one repetition (.1 .2 .3 .5 .8 1)
+// are kept at the ends; the stroke phases share the time between ready and relax,
+// each starting, peaking and ending at 1/7, 2/7 and 4/7 of its period.
+SyncTemplate repeatedStroke(double unit, int reps) {
+  SyncTemplate t;
+  t.repetitions = reps;
+  t.syncs.reserve(4 + 3 * static_cast<std::size_t>(reps));
+  const double total = reps * unit;
+  const double ready = 0.1 * unit;
+  const double period = (total - 0.3 * unit) / reps;
+  t.syncs.push_back({"start", 0.0});
+  t.syncs.push_back({"ready", ready});
+  for (int n = 1; n <= reps; ++n) {
+    const std::string suffix = n == 1 ? "" : ":" + std::to_string(n);
+    const double from = ready + (n - 1) * period;
+    t.syncs.push_back({"strokeStart" + suffix, from + period / 7});
+    t.syncs.push_back({"stroke" + suffix, from + 2 * period / 7});
+    t.syncs.push_back({"strokeEnd" + suffix, from + 4 * period / 7});
+  }
+  t.syncs.push_back({"relax", total - 0.2 * unit});
+  t.syncs.push_back({"end", total});
+  return t;
 }
 
 }  // namespace
 
 SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
   const std::string& t = b.type;
-  const double reps = std::floor(numberAttribute(b, "repetition", 1.0));
   if (t == "speech") {
     SyncTemplate s;
     s.stretchable = false;  // speech keeps its own timing
@@ -54,18 +85,20 @@ SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
     s.syncs.push_back({"end", std::max(options.minimumSpeechSeconds, static_cast<double>(b.text.size()) * spc)});
     return s;
   }
-  // Gestures and head movements have the full BML 1.0 phase structure.
-  if (t == "head" || t == "gesture" || t == "pointing")
-    return fromProportions({{"start", 0}, {"ready", .1}, {"strokeStart", .2}, {"stroke", .3}, {"strokeEnd", .5},
-                            {"relax", .8}, {"end", 1}},
-                           (t == "head" ? 1.0 : 2.0) * reps);
-  if (t == "gaze" || t == "posture" || t == "locomotion")
-    return fromProportions({{"start", 0}, {"ready", .25}, {"relax", .75}, {"end", 1}}, 2.0);
-  if (t == "faceLexeme" || t == "faceFacs" || t == "face")
-    return fromProportions({{"start", 0}, {"attackPeak", .2}, {"relax", .8}, {"end", 1}}, 1.5);
   if (t == "wait") return fromProportions({{"start", 0}, {"end", 1}}, 0.0);
+  // The character's own length for the behavior, when it knows one. Checked against
+  // the repetition cap too, so that R times it stays finite.
+  std::optional<double> natural;
+  if (options.defaultDuration)
+    if (auto d = options.defaultDuration(b); d && std::isfinite(*d * kMaxBehaviorRepetitions) && *d > 0) natural = *d;
+  // Gestures and head movements have the full BML 1.0 phase structure.
+  if (repeats(t)) return repeatedStroke(natural.value_or(t == "head" ? 1.0 : 2.0), repetitionsOf(b));
+  if (t == "gaze" || t == "posture" || t == "locomotion")
+    return fromProportions({{"start", 0}, {"ready", .25}, {"relax", .75}, {"end", 1}}, natural.value_or(2.0));
+  if (t == "faceLexeme" || t == "faceFacs" || t == "face")
+    return fromProportions({{"start", 0}, {"attackPeak", .2}, {"relax", .8}, {"end", 1}}, natural.value_or(1.5));
   // gazeShift, headDirectionShift, postureShift, faceShift: a transition to a new state.
-  return fromProportions({{"start", 0}, {"end", 1}}, 1.0);
+  return fromProportions({{"start", 0}, {"end", 1}}, natural.value_or(1.0));
 }
 
 std::optional<double> ScheduledBehavior::time(std::string_view sync) const {
@@ -145,8 +178,19 @@ class Scheduler {
     Schedule out;
     out.blockId = block_.id;
     active_.assign(block_.behaviors.size(), true);
+    std::size_t syncPoints = 0;
     for (const Behavior& b : block_.behaviors) {
       templates_.push_back(defaultSyncs(b, options_));
+      syncPoints += templates_.back().syncs.size();
+      if (syncPoints > kMaxSyncPointsPerBlock) {
+        out.warnings.push_back({WarningType::ImpossibleToSchedule, block_.id, b.id, b.line, b.column,
+                                "the block has more than " + std::to_string(kMaxSyncPointsPerBlock) +
+                                    " sync points (repetitions included) by this behavior; the block failed "
+                                    "(split it, or repeat less)",
+                                true});
+        out.failed = true;
+        return out;
+      }
       std::vector<std::string> keys;
       for (const SyncTime& sync : templates_.back().syncs) keys.push_back(lower(sync.name));
       keys_.push_back(std::move(keys));
@@ -235,8 +279,17 @@ class Scheduler {
   std::optional<std::pair<int, double>> resolve(const SyncRef& ref, std::string& problem, WarningType& type) {
     if (ref.absolute) return std::pair{blockStart_, ref.offset};
     if (!ref.block.empty() && ref.block != block_.id) {
+      // Another block's sync point is a fixed time for this block, like a number.
       type = WarningType::NoSuchTarget;
-      problem = "refers to block '" + ref.block + "', which is not this block (references to other blocks need them scheduled first)";
+      if (!options_.externalSync) {
+        problem = "refers to block '" + ref.block +
+                  "', which is not this block (references to other blocks need a Realizer that has that block)";
+        return std::nullopt;
+      }
+      const SchedulerOptions::ExternalSync external = options_.externalSync(ref);
+      if (external.time && std::isfinite(*external.time)) return std::pair{blockStart_, *external.time + ref.offset};
+      problem = "refers to block '" + ref.block + "': " +
+                (external.problem.empty() ? std::string("its sync point is not known") : external.problem);
       return std::nullopt;
     }
     const int b = behaviorIndex(ref.behavior);
@@ -245,18 +298,29 @@ class Scheduler {
       problem = "refers to behavior '" + ref.behavior + "', which the block does not have (or which was removed)";
       return std::nullopt;
     }
-    const int k = syncIndex(static_cast<std::size_t>(b), ref.syncPoint);
+    const Behavior& target = block_.behaviors[b];
+    int k = syncIndex(static_cast<std::size_t>(b), ref.syncPoint);
     if (k < 0) {
       type = WarningType::NoSuchTarget;
-      problem = "behavior '" + ref.behavior + "' (" + block_.behaviors[b].type + ") has no sync point '" + ref.syncPoint + "'";
+      problem = "behavior '" + ref.behavior + "' (" + target.type + ") has no sync point '" + ref.syncPoint + "'";
       return std::nullopt;
     }
-    if (ref.repetition > 1)
-      passWarnings_.push_back({WarningType::ImpossibleToSchedule, block_.id, block_.behaviors[b].id, block_.behaviors[b].line,
-                               block_.behaviors[b].column,
-                               "repetition index :" + std::to_string(ref.repetition) +
-                                   " is not supported yet; the first repetition's '" + ref.syncPoint + "' is used",
-                               false});
+    if (ref.repetition > 1) {
+      // Only the stroke phase repeats; its n-th repetition's syncs carry ":n".
+      const std::string key = lower(ref.syncPoint);
+      const bool repeating = repeats(target.type) && (key == "strokestart" || key == "stroke" || key == "strokeend");
+      if (repeating) k = syncIndex(static_cast<std::size_t>(b), ref.syncPoint + ":" + std::to_string(ref.repetition));
+      if (!repeating || k < 0) {
+        type = WarningType::NoSuchTarget;
+        const int reps = templates_[b].repetitions;
+        problem = "refers to repetition " + std::to_string(ref.repetition) + " of '" + ref.syncPoint + "', but behavior '" +
+                  ref.behavior + "' (" + target.type + ") " +
+                  (repeats(target.type) ? "has " + std::to_string(reps) + (reps == 1 ? " repetition" : " repetitions") +
+                                              "; only strokeStart, stroke and strokeEnd repeat"
+                                        : std::string("does not repeat"));
+        return std::nullopt;
+      }
+    }
     return std::pair{pegIds_[b][k], ref.offset};
   }
 

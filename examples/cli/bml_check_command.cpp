@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -6,8 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "marionette/bml/scheduler.hpp"
+#include "marionette/bml/realizer.hpp"
 #include "marionette/core/diagnostic.hpp"
+#include "marionette/io/import.hpp"
 
 namespace marionette::cli {
 
@@ -24,21 +26,45 @@ std::string warningLine(const std::string& file, const bml::Warning& w) {
                std::string(bml::toString(w.type)) + ": " + where + w.message};
   return d.format();
 }
+
+// The default character: one that has every controller and the built-in
+// default durations (docs/bml-compliance.md), so a check is about the BML
+// itself. Its rig is a single joint; nothing is rendered.
+std::shared_ptr<const Rig> defaultCharacterRig() {
+  auto asset = std::make_shared<Asset>();
+  asset->skeleton.addJoint("root", -1, Transform{});
+  return std::make_shared<Rig>(asset);
+}
 }  // namespace
 
 int bmlCheckCommand(const std::vector<std::string>& args) {
   bool json = false;
   std::vector<std::string> files;
-  for (const std::string& a : args) {
+  std::string characterFile;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
     if (a == "--json") json = true;
+    else if (a == "--character" && i + 1 < args.size()) characterFile = args[++i];
     else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "marionette bml-check: error: unknown option '%s'\n", a.c_str());
       return 2;
     } else files.push_back(a);
   }
   if (files.empty()) {
-    std::fputs("usage: marionette bml-check FILE.xml... [--json]\n", stderr);
+    std::fputs("usage: marionette bml-check FILE.xml... [--json] [--character ASSET]\n", stderr);
     return 2;
+  }
+  // Against a real character: its clips give default durations, and behaviors
+  // it cannot realize are CANNOT_CREATE_BEHAVIOR warnings.
+  std::shared_ptr<const Rig> rig;
+  const std::string name = characterFile.empty() ? "default" : std::filesystem::path(characterFile).stem().string();
+  if (characterFile.empty()) {
+    rig = defaultCharacterRig();
+  } else {
+    ImportResult loaded = importAsset(characterFile);
+    std::fputs(loaded.diagnostics.format().c_str(), stderr);
+    if (!loaded.ok()) return 2;
+    rig = std::make_shared<Rig>(std::make_shared<const Asset>(std::move(*loaded.asset)));
   }
   int worst = 0;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
@@ -51,7 +77,14 @@ int bmlCheckCommand(const std::vector<std::string>& args) {
     }
     std::stringstream ss;
     ss << in.rdbuf();
-    const bml::Schedule s = bml::scheduleText(ss.str());
+    // Each file is one block sent at time 0 to a fresh scene, so files do not
+    // interact (many corpus files share the id "bml1").
+    Scene scene;
+    scene.addCharacter(name, rig);
+    bml::Realizer realizer(scene);
+    realizer.setForwardWarningsToScene(false);
+    realizer.setReportUnrealized(!characterFile.empty());
+    const bml::Schedule s = realizer.perform(ss.str(), name);
     worst = std::max(worst, s.failed ? 2 : (s.warnings.empty() ? 0 : 1));
     if (json) {
       nlohmann::ordered_json block;

@@ -13,7 +13,7 @@ void usage() {
       "                           step a scene headless; --trace writes\n"
       "                           frame,time,character,joint,px,py,pz,qx,qy,qz,qw (world space, metres)\n"
 #ifdef MARIONETTE_CLI_HAS_BML
-      "  bml-check FILE.xml... [--json]\n"
+      "  bml-check FILE.xml... [--json] [--character ASSET]\n"
       "                           parse and schedule BML blocks: predicted sync-point times and\n"
       "                           warnings as file:line:col: warning: TYPE: message\n"
 #endif

@@ -15,6 +15,14 @@ struct Recorder {
       if (f.kind == kind) out.push_back(&f);
     return out;
   }
+  std::vector<const Feedback*> warnings(WarningType type) const {
+    std::vector<const Feedback*> out;
+    for (const Feedback* f : of(Feedback::Kind::Warning))
+      if (f->warning.type == type) out.push_back(f);
+    return out;
+  }
+  // Channel conflicts (IMPOSSIBLE_TO_SCHEDULE warnings).
+  std::vector<const Feedback*> conflicts() const { return warnings(WarningType::ImpossibleToSchedule); }
 };
 
 struct ProgressListener : SceneListener {
@@ -114,10 +122,10 @@ TEST(Realizer, FeedbackXmlEscapesIds) {
 
 TEST_F(RealizerWithRobot, MergeConflictsOnABodyChannelLaterWinsWithAWarning) {
   r.perform("<bml id='a'><head id='nod' lexeme='NOD' start='0' end='2'/></bml>");
-  EXPECT_TRUE(rec.of(Feedback::Kind::Warning).empty());
+  EXPECT_TRUE(rec.conflicts().empty());
   r.perform("<bml id='b'><head id='shake' lexeme='SHAKE' start='1' end='3'/>"
             "<faceLexeme id='smile' lexeme='SMILE' start='1'/></bml>");
-  const auto warnings = rec.of(Feedback::Kind::Warning);
+  const auto warnings = rec.conflicts();
   ASSERT_EQ(warnings.size(), 1u);  // the face lexeme combines; the heads conflict
   EXPECT_EQ(warnings[0]->warning.type, WarningType::ImpossibleToSchedule);
   EXPECT_EQ(warnings[0]->behaviorId, "shake");
@@ -134,12 +142,128 @@ TEST_F(RealizerWithRobot, MergeConflictsOnABodyChannelLaterWinsWithAWarning) {
 TEST_F(RealizerWithRobot, HandsConflictOnlyWhenTheyShareAHand) {
   r.perform("<bml id='a'><gesture id='l' lexeme='BEAT' mode='LEFT_HAND' start='0'/>"
             "<gesture id='rr' lexeme='BEAT' mode='RIGHT_HAND' start='0'/></bml>");
-  EXPECT_TRUE(rec.of(Feedback::Kind::Warning).empty());
-  r.perform("<bml id='b'><gesture id='both' lexeme='WAVE' start='1'/></bml>");
-  EXPECT_EQ(rec.of(Feedback::Kind::Warning).size(), 2u);  // overlaps each hand's gesture
+  EXPECT_TRUE(rec.conflicts().empty());
+  r.perform("<bml id='b'><gesture id='both' lexeme='BEAT' start='1'/></bml>");
+  ASSERT_EQ(rec.conflicts().size(), 1u);  // one warning per behavior, naming the latest overlap
+  EXPECT_NE(rec.conflicts()[0]->warning.message.find("overlaps behavior 'rr' of block 'a' (and 1 other) on the rightHand channel"),
+            std::string::npos)
+      << rec.conflicts()[0]->warning.message;
   EXPECT_EQ(r.channelOwner("robot", "leftHand", 1.5)->second, "both");
   EXPECT_EQ(r.channelOwner("robot", "leftHand", 0.5)->second, "l");
   // Within one block, the later behavior in the text wins.
   r.perform("<bml id='c' composition='REPLACE'><head id='h1' lexeme='NOD' start='0'/><head id='h2' lexeme='TILT' start='0.5'/></bml>");
   EXPECT_EQ(r.channelOwner("robot", "head", scene.time() + 0.75)->second, "h2");
+}
+
+// Every scheduled behavior reaches the character's timeline as a request, the
+// same C++ API an engine uses without BML.
+TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
+  step(scene, r, 1.0);
+  Schedule s = r.perform("<bml id='b1'><gesture id='g' lexeme='wave' mode='RIGHT_HAND' start='0.5' amount='2'/>"
+                         "<speech id='s'><text>hi there</text></speech><faceLexeme id='f' lexeme='SMILE'/></bml>");
+  ASSERT_FALSE(s.failed);
+  const Character& robot = *scene.findCharacter("robot");
+  const auto* g = robot.behaviors().find("b1:g");
+  ASSERT_NE(g, nullptr);
+  EXPECT_EQ(g->request.kind, BehaviorKind::Gesture);
+  EXPECT_EQ(g->request.channelBits(), kChannelRightHand);
+  EXPECT_EQ(g->request.clip, "wave");
+  EXPECT_EQ(g->request.parameter("amount"), "2");
+  EXPECT_EQ(g->request.parameter("start"), "");  // sync attributes are times, not parameters
+  EXPECT_NEAR(g->request.start(), 1.5, 1e-9);   // scene time = block start (1 s) + 0.5
+  ASSERT_TRUE(s.time("g", "end"));
+  EXPECT_NEAR(g->request.end(), 1.0 + *s.time("g", "end"), 1e-9);
+  const auto* sp = robot.behaviors().find("b1:s");
+  ASSERT_NE(sp, nullptr);
+  EXPECT_EQ(sp->request.parameter("text"), "hi there");
+  EXPECT_EQ(sp->request.channelBits(), kChannelVoice);
+  EXPECT_EQ(robot.behaviors().find("b1:f")->request.channelBits(), 0u);
+  // The gesture has a clip; speech and face have no controller yet: said, not dropped.
+  const auto unrealized = rec.warnings(WarningType::CannotCreateBehavior);
+  ASSERT_EQ(unrealized.size(), 2u);
+  EXPECT_EQ(unrealized[0]->behaviorId, "s");
+  EXPECT_NE(unrealized[0]->warning.message.find("character 'robot': no controller for speech behaviors"),
+            std::string::npos) << unrealized[0]->warning.message;
+  EXPECT_FALSE(unrealized[0]->warning.fatal);
+}
+
+// A gesture whose lexeme names a clip lasts as long as the clip (per repetition),
+// matched ignoring case; without a clip the built-in 2 s stays.
+TEST_F(RealizerWithRobot, DefaultDurationsComeFromTheCharactersClips) {
+  const double wave = scene.findCharacter("robot")->rig().findClip("wave")->clip.duration;
+  Schedule s = r.perform("<bml id='b'><gesture id='g1' lexeme='WAVE'/><gesture id='g2' lexeme='wave' repetition='3'/>"
+                         "<gesture id='g3' lexeme='BEAT'/></bml>");
+  ASSERT_FALSE(s.failed);
+  EXPECT_NEAR(*s.time("g1", "end"), wave, 1e-6);
+  EXPECT_NEAR(*s.time("g2", "end"), 3 * wave, 1e-6);
+  EXPECT_NEAR(*s.time("g3", "end"), 2.0, 1e-9);
+}
+
+// `otherBlock:behavior:sync` refers to a queued block, of any character, on the
+// scene clock; repetition indices reach into repeated strokes.
+TEST_F(RealizerWithRobot, ReferencesToOtherQueuedBlocks) {
+  scene.addCharacter("bob", test::makeSyntheticRig());
+  step(scene, r, 0.5);
+  ASSERT_FALSE(r.perform("<bml id='a'><head id='nod' lexeme='NOD' start='1' repetition='2'/></bml>", "robot").failed);
+  const double aStart = *r.blockStart("a");
+  step(scene, r, 0.5);  // the next block starts 0.5 s later: its block times are shifted
+  Schedule b = r.perform("<bml id='b'><gaze id='look' target='robot' start='a:nod:stroke:2'/>"
+                         "<head id='n2' lexeme='NOD' start='a:nod:end+0.25'/></bml>",
+                         "bob");
+  ASSERT_FALSE(b.failed);
+  const double bStart = *r.blockStart("b");
+  EXPECT_NEAR(bStart - aStart, 0.5, 1e-9);
+  Schedule probe = scheduleText("<bml id='a'><head id='nod' lexeme='NOD' start='1' repetition='2'/></bml>");
+  EXPECT_NEAR(aStart + *probe.time("nod", "stroke:2"), bStart + *b.time("look", "start"), 1e-9);
+  EXPECT_NEAR(aStart + *probe.time("nod", "end") + 0.25, bStart + *b.time("n2", "start"), 1e-9);
+  // Unknown blocks, behaviors and sync points are NO_SUCH_TARGET, naming what is missing.
+  Schedule c = r.perform("<bml id='c'><head id='x' lexeme='NOD' start='zz:nod:end'/>"
+                         "<head id='y' lexeme='NOD' start='a:shake:end'/><head id='z' lexeme='NOD' start='a:nod:stroke:3'/></bml>",
+                         "bob");
+  const auto missing = rec.warnings(WarningType::NoSuchTarget);
+  ASSERT_EQ(missing.size(), 3u);
+  EXPECT_NE(missing[0]->warning.message.find("no block 'zz' is queued"), std::string::npos) << missing[0]->warning.message;
+  EXPECT_NE(missing[1]->warning.message.find("has no behavior 'shake'"), std::string::npos) << missing[1]->warning.message;
+  EXPECT_NE(missing[2]->warning.message.find("stroke:3"), std::string::npos) << missing[2]->warning.message;
+  EXPECT_TRUE(c.behaviors.empty());
+}
+
+TEST_F(RealizerWithRobot, BlockIdsMustBeUniqueWhileQueued) {
+  ASSERT_FALSE(r.perform("<bml id='a'><head id='h' lexeme='NOD'/></bml>").failed);
+  Schedule again = r.perform("<bml id='a'><head id='h' lexeme='NOD'/></bml>");
+  EXPECT_TRUE(again.failed);
+  EXPECT_NE(again.warnings.back().message.find("'a' is still queued"), std::string::npos);
+  EXPECT_EQ(r.activeBlocks(), 1u);
+  // REPLACE ends the earlier block first, so the same id may come back that way.
+  EXPECT_FALSE(r.perform("<bml id='a' composition='REPLACE'><head id='h' lexeme='NOD'/></bml>").failed);
+  EXPECT_EQ(r.activeBlocks(), 1u);
+}
+
+// REPLACE ends the running blocks and their motion blends back smoothly to what
+// lies below (here the rest pose) over replaceBlendSeconds.
+TEST_F(RealizerWithRobot, ReplaceBlendsBackToNeutralSmoothly) {
+  Character& robot = *scene.findCharacter("robot");
+  const glm::quat rest = robot.skeleton().restPose[3].rotation;
+  ASSERT_FALSE(r.perform("<bml id='a'><gesture id='g' lexeme='wave' start='0' end='5'/></bml>").failed);
+  const double dt = 1.0 / 60.0;
+  for (int f = 0; f < 45; ++f) {
+    scene.update(dt);
+    r.update();
+  }
+  const float moved = test::angleBetween(rest, robot.localPose()[3].rotation);
+  EXPECT_GT(moved, 0.3f);  // the wave is on
+  r.setReplaceBlendSeconds(0.5);
+  ASSERT_FALSE(r.perform("<bml id='b' composition='REPLACE'><wait id='w' start='0' end='1'/></bml>").failed);
+  glm::quat previous = robot.localPose()[3].rotation;
+  float maxStep = 0.0f;
+  for (int f = 0; f < 33; ++f) {  // 0.55 s
+    scene.update(dt);
+    r.update();
+    maxStep = std::max(maxStep, test::angleBetween(previous, robot.localPose()[3].rotation));
+    previous = robot.localPose()[3].rotation;
+  }
+  EXPECT_EQ(robot.localPose()[3].rotation, rest);
+  // Smooth: no frame moves more than the wave clip itself does (1.2 rad per 0.25 s).
+  EXPECT_LT(maxStep, 0.1f);
+  EXPECT_EQ(robot.behaviors().find("a:g"), nullptr);
 }

@@ -64,6 +64,14 @@ std::string channelNames(std::uint32_t channels) {
   return out;
 }
 
+std::uint32_t channelFromName(std::string_view name) noexcept {
+  if (name == "leftHand") return kChannelLeftHand;
+  if (name == "rightHand") return kChannelRightHand;
+  for (std::uint32_t bits : {kChannelPosture, kChannelLocomotion, kChannelHands, kChannelHead, kChannelGaze, kChannelVoice})
+    if (channelNames(bits) == name) return bits;
+  return 0;
+}
+
 std::optional<double> BehaviorRequest::time(std::string_view sync) const noexcept {
   for (const BehaviorSync& s : syncs)
     if (s.name == sync) return s.time;

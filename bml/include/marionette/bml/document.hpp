@@ -15,6 +15,12 @@ namespace marionette::bml {
 inline constexpr std::string_view kBmlNamespace = "http://www.bml-initiative.org/bml/bml-1.0";
 inline constexpr std::string_view kCoreExtensionsNamespace = "http://www.bml-initiative.org/bml/coreextensions-1.0";
 
+// Size limits of one block. Real blocks have tens of behaviors; the limits keep
+// scheduling time and memory bounded on any input (a block over them fails with
+// a PARSING_FAILURE saying so).
+inline constexpr std::size_t kMaxBehaviorsPerBlock = 1000;
+inline constexpr std::size_t kMaxConstraintSyncsPerBlock = 1000;
+
 struct Attribute {
   std::string name, value;
   int line = 0, column = 0;

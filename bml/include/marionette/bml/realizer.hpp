@@ -7,15 +7,23 @@
 //
 // Composition: MERGE runs the block in parallel with those in progress; APPEND
 // starts it when every earlier block of the character has ended; REPLACE ends
-// the character's earlier blocks now. interrupt() ends one block by id.
+// the character's earlier blocks now, blending their behaviors out over
+// replaceBlendSeconds() (back to the posture, or the rest pose). interrupt()
+// ends one block by id the same way. A block may refer to sync points of the
+// blocks queued before it, of any character (`otherBlock:behavior:sync`).
 // Feedback (BML 1.0): predictionFeedback right after scheduling, blockProgress
 // start/end, syncPointProgress for every sync point as the clock passes it, and
 // warningFeedback; each both as a typed Feedback to FeedbackListeners and through
 // the scene's listeners (onBehaviorProgress, onLog). Feedback::xml() gives the
 // BML 1.0 XML of a message.
-// Moving the body is the controllers' job (issue 4); this layer hands each
-// scheduled behavior to them through Scene/Character once they exist.
+// Each scheduled behavior becomes a BehaviorRequest on the character's timeline
+// (Character::addBehavior, the same C++ API an engine can call without BML);
+// the character's controllers move the body. A behavior no controller realizes
+// yet gets a CANNOT_CREATE_BEHAVIOR warning; its timing and feedback still run.
+// Default durations come from the character: a gesture whose lexeme names a
+// clip of the rig lasts as long as the clip (naturalDuration).
 #pragma once
+#include <cmath>
 #include <functional>
 #include <cstdint>
 #include <optional>
@@ -24,6 +32,7 @@
 #include <string_view>
 #include <vector>
 
+#include "marionette/bml/behavior_mapping.hpp"
 #include "marionette/bml/scheduler.hpp"
 #include "marionette/scene/scene.hpp"
 
@@ -53,10 +62,21 @@ class Realizer {
   // Warnings also go to the scene's listeners (onLog) unless turned off, e.g. by a
   // caller that reports them itself from a FeedbackListener.
   void setForwardWarningsToScene(bool forward) noexcept { forwardWarnings_ = forward; }
+  // Whether a behavior that no controller of the character realizes gets a
+  // CANNOT_CREATE_BEHAVIOR warning (default on). Off only to validate BML against
+  // an idealised character that has every controller (bml-check's default).
+  void setReportUnrealized(bool report) noexcept { reportUnrealized_ = report; }
+  // Blend-out of behaviors ended by REPLACE or interrupt() (default 0.3 s).
+  void setReplaceBlendSeconds(double seconds) noexcept {
+    replaceBlend_ = std::isfinite(seconds) && seconds >= 0.0 ? seconds : replaceBlend_;
+  }
+  [[nodiscard]] double replaceBlendSeconds() const noexcept { return replaceBlend_; }
 
   // Parses and schedules `bmlText` for `character` (the block's characterId
   // when empty) and queues it. Returns the schedule (with its warnings, which are
-  // also sent as feedback). A failed block is not queued. `at` is the scene time
+  // also sent as feedback). A failed block is not queued. `options` are used as
+  // given, except that the realizer supplies externalSync (references to queued
+  // blocks) and defaultDuration (the character's clips) when they are unset. `at` is the scene time
   // the block is sent at (default: now); a caller stepping in frames passes the
   // exact time so a block does not start a frame early.
   Schedule perform(std::string_view bmlText, std::string_view character = {}, const SchedulerOptions& options = {},
@@ -73,9 +93,9 @@ class Realizer {
   [[nodiscard]] std::optional<double> blockStart(std::string_view blockId) const;
 
   // Which behavior drives a body channel of a character at a scene time: of the
-  // queued behaviors on that channel whose [start, end] holds the time, the one
-  // performed last (within a block, the later in the text). Deterministic; the
-  // controllers follow it. Returns {blockId, behaviorId}.
+  // behaviors on that channel whose [start, end) holds the time, the one
+  // performed last (within a block, the later in the text). Deterministic; it is
+  // the character timeline's owner(). Returns {blockId, behaviorId}.
   [[nodiscard]] std::optional<std::pair<std::string, std::string>> channelOwner(std::string_view character,
                                                                                std::string_view channel,
                                                                                double sceneTime) const;
@@ -86,14 +106,8 @@ class Realizer {
     std::string behaviorId, syncPoint;
     double blockTime;
   };
-  struct Claim {  // a behavior's hold on a body channel
-    std::string channel, behaviorId;
-    double start, end;     // scene time
-    std::uint64_t order;   // perform order, then text order: the larger wins
-  };
   struct Active {
     std::string character, blockId;
-    std::vector<Claim> claims;
     double start = 0.0, end = 0.0;  // scene time
     std::vector<Event> events;      // sync points, sorted by time
     std::size_t next = 0;
@@ -101,21 +115,20 @@ class Realizer {
   };
   void emit(const Feedback& f);
   static Feedback syncFeedback(Feedback::Kind kind, const Active& block, const Event& event);
-  void claimChannels(Active& block, const Block& parsed, const Schedule& schedule, const std::string& character);
+  void warn(const std::string& character, const std::string& blockId, double sceneTime, Warning warning);
+  bool submit(Character& character, const Active& block, const Block& parsed, Schedule& schedule);
+  void reportConflicts(const Character& character, const Active& block, const BehaviorTimeline::Entry& added,
+                       const Behavior& behavior, Schedule& schedule);
+  [[nodiscard]] SchedulerOptions::ExternalSync resolveExternal(const SyncRef& ref, double blockStart) const;
   void finish(Active& block, double sceneTime);
 
   Scene& scene_;
   std::vector<FeedbackListener> listeners_;
   std::vector<Active> blocks_;
-  std::uint64_t order_ = 0;
   bool forwardWarnings_ = true;
+  bool reportUnrealized_ = true;
+  double replaceBlend_ = 0.3;
 };
-
-// The body channel a behavior drives, for conflicts between behaviors that run
-// at once: "head", "gaze", "leftHand", "rightHand", "hands" (both), "voice",
-// "posture", "locomotion"; empty for behaviors that combine freely (face
-// lexemes add up, wait drives nothing).
-[[nodiscard]] std::string bodyChannel(const Behavior& behavior);
 
 // Escapes &, <, >, " and ' for XML attribute values.
 [[nodiscard]] std::string xmlEscape(std::string_view text);

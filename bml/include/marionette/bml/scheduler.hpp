@@ -12,13 +12,21 @@
 // is moved later to satisfy them). A behavior whose timing cannot be met
 // (end before start, a contradiction, a negative time, a missing target) is
 // removed with a warning; if it was required, the block fails.
+//
+// Repetitions: a head, gesture or pointing with repetition="R" repeats its
+// stroke phase R times; repetition n >= 2 names its syncs "strokeStart:n",
+// "stroke:n", "strokeEnd:n", which references such as "nod1:stroke:2" reach.
+// A reference to another block ("bml0:speech1:end") is a fixed time that
+// SchedulerOptions::externalSync supplies, like a number.
 #pragma once
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "marionette/bml/document.hpp"
+#include "marionette/bml/sync_ref.hpp"
 
 namespace marionette::bml {
 
@@ -27,6 +35,23 @@ struct SchedulerOptions {
   // of text (about 15 characters per second, a typical TTS rate), at least the minimum.
   double speechSecondsPerCharacter = 0.065;
   double minimumSpeechSeconds = 0.3;
+
+  // Resolves a reference to another block's sync point (ref.block is set and is not
+  // this block's id) to its time in seconds relative to THIS block's start (the
+  // realizer knows both blocks on the scene clock). ref.offset is NOT included; the
+  // scheduler adds it. Return an error text when it cannot (no such block, behavior, sync).
+  // May be called more than once for the same reference (once per scheduling pass).
+  struct ExternalSync {
+    std::optional<double> time;
+    std::string problem;
+  };
+  std::function<ExternalSync(const SyncRef&)> externalSync;
+
+  // The natural duration of a behavior on the character that will perform it
+  // (e.g. the length of the clip a gesture's lexeme names), or nullopt for the
+  // built-in default. For head/gesture/pointing it is one repetition's length.
+  // Used for every type except speech and wait; a value that is not finite and > 0 is ignored.
+  std::function<std::optional<double>(const Behavior&)> defaultDuration;
 };
 
 struct SyncTime {
@@ -53,10 +78,18 @@ struct Schedule {
   [[nodiscard]] std::optional<double> time(std::string_view behavior, std::string_view sync) const;
 };
 
+// A repetition="R" above this is scheduled as this many repetitions: each one adds
+// three sync points, so a huge R must not be able to exhaust memory.
+inline constexpr int kMaxBehaviorRepetitions = 100;
+// Sync points of all behaviors of one block together (repetitions included); a
+// block over it fails with IMPOSSIBLE_TO_SCHEDULE. Bounds scheduling time.
+inline constexpr std::size_t kMaxSyncPointsPerBlock = 20000;
+
 // Default sync points of a behavior, relative to its start, and whether it may stretch.
 struct SyncTemplate {
-  std::vector<SyncTime> syncs;
+  std::vector<SyncTime> syncs;  // in time order
   bool stretchable = true;
+  int repetitions = 1;          // of the stroke phase (head, gesture, pointing); 1 otherwise
 };
 [[nodiscard]] SyncTemplate defaultSyncs(const Behavior& behavior, const SchedulerOptions& options = {});
 

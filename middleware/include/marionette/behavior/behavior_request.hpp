@@ -50,6 +50,8 @@ enum BodyChannel : std::uint32_t {
 [[nodiscard]] std::uint32_t defaultChannels(BehaviorKind kind) noexcept;
 // "posture", "leftHand", "hands", ... joined with '+'; "" for none.
 [[nodiscard]] std::string channelNames(std::uint32_t channels);
+// The bits of one channel name ("hands" = both hands); 0 for an unknown name.
+[[nodiscard]] std::uint32_t channelFromName(std::string_view name) noexcept;
 
 struct BehaviorSync {
   std::string name;  // "start", "ready", "stroke", ... or any name the caller gives

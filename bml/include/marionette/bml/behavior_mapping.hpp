@@ -1,0 +1,38 @@
+// From a scheduled BML behavior to the middleware's BehaviorRequest: its kind,
+// body channels, sync times on the scene clock, parameters, and the rig clip
+// that realizes it when the character has one named by its lexeme.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "marionette/behavior/behavior_request.hpp"
+#include "marionette/bml/scheduler.hpp"
+#include "marionette/scene/rig.hpp"
+
+namespace marionette::bml {
+
+// Body channels a behavior drives (gesture/pointing mode LEFT_HAND / RIGHT_HAND
+// take one hand, otherwise both). Face behaviors and wait: none.
+[[nodiscard]] std::uint32_t channelsOf(const Behavior& behavior);
+// The same as names: "head", "gaze", "leftHand", "rightHand", "hands", "voice",
+// "posture", "locomotion"; empty for behaviors that combine freely.
+[[nodiscard]] std::string bodyChannel(const Behavior& behavior);
+
+// The rig clip that realizes a behavior: for gesture, pointing and head its
+// lexeme, for posture and postureShift its lexeme or SmartBody posture name;
+// matched exactly, else ignoring case. nullptr when there is none.
+[[nodiscard]] std::shared_ptr<const AnimationClip> clipFor(const Behavior& behavior, const Rig& rig);
+
+// A behavior's natural duration on a rig: the length of its clip (one
+// repetition), for the scheduler's SchedulerOptions::defaultDuration.
+// Postures loop, so they keep the built-in default.
+[[nodiscard]] std::optional<double> naturalDuration(const Behavior& behavior, const Rig& rig);
+
+// The request for one scheduled behavior of a block that starts at `blockStart`
+// (scene seconds). Its id is "blockId:behaviorId".
+[[nodiscard]] BehaviorRequest toRequest(const Behavior& behavior, const ScheduledBehavior& scheduled,
+                                        const std::string& blockId, double blockStart, const Rig& rig);
+
+}  // namespace marionette::bml

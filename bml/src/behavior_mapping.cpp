@@ -1,0 +1,86 @@
+#include "marionette/bml/behavior_mapping.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <limits>
+
+namespace marionette::bml {
+
+namespace {
+bool equalsIgnoringCase(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+         });
+}
+
+// The name a behavior's clip would have, if it can be realized by one.
+std::string clipName(const Behavior& b) {
+  const auto kind = behaviorKindFromName(b.type);
+  if (!kind) return {};
+  switch (*kind) {
+    case BehaviorKind::Gesture:
+    case BehaviorKind::Pointing:
+    case BehaviorKind::Head:
+      if (const Attribute* a = b.attribute("lexeme")) return a->value;
+      return {};
+    case BehaviorKind::Posture:
+    case BehaviorKind::PostureShift:
+      if (const Attribute* a = b.attribute("posture")) return a->value;  // SmartBody <body posture>
+      if (const Attribute* a = b.attribute("lexeme")) return a->value;
+      return {};
+    default: return {};
+  }
+}
+}  // namespace
+
+std::uint32_t channelsOf(const Behavior& b) {
+  const auto kind = behaviorKindFromName(b.type);
+  if (!kind) return 0;
+  if (*kind == BehaviorKind::Gesture || *kind == BehaviorKind::Pointing) {
+    const Attribute* mode = b.attribute("mode");
+    if (mode && mode->value == "LEFT_HAND") return kChannelLeftHand;
+    if (mode && mode->value == "RIGHT_HAND") return kChannelRightHand;
+  }
+  return defaultChannels(*kind);
+}
+
+std::string bodyChannel(const Behavior& b) { return channelNames(channelsOf(b)); }
+
+std::shared_ptr<const AnimationClip> clipFor(const Behavior& b, const Rig& rig) {
+  const std::string name = clipName(b);
+  if (name.empty()) return nullptr;
+  if (auto exact = rig.findClip(name)) return exact;
+  for (const auto& c : rig.clips())
+    if (equalsIgnoringCase(c->clip.name, name)) return c;
+  return nullptr;
+}
+
+std::optional<double> naturalDuration(const Behavior& b, const Rig& rig) {
+  if (b.type == "posture" || b.type == "postureShift") return std::nullopt;
+  const auto clip = clipFor(b, rig);
+  if (!clip || !(clip->clip.duration > 0.0f)) return std::nullopt;
+  return static_cast<double>(clip->clip.duration);
+}
+
+BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std::string& blockId, double blockStart,
+                          const Rig& rig) {
+  BehaviorRequest r;
+  r.id = blockId + ":" + b.id;
+  r.kind = behaviorKindFromName(b.type).value_or(BehaviorKind::Wait);
+  r.channels = channelsOf(b);
+  double last = -std::numeric_limits<double>::infinity();
+  for (const SyncTime& sync : s.syncs) {
+    // The scheduler allows 1e-6 s of disorder; the timeline does not.
+    last = std::max(last, blockStart + sync.time);
+    r.syncs.push_back({sync.name, last});
+  }
+  for (const Attribute& a : b.attributes)
+    if (!s.time(a.name)) r.parameters.emplace_back(a.name, a.value);
+  if (r.kind == BehaviorKind::Speech) r.parameters.emplace_back("text", b.text);
+  if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
+  r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
+  r.persistent = r.kind == BehaviorKind::PostureShift;
+  return r;
+}
+
+}  // namespace marionette::bml
