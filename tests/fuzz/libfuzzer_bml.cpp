@@ -1,20 +1,61 @@
-// libFuzzer target: BML parser + scheduler on arbitrary bytes. Built and run by
-// scripts/fuzz-bml (clang). Any crash it finds is kept as a regression test in
-// tests/bml/scheduler_test.cpp.
+// libFuzzer target: BML parser + scheduler + realizer on arbitrary bytes. Built
+// and run by scripts/fuzz-bml (clang). Any crash it finds is kept as a
+// regression test in tests/bml/.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
-#include "marionette/bml/scheduler.hpp"
+#include "marionette/bml/realizer.hpp"
+
+namespace {
+// A two-joint character with a clip named BEAT, so gestures reach the clip controller.
+std::shared_ptr<const marionette::Rig> fuzzRig() {
+  using namespace marionette;
+  auto asset = std::make_shared<Asset>();
+  asset->skeleton.addJoint("root", -1, Transform{});
+  Transform arm;
+  arm.translation = {0, 1, 0};
+  asset->skeleton.addJoint("arm", 0, arm);
+  Clip beat;
+  beat.name = "BEAT";
+  JointTrack t;
+  t.joint = 1;
+  t.rotation.times = {0.0f, 0.5f};
+  t.rotation.values = {glm::quat(1, 0, 0, 0), glm::angleAxis(1.0f, glm::vec3(0, 0, 1))};
+  beat.tracks.push_back(t);
+  beat.updateDuration();
+  asset->clips.push_back(beat);
+  return std::make_shared<Rig>(asset);
+}
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace marionette;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  const marionette::bml::Schedule s = marionette::bml::scheduleText(text);
+  const bml::Schedule s = bml::scheduleText(text);
   // The contract: every scheduled time is finite and every behavior is in order.
   for (const auto& b : s.behaviors)
     for (std::size_t k = 0; k < b.syncs.size(); ++k) {
-      if (!(b.syncs[k].time == b.syncs[k].time) || b.syncs[k].time > 1e300 || b.syncs[k].time < -1e300) __builtin_trap();
+      if (!std::isfinite(b.syncs[k].time)) __builtin_trap();
       if (k > 0 && b.syncs[k].time < b.syncs[k - 1].time - 1e-6) __builtin_trap();
     }
+  // Realized twice (the second block refers to, appends to or replaces the first)
+  // on a character for a few frames: poses stay finite.
+  static const auto rig = fuzzRig();
+  Scene scene;
+  Character* c = scene.addCharacter("c", rig);
+  bml::Realizer realizer(scene);
+  realizer.perform(text);
+  scene.update(0.25);
+  realizer.update();
+  realizer.perform(text);
+  for (double dt : {0.0, 0.1, 1.0, 5.0}) {
+    scene.update(dt);
+    realizer.update();
+    for (const Transform& t : c->localPose())
+      if (!std::isfinite(t.rotation.w) || !std::isfinite(t.translation.x)) __builtin_trap();
+  }
   return 0;
 }

@@ -59,12 +59,12 @@ struct BehaviorSync {
 };
 
 struct BehaviorRequest {
-  std::string id;        // unique among the character's requests (the realizer uses "block:behavior")
+  std::string id{};      // unique among the character's requests (the realizer uses "block:behavior")
   BehaviorKind kind = BehaviorKind::Clip;
-  std::optional<std::uint32_t> channels;  // unset: defaultChannels(kind)
-  std::vector<BehaviorSync> syncs;        // in time order; the first is the start, the last the end
-  std::vector<std::pair<std::string, std::string>> parameters;  // lexeme, target, amount, ... as given
-  std::string clip;      // a clip of the rig to play, time-warped onto [start, end]; "" = none
+  std::optional<std::uint32_t> channels{};  // unset: defaultChannels(kind)
+  std::vector<BehaviorSync> syncs{};      // in time order; the first is the start, the last the end
+  std::vector<std::pair<std::string, std::string>> parameters{};  // lexeme, target, amount, ... as given
+  std::string clip{};    // a clip of the rig to play, time-warped onto [start, end]; "" = none
   bool loop = false;     // play the clip at its own speed, looping, instead of warping it
   bool persistent = false;  // keeps full weight after its end until replaced or cancelled (postureShift)
   float weight = 1.0f;   // peak weight in [0, 1]
