@@ -49,6 +49,13 @@ std::string bodyChannel(const Behavior& b) { return channelNames(channelsOf(b));
 std::shared_ptr<const AnimationClip> clipFor(const Behavior& b, const Rig& rig) {
   const std::string name = clipName(b);
   if (name.empty()) return nullptr;
+  // The character's gesture library first (BEAT -> "ThumbsUp"), then the clip names.
+  if (b.type == "gesture" || b.type == "pointing") {
+    const auto& library = rig.profile().gestures;
+    for (const auto& [lexeme, clip] : library)
+      if (equalsIgnoringCase(lexeme, name))
+        if (auto c = rig.findClip(clip)) return c;
+  }
   if (auto exact = rig.findClip(name)) return exact;
   for (const auto& c : rig.clips())
     if (equalsIgnoringCase(c->clip.name, name)) return c;
@@ -79,7 +86,7 @@ BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const s
   if (r.kind == BehaviorKind::Speech) r.parameters.emplace_back("text", b.text);
   if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
-  r.persistent = r.kind == BehaviorKind::PostureShift;
+  r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift;
   return r;
 }
 

@@ -199,6 +199,11 @@ bool Realizer::submit(Character& character, const Active& a, const Block& block,
     }
     const std::span<const BehaviorTimeline::Entry> entries = character.behaviors().entries();
     reportConflicts(character, a, entries.back(), *parsedIt, schedule);
+    if (res.realized && !res.message.empty()) {  // realized with a bad parameter replaced
+      Warning w{WarningType::ParsingFailure, a.blockId, sb.id, sb.line, sb.column, res.message, false};
+      schedule.warnings.push_back(w);
+      warn(a.character, a.blockId, now, std::move(w));
+    }
     if (!res.realized && reportUnrealized_) {
       Warning w{WarningType::CannotCreateBehavior, a.blockId, sb.id, sb.line, sb.column,
                 "character '" + character.name() + "': " + res.message, false};

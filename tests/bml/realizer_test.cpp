@@ -178,9 +178,11 @@ TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
   EXPECT_EQ(sp->request.parameter("text"), "hi there");
   EXPECT_EQ(sp->request.channelBits(), kChannelVoice);
   EXPECT_EQ(robot.behaviors().find("b1:f")->request.channelBits(), 0u);
-  // The gesture has a clip; speech and face have no controller yet: said, not dropped.
+  // The gesture has a clip and the smile a morph (guessed profile: "smile"); speech
+  // has no controller yet: said, not dropped.
+  EXPECT_FALSE(robot.behaviors().find("b1:f")->morphs.empty());
   const auto unrealized = rec.warnings(WarningType::CannotCreateBehavior);
-  ASSERT_EQ(unrealized.size(), 2u);
+  ASSERT_EQ(unrealized.size(), 1u);
   EXPECT_EQ(unrealized[0]->behaviorId, "s");
   EXPECT_NE(unrealized[0]->warning.message.find("character 'robot': no controller for speech behaviors"),
             std::string::npos) << unrealized[0]->warning.message;

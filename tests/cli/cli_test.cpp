@@ -178,7 +178,7 @@ TEST(CliBmlCheck, DefaultCharacterOrARealOne) {
   const std::string bml = tempFile("check_character.xml",
                                    "<bml xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\" id=\"b\">\n"
                                    "  <gesture id=\"g\" lexeme=\"WAVE\"/>\n"
-                                   "  <head id=\"h\" lexeme=\"NOD\" start=\"g:end\"/>\n"
+                                   "  <faceLexeme id=\"f\" lexeme=\"SMILE\" start=\"g:end\"/>\n"
                                    "</bml>\n");
   auto gestureEnd = [](const CliRun& r) {
     auto j = nlohmann::json::parse(r.out, nullptr, false);
@@ -195,8 +195,10 @@ TEST(CliBmlCheck, DefaultCharacterOrARealOne) {
   EXPECT_NEAR(gestureEnd(real), 1.833, 1e-3);  // RobotExpressive's "Wave" clip (ASSETS.md)
   EXPECT_NE(real.out.find("\"type\": \"CANNOT_CREATE_BEHAVIOR\""), std::string::npos) << real.out;
   CliRun text = run("bml-check --character " + robot + " " + bml);
-  EXPECT_NE(text.out.find("check_character.xml:3:3: warning: CANNOT_CREATE_BEHAVIOR: behavior 'h': character "
-                          "'RobotExpressive': no controller for head behaviors"),
+  // RobotExpressive's morphs are Angry, Surprised and Sad: no smile.
+  EXPECT_NE(text.out.find("check_character.xml:3:3: warning: CANNOT_CREATE_BEHAVIOR: behavior 'f': character "
+                          "'RobotExpressive': the character has no morphs for face expression 'SMILE' (its profile "
+                          "maps ANGER, SADNESS, SURPRISE)"),
             std::string::npos)
       << text.out;
   EXPECT_EQ(run("bml-check --character /nonexistent.glb " + bml).status, 2);
@@ -213,11 +215,13 @@ TEST(CliRunBml, SceneBmlAtItsTimeAndFeedbackLines) {
                                                            R"(", "time": 0.5}]})");
   const std::string feedback = ::testing::TempDir() + "feedback.jsonl";
   CliRun r = run("run " + scene + " --frames 600 --fps 60 --feedback " + feedback);
-  // Warnings (exit 1): RobotExpressive has no clips named NOD or BEAT, and no
-  // procedural head or gesture controller exists yet; that is said, not hidden.
+  // Warnings (exit 1): the head nods (procedural), but RobotExpressive has no
+  // clip for the BEAT gestures and procedural gestures do not exist yet; that is
+  // said, not hidden.
   ASSERT_EQ(r.status, 1) << r.out;
-  EXPECT_NE(r.out.find("testoffset.xml:16:3: warning: CANNOT_CREATE_BEHAVIOR: behavior 'h1': character 'robot': no "
-                       "controller for head behaviors"),
+  EXPECT_EQ(r.out.find("behavior 'h1'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("testoffset.xml:17:3: warning: CANNOT_CREATE_BEHAVIOR: behavior 'g2': character 'robot': no "
+                       "controller for gesture behaviors"),
             std::string::npos)
       << r.out;
   std::ifstream in(feedback);

@@ -103,3 +103,23 @@ TEST(SceneFile, PabWalkWithRootMotionTravelsItsAuthoredDistance) {
   EXPECT_LT(std::hypot(hips[3].x, hips[3].z), 0.15f);
 }
 #endif
+
+// A character's "profile" (relative to the scene file) replaces the guessed one;
+// a broken one is an error that names it.
+TEST(SceneFile, CharacterProfileFromTheSceneFile) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  const std::string profile = sourceFile("assets/profiles/RobotExpressive.json");
+  MARIONETTE_REQUIRE_FILE(profile);
+  Scene scene;
+  auto r = load(R"({"characters": [{"name": "robot", "asset": "RobotExpressive.glb", "profile": ")" + profile + R"("}]})",
+                scene);
+  ASSERT_TRUE(r.ok()) << errors(r);
+  const Rig& rig = scene.findCharacter("robot")->rig();
+  EXPECT_EQ(rig.profile().head, "Head");
+  EXPECT_GE(rig.joints().head, 0);
+  EXPECT_FALSE(rig.joints().face.empty());
+  Scene other;
+  auto bad = load(R"({"characters": [{"name": "robot", "asset": "RobotExpressive.glb", "profile": "nope.json"}]})", other);
+  EXPECT_FALSE(bad.ok());
+  EXPECT_NE(errors(bad).find("/characters/0/profile: could not load 'nope.json'"), std::string::npos) << errors(bad);
+}

@@ -198,10 +198,10 @@ TEST(BehaviorTimeline, CharacterRejectsUnknownClipsAndReportsUnrealizedKinds) {
   EXPECT_FALSE(missing.added);
   EXPECT_NE(missing.message.find("no clip named 'dance' (it has 'walk', 'wave')"), std::string::npos) << missing.message;
   EXPECT_EQ(log.last, missing.message);
-  BehaviorResult nod = c->addBehavior(request("nod", {{"start", 0}, {"end", 1}}, BehaviorKind::Head));
-  EXPECT_TRUE(nod.added);
-  EXPECT_FALSE(nod.realized);
-  EXPECT_NE(nod.message.find("no controller for head behaviors"), std::string::npos);
+  BehaviorResult walk = c->addBehavior(request("walk", {{"start", 0}, {"end", 1}}, BehaviorKind::Locomotion));
+  EXPECT_TRUE(walk.added);
+  EXPECT_FALSE(walk.realized);
+  EXPECT_NE(walk.message.find("no controller for locomotion behaviors"), std::string::npos);
   BehaviorRequest clipless = request("k", {{"start", 0}, {"end", 1}}, BehaviorKind::Clip);
   EXPECT_FALSE(c->addBehavior(clipless).added);
   EXPECT_TRUE(c->addBehavior(request("w", {{"start", 0}, {"end", 1}}, BehaviorKind::Wait)).realized);

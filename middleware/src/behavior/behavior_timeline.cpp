@@ -51,7 +51,7 @@ BehaviorTimeline::Entry& BehaviorTimeline::add(BehaviorRequest request) {
   Entry e;
   const double start = request.start(), end = request.end();
   const double fallback = std::min(kDefaultBlendSeconds, 0.25 * (end - start));
-  const auto ready = request.time("ready");
+  const auto ready = request.time("ready") ? request.time("ready") : request.time("attackPeak");  // face: attack
   const auto relax = request.time("relax");
   e.blendInEnd = (ready && *ready > start && *ready <= end) ? *ready : start + fallback;
   e.blendOutStart = (relax && *relax < end && *relax >= start) ? *relax : end - fallback;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "marionette/animation/pose.hpp"
+#include "marionette/behavior/procedural_controllers.hpp"
 #include "marionette/scene/scene.hpp"
 
 namespace marionette {
@@ -161,6 +162,12 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     result.realized = true;
   } else if (kind == BehaviorKind::Wait) {
     result.realized = true;  // nothing to move
+  } else if (kind == BehaviorKind::Head || kind == BehaviorKind::FaceLexeme || kind == BehaviorKind::FaceFacs ||
+             kind == BehaviorKind::Face || kind == BehaviorKind::FaceShift) {
+    std::string warning;
+    const std::string why = kind == BehaviorKind::Head ? bindHead(e, *rig_, warning) : bindFace(e, *rig_, warning);
+    result.realized = why.empty();
+    result.message = why.empty() ? warning : why;
   } else {
     result.message = "no controller for " + std::string(toString(kind)) +
                      " behaviors exists yet; its timing, channel and feedback run but the body does not move";
@@ -172,6 +179,21 @@ bool Character::cancelBehavior(std::string_view id, double blendOut) { return be
 
 std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOut) {
   return behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
+}
+
+void Character::applyBehaviors() noexcept {
+  // Fixed order (DESIGN.md): clip behaviors (postures, gestures) over the layers,
+  // then head movements added on top, then face expressions.
+  applyBehaviorClips();
+  for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (e.clip || e.strokes.empty()) continue;
+    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) applyHead(e, w, clock_, *rig_, pose_);
+  }
+  const std::span<float> morphs = buffer_.writeMorphWeights();
+  for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (e.morphs.empty()) continue;
+    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) applyFace(e, w, morphs);
+  }
 }
 
 void Character::applyBehaviorClips() noexcept {
@@ -281,13 +303,15 @@ void Character::update(double dt) noexcept {
   } else {
     blendLayers();
   }
-  // Morph weights: layers in order, later layers override the targets they animate.
+  // Morph weights, recomputed every frame: 0, then the layers in order (later
+  // layers override the targets they animate), then behaviors.
   std::span<float> morphs = buffer_.writeMorphWeights();
+  std::fill(morphs.begin(), morphs.end(), 0.0f);
   for (Layer& l : layers_)
     if (l.clip && !l.clip->clip.morphTracks.empty())
       sampleMorphWeights(l.clip->clip, l.clipTime, morphs);
   if (!behaviors_.empty()) {
-    applyBehaviorClips();
+    applyBehaviors();
     behaviors_.prune(clock_);
   }
 

@@ -26,6 +26,31 @@ std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton
 Rig::Rig(std::shared_ptr<const Asset> asset, const RigOptions& options) : asset_(std::move(asset)), options_(options) {
   clips_.reserve(asset_->clips.size());
   for (const Clip& c : asset_->clips) clips_.push_back(makeAnimationClip(c, asset_->skeleton, options_));
+  setProfile(guessCharacterProfile(*asset_));
+}
+
+void Rig::setProfile(CharacterProfile profile) {
+  profile_ = std::move(profile);
+  const Skeleton& s = asset_->skeleton;
+  auto joint = [&](const std::string& name) { return name.empty() ? -1 : s.findJoint(name); };
+  joints_ = RigJoints{};
+  joints_.hips = joint(profile_.hips);
+  joints_.neck = joint(profile_.neck);
+  joints_.head = joint(profile_.head);
+  joints_.leftEye = joint(profile_.leftEye);
+  joints_.rightEye = joint(profile_.rightEye);
+  joints_.jaw = joint(profile_.jaw);
+  for (const std::string& name : profile_.spine)
+    if (int j = joint(name); j >= 0) joints_.spine.push_back(j);
+  const auto& morphs = asset_->morphTargets;
+  for (const auto& [expression, list] : profile_.face) {
+    std::vector<std::pair<int, float>> resolved;
+    for (const FaceMorph& m : list) {
+      auto it = std::find(morphs.begin(), morphs.end(), m.morph);
+      if (it != morphs.end()) resolved.emplace_back(static_cast<int>(it - morphs.begin()), std::clamp(m.amount, 0.0f, 1.0f));
+    }
+    if (!resolved.empty()) joints_.face.emplace(expression, std::move(resolved));
+  }
 }
 
 std::shared_ptr<const AnimationClip> Rig::findClip(std::string_view name) const noexcept {

@@ -25,7 +25,7 @@ struct PlaySpec {
 };
 
 struct CharacterSpec {
-  std::string name, asset;
+  std::string name, asset, profile;  // profile: a character profile JSON ("" = guessed)
   glm::vec3 position{0.0f};
   float headingDegrees = 0.0f;
   float scale = 1.0f;
@@ -105,12 +105,13 @@ bool readPlay(Reader& r, const Json& j, const std::string& where, PlaySpec& p) {
 
 bool readCharacter(Reader& r, const Json& j, const std::string& where, CharacterSpec& c) {
   if (!j.is_object()) return r.fail(where, "expected an object with \"name\" and \"asset\""), false;
-  r.unknownKeys(j, where, {"name", "asset", "position", "heading", "scale", "clips", "play"});
+  r.unknownKeys(j, where, {"name", "asset", "profile", "position", "heading", "scale", "clips", "play"});
   bool ok = true;
   if (!j.contains("name")) ok = false, r.fail(where, "missing \"name\"");
   else ok &= r.string(j["name"], where + "/name", c.name);
   if (!j.contains("asset")) ok = false, r.fail(where, "missing \"asset\" (path of a character file)");
   else ok &= r.string(j["asset"], where + "/asset", c.asset);
+  if (j.contains("profile")) ok &= r.string(j["profile"], where + "/profile", c.profile);
   if (j.contains("position")) ok &= r.vec3(j["position"], where + "/position", c.position);
   if (j.contains("heading")) ok &= r.number(j["heading"], where + "/heading", c.headingDegrees, -1e6f, 1e6f);
   if (j.contains("scale")) ok &= r.number(j["scale"], where + "/scale", c.scale, 1e-6f, 1e6f);
@@ -227,7 +228,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
   std::vector<std::shared_ptr<const Rig>> rigOf(specs.size());
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const CharacterSpec& c = specs[i];
-    std::string key = resolve(baseDir, c.asset) + "|" + std::to_string(c.scale);
+    std::string key = resolve(baseDir, c.asset) + "|" + std::to_string(c.scale) + "|" + resolve(baseDir, c.profile);
     for (auto& [file, clipName] : c.clips) key += "|" + resolve(baseDir, file) + "#" + clipName;
     if (auto it = rigs.find(key); it != rigs.end()) {
       rigOf[i] = it->second;
@@ -245,6 +246,12 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     ++result.assetsLoaded;
     auto asset = std::make_shared<Asset>(std::move(*imported.asset));
     auto rig = std::make_shared<Rig>(asset);
+    if (!c.profile.empty()) {
+      CharacterProfileResult profile = loadCharacterProfile(resolve(baseDir, c.profile), *asset);
+      diags.items.insert(diags.items.end(), profile.diagnostics.items.begin(), profile.diagnostics.items.end());
+      if (!profile.diagnostics.ok()) r.fail("/characters/" + std::to_string(i) + "/profile", "could not load '" + c.profile + "' (see above)");
+      rig->setProfile(std::move(profile.profile));
+    }
     for (std::size_t k = 0; k < c.clips.size(); ++k) {
       const auto& [file, clipName] = c.clips[k];
       const std::string where = "/characters/" + std::to_string(i) + "/clips/" + std::to_string(k);

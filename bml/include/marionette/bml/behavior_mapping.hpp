@@ -20,9 +20,11 @@ namespace marionette::bml {
 // "posture", "locomotion"; empty for behaviors that combine freely.
 [[nodiscard]] std::string bodyChannel(const Behavior& behavior);
 
-// The rig clip that realizes a behavior: for gesture, pointing and head its
-// lexeme, for posture and postureShift its lexeme or SmartBody posture name;
-// matched exactly, else ignoring case. nullptr when there is none.
+// The rig clip that realizes a behavior: for gesture and pointing the clip the
+// character profile's gesture library gives the lexeme, else the clip named by
+// the lexeme; for head its lexeme, for posture and postureShift its lexeme or
+// SmartBody posture name; names matched exactly, else ignoring case. nullptr
+// when there is none (a head then moves procedurally).
 [[nodiscard]] std::shared_ptr<const AnimationClip> clipFor(const Behavior& behavior, const Rig& rig);
 
 // A behavior's natural duration on a rig: the length of its clip (one

@@ -14,6 +14,7 @@
 
 #include "marionette/animation/sampling.hpp"
 #include "marionette/behavior/behavior_request.hpp"
+#include "marionette/behavior/head_motion.hpp"
 
 namespace marionette {
 
@@ -21,7 +22,7 @@ struct AnimationClip;
 
 class BehaviorTimeline {
  public:
-  // Blend time used when a request has no ready (relax) sync point: this long,
+  // Blend time used when a request has no ready (or attackPeak) / relax sync point: this long,
   // or a quarter of the request's duration if that is shorter.
   static constexpr double kDefaultBlendSeconds = 0.3;
 
@@ -36,6 +37,11 @@ class BehaviorTimeline {
     std::shared_ptr<const AnimationClip> clip;
     SamplingCursor cursor, rootCursor;
     std::vector<float> mask;     // per joint: 1 where the clip animates it
+    // Procedural controllers' data, bound by Character::addBehavior.
+    HeadLexeme head = HeadLexeme::Nod;
+    std::vector<HeadStroke> strokes;            // head: one per repetition; empty = not a head motion
+    float amount = 1.0f;                        // BML amount
+    std::vector<std::pair<int, float>> morphs;  // face: (morph target, weight at full expression)
     bool done = false;           // prune()'s mark
 
     [[nodiscard]] bool cancelled() const noexcept { return cancelAt != std::numeric_limits<double>::infinity(); }

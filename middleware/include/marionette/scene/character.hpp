@@ -85,8 +85,11 @@ class Character {
   // uses without BML, and what the BML realizer calls. A request naming a clip
   // is played by the clip controller: blended over the clip layers on the joints
   // the clip animates, time-warped onto [start, end] (or looping), weighted by
-  // the request's envelope. Requests of other kinds wait for their controllers
-  // (BehaviorResult::realized says whether one exists). Command time: may allocate.
+  // the request's envelope. Head requests (NOD, SHAKE, TILT) and face requests
+  // (lexemes, FACS units, through the rig's profile) are procedural. Requests of
+  // other kinds wait for their controllers (BehaviorResult::realized says whether
+  // one exists; `message` then says why, or notes a replaced bad parameter).
+  // Command time: may allocate.
   BehaviorResult addBehavior(BehaviorRequest request);
   // Ends requests now, blending them out over `blendOut` seconds.
   bool cancelBehavior(std::string_view id, double blendOut);
@@ -115,6 +118,7 @@ class Character {
   void notify(ChangeKind kind, std::string_view what) const;
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
   void blendLayers() noexcept;
+  void applyBehaviors() noexcept;
   void applyBehaviorClips() noexcept;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                        float& turn) const noexcept;

@@ -10,6 +10,7 @@
 #include "marionette/animation/clip_optimizer.hpp"
 #include "marionette/animation/root_motion.hpp"
 #include "marionette/io/asset.hpp"
+#include "marionette/scene/character_profile.hpp"
 
 namespace marionette {
 
@@ -32,6 +33,14 @@ struct RigOptions {
                                                                       const RigOptions& options = {},
                                                                       int rootJoint = -1);
 
+// The profile resolved to indices once, for the controllers' per-frame use.
+struct RigJoints {
+  int hips = -1, neck = -1, head = -1, leftEye = -1, rightEye = -1, jaw = -1;
+  std::vector<int> spine;
+  // Face expression name -> (morph target index, amount).
+  std::map<std::string, std::vector<std::pair<int, float>>, std::less<>> face;
+};
+
 class Rig {
  public:
   explicit Rig(std::shared_ptr<const Asset> asset, const RigOptions& options = {});  // wraps the asset's clips
@@ -41,6 +50,13 @@ class Rig {
   [[nodiscard]] const std::vector<std::shared_ptr<const AnimationClip>>& clips() const noexcept { return clips_; }
   [[nodiscard]] std::shared_ptr<const AnimationClip> findClip(std::string_view name) const noexcept;
 
+  // What the controllers know about the asset: guessed at construction
+  // (guessCharacterProfile) unless replaced, e.g. by loadCharacterProfile's.
+  // Set profiles before sharing the rig between characters.
+  [[nodiscard]] const CharacterProfile& profile() const noexcept { return profile_; }
+  [[nodiscard]] const RigJoints& joints() const noexcept { return joints_; }
+  void setProfile(CharacterProfile profile);
+
   // Adds a clip from another file of the same skeleton naming (bound by joint
   // name). Returns the number of its tracks that found no joint.
   int addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string name = {});
@@ -49,6 +65,8 @@ class Rig {
   std::shared_ptr<const Asset> asset_;
   RigOptions options_;
   std::vector<std::shared_ptr<const AnimationClip>> clips_;
+  CharacterProfile profile_;
+  RigJoints joints_;
 };
 
 }  // namespace marionette

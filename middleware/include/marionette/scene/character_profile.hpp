@@ -1,0 +1,53 @@
+// A character profile: what the behavior controllers need to know about an
+// asset that its file does not say: which joints are the spine, neck, head,
+// eyes and jaw; which morph targets make each facial expression (BML face
+// lexemes and FACS action units); which clips are idle, walk and run, and
+// which clips are gestures. Read from a JSON file per asset (assets/profiles/),
+// or guessed from joint, morph and clip names when there is none.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "marionette/core/diagnostic.hpp"
+#include "marionette/io/asset.hpp"
+
+namespace marionette {
+
+// One morph target an expression moves, and its weight at full expression.
+struct FaceMorph {
+  std::string morph;   // a name in Asset::morphTargets
+  float amount = 1.0f; // in [0, 1]
+};
+
+struct CharacterProfile {
+  // Joints by name in the character's skeleton; "" when the character has none.
+  std::string hips, neck, head, leftEye, rightEye, jaw;
+  std::vector<std::string> spine;  // from the hips' child up to the chest, hips excluded
+  // BML faceLexeme names (SMILE, RAISE_BROWS, ...) and FACS units ("AU12") to morphs.
+  std::map<std::string, std::vector<FaceMorph>> face;
+  // Clip names of the rig; "" when absent.
+  std::string idle, walk, run;
+  // BML gesture lexemes to clip names (BEAT -> "ThumbsUp", ...).
+  std::map<std::string, std::string> gestures;
+  // One line per guess made (what was found, or what was missing), for logs and --stats.
+  std::vector<std::string> notes;
+};
+
+struct CharacterProfileResult {
+  CharacterProfile profile;
+  Diagnostics diagnostics;  // each naming the file, line:column where known, and the field
+};
+
+// Reads a profile JSON file for `asset`. Names that the asset lacks (joint,
+// morph, clip) are warnings naming the field and the name; fields the file
+// leaves out are guessed as guessCharacterProfile does (with a note).
+[[nodiscard]] CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset);
+
+// Guesses a profile from the asset alone: joint names in the common conventions
+// (Mixamo, VRM/J_Bip, Blender ".L/.R", CMU BVH, Pab), checked against the
+// topology (the head is a descendant of the neck, which descends from the
+// hips); expressions from morph names; locomotion clips from clip names.
+[[nodiscard]] CharacterProfile guessCharacterProfile(const Asset& asset);
+
+}  // namespace marionette

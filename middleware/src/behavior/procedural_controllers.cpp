@@ -1,0 +1,123 @@
+#include "marionette/behavior/procedural_controllers.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+
+namespace marionette {
+
+namespace {
+// BML amount: a number in [lo, hi]; anything else is replaced by the default, with a note.
+float amountOf(const BehaviorRequest& r, float fallback, float lo, float hi, std::string& warning) {
+  const std::string_view text = r.parameter("amount");
+  if (text.empty()) return fallback;
+  float v = 0.0f;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v) || v < lo || v > hi) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "amount '%.40s' is not a number in [%g, %g]; %g is used", std::string(text).c_str(),
+                  static_cast<double>(lo), static_cast<double>(hi), static_cast<double>(fallback));
+    warning = buf;
+    return fallback;
+  }
+  return v;
+}
+
+std::string upper(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// Stroke phases from sync names: strokeStart/stroke/strokeEnd, then ":2", ":3", ...
+std::vector<HeadStroke> strokesOf(const BehaviorRequest& r) {
+  std::vector<HeadStroke> out;
+  for (int n = 1;; ++n) {
+    const std::string suffix = n == 1 ? "" : ":" + std::to_string(n);
+    const auto a = r.time("strokeStart" + suffix), b = r.time("stroke" + suffix), c = r.time("strokeEnd" + suffix);
+    if (!a || !b || !c) break;
+    out.push_back({*a, *b, *c});
+  }
+  if (out.empty()) {  // a request made without BML sync names: BML's default proportions
+    const double s = r.start(), d = r.end() - r.start();
+    out.push_back({s + 0.2 * d, s + 0.3 * d, s + 0.5 * d});
+  }
+  return out;
+}
+
+std::string knownExpressions(const RigJoints& joints) {
+  if (joints.face.empty()) return "its profile maps no expression to morphs";
+  std::string list = "its profile maps";
+  int n = 0;
+  for (const auto& [name, morphs] : joints.face) {
+    if (n++ == 8) {
+      list += ", ...";
+      break;
+    }
+    list += (n == 1 ? " " : ", ") + name;
+  }
+  return list;
+}
+}  // namespace
+
+std::string bindHead(BehaviorTimeline::Entry& e, const Rig& rig, std::string& warning) {
+  const BehaviorRequest& r = e.request;
+  const std::string_view lexeme = r.parameter("lexeme");
+  const auto head = headLexemeFromName(lexeme);
+  if (!head)
+    return lexeme.empty() ? "a head behavior needs a lexeme (NOD, SHAKE or TILT)"
+                          : "head lexeme '" + std::string(lexeme) + "' is not NOD, SHAKE or TILT";
+  if (rig.joints().head < 0 && rig.joints().neck < 0)
+    return "the character has no head or neck joint (set \"head\" in its profile)";
+  e.head = *head;
+  e.amount = amountOf(r, 0.5f, -1.0f, 1.0f, warning);
+  e.strokes = strokesOf(r);
+  return {};
+}
+
+std::string bindFace(BehaviorTimeline::Entry& e, const Rig& rig, std::string& warning) {
+  const BehaviorRequest& r = e.request;
+  std::string expression;
+  if (r.kind == BehaviorKind::FaceFacs) {
+    const std::string_view au = r.parameter("au");
+    if (au.empty()) return "a faceFacs behavior needs an au (a FACS action unit number)";
+    expression = "AU" + std::string(au);
+  } else {
+    expression = upper(r.parameter("lexeme"));
+    if (expression.empty()) return "a face behavior needs a lexeme";
+  }
+  const auto it = rig.joints().face.find(expression);
+  if (it == rig.joints().face.end())
+    return "the character has no morphs for face expression '" + expression + "' (" + knownExpressions(rig.joints()) + ")";
+  e.morphs = it->second;
+  e.amount = amountOf(r, 1.0f, 0.0f, 1.0f, warning);
+  return {};
+}
+
+void applyHead(const BehaviorTimeline::Entry& e, float weight, double t, const Rig& rig,
+               std::span<Transform> pose) noexcept {
+  const float shape = headShape(e.head, e.strokes, t);
+  if (shape == 0.0f) return;
+  const float angle = weight * e.amount * headPeakAngle(e.head) * shape;
+  const glm::vec3 axis = headAxis(e.head);
+  const RigJoints& j = rig.joints();
+  // The neck takes 40 % and the head the rest, in the model frame, so the total is the angle.
+  if (j.neck >= 0 && j.head >= 0) {
+    rotateInModelFrame(rig.skeleton(), pose, j.neck, glm::angleAxis(0.4f * angle, axis));
+    rotateInModelFrame(rig.skeleton(), pose, j.head, glm::angleAxis(0.6f * angle, axis));
+  } else {
+    rotateInModelFrame(rig.skeleton(), pose, j.head >= 0 ? j.head : j.neck, glm::angleAxis(angle, axis));
+  }
+}
+
+void applyFace(const BehaviorTimeline::Entry& e, float weight, std::span<float> morphWeights) noexcept {
+  // Expressions add up, each morph clamped to [0, 1].
+  for (const auto& [morph, amount] : e.morphs)
+    if (morph >= 0 && static_cast<std::size_t>(morph) < morphWeights.size()) {
+      float& w = morphWeights[static_cast<std::size_t>(morph)];
+      w = std::clamp(w + weight * e.amount * amount, 0.0f, 1.0f);
+    }
+}
+
+}  // namespace marionette

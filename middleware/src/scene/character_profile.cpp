@@ -1,0 +1,1014 @@
+#include "marionette/scene/character_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+namespace marionette {
+
+namespace {
+using Json = nlohmann::json;
+
+// ---- Names ------------------------------------------------------------------
+
+bool isUpper(char c) { return c >= 'A' && c <= 'Z'; }
+bool isLower(char c) { return c >= 'a' && c <= 'z'; }
+bool isDigit(char c) { return c >= '0' && c <= '9'; }
+// Bytes of UTF-8 sequences count as letters: they belong to a word, never split one.
+bool isWordByte(char c) { return isUpper(c) || isLower(c) || isDigit(c) || static_cast<unsigned char>(c) >= 0x80; }
+char lower(char c) { return isUpper(c) ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// Lower-case words of a name: split at separators, at camelCase humps ("LeftEye",
+// "LHip" -> l, hip) and between letters and digits ("Spine1", "Bip01").
+std::vector<std::string> words(std::string_view name) {
+  std::vector<std::string> out;
+  std::string cur;
+  auto flush = [&] {
+    if (!cur.empty()) out.push_back(std::move(cur));
+    cur.clear();
+  };
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    if (!isWordByte(c)) {
+      flush();
+      continue;
+    }
+    if (!cur.empty()) {
+      const char p = name[i - 1];
+      const bool hump = isUpper(c) && (isLower(p) || (isUpper(p) && i + 1 < name.size() && isLower(name[i + 1])));
+      if (hump || isDigit(c) != isDigit(p)) flush();
+    }
+    cur += lower(c);
+  }
+  flush();
+  return out;
+}
+
+// A name reduced to what identifies a body part or an expression: the side it
+// names (-1 left, +1 right, 0 none) and the words left after dropping side words,
+// numbers and the `noise` of naming conventions (rig prefixes and the like).
+struct NameParts {
+  int side = 0;
+  std::vector<std::string> core;
+  [[nodiscard]] std::string key() const {
+    std::string k;
+    for (const auto& w : core) k += w;
+    return k;
+  }
+  [[nodiscard]] bool is(std::initializer_list<std::string_view> ws) const {
+    return std::equal(core.begin(), core.end(), ws.begin(), ws.end());
+  }
+};
+
+NameParts parts(std::string_view name, const std::set<std::string_view>& noise) {
+  NameParts np;
+  bool left = false, right = false;
+  for (auto& w : words(name)) {
+    if (w == "l" || w == "left") left = true;
+    else if (w == "r" || w == "right") right = true;
+    else if (!isDigit(w[0]) && !noise.count(w)) np.core.push_back(std::move(w));
+  }
+  np.side = left == right ? 0 : (left ? -1 : 1);
+  if (left && right) np.core.insert(np.core.begin(), "?");  // "LeftRight..." is no part we know
+  return np;
+}
+
+// Prefixes and suffixes of the rig conventions (mixamorig:, J_Bip_C_, B_, _Armature,
+// Bip01, CC_Base_, ValveBiped., DEF-/ORG-/MCH-) that say nothing about the part.
+const std::set<std::string_view> kJointNoise = {"mixamorig", "j",   "bip",  "adj",  "c",     "armature",
+                                                "def",       "org", "mch",  "b",    "bone",  "jnt",
+                                                "joint",     "cc",  "base", "valve", "biped", "sk"};
+// Morph-target prefixes: VRoid's Fcl_ALL_, shape-key and blend-shape prefixes.
+const std::set<std::string_view> kMorphNoise = {"fcl",   "all",        "blendshape", "blendshape1", "bs",   "shape",
+                                                "shapes", "key",       "morph",      "expression",  "exp",  "face",
+                                                "facial", "vrc",       "target"};
+// Clip-name padding of exporters and libraries ("Armature|mixamo.com|Layer0", "Walk_Loop").
+const std::set<std::string_view> kClipNoise = {"anim",     "animation", "action", "armature", "clip",    "take",
+                                               "loop",     "looped",    "cycle",  "inplace",  "in",      "place",
+                                               "default",  "mixamo",    "com",    "layer",    "character", "fwd",
+                                               "forward",  "rig",       "root",   "motion"};
+
+// ---- Topology ---------------------------------------------------------------
+
+// The skeleton as a tree. Tolerates malformed input (sizes that differ, a parent
+// that is not before its child): such a joint is treated as a root.
+struct Tree {
+  std::vector<std::string> names;
+  std::vector<int> parent;
+  std::vector<std::vector<int>> children;
+  std::vector<int> depth, leaves, size, height;
+
+  explicit Tree(const Skeleton& s) {
+    const std::size_t n = std::min(s.names.size(), s.parents.size());
+    names.assign(s.names.begin(), s.names.begin() + static_cast<std::ptrdiff_t>(n));
+    parent.resize(n, -1);
+    children.resize(n);
+    depth.resize(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int p = s.parents[i];
+      if (p >= 0 && static_cast<std::size_t>(p) < i) {
+        parent[i] = p;
+        children[p].push_back(static_cast<int>(i));
+        depth[i] = depth[p] + 1;
+      }
+    }
+    leaves.assign(n, 0);
+    size.assign(n, 1);
+    height.assign(n, 0);
+    for (std::size_t k = n; k-- > 0;) {  // children come after their parent
+      if (children[k].empty()) leaves[k] = 1;
+      if (const int p = parent[k]; p >= 0) {
+        leaves[p] += leaves[k];
+        size[p] += size[k];
+        height[p] = std::max(height[p], height[k] + 1);
+      }
+    }
+  }
+  [[nodiscard]] int count() const { return static_cast<int>(parent.size()); }
+  [[nodiscard]] bool valid(int j) const { return j >= 0 && j < count(); }
+  // True when `a` is a proper ancestor of `d`.
+  [[nodiscard]] bool above(int a, int d) const {
+    if (!valid(a) || !valid(d)) return false;
+    for (int p = parent[d]; p >= 0; p = parent[p])
+      if (p == a) return true;
+    return false;
+  }
+  [[nodiscard]] std::string name(int j) const { return valid(j) ? names[j] : std::string(); }
+  [[nodiscard]] int find(const std::string& n) const {
+    for (int j = 0; j < count(); ++j)
+      if (names[j] == n) return j;
+    return -1;
+  }
+  // The child of `a` on the way down to its descendant `d`.
+  [[nodiscard]] int childToward(int a, int d) const {
+    for (int j = d; valid(j); j = parent[j])
+      if (parent[j] == a) return j;
+    return -1;
+  }
+  // Among >= 3 children where the others form mirror pairs (same shape: two legs,
+  // two arms), the one child whose shape is unique (the spine, the neck); else -1.
+  [[nodiscard]] int oddChildOut(int j, int minPairHeight) const {
+    if (!valid(j) || children[j].size() < 3) return -1;
+    auto same = [&](int a, int b) { return size[a] == size[b] && height[a] == height[b] && leaves[a] == leaves[b]; };
+    int odd = -1;
+    bool pairFound = false;
+    for (int c : children[j]) {
+      int twins = 0;
+      for (int o : children[j]) twins += o != c && same(o, c);
+      if (twins == 0) {
+        if (odd >= 0) return -1;  // two unique shapes: no telling which is the spine
+        odd = c;
+      } else if (height[c] >= minPairHeight) {
+        pairFound = true;
+      }
+    }
+    return pairFound ? odd : -1;
+  }
+};
+
+std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
+std::string joined(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ", ") + inQuotes(s);
+  return out;
+}
+
+// Field-tagged notes: the loader keeps those of the fields it guesses.
+using Notes = std::vector<std::pair<std::string, std::string>>;
+
+struct JointGuess {
+  int hips = -1, neck = -1, head = -1, leftEye = -1, rightEye = -1, jaw = -1;
+  std::string hipsHow, neckHow, headHow, leftEyeHow, rightEyeHow, jawHow;
+};
+
+// Joints on the path below `hips` down to `neck`, both excluded, in hips-to-neck order.
+std::vector<std::string> spineBetween(const Tree& t, int hips, int neck) {
+  std::vector<std::string> spine;
+  if (!t.above(hips, neck)) return spine;
+  for (int j = t.parent[neck]; j >= 0 && j != hips; j = t.parent[j]) spine.push_back(t.names[j]);
+  std::reverse(spine.begin(), spine.end());
+  return spine;
+}
+
+// The VRM humanoid map, when it is complete and its chain is consistent.
+bool guessFromHumanoid(const Asset& asset, const Tree& t, JointGuess& g) {
+  if (!asset.hasHumanoid) return false;
+  auto bone = [&](const char* key) {
+    auto it = asset.humanoid.bones.find(key);
+    return it == asset.humanoid.bones.end() ? -1 : t.find(it->second);
+  };
+  const int hips = bone("hips"), neck = bone("neck"), head = bone("head");
+  if (hips < 0 || neck < 0 || head < 0 || !t.above(hips, neck) || !t.above(neck, head)) return false;
+  g.hips = hips, g.neck = neck, g.head = head;
+  g.hipsHow = g.neckHow = g.headHow = "VRM humanoid";
+  auto below = [&](int j) { return t.above(head, j) ? j : -1; };
+  if ((g.leftEye = below(bone("leftEye"))) >= 0) g.leftEyeHow = "VRM humanoid";
+  if ((g.rightEye = below(bone("rightEye"))) >= 0) g.rightEyeHow = "VRM humanoid";
+  if ((g.jaw = below(bone("jaw"))) >= 0) g.jawHow = "VRM humanoid";
+  return true;
+}
+
+// Walking up from the neck, the joints where other branches (holding >= 2 leaves:
+// arms, legs) leave the spine: the first is the chest (or the neck, where the arms
+// hang from it), the next the hips.
+int hipsAboveNeck(const Tree& t, int neck, int head) {
+  int branchings = 0;
+  int from = head >= 0 ? t.childToward(neck, head) : -1;
+  for (int j = neck; t.valid(j); from = j, j = t.parent[j]) {
+    const int other = t.leaves[j] - (from >= 0 ? t.leaves[from] : (j == neck ? t.leaves[j] : 0));
+    if (other >= 2 && ++branchings == 2) return j;
+  }
+  return -1;
+}
+
+JointGuess guessJoints(const Asset& asset, const Tree& t) {
+  JointGuess g;
+  if (guessFromHumanoid(asset, t, g)) return g;
+
+  std::vector<int> hipsC, neckC, headC, eyeC[2], jawC;
+  for (int j = 0; j < t.count(); ++j) {
+    const NameParts np = parts(t.names[j], kJointNoise);
+    if (np.side == 0) {
+      if (np.is({"hips"}) || np.is({"hip"}) || np.is({"pelvis"})) hipsC.push_back(j);
+      // "lowerneck" (CMU 3dsMax-friendly) is where the neck starts: the root-most wins below.
+      if (np.is({"neck"}) || np.is({"lower", "neck"}) || np.is({"lowerneck"}) || np.is({"upper", "neck"}) ||
+          np.is({"upperneck"}))
+        neckC.push_back(j);
+      if (np.is({"head"})) headC.push_back(j);
+      if (np.is({"jaw"}) || np.is({"lower", "jaw"})) jawC.push_back(j);
+    } else if (np.is({"eye"}) || np.is({"face", "eye"}) || np.is({"eye", "ball"}) || np.is({"eyeball"})) {
+      eyeC[np.side > 0].push_back(j);
+    }
+  }
+  auto underAny = [&](const std::vector<int>& tops, int j) {
+    if (tops.empty()) return true;  // nothing of that name: no constraint
+    return std::any_of(tops.begin(), tops.end(), [&](int a) { return t.above(a, j); });
+  };
+  auto shallowest = [&](const std::vector<int>& c) {
+    int best = -1;
+    for (int j : c)
+      if (best < 0 || t.depth[j] < t.depth[best]) best = j;
+    return best;
+  };
+
+  // Head: a head-named joint below a neck-named one, below a hips-named one.
+  std::vector<int> heads;
+  std::string rejected;
+  for (int j : headC) {
+    if (underAny(neckC, j) && underAny(hipsC, j)) heads.push_back(j);
+    else rejected += (rejected.empty() ? "" : ", ") + inQuotes(t.names[j]);
+  }
+  const std::string rejectNote = rejected.empty() ? "" : "; " + rejected + " rejected: not below a neck and the hips";
+  if ((g.head = shallowest(heads)) >= 0) {
+    g.headHow = "name";
+  } else {
+    // The joint the eyes (or the jaw) hang from is the head, whatever its name.
+    const int le = shallowest(eyeC[0]), re = shallowest(eyeC[1]), jaw = shallowest(jawC);
+    if (le >= 0 && re >= 0 && t.parent[le] == t.parent[re] && t.parent[le] >= 0 && underAny(hipsC, t.parent[le])) {
+      g.head = t.parent[le];
+      g.headHow = "topology: parent of the eyes" + rejectNote;
+    } else if (jaw >= 0 && t.parent[jaw] >= 0 && underAny(hipsC, t.parent[jaw])) {
+      g.head = t.parent[jaw];
+      g.headHow = "topology: parent of the jaw" + rejectNote;
+    }
+  }
+
+  // Neck: the root-most neck-named joint above the head (CMU has Neck and Neck1);
+  // else the unbranched chain above the head, up to where the arms branch off.
+  if (g.head >= 0) {
+    for (int j = t.parent[g.head]; j >= 0; j = t.parent[j])
+      if (std::find(neckC.begin(), neckC.end(), j) != neckC.end()) g.neck = j, g.neckHow = "name";
+    if (g.neck < 0 && t.parent[g.head] >= 0) {
+      int j = t.parent[g.head];
+      while (t.parent[j] >= 0 && t.children[t.parent[j]].size() == 1 &&
+             std::find(hipsC.begin(), hipsC.end(), t.parent[j]) == hipsC.end())
+        j = t.parent[j];
+      if (std::find(hipsC.begin(), hipsC.end(), j) == hipsC.end())
+        g.neck = j, g.neckHow = "topology: unbranched chain above the head";
+    }
+  } else {
+    std::vector<int> necks;
+    for (int j : neckC)
+      if (underAny(hipsC, j)) necks.push_back(j);
+    if ((g.neck = shallowest(necks)) >= 0) {
+      g.neckHow = "name";
+      if (t.children[g.neck].size() == 1)
+        g.head = t.children[g.neck][0], g.headHow = "topology: only child of the neck" + rejectNote;
+    }
+  }
+
+  // Hips: the deepest hips-named joint above the neck (Pab has Hips above Pelvis;
+  // the legs branch at Pelvis); else where the legs branch off the spine.
+  const int top = g.neck >= 0 ? g.neck : g.head;
+  if (top >= 0) {
+    for (int j = t.parent[top]; j >= 0 && g.hips < 0; j = t.parent[j])
+      if (std::find(hipsC.begin(), hipsC.end(), j) != hipsC.end()) g.hips = j, g.hipsHow = "name";
+    if (g.hips < 0 && g.neck >= 0 && (g.hips = hipsAboveNeck(t, g.neck, g.head)) >= 0)
+      g.hipsHow = "topology: where the legs branch off below the arms";
+  } else if ((g.hips = shallowest(hipsC)) >= 0) {
+    g.hipsHow = "name";
+  } else {
+    // Nothing named: the root-most joint with a pair of legs and one odd branch.
+    for (int j = 0; j < t.count(); ++j)
+      if (t.oddChildOut(j, 1) >= 0 && (g.hips < 0 || t.depth[j] < t.depth[g.hips])) g.hips = j;
+    if (g.hips >= 0) g.hipsHow = "topology: root-most joint with two legs and a spine";
+  }
+
+  // Neither neck nor head named: down the spine to the chest, whose odd branch is the neck.
+  if (g.hips >= 0 && g.neck < 0 && g.head < 0) {
+    int j = t.oddChildOut(g.hips, 1);
+    while (t.valid(j) && t.children[j].size() == 1) j = t.children[j][0];
+    const int neck = t.oddChildOut(j, 0);
+    if (neck >= 0) {
+      g.neck = neck, g.neckHow = "topology: odd branch of the chest";
+      if (t.children[neck].size() == 1) g.head = t.children[neck][0], g.headHow = "topology: only child of the neck";
+    }
+  }
+  if (g.head < 0 && !rejected.empty()) g.headHow = rejectNote.substr(2);
+
+  // Eyes and jaw: named joints below the head.
+  auto below = [&](const std::vector<int>& c) {
+    std::vector<int> ok;
+    for (int j : c)
+      if (g.head < 0 || t.above(g.head, j)) ok.push_back(j);
+    return shallowest(ok);
+  };
+  if ((g.leftEye = below(eyeC[0])) >= 0) g.leftEyeHow = "name";
+  if ((g.rightEye = below(eyeC[1])) >= 0) g.rightEyeHow = "name";
+  if ((g.jaw = below(jawC)) >= 0) g.jawHow = "name";
+  return g;
+}
+
+// ---- Face -------------------------------------------------------------------
+
+// Morph keys (lower case, without side or prefix words) for each lexeme, best
+// first. `side` -1/+1 makes the left/right lexeme take only morphs of that side.
+struct LexemeRule {
+  const char* lexeme;
+  int side;
+  std::vector<std::string_view> keys;
+};
+
+const std::vector<LexemeRule>& lexemeRules() {
+  static const std::vector<std::string_view> raiseBrows = {"raisebrows", "raisebrow", "browsup", "browup", "browraise",
+                                                           "browouterup", "brwsurprised"};
+  static const std::vector<std::string_view> lowerBrows = {"lowerbrows", "lowerbrow", "browsdown", "browdown",
+                                                           "browlower"};
+  static const std::vector<std::string_view> lowerCorners = {"lowermouthcorners", "mouthcornersdown",
+                                                             "mouthcornerdown", "mouthfrown", "frown"};
+  static const std::vector<std::string_view> raiseCorners = {"raisemouthcorners", "mouthcornersup", "mouthcornerup",
+                                                             "mouthsmile"};
+  static const std::vector<LexemeRule> rules = {
+      {"SMILE", 0, {"smile", "joy", "happy", "mthjoy", "mouthsmile"}},
+      {"ANGER", 0, {"angry", "anger", "mad", "mthangry"}},
+      {"SADNESS", 0, {"sad", "sadness", "sorrow", "mthsorrow"}},
+      {"SURPRISE", 0, {"surprised", "surprise", "shocked", "mthsurprised"}},
+      {"FEAR", 0, {"fear", "afraid", "scared", "fearful"}},
+      {"DISGUST", 0, {"disgust", "disgusted"}},
+      {"CLOSE_EYES", 0, {"closeeyes", "eyesclosed", "eyeclosed", "eyeclose", "eyesclose", "blink", "eyeblink"}},
+      {"WIDEN_EYES", 0, {"wideneyes", "eyeswide", "eyewide", "eyewiden", "eyesurprised"}},
+      {"EYE_SQUINT", 0, {"eyesquint", "eyessquint", "squint"}},
+      {"OPEN_MOUTH", 0, {"openmouth", "mouthopen", "jawopen"}},
+      {"OPEN_LIPS", 0, {"openlips", "lipsopen", "lipspart", "lipsparted"}},
+      {"PRESS_LIPS", 0, {"presslips", "lipspress", "lipspressed", "mouthpress"}},
+      {"PUCKER_LIPS", 0, {"puckerlips", "lipspucker", "mouthpucker", "pucker"}},
+      {"BARE_TEETH", 0, {"bareteeth", "teethbare"}},
+      {"BARE_TEETH_WIDE", 0, {"bareteethwide"}},
+      {"TONGUE_OUT", 0, {"tongueout", "tongue"}},
+      {"OBLIQUE_BROWS", 0, {"obliquebrows", "browinnerup", "browsinnerup"}},
+      {"RAISE_BROWS", 0, raiseBrows},
+      {"RAISE_LEFT_BROW", -1, raiseBrows},
+      {"RAISE_RIGHT_BROW", 1, raiseBrows},
+      {"LOWER_BROWS", 0, lowerBrows},
+      {"LOWER_LEFT_BROW", -1, lowerBrows},
+      {"LOWER_RIGHT_BROW", 1, lowerBrows},
+      {"LOWER_MOUTH_CORNERS", 0, lowerCorners},
+      {"LOWER_LEFT_MOUTH_CORNER", -1, lowerCorners},
+      {"LOWER_RIGHT_MOUTH_CORNER", 1, lowerCorners},
+      {"RAISE_MOUTH_CORNERS", 0, raiseCorners},
+      {"RAISE_LEFT_MOUTH_CORNER", -1, raiseCorners},
+      {"RAISE_RIGHT_MOUTH_CORNER", 1, raiseCorners},
+  };
+  return rules;
+}
+
+// VRM expression presets (0.x and 1.0 names) that are BML lexemes.
+const std::vector<std::pair<std::string_view, const char*>> kVrmExpressions = {
+    {"joy", "SMILE"},       {"happy", "SMILE"},         {"angry", "ANGER"}, {"sorrow", "SADNESS"},
+    {"sad", "SADNESS"},     {"surprised", "SURPRISE"}, {"blink", "CLOSE_EYES"}};
+
+void guessFace(const Asset& asset, CharacterProfile& p, Notes& notes) {
+  // The file's own expression groups first: authored intent, with weights.
+  if (asset.hasHumanoid) {
+    for (const auto& [preset, lexeme] : kVrmExpressions) {
+      if (p.face.count(lexeme)) continue;
+      auto it = asset.humanoid.expressions.find(std::string(preset));
+      if (it == asset.humanoid.expressions.end()) continue;
+      std::vector<FaceMorph> morphs;
+      for (const auto& [index, weight] : it->second)
+        if (index >= 0 && static_cast<std::size_t>(index) < asset.morphTargets.size() && weight > 0.0f)
+          morphs.push_back({asset.morphTargets[index], std::clamp(weight, 0.0f, 1.0f)});
+      if (morphs.empty()) continue;
+      std::string list;
+      for (const auto& m : morphs) list += (list.empty() ? "" : ", ") + inQuotes(m.morph) + " " + std::to_string(m.amount).substr(0, 4);
+      notes.emplace_back("face", std::string("face ") + lexeme + ": " + list + " (VRM expression '" + std::string(preset) + "')");
+      p.face[lexeme] = std::move(morphs);
+    }
+  }
+  std::vector<NameParts> morphs;
+  for (const auto& m : asset.morphTargets) morphs.push_back(parts(m, kMorphNoise));
+  for (const LexemeRule& rule : lexemeRules()) {
+    if (p.face.count(rule.lexeme)) continue;
+    for (std::string_view key : rule.keys) {
+      int both = -1, left = -1, right = -1;
+      for (std::size_t i = 0; i < morphs.size(); ++i) {
+        if (morphs[i].key() != key) continue;
+        int& slot = morphs[i].side == 0 ? both : (morphs[i].side < 0 ? left : right);
+        if (slot < 0) slot = static_cast<int>(i);
+      }
+      std::vector<FaceMorph> found;
+      if (rule.side < 0 && left >= 0) found.push_back({asset.morphTargets[left], 1.0f});
+      else if (rule.side > 0 && right >= 0) found.push_back({asset.morphTargets[right], 1.0f});
+      else if (rule.side == 0 && both >= 0) found.push_back({asset.morphTargets[both], 1.0f});
+      else if (rule.side == 0 && left >= 0 && right >= 0)  // "blink_left" + "blink_right"
+        found = {{asset.morphTargets[left], 1.0f}, {asset.morphTargets[right], 1.0f}};
+      if (found.empty()) continue;
+      std::vector<std::string> names;
+      for (const auto& f : found) names.push_back(f.morph);
+      notes.emplace_back("face", std::string("face ") + rule.lexeme + ": " + joined(names) + " (name)");
+      p.face[rule.lexeme] = std::move(found);
+      break;
+    }
+  }
+  if (p.face.empty())
+    notes.emplace_back("face", asset.morphTargets.empty() ? "face: none (no morph targets)"
+                                                          : "face: none (no morph name matches a face lexeme)");
+}
+
+// ---- Clips ------------------------------------------------------------------
+
+// Words that make a clip something other than the plain cycle ("WalkJump", "Idle_to_Walk").
+const std::set<std::string_view> kClipExclusions = {"jump",  "to",     "start", "stop",  "end",    "turn",
+                                                    "transition", "back", "backward", "backwards", "strafe",
+                                                    "crouch", "injured", "sit", "sitting", "death", "die",
+                                                    "attack", "left", "right", "l", "r"};
+
+std::vector<std::string> clipCore(const std::string& name) {
+  // Blender exports "Armature|Idle": the action name is the last part.
+  const auto bar = name.find_last_of('|');
+  std::vector<std::string> core;
+  for (auto& w : words(bar == std::string::npos ? std::string_view(name) : std::string_view(name).substr(bar + 1)))
+    if (!isDigit(w[0]) && !kClipNoise.count(w)) core.push_back(std::move(w));
+  return core;
+}
+
+// The clip best named like one of `ws` (earlier words first; a bare word beats a
+// qualified one like "Slow Run"); "" when none.
+std::string findClip(const Asset& asset, std::initializer_list<std::string_view> ws) {
+  int bestScore = 1 << 30;
+  std::string best;
+  for (const Clip& clip : asset.clips) {
+    const auto core = clipCore(clip.name);
+    if (core.empty() || core.size() > 2) continue;
+    if (std::any_of(core.begin(), core.end(), [](const std::string& w) { return kClipExclusions.count(w) > 0; })) continue;
+    int rank = 0;
+    for (std::string_view w : ws) {
+      if (std::find(core.begin(), core.end(), w) != core.end()) {
+        const int score = rank * 2 + (core.size() == 1 ? 0 : 1);
+        if (score < bestScore) bestScore = score, best = clip.name;
+        break;
+      }
+      ++rank;
+    }
+  }
+  return best;
+}
+
+// Gesture lexemes and the joined clip-name words that perform them. Only arm and
+// hand gestures: head nods and shakes ("Yes", "No") are head behaviors in BML.
+const std::vector<std::pair<const char*, std::vector<std::string_view>>> kGestureRules = {
+    {"WAVE", {"wave", "waving", "wavehand", "handwave"}},
+    {"THUMBS_UP", {"thumbsup", "thumbup"}},
+    {"POINT", {"point", "pointing"}},
+    {"CLAP", {"clap", "clapping"}},
+    {"SHRUG", {"shrug", "shrugging"}},
+    {"CROSS_ARMS", {"crossarms", "armscrossed", "crossedarms"}},
+};
+
+void guessClips(const Asset& asset, CharacterProfile& p, Notes& notes) {
+  auto note = [&](const char* field, const std::string& clip) {
+    notes.emplace_back(field, std::string(field) + ": " + (clip.empty() ? "none" : inQuotes(clip) + " (name)"));
+  };
+  p.idle = findClip(asset, {"idle", "idling", "breathing", "stand", "standing"});
+  note("idle", p.idle);
+  p.walk = findClip(asset, {"walk", "walking"});
+  note("walk", p.walk);
+  p.run = findClip(asset, {"run", "running", "jog", "jogging", "sprint", "sprinting"});
+  note("run", p.run);
+  for (const auto& [lexeme, keys] : kGestureRules) {
+    for (const Clip& clip : asset.clips) {
+      std::string key;
+      for (const auto& w : clipCore(clip.name)) key += w;
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) continue;
+      p.gestures[lexeme] = clip.name;
+      notes.emplace_back("gestures", std::string("gesture ") + lexeme + ": " + inQuotes(clip.name) + " (name)");
+      break;
+    }
+  }
+  if (p.gestures.empty()) notes.emplace_back("gestures", "gestures: none");
+}
+
+struct Guess {
+  CharacterProfile profile;
+  Notes notes;
+};
+
+Guess guess(const Asset& asset) {
+  Guess g;
+  const Tree t(asset.skeleton);
+  const JointGuess j = guessJoints(asset, t);
+  CharacterProfile& p = g.profile;
+  auto set = [&](const char* field, std::string& out, int joint, const std::string& how) {
+    out = t.name(joint);
+    g.notes.emplace_back(field, std::string(field) + ": " + (joint >= 0 ? inQuotes(out) + " (" + how + ")"
+                                                                      : "none" + (how.empty() ? "" : " (" + how + ")")));
+  };
+  set("hips", p.hips, j.hips, j.hipsHow);
+  p.spine = spineBetween(t, j.hips, j.neck);
+  g.notes.emplace_back("spine", "spine: " + (p.spine.empty() ? std::string("none") : joined(p.spine)) +
+                                    (j.hips >= 0 && j.neck >= 0 ? " (path from the hips to the neck)" : ""));
+  set("neck", p.neck, j.neck, j.neckHow);
+  set("head", p.head, j.head, j.headHow);
+  set("leftEye", p.leftEye, j.leftEye, j.leftEyeHow);
+  set("rightEye", p.rightEye, j.rightEye, j.rightEyeHow);
+  set("jaw", p.jaw, j.jaw, j.jawHow);
+  guessFace(asset, p, g.notes);
+  guessClips(asset, p, g.notes);
+  return g;
+}
+
+// ---- JSON places ------------------------------------------------------------
+
+// Byte offsets of the keys and values of a JSON text that nlohmann accepted, by
+// JSON pointer ("/face/SMILE/0/amount"), so warnings can name line:column
+// (nlohmann keeps no positions in its values). Also finds duplicate keys, which
+// nlohmann resolves silently (the last one wins).
+class JsonPlaces {
+ public:
+  explicit JsonPlaces(const std::string& text) {
+    struct Frame {
+      bool object = true;
+      std::string pointer;
+      std::size_t index = 0;
+      bool expectKey = true;
+      std::set<std::string> keys;
+    };
+    std::vector<Frame> stack;
+    const std::size_t n = text.size();
+    std::size_t i = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // nlohmann skips a BOM
+    std::string pointer;  // of the value that starts next
+    auto skipSpace = [&] {
+      while (i < n && (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\r')) ++i;
+    };
+    // Reads the string at text[i] (a quote); returns its decoded value.
+    auto readString = [&]() -> std::string {
+      const std::size_t start = i++;
+      bool escaped = false;
+      while (i < n && text[i] != '"') i += text[i] == '\\' ? (escaped = true, 2) : 1;
+      i = std::min(i + 1, n);
+      if (!escaped) return text.substr(start + 1, i - start - 2);
+      try {  // rare: let nlohmann decode the escapes
+        return Json::parse(text.substr(start, i - start)).get<std::string>();
+      } catch (...) {
+        return {};
+      }
+    };
+    constexpr std::size_t kMaxDepth = 8;  // a profile is 4 deep; deeper nests are skipped, not recorded
+    for (skipSpace(); i < n; skipSpace()) {
+      if (!stack.empty()) {
+        Frame& f = stack.back();
+        const char c = text[i];
+        if (c == (f.object ? '}' : ']')) {
+          stack.pop_back();
+          ++i;
+          continue;
+        }
+        if (c == ',') {
+          ++i;
+          continue;
+        }
+        if (f.object && f.expectKey) {
+          if (c != '"') return;  // not JSON after all
+          const std::size_t at = i;
+          const std::string key = readString();
+          skipSpace();
+          if (i < n && text[i] == ':') ++i;
+          pointer = f.pointer + "/" + escape(key);
+          if (stack.size() <= kMaxDepth) {
+            if (!f.keys.insert(key).second) duplicates.emplace_back(pointer, at);
+            keys_[pointer] = at;
+          }
+          f.expectKey = false;
+          continue;
+        }
+        if (f.object) f.expectKey = true;
+        else pointer = f.pointer + "/" + std::to_string(f.index++);
+      }
+      if (stack.size() <= kMaxDepth) values_[pointer] = i;
+      const char c = text[i];
+      if (c == '{' || c == '[') {
+        Frame f;
+        f.object = c == '{';
+        if (stack.size() < kMaxDepth) f.pointer = pointer;
+        stack.push_back(std::move(f));
+        ++i;
+      } else if (c == '"') {
+        readString();
+      } else {
+        while (i < n && std::string_view(",]} \t\r\n").find(text[i]) == std::string_view::npos) ++i;
+      }
+    }
+  }
+  static std::string escape(const std::string& key) {
+    std::string out;
+    for (char c : key) out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+    return out;
+  }
+  [[nodiscard]] std::ptrdiff_t value(const std::string& pointer) const { return find(values_, pointer); }
+  [[nodiscard]] std::ptrdiff_t key(const std::string& pointer) const { return find(keys_, pointer); }
+
+  std::vector<std::pair<std::string, std::size_t>> duplicates;
+
+ private:
+  static std::ptrdiff_t find(const std::map<std::string, std::size_t>& m, const std::string& p) {
+    auto it = m.find(p);
+    return it == m.end() ? -1 : static_cast<std::ptrdiff_t>(it->second);
+  }
+  std::map<std::string, std::size_t> values_, keys_;
+};
+
+// ---- Loading ----------------------------------------------------------------
+
+const std::set<std::string_view>& faceLexemes() {
+  static const std::set<std::string_view> s = [] {
+    std::set<std::string_view> out;
+    for (const auto& r : lexemeRules()) out.insert(r.lexeme);
+    return out;
+  }();
+  return s;
+}
+
+// "AU12", "AU12L", "AU12_R": a FACS action unit, optionally one-sided.
+bool isFacsUnit(const std::string& k) {
+  if (k.size() < 3 || k[0] != 'A' || k[1] != 'U') return false;
+  std::size_t i = 2;
+  while (i < k.size() && isDigit(k[i])) ++i;
+  if (i == 2 || i - 2 > 2) return false;
+  if (i < k.size() && k[i] == '_') ++i;
+  if (i < k.size() && (k[i] == 'L' || k[i] == 'R')) ++i;
+  return i == k.size() && k.back() != '_';
+}
+
+class ProfileReader {
+ public:
+  ProfileReader(const std::string& file, const std::string& text, const Asset& asset, Diagnostics& d)
+      : file_(file), lines_(text), places_(text), asset_(asset), tree_(asset.skeleton), diags_(d) {
+    for (const auto& [pointer, at] : places_.duplicates)
+      warnAt(static_cast<std::ptrdiff_t>(at), pointer.substr(1) + ": duplicate key; the last one is used");
+  }
+
+  void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
+    unknownKeys(doc, "", {"joints", "face", "clips", "gestures", "comment"});
+    const Json& joints = section(doc, "joints");
+    const Json& clips = section(doc, "clips");
+    unknownKeys(joints, "/joints", {"hips", "spine", "neck", "head", "leftEye", "rightEye", "jaw"});
+    unknownKeys(clips, "/clips", {"idle", "walk", "run"});
+
+    const std::pair<const char*, std::string CharacterProfile::*> jointFields[] = {
+        {"hips", &CharacterProfile::hips}, {"neck", &CharacterProfile::neck},         {"head", &CharacterProfile::head},
+        {"leftEye", &CharacterProfile::leftEye}, {"rightEye", &CharacterProfile::rightEye}, {"jaw", &CharacterProfile::jaw}};
+    for (const auto& [field, member] : jointFields) {
+      if (auto n = joints.contains(field) ? name(joints[field], std::string("/joints/") + field, Kind::Joint) : std::nullopt)
+        note(field, p.*member = *n);
+      else
+        p.*member = guessed.profile.*member, noteGuessed(guessed, field);
+    }
+    if (auto s = joints.contains("spine") ? spine(joints["spine"]) : std::nullopt) {
+      p.spine = std::move(*s);
+    } else {
+      // From the file's hips and neck when it names them: the guess may differ.
+      p.spine = spineBetween(tree_, tree_.find(p.hips), tree_.find(p.neck));
+      notes_.push_back("spine: " + (p.spine.empty() ? std::string("none") : joined(p.spine)) +
+                       " (path from the hips to the neck; not in the profile)");
+    }
+    checkChain(p, joints);
+
+    if (!(doc.contains("face") && face(doc["face"], p))) p.face = guessed.profile.face, noteGuessed(guessed, "face");
+
+    const std::pair<const char*, std::string CharacterProfile::*> clipFields[] = {
+        {"idle", &CharacterProfile::idle}, {"walk", &CharacterProfile::walk}, {"run", &CharacterProfile::run}};
+    for (const auto& [field, member] : clipFields) {
+      if (auto n = clips.contains(field) ? name(clips[field], std::string("/clips/") + field, Kind::Clip) : std::nullopt)
+        note(field, p.*member = *n);
+      else
+        p.*member = guessed.profile.*member, noteGuessed(guessed, field);
+    }
+
+    if (!(doc.contains("gestures") && gestures(doc["gestures"], p)))
+      p.gestures = guessed.profile.gestures, noteGuessed(guessed, "gestures");
+    p.notes = std::move(notes_);
+  }
+
+ private:
+  enum class Kind { Joint, Morph, Clip };
+
+  void warnAt(std::ptrdiff_t offset, const std::string& message) {
+    const auto [line, column] = lines_.at(offset);
+    diags_.warning(file_, message, line, column);
+  }
+  // A warning about the value at `pointer` (or its key), naming the field.
+  void warn(const std::string& pointer, const std::string& message, bool atKey = false) {
+    std::ptrdiff_t at = atKey ? places_.key(pointer) : places_.value(pointer);
+    if (at < 0) at = places_.value(pointer);
+    warnAt(at, pointer.substr(1) + ": " + message);
+  }
+
+  void unknownKeys(const Json& obj, const std::string& where, std::initializer_list<const char*> known) {
+    if (!obj.is_object()) return;
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      const bool ok = std::any_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; });
+      if (!ok) warn(where + "/" + JsonPlaces::escape(it.key()), "unknown key '" + it.key() + "' ignored", true);
+    }
+  }
+
+  // The object at doc[key], or an empty object (with a warning when it is not one).
+  const Json& section(const Json& doc, const char* key) {
+    static const Json empty = Json::object();
+    if (!doc.contains(key)) return empty;
+    const Json& s = doc[key];
+    if (s.is_object()) return s;
+    warn(std::string("/") + key, "expected an object; ignored, its fields guessed");
+    return empty;
+  }
+
+  [[nodiscard]] bool exists(const std::string& n, Kind kind) const {
+    switch (kind) {
+      case Kind::Joint: return tree_.find(n) >= 0;
+      case Kind::Morph: return std::find(asset_.morphTargets.begin(), asset_.morphTargets.end(), n) != asset_.morphTargets.end();
+      case Kind::Clip:
+        return std::any_of(asset_.clips.begin(), asset_.clips.end(), [&](const Clip& c) { return c.name == n; });
+    }
+    return false;
+  }
+
+  // A name of the asset at `pointer`: "" (none) is fine; a name the asset lacks is
+  // cleared; a value that is no string is ignored (nullopt: the caller guesses it).
+  std::optional<std::string> name(const Json& j, const std::string& pointer, Kind kind) {
+    static const char* const what[] = {"joint", "morph target", "clip"};
+    const char* w = what[static_cast<int>(kind)];
+    if (!j.is_string()) {
+      warn(pointer, std::string("expected a ") + w + " name (a string, \"\" for none); ignored");
+      return std::nullopt;
+    }
+    std::string n = j.get<std::string>();
+    if (!n.empty() && !exists(n, kind)) {
+      warn(pointer, std::string("no ") + w + " named '" + n + "' in " + assetName() + "; cleared");
+      return std::string();
+    }
+    return n;
+  }
+
+  std::optional<std::vector<std::string>> spine(const Json& j) {
+    std::vector<std::string> out;
+    if (!j.is_array()) {
+      warn("/joints/spine", "expected an array of joint names; ignored");
+      return std::nullopt;
+    }
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      const std::string pointer = "/joints/spine/" + std::to_string(i);
+      if (!j[i].is_string() || j[i].get<std::string>().empty()) {
+        warn(pointer, "expected a joint name; dropped");
+      } else if (!exists(j[i].get<std::string>(), Kind::Joint)) {
+        warn(pointer, "no joint named '" + j[i].get<std::string>() + "' in " + assetName() + "; dropped");
+      } else {
+        out.push_back(j[i].get<std::string>());
+      }
+    }
+    notes_.push_back("spine: " + (out.empty() ? std::string("none") : joined(out)) + " (profile)");
+    return out;
+  }
+
+  // The controllers assume head below neck below hips, and the spine between them
+  // in order: say so when the file disagrees (its values are kept: the file rules).
+  void checkChain(const CharacterProfile& p, const Json& joints) {
+    const int hips = tree_.find(p.hips), neck = tree_.find(p.neck), head = tree_.find(p.head);
+    auto at = [&](const char* field) { return std::string("/joints/") + field; };
+    auto given = [&](const char* field) { return joints.contains(field); };
+    if (neck >= 0 && head >= 0 && !tree_.above(neck, head) && (given("head") || given("neck")))
+      warn(at(given("head") ? "head" : "neck"), "'" + p.head + "' is not below the neck '" + p.neck + "'");
+    if (hips >= 0 && neck >= 0 && !tree_.above(hips, neck) && (given("neck") || given("hips")))
+      warn(at(given("neck") ? "neck" : "hips"), "'" + p.neck + "' is not below the hips '" + p.hips + "'");
+    for (const char* eye : {"leftEye", "rightEye", "jaw"}) {
+      const std::string& v = eye[0] == 'l' ? p.leftEye : eye[0] == 'r' ? p.rightEye : p.jaw;
+      const int j = tree_.find(v);
+      if (head >= 0 && j >= 0 && !tree_.above(head, j) && given(eye))
+        warn(at(eye), "'" + v + "' is not below the head '" + p.head + "'");
+    }
+    if (given("spine") && joints["spine"].is_array()) {
+      int prev = hips;
+      for (std::size_t i = 0; i < p.spine.size(); ++i) {
+        const int j = tree_.find(p.spine[i]);
+        const bool inOrder = (prev < 0 || tree_.above(prev, j)) && (neck < 0 || tree_.above(j, neck));
+        if (!inOrder) {
+          const Json& list = joints["spine"];
+          std::size_t k = 0;  // its place in the file (dropped entries shift the indices)
+          while (k < list.size() && !(list[k].is_string() && list[k].get<std::string>() == p.spine[i])) ++k;
+          warn("/joints/spine/" + std::to_string(k),
+               "'" + p.spine[i] + "' is not on the path from the hips to the neck, in order");
+          break;
+        }
+        prev = j;
+      }
+    }
+  }
+
+  // False when the section is unusable (then it is guessed).
+  bool face(const Json& j, CharacterProfile& p) {
+    if (!j.is_object()) {
+      warn("/face", "expected an object of LEXEME: [{\"morph\", \"amount\"}]; ignored");
+      return false;
+    }
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string lexeme = it.key();
+      const std::string where = "/face/" + JsonPlaces::escape(lexeme);
+      if (!faceLexemes().count(lexeme) && !isFacsUnit(lexeme))
+        warn(where, "'" + lexeme + "' is not a BML face lexeme, emotion or FACS unit (AUn); kept", true);
+      std::vector<FaceMorph> morphs;
+      if (it->is_string()) {  // shorthand: one morph at full amount
+        if (auto n = name(*it, where, Kind::Morph); n && !n->empty()) morphs.push_back({*n, 1.0f});
+      } else if (it->is_array()) {
+        for (std::size_t i = 0; i < it->size(); ++i) {
+          if (auto m = faceMorph((*it)[i], where + "/" + std::to_string(i))) morphs.push_back(std::move(*m));
+        }
+      } else {
+        warn(where, "expected a list of {\"morph\": NAME, \"amount\": 0..1}; dropped");
+      }
+      if (!morphs.empty()) p.face[lexeme] = std::move(morphs);
+    }
+    notes_.push_back("face: " + std::to_string(p.face.size()) + " expressions (profile)");
+    return true;
+  }
+
+  std::optional<FaceMorph> faceMorph(const Json& e, const std::string& where) {
+    if (!e.is_object() || !e.contains("morph")) {
+      warn(where, "expected {\"morph\": NAME, \"amount\": 0..1}; dropped");
+      return std::nullopt;
+    }
+    unknownKeys(e, where, {"morph", "amount"});
+    const Json& m = e["morph"];
+    if (!m.is_string() || m.get<std::string>().empty()) {
+      warn(where + "/morph", "expected a morph target name; dropped");
+      return std::nullopt;
+    }
+    if (!exists(m.get<std::string>(), Kind::Morph)) {
+      warn(where + "/morph", "no morph target named '" + m.get<std::string>() + "' in " + assetName() + "; dropped");
+      return std::nullopt;
+    }
+    FaceMorph out{m.get<std::string>(), 1.0f};
+    if (e.contains("amount")) {
+      const Json& a = e["amount"];
+      if (!a.is_number()) {
+        warn(where + "/amount", "expected a number in [0, 1]; using 1");
+      } else {
+        const double v = a.get<double>();
+        const double c = std::isnan(v) ? 1.0 : std::clamp(v, 0.0, 1.0);
+        if (c != v) {
+          std::ostringstream text;
+          text << v;
+          warn(where + "/amount", "amount " + text.str() + " is outside [0, 1]; clamped to " + (c == 0.0 ? "0" : "1"));
+        }
+        out.amount = static_cast<float>(c);
+      }
+    }
+    return out;
+  }
+
+  bool gestures(const Json& j, CharacterProfile& p) {
+    if (!j.is_object()) {
+      warn("/gestures", "expected an object of LEXEME: clip name; ignored");
+      return false;
+    }
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string where = "/gestures/" + JsonPlaces::escape(it.key());
+      if (it.key().empty()) {
+        warn(where, "empty gesture lexeme; ignored", true);
+        continue;
+      }
+      if (auto clip = name(*it, where, Kind::Clip); clip && !clip->empty()) p.gestures[it.key()] = *clip;
+    }
+    notes_.push_back("gestures: " + std::to_string(p.gestures.size()) + " (profile)");
+    return true;
+  }
+
+  void note(const char* field, const std::string& value) {
+    notes_.push_back(std::string(field) + ": " + (value.empty() ? std::string("none") : inQuotes(value)) + " (profile)");
+  }
+  void noteGuessed(const Guess& g, const char* field) {
+    for (const auto& [f, line] : g.notes)
+      if (f == field) notes_.push_back(line + "; not in the profile, guessed");
+  }
+
+  [[nodiscard]] std::string assetName() const {
+    return asset_.sourcePath.empty() ? std::string("the asset") : "'" + asset_.sourcePath + "'";
+  }
+
+  std::vector<std::string> notes_;
+  const std::string& file_;
+  LineIndex lines_;
+  JsonPlaces places_;
+  const Asset& asset_;
+  Tree tree_;
+  Diagnostics& diags_;
+};
+
+CharacterProfileResult load(const std::string& path, const Asset& asset) {
+  CharacterProfileResult result;
+  Guess guessed = guess(asset);
+  auto fallBack = [&] {  // on an error the caller still gets a usable profile: the guess
+    result.profile = guessed.profile;
+    for (const auto& [field, note] : guessed.notes) result.profile.notes.push_back(note);
+    result.profile.notes.push_back("profile: " + path + " not used (error); everything guessed");
+    return result;
+  };
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    result.diagnostics.error(path, "cannot read the character profile '" + path + "' (missing or unreadable)");
+    return fallBack();
+  }
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  Json doc;
+  try {  // load time: nlohmann reports the byte offset only through its exception
+    doc = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    const auto [line, col] = lineColumnAt(text, e.byte > 0 ? static_cast<std::ptrdiff_t>(e.byte) - 1 : 0);
+    std::string msg = e.what();
+    const auto pos = msg.find("syntax error");
+    result.diagnostics.error(path, pos != std::string::npos ? msg.substr(pos) : msg, line, col);
+    return fallBack();
+  } catch (const Json::exception& e) {
+    // A number too large for a double ("number overflow parsing '1e999'"): place it by its text.
+    std::string msg = e.what();
+    const auto open = msg.find('\''), close = msg.rfind('\'');
+    const auto at = open < close ? text.find(msg.substr(open + 1, close - open - 1)) : std::string::npos;
+    const auto [line, col] = at == std::string::npos ? std::pair{0, 0} : lineColumnAt(text, static_cast<std::ptrdiff_t>(at));
+    const auto pos = msg.find("] ");
+    result.diagnostics.error(path, pos != std::string::npos ? msg.substr(pos + 2) : msg, line, col);
+    return fallBack();
+  }
+  if (!doc.is_object()) {
+    result.diagnostics.error(path, "expected an object with \"joints\", \"face\", \"clips\" and \"gestures\"", 1, 1);
+    return fallBack();
+  }
+  ProfileReader reader(path, text, asset, result.diagnostics);
+  reader.read(doc, result.profile, guessed);
+  // In file order, as a reader goes through the file (all are warnings here).
+  std::stable_sort(result.diagnostics.items.begin(), result.diagnostics.items.end(),
+                   [](const Diagnostic& a, const Diagnostic& b) { return std::pair{a.line, a.column} < std::pair{b.line, b.column}; });
+  return result;
+}
+
+}  // namespace
+
+CharacterProfile guessCharacterProfile(const Asset& asset) {
+  try {
+    Guess g = guess(asset);
+    for (auto& [field, note] : g.notes) g.profile.notes.push_back(std::move(note));
+    return std::move(g.profile);
+  } catch (...) {  // only std::bad_alloc can get here; a profile is optional data
+    CharacterProfile p;
+    p.notes.push_back("guess failed (out of memory); empty profile");
+    return p;
+  }
+}
+
+CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset) {
+  try {
+    return load(path, asset);
+  } catch (const std::exception& e) {  // never throws: a bad profile is a diagnostic
+    CharacterProfileResult r;
+    r.diagnostics.error(path, std::string("cannot load the character profile: ") + e.what());
+    return r;
+  }
+}
+
+}  // namespace marionette

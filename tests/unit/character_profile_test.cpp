@@ -1,0 +1,537 @@
+// Character profiles on synthetic assets: the name conventions and the topology
+// checks of guessCharacterProfile, and loadCharacterProfile's diagnostics
+// (line:column, unknown names cleared, absent fields guessed, never throws).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "marionette/scene/character_profile.hpp"
+
+using namespace marionette;
+
+namespace {
+using Joints = std::vector<std::pair<std::string, std::string>>;  // name, parent name ("" for a root)
+
+Asset makeAsset(const Joints& joints, std::vector<std::string> morphs = {}, const std::vector<std::string>& clips = {}) {
+  Asset a;
+  a.sourcePath = "synthetic.glb";
+  for (const auto& [name, parent] : joints) a.skeleton.addJoint(name, a.skeleton.findJoint(parent), Transform{});
+  a.morphTargets = std::move(morphs);
+  for (const auto& c : clips) {
+    Clip clip;
+    clip.name = c;
+    a.clips.push_back(clip);
+  }
+  return a;
+}
+
+// Hips with two legs, a spine of `spine` joints, a chest with two arms, neck, head.
+Joints body(const std::string& hips, const std::vector<std::string>& spine, const std::string& neck,
+            const std::string& head, const std::string& left, const std::string& right) {
+  Joints j = {{hips, ""}, {left + "UpLeg", hips}, {left + "Leg", left + "UpLeg"}, {right + "UpLeg", hips},
+              {right + "Leg", right + "UpLeg"}};
+  std::string parent = hips;
+  for (const auto& s : spine) j.emplace_back(s, parent), parent = s;
+  j.insert(j.end(), {{left + "Arm", parent}, {left + "Hand", left + "Arm"}, {right + "Arm", parent},
+                     {right + "Hand", right + "Arm"}, {neck, parent}, {head, neck}});
+  return j;
+}
+
+bool hasNote(const CharacterProfile& p, const std::string& text) {
+  return std::any_of(p.notes.begin(), p.notes.end(), [&](const std::string& n) { return n.find(text) != std::string::npos; });
+}
+std::string notes(const CharacterProfile& p) {
+  std::string out;
+  for (const auto& n : p.notes) out += n + '\n';
+  return out;
+}
+
+// A profile file in a fresh temporary folder, removed with the object.
+class TempProfile {
+ public:
+  explicit TempProfile(const std::string& text, const std::string& name = "profile.json") {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("marionette_profile_" + std::string(info->test_suite_name()) + "_" + info->name());
+    std::filesystem::create_directories(dir_);
+    path_ = (dir_ / name).string();
+    write(text);
+  }
+  ~TempProfile() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+  void write(const std::string& text) const { std::ofstream(path_, std::ios::binary) << text; }
+  [[nodiscard]] const std::string& path() const { return path_; }
+
+ private:
+  std::filesystem::path dir_;
+  std::string path_;
+};
+
+const Diagnostic* findDiag(const Diagnostics& d, const std::string& text) {
+  for (const auto& i : d.items)
+    if (i.message.find(text) != std::string::npos) return &i;
+  return nullptr;
+}
+
+// A small Mixamo-like character with morphs and clips, used by the loader tests.
+Asset robot() {
+  return makeAsset(body("Hips", {"Spine", "Chest"}, "Neck", "Head", "Left", "Right"), {"Smile", "Angry", "Blink"},
+                   {"Idle", "Walking", "Running", "Wave"});
+}
+}  // namespace
+
+// ---- guessing: name conventions ---------------------------------------------------
+
+TEST(CharacterProfileGuess, Mixamo) {
+  Joints j = body("mixamorig:Hips", {"mixamorig:Spine", "mixamorig:Spine1", "mixamorig:Spine2"}, "mixamorig:Neck",
+                  "mixamorig:Head", "mixamorig:Left", "mixamorig:Right");
+  j.insert(j.end(), {{"mixamorig:HeadTop_End", "mixamorig:Head"}, {"mixamorig:LeftEye", "mixamorig:Head"},
+                     {"mixamorig:RightEye", "mixamorig:Head"}});
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.hips, "mixamorig:Hips");
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"mixamorig:Spine", "mixamorig:Spine1", "mixamorig:Spine2"}));
+  EXPECT_EQ(p.neck, "mixamorig:Neck");
+  EXPECT_EQ(p.head, "mixamorig:Head");
+  EXPECT_EQ(p.leftEye, "mixamorig:LeftEye");
+  EXPECT_EQ(p.rightEye, "mixamorig:RightEye");
+  EXPECT_EQ(p.jaw, "");
+  EXPECT_TRUE(hasNote(p, "head: 'mixamorig:Head' (name)")) << notes(p);
+  EXPECT_TRUE(hasNote(p, "jaw: none")) << notes(p);
+}
+
+TEST(CharacterProfileGuess, VrmJBip) {
+  Joints j = body("J_Bip_C_Hips", {"J_Bip_C_Spine", "J_Bip_C_Chest", "J_Bip_C_UpperChest"}, "J_Bip_C_Neck",
+                  "J_Bip_C_Head", "J_Bip_L_", "J_Bip_R_");
+  j.insert(j.end(), {{"J_Adj_L_FaceEye", "J_Bip_C_Head"}, {"J_Adj_R_FaceEye", "J_Bip_C_Head"}});
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.hips, "J_Bip_C_Hips");
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"J_Bip_C_Spine", "J_Bip_C_Chest", "J_Bip_C_UpperChest"}));
+  EXPECT_EQ(p.neck, "J_Bip_C_Neck");
+  EXPECT_EQ(p.head, "J_Bip_C_Head");
+  EXPECT_EQ(p.leftEye, "J_Adj_L_FaceEye");
+  EXPECT_EQ(p.rightEye, "J_Adj_R_FaceEye");
+}
+
+TEST(CharacterProfileGuess, BlenderDotAndUnderscoreSides) {
+  for (const auto& [l, r] : {std::pair<std::string, std::string>{".L", ".R"}, {"_L", "_R"}, {"_l", "_r"}}) {
+    Joints j = {{"pelvis", ""}, {"thigh" + l, "pelvis"}, {"shin" + l, "thigh" + l}, {"thigh" + r, "pelvis"},
+                {"shin" + r, "thigh" + r}, {"spine", "pelvis"}, {"chest", "spine"}, {"shoulder" + l, "chest"},
+                {"shoulder" + r, "chest"}, {"neck", "chest"}, {"head", "neck"}, {"eye" + r, "head"},
+                {"eye" + l, "head"}, {"jaw", "head"}};
+    const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+    EXPECT_EQ(p.hips, "pelvis") << l;
+    EXPECT_EQ(p.spine, (std::vector<std::string>{"spine", "chest"})) << l;
+    EXPECT_EQ(p.neck, "neck") << l;
+    EXPECT_EQ(p.head, "head") << l;
+    EXPECT_EQ(p.leftEye, "eye" + l) << l;  // not fooled by the right eye coming first
+    EXPECT_EQ(p.rightEye, "eye" + r) << l;
+    EXPECT_EQ(p.jaw, "jaw") << l;
+  }
+}
+
+TEST(CharacterProfileGuess, CmuBvhNeckAndNeck1) {
+  const Joints j = {{"Hips", ""},         {"LHipJoint", "Hips"},    {"LeftUpLeg", "LHipJoint"}, {"RHipJoint", "Hips"},
+                    {"RightUpLeg", "RHipJoint"}, {"LowerBack", "Hips"}, {"Spine", "LowerBack"},  {"Spine1", "Spine"},
+                    {"LeftShoulder", "Spine1"}, {"RightShoulder", "Spine1"}, {"Neck", "Spine1"}, {"Neck1", "Neck"},
+                    {"Head", "Neck1"}};
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.hips, "Hips");  // not the one-sided LHipJoint
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"LowerBack", "Spine", "Spine1"}));
+  EXPECT_EQ(p.neck, "Neck");  // where the neck starts; Neck1 lies between it and the head
+  EXPECT_EQ(p.head, "Head");
+}
+
+TEST(CharacterProfileGuess, PabHipsAbovePelvisAndShouldersOnTheNeck) {
+  const Joints j = {{"Hips", ""},          {"Pelvis", "Hips"},      {"Spine", "Pelvis"},     {"Spine1", "Spine"},
+                    {"Spine2", "Spine1"},  {"Spine3", "Spine2"},    {"Neck", "Spine3"},      {"Head", "Neck"},
+                    {"LeftShoulder", "Neck"}, {"RightShoulder", "Neck"}, {"LeftUpLeg", "Pelvis"}, {"RightUpLeg", "Pelvis"}};
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.hips, "Pelvis");  // the deepest hips-like name above the neck: where the legs branch
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"Spine", "Spine1", "Spine2", "Spine3"}));
+  EXPECT_EQ(p.neck, "Neck");
+  EXPECT_EQ(p.head, "Head");
+}
+
+TEST(CharacterProfileGuess, DazStyleLowerCaseWithSidePrefixes) {
+  const Joints j = {{"hip", ""},          {"lThigh", "hip"},     {"rThigh", "hip"},  {"abdomen", "hip"},
+                    {"chest", "abdomen"}, {"lCollar", "chest"},  {"rCollar", "chest"}, {"neck", "chest"},
+                    {"head", "neck"},     {"leftEye", "head"},   {"rightEye", "head"}};
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.hips, "hip");
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"abdomen", "chest"}));
+  EXPECT_EQ(p.head, "head");
+  EXPECT_EQ(p.leftEye, "leftEye");
+  EXPECT_EQ(p.rightEye, "rightEye");
+}
+
+TEST(CharacterProfileGuess, VrmHumanoidMapWinsOverNames) {
+  Asset a = makeAsset(body("Root", {"Bone.001", "Bone.002"}, "Bone.003", "Bone.004", "L", "R"));
+  a.hasHumanoid = true;
+  a.humanoid.bones = {{"hips", "Root"}, {"neck", "Bone.003"}, {"head", "Bone.004"}};
+  const CharacterProfile p = guessCharacterProfile(a);
+  EXPECT_EQ(p.hips, "Root");
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"Bone.001", "Bone.002"}));
+  EXPECT_EQ(p.neck, "Bone.003");
+  EXPECT_EQ(p.head, "Bone.004");
+  EXPECT_TRUE(hasNote(p, "(VRM humanoid)")) << notes(p);
+}
+
+TEST(CharacterProfileGuess, UnnamedJointsByTopology) {
+  // Cesium Man's shape: root with two 4-joint legs and a torso; chest with two arms and a neck.
+  const Joints j = {{"joint_0", ""},          {"joint_1", "joint_0"},   {"joint_2", "joint_1"},   {"joint_3", "joint_2"},
+                    {"joint_4", "joint_3"},   {"joint_5", "joint_2"},   {"joint_6", "joint_2"},   {"joint_7", "joint_5"},
+                    {"joint_8", "joint_6"},   {"joint_9", "joint_0"},   {"joint_10", "joint_0"},  {"joint_11", "joint_9"},
+                    {"joint_12", "joint_10"}, {"joint_13", "joint_11"}, {"joint_14", "joint_12"}, {"joint_15", "joint_7"},
+                    {"joint_16", "joint_8"}};
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.hips, "joint_0");
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"joint_1", "joint_2"}));
+  EXPECT_EQ(p.neck, "joint_3");
+  EXPECT_EQ(p.head, "joint_4");
+  EXPECT_TRUE(hasNote(p, "hips: 'joint_0' (topology")) << notes(p);
+}
+
+TEST(CharacterProfileGuess, NothingToFindGivesEmptyFieldsAndNotes) {
+  const CharacterProfile p = guessCharacterProfile(makeAsset({{"a", ""}, {"b", "a"}}));
+  EXPECT_EQ(p.hips, "");
+  EXPECT_EQ(p.neck, "");
+  EXPECT_EQ(p.head, "");
+  EXPECT_TRUE(p.spine.empty());
+  EXPECT_TRUE(p.face.empty());
+  for (const char* field : {"hips:", "spine:", "neck:", "head:", "leftEye:", "rightEye:", "jaw:", "face:", "idle:",
+                            "walk:", "run:", "gestures:"})
+    EXPECT_TRUE(hasNote(p, field)) << field << '\n' << notes(p);
+  (void)guessCharacterProfile(Asset{});  // empty asset: no crash
+}
+
+TEST(CharacterProfileGuess, MalformedSkeletonDoesNotCrash) {
+  Asset a;
+  a.skeleton.names = {"Head", "Neck", "Hips"};
+  a.skeleton.parents = {2, 0, 7};  // parents after children and out of range
+  (void)guessCharacterProfile(a);
+  a.skeleton.parents = {-1};  // fewer parents than names
+  (void)guessCharacterProfile(a);
+}
+
+// ---- guessing: topology checks ----------------------------------------------------
+
+TEST(CharacterProfileGuess, HeadNotBelowTheNeckIsRejected) {
+  // "Head" hangs from the hips (a prop or a mesh node); the neck's only child is the real head.
+  Joints j = body("Hips", {"Spine", "Chest"}, "Neck", "Skull", "Left", "Right");
+  j.emplace_back("Head", "Hips");
+  CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.neck, "Neck");
+  EXPECT_EQ(p.head, "Skull");
+  EXPECT_TRUE(hasNote(p, "'Head' rejected")) << notes(p);
+
+  // Without a joint below the neck there is no head at all, rather than the wrong one.
+  j = body("Hips", {"Spine", "Chest"}, "Neck", "Skull", "Left", "Right");
+  j.erase(std::remove_if(j.begin(), j.end(), [](const auto& e) { return e.first == "Skull"; }), j.end());
+  j.emplace_back("Head", "Hips");
+  p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.neck, "Neck");
+  EXPECT_EQ(p.head, "");
+  EXPECT_TRUE(hasNote(p, "'Head' rejected")) << notes(p);
+}
+
+TEST(CharacterProfileGuess, HeadFoundFromTheEyesWhenItsNameMisleads) {
+  // BCN_Epileptic's shape: "Head" is a root mesh node, the head joint is named B_Neck.
+  Joints j = body("B_Root", {"B_Spine1", "B_Spine2"}, "B_Root_Neck_T", "B_Neck", "B_Left", "B_Right");
+  j.insert(j.end(), {{"B_Eye_Left", "B_Neck"}, {"B_Eye_Right", "B_Neck"}, {"B_Jaw", "B_Neck"}, {"Head", ""}});
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.head, "B_Neck");
+  EXPECT_EQ(p.neck, "B_Root_Neck_T");
+  EXPECT_EQ(p.hips, "B_Root");  // where the legs branch off, below the arms
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"B_Spine1", "B_Spine2"}));
+  EXPECT_EQ(p.leftEye, "B_Eye_Left");
+  EXPECT_EQ(p.jaw, "B_Jaw");
+}
+
+TEST(CharacterProfileGuess, NeckFromTopologyWhenUnnamed) {
+  Joints j = body("Hips", {"Spine", "Chest"}, "joint_9", "Head", "Left", "Right");
+  const CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  EXPECT_EQ(p.neck, "joint_9");
+  EXPECT_TRUE(hasNote(p, "neck: 'joint_9' (topology")) << notes(p);
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"Spine", "Chest"}));
+}
+
+// ---- guessing: face, clips, gestures ------------------------------------------------
+
+TEST(CharacterProfileGuess, FaceLexemesFromMorphNames) {
+  const Asset a = makeAsset({{"Root", ""}}, {"Angry", "Surprised", "Sad", "Fcl_MTH_Joy", "Fcl_ALL_Joy", "Fcl_EYE_Close",
+                                             "browDownLeft", "browDownRight", "mouthPucker", "jawOpen", "ah", "Fear"});
+  const CharacterProfile p = guessCharacterProfile(a);
+  auto morphs = [&](const std::string& lexeme) {
+    std::vector<std::string> out;
+    if (auto it = p.face.find(lexeme); it != p.face.end())
+      for (const auto& m : it->second) {
+        out.push_back(m.morph);
+        EXPECT_EQ(m.amount, 1.0f);
+      }
+    return out;
+  };
+  using V = std::vector<std::string>;
+  EXPECT_EQ(morphs("ANGER"), V{"Angry"});
+  EXPECT_EQ(morphs("SURPRISE"), V{"Surprised"});
+  EXPECT_EQ(morphs("SADNESS"), V{"Sad"});
+  EXPECT_EQ(morphs("FEAR"), V{"Fear"});
+  EXPECT_EQ(morphs("SMILE"), V{"Fcl_ALL_Joy"});  // the whole-face morph before the mouth-only one
+  EXPECT_EQ(morphs("CLOSE_EYES"), V{"Fcl_EYE_Close"});
+  EXPECT_EQ(morphs("LOWER_BROWS"), (V{"browDownLeft", "browDownRight"}));
+  EXPECT_EQ(morphs("LOWER_LEFT_BROW"), V{"browDownLeft"});
+  EXPECT_EQ(morphs("LOWER_RIGHT_BROW"), V{"browDownRight"});
+  EXPECT_EQ(morphs("PUCKER_LIPS"), V{"mouthPucker"});
+  EXPECT_EQ(morphs("OPEN_MOUTH"), V{"jawOpen"});
+  EXPECT_FALSE(p.face.count("DISGUST"));
+  for (const auto& [lexeme, list] : p.face)
+    for (const auto& m : list) EXPECT_NE(m.morph, "ah") << lexeme << ": a viseme is no expression";
+  EXPECT_TRUE(hasNote(p, "face ANGER: 'Angry' (name)")) << notes(p);
+}
+
+TEST(CharacterProfileGuess, BlinkPairAndVrmExpressionGroups) {
+  Asset a = makeAsset({{"Root", ""}}, {"blink_left", "blink_right", "oh", "look_up"});
+  CharacterProfile p = guessCharacterProfile(a);
+  ASSERT_EQ(p.face["CLOSE_EYES"].size(), 2u);
+  EXPECT_EQ(p.face["CLOSE_EYES"][0].morph, "blink_left");
+  EXPECT_EQ(p.face["CLOSE_EYES"][1].morph, "blink_right");
+  EXPECT_FALSE(p.face.count("SMILE"));
+
+  a.hasHumanoid = true;
+  a.humanoid.expressions["joy"] = {{2, 0.5f}, {3, 0.25f}};
+  a.humanoid.expressions["angry"] = {{9, 1.0f}};  // a bad index is skipped, not a crash
+  p = guessCharacterProfile(a);
+  ASSERT_EQ(p.face["SMILE"].size(), 2u);
+  EXPECT_EQ(p.face["SMILE"][0].morph, "oh");
+  EXPECT_FLOAT_EQ(p.face["SMILE"][0].amount, 0.5f);
+  EXPECT_FALSE(p.face.count("ANGER"));
+  EXPECT_TRUE(hasNote(p, "(VRM expression 'joy')")) << notes(p);
+}
+
+TEST(CharacterProfileGuess, LocomotionClipsAndGestures) {
+  Asset a = makeAsset({{"Root", ""}}, {}, {"Standing", "WalkJump", "Idle", "Walking", "Running", "Wave", "ThumbsUp",
+                                           "Yes", "No", "Idle_to_Walk"});
+  CharacterProfile p = guessCharacterProfile(a);
+  EXPECT_EQ(p.idle, "Idle");  // before "Standing"
+  EXPECT_EQ(p.walk, "Walking");  // not "WalkJump"
+  EXPECT_EQ(p.run, "Running");
+  EXPECT_EQ(p.gestures, (std::map<std::string, std::string>{{"WAVE", "Wave"}, {"THUMBS_UP", "ThumbsUp"}}));
+
+  a = makeAsset({{"Root", ""}}, {}, {"Armature|walk_loop", "Armature|jog", "mixamo.com", "Slow Run", "pointing"});
+  p = guessCharacterProfile(a);
+  EXPECT_EQ(p.idle, "");
+  EXPECT_EQ(p.walk, "Armature|walk_loop");
+  EXPECT_EQ(p.run, "Slow Run");  // "run" ranks before "jog"
+  EXPECT_EQ(p.gestures, (std::map<std::string, std::string>{{"POINT", "pointing"}}));
+  EXPECT_TRUE(hasNote(p, "idle: none")) << notes(p);
+}
+
+// ---- loading --------------------------------------------------------------------------
+
+TEST(CharacterProfileLoad, FullProfileLoadsWithoutDiagnostics) {
+  TempProfile f(R"({
+  "comment": "a robot",
+  "joints": {"hips": "Hips", "spine": ["Spine", "Chest"], "neck": "Neck", "head": "Head",
+             "leftEye": "", "rightEye": "", "jaw": ""},
+  "face": {"SMILE": [{"morph": "Smile", "amount": 0.8}], "AU12": [{"morph": "Smile"}], "ANGER": "Angry"},
+  "clips": {"idle": "Idle", "walk": "Walking", "run": ""},
+  "gestures": {"BEAT": "Wave"}
+})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.hips, "Hips");
+  EXPECT_EQ(r.profile.spine, (std::vector<std::string>{"Spine", "Chest"}));
+  EXPECT_EQ(r.profile.head, "Head");
+  ASSERT_EQ(r.profile.face.at("SMILE").size(), 1u);
+  EXPECT_FLOAT_EQ(r.profile.face.at("SMILE")[0].amount, 0.8f);
+  EXPECT_FLOAT_EQ(r.profile.face.at("AU12")[0].amount, 1.0f);  // amount defaults to 1
+  EXPECT_EQ(r.profile.face.at("ANGER")[0].morph, "Angry");      // string shorthand
+  EXPECT_EQ(r.profile.face.size(), 3u);                         // "face" given: nothing guessed into it
+  EXPECT_EQ(r.profile.run, "");                                 // "" is "none", not "guess"
+  EXPECT_EQ(r.profile.gestures, (std::map<std::string, std::string>{{"BEAT", "Wave"}}));
+  EXPECT_TRUE(hasNote(r.profile, "hips: 'Hips' (profile)")) << notes(r.profile);
+}
+
+TEST(CharacterProfileLoad, MalformedJsonIsAnErrorWithLineAndColumn) {
+  TempProfile f("{\n  \"joints\": {\n    \"head\": \"Head\",,\n  }\n}");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  ASSERT_FALSE(r.diagnostics.ok());
+  ASSERT_EQ(r.diagnostics.items.size(), 1u);
+  const Diagnostic& d = r.diagnostics.items[0];
+  EXPECT_EQ(d.file, f.path());
+  EXPECT_EQ(d.line, 3);
+  EXPECT_EQ(d.column, 20);
+  EXPECT_NE(d.format().find(f.path() + ":3:20: error: syntax error"), std::string::npos) << d.format();
+  EXPECT_EQ(r.profile.head, "Head");  // still usable: the guess
+  EXPECT_TRUE(hasNote(r.profile, "not used")) << notes(r.profile);
+
+  f.write("{\"face\": {\"SMILE\": [{\"morph\": \"Smile\",\n \"amount\": 1e999}]}}");
+  const auto overflow = loadCharacterProfile(f.path(), robot());
+  ASSERT_FALSE(overflow.diagnostics.ok());
+  EXPECT_EQ(overflow.diagnostics.items[0].line, 2) << overflow.diagnostics.format();
+  EXPECT_EQ(overflow.diagnostics.items[0].column, 12) << overflow.diagnostics.format();
+  EXPECT_NE(overflow.diagnostics.items[0].message.find("1e999"), std::string::npos) << overflow.diagnostics.format();
+
+  f.write("[1, 2]");
+  const auto top = loadCharacterProfile(f.path(), robot());
+  ASSERT_FALSE(top.diagnostics.ok());
+  EXPECT_NE(top.diagnostics.format().find("expected an object"), std::string::npos);
+}
+
+TEST(CharacterProfileLoad, MissingFileIsAnErrorNamingIt) {
+  const std::string path = "/nonexistent/dir/Nobody.json";
+  const auto r = loadCharacterProfile(path, robot());
+  ASSERT_FALSE(r.diagnostics.ok());
+  EXPECT_EQ(r.diagnostics.items[0].file, path);
+  EXPECT_NE(r.diagnostics.items[0].message.find(path), std::string::npos);
+  EXPECT_EQ(r.profile.neck, "Neck");  // guessed
+}
+
+TEST(CharacterProfileLoad, UnknownKeysWarnWithPlace) {
+  TempProfile f("{\n  \"joints\": {\"hips\": \"Hips\", \"pelvis\": \"Hips\"},\n  \"colour\": \"red\"\n}");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.ok());
+  const Diagnostic* top = findDiag(r.diagnostics, "unknown key 'colour'");
+  ASSERT_NE(top, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(top->severity, Severity::Warning);
+  EXPECT_EQ(top->file, f.path());
+  EXPECT_EQ(top->line, 3);
+  EXPECT_EQ(top->column, 3);
+  const Diagnostic* inner = findDiag(r.diagnostics, "joints/pelvis: unknown key 'pelvis'");
+  ASSERT_NE(inner, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(inner->line, 2);
+  EXPECT_EQ(inner->column, 30);
+}
+
+TEST(CharacterProfileLoad, NamesTheAssetLacksWarnAndAreCleared) {
+  TempProfile f(R"({"joints": {"head": "Hed", "spine": ["Spine", "Torso"]},
+"face": {"SMILE": [{"morph": "Grin"}, {"morph": "Smile"}]},
+"clips": {"walk": "Walk"},
+"gestures": {"WAVE": "Waving"}})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();
+  const Diagnostic* head = findDiag(r.diagnostics, "joints/head: no joint named 'Hed'");
+  ASSERT_NE(head, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(head->severity, Severity::Warning);
+  EXPECT_EQ(head->line, 1);
+  EXPECT_EQ(head->column, 21);
+  EXPECT_EQ(r.profile.head, "");  // cleared, not guessed
+  ASSERT_NE(findDiag(r.diagnostics, "joints/spine/1: no joint named 'Torso'"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.spine, std::vector<std::string>{"Spine"});
+  const Diagnostic* morph = findDiag(r.diagnostics, "face/SMILE/0/morph: no morph target named 'Grin'");
+  ASSERT_NE(morph, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(morph->line, 2);
+  ASSERT_EQ(r.profile.face.at("SMILE").size(), 1u);
+  EXPECT_EQ(r.profile.face.at("SMILE")[0].morph, "Smile");
+  ASSERT_NE(findDiag(r.diagnostics, "clips/walk: no clip named 'Walk'"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.walk, "");
+  ASSERT_NE(findDiag(r.diagnostics, "gestures/WAVE: no clip named 'Waving'"), nullptr) << r.diagnostics.format();
+  EXPECT_TRUE(r.profile.gestures.empty());
+}
+
+TEST(CharacterProfileLoad, AmountsOutsideTheRangeAreClamped) {
+  TempProfile f(R"({"face": {"SMILE": [{"morph": "Smile", "amount": 1.5}], "ANGER": [{"morph": "Angry", "amount": -2}],
+  "CLOSE_EYES": [{"morph": "Blink", "amount": "full"}], "SADNES": [{"morph": "Angry", "amount": 7}]}})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();
+  EXPECT_FLOAT_EQ(r.profile.face.at("SMILE")[0].amount, 1.0f);
+  EXPECT_FLOAT_EQ(r.profile.face.at("ANGER")[0].amount, 0.0f);
+  EXPECT_FLOAT_EQ(r.profile.face.at("CLOSE_EYES")[0].amount, 1.0f);
+  const Diagnostic* big = findDiag(r.diagnostics, "face/SMILE/0/amount: amount 1.5 is outside [0, 1]");
+  ASSERT_NE(big, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(big->line, 1);
+  EXPECT_EQ(big->column, 50);
+  EXPECT_NE(findDiag(r.diagnostics, "face/ANGER/0/amount"), nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "face/CLOSE_EYES/0/amount: expected a number"), nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "'SADNES' is not a BML face lexeme"), nullptr) << r.diagnostics.format();
+}
+
+TEST(CharacterProfileLoad, AbsentFieldsAreGuessedWithANote) {
+  TempProfile f(R"({"joints": {"head": "Head"}, "clips": {"run": ""}})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.hips, "Hips");
+  EXPECT_EQ(r.profile.neck, "Neck");
+  EXPECT_EQ(r.profile.spine, (std::vector<std::string>{"Spine", "Chest"}));
+  EXPECT_EQ(r.profile.idle, "Idle");
+  EXPECT_EQ(r.profile.walk, "Walking");
+  EXPECT_EQ(r.profile.run, "");  // given as none
+  EXPECT_EQ(r.profile.face.at("SMILE")[0].morph, "Smile");
+  EXPECT_EQ(r.profile.face.at("CLOSE_EYES")[0].morph, "Blink");
+  EXPECT_EQ(r.profile.gestures.at("WAVE"), "Wave");
+  EXPECT_TRUE(hasNote(r.profile, "hips: 'Hips' (name); not in the profile, guessed")) << notes(r.profile);
+  EXPECT_TRUE(hasNote(r.profile, "head: 'Head' (profile)")) << notes(r.profile);
+  EXPECT_TRUE(hasNote(r.profile, "face ANGER: 'Angry' (name); not in the profile, guessed")) << notes(r.profile);
+}
+
+TEST(CharacterProfileLoad, TypeErrorsTopologyAndDuplicatesWarn) {
+  TempProfile f(R"({"joints": {"hips": 3, "neck": "Head", "head": "Neck", "spine": "Spine"},
+  "face": [], "gestures": {"WAVE": "Wave", "WAVE": "Idle"}, "clips": 7})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "joints/hips: expected a joint name"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.hips, "Hips");  // a value of the wrong type counts as absent: guessed
+  EXPECT_NE(findDiag(r.diagnostics, "joints/head: 'Neck' is not below the neck 'Head'"), nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "joints/spine: expected an array"), nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "face: expected an object"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.face.at("SMILE")[0].morph, "Smile");
+  EXPECT_NE(findDiag(r.diagnostics, "clips: expected an object"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.walk, "Walking");
+  const Diagnostic* dup = findDiag(r.diagnostics, "gestures/WAVE: duplicate key");
+  ASSERT_NE(dup, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(dup->line, 2);
+  EXPECT_EQ(r.profile.gestures.at("WAVE"), "Idle");  // nlohmann keeps the last
+}
+
+TEST(CharacterProfileLoad, SurvivesRandomMutations) {
+  const std::string valid = R"({"comment": "x\u00e9\"/",
+  "joints": {"hips": "Hips", "spine": ["Spine", "Chest"], "neck": "Neck", "head": "Head", "leftEye": "", "jaw": ""},
+  "face": {"SMILE": [{"morph": "Smile", "amount": 0.5}], "AU45": "Blink", "ANGER": [{"morph": "Angry"}]},
+  "clips": {"idle": "Idle", "walk": "Walking", "run": "Running"},
+  "gestures": {"WAVE": "Wave", "BEAT": "Idle"}})";
+  const Asset asset = robot();
+  TempProfile f(valid);
+  std::mt19937 rng(20240611);
+  const std::string alphabet = "{}[]:,\"\\0123456789.eE+-tfnul aZ\n\x80\xff";
+  auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng() % std::max<std::size_t>(n, 1)); };
+  int errors = 0;
+  for (int round = 0; round < 400; ++round) {
+    std::string text = valid;
+    for (int edits = 1 + static_cast<int>(pick(4)); edits-- > 0;) {
+      const std::size_t at = pick(text.size());
+      switch (pick(5)) {
+        case 0: text[at] = alphabet[pick(alphabet.size())]; break;
+        case 1: text.erase(at, 1 + pick(8)); break;
+        case 2: text.insert(at, 1, alphabet[pick(alphabet.size())]); break;
+        case 3: text.insert(at, text.substr(pick(text.size()), pick(40))); break;  // duplicate a span
+        default: text.resize(at); break;
+      }
+    }
+    f.write(text);
+    const auto r = loadCharacterProfile(f.path(), asset);
+    errors += !r.diagnostics.ok();
+    for (const auto& d : r.diagnostics.items) {
+      EXPECT_EQ(d.file, f.path()) << text;
+      EXPECT_GE(d.line, 0);
+      EXPECT_GE(d.column, 0);
+    }
+    // Whatever survives names things the asset has, with amounts in range.
+    for (const std::string* j : {&r.profile.hips, &r.profile.neck, &r.profile.head, &r.profile.leftEye,
+                                 &r.profile.rightEye, &r.profile.jaw})
+      EXPECT_TRUE(j->empty() || asset.skeleton.findJoint(*j) >= 0) << *j << '\n' << text;
+    for (const auto& [lexeme, morphs] : r.profile.face)
+      for (const auto& m : morphs) {
+        EXPECT_NE(std::find(asset.morphTargets.begin(), asset.morphTargets.end(), m.morph), asset.morphTargets.end());
+        EXPECT_TRUE(m.amount >= 0.0f && m.amount <= 1.0f) << m.amount;
+      }
+  }
+  EXPECT_GT(errors, 50);  // the mutations did break the syntax often
+  EXPECT_LT(errors, 400);
+}
