@@ -217,9 +217,11 @@ int runCommand(const std::vector<std::string>& args) {
     std::printf("stats (mean wall time per update, per character):\n");
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
       const Character& c = *scene.characters()[i];
-      std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s\n", c.name().c_str(),
+      const CharacterStats& st = c.stats();
+      std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s%s%s%s\n", c.name().c_str(),
                   totalMicros[i] / static_cast<double>(r.frames), c.layerCount(),
-                  c.layerCount() == 0 ? " (rest pose only)" : (c.stats().sampledDirect ? " (one-clip fast path)" : " (blend)"));
+                  c.layerCount() == 0 ? " (rest pose only)" : (st.sampledDirect ? " (one-clip fast path)" : " (blend)"),
+                  st.usedClipBehaviors ? ", clip behaviors" : "", st.usedHead ? ", head" : "", st.usedFace ? ", face" : "");
     }
   }
   if (trace) std::printf("trace: %s\n", r.trace.c_str());

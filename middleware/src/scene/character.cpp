@@ -187,12 +187,18 @@ void Character::applyBehaviors() noexcept {
   applyBehaviorClips();
   for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (e.clip || e.strokes.empty()) continue;
-    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) applyHead(e, w, clock_, *rig_, pose_);
+    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
+      applyHead(e, w, clock_, *rig_, pose_);
+      stats_.usedHead = true;
+    }
   }
   const std::span<float> morphs = buffer_.writeMorphWeights();
   for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (e.morphs.empty()) continue;
-    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) applyFace(e, w, morphs);
+    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
+      applyFace(e, w, morphs);
+      stats_.usedFace = true;
+    }
   }
 }
 
@@ -213,6 +219,7 @@ void Character::applyBehaviorClips() noexcept {
     // A clip that travels is played in place: behaviors do not move the character.
     if (!ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, scratch, &e.rootCursor);
     blendOver(pose_, scratch, w, e.mask);
+    stats_.usedClipBehaviors = true;
     if (!ac.clip.morphTracks.empty() && !morphs.empty()) {
       std::copy(morphs.begin(), morphs.end(), morphScratch_.begin());
       sampleMorphWeights(ac.clip, t, morphScratch_);

@@ -50,6 +50,8 @@ struct CharacterStats {
   double lastUpdateMicros = 0.0;  // wall time of the last update (when stats are on)
   int activeLayers = 0;           // clip layers that exist now
   bool sampledDirect = false;     // the last frame took the one-clip fast path
+  // Behavior controllers that have run at least once (they exist only while used).
+  bool usedClipBehaviors = false, usedHead = false, usedFace = false;
 };
 
 class Character {

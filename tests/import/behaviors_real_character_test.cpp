@@ -1,0 +1,94 @@
+// Head movements and face expressions on the real characters in ../shared/assets,
+// through their shipped profiles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "marionette/io/import.hpp"
+#include "marionette/scene/scene.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+using namespace marionette::test;
+
+namespace {
+std::shared_ptr<Rig> loadWithProfile(const std::string& asset, const std::string& profile) {
+  ImportResult r = importAsset(sharedAsset(asset));
+  EXPECT_TRUE(r.ok()) << r.diagnostics.format();
+  if (!r.ok()) return nullptr;
+  auto a = std::make_shared<Asset>(std::move(*r.asset));
+  auto rig = std::make_shared<Rig>(a);
+  CharacterProfileResult p = loadCharacterProfile(sourceFile("assets/profiles/" + profile), *a);
+  EXPECT_TRUE(p.diagnostics.items.empty()) << p.diagnostics.format();
+  rig->setProfile(std::move(p.profile));
+  return rig;
+}
+
+glm::quat modelRotation(const Character& c, int joint) {
+  glm::mat3 r(c.transformBuffer().modelMatrices()[static_cast<std::size_t>(joint)]);
+  for (int i = 0; i < 3; ++i) r[i] = glm::normalize(r[i]);
+  return glm::normalize(glm::quat_cast(r));
+}
+
+float angleBetween(const glm::quat& a, const glm::quat& b) {
+  const glm::quat d = glm::inverse(a) * b;
+  return 2.0f * std::atan2(glm::length(glm::vec3(d.x, d.y, d.z)), std::fabs(d.w));
+}
+
+BehaviorRequest nod(double start) {
+  BehaviorRequest r;
+  r.id = "nod";
+  r.kind = BehaviorKind::Head;
+  r.parameters = {{"lexeme", "NOD"}, {"amount", "1"}};
+  for (auto [name, at] : std::initializer_list<std::pair<const char*, double>>{
+           {"start", 0}, {"ready", .1}, {"strokeStart", .2}, {"stroke", .3}, {"strokeEnd", .5}, {"relax", .8}, {"end", 1}})
+    r.syncs.push_back({name, start + at});
+  return r;
+}
+}  // namespace
+
+// RobotExpressive playing Idle: at the stroke the head has turned 25 degrees about
+// the character's lateral axis relative to the same Idle frame without the nod.
+TEST(BehaviorsOnRealCharacters, RobotNodsOverItsIdle) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  auto rig = loadWithProfile("characters/RobotExpressive.glb", "RobotExpressive.json");
+  ASSERT_TRUE(rig);
+  const int head = rig->joints().head;
+  ASSERT_GE(head, 0);
+  Scene with, without;
+  Character* a = with.addCharacter("a", rig);
+  Character* b = without.addCharacter("b", rig);
+  ASSERT_TRUE(a->play(0, "Idle"));
+  ASSERT_TRUE(b->play(0, "Idle"));
+  ASSERT_TRUE(a->addBehavior(nod(0.0)).realized);
+  with.update(0.3);
+  without.update(0.3);
+  const glm::quat delta = modelRotation(*a, head) * glm::inverse(modelRotation(*b, head));
+  EXPECT_LT(angleBetween(delta, glm::angleAxis(glm::radians(25.0f), glm::vec3(1, 0, 0))), glm::radians(0.5f));
+  with.update(0.5);
+  without.update(0.5);
+  EXPECT_LT(angleBetween(modelRotation(*a, head), modelRotation(*b, head)), 1e-4f);  // the nod is over
+}
+
+// Godette (VRM): SMILE maps to its joy expression through the shipped profile.
+TEST(BehaviorsOnRealCharacters, GodetteSmiles) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/Godette_vrm_v4.vrm"));
+  auto rig = loadWithProfile("characters/Godette_vrm_v4.vrm", "Godette_vrm_v4.json");
+  ASSERT_TRUE(rig);
+  auto it = rig->joints().face.find("SMILE");
+  ASSERT_NE(it, rig->joints().face.end());
+  Scene scene;
+  Character* g = scene.addCharacter("g", rig);
+  BehaviorRequest smile;
+  smile.id = "smile";
+  smile.kind = BehaviorKind::FaceLexeme;
+  smile.parameters = {{"lexeme", "SMILE"}};
+  smile.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1.2}, {"end", 1.5}};
+  ASSERT_TRUE(g->addBehavior(smile).realized);
+  scene.update(0.6);
+  for (const auto& [morph, amount] : it->second)
+    EXPECT_NEAR(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], amount, 1e-6);
+  scene.update(1.0);
+  for (const auto& [morph, amount] : it->second)
+    EXPECT_EQ(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], 0.0f);
+}
