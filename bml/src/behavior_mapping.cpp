@@ -86,7 +86,8 @@ BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const s
   if (r.kind == BehaviorKind::Speech) r.parameters.emplace_back("text", b.text);
   if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
-  r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift;
+  r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||
+                 r.kind == BehaviorKind::GazeShift;
   return r;
 }
 

@@ -219,6 +219,8 @@ class Scheduler {
     groups_ = PegGroups();
     blockStart_ = groups_.add();
     pegIds_.assign(block_.behaviors.size(), {});
+    dependent_.assign(block_.behaviors.size(), {});
+    for (std::size_t i = 0; i < block_.behaviors.size(); ++i) dependent_[i].assign(templates_[i].syncs.size(), false);
     for (std::size_t i = 0; i < block_.behaviors.size(); ++i)
       for (std::size_t k = 0; k < templates_[i].syncs.size(); ++k) pegIds_[i].push_back(groups_.add());
     pegCount_ = groups_.size();
@@ -345,6 +347,7 @@ class Scheduler {
           removeBehavior(i, type, a.name + "=\"" + a.value + "\" " + problem, b.line, b.column);
           continue;
         }
+        if (!parsed.ref->absolute) dependent_[i][static_cast<std::size_t>(k)] = true;
         if (!groups_.unite(pegIds_[i][k], 0.0, target->first, target->second))
           removeBehavior(i, WarningType::ImpossibleToSchedule,
                          a.name + "=\"" + a.value + "\" contradicts the block's other timing constraints", b.line, b.column);
@@ -418,6 +421,11 @@ class Scheduler {
           break;
         }
       if (seed == block_.behaviors.size()) {
+        // A behavior whose own attribute ties an untimed sync point to another
+        // behavior (end="tilt:end") waits for that behavior to time it, rather
+        // than pinning it with its own defaults.
+        for (std::size_t i = 0; i < block_.behaviors.size() && !progress; ++i)
+          if (active_[i] && !done[i] && !waitsForOthers(i) && timeBehavior(i)) done[i] = progress = true;
         for (std::size_t i = 0; i < block_.behaviors.size() && !progress; ++i)
           if (active_[i] && !done[i] && timeBehavior(i)) done[i] = progress = true;
         if (progress) continue;
@@ -440,6 +448,12 @@ class Scheduler {
     const int blockRoot = groups_.find(blockStart_).first;
     for (std::size_t k = 0; k < pegIds_[i].size(); ++k)
       if (groups_.find(pegIds_[i][k]).first == blockRoot) return true;
+    return false;
+  }
+
+  bool waitsForOthers(std::size_t i) {
+    for (std::size_t k = 0; k < templates_[i].syncs.size(); ++k)
+      if (dependent_[i][k] && std::isnan(pegTime(i, k))) return true;
     return false;
   }
 
@@ -623,6 +637,7 @@ class Scheduler {
   std::vector<std::vector<std::string>> keys_;  // lower-case sync names, per behavior
   std::vector<bool> active_;
   std::vector<std::vector<int>> pegIds_;
+  std::vector<std::vector<bool>> dependent_;  // sync point tied to another behavior by this behavior's own attribute
   std::vector<std::vector<double>> times_;
   PegGroups groups_;
   int blockStart_ = 0;

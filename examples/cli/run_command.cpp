@@ -218,10 +218,10 @@ int runCommand(const std::vector<std::string>& args) {
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
       const Character& c = *scene.characters()[i];
       const CharacterStats& st = c.stats();
-      std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s%s%s%s\n", c.name().c_str(),
+      std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s%s%s%s%s\n", c.name().c_str(),
                   totalMicros[i] / static_cast<double>(r.frames), c.layerCount(),
                   c.layerCount() == 0 ? " (rest pose only)" : (st.sampledDirect ? " (one-clip fast path)" : " (blend)"),
-                  st.usedClipBehaviors ? ", clip behaviors" : "", st.usedHead ? ", head" : "", st.usedFace ? ", face" : "");
+                  st.usedClipBehaviors ? ", clip behaviors" : "", st.usedGaze ? ", gaze" : "", st.usedHead ? ", head" : "", st.usedFace ? ", face" : "");
     }
   }
   if (trace) std::printf("trace: %s\n", r.trace.c_str());

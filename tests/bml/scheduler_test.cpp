@@ -354,3 +354,18 @@ TEST(Scheduler, BlocksOverTheSizeLimitsFailAtOnceNamingTheLimit) {
   EXPECT_TRUE(r.failed);
   EXPECT_NE(warningText(r, WarningType::ImpossibleToSchedule, "h65").find("more than 20000 sync points"), std::string::npos);
 }
+
+// A behavior whose own attribute ties its end to another behavior's end waits
+// for that behavior to be timed, instead of pinning the shared end with its own
+// default length (found with the demo's greeting: the gaze's 2 s default pinned
+// the tilt's end before the tilt's start was known, and the tilt was removed).
+TEST(Scheduler, ReferringBehaviorWaitsForTheOneItRefersTo) {
+  Schedule s = scheduleText(
+      "<bml id='b'><gaze id='look' target='x' start='0' end='tilt:end'/>"
+      "<head id='nod' lexeme='NOD' start='0.5'/><head id='tilt' lexeme='TILT' start='nod:end+0.2'/></bml>");
+  ASSERT_TRUE(s.warnings.empty()) << s.warnings[0].message;
+  EXPECT_NEAR(*s.time("tilt", "start"), 1.7, 1e-9);
+  EXPECT_NEAR(*s.time("tilt", "end"), 2.7, 1e-9);      // its own 1 s
+  EXPECT_NEAR(*s.time("look", "end"), 2.7, 1e-9);      // stretched to it
+  EXPECT_NEAR(*s.time("look", "ready"), 0.675, 1e-9);  // proportions kept
+}

@@ -92,3 +92,38 @@ TEST(BehaviorsOnRealCharacters, GodetteSmiles) {
   for (const auto& [morph, amount] : it->second)
     EXPECT_EQ(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], 0.0f);
 }
+
+// RobotExpressive looks at a point 40 degrees to its left and a little below, at
+// NECK influence: once settled, its head faces the point within 3 degrees.
+TEST(BehaviorsOnRealCharacters, RobotGazesAtAPoint) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  auto rig = loadWithProfile("characters/RobotExpressive.glb", "RobotExpressive.json");
+  ASSERT_TRUE(rig);
+  const int head = rig->joints().head;
+  Scene scene;
+  Character* robot = scene.addCharacter("robot", rig);
+  robot->setPosition({1, 0, -2});
+  robot->setHeading(0.5f);
+  scene.update(0.0);
+  const glm::quat rest = modelRotation(*robot, head);
+  const glm::vec3 headWorld = glm::vec3(robot->worldMatrix() * robot->transformBuffer().modelMatrices()[head][3]);
+  const float yaw = 0.5f + glm::radians(40.0f), pitch = glm::radians(10.0f);
+  const glm::vec3 dir(std::sin(yaw) * std::cos(pitch), -std::sin(pitch), std::cos(yaw) * std::cos(pitch));
+  const glm::vec3 target = headWorld + 3.0f * dir;
+  BehaviorRequest g;
+  g.id = "look";
+  g.kind = BehaviorKind::Gaze;
+  g.parameters = {{"target", std::to_string(target.x) + " " + std::to_string(target.y) + " " + std::to_string(target.z)},
+                  {"influence", "NECK"}};
+  g.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 9.0}, {"end", 10.0}};
+  BehaviorResult r = robot->addBehavior(g);
+  ASSERT_TRUE(r.realized) << r.message;
+  for (int f = 0; f < 120; ++f) scene.update(1.0 / 60.0);
+  // The head's rest forward is the character's +Z; carried into the world.
+  const glm::quat worldTurn = glm::angleAxis(robot->heading(), glm::vec3(0, 1, 0));
+  const glm::vec3 forward = worldTurn * ((modelRotation(*robot, head) * glm::inverse(rest)) * glm::vec3(0, 0, 1));
+  const glm::vec3 headNow = glm::vec3(robot->worldMatrix() * robot->transformBuffer().modelMatrices()[head][3]);
+  const float error = glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(forward), glm::normalize(target - headNow)), -1.0f, 1.0f)));
+  EXPECT_LT(error, 3.0f);
+  RecordProperty("head_forward_error_degrees", std::to_string(error));
+}

@@ -120,4 +120,103 @@ void applyFace(const BehaviorTimeline::Entry& e, float weight, std::span<float> 
     }
 }
 
+namespace {
+// "x y z": three finite numbers. False if it is not three numbers at all.
+bool parsePoint(std::string_view text, glm::vec3& out, bool& finite) {
+  float v[3];
+  const char* p = text.data();
+  const char* end = text.data() + text.size();
+  for (int i = 0; i < 3; ++i) {
+    while (p < end && (*p == ' ' || *p == ',' || *p == '\t')) ++p;
+    // from_chars does not read "nan"/"inf" in every library: spell them out.
+    const std::string_view rest(p, static_cast<std::size_t>(end - p));
+    auto word = [&](std::string_view w) { return rest.size() >= w.size() && upper(rest.substr(0, w.size())) == w; };
+    if (word("NAN") || word("-NAN")) {
+      v[i] = std::nanf("");
+      p += word("-NAN") ? 4 : 3;
+      continue;
+    }
+    if (word("INF") || word("-INF")) {
+      v[i] = word("-INF") ? -INFINITY : INFINITY;
+      p += word("-INF") ? 4 : 3;
+      while (p < end && std::isalpha(static_cast<unsigned char>(*p))) ++p;  // "infinity"
+      continue;
+    }
+    const auto [next, ec] = std::from_chars(p, end, v[i]);
+    if (ec == std::errc::result_out_of_range) {
+      v[i] = INFINITY;
+    } else if (ec != std::errc()) {
+      return false;
+    }
+    p = next;
+  }
+  while (p < end && (*p == ' ' || *p == '\t')) ++p;
+  if (p != end) return false;
+  out = {v[0], v[1], v[2]};
+  finite = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+  return true;
+}
+
+float degreesParameter(const BehaviorRequest& r, std::string_view name, std::string& warning) {
+  const std::string_view text = r.parameter(name);
+  if (text.empty()) return 0.0f;
+  float v = 0.0f;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v) || std::fabs(v) > 180.0f) {
+    warning = std::string(name) + " '" + std::string(text).substr(0, 40) + "' is not an angle in degrees (-180 to 180); 0 is used";
+    return 0.0f;
+  }
+  return glm::radians(v);
+}
+}  // namespace
+
+std::string bindGaze(BehaviorTimeline::Entry& e, const Rig& rig,
+                     const std::function<int(std::string_view, std::string_view)>& findJoint, std::string& warning) {
+  const BehaviorRequest& r = e.request;
+  GazeState& g = e.gaze;
+  const RigJoints& j = rig.joints();
+  if (j.head < 0 && j.neck < 0 && j.leftEye < 0 && j.rightEye < 0)
+    return "the character has no eye, head or neck joint to gaze with (set them in its profile)";
+  const std::string_view target = r.parameter("target");
+  if (target.empty()) return "a gaze needs a target: \"x y z\" in metres, a character, or character:joint";
+  bool finite = true;
+  glm::vec3 point;
+  if (parsePoint(target, point, finite)) {
+    if (!finite) return "gaze target '" + std::string(target) + "' is not finite (NaN or infinite); the gaze was not started";
+    g.point = point;
+  } else {
+    const std::size_t colon = target.find(':');
+    g.targetCharacter = std::string(target.substr(0, colon));
+    g.targetJoint = colon == std::string_view::npos ? std::string() : std::string(target.substr(colon + 1));
+    const int index = findJoint(g.targetCharacter, g.targetJoint);
+    if (index == -2) return "gaze target '" + std::string(target) + "': the scene has no character '" + g.targetCharacter + "'";
+    if (index < 0 && !g.targetJoint.empty())
+      return "gaze target '" + std::string(target) + "': character '" + g.targetCharacter + "' has no joint '" +
+             g.targetJoint + "'";
+    g.targetJointIndex = index;
+  }
+  const std::string_view influence = r.parameter("influence");
+  if (!influence.empty()) {
+    if (auto i = gazeInfluenceFromName(influence)) g.influence = *i;
+    else warning = "influence '" + std::string(influence).substr(0, 40) +
+                   "' is not EYES, HEAD, NECK, SHOULDER, WAIST or WHOLE; NECK is used";
+  }
+  const float offset = degreesParameter(r, "offsetAngle", warning);
+  const std::string direction = upper(r.parameter("offsetDirection"));
+  const float diagonal = 0.70710678f * offset;
+  if (direction == "RIGHT") g.offsetYaw = -offset;
+  else if (direction == "LEFT") g.offsetYaw = offset;
+  else if (direction == "UP") g.offsetPitch = -offset;
+  else if (direction == "DOWN") g.offsetPitch = offset;
+  else if (direction == "UPRIGHT") g.offsetYaw = -diagonal, g.offsetPitch = -diagonal;
+  else if (direction == "UPLEFT") g.offsetYaw = diagonal, g.offsetPitch = -diagonal;
+  else if (direction == "DOWNRIGHT") g.offsetYaw = -diagonal, g.offsetPitch = diagonal;
+  else if (direction == "DOWNLEFT") g.offsetYaw = diagonal, g.offsetPitch = diagonal;
+  else if (offset != 0.0f)
+    warning = "offsetDirection '" + direction.substr(0, 40) + "' is not one of RIGHT, LEFT, UP, DOWN, UPRIGHT, UPLEFT, "
+              "DOWNRIGHT, DOWNLEFT; the offset was ignored";
+  e.isGaze = true;
+  return {};
+}
+
 }  // namespace marionette

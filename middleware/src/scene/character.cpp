@@ -162,6 +162,16 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     result.realized = true;
   } else if (kind == BehaviorKind::Wait) {
     result.realized = true;  // nothing to move
+  } else if (kind == BehaviorKind::Gaze || kind == BehaviorKind::GazeShift) {
+    auto findJoint = [this](std::string_view name, std::string_view joint) -> int {
+      Character* c = scene_ ? scene_->findCharacter(name) : nullptr;
+      if (!c) return -2;
+      return joint.empty() ? c->rig().joints().head : c->skeleton().findJoint(joint);
+    };
+    std::string warning;
+    const std::string why = bindGaze(e, *rig_, findJoint, warning);
+    result.realized = why.empty();
+    result.message = why.empty() ? warning : why;
   } else if (kind == BehaviorKind::Head || kind == BehaviorKind::FaceLexeme || kind == BehaviorKind::FaceFacs ||
              kind == BehaviorKind::Face || kind == BehaviorKind::FaceShift) {
     std::string warning;
@@ -181,10 +191,31 @@ std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOu
   return behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
 }
 
-void Character::applyBehaviors() noexcept {
+void Character::applyBehaviors(float dt) noexcept {
   // Fixed order (DESIGN.md): clip behaviors (postures, gestures) over the layers,
-  // then head movements added on top, then face expressions.
+  // then gaze, then head movements added on top of it, then face expressions.
   applyBehaviorClips();
+  const glm::mat4 worldToModel = glm::inverse(worldMatrix());
+  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (!e.isGaze) continue;
+    const float w = BehaviorTimeline::weightAt(e, clock_);
+    if (w <= 0.0f) continue;
+    const glm::vec3 origin = gazeOrigin(skeleton(), rig_->joints(), pose_);
+    glm::vec3 target = origin;  // a target that has left the scene: hold the direction
+    const GazeState& g = e.gaze;
+    if (g.targetCharacter.empty()) {
+      target = glm::vec3(worldToModel * glm::vec4(g.point, 1.0f));
+    } else if (const Character* t = scene_ ? scene_->findCharacter(g.targetCharacter) : nullptr) {
+      const auto models = t->transformBuffer().modelMatrices();
+      const glm::vec3 world = g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
+                                  ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
+                                  : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+      target = glm::vec3(worldToModel * glm::vec4(world, 1.0f));
+    }
+    stepGaze(e.gaze, target, origin, rig_->joints(), gazeSettings_, dt);
+    applyGaze(e.gaze, w, gazeSettings_, skeleton(), rig_->joints(), pose_);
+    stats_.usedGaze = true;
+  }
   for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (e.clip || e.strokes.empty()) continue;
     if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
@@ -318,7 +349,7 @@ void Character::update(double dt) noexcept {
     if (l.clip && !l.clip->clip.morphTracks.empty())
       sampleMorphWeights(l.clip->clip, l.clipTime, morphs);
   if (!behaviors_.empty()) {
-    applyBehaviors();
+    applyBehaviors(static_cast<float>(dt));
     behaviors_.prune(clock_);
   }
 

@@ -14,6 +14,7 @@
 
 #include "marionette/animation/sampling.hpp"
 #include "marionette/behavior/behavior_request.hpp"
+#include "marionette/behavior/gaze.hpp"
 #include "marionette/behavior/head_motion.hpp"
 
 namespace marionette {
@@ -42,6 +43,8 @@ class BehaviorTimeline {
     std::vector<HeadStroke> strokes;            // head: one per repetition; empty = not a head motion
     float amount = 1.0f;                        // BML amount
     std::vector<std::pair<int, float>> morphs;  // face: (morph target, weight at full expression)
+    bool isGaze = false;
+    GazeState gaze;                             // gaze: target, influence and the tracking state
     bool done = false;           // prune()'s mark
 
     [[nodiscard]] bool cancelled() const noexcept { return cancelAt != std::numeric_limits<double>::infinity(); }

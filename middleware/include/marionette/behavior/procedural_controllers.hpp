@@ -4,7 +4,9 @@
 // that has no such request pays nothing. bind*() runs at command time (may
 // allocate) and says why a request cannot be realized; apply*() is per-frame.
 #pragma once
+#include <functional>
 #include <span>
+#include <string_view>
 #include <string>
 
 #include "marionette/behavior/behavior_timeline.hpp"
@@ -16,6 +18,11 @@ namespace marionette {
 // entry), else why not. `warning` gets a note on a bad parameter that was replaced.
 [[nodiscard]] std::string bindHead(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
 [[nodiscard]] std::string bindFace(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
+// Gaze targets: "x y z" (world metres), "name" (a character's head) or "name:joint".
+// `findJoint` answers the joint index of a named character (-2: no such character).
+[[nodiscard]] std::string bindGaze(BehaviorTimeline::Entry& entry, const Rig& rig,
+                                   const std::function<int(std::string_view, std::string_view)>& findJoint,
+                                   std::string& warning);
 
 void applyHead(const BehaviorTimeline::Entry& entry, float weight, double t, const Rig& rig,
                std::span<Transform> pose) noexcept;

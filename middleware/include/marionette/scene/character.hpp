@@ -51,7 +51,7 @@ struct CharacterStats {
   int activeLayers = 0;           // clip layers that exist now
   bool sampledDirect = false;     // the last frame took the one-clip fast path
   // Behavior controllers that have run at least once (they exist only while used).
-  bool usedClipBehaviors = false, usedHead = false, usedFace = false;
+  bool usedClipBehaviors = false, usedGaze = false, usedHead = false, usedFace = false;
 };
 
 class Character {
@@ -99,6 +99,9 @@ class Character {
   [[nodiscard]] const BehaviorTimeline& behaviors() const noexcept { return behaviors_; }
   // The character's clock: the scene's time for a character in a scene.
   [[nodiscard]] double time() const noexcept { return clock_; }
+  // Gaze tracking and limits (time constant, speed limits, per-joint limits).
+  void setGazeSettings(const GazeSettings& settings) noexcept { gazeSettings_ = settings; }
+  [[nodiscard]] const GazeSettings& gazeSettings() const noexcept { return gazeSettings_; }
 
   // Advances the layers by dt seconds and writes the transform buffer. Per-frame:
   // no allocation, no exceptions. dt must be finite and >= 0 (Scene checks).
@@ -120,7 +123,7 @@ class Character {
   void notify(ChangeKind kind, std::string_view what) const;
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
   void blendLayers() noexcept;
-  void applyBehaviors() noexcept;
+  void applyBehaviors(float dt) noexcept;
   void applyBehaviorClips() noexcept;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                        float& turn) const noexcept;
@@ -133,6 +136,7 @@ class Character {
   std::array<Layer, kMaxLayers> layers_;
   std::vector<Transform> pose_;
   BehaviorTimeline behaviors_;
+  GazeSettings gazeSettings_;
   std::vector<float> morphScratch_;  // one per morph target, for weighted clip morphs
   double clock_ = 0.0;
   FrameScratch* scratch_ = nullptr;             // the scene's, or ownScratch_ when standalone

@@ -1,0 +1,81 @@
+// Gaze: turn a joint chain (eyes, head, neck, spine) toward a target, tracking
+// it smoothly. The chain's yaw and pitch follow the target through an exactly
+// integrated critically damped spring (stable and overshoot-free from rest for
+// any dt, 0 to 1 s and beyond) with an angular speed limit; the angle is shared
+// along the chain in proportion to each joint's limit, so all reach their limits
+// together; the eyes take what the chain has not reached yet (eyes lead, the
+// head follows) within their own limits.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "marionette/core/transform.hpp"
+#include "marionette/skeleton/skeleton.hpp"
+
+namespace marionette {
+
+struct RigJoints;
+
+// BML influence: how much of the body turns.
+enum class GazeInfluence : std::uint8_t { Eyes, Head, Neck, Shoulder, Waist, Whole };
+[[nodiscard]] std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept;  // case-insensitive
+
+struct GazeSettings {
+  float timeConstant = 0.12f;     // seconds: 1/omega of the spring (about 95 % of a step in 4 of them)
+  float maxSpeed = 6.0f;          // rad/s for the chain (a fast head turn is about 5 to 7 rad/s)
+  float eyeMaxSpeed = 15.0f;      // rad/s (saccades are faster still; this keeps them visible)
+  // Per-joint limits, radians (yaw either way, pitch either way).
+  float eyeYaw = 0.61f, eyePitch = 0.44f;     // 35, 25 degrees
+  float headYaw = 1.05f, headPitch = 0.61f;   // 60, 35
+  float neckYaw = 0.70f, neckPitch = 0.44f;   // 40, 25
+  float spineYaw = 0.26f, spinePitch = 0.09f; // 15, 5 per spine joint
+  float hipsYaw = 0.52f;                       // 30 (WHOLE only)
+};
+
+// The yaw and pitch of a direction in the character's frame (+Z forward, +Y up):
+// yaw > 0 turns left (toward +X), pitch > 0 looks down. `hint` picks the side for a
+// target straight behind (the yaw's 2*pi branch closest to it), so a target that
+// wobbles across the back does not flip the gaze from one side to the other.
+struct YawPitch {
+  float yaw = 0.0f, pitch = 0.0f;
+};
+[[nodiscard]] YawPitch yawPitchOf(const glm::vec3& direction, float hint) noexcept;
+
+// A damped angle: position and velocity.
+struct DampedAngle {
+  float value = 0.0f, velocity = 0.0f;
+  // Exact critically damped step toward `target` over dt (any dt >= 0), then the
+  // speed limit on both the step and the velocity. Never NaN for finite input.
+  void step(float target, float dt, float timeConstant, float maxSpeed) noexcept;
+};
+
+// Per-request gaze state (lives in the request's timeline entry).
+struct GazeState {
+  GazeInfluence influence = GazeInfluence::Neck;
+  glm::vec3 point{0.0f};        // world target when `targetCharacter` is empty
+  std::string targetCharacter;  // a character's name, and optionally one of its joints
+  std::string targetJoint;
+  int targetJointIndex = -1;    // in the target character's skeleton; -1: its head, else 1.6 m above it
+  float offsetYaw = 0.0f, offsetPitch = 0.0f;  // BML offsetAngle / offsetDirection, radians
+  DampedAngle chainYaw, chainPitch, eyeYaw, eyePitch;
+  bool started = false;         // first frame: start from straight ahead
+};
+
+// Turns the chain of `joints` selected by `influence` toward the model-frame
+// yaw/pitch held by `state` (already stepped), scaled by `weight`.
+void applyGaze(const GazeState& state, float weight, const GazeSettings& settings, const Skeleton& skeleton,
+               const RigJoints& joints, std::span<Transform> pose) noexcept;
+
+// The model-frame position gaze is measured from: between the eyes, else the head, else the neck.
+[[nodiscard]] glm::vec3 gazeOrigin(const Skeleton& skeleton, const RigJoints& joints,
+                                   std::span<const Transform> pose) noexcept;
+
+// Steps the state toward a model-frame target point seen from `origin`. A target
+// at the origin (closer than 1 mm) keeps the current direction.
+void stepGaze(GazeState& state, const glm::vec3& targetModel, const glm::vec3& origin, const RigJoints& joints,
+              const GazeSettings& settings, float dt) noexcept;
+
+}  // namespace marionette

@@ -1,0 +1,150 @@
+#include "marionette/behavior/gaze.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "marionette/behavior/head_motion.hpp"
+#include "marionette/scene/rig.hpp"
+
+namespace marionette {
+
+namespace {
+constexpr float kTwoPi = 6.28318530718f;
+
+bool equalsUpper(std::string_view a, std::string_view upper) {
+  return a.size() == upper.size() && std::equal(a.begin(), a.end(), upper.begin(), [](char x, char y) {
+           return std::toupper(static_cast<unsigned char>(x)) == y;
+         });
+}
+
+// The chain an influence turns, root-most first (missing joints skipped), with
+// each joint's yaw and pitch limits. At most hips + spine + neck + head.
+struct Chain {
+  int joint[16];
+  float yawLimit[16], pitchLimit[16];
+  int size = 0;
+  float totalYaw = 0.0f, totalPitch = 0.0f;
+  void add(int j, float yaw, float pitch) {
+    if (j < 0 || size == 16) return;
+    joint[size] = j;
+    yawLimit[size] = yaw;
+    pitchLimit[size] = pitch;
+    totalYaw += yaw;
+    totalPitch += pitch;
+    ++size;
+  }
+};
+
+Chain chainOf(GazeInfluence influence, const RigJoints& j, const GazeSettings& s) {
+  Chain c;
+  if (influence == GazeInfluence::Eyes) return c;
+  if (influence == GazeInfluence::Whole) c.add(j.hips, s.hipsYaw, 0.0f);
+  if (influence == GazeInfluence::Waist || influence == GazeInfluence::Whole)
+    for (int k : j.spine) c.add(k, s.spineYaw, s.spinePitch);
+  if (influence == GazeInfluence::Shoulder && !j.spine.empty()) c.add(j.spine.back(), s.spineYaw, s.spinePitch);
+  if (influence != GazeInfluence::Head) c.add(j.neck, s.neckYaw, s.neckPitch);
+  c.add(j.head, s.headYaw, s.headPitch);
+  return c;
+}
+
+bool hasEyes(const RigJoints& j) { return j.leftEye >= 0 || j.rightEye >= 0; }
+
+glm::quat lookRotation(float yaw, float pitch) {
+  return glm::angleAxis(yaw, glm::vec3(0, 1, 0)) * glm::angleAxis(pitch, glm::vec3(1, 0, 0));
+}
+
+glm::vec3 modelPosition(const Skeleton& s, std::span<const Transform> pose, int joint) {
+  int chain[256];
+  int n = 0;
+  for (int p = joint; p >= 0 && n < 256; p = s.parents[static_cast<std::size_t>(p)]) chain[n++] = p;
+  glm::mat4 m = s.rootTransform;
+  for (int i = n - 1; i >= 0; --i) m = m * pose[static_cast<std::size_t>(chain[i])].matrix();
+  return glm::vec3(m[3]);
+}
+}  // namespace
+
+std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept {
+  if (equalsUpper(name, "EYES")) return GazeInfluence::Eyes;
+  if (equalsUpper(name, "HEAD")) return GazeInfluence::Head;
+  if (equalsUpper(name, "NECK")) return GazeInfluence::Neck;
+  if (equalsUpper(name, "SHOULDER")) return GazeInfluence::Shoulder;
+  if (equalsUpper(name, "WAIST")) return GazeInfluence::Waist;
+  if (equalsUpper(name, "WHOLE")) return GazeInfluence::Whole;
+  return std::nullopt;
+}
+
+YawPitch yawPitchOf(const glm::vec3& d, float hint) noexcept {
+  YawPitch out;
+  const float horizontal = std::sqrt(d.x * d.x + d.z * d.z);
+  out.yaw = std::atan2(d.x, d.z);
+  out.pitch = std::atan2(-d.y, horizontal);
+  // The branch nearest the current yaw: behind the character, keep the side it is on.
+  if (std::isfinite(hint)) out.yaw += kTwoPi * std::round((hint - out.yaw) / kTwoPi);
+  return out;
+}
+
+void DampedAngle::step(float target, float dt, float timeConstant, float maxSpeed) noexcept {
+  if (!(dt > 0.0f) || !std::isfinite(target)) return;
+  // x(t) = (x0 + (v0 + w x0) t) e^(-w t) about the target: exact for any dt.
+  const double w = 1.0 / std::max(1e-4, static_cast<double>(timeConstant));
+  const double x0 = static_cast<double>(value) - target, v0 = velocity;
+  const double e = std::exp(-w * dt);
+  const double x = (x0 + (v0 + w * x0) * dt) * e;
+  const double v = (v0 - w * (v0 + w * x0) * dt) * e;
+  const double maxStep = static_cast<double>(maxSpeed) * dt;
+  const double stepTaken = std::clamp((target + x) - value, -maxStep, maxStep);
+  value = static_cast<float>(value + stepTaken);
+  velocity = static_cast<float>(std::clamp(v, -static_cast<double>(maxSpeed), static_cast<double>(maxSpeed)));
+}
+
+glm::vec3 gazeOrigin(const Skeleton& s, const RigJoints& j, std::span<const Transform> pose) noexcept {
+  if (j.leftEye >= 0 && j.rightEye >= 0)
+    return 0.5f * (modelPosition(s, pose, j.leftEye) + modelPosition(s, pose, j.rightEye));
+  const int at = j.leftEye >= 0 ? j.leftEye : j.rightEye >= 0 ? j.rightEye : j.head >= 0 ? j.head : j.neck;
+  return at >= 0 ? modelPosition(s, pose, at) : glm::vec3(0.0f);
+}
+
+void stepGaze(GazeState& g, const glm::vec3& target, const glm::vec3& origin, const RigJoints& joints,
+              const GazeSettings& s, float dt) noexcept {
+  const glm::vec3 d = target - origin;
+  const float hint = g.chainYaw.value + g.eyeYaw.value;
+  YawPitch want{hint, g.chainPitch.value + g.eyePitch.value};  // at the eyes: hold the direction
+  if (glm::dot(d, d) > 1e-6f) want = yawPitchOf(d, hint);
+  want.yaw += g.offsetYaw;
+  want.pitch += g.offsetPitch;
+  const Chain c = chainOf(g.influence, joints, s);
+  const float chainYaw = std::clamp(want.yaw, -c.totalYaw, c.totalYaw);
+  const float chainPitch = std::clamp(want.pitch, -c.totalPitch, c.totalPitch);
+  g.chainYaw.step(chainYaw, dt, s.timeConstant, s.maxSpeed);
+  g.chainPitch.step(chainPitch, dt, s.timeConstant, s.maxSpeed);
+  // The eyes lead: they take what the chain has not turned yet, four times faster.
+  const bool eyes = hasEyes(joints);
+  const float eyeYaw = eyes ? std::clamp(want.yaw - g.chainYaw.value, -s.eyeYaw, s.eyeYaw) : 0.0f;
+  const float eyePitch = eyes ? std::clamp(want.pitch - g.chainPitch.value, -s.eyePitch, s.eyePitch) : 0.0f;
+  g.eyeYaw.step(eyeYaw, dt, 0.25f * s.timeConstant, s.eyeMaxSpeed);
+  g.eyePitch.step(eyePitch, dt, 0.25f * s.timeConstant, s.eyeMaxSpeed);
+}
+
+void applyGaze(const GazeState& g, float weight, const GazeSettings& s, const Skeleton& skeleton,
+               const RigJoints& joints, std::span<Transform> pose) noexcept {
+  const Chain c = chainOf(g.influence, joints, s);
+  const float yaw = weight * g.chainYaw.value, pitch = weight * g.chainPitch.value;
+  // Shared in proportion to the limits: every joint reaches its limit together.
+  float cumYaw = 0.0f, cumPitch = 0.0f;
+  glm::quat previous(1, 0, 0, 0);
+  for (int i = 0; i < c.size; ++i) {
+    cumYaw += c.totalYaw > 0.0f ? c.yawLimit[i] / c.totalYaw : 0.0f;
+    cumPitch += c.totalPitch > 0.0f ? c.pitchLimit[i] / c.totalPitch : 0.0f;
+    const glm::quat q = lookRotation(cumYaw * yaw, cumPitch * pitch);
+    rotateInModelFrame(skeleton, pose, c.joint[i], q * glm::inverse(previous));
+    previous = q;
+  }
+  if (!hasEyes(joints)) return;
+  const glm::quat eyes = lookRotation(yaw + weight * g.eyeYaw.value, pitch + weight * g.eyePitch.value);
+  const glm::quat delta = eyes * glm::inverse(previous);
+  rotateInModelFrame(skeleton, pose, joints.leftEye, delta);
+  rotateInModelFrame(skeleton, pose, joints.rightEye, delta);
+}
+
+}  // namespace marionette

@@ -1,0 +1,226 @@
+// Gaze: the damped tracking (exact for any dt), the yaw/pitch with a kept side
+// behind the character, the chain sharing and limits, and extreme targets.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "marionette/behavior/gaze.hpp"
+#include "marionette/scene/scene.hpp"
+#include "synthetic.hpp"
+
+using namespace marionette;
+
+namespace {
+float angleBetween(const glm::quat& a, const glm::quat& b) {
+  const glm::quat d = glm::inverse(a) * b;
+  return 2.0f * std::atan2(glm::length(glm::vec3(d.x, d.y, d.z)), std::fabs(d.w));
+}
+
+// hips j0, spine j1, neck j2, head j3, and with `eyes` two eye joints on the head.
+std::shared_ptr<Rig> gazeRig(bool eyes, bool zUpCentimetres = false) {
+  auto asset = std::make_shared<Asset>();
+  asset->skeleton = test::makeChain(4, 0.3f);
+  if (eyes) {
+    Transform l, r;
+    l.translation = {0.03f, 0.1f, 0.08f};
+    r.translation = {-0.03f, 0.1f, 0.08f};
+    asset->skeleton.addJoint("eyeL", 3, l);
+    asset->skeleton.addJoint("eyeR", 3, r);
+  }
+  if (zUpCentimetres)
+    asset->skeleton.rootTransform =
+        glm::scale(glm::mat4_cast(glm::angleAxis(-1.5707963f, glm::vec3(1, 0, 0))), glm::vec3(0.01f));
+  auto rig = std::make_shared<Rig>(asset);
+  CharacterProfile p;
+  p.hips = "j0";
+  p.spine = {"j1"};
+  p.neck = "j2";
+  p.head = "j3";
+  if (eyes) p.leftEye = "eyeL", p.rightEye = "eyeR";
+  rig->setProfile(p);
+  return rig;
+}
+
+BehaviorRequest gaze(std::string target, std::string influence = "NECK", double end = 100.0) {
+  BehaviorRequest r;
+  r.id = "gaze";
+  r.kind = BehaviorKind::Gaze;
+  r.parameters = {{"target", std::move(target)}, {"influence", std::move(influence)}};
+  r.syncs = {{"start", 0.0}, {"ready", 0.001}, {"relax", end - 0.001}, {"end", end}};
+  return r;
+}
+
+glm::quat modelRotation(const Character& c, int joint) {
+  glm::mat3 r(c.transformBuffer().modelMatrices()[static_cast<std::size_t>(joint)]);
+  for (int i = 0; i < 3; ++i) r[i] = glm::normalize(r[i]);
+  return glm::normalize(glm::quat_cast(r));
+}
+
+// Where the head faces in the model frame: its rest forward (+Z) carried by the
+// rotation it gained over its rest pose.
+glm::vec3 headForward(const Character& c, const glm::quat& restHead, int joint = 3) {
+  return (modelRotation(c, joint) * glm::inverse(restHead)) * glm::vec3(0, 0, 1);
+}
+
+float degreesBetween(const glm::vec3& a, const glm::vec3& b) {
+  return glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0f, 1.0f)));
+}
+}  // namespace
+
+TEST(Gaze, DampedAngleIsExactMonotoneAndNeverOvershootsFromRest) {
+  for (float dt : {1.0f / 240, 1.0f / 60, 0.1f, 0.5f, 1.0f}) {
+    SCOPED_TRACE(dt);
+    DampedAngle a;
+    float last = 0.0f;
+    for (int i = 0; i < static_cast<int>(3.0f / dt) + 2; ++i) {
+      a.step(1.0f, dt, 0.12f, 6.0f);
+      EXPECT_TRUE(std::isfinite(a.value));
+      EXPECT_LE(a.value, 1.0f + 1e-6f);  // no overshoot
+      EXPECT_GE(a.value, last - 1e-7f);  // no oscillation
+      EXPECT_LE(a.value - last, 6.0f * dt + 1e-5f);  // speed limit
+      last = a.value;
+    }
+    EXPECT_NEAR(a.value, 1.0f, 1e-3f);
+  }
+  // Without the speed limit the step is the exact solution: two half steps equal one.
+  DampedAngle one, two;
+  one.step(1.0f, 0.2f, 0.12f, 1e9f);
+  two.step(1.0f, 0.1f, 0.12f, 1e9f);
+  two.step(1.0f, 0.1f, 0.12f, 1e9f);
+  EXPECT_NEAR(one.value, two.value, 1e-6f);
+  EXPECT_NEAR(one.velocity, two.velocity, 1e-5f);
+  DampedAngle still;
+  still.step(1.0f, 0.0f, 0.12f, 6.0f);
+  still.step(std::nanf(""), 0.1f, 0.12f, 6.0f);
+  EXPECT_EQ(still.value, 0.0f);
+}
+
+TEST(Gaze, YawPitchKeepsItsSideBehindTheCharacter) {
+  const YawPitch left = yawPitchOf({1, 0, 1}, 0.0f);
+  EXPECT_NEAR(left.yaw, 0.785398f, 1e-6);
+  EXPECT_NEAR(yawPitchOf({0, -1, 1}, 0.0f).pitch, 0.785398f, 1e-6);  // below: look down
+  // A target wobbling across the back stays on the side the gaze is on.
+  for (float x : {1e-4f, -1e-4f, 1e-3f, -1e-3f}) {
+    EXPECT_GT(yawPitchOf({x, 0, -1}, 2.5f).yaw, 3.0f) << x;
+    EXPECT_LT(yawPitchOf({x, 0, -1}, -2.5f).yaw, -3.0f) << x;
+  }
+}
+
+// A static target within the limits: the head faces it within 3 degrees once
+// settled, in a Y-up metre file and a Z-up centimetre one.
+TEST(Gaze, HeadFacesAStaticTargetWithinTheLimits) {
+  for (bool zUp : {false, true}) {
+    SCOPED_TRACE(zUp ? "Z-up centimetre file" : "Y-up metre file");
+    Scene scene;
+    Character* c = scene.addCharacter("c", gazeRig(false, zUp));
+    scene.update(0.0);
+    const glm::quat rest = modelRotation(*c, 3);
+    const glm::vec3 eye = glm::vec3(c->transformBuffer().modelMatrices()[3][3]);
+    const glm::vec3 target = eye + glm::vec3(std::sin(0.9f), -0.3f, std::cos(0.9f)) * 2.0f;  // 52 deg left, below
+    BehaviorResult r = c->addBehavior(gaze(std::to_string(target.x) + " " + std::to_string(target.y) + " " +
+                                           std::to_string(target.z)));
+    ASSERT_TRUE(r.realized) << r.message;
+    for (int f = 0; f < 120; ++f) scene.update(1.0 / 60.0);
+    const glm::vec3 headNow = glm::vec3(c->transformBuffer().modelMatrices()[3][3]);
+    EXPECT_LT(degreesBetween(headForward(*c, rest), target - headNow), 3.0f);
+  }
+}
+
+TEST(Gaze, LimitsHoldAndATargetBehindDoesNotFlipFlop) {
+  // Bob stands straight behind and sways across the character's back every frame.
+  Scene scene;
+  Character* bob = scene.addCharacter("bob", gazeRig(false));
+  bob->setPosition({0.01f, 0, -2});
+  Character* c = scene.addCharacter("c", gazeRig(false));
+  scene.update(0.0);
+  const glm::quat rest = modelRotation(*c, 3);
+  ASSERT_TRUE(c->addBehavior(gaze("bob")).realized);
+  float previousYaw = 0.0f;
+  int signChanges = 0;
+  for (int f = 0; f < 180; ++f) {
+    bob->setPosition({f % 2 ? -0.01f : 0.01f, 0, -2});
+    scene.update(1.0 / 60.0);
+    const glm::vec3 fwd = headForward(*c, rest);
+    const float yaw = std::atan2(fwd.x, fwd.z);
+    if (f > 5 && (yaw > 0) != (previousYaw > 0)) ++signChanges;
+    previousYaw = yaw;
+    // NECK influence: head 60 + neck 40 = 100 degrees at most.
+    EXPECT_LE(std::fabs(glm::degrees(yaw)), 100.5f);
+  }
+  EXPECT_EQ(signChanges, 0);
+  EXPECT_NEAR(std::fabs(glm::degrees(previousYaw)), 100.0f, 0.5f);
+}
+
+// The eyes reach the target first; the head follows and the eyes come back.
+TEST(Gaze, EyesLeadTheHeadFollows) {
+  Scene scene;
+  Character* c = scene.addCharacter("c", gazeRig(true));
+  scene.update(0.0);
+  const glm::quat restHead = modelRotation(*c, 3), restEye = modelRotation(*c, 4);
+  c->addBehavior(gaze("1.5 0.9 1.5"));  // 45 degrees left
+  scene.update(0.05);
+  const float eyeEarly = degreesBetween(headForward(*c, restEye, 4), {0, 0, 1});
+  const float headEarly = degreesBetween(headForward(*c, restHead), {0, 0, 1});
+  EXPECT_GT(eyeEarly, 2.0f * headEarly);
+  for (int f = 0; f < 120; ++f) scene.update(1.0 / 60.0);
+  // Settled: head and eyes both face the target; the eyes are centred in the head.
+  EXPECT_LT(angleBetween(modelRotation(*c, 4) * glm::inverse(restEye), modelRotation(*c, 3) * glm::inverse(restHead)),
+            glm::radians(1.0f));
+}
+
+TEST(Gaze, ExtremeTargetsAreRejectedOrHeld) {
+  Scene scene;
+  Character* c = scene.addCharacter("c", gazeRig(true));
+  for (const char* bad : {"nan 0 1", "0 inf 1", "1e39 0 0", "-INF 0 0"}) {
+    BehaviorRequest r = gaze(bad);
+    BehaviorResult res = c->addBehavior(r);
+    EXPECT_FALSE(res.realized) << bad;
+    EXPECT_NE(res.message.find("is not finite"), std::string::npos) << res.message;
+    c->cancelBehavior("gaze", 0.0);
+  }
+  EXPECT_NE(c->addBehavior(gaze("nobody")).message.find("no character 'nobody'"), std::string::npos);
+  c->cancelBehavior("gaze", 0.0);
+  EXPECT_NE(c->addBehavior(gaze("c:Nose")).message.find("has no joint 'Nose'"), std::string::npos);
+  c->cancelBehavior("gaze", 0.0);
+  BehaviorResult odd = c->addBehavior(gaze("0 1 1", "TOES"));
+  EXPECT_TRUE(odd.realized);
+  EXPECT_NE(odd.message.find("influence 'TOES'"), std::string::npos);
+  c->cancelBehavior("gaze", 0.0);
+  scene.update(0.0);
+  // At the eye position (held), far away, on the character's own joint: finite.
+  const glm::vec3 eye = glm::vec3(c->transformBuffer().modelMatrices()[4][3]);
+  for (std::string target : {std::to_string(eye.x) + " " + std::to_string(eye.y) + " " + std::to_string(eye.z),
+                             std::string("1e30 0 1e30"), std::string("c:j1")}) {
+    BehaviorRequest r = gaze(target, "WHOLE");
+    r.id = "g" + target;
+    ASSERT_TRUE(c->addBehavior(r).realized) << target;
+    for (double dt : {0.0, 1.0 / 240, 0.5, 1.0}) {
+      scene.update(dt);
+      for (const Transform& t : c->localPose()) EXPECT_TRUE(test::finite(t)) << target;
+    }
+    c->cancelBehavior(r.id, 0.0);
+  }
+}
+
+// dt from 1/240 s to 0.5 s while tracking a target that jumps around: no joint
+// turns faster than the speed limits allow (far under 50 rad/s), never NaN.
+TEST(Gaze, NoJointTurnsTooFastForAnyStep) {
+  for (double dt : {1.0 / 240, 1.0 / 60, 0.1, 0.5}) {
+    SCOPED_TRACE(dt);
+    Scene scene;
+    scene.addCharacter("bob", gazeRig(false))->setPosition({3, 0, 3});
+    Character* c = scene.addCharacter("c", gazeRig(true));
+    ASSERT_TRUE(c->addBehavior(gaze("bob", "WAIST")).realized);
+    std::vector<Transform> previous(c->localPose().begin(), c->localPose().end());
+    for (int f = 0; f < static_cast<int>(4.0 / dt); ++f) {
+      if (f % 7 == 3) scene.findCharacter("bob")->setPosition({-3.0f + static_cast<float>(f % 5), 0, 2});
+      scene.update(dt);
+      for (std::size_t j = 0; j < previous.size(); ++j) {
+        ASSERT_TRUE(test::finite(c->localPose()[j]));
+        EXPECT_LT(angleBetween(previous[j].rotation, c->localPose()[j].rotation) / static_cast<float>(dt), 50.0f)
+            << "joint " << j;
+      }
+      previous.assign(c->localPose().begin(), c->localPose().end());
+    }
+  }
+}
