@@ -1,3 +1,4 @@
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -184,6 +185,7 @@ int runCommand(const std::vector<std::string>& args) {
   };
 #endif
   std::vector<double> totalMicros(scene.characters().size(), 0.0);
+  std::vector<std::array<double, CharacterStats::kControllerCount>> controllerMicros(scene.characters().size());
   const double dt = 1.0 / r.fps;
   const auto runStart = std::chrono::steady_clock::now();
   for (long f = 0; f < r.frames; ++f) {
@@ -196,6 +198,8 @@ int runCommand(const std::vector<std::string>& args) {
 #endif
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
       totalMicros[i] += scene.characters()[i]->stats().lastUpdateMicros;
+      for (int k = 0; k < CharacterStats::kControllerCount; ++k)
+        controllerMicros[i][static_cast<std::size_t>(k)] += scene.characters()[i]->stats().controllerMicros[k];
       if (trace) writeTraceRows(trace, f, scene.time(), *scene.characters()[i]);
     }
   }
@@ -218,10 +222,18 @@ int runCommand(const std::vector<std::string>& args) {
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
       const Character& c = *scene.characters()[i];
       const CharacterStats& st = c.stats();
-      std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s%s%s%s%s\n", c.name().c_str(),
+      std::string controllers;
+      for (int k = 0; k < CharacterStats::kControllerCount; ++k)
+        if (st.controllerUsed[k]) {
+          char buf[64];
+          std::snprintf(buf, sizeof buf, ", %s %.2f us", CharacterStats::kControllerNames[k],
+                        controllerMicros[i][static_cast<std::size_t>(k)] / static_cast<double>(r.frames));
+          controllers += buf;
+        }
+      std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s%s\n", c.name().c_str(),
                   totalMicros[i] / static_cast<double>(r.frames), c.layerCount(),
                   c.layerCount() == 0 ? " (rest pose only)" : (st.sampledDirect ? " (one-clip fast path)" : " (blend)"),
-                  st.usedClipBehaviors ? ", clip behaviors" : "", st.usedGaze ? ", gaze" : "", st.usedHead ? ", head" : "", st.usedFace ? ", face" : "");
+                  controllers.c_str());
     }
   }
   if (trace) std::printf("trace: %s\n", r.trace.c_str());

@@ -4,6 +4,8 @@
 //   Baseline/Memcpy/<asset>  copying the bytes the palette writes (a floor, in the style of ACL)
 //   Scaling/Joints/N         synthetic chain of N joints, 100 characters
 //   Scaling/Characters/N     RobotExpressive, N characters
+//   Behaviors/IdleGazeNodFace/RobotExpressive  Idle clip + gaze (NECK, tracking) + a
+//                            repeated head nod + a face expression, 1000 characters
 // Counter us_per_char: microseconds per character per frame (one core).
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,7 @@
 #include "marionette/scene/character.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "marionette/animation/pose.hpp"
@@ -194,46 +195,68 @@ std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOu
 void Character::applyBehaviors(float dt) noexcept {
   // Fixed order (DESIGN.md): clip behaviors (postures, gestures) over the layers,
   // then gaze, then head movements added on top of it, then face expressions.
-  applyBehaviorClips();
-  const glm::mat4 worldToModel = glm::inverse(worldMatrix());
-  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
-    if (!e.isGaze) continue;
-    const float w = BehaviorTimeline::weightAt(e, clock_);
-    if (w <= 0.0f) continue;
-    const glm::vec3 origin = gazeOrigin(skeleton(), rig_->joints(), pose_);
-    glm::vec3 target = origin;  // a target that has left the scene: hold the direction
-    const GazeState& g = e.gaze;
-    if (g.targetCharacter.empty()) {
-      target = glm::vec3(worldToModel * glm::vec4(g.point, 1.0f));
-    } else if (const Character* t = scene_ ? scene_->findCharacter(g.targetCharacter) : nullptr) {
-      const auto models = t->transformBuffer().modelMatrices();
-      const glm::vec3 world = g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
-                                  ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
-                                  : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
-      target = glm::vec3(worldToModel * glm::vec4(world, 1.0f));
+  const bool timing = scene_ && scene_->statsEnabled();
+  auto run = [&](CharacterStats::Controller which, auto&& pass) {
+    const auto start = timing ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
+    if (pass()) stats_.controllerUsed[which] = true;
+    if (timing)
+      stats_.controllerMicros[which] =
+          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+  };
+  run(CharacterStats::kClipBehaviors, [&] { return applyBehaviorClips(); });
+  run(CharacterStats::kGaze, [&] {
+    bool any = false;
+    const glm::mat4 worldToModel = glm::inverse(worldMatrix());
+    for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+      if (!e.isGaze) continue;
+      const float w = BehaviorTimeline::weightAt(e, clock_);
+      if (w <= 0.0f) continue;
+      const glm::vec3 origin = gazeOrigin(skeleton(), rig_->joints(), pose_);
+      glm::vec3 target = origin;  // a target that has left the scene: hold the direction
+      const GazeState& g = e.gaze;
+      if (g.targetCharacter.empty()) {
+        target = glm::vec3(worldToModel * glm::vec4(g.point, 1.0f));
+      } else if (const Character* t = scene_ ? scene_->findCharacter(g.targetCharacter) : nullptr) {
+        const auto models = t->transformBuffer().modelMatrices();
+        const glm::vec3 world =
+            g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
+                ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
+                : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+        target = glm::vec3(worldToModel * glm::vec4(world, 1.0f));
+      }
+      stepGaze(e.gaze, target, origin, rig_->joints(), gazeSettings_, dt);
+      applyGaze(e.gaze, w, gazeSettings_, skeleton(), rig_->joints(), pose_);
+      any = true;
     }
-    stepGaze(e.gaze, target, origin, rig_->joints(), gazeSettings_, dt);
-    applyGaze(e.gaze, w, gazeSettings_, skeleton(), rig_->joints(), pose_);
-    stats_.usedGaze = true;
-  }
-  for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
-    if (e.clip || e.strokes.empty()) continue;
-    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
-      applyHead(e, w, clock_, *rig_, pose_);
-      stats_.usedHead = true;
+    return any;
+  });
+  run(CharacterStats::kHead, [&] {
+    bool any = false;
+    for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
+      if (e.clip || e.strokes.empty()) continue;
+      if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
+        applyHead(e, w, clock_, *rig_, pose_);
+        any = true;
+      }
     }
-  }
-  const std::span<float> morphs = buffer_.writeMorphWeights();
-  for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
-    if (e.morphs.empty()) continue;
-    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
-      applyFace(e, w, morphs);
-      stats_.usedFace = true;
+    return any;
+  });
+  run(CharacterStats::kFace, [&] {
+    bool any = false;
+    const std::span<float> morphs = buffer_.writeMorphWeights();
+    for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
+      if (e.morphs.empty()) continue;
+      if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
+        applyFace(e, w, morphs);
+        any = true;
+      }
     }
-  }
+    return any;
+  });
 }
 
-void Character::applyBehaviorClips() noexcept {
+bool Character::applyBehaviorClips() noexcept {
+  bool any = false;
   const std::span<const Transform> rest = skeleton().restPose;
   const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(rest.size());
   const std::span<float> morphs = buffer_.writeMorphWeights();
@@ -250,13 +273,14 @@ void Character::applyBehaviorClips() noexcept {
     // A clip that travels is played in place: behaviors do not move the character.
     if (!ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, scratch, &e.rootCursor);
     blendOver(pose_, scratch, w, e.mask);
-    stats_.usedClipBehaviors = true;
+    any = true;
     if (!ac.clip.morphTracks.empty() && !morphs.empty()) {
       std::copy(morphs.begin(), morphs.end(), morphScratch_.begin());
       sampleMorphWeights(ac.clip, t, morphScratch_);
       for (std::size_t i = 0; i < morphs.size(); ++i) morphs[i] += w * (morphScratch_[i] - morphs[i]);
     }
   }
+  return any;
 }
 
 void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
@@ -305,6 +329,7 @@ void Character::applyRootMotion(const Layer& layer, double t0, double t1, float 
 
 void Character::update(double dt) noexcept {
   clock_ += dt;
+  std::fill(std::begin(stats_.controllerMicros), std::end(stats_.controllerMicros), 0.0);
   glm::vec3 move(0.0f);
   float turn = 0.0f;
   int active = 0;

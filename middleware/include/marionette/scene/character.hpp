@@ -50,8 +50,13 @@ struct CharacterStats {
   double lastUpdateMicros = 0.0;  // wall time of the last update (when stats are on)
   int activeLayers = 0;           // clip layers that exist now
   bool sampledDirect = false;     // the last frame took the one-clip fast path
-  // Behavior controllers that have run at least once (they exist only while used).
-  bool usedClipBehaviors = false, usedGaze = false, usedHead = false, usedFace = false;
+  // Behavior controllers, in frame order: whether each has run at least once (they
+  // exist only while a behavior uses them) and its wall time in the last frame
+  // (measured only while the scene's stats are on).
+  enum Controller { kClipBehaviors, kGaze, kHead, kFace, kControllerCount };
+  static constexpr const char* kControllerNames[kControllerCount] = {"clip behaviors", "gaze", "head", "face"};
+  bool controllerUsed[kControllerCount] = {};
+  double controllerMicros[kControllerCount] = {};
 };
 
 class Character {
@@ -124,7 +129,7 @@ class Character {
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
   void blendLayers() noexcept;
   void applyBehaviors(float dt) noexcept;
-  void applyBehaviorClips() noexcept;
+  bool applyBehaviorClips() noexcept;  // true if a clip behavior contributed
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                        float& turn) const noexcept;
 

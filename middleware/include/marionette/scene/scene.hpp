@@ -39,6 +39,7 @@ class Scene {
 
   // Per-character wall-clock timing in CharacterStats (costs two clock reads each).
   void setStatsEnabled(bool on) noexcept { stats_ = on; }
+  [[nodiscard]] bool statsEnabled() const noexcept { return stats_; }
 
   // Listener fan-out (used by characters and, later, behavior realizers).
   void log(LogLevel level, std::string_view message) const;
