@@ -98,6 +98,22 @@ void DampedAngle::step(float target, float dt, float timeConstant, float maxSpee
   velocity = static_cast<float>(std::clamp(v, -static_cast<double>(maxSpeed), static_cast<double>(maxSpeed)));
 }
 
+void DampedAngle::stepRamp(float from, float to, float dt, float timeConstant, float maxSpeed) noexcept {
+  if (!(dt > 0.0f) || !std::isfinite(from) || !std::isfinite(to)) return;
+  // About the ramp's particular solution p(t) = g(t) - 2 r / w, the rest is the
+  // homogeneous critically damped motion: y(t) = (y0 + (y0' + w y0) t) e^(-w t).
+  const double w = 1.0 / std::max(1e-4, static_cast<double>(timeConstant));
+  const double r = (static_cast<double>(to) - from) / dt;
+  const double y0 = static_cast<double>(value) - (from - 2.0 * r / w), dy0 = static_cast<double>(velocity) - r;
+  const double e = std::exp(-w * dt);
+  const double y = (y0 + (dy0 + w * y0) * dt) * e;
+  const double dy = (dy0 - w * (dy0 + w * y0) * dt) * e;
+  const double maxStep = static_cast<double>(maxSpeed) * dt;
+  const double stepTaken = std::clamp((to - 2.0 * r / w + y) - value, -maxStep, maxStep);
+  value = static_cast<float>(value + stepTaken);
+  velocity = static_cast<float>(std::clamp(r + dy, -static_cast<double>(maxSpeed), static_cast<double>(maxSpeed)));
+}
+
 glm::vec3 gazeOrigin(const Skeleton& s, const RigJoints& j, std::span<const Transform> pose) noexcept {
   if (j.leftEye >= 0 && j.rightEye >= 0)
     return 0.5f * (modelPosition(s, pose, j.leftEye) + modelPosition(s, pose, j.rightEye));
@@ -116,14 +132,22 @@ void stepGaze(GazeState& g, const glm::vec3& target, const glm::vec3& origin, co
   const Chain c = chainOf(g.influence, joints, s);
   const float chainYaw = std::clamp(want.yaw, -c.totalYaw, c.totalYaw);
   const float chainPitch = std::clamp(want.pitch, -c.totalPitch, c.totalPitch);
-  g.chainYaw.step(chainYaw, dt, s.timeConstant, s.maxSpeed);
-  g.chainPitch.step(chainPitch, dt, s.timeConstant, s.maxSpeed);
+  // Each angle follows its target as a ramp from the last frame's value (exact
+  // for a target moving steadily; the first frame has no last value: held).
+  auto follow = [&](DampedAngle& a, int slot, float goal, float tau, float speed) {
+    const float from = g.started ? g.lastTarget[slot] : goal;
+    a.stepRamp(from, goal, dt, tau, speed);
+    if (dt > 0.0f) g.lastTarget[slot] = goal;
+  };
+  follow(g.chainYaw, 0, chainYaw, s.timeConstant, s.maxSpeed);
+  follow(g.chainPitch, 1, chainPitch, s.timeConstant, s.maxSpeed);
   // The eyes lead: they take what the chain has not turned yet, four times faster.
   const bool eyes = hasEyes(joints);
   const float eyeYaw = eyes ? std::clamp(want.yaw - g.chainYaw.value, -s.eyeYaw, s.eyeYaw) : 0.0f;
   const float eyePitch = eyes ? std::clamp(want.pitch - g.chainPitch.value, -s.eyePitch, s.eyePitch) : 0.0f;
-  g.eyeYaw.step(eyeYaw, dt, 0.25f * s.timeConstant, s.eyeMaxSpeed);
-  g.eyePitch.step(eyePitch, dt, 0.25f * s.timeConstant, s.eyeMaxSpeed);
+  follow(g.eyeYaw, 2, eyeYaw, 0.25f * s.timeConstant, s.eyeMaxSpeed);
+  follow(g.eyePitch, 3, eyePitch, 0.25f * s.timeConstant, s.eyeMaxSpeed);
+  if (dt > 0.0f) g.started = true;
 }
 
 void applyGaze(const GazeState& g, float weight, const GazeSettings& s, const Skeleton& skeleton,

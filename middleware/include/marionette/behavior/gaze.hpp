@@ -1,7 +1,8 @@
 // Gaze: turn a joint chain (eyes, head, neck, spine) toward a target, tracking
 // it smoothly. The chain's yaw and pitch follow the target through an exactly
 // integrated critically damped spring (stable and overshoot-free from rest for
-// any dt, 0 to 1 s and beyond) with an angular speed limit; the angle is shared
+// any dt, 0 to 1 s and beyond; a moving target is taken as a ramp between this
+// frame's and the last frame's value, exact for that) with an angular speed limit; the angle is shared
 // along the chain in proportion to each joint's limit, so all reach their limits
 // together; the eyes take what the chain has not reached yet (eyes lead, the
 // head follows) within their own limits.
@@ -50,6 +51,10 @@ struct DampedAngle {
   // Exact critically damped step toward `target` over dt (any dt >= 0), then the
   // speed limit on both the step and the velocity. Never NaN for finite input.
   void step(float target, float dt, float timeConstant, float maxSpeed) noexcept;
+  // The same for a target moving linearly from `from` to `to` over the step: exact
+  // for that motion (the spring's steady lag behind a ramp, 2 r / w, included),
+  // so a moving target is followed to second order in dt (docs/accuracy.md).
+  void stepRamp(float from, float to, float dt, float timeConstant, float maxSpeed) noexcept;
 };
 
 // Per-request gaze state (lives in the request's timeline entry).
@@ -61,7 +66,8 @@ struct GazeState {
   int targetJointIndex = -1;    // in the target character's skeleton; -1: its head, else 1.6 m above it
   float offsetYaw = 0.0f, offsetPitch = 0.0f;  // BML offsetAngle / offsetDirection, radians
   DampedAngle chainYaw, chainPitch, eyeYaw, eyePitch;
-  bool started = false;         // first frame: start from straight ahead
+  float lastTarget[4] = {};     // the last frame's targets (chain yaw, pitch, eye yaw, pitch), for the ramp
+  bool started = false;         // false until the first step (which has no last target)
 };
 
 // Turns the chain of `joints` selected by `influence` toward the model-frame

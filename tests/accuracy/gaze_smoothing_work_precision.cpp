@@ -1,0 +1,120 @@
+// Work-precision of the gaze smoothing (docs/accuracy.md): the critically damped
+// spring x'' = w^2 (g - x) - 2 w x' that gaze angles follow, stepped three ways,
+// against a reference stepped at 10 microseconds, for frame steps from 1/240 s to
+// 0.5 s. The target moves smoothly (two sines, up to 1.4 rad/s), so even the
+// exact step has an error: it holds the target constant over a frame.
+//   marionette_gaze_work_precision OUT.csv
+// Columns: method, dt_s, max_error_rad, ns_per_step, ns_per_simulated_second;
+// one block per method, separated by two blank lines (gnuplot's `index`).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+#include "marionette/behavior/gaze.hpp"
+
+using namespace marionette;
+
+namespace {
+constexpr float kTimeConstant = 0.12f;  // GazeSettings' default
+constexpr double kSeconds = 6.0;
+
+double target(double t) { return 0.8 * std::sin(1.3 * t) + 0.1 * std::sin(3.7 * t); }
+
+struct State {
+  float x = 0.0f, v = 0.0f;
+};
+// Each method sees the target at the start (g0) and end (g1) of the frame, as the
+// runtime does (it keeps the last frame's target).
+using Step = std::function<void(State&, float g0, float g1, float dt)>;
+
+// Exact for a target held at its end-of-frame value.
+void exactHold(State& s, float, float g1, float dt) {
+  DampedAngle a{s.x, s.v};
+  a.step(g1, dt, kTimeConstant, 1e9f);  // no speed limit: the pure spring
+  s.x = a.value;
+  s.v = a.velocity;
+}
+
+// Exact for a target moving linearly from g0 to g1 over the frame.
+void exactRamp(State& s, float g0, float g1, float dt) {
+  DampedAngle a{s.x, s.v};
+  a.stepRamp(g0, g1, dt, kTimeConstant, 1e9f);
+  s.x = a.value;
+  s.v = a.velocity;
+}
+
+void semiImplicitEuler(State& s, float, float g, float dt) {
+  const float w = 1.0f / kTimeConstant;
+  s.v += (w * w * (g - s.x) - 2.0f * w * s.v) * dt;
+  s.x += s.v * dt;
+}
+
+void explicitEuler(State& s, float, float g, float dt) {
+  const float w = 1.0f / kTimeConstant;
+  const float a = w * w * (g - s.x) - 2.0f * w * s.v;
+  s.x += s.v * dt;
+  s.v += a * dt;
+}
+
+// Max |x - reference| at the frame times; 1e3 when the method diverged.
+double maxError(const Step& step, double dt) {
+  State s, ref;
+  const int sub = static_cast<int>(std::ceil(dt / 1e-5));
+  double worst = 0.0;
+  for (double t = 0.0; t < kSeconds; t += dt) {
+    step(s, static_cast<float>(target(t)), static_cast<float>(target(t + dt)), static_cast<float>(dt));
+    for (int k = 0; k < sub; ++k)
+      exactRamp(ref, static_cast<float>(target(t + dt * k / sub)), static_cast<float>(target(t + dt * (k + 1) / sub)),
+                static_cast<float>(dt / sub));
+    const double e = std::fabs(static_cast<double>(s.x) - ref.x);
+    if (!std::isfinite(e) || e > 1e3) return 1e3;
+    worst = std::max(worst, e);
+  }
+  return worst;
+}
+
+double nsPerStep(const Step& step) {
+  State s;
+  constexpr int kSteps = 2000000;
+  volatile float sink = 0.0f;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < kSteps; ++i) {
+    step(s, (i & 1024) ? 1.0f : -1.0f, (i & 1024) ? 1.0f : -0.9f, 1.0f / 60.0f);
+    sink = sink + s.x;
+  }
+  return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count() / kSteps;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s OUT.csv\n", argv[0]);
+    return 2;
+  }
+  std::FILE* out = std::fopen(argv[1], "w");
+  if (!out) {
+    std::fprintf(stderr, "%s: cannot write\n", argv[1]);
+    return 2;
+  }
+  std::fprintf(out, "method,dt_s,max_error_rad,ns_per_step,ns_per_simulated_second\n");
+  const std::pair<const char*, Step> methods[] = {
+      {"exact (target ramp)", exactRamp},
+      {"exact (target held)", exactHold},
+      {"semi-implicit Euler", semiImplicitEuler},
+      {"explicit Euler", explicitEuler}};
+  bool first = true;
+  for (const auto& [name, step] : methods) {
+    if (!first) std::fprintf(out, "\n\n");  // a gnuplot data block per method
+    first = false;
+    const double ns = nsPerStep(step);
+    for (double dt : {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 0.1, 0.25, 0.5}) {
+      const double e = maxError(step, dt);
+      std::fprintf(out, "%s,%.6f,%.6g,%.3f,%.1f\n", name, dt, e, ns, ns / dt);
+      std::printf("%-20s dt %.4f s  max error %.3g rad%s  %.2f ns/step\n", name, dt, e, e >= 1e3 ? " (diverged)" : "", ns);
+    }
+  }
+  std::fclose(out);
+  return 0;
+}
