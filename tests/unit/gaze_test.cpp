@@ -95,6 +95,22 @@ TEST(Gaze, DampedAngleIsExactMonotoneAndNeverOvershootsFromRest) {
   EXPECT_EQ(still.value, 0.0f);
 }
 
+// The ramp step is exact for a target moving linearly: one step of 0.2 s equals
+// a thousand sub-steps of the same ramp; with a still target it is step().
+TEST(Gaze, RampStepIsExactForALinearlyMovingTarget) {
+  DampedAngle one{0.3f, -0.5f}, many{0.3f, -0.5f};
+  one.stepRamp(1.0f, 1.4f, 0.2f, 0.12f, 1e9f);
+  for (int k = 0; k < 1000; ++k)
+    many.stepRamp(1.0f + 0.0004f * static_cast<float>(k), 1.0f + 0.0004f * static_cast<float>(k + 1), 0.0002f, 0.12f, 1e9f);
+  EXPECT_NEAR(one.value, many.value, 2e-5f);
+  EXPECT_NEAR(one.velocity, many.velocity, 2e-4f);
+  DampedAngle a{0.2f, 0.1f}, b{0.2f, 0.1f};
+  a.stepRamp(0.7f, 0.7f, 0.05f, 0.12f, 6.0f);
+  b.step(0.7f, 0.05f, 0.12f, 6.0f);
+  EXPECT_EQ(a.value, b.value);
+  EXPECT_EQ(a.velocity, b.velocity);
+}
+
 TEST(Gaze, YawPitchKeepsItsSideBehindTheCharacter) {
   const YawPitch left = yawPitchOf({1, 0, 1}, 0.0f);
   EXPECT_NEAR(left.yaw, 0.785398f, 1e-6);
