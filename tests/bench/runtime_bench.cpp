@@ -151,7 +151,48 @@ void characterScaling(benchmark::State& state) {
   timedLoop(state, count, [&] { scene.update(1.0 / 60.0); });
 }
 
+// The controllers that exist (issue 4 in progress) on top of the Idle clip.
+void behaviorsBench(benchmark::State& state) {
+  const BenchAsset& b = loadBenchAsset("RobotExpressive");
+  if (!b.rig) {
+    state.SkipWithError(("cannot load test data: " + b.error).c_str());
+    return;
+  }
+  constexpr int kCharacters = 1000;
+  Scene scene;
+  fillScene(scene, b.rig, b.clips, kCharacters, 1);
+  for (int i = 0; i < kCharacters; ++i) {
+    Character* c = scene.characters()[static_cast<std::size_t>(i)].get();
+    BehaviorRequest gaze;
+    gaze.id = "gaze";
+    gaze.kind = BehaviorKind::Gaze;
+    gaze.parameters = {{"target", std::to_string(i % 7 - 3) + " 1.5 2"}, {"influence", "NECK"}};
+    gaze.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
+    BehaviorRequest nod;
+    nod.id = "nod";
+    nod.kind = BehaviorKind::Head;
+    nod.parameters = {{"lexeme", "NOD"}};
+    // One long stroke, so the nod is applied (not skipped) on every benchmarked frame.
+    nod.syncs = {{"start", 0.0}, {"strokeStart", 0.0}, {"stroke", 5e5}, {"strokeEnd", 1e6}, {"end", 1e6}};
+    BehaviorRequest face;
+    face.id = "face";
+    face.kind = BehaviorKind::FaceLexeme;
+    face.parameters = {{"lexeme", "ANGER"}, {"amount", "0.5"}};
+    face.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
+    if (!c->addBehavior(gaze).realized || !c->addBehavior(nod).realized || !c->addBehavior(face).realized) {
+      state.SkipWithError("RobotExpressive's guessed profile does not support gaze, nod and ANGER");
+      return;
+    }
+  }
+  scene.update(1.0 / 60.0);
+  timedLoop(state, kCharacters, [&] {
+    scene.update(1.0 / 60.0);
+    benchmark::DoNotOptimize(scene.characters().front()->transformBuffer().skinning().data());
+  });
+}
+
 }  // namespace
+BENCHMARK(behaviorsBench)->Name("Behaviors/IdleGazeNodFace/RobotExpressive")->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_CAPTURE(runtimeBench, Pab_Sample1, std::string("Pab"), 1)->Name("Runtime/Sample1/Pab")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(runtimeBench, Pab_Blend3, std::string("Pab"), 3)->Name("Runtime/Blend3/Pab")->Unit(benchmark::kMicrosecond);
