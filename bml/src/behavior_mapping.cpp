@@ -27,6 +27,7 @@ std::string clipName(const Behavior& b) {
     case BehaviorKind::PostureShift:
       if (const Attribute* a = b.attribute("posture")) return a->value;  // SmartBody <body posture>
       if (const Attribute* a = b.attribute("lexeme")) return a->value;
+      if (const Attribute* a = b.attribute("stance")) return a->value;
       return {};
     default: return {};
   }
@@ -59,6 +60,10 @@ std::shared_ptr<const AnimationClip> clipFor(const Behavior& b, const Rig& rig) 
   if (auto exact = rig.findClip(name)) return exact;
   for (const auto& c : rig.clips())
     if (equalsIgnoringCase(c->clip.name, name)) return c;
+  // A standing posture by its BML stance name is the character's idle clip.
+  if ((b.type == "posture" || b.type == "postureShift") && !rig.profile().idle.empty())
+    for (const char* stance : {"STAND", "STANDING", "IDLE"})
+      if (equalsIgnoringCase(name, stance)) return rig.findClip(rig.profile().idle);
   return nullptr;
 }
 
@@ -87,7 +92,7 @@ BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const s
   if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
   r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||
-                 r.kind == BehaviorKind::GazeShift;
+                 r.kind == BehaviorKind::GazeShift || r.kind == BehaviorKind::HeadDirectionShift;
   return r;
 }
 

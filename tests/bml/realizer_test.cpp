@@ -269,3 +269,19 @@ TEST_F(RealizerWithRobot, ReplaceBlendsBackToNeutralSmoothly) {
   EXPECT_LT(maxStep, 0.1f);
   EXPECT_EQ(robot.behaviors().find("a:g"), nullptr);
 }
+
+// A standing posture by its BML stance name plays the profile's idle clip.
+TEST(Realizer, StandingPostureIsTheProfilesIdleClip) {
+  auto rig = std::make_shared<Rig>(std::make_shared<Asset>(test::makeSyntheticRig()->asset()));
+  CharacterProfile p = rig->profile();
+  p.idle = "walk";
+  rig->setProfile(p);
+  Scene scene;
+  scene.addCharacter("robot", rig);
+  Realizer r(scene);
+  ASSERT_FALSE(r.perform("<bml id='b'><posture id='p' lexeme='STAND' start='0' end='3'/>"
+                         "<posture id='q' stance='standing' start='3' end='4'/></bml>").failed);
+  EXPECT_EQ(scene.findCharacter("robot")->behaviors().find("b:p")->request.clip, "walk");
+  EXPECT_EQ(scene.findCharacter("robot")->behaviors().find("b:q")->request.clip, "walk");
+  EXPECT_TRUE(scene.findCharacter("robot")->behaviors().find("b:p")->request.loop);
+}

@@ -5,10 +5,15 @@
 #include <cmath>
 
 #include "marionette/io/import.hpp"
+#include "joint_rotation.hpp"
 #include "marionette/scene/scene.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
+using marionette::test::modelRotation;
+namespace {
+float angleBetween(const glm::quat& a, const glm::quat& b) { return test::preciseAngleBetween(a, b); }
+}  // namespace
 using namespace marionette::test;
 
 namespace {
@@ -22,17 +27,6 @@ std::shared_ptr<Rig> loadWithProfile(const std::string& asset, const std::string
   EXPECT_TRUE(p.diagnostics.items.empty()) << p.diagnostics.format();
   rig->setProfile(std::move(p.profile));
   return rig;
-}
-
-glm::quat modelRotation(const Character& c, int joint) {
-  glm::mat3 r(c.transformBuffer().modelMatrices()[static_cast<std::size_t>(joint)]);
-  for (int i = 0; i < 3; ++i) r[i] = glm::normalize(r[i]);
-  return glm::normalize(glm::quat_cast(r));
-}
-
-float angleBetween(const glm::quat& a, const glm::quat& b) {
-  const glm::quat d = glm::inverse(a) * b;
-  return 2.0f * std::atan2(glm::length(glm::vec3(d.x, d.y, d.z)), std::fabs(d.w));
 }
 
 BehaviorRequest nod(double start) {

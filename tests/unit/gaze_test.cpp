@@ -5,17 +5,17 @@
 #include <cmath>
 
 #include "marionette/behavior/gaze.hpp"
+#include "joint_rotation.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic.hpp"
 
 using namespace marionette;
+using marionette::test::modelRotation;
+namespace {
+float angleBetween(const glm::quat& a, const glm::quat& b) { return test::preciseAngleBetween(a, b); }
+}  // namespace
 
 namespace {
-float angleBetween(const glm::quat& a, const glm::quat& b) {
-  const glm::quat d = glm::inverse(a) * b;
-  return 2.0f * std::atan2(glm::length(glm::vec3(d.x, d.y, d.z)), std::fabs(d.w));
-}
-
 // hips j0, spine j1, neck j2, head j3, and with `eyes` two eye joints on the head.
 std::shared_ptr<Rig> gazeRig(bool eyes, bool zUpCentimetres = false) {
   auto asset = std::make_shared<Asset>();
@@ -48,12 +48,6 @@ BehaviorRequest gaze(std::string target, std::string influence = "NECK", double 
   r.parameters = {{"target", std::move(target)}, {"influence", std::move(influence)}};
   r.syncs = {{"start", 0.0}, {"ready", 0.001}, {"relax", end - 0.001}, {"end", end}};
   return r;
-}
-
-glm::quat modelRotation(const Character& c, int joint) {
-  glm::mat3 r(c.transformBuffer().modelMatrices()[static_cast<std::size_t>(joint)]);
-  for (int i = 0; i < 3; ++i) r[i] = glm::normalize(r[i]);
-  return glm::normalize(glm::quat_cast(r));
 }
 
 // Where the head faces in the model frame: its rest forward (+Z) carried by the
@@ -239,4 +233,23 @@ TEST(Gaze, NoJointTurnsTooFastForAnyStep) {
       previous.assign(c->localPose().begin(), c->localPose().end());
     }
   }
+}
+
+// headDirectionShift points the head (and neck) and keeps pointing after its end;
+// the eyes stay centred in the head.
+TEST(Gaze, HeadDirectionShiftPointsTheHeadAndHolds) {
+  Scene scene;
+  Character* c = scene.addCharacter("c", gazeRig(true));
+  scene.update(0.0);
+  const glm::quat restHead = modelRotation(*c, 3), restEye = modelRotation(*c, 4);
+  BehaviorRequest r = gaze("2 0.9 2");
+  r.kind = BehaviorKind::HeadDirectionShift;
+  r.persistent = true;
+  r.syncs = {{"start", 0.0}, {"end", 1.0}};
+  ASSERT_TRUE(c->addBehavior(r).realized);
+  for (int f = 0; f < 180; ++f) scene.update(1.0 / 60.0);  // 3 s: well after its end
+  const glm::vec3 head = glm::vec3(c->transformBuffer().modelMatrices()[3][3]);
+  EXPECT_LT(degreesBetween(headForward(*c, restHead), glm::vec3(2, 0.9f, 2) - head), 3.0f);
+  EXPECT_LT(angleBetween(modelRotation(*c, 4) * glm::inverse(restEye), modelRotation(*c, 3) * glm::inverse(restHead)),
+            1e-4f);
 }

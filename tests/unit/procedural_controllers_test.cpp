@@ -6,18 +6,16 @@
 
 #include "marionette/animation/pose.hpp"
 #include "marionette/behavior/procedural_controllers.hpp"
+#include "joint_rotation.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic.hpp"
 
 using namespace marionette;
+using marionette::test::modelRotation;
 namespace {
-// Angle between rotations, accurate near zero (acos of a float dot is not: its
-// smallest step is 7e-4 rad).
-float angleBetween(const glm::quat& a, const glm::quat& b) {
-  const glm::quat d = glm::inverse(a) * b;
-  return 2.0f * std::atan2(glm::length(glm::vec3(d.x, d.y, d.z)), std::fabs(d.w));
-}
-
+float angleBetween(const glm::quat& a, const glm::quat& b) { return test::preciseAngleBetween(a, b); }
+}  // namespace
+namespace {
 // hips j0, spine j1, neck j2, head j3; morphs smile and blink. `rootTransform`
 // turns the file's Z-up, centimetre space into the model frame, so the nod axis
 // must be taken in the model frame, not the joints' own.
@@ -51,13 +49,6 @@ BehaviorRequest headRequest(std::string id, std::string lexeme, double start, st
            {"start", 0}, {"ready", .1}, {"strokeStart", .2}, {"stroke", .3}, {"strokeEnd", .5}, {"relax", .8}, {"end", 1}})
     r.syncs.push_back({name, start + at});
   return r;
-}
-
-glm::quat modelRotation(const Character& c, int joint) {
-  const glm::mat4 m = c.transformBuffer().modelMatrices()[static_cast<std::size_t>(joint)];
-  glm::mat3 r(m);
-  for (int i = 0; i < 3; ++i) r[i] = glm::normalize(r[i]);
-  return glm::normalize(glm::quat_cast(r));
 }
 
 void stepTo(Scene& scene, double t) { scene.update(t - scene.time()); }

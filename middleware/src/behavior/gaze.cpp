@@ -142,7 +142,7 @@ void stepGaze(GazeState& g, const glm::vec3& target, const glm::vec3& origin, co
   follow(g.chainYaw, 0, chainYaw, s.timeConstant, s.maxSpeed);
   follow(g.chainPitch, 1, chainPitch, s.timeConstant, s.maxSpeed);
   // The eyes lead: they take what the chain has not turned yet, four times faster.
-  const bool eyes = hasEyes(joints);
+  const bool eyes = g.useEyes && hasEyes(joints);
   const float eyeYaw = eyes ? std::clamp(want.yaw - g.chainYaw.value, -s.eyeYaw, s.eyeYaw) : 0.0f;
   const float eyePitch = eyes ? std::clamp(want.pitch - g.chainPitch.value, -s.eyePitch, s.eyePitch) : 0.0f;
   follow(g.eyeYaw, 2, eyeYaw, 0.25f * s.timeConstant, s.eyeMaxSpeed);
@@ -164,7 +164,7 @@ void applyGaze(const GazeState& g, float weight, const GazeSettings& s, const Sk
     rotateInModelFrame(skeleton, pose, c.joint[i], q * glm::inverse(previous));
     previous = q;
   }
-  if (!hasEyes(joints)) return;
+  if (!g.useEyes || !hasEyes(joints)) return;
   const glm::quat eyes = lookRotation(yaw + weight * g.eyeYaw.value, pitch + weight * g.eyePitch.value);
   const glm::quat delta = eyes * glm::inverse(previous);
   rotateInModelFrame(skeleton, pose, joints.leftEye, delta);

@@ -163,7 +163,8 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     result.realized = true;
   } else if (kind == BehaviorKind::Wait) {
     result.realized = true;  // nothing to move
-  } else if (kind == BehaviorKind::Gaze || kind == BehaviorKind::GazeShift) {
+  } else if (kind == BehaviorKind::Gaze || kind == BehaviorKind::GazeShift ||
+             kind == BehaviorKind::HeadDirectionShift) {
     auto findJoint = [this](std::string_view name, std::string_view joint) -> int {
       Character* c = scene_ ? scene_->findCharacter(name) : nullptr;
       if (!c) return -2;
@@ -171,6 +172,11 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     };
     std::string warning;
     const std::string why = bindGaze(e, *rig_, findJoint, warning);
+    // headDirectionShift points the head (with the neck), not the eyes.
+    if (kind == BehaviorKind::HeadDirectionShift && why.empty()) {
+      e.gaze.influence = GazeInfluence::Neck;
+      e.gaze.useEyes = false;
+    }
     result.realized = why.empty();
     result.message = why.empty() ? warning : why;
   } else if (kind == BehaviorKind::Head || kind == BehaviorKind::FaceLexeme || kind == BehaviorKind::FaceFacs ||

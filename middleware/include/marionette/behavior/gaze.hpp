@@ -65,6 +65,7 @@ struct GazeState {
   std::string targetJoint;
   int targetJointIndex = -1;    // in the target character's skeleton; -1: its head, else 1.6 m above it
   float offsetYaw = 0.0f, offsetPitch = 0.0f;  // BML offsetAngle / offsetDirection, radians
+  bool useEyes = true;          // false for headDirectionShift: the head points, the eyes stay centred
   DampedAngle chainYaw, chainPitch, eyeYaw, eyePitch;
   float lastTarget[4] = {};     // the last frame's targets (chain yaw, pitch, eye yaw, pitch), for the ramp
   bool started = false;         // false until the first step (which has no last target)
