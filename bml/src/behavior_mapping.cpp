@@ -1,5 +1,7 @@
 #include "marionette/bml/behavior_mapping.hpp"
 
+#include "marionette/core/text.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <limits>
@@ -7,12 +9,6 @@
 namespace marionette::bml {
 
 namespace {
-bool equalsIgnoringCase(std::string_view a, std::string_view b) {
-  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
-         });
-}
-
 // The name a behavior's clip would have, if it can be realized by one.
 std::string clipName(const Behavior& b) {
   const auto kind = behaviorKindFromName(b.type);

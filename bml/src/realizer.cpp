@@ -66,14 +66,6 @@ void Realizer::emit(const Feedback& f) {
 }
 
 namespace {
-// Sync point names compare as the scheduler does: case-insensitive, '-' ignored.
-std::string syncKey(std::string_view s) {
-  std::string out;
-  for (char c : s)
-    if (c != '-') out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
 std::pair<std::string, std::string> splitRequestId(std::string_view id) {
   const std::size_t colon = id.find(':');
   if (colon == std::string_view::npos) return {std::string(id), {}};

@@ -11,17 +11,17 @@
 
 namespace marionette::bml {
 
-namespace {
-
-constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
-constexpr double kEpsilon = 1e-6;
-
-std::string lower(std::string_view s) {
-  std::string out(s);
+std::string syncKey(std::string_view name) {
+  std::string out(name);
   for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   out.erase(std::remove(out.begin(), out.end(), '-'), out.end());  // "stroke-end" = "strokeEnd"
   return out;
 }
+
+namespace {
+
+constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+constexpr double kEpsilon = 1e-6;
 
 // Default sync times: proportions of a default duration, in the standard order.
 SyncTemplate fromProportions(std::initializer_list<std::pair<const char*, double>> p, double duration,
@@ -102,9 +102,9 @@ SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
 }
 
 std::optional<double> ScheduledBehavior::time(std::string_view sync) const {
-  const std::string key = lower(sync);
+  const std::string key = syncKey(sync);
   for (const SyncTime& s : syncs)
-    if (lower(s.name) == key) return s.time;
+    if (syncKey(s.name) == key) return s.time;
   return std::nullopt;
 }
 
@@ -192,7 +192,7 @@ class Scheduler {
         return out;
       }
       std::vector<std::string> keys;
-      for (const SyncTime& sync : templates_.back().syncs) keys.push_back(lower(sync.name));
+      for (const SyncTime& sync : templates_.back().syncs) keys.push_back(syncKey(sync.name));
       keys_.push_back(std::move(keys));
     }
     // Solve, remove what cannot be met (or retry with a rigid behavior placed
@@ -270,7 +270,7 @@ class Scheduler {
   }
 
   int syncIndex(std::size_t behavior, std::string_view name) const {
-    const std::string key = lower(name);
+    const std::string key = syncKey(name);
     const auto& keys = keys_[behavior];
     for (std::size_t k = 0; k < keys.size(); ++k)
       if (keys[k] == key) return static_cast<int>(k);
@@ -309,7 +309,7 @@ class Scheduler {
     }
     if (ref.repetition > 1) {
       // Only the stroke phase repeats; its n-th repetition's syncs carry ":n".
-      const std::string key = lower(ref.syncPoint);
+      const std::string key = syncKey(ref.syncPoint);
       const bool repeating = repeats(target.type) && (key == "strokestart" || key == "stroke" || key == "strokeend");
       if (repeating) k = syncIndex(static_cast<std::size_t>(b), ref.syncPoint + ":" + std::to_string(ref.repetition));
       if (!repeating || k < 0) {

@@ -11,9 +11,7 @@
 
 using namespace marionette;
 using marionette::test::modelRotation;
-namespace {
-float angleBetween(const glm::quat& a, const glm::quat& b) { return test::preciseAngleBetween(a, b); }
-}  // namespace
+using marionette::test::preciseAngleBetween;
 using namespace marionette::test;
 
 namespace {
@@ -58,10 +56,10 @@ TEST(BehaviorsOnRealCharacters, RobotNodsOverItsIdle) {
   with.update(0.3);
   without.update(0.3);
   const glm::quat delta = modelRotation(*a, head) * glm::inverse(modelRotation(*b, head));
-  EXPECT_LT(angleBetween(delta, glm::angleAxis(glm::radians(25.0f), glm::vec3(1, 0, 0))), glm::radians(0.5f));
+  EXPECT_LT(preciseAngleBetween(delta, glm::angleAxis(glm::radians(25.0f), glm::vec3(1, 0, 0))), glm::radians(0.5f));
   with.update(0.5);
   without.update(0.5);
-  EXPECT_LT(angleBetween(modelRotation(*a, head), modelRotation(*b, head)), 1e-4f);  // the nod is over
+  EXPECT_LT(preciseAngleBetween(modelRotation(*a, head), modelRotation(*b, head)), 1e-4f);  // the nod is over
 }
 
 // Godette (VRM): SMILE maps to its joy expression through the shipped profile.

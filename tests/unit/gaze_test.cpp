@@ -11,9 +11,7 @@
 
 using namespace marionette;
 using marionette::test::modelRotation;
-namespace {
-float angleBetween(const glm::quat& a, const glm::quat& b) { return test::preciseAngleBetween(a, b); }
-}  // namespace
+using marionette::test::preciseAngleBetween;
 
 namespace {
 // hips j0, spine j1, neck j2, head j3, and with `eyes` two eye joints on the head.
@@ -174,7 +172,7 @@ TEST(Gaze, EyesLeadTheHeadFollows) {
   EXPECT_GT(eyeEarly, 2.0f * headEarly);
   for (int f = 0; f < 120; ++f) scene.update(1.0 / 60.0);
   // Settled: head and eyes both face the target; the eyes are centred in the head.
-  EXPECT_LT(angleBetween(modelRotation(*c, 4) * glm::inverse(restEye), modelRotation(*c, 3) * glm::inverse(restHead)),
+  EXPECT_LT(preciseAngleBetween(modelRotation(*c, 4) * glm::inverse(restEye), modelRotation(*c, 3) * glm::inverse(restHead)),
             glm::radians(1.0f));
 }
 
@@ -227,7 +225,7 @@ TEST(Gaze, NoJointTurnsTooFastForAnyStep) {
       scene.update(dt);
       for (std::size_t j = 0; j < previous.size(); ++j) {
         ASSERT_TRUE(test::finite(c->localPose()[j]));
-        EXPECT_LT(angleBetween(previous[j].rotation, c->localPose()[j].rotation) / static_cast<float>(dt), 50.0f)
+        EXPECT_LT(preciseAngleBetween(previous[j].rotation, c->localPose()[j].rotation) / static_cast<float>(dt), 50.0f)
             << "joint " << j;
       }
       previous.assign(c->localPose().begin(), c->localPose().end());
@@ -250,6 +248,6 @@ TEST(Gaze, HeadDirectionShiftPointsTheHeadAndHolds) {
   for (int f = 0; f < 180; ++f) scene.update(1.0 / 60.0);  // 3 s: well after its end
   const glm::vec3 head = glm::vec3(c->transformBuffer().modelMatrices()[3][3]);
   EXPECT_LT(degreesBetween(headForward(*c, restHead), glm::vec3(2, 0.9f, 2) - head), 3.0f);
-  EXPECT_LT(angleBetween(modelRotation(*c, 4) * glm::inverse(restEye), modelRotation(*c, 3) * glm::inverse(restHead)),
+  EXPECT_LT(preciseAngleBetween(modelRotation(*c, 4) * glm::inverse(restEye), modelRotation(*c, 3) * glm::inverse(restHead)),
             1e-4f);
 }

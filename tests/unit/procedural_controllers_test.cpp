@@ -12,9 +12,7 @@
 
 using namespace marionette;
 using marionette::test::modelRotation;
-namespace {
-float angleBetween(const glm::quat& a, const glm::quat& b) { return test::preciseAngleBetween(a, b); }
-}  // namespace
+using marionette::test::preciseAngleBetween;
 namespace {
 // hips j0, spine j1, neck j2, head j3; morphs smile and blink. `rootTransform`
 // turns the file's Z-up, centimetre space into the model frame, so the nod axis
@@ -90,8 +88,8 @@ TEST(HeadMotion, NodTurnsTheHeadAboutTheModelFrameLateralAxis) {
     stepTo(scene, 0.3);  // the stroke
     const glm::quat headDelta = modelRotation(*c, 3) * glm::inverse(restHead);
     const glm::quat neckDelta = modelRotation(*c, 2) * glm::inverse(restNeck);
-    EXPECT_LT(angleBetween(headDelta, glm::angleAxis(headPeakAngle(HeadLexeme::Nod), glm::vec3(1, 0, 0))), 1e-3f);
-    EXPECT_LT(angleBetween(neckDelta, glm::angleAxis(0.4f * headPeakAngle(HeadLexeme::Nod), glm::vec3(1, 0, 0))), 1e-3f);
+    EXPECT_LT(preciseAngleBetween(headDelta, glm::angleAxis(headPeakAngle(HeadLexeme::Nod), glm::vec3(1, 0, 0))), 1e-3f);
+    EXPECT_LT(preciseAngleBetween(neckDelta, glm::angleAxis(0.4f * headPeakAngle(HeadLexeme::Nod), glm::vec3(1, 0, 0))), 1e-3f);
     stepTo(scene, 0.6);  // after strokeEnd: back to rest, exactly
     EXPECT_EQ(c->transformBuffer().modelMatrices()[3], restMatrix);
   }
@@ -111,7 +109,7 @@ TEST(HeadMotion, RepetitionsAmountAndCancellation) {
   float peak1 = 0.0f, peak2 = 0.0f, between = 0.0f;
   for (int f = 1; f <= 130; ++f) {
     stepTo(scene, f * 0.01);
-    const float a = angleBetween(modelRotation(*c, 3), rest);
+    const float a = preciseAngleBetween(modelRotation(*c, 3), rest);
     if (scene.time() < 0.6) peak1 = std::max(peak1, a);
     else if (scene.time() > 0.62 && scene.time() < 0.68) between = std::max(between, a);
     else if (scene.time() > 0.7) peak2 = std::max(peak2, a);
@@ -131,7 +129,7 @@ TEST(HeadMotion, RepetitionsAmountAndCancellation) {
   float maxStep = 0.0f;
   for (int f = 1; f <= 25; ++f) {
     stepTo(s2, 0.3 + f * 0.01);
-    maxStep = std::max(maxStep, angleBetween(prev, modelRotation(*d, 3)));
+    maxStep = std::max(maxStep, preciseAngleBetween(prev, modelRotation(*d, 3)));
     prev = modelRotation(*d, 3);
   }
   EXPECT_LT(maxStep, 0.05f);

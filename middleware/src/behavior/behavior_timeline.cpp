@@ -1,5 +1,7 @@
 #include "marionette/behavior/behavior_timeline.hpp"
 
+#include "marionette/core/easing.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,12 +10,6 @@ namespace marionette {
 
 namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-// C1 ease: no velocity jump where a blend begins or ends.
-double smooth(double u) noexcept {
-  u = std::clamp(u, 0.0, 1.0);
-  return u * u * (3.0 - 2.0 * u);
-}
 
 std::string seconds(double t) {
   char buf[32];
@@ -89,10 +85,10 @@ float BehaviorTimeline::weightAt(const Entry& e, double t) noexcept {
   const double start = e.request.start(), end = e.request.end();
   if (!(t >= start) || (end <= start && !e.request.persistent)) return 0.0f;
   double w = 1.0;
-  if (t < e.blendInEnd) w = smooth((t - start) / (e.blendInEnd - start));
+  if (t < e.blendInEnd) w = smoothstep((t - start) / (e.blendInEnd - start));
   if (!e.request.persistent && t > e.blendOutStart)
-    w = t >= end ? 0.0 : std::min(w, smooth((end - t) / (end - e.blendOutStart)));
-  if (t > e.cancelAt) w *= e.cancelBlend > 0.0 ? smooth(1.0 - (t - e.cancelAt) / e.cancelBlend) : 0.0;
+    w = t >= end ? 0.0 : std::min(w, smoothstep((end - t) / (end - e.blendOutStart)));
+  if (t > e.cancelAt) w *= e.cancelBlend > 0.0 ? smoothstep(1.0 - (t - e.cancelAt) / e.cancelBlend) : 0.0;
   return static_cast<float>(w) * e.request.weight;
 }
 

@@ -5,18 +5,13 @@
 #include <cmath>
 
 #include "marionette/behavior/head_motion.hpp"
+#include "marionette/core/text.hpp"
 #include "marionette/scene/rig.hpp"
 
 namespace marionette {
 
 namespace {
 constexpr float kTwoPi = 6.28318530718f;
-
-bool equalsUpper(std::string_view a, std::string_view upper) {
-  return a.size() == upper.size() && std::equal(a.begin(), a.end(), upper.begin(), [](char x, char y) {
-           return std::toupper(static_cast<unsigned char>(x)) == y;
-         });
-}
 
 // The chain an influence turns, root-most first (missing joints skipped), with
 // each joint's yaw and pitch limits. At most hips + spine + neck + head.
@@ -65,12 +60,12 @@ glm::vec3 modelPosition(const Skeleton& s, std::span<const Transform> pose, int 
 }  // namespace
 
 std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept {
-  if (equalsUpper(name, "EYES")) return GazeInfluence::Eyes;
-  if (equalsUpper(name, "HEAD")) return GazeInfluence::Head;
-  if (equalsUpper(name, "NECK")) return GazeInfluence::Neck;
-  if (equalsUpper(name, "SHOULDER")) return GazeInfluence::Shoulder;
-  if (equalsUpper(name, "WAIST")) return GazeInfluence::Waist;
-  if (equalsUpper(name, "WHOLE")) return GazeInfluence::Whole;
+  if (equalsIgnoringCase(name, "EYES")) return GazeInfluence::Eyes;
+  if (equalsIgnoringCase(name, "HEAD")) return GazeInfluence::Head;
+  if (equalsIgnoringCase(name, "NECK")) return GazeInfluence::Neck;
+  if (equalsIgnoringCase(name, "SHOULDER")) return GazeInfluence::Shoulder;
+  if (equalsIgnoringCase(name, "WAIST")) return GazeInfluence::Waist;
+  if (equalsIgnoringCase(name, "WHOLE")) return GazeInfluence::Whole;
   return std::nullopt;
 }
 
@@ -114,6 +109,8 @@ void DampedAngle::stepRamp(float from, float to, float dt, float timeConstant, f
   velocity = static_cast<float>(std::clamp(r + dy, -static_cast<double>(maxSpeed), static_cast<double>(maxSpeed)));
 }
 
+namespace {
+// Where gaze is measured from: between the eyes, else the head, else the neck.
 glm::vec3 gazeOrigin(const Skeleton& s, const RigJoints& j, std::span<const Transform> pose) noexcept {
   if (j.leftEye >= 0 && j.rightEye >= 0)
     return 0.5f * (modelPosition(s, pose, j.leftEye) + modelPosition(s, pose, j.rightEye));
@@ -121,7 +118,7 @@ glm::vec3 gazeOrigin(const Skeleton& s, const RigJoints& j, std::span<const Tran
   return at >= 0 ? modelPosition(s, pose, at) : glm::vec3(0.0f);
 }
 
-void stepGaze(GazeState& g, const glm::vec3& target, const glm::vec3& origin, const RigJoints& joints,
+void stepGaze(GazeState& g, const Chain& c, const glm::vec3& target, const glm::vec3& origin, bool eyes,
               const GazeSettings& s, float dt) noexcept {
   const glm::vec3 d = target - origin;
   const float hint = g.chainYaw.value + g.eyeYaw.value;
@@ -129,7 +126,6 @@ void stepGaze(GazeState& g, const glm::vec3& target, const glm::vec3& origin, co
   if (glm::dot(d, d) > 1e-6f) want = yawPitchOf(d, hint);
   want.yaw += g.offsetYaw;
   want.pitch += g.offsetPitch;
-  const Chain c = chainOf(g.influence, joints, s);
   const float chainYaw = std::clamp(want.yaw, -c.totalYaw, c.totalYaw);
   const float chainPitch = std::clamp(want.pitch, -c.totalPitch, c.totalPitch);
   // Each angle follows its target as a ramp from the last frame's value (exact
@@ -142,7 +138,6 @@ void stepGaze(GazeState& g, const glm::vec3& target, const glm::vec3& origin, co
   follow(g.chainYaw, 0, chainYaw, s.timeConstant, s.maxSpeed);
   follow(g.chainPitch, 1, chainPitch, s.timeConstant, s.maxSpeed);
   // The eyes lead: they take what the chain has not turned yet, four times faster.
-  const bool eyes = g.useEyes && hasEyes(joints);
   const float eyeYaw = eyes ? std::clamp(want.yaw - g.chainYaw.value, -s.eyeYaw, s.eyeYaw) : 0.0f;
   const float eyePitch = eyes ? std::clamp(want.pitch - g.chainPitch.value, -s.eyePitch, s.eyePitch) : 0.0f;
   follow(g.eyeYaw, 2, eyeYaw, 0.25f * s.timeConstant, s.eyeMaxSpeed);
@@ -150,9 +145,8 @@ void stepGaze(GazeState& g, const glm::vec3& target, const glm::vec3& origin, co
   if (dt > 0.0f) g.started = true;
 }
 
-void applyGaze(const GazeState& g, float weight, const GazeSettings& s, const Skeleton& skeleton,
+void applyGaze(const GazeState& g, const Chain& c, bool eyes, float weight, const Skeleton& skeleton,
                const RigJoints& joints, std::span<Transform> pose) noexcept {
-  const Chain c = chainOf(g.influence, joints, s);
   const float yaw = weight * g.chainYaw.value, pitch = weight * g.chainPitch.value;
   // Shared in proportion to the limits: every joint reaches its limit together.
   float cumYaw = 0.0f, cumPitch = 0.0f;
@@ -164,11 +158,21 @@ void applyGaze(const GazeState& g, float weight, const GazeSettings& s, const Sk
     rotateInModelFrame(skeleton, pose, c.joint[i], q * glm::inverse(previous));
     previous = q;
   }
-  if (!g.useEyes || !hasEyes(joints)) return;
-  const glm::quat eyes = lookRotation(yaw + weight * g.eyeYaw.value, pitch + weight * g.eyePitch.value);
-  const glm::quat delta = eyes * glm::inverse(previous);
+  if (!eyes) return;
+  const glm::quat look = lookRotation(yaw + weight * g.eyeYaw.value, pitch + weight * g.eyePitch.value);
+  const glm::quat delta = look * glm::inverse(previous);
   rotateInModelFrame(skeleton, pose, joints.leftEye, delta);
   rotateInModelFrame(skeleton, pose, joints.rightEye, delta);
+}
+}  // namespace
+
+void updateGaze(GazeState& g, const glm::vec3& targetModel, bool targetKnown, float weight, const GazeSettings& s,
+                const Skeleton& skeleton, const RigJoints& joints, std::span<Transform> pose, float dt) noexcept {
+  const Chain c = chainOf(g.influence, joints, s);  // once per frame, for the step and the pose
+  const bool eyes = g.useEyes && hasEyes(joints);
+  const glm::vec3 origin = gazeOrigin(skeleton, joints, pose);
+  stepGaze(g, c, targetKnown ? targetModel : origin, origin, eyes, s, dt);
+  applyGaze(g, c, eyes, weight, skeleton, joints, pose);
 }
 
 }  // namespace marionette

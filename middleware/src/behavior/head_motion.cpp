@@ -1,5 +1,8 @@
 #include "marionette/behavior/head_motion.hpp"
 
+#include "marionette/core/easing.hpp"
+#include "marionette/core/text.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -7,22 +10,13 @@
 namespace marionette {
 
 namespace {
-double smooth(double u) noexcept {
-  u = std::clamp(u, 0.0, 1.0);
-  return u * u * (3.0 - 2.0 * u);
-}
-bool equalsUpper(std::string_view a, std::string_view upper) {
-  return a.size() == upper.size() && std::equal(a.begin(), a.end(), upper.begin(), [](char x, char y) {
-           return std::toupper(static_cast<unsigned char>(x)) == y;
-         });
-}
 constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 std::optional<HeadLexeme> headLexemeFromName(std::string_view name) noexcept {
-  if (equalsUpper(name, "NOD")) return HeadLexeme::Nod;
-  if (equalsUpper(name, "SHAKE")) return HeadLexeme::Shake;
-  if (equalsUpper(name, "TILT")) return HeadLexeme::Tilt;
+  if (equalsIgnoringCase(name, "NOD")) return HeadLexeme::Nod;
+  if (equalsIgnoringCase(name, "SHAKE")) return HeadLexeme::Shake;
+  if (equalsIgnoringCase(name, "TILT")) return HeadLexeme::Tilt;
   return std::nullopt;
 }
 
@@ -51,8 +45,8 @@ float headShape(HeadLexeme lexeme, std::span<const HeadStroke> strokes, double t
       const double u = (t - s.start) / (s.end - s.start);
       return static_cast<float>(std::sin(2.0 * kPi * u) * std::sin(kPi * u) / 0.7698);  // peak |.| = 1
     }
-    if (t <= s.peak) return static_cast<float>(s.peak > s.start ? smooth((t - s.start) / (s.peak - s.start)) : 1.0);
-    return static_cast<float>(s.end > s.peak ? smooth((s.end - t) / (s.end - s.peak)) : 0.0);
+    if (t <= s.peak) return static_cast<float>(s.peak > s.start ? smoothstep((t - s.start) / (s.peak - s.start)) : 1.0);
+    return static_cast<float>(s.end > s.peak ? smoothstep((s.end - t) / (s.end - s.peak)) : 0.0);
   }
   return 0.0f;
 }

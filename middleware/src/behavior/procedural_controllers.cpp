@@ -1,5 +1,7 @@
 #include "marionette/behavior/procedural_controllers.hpp"
 
+#include "marionette/core/text.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -22,12 +24,6 @@ float amountOf(const BehaviorRequest& r, float fallback, float lo, float hi, std
     return fallback;
   }
   return v;
-}
-
-std::string upper(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
 }
 
 // Stroke phases from sync names: strokeStart/stroke/strokeEnd, then ":2", ":3", ...
@@ -84,7 +80,7 @@ std::string bindFace(BehaviorTimeline::Entry& e, const Rig& rig, std::string& wa
     if (au.empty()) return "a faceFacs behavior needs an au (a FACS action unit number)";
     expression = "AU" + std::string(au);
   } else {
-    expression = upper(r.parameter("lexeme"));
+    expression = toUpper(r.parameter("lexeme"));
     if (expression.empty()) return "a face behavior needs a lexeme";
   }
   const auto it = rig.joints().face.find(expression);
@@ -130,7 +126,7 @@ bool parsePoint(std::string_view text, glm::vec3& out, bool& finite) {
     while (p < end && (*p == ' ' || *p == ',' || *p == '\t')) ++p;
     // from_chars does not read "nan"/"inf" in every library: spell them out.
     const std::string_view rest(p, static_cast<std::size_t>(end - p));
-    auto word = [&](std::string_view w) { return rest.size() >= w.size() && upper(rest.substr(0, w.size())) == w; };
+    auto word = [&](std::string_view w) { return rest.size() >= w.size() && toUpper(rest.substr(0, w.size())) == w; };
     if (word("NAN") || word("-NAN")) {
       v[i] = std::nanf("");
       p += word("-NAN") ? 4 : 3;
@@ -202,7 +198,7 @@ std::string bindGaze(BehaviorTimeline::Entry& e, const Rig& rig,
                    "' is not EYES, HEAD, NECK, SHOULDER, WAIST or WHOLE; NECK is used";
   }
   const float offset = degreesParameter(r, "offsetAngle", warning);
-  const std::string direction = upper(r.parameter("offsetDirection"));
+  const std::string direction = toUpper(r.parameter("offsetDirection"));
   const float diagonal = 0.70710678f * offset;
   if (direction == "RIGHT") g.offsetYaw = -offset;
   else if (direction == "LEFT") g.offsetYaw = offset;

@@ -217,21 +217,21 @@ void Character::applyBehaviors(float dt) noexcept {
       if (!e.isGaze) continue;
       const float w = BehaviorTimeline::weightAt(e, clock_);
       if (w <= 0.0f) continue;
-      const glm::vec3 origin = gazeOrigin(skeleton(), rig_->joints(), pose_);
-      glm::vec3 target = origin;  // a target that has left the scene: hold the direction
       const GazeState& g = e.gaze;
-      if (g.targetCharacter.empty()) {
-        target = glm::vec3(worldToModel * glm::vec4(g.point, 1.0f));
-      } else if (const Character* t = scene_ ? scene_->findCharacter(g.targetCharacter) : nullptr) {
-        const auto models = t->transformBuffer().modelMatrices();
-        const glm::vec3 world =
-            g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
-                ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
-                : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
-        target = glm::vec3(worldToModel * glm::vec4(world, 1.0f));
+      glm::vec3 world = g.point;
+      bool known = true;
+      if (!g.targetCharacter.empty()) {
+        const Character* t = scene_ ? scene_->findCharacter(g.targetCharacter) : nullptr;
+        known = t != nullptr;  // a target that has left the scene: hold the direction
+        if (t) {
+          const auto models = t->transformBuffer().modelMatrices();
+          world = g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
+                      ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
+                      : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+        }
       }
-      stepGaze(e.gaze, target, origin, rig_->joints(), gazeSettings_, dt);
-      applyGaze(e.gaze, w, gazeSettings_, skeleton(), rig_->joints(), pose_);
+      updateGaze(e.gaze, glm::vec3(worldToModel * glm::vec4(world, 1.0f)), known, w, gazeSettings_, skeleton(),
+                 rig_->joints(), pose_, dt);
       any = true;
     }
     return any;

@@ -93,6 +93,10 @@ struct SyncTemplate {
 };
 [[nodiscard]] SyncTemplate defaultSyncs(const Behavior& behavior, const SchedulerOptions& options = {});
 
+// A sync point name as schedules compare them: lower case, '-' removed
+// ("stroke-end" and "strokeEnd" are one sync point).
+[[nodiscard]] std::string syncKey(std::string_view name);
+
 [[nodiscard]] Schedule scheduleBlock(const Block& block, const SchedulerOptions& options = {});
 // Parse and schedule: parse warnings are carried into the schedule.
 [[nodiscard]] Schedule scheduleText(std::string_view bmlText, const SchedulerOptions& options = {});

@@ -71,18 +71,13 @@ struct GazeState {
   bool started = false;         // false until the first step (which has no last target)
 };
 
-// Turns the chain of `joints` selected by `influence` toward the model-frame
-// yaw/pitch held by `state` (already stepped), scaled by `weight`.
-void applyGaze(const GazeState& state, float weight, const GazeSettings& settings, const Skeleton& skeleton,
-               const RigJoints& joints, std::span<Transform> pose) noexcept;
-
-// The model-frame position gaze is measured from: between the eyes, else the head, else the neck.
-[[nodiscard]] glm::vec3 gazeOrigin(const Skeleton& skeleton, const RigJoints& joints,
-                                   std::span<const Transform> pose) noexcept;
-
-// Steps the state toward a model-frame target point seen from `origin`. A target
-// at the origin (closer than 1 mm) keeps the current direction.
-void stepGaze(GazeState& state, const glm::vec3& targetModel, const glm::vec3& origin, const RigJoints& joints,
-              const GazeSettings& settings, float dt) noexcept;
+// One frame of a gaze: steps the state toward `targetModel` (a model-frame point)
+// over dt and turns the chain its influence selects, scaled by `weight`. The
+// target is seen from between the eyes (else the head, else the neck); one
+// closer than 1 mm, or an unknown one (`targetKnown` false: a target character
+// that left the scene), keeps the current direction. Per-frame: no allocation.
+void updateGaze(GazeState& state, const glm::vec3& targetModel, bool targetKnown, float weight,
+                const GazeSettings& settings, const Skeleton& skeleton, const RigJoints& joints,
+                std::span<Transform> pose, float dt) noexcept;
 
 }  // namespace marionette
