@@ -218,18 +218,9 @@ void Character::applyBehaviors(float dt) noexcept {
       const float w = BehaviorTimeline::weightAt(e, clock_);
       if (w <= 0.0f) continue;
       const GazeState& g = e.gaze;
-      glm::vec3 world = g.point;
-      bool known = true;
-      if (!g.targetCharacter.empty()) {
-        const Character* t = scene_ ? scene_->findCharacter(g.targetCharacter) : nullptr;
-        known = t != nullptr;  // a target that has left the scene: hold the direction
-        if (t) {
-          const auto models = t->transformBuffer().modelMatrices();
-          world = g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
-                      ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
-                      : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
-        }
-      }
+      const bool external = !g.targetCharacter.empty();
+      const glm::vec3 world = external ? g.resolvedPoint : g.point;
+      const bool known = !external || g.resolvedKnown;  // a target that has left the scene: hold the direction
       updateGaze(e.gaze, glm::vec3(worldToModel * glm::vec4(world, 1.0f)), known, w, gazeSettings_, skeleton(),
                  rig_->joints(), pose_, dt);
       any = true;
@@ -259,6 +250,21 @@ void Character::applyBehaviors(float dt) noexcept {
     }
     return any;
   });
+}
+
+void Character::resolveExternalTargets() noexcept {
+  if (!scene_) return;
+  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (!e.isGaze || e.gaze.targetCharacter.empty()) continue;
+    GazeState& g = e.gaze;
+    const Character* t = scene_->findCharacter(g.targetCharacter);
+    g.resolvedKnown = t != nullptr;
+    if (!t) continue;
+    const auto models = t->transformBuffer().modelMatrices();
+    g.resolvedPoint = g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
+                          ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
+                          : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+  }
 }
 
 bool Character::applyBehaviorClips() noexcept {

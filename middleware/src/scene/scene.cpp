@@ -63,6 +63,7 @@ void Scene::update(double dt) noexcept {
   }
   time_ += dt;
   ++frame_;
+  for (auto& c : characters_) c->resolveExternalTargets();
   for (auto& c : characters_) {
     if (stats_) {
       const auto start = std::chrono::steady_clock::now();

@@ -126,6 +126,11 @@ class Character {
     std::vector<Transform> reference;  // first frame, for additive layers
   };
   void notify(ChangeKind kind, std::string_view what) const;
+  // Reads what this character's behaviors need from other characters (targets'
+  // placement and joints, as the last frame left them). Scene::update calls it for
+  // every character before updating any, so update() itself reads no other
+  // character: the result does not depend on update order or threads.
+  void resolveExternalTargets() noexcept;
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
   void blendLayers() noexcept;
   void applyBehaviors(float dt) noexcept;
