@@ -1,5 +1,6 @@
 #include "marionette/behavior/procedural_controllers.hpp"
 
+#include "marionette/core/number_list.hpp"
 #include "marionette/core/text.hpp"
 
 #include <algorithm>
@@ -117,39 +118,12 @@ void applyFace(const BehaviorTimeline::Entry& e, float weight, std::span<float> 
 }
 
 namespace {
-// "x y z": three finite numbers. False if it is not three numbers at all.
+// "x y z": three numbers. False if it is not three numbers at all.
 bool parsePoint(std::string_view text, glm::vec3& out, bool& finite) {
-  float v[3];
-  const char* p = text.data();
-  const char* end = text.data() + text.size();
-  for (int i = 0; i < 3; ++i) {
-    while (p < end && (*p == ' ' || *p == ',' || *p == '\t')) ++p;
-    // from_chars does not read "nan"/"inf" in every library: spell them out.
-    const std::string_view rest(p, static_cast<std::size_t>(end - p));
-    auto word = [&](std::string_view w) { return rest.size() >= w.size() && toUpper(rest.substr(0, w.size())) == w; };
-    if (word("NAN") || word("-NAN")) {
-      v[i] = std::nanf("");
-      p += word("-NAN") ? 4 : 3;
-      continue;
-    }
-    if (word("INF") || word("-INF")) {
-      v[i] = word("-INF") ? -INFINITY : INFINITY;
-      p += word("-INF") ? 4 : 3;
-      while (p < end && std::isalpha(static_cast<unsigned char>(*p))) ++p;  // "infinity"
-      continue;
-    }
-    const auto [next, ec] = std::from_chars(p, end, v[i]);
-    if (ec == std::errc::result_out_of_range) {
-      v[i] = INFINITY;
-    } else if (ec != std::errc()) {
-      return false;
-    }
-    p = next;
-  }
-  while (p < end && (*p == ' ' || *p == '\t')) ++p;
-  if (p != end) return false;
-  out = {v[0], v[1], v[2]};
-  finite = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+  const auto v = parseNumberList(text);
+  if (!v || v->size() != 3) return false;
+  out = {(*v)[0], (*v)[1], (*v)[2]};
+  finite = std::isfinite(out.x) && std::isfinite(out.y) && std::isfinite(out.z);
   return true;
 }
 
