@@ -1,6 +1,6 @@
 // The shipped profiles (assets/profiles/*.json) against the real characters they
 // describe: each loads without a single diagnostic, and guessCharacterProfile finds
-// the same hips, spine, neck and head. Missing data fails, never skips.
+// the same hips, spine, neck, head, limbs and toes. Missing data fails, never skips.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -92,6 +92,25 @@ TEST_P(ShippedProfileTest, LoadsWithoutDiagnosticsAndTheGuessAgrees) {
   EXPECT_EQ(g.rightEye, p.rightEye) << notes(g);
   EXPECT_EQ(g.jaw, p.jaw) << notes(g);
 
+  // Limbs and toes: the guess (names, the VRM map, or Cesium Man's shape and rest
+  // pose) finds what the profile says, and both put the left limbs on the left.
+  const std::pair<const char*, Limb CharacterProfile::*> limbs[] = {{"leftLeg", &CharacterProfile::leftLeg},
+                                                                    {"rightLeg", &CharacterProfile::rightLeg},
+                                                                    {"leftArm", &CharacterProfile::leftArm},
+                                                                    {"rightArm", &CharacterProfile::rightArm}};
+  for (const auto& [field, member] : limbs) {
+    EXPECT_EQ((g.*member).upper, (p.*member).upper) << field << '\n' << notes(g);
+    EXPECT_EQ((g.*member).lower, (p.*member).lower) << field << '\n' << notes(g);
+    EXPECT_EQ((g.*member).end, (p.*member).end) << field << '\n' << notes(g);
+    EXPECT_FALSE((p.*member).upper.empty() || (p.*member).lower.empty()) << field;
+  }
+  EXPECT_EQ(g.leftToe, p.leftToe) << notes(g);
+  EXPECT_EQ(g.rightToe, p.rightToe) << notes(g);
+  for (const CharacterProfile* q : {&g, &p}) {
+    const std::string n = notes(*q);
+    EXPECT_NE(n.find("sides: the left leg and arm lie on the character's left in the rest pose"), std::string::npos) << n;
+  }
+
   // Face, clips and gestures agree too, but for what a profile knows beyond the
   // names (docs/character-profiles.md, "Guess against profile").
   CharacterProfile expected = p;
@@ -131,6 +150,13 @@ TEST(CharacterProfileAssets, GuessedDetailsPerCharacter) {
     EXPECT_EQ(g.walk, "Walking");
     EXPECT_EQ(g.run, "Running");
     EXPECT_EQ(g.gestures, p.gestures);  // Wave and ThumbsUp; Yes and No are head motions
+    // The feet are IK targets under the root, not below the lower legs; no hand joints.
+    EXPECT_EQ(p.leftLeg.end, "Foot.L");
+    EXPECT_EQ(p.rightLeg.end, "Foot.R");
+    EXPECT_NE(notes(g).find("'Foot.L' is not below 'LowerLeg.L'"), std::string::npos) << notes(g);
+    EXPECT_NE(notes(p).find("'Foot.R' is not below 'LowerLeg.R'"), std::string::npos) << notes(p);
+    EXPECT_EQ(p.leftArm.end, "");
+    EXPECT_NE(notes(g).find("it faces +Z, from the knees; its left is +X"), std::string::npos) << notes(g);
     ASSERT_EQ(g.face.size(), 3u) << notes(g);
     for (const char* lexeme : {"ANGER", "SADNESS", "SURPRISE"}) {
       ASSERT_TRUE(g.face.count(lexeme)) << lexeme << '\n' << notes(g);
@@ -164,6 +190,9 @@ TEST(CharacterProfileAssets, GuessedDetailsPerCharacter) {
     // Its walk is the importer's "merged" clip; no clip name says "walk", so only the profile has it.
     EXPECT_EQ(g.walk, "");
     EXPECT_EQ(loadCharacterProfile(sourceFile("assets/profiles/CesiumMan.json"), a).profile.walk, "merged");
+    // Unnamed limbs from their shape; he faces +X, so his left is -Z.
+    EXPECT_NE(notes(g).find("leftLeg: upper 'node_7', lower 'node_8', end 'node_9' (topology"), std::string::npos) << notes(g);
+    EXPECT_NE(notes(g).find("it faces +X, from the toes; its left is -Z"), std::string::npos) << notes(g);
   }
 #ifdef MARIONETTE_HAS_ASSIMP
   {
@@ -171,6 +200,9 @@ TEST(CharacterProfileAssets, GuessedDetailsPerCharacter) {
     const Asset a = importOrFail(sharedAsset("characters/pab_arnaud.fbx"));
     const CharacterProfile g = guessCharacterProfile(a);
     EXPECT_EQ(g.hips, "Pelvis");  // not the root "Hips" above it
+    EXPECT_EQ(g.leftArm.upper, "LeftArm");  // LeftShoulder is the clavicle
+    EXPECT_EQ(g.leftArm.end, "Lefthand");   // one word, lower-case h
+    EXPECT_EQ(g.leftToe, "LeftFootThumb1");
     EXPECT_TRUE(g.face.empty());
   }
   {
@@ -183,3 +215,38 @@ TEST(CharacterProfileAssets, GuessedDetailsPerCharacter) {
   }
 #endif
 }
+
+#ifdef MARIONETTE_HAS_ASSIMP
+// The limb names of the real motion skeletons: CMU's two conventions (where
+// "LeftShoulder" is the clavicle in one and the upper arm in the other), Daz,
+// and Debian's boxing BVH.
+TEST(CharacterProfileAssets, LimbsOfRealBvhSkeletons) {
+  struct Case {
+    std::string file;
+    Limb leftLeg, rightArm;
+    std::string leftToe;
+  };
+  const Case cases[] = {
+      {sharedAsset("motions/bvh/cmu_01_01_mbfriendly.bvh"), {"LeftUpLeg", "LeftLeg", "LeftFoot"},
+       {"RightArm", "RightForeArm", "RightHand"}, "LeftToeBase"},
+      {sharedAsset("motions/bvh/cmu_131_01_maxfriendly.bvh"), {"LeftHip", "LeftKnee", "LeftAnkle"},
+       {"RightShoulder", "RightElbow", "RightWrist"}, "LeftToe"},
+      {sharedAsset("motions/bvh/pirouette.bvh"), {"lThigh", "lShin", "lFoot"}, {"rShldr", "rForeArm", "rHand"}, ""},
+      {assimpModel("BVH/Boxing_Toes.bvh"), {"LeftHip", "LeftKnee", "LeftAnkle"},
+       {"RightShoulder", "RightElbow", "RightWrist"}, "LeftToes"},
+  };
+  for (const Case& c : cases) {
+    MARIONETTE_REQUIRE_FILE(c.file);
+    const CharacterProfile g = guessCharacterProfile(importOrFail(c.file));
+    EXPECT_EQ(g.leftLeg.upper, c.leftLeg.upper) << c.file << '\n' << notes(g);
+    EXPECT_EQ(g.leftLeg.lower, c.leftLeg.lower) << c.file;
+    EXPECT_EQ(g.leftLeg.end, c.leftLeg.end) << c.file;
+    EXPECT_EQ(g.rightArm.upper, c.rightArm.upper) << c.file << '\n' << notes(g);
+    EXPECT_EQ(g.rightArm.lower, c.rightArm.lower) << c.file;
+    EXPECT_EQ(g.rightArm.end, c.rightArm.end) << c.file;
+    EXPECT_EQ(g.leftToe, c.leftToe) << c.file;
+    EXPECT_NE(notes(g).find("sides: the left leg and arm lie on the character's left"), std::string::npos)
+        << c.file << '\n' << notes(g);
+  }
+}
+#endif

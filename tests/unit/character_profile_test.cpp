@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "marionette/scene/character_profile.hpp"
+#include "marionette/scene/rig.hpp"
 
 using namespace marionette;
 
@@ -85,6 +86,52 @@ const Diagnostic* findDiag(const Diagnostics& d, const std::string& text) {
 Asset robot() {
   return makeAsset(body("Hips", {"Spine", "Chest"}, "Neck", "Head", "Left", "Right"), {"Smile", "Angry", "Blink"},
                    {"Idle", "Walking", "Running", "Wave"});
+}
+
+// Joints with their offsets from the parent, for the tests that need a rest pose.
+struct PlacedJoint {
+  std::string name, parent;
+  glm::vec3 offset;
+};
+Asset makePlacedAsset(const std::vector<PlacedJoint>& joints) {
+  Asset a;
+  a.sourcePath = "placed.glb";
+  for (const auto& j : joints) {
+    Transform t;
+    t.translation = j.offset;
+    a.skeleton.addJoint(j.name, a.skeleton.findJoint(j.parent), t);
+  }
+  return a;
+}
+
+// A standing body facing +Z (toes ahead of the ankles), +Y up, its left at +X,
+// with the limb joints named `L...` / `R...` + part: UpLeg, Leg, Foot, ToeBase,
+// Shoulder, Arm, ForeArm, Hand. `leftX` is where the names called "L" go: +1 on
+// the character's left, -1 (mislabelled) on its right.
+std::vector<PlacedJoint> placedBody(const std::string& l, const std::string& r, float leftX = 1.0f) {
+  std::vector<PlacedJoint> j = {{"Hips", "", {0, 1.0f, 0}},
+                                {"Spine", "Hips", {0, 0.2f, 0}},
+                                {"Chest", "Spine", {0, 0.2f, 0}},
+                                {"Neck", "Chest", {0, 0.2f, 0}},
+                                {"Head", "Neck", {0, 0.1f, 0}}};
+  for (const auto& [side, x] : {std::pair{l, leftX}, std::pair{r, -leftX}}) {
+    j.insert(j.end(), {{side + "UpLeg", "Hips", {0.1f * x, 0, 0}},
+                       {side + "Leg", side + "UpLeg", {0, -0.45f, 0}},
+                       {side + "Foot", side + "Leg", {0, -0.45f, 0}},
+                       {side + "ToeBase", side + "Foot", {0, -0.08f, 0.12f}},
+                       {side + "Shoulder", "Chest", {0.05f * x, 0.15f, 0}},
+                       {side + "Arm", side + "Shoulder", {0.12f * x, 0, 0}},
+                       {side + "ForeArm", side + "Arm", {0.28f * x, 0, 0}},
+                       {side + "Hand", side + "ForeArm", {0.25f * x, 0, 0}}});
+  }
+  return j;
+}
+
+void expectLimb(const Limb& l, const std::string& upper, const std::string& lower, const std::string& end,
+                const CharacterProfile& p) {
+  EXPECT_EQ(l.upper, upper) << notes(p);
+  EXPECT_EQ(l.lower, lower) << notes(p);
+  EXPECT_EQ(l.end, end) << notes(p);
 }
 }  // namespace
 
@@ -261,6 +308,185 @@ TEST(CharacterProfileGuess, NeckFromTopologyWhenUnnamed) {
   EXPECT_EQ(p.neck, "joint_9");
   EXPECT_TRUE(hasNote(p, "neck: 'joint_9' (topology")) << notes(p);
   EXPECT_EQ(p.spine, (std::vector<std::string>{"Spine", "Chest"}));
+}
+
+// ---- guessing: limbs ------------------------------------------------------------------
+
+TEST(CharacterProfileLimbs, MixamoAndCmuMotionBuilderNames) {
+  // CMU's MotionBuilder skeleton: LHipJoint (a pelvis bone named like a hip) above LeftUpLeg.
+  std::vector<PlacedJoint> j = placedBody("mixamorig:Left", "mixamorig:Right");
+  j.push_back({"LHipJoint", "Hips", {0.05f, 0, 0}});
+  const CharacterProfile p = guessCharacterProfile(makePlacedAsset(j));
+  expectLimb(p.leftLeg, "mixamorig:LeftUpLeg", "mixamorig:LeftLeg", "mixamorig:LeftFoot", p);
+  expectLimb(p.rightLeg, "mixamorig:RightUpLeg", "mixamorig:RightLeg", "mixamorig:RightFoot", p);
+  // LeftShoulder is the clavicle when an "Arm" lies below it.
+  expectLimb(p.leftArm, "mixamorig:LeftArm", "mixamorig:LeftForeArm", "mixamorig:LeftHand", p);
+  expectLimb(p.rightArm, "mixamorig:RightArm", "mixamorig:RightForeArm", "mixamorig:RightHand", p);
+  EXPECT_EQ(p.leftToe, "mixamorig:LeftToeBase");
+  EXPECT_EQ(p.rightToe, "mixamorig:RightToeBase");
+  EXPECT_TRUE(hasNote(p, "leftLeg: upper 'mixamorig:LeftUpLeg', lower 'mixamorig:LeftLeg', end 'mixamorig:LeftFoot' (name)"))
+      << notes(p);
+  EXPECT_TRUE(hasNote(p, "sides: the left leg and arm lie on the character's left in the rest pose (it faces +Z, from "
+                         "the toes; its left is +X)"))
+      << notes(p);
+}
+
+TEST(CharacterProfileLimbs, OtherConventions) {
+  struct Case {
+    Joints joints;
+    Limb leg, arm;
+    std::string toe;
+  };
+  const std::vector<Case> cases = {
+      // CMU 3dsMax-friendly: Hip is the thigh (the knee's parent, not LHipJoint), Shoulder the upper arm.
+      {{{"Hips", ""}, {"LHipJoint", "Hips"}, {"LeftHip", "LHipJoint"}, {"LeftKnee", "LeftHip"},
+        {"LeftAnkle", "LeftKnee"}, {"LeftToe", "LeftAnkle"}, {"Chest", "Hips"}, {"LeftCollar", "Chest"},
+        {"LeftShoulder", "LeftCollar"}, {"LeftElbow", "LeftShoulder"}, {"LeftWrist", "LeftElbow"}, {"lhand", "LeftWrist"}},
+       {"LeftHip", "LeftKnee", "LeftAnkle"}, {"LeftShoulder", "LeftElbow", "LeftWrist"}, "LeftToe"},
+      // Blender ".L".
+      {{{"Hips", ""}, {"UpperLeg.L", "Hips"}, {"LowerLeg.L", "UpperLeg.L"}, {"Foot.L", "LowerLeg.L"},
+        {"Toe.L", "Foot.L"}, {"Chest", "Hips"}, {"Shoulder.L", "Chest"}, {"UpperArm.L", "Shoulder.L"},
+        {"LowerArm.L", "UpperArm.L"}, {"Hand.L", "LowerArm.L"}},
+       {"UpperLeg.L", "LowerLeg.L", "Foot.L"}, {"UpperArm.L", "LowerArm.L", "Hand.L"}, "Toe.L"},
+      // VRoid J_Bip.
+      {{{"J_Bip_C_Hips", ""}, {"J_Bip_L_UpperLeg", "J_Bip_C_Hips"}, {"J_Bip_L_LowerLeg", "J_Bip_L_UpperLeg"},
+        {"J_Bip_L_Foot", "J_Bip_L_LowerLeg"}, {"J_Bip_L_ToeBase", "J_Bip_L_Foot"}, {"J_Bip_C_Chest", "J_Bip_C_Hips"},
+        {"J_Bip_L_Shoulder", "J_Bip_C_Chest"}, {"J_Bip_L_UpperArm", "J_Bip_L_Shoulder"},
+        {"J_Bip_L_LowerArm", "J_Bip_L_UpperArm"}, {"J_Bip_L_Hand", "J_Bip_L_LowerArm"}},
+       {"J_Bip_L_UpperLeg", "J_Bip_L_LowerLeg", "J_Bip_L_Foot"}, {"J_Bip_L_UpperArm", "J_Bip_L_LowerArm", "J_Bip_L_Hand"},
+       "J_Bip_L_ToeBase"},
+      // Pab: "Lefthand" in one word, toes "LeftFootThumb1".
+      {{{"Pelvis", ""}, {"LeftUpLeg", "Pelvis"}, {"LeftLeg", "LeftUpLeg"}, {"LeftFoot", "LeftLeg"},
+        {"LeftFootThumb1", "LeftFoot"}, {"Neck", "Pelvis"}, {"LeftShoulder", "Neck"}, {"LeftArm", "LeftShoulder"},
+        {"LeftForeArm", "LeftArm"}, {"Lefthand", "LeftForeArm"}, {"LeftHandThumb1", "Lefthand"}},
+       {"LeftUpLeg", "LeftLeg", "LeftFoot"}, {"LeftArm", "LeftForeArm", "Lefthand"}, "LeftFootThumb1"},
+      // Unreal thigh/calf/ball, Daz-style prefixes lThigh/lShin/lShldr.
+      {{{"pelvis", ""}, {"thigh_l", "pelvis"}, {"calf_l", "thigh_l"}, {"foot_l", "calf_l"}, {"ball_l", "foot_l"},
+        {"spine", "pelvis"}, {"clavicle_l", "spine"}, {"upperarm_l", "clavicle_l"}, {"lowerarm_l", "upperarm_l"},
+        {"hand_l", "lowerarm_l"}},
+       {"thigh_l", "calf_l", "foot_l"}, {"upperarm_l", "lowerarm_l", "hand_l"}, "ball_l"},
+      {{{"hip", ""}, {"lButtock", "hip"}, {"lThigh", "lButtock"}, {"lShin", "lThigh"}, {"lFoot", "lShin"},
+        {"chest", "hip"}, {"lCollar", "chest"}, {"lShldr", "lCollar"}, {"lForeArm", "lShldr"}, {"lHand", "lForeArm"}},
+       {"lThigh", "lShin", "lFoot"}, {"lShldr", "lForeArm", "lHand"}, ""},
+  };
+  for (const Case& c : cases) {
+    const CharacterProfile p = guessCharacterProfile(makeAsset(c.joints));
+    SCOPED_TRACE(c.leg.upper);
+    expectLimb(p.leftLeg, c.leg.upper, c.leg.lower, c.leg.end, p);
+    expectLimb(p.leftArm, c.arm.upper, c.arm.lower, c.arm.end, p);
+    EXPECT_EQ(p.leftToe, c.toe) << notes(p);
+    expectLimb(p.rightLeg, "", "", "", p);  // only left joints in these skeletons
+    EXPECT_TRUE(hasNote(p, "rightLeg: none")) << notes(p);
+  }
+}
+
+TEST(CharacterProfileLimbs, TheChainMustHangTogether) {
+  // "LeftLeg" is not below "LeftUpLeg" (a prop, or a second rig): the leg is thigh and foot only.
+  Joints j = {{"Hips", ""},          {"LeftUpLeg", "Hips"}, {"LeftFoot", "LeftUpLeg"}, {"LeftLeg", "Hips"},
+              {"Chest", "Hips"},     {"LeftArm", "Chest"},  {"LeftForeArm", "LeftArm"}, {"LeftHand", "Chest"}};
+  CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  expectLimb(p.leftLeg, "LeftUpLeg", "", "LeftFoot", p);
+  // An arm's hand must hang from its forearm: a hand elsewhere is no end of this arm.
+  expectLimb(p.leftArm, "LeftArm", "LeftForeArm", "", p);
+
+  // One joint alone is no limb (Blender's "shoulder.L" is a clavicle).
+  p = guessCharacterProfile(makeAsset({{"pelvis", ""}, {"spine", "pelvis"}, {"shoulder.L", "spine"}}));
+  expectLimb(p.leftArm, "", "", "", p);
+  EXPECT_TRUE(hasNote(p, "leftArm: none")) << notes(p);
+  EXPECT_TRUE(hasNote(p, "leftToe: none")) << notes(p);
+}
+
+TEST(CharacterProfileLimbs, FootElsewhereIsTakenWhenItsNameIsUnambiguous) {
+  // RobotExpressive: the feet are Blender IK targets under the root, not below the lower legs.
+  const Joints j = {{"Bone", ""},           {"Foot.L", "Bone"},           {"Body", "Bone"},
+                    {"Hips", "Body"},       {"UpperLeg.L", "Body"},       {"LowerLeg.L", "UpperLeg.L"},
+                    {"Foot.R", "Bone"},     {"UpperLeg.R", "Body"},       {"LowerLeg.R", "UpperLeg.R"},
+                    {"Torso", "Hips"},      {"Shoulder.L", "Torso"},      {"UpperArm.L", "Shoulder.L"},
+                    {"LowerArm.L", "UpperArm.L"}, {"Hand.L", "Torso"}};
+  CharacterProfile p = guessCharacterProfile(makeAsset(j));
+  expectLimb(p.leftLeg, "UpperLeg.L", "LowerLeg.L", "Foot.L", p);
+  expectLimb(p.rightLeg, "UpperLeg.R", "LowerLeg.R", "Foot.R", p);
+  EXPECT_TRUE(hasNote(p, "'Foot.L' is not below 'LowerLeg.L'")) << notes(p);
+  expectLimb(p.leftArm, "UpperArm.L", "LowerArm.L", "", p);  // never for an arm
+
+  // Two left feet elsewhere: no telling which one is the ankle.
+  Joints two = j;
+  two.emplace_back("foot_L", "Bone");
+  p = guessCharacterProfile(makeAsset(two));
+  expectLimb(p.leftLeg, "UpperLeg.L", "LowerLeg.L", "", p);
+  // A foot above the leg is no end of it either.
+  p = guessCharacterProfile(makeAsset({{"Foot.L", ""}, {"UpperLeg.L", "Foot.L"}, {"LowerLeg.L", "UpperLeg.L"}}));
+  expectLimb(p.leftLeg, "UpperLeg.L", "LowerLeg.L", "", p);
+}
+
+TEST(CharacterProfileLimbs, VrmHumanoidMapWinsOverNames) {
+  Asset a = makeAsset({{"Root", ""},       {"Hips", "Root"},   {"LeftUpLeg", "Hips"}, {"A", "Hips"},
+                       {"B", "A"},         {"C", "B"},         {"D", "C"},            {"LeftLeg", "LeftUpLeg"},
+                       {"LeftFoot", "LeftLeg"}});
+  a.hasHumanoid = true;
+  a.humanoid.bones = {{"leftUpperLeg", "A"}, {"leftLowerLeg", "B"}, {"leftFoot", "C"}, {"leftToes", "D"},
+                      {"rightUpperLeg", "C"}, {"rightLowerLeg", "B"}, {"rightFoot", "A"}};  // right: not a chain
+  const CharacterProfile p = guessCharacterProfile(a);
+  expectLimb(p.leftLeg, "A", "B", "C", p);
+  EXPECT_EQ(p.leftToe, "D");
+  EXPECT_TRUE(hasNote(p, "leftLeg: upper 'A', lower 'B', end 'C' (VRM humanoid)")) << notes(p);
+  expectLimb(p.rightLeg, "", "", "", p);  // an inconsistent map is not used, and no name says right
+}
+
+TEST(CharacterProfileLimbs, UnnamedSkeletonBySideFromTheRestPose) {
+  // Cesium Man's shape, facing +X: its left is -Z. Leg and arm chains have no names.
+  auto leg = [](const std::string& p, const std::string& a, const std::string& b, const std::string& c,
+                const std::string& d, float z) {
+    return std::vector<PlacedJoint>{{a, p, {0, -0.07f, z}}, {b, a, {0, -0.26f, 0}}, {c, b, {0, -0.27f, 0}},
+                                    {d, c, {0.03f, -0.06f, 0}}};
+  };
+  std::vector<PlacedJoint> j = {{"n0", "", {0, 0.68f, 0}}, {"n1", "n0", {0, 0.15f, 0}}, {"n2", "n1", {0, 0.25f, 0}},
+                                {"n3", "n2", {0, 0.07f, 0}}, {"n4", "n3", {0, 0.05f, 0}}};
+  for (const auto& part : {leg("n0", "n5", "n6", "n7", "n8", -0.07f), leg("n0", "n9", "n10", "n11", "n12", 0.07f)})
+    j.insert(j.end(), part.begin(), part.end());
+  j.insert(j.end(), {{"n13", "n2", {0, 0, 0.1f}}, {"n14", "n13", {0, -0.1f, 0.2f}}, {"n15", "n14", {0.05f, -0.1f, 0.15f}},
+                     {"n16", "n2", {0, 0, -0.1f}}, {"n17", "n16", {0, -0.1f, -0.2f}}, {"n18", "n17", {0.05f, -0.1f, -0.15f}}});
+  CharacterProfile p = guessCharacterProfile(makePlacedAsset(j));
+  ASSERT_EQ(p.hips, "n0") << notes(p);
+  expectLimb(p.leftLeg, "n5", "n6", "n7", p);  // at -Z: the character's left
+  expectLimb(p.rightLeg, "n9", "n10", "n11", p);
+  EXPECT_EQ(p.leftToe, "n8");
+  EXPECT_EQ(p.rightToe, "n12");
+  expectLimb(p.leftArm, "n16", "n17", "n18", p);
+  expectLimb(p.rightArm, "n13", "n14", "n15", p);
+  EXPECT_TRUE(hasNote(p, "(topology: a mirror pair of chains below the hips; side from the rest pose)")) << notes(p);
+  EXPECT_TRUE(hasNote(p, "it faces +X, from the toes; its left is -Z")) << notes(p);
+
+  // The same shape with every joint at one place: no telling left from right, so no limbs.
+  for (auto& x : j) x.offset = glm::vec3(0.0f);
+  p = guessCharacterProfile(makePlacedAsset(j));
+  expectLimb(p.leftLeg, "", "", "", p);
+  expectLimb(p.leftArm, "", "", "", p);
+  EXPECT_TRUE(hasNote(p, "does not tell left from right")) << notes(p);
+}
+
+TEST(CharacterProfileLimbs, NamesThatContradictTheRestPoseAreKeptWithANote) {
+  const CharacterProfile p = guessCharacterProfile(makePlacedAsset(placedBody("Left", "Right", -1.0f)));
+  expectLimb(p.leftLeg, "LeftUpLeg", "LeftLeg", "LeftFoot", p);  // the names rule
+  EXPECT_TRUE(hasNote(p, "sides: the left leg and arm lie on the character's right in the rest pose; kept as named"))
+      << notes(p);
+}
+
+TEST(CharacterProfileLimbs, RigResolvesTheLimbsToIndices) {
+  const auto asset = std::make_shared<Asset>(makePlacedAsset(placedBody("Left", "Right")));
+  const Rig rig(asset);
+  const Skeleton& s = asset->skeleton;
+  const RigJoints& j = rig.joints();
+  EXPECT_EQ(j.leftLeg.upper, s.findJoint("LeftUpLeg"));
+  EXPECT_EQ(j.leftLeg.lower, s.findJoint("LeftLeg"));
+  EXPECT_EQ(j.leftLeg.end, s.findJoint("LeftFoot"));
+  EXPECT_EQ(j.rightArm.upper, s.findJoint("RightArm"));
+  EXPECT_EQ(j.rightArm.lower, s.findJoint("RightForeArm"));
+  EXPECT_EQ(j.rightArm.end, s.findJoint("RightHand"));
+  EXPECT_EQ(j.leftToe, s.findJoint("LeftToeBase"));
+  EXPECT_EQ(j.rightToe, s.findJoint("RightToeBase"));
+  EXPECT_GE(j.rightLeg.end, 0);
+  EXPECT_GE(j.leftArm.end, 0);
 }
 
 // ---- guessing: face, clips, gestures ------------------------------------------------
@@ -490,10 +716,94 @@ TEST(CharacterProfileLoad, TypeErrorsTopologyAndDuplicatesWarn) {
   EXPECT_EQ(r.profile.gestures.at("WAVE"), "Idle");  // nlohmann keeps the last
 }
 
+TEST(CharacterProfileLoad, LimbsFromTheFile) {
+  const Asset asset = makePlacedAsset(placedBody("Left", "Right"));
+  TempProfile f(R"({"limbs": {
+  "leftLeg": {"upper": "LeftUpLeg", "lower": "LeftLeg", "end": "LeftFoot"},
+  "rightLeg": {"upper": "RightUpLeg", "lower": "RightLeg"},
+  "leftArm": {"upper": "LeftShoulder", "lower": "LeftForeArm", "end": ""},
+  "leftToe": ""
+}})");
+  const auto r = loadCharacterProfile(f.path(), asset);
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  const CharacterProfile& p = r.profile;
+  expectLimb(p.leftLeg, "LeftUpLeg", "LeftLeg", "LeftFoot", p);
+  expectLimb(p.rightLeg, "RightUpLeg", "RightLeg", "RightFoot", p);  // its end left out: guessed
+  expectLimb(p.leftArm, "LeftShoulder", "LeftForeArm", "", p);       // the file rules, "" is none
+  expectLimb(p.rightArm, "RightArm", "RightForeArm", "RightHand", p);  // absent: guessed
+  EXPECT_EQ(p.leftToe, "");
+  EXPECT_EQ(p.rightToe, "RightToeBase");
+  EXPECT_TRUE(hasNote(p, "leftLeg: upper 'LeftUpLeg', lower 'LeftLeg', end 'LeftFoot' (profile)")) << notes(p);
+  EXPECT_TRUE(hasNote(p, "rightLeg: upper 'RightUpLeg', lower 'RightLeg', end 'RightFoot' (profile; end not in the "
+                         "profile, guessed)"))
+      << notes(p);
+  EXPECT_TRUE(hasNote(p, "rightArm: upper 'RightArm', lower 'RightForeArm', end 'RightHand' (name); not in the profile, "
+                         "guessed"))
+      << notes(p);
+  EXPECT_TRUE(hasNote(p, "sides: the left leg and arm lie on the character's left")) << notes(p);
+}
+
+TEST(CharacterProfileLoad, LimbJointsTheAssetLacksWarnNamingTheField) {
+  const Asset asset = makePlacedAsset(placedBody("Left", "Right"));
+  TempProfile f(R"({"limbs": {
+  "leftLeg": {"upper": "LeftUpLeg", "lower": "LeftLeg", "end": "LeftAnkle"},
+  "rightArm": {"upper": "RightArm", "lower": "RightForeArm", "end": "RightHand", "wrist": "RightHand"},
+  "leftArm": "LeftArm",
+  "rightToe": "RightToes",
+  "tail": {}
+}})");
+  const auto r = loadCharacterProfile(f.path(), asset);
+  EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();  // warnings only
+  const Diagnostic* end = findDiag(r.diagnostics, "limbs/leftLeg/end: no joint named 'LeftAnkle' in 'placed.glb'; cleared");
+  ASSERT_NE(end, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(end->severity, Severity::Warning);
+  EXPECT_EQ(end->file, f.path());
+  EXPECT_EQ(end->line, 2);
+  EXPECT_EQ(end->column, 64);
+  EXPECT_EQ(r.profile.leftLeg.end, "");  // cleared, not guessed
+  ASSERT_NE(findDiag(r.diagnostics, "limbs/rightToe: no joint named 'RightToes'"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.rightToe, "");
+  ASSERT_NE(findDiag(r.diagnostics, "limbs/rightArm/wrist: unknown key 'wrist'"), nullptr) << r.diagnostics.format();
+  ASSERT_NE(findDiag(r.diagnostics, "limbs/tail: unknown key 'tail'"), nullptr) << r.diagnostics.format();
+  ASSERT_NE(findDiag(r.diagnostics, "limbs/leftArm: expected an object"), nullptr) << r.diagnostics.format();
+  expectLimb(r.profile.leftArm, "LeftArm", "LeftForeArm", "LeftHand", r.profile);  // wrong type: guessed
+
+  f.write(R"({"limbs": 3})");
+  const auto notAnObject = loadCharacterProfile(f.path(), asset);
+  ASSERT_NE(findDiag(notAnObject.diagnostics, "limbs: expected an object"), nullptr) << notAnObject.diagnostics.format();
+  expectLimb(notAnObject.profile.leftLeg, "LeftUpLeg", "LeftLeg", "LeftFoot", notAnObject.profile);
+}
+
+TEST(CharacterProfileLoad, LimbChainsThatDoNotHangTogetherWarn) {
+  std::vector<PlacedJoint> j = placedBody("Left", "Right");
+  j.push_back({"Target.L", "Hips", {0.1f, -0.9f, 0}});  // an IK target beside the leg
+  const Asset asset = makePlacedAsset(j);
+  TempProfile f(R"({"limbs": {
+  "leftLeg": {"upper": "LeftUpLeg", "lower": "LeftLeg", "end": "Target.L"},
+  "rightLeg": {"upper": "RightUpLeg", "lower": "LeftLeg", "end": "RightFoot"},
+  "leftArm": {"upper": "LeftArm", "lower": "LeftForeArm", "end": "RightHand"},
+  "leftToe": "RightToeBase"
+}})");
+  const auto r = loadCharacterProfile(f.path(), asset);
+  EXPECT_NE(findDiag(r.diagnostics, "limbs/rightLeg/lower: 'LeftLeg' is not below the upper joint 'RightUpLeg'"), nullptr)
+      << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "limbs/leftArm/end: 'RightHand' is not below the lower joint 'LeftForeArm'"), nullptr)
+      << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "limbs/leftToe: 'RightToeBase' is not below the foot 'Target.L'"), nullptr)
+      << r.diagnostics.format();
+  // A leg's end elsewhere is allowed (RobotExpressive): a note, no warning.
+  EXPECT_EQ(findDiag(r.diagnostics, "limbs/leftLeg"), nullptr) << r.diagnostics.format();
+  EXPECT_TRUE(hasNote(r.profile, "'Target.L' is not below 'LeftLeg': the end point is its rest offset")) << notes(r.profile);
+  EXPECT_EQ(r.diagnostics.items.size(), 3u) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.leftArm.end, "RightHand");  // kept: the file has the last word
+}
+
 TEST(CharacterProfileLoad, SurvivesRandomMutations) {
   const std::string valid = R"({"comment": "x\u00e9\"/",
   "joints": {"hips": "Hips", "spine": ["Spine", "Chest"], "neck": "Neck", "head": "Head", "leftEye": "", "jaw": ""},
   "face": {"SMILE": [{"morph": "Smile", "amount": 0.5}], "AU45": "Blink", "ANGER": [{"morph": "Angry"}]},
+  "limbs": {"leftLeg": {"upper": "LeftUpLeg", "lower": "LeftLeg", "end": ""}, "rightArm": {"upper": "RightArm"},
+            "leftToe": ""},
   "clips": {"idle": "Idle", "walk": "Walking", "run": "Running"},
   "gestures": {"WAVE": "Wave", "BEAT": "Idle"}})";
   const Asset asset = robot();
@@ -524,7 +834,9 @@ TEST(CharacterProfileLoad, SurvivesRandomMutations) {
     }
     // Whatever survives names things the asset has, with amounts in range.
     for (const std::string* j : {&r.profile.hips, &r.profile.neck, &r.profile.head, &r.profile.leftEye,
-                                 &r.profile.rightEye, &r.profile.jaw})
+                                 &r.profile.rightEye, &r.profile.jaw, &r.profile.leftLeg.upper,
+                                 &r.profile.leftLeg.lower, &r.profile.leftLeg.end, &r.profile.rightArm.upper,
+                                 &r.profile.rightArm.end, &r.profile.leftToe})
       EXPECT_TRUE(j->empty() || asset.skeleton.findJoint(*j) >= 0) << *j << '\n' << text;
     for (const auto& [lexeme, morphs] : r.profile.face)
       for (const auto& m : morphs) {

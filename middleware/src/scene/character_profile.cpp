@@ -8,84 +8,22 @@
 #include <set>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 #include <utility>
 
 #include <nlohmann/json.hpp>
+
+#include "limb_guess.hpp"
+#include "profile_skeleton.hpp"
 
 namespace marionette {
 
 namespace {
 using Json = nlohmann::json;
+using namespace profile_detail;
 
 // ---- Names ------------------------------------------------------------------
 
-bool isUpper(char c) { return c >= 'A' && c <= 'Z'; }
-bool isLower(char c) { return c >= 'a' && c <= 'z'; }
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
-// Bytes of UTF-8 sequences count as letters: they belong to a word, never split one.
-bool isWordByte(char c) { return isUpper(c) || isLower(c) || isDigit(c) || static_cast<unsigned char>(c) >= 0x80; }
-char lower(char c) { return isUpper(c) ? static_cast<char>(c - 'A' + 'a') : c; }
-
-// Lower-case words of a name: split at separators, at camelCase humps ("LeftEye",
-// "LHip" -> l, hip) and between letters and digits ("Spine1", "Bip01").
-std::vector<std::string> words(std::string_view name) {
-  std::vector<std::string> out;
-  std::string cur;
-  auto flush = [&] {
-    if (!cur.empty()) out.push_back(std::move(cur));
-    cur.clear();
-  };
-  for (std::size_t i = 0; i < name.size(); ++i) {
-    const char c = name[i];
-    if (!isWordByte(c)) {
-      flush();
-      continue;
-    }
-    if (!cur.empty()) {
-      const char p = name[i - 1];
-      const bool hump = isUpper(c) && (isLower(p) || (isUpper(p) && i + 1 < name.size() && isLower(name[i + 1])));
-      if (hump || isDigit(c) != isDigit(p)) flush();
-    }
-    cur += lower(c);
-  }
-  flush();
-  return out;
-}
-
-// A name reduced to what identifies a body part or an expression: the side it
-// names (-1 left, +1 right, 0 none) and the words left after dropping side words,
-// numbers and the `noise` of naming conventions (rig prefixes and the like).
-struct NameParts {
-  int side = 0;
-  std::vector<std::string> core;
-  [[nodiscard]] std::string key() const {
-    std::string k;
-    for (const auto& w : core) k += w;
-    return k;
-  }
-  [[nodiscard]] bool is(std::initializer_list<std::string_view> ws) const {
-    return std::equal(core.begin(), core.end(), ws.begin(), ws.end());
-  }
-};
-
-NameParts parts(std::string_view name, const std::set<std::string_view>& noise) {
-  NameParts np;
-  bool left = false, right = false;
-  for (auto& w : words(name)) {
-    if (w == "l" || w == "left") left = true;
-    else if (w == "r" || w == "right") right = true;
-    else if (!isDigit(w[0]) && !noise.count(w)) np.core.push_back(std::move(w));
-  }
-  np.side = left == right ? 0 : (left ? -1 : 1);
-  if (left && right) np.core.insert(np.core.begin(), "?");  // "LeftRight..." is no part we know
-  return np;
-}
-
-// Prefixes and suffixes of the rig conventions (mixamorig:, J_Bip_C_, B_, _Armature,
-// Bip01, CC_Base_, ValveBiped., DEF-/ORG-/MCH-) that say nothing about the part.
-const std::set<std::string_view> kJointNoise = {"mixamorig", "j",   "bip",  "adj",  "c",     "armature",
-                                                "def",       "org", "mch",  "b",    "bone",  "jnt",
-                                                "joint",     "cc",  "base", "valve", "biped", "sk"};
 // Morph-target prefixes: VRoid's Fcl_ALL_, shape-key and blend-shape prefixes.
 const std::set<std::string_view> kMorphNoise = {"fcl",   "all",        "blendshape", "blendshape1", "bs",   "shape",
                                                 "shapes", "key",       "morph",      "expression",  "exp",  "face",
@@ -95,94 +33,6 @@ const std::set<std::string_view> kClipNoise = {"anim",     "animation", "action"
                                                "loop",     "looped",    "cycle",  "inplace",  "in",      "place",
                                                "default",  "mixamo",    "com",    "layer",    "character", "fwd",
                                                "forward",  "rig",       "root",   "motion"};
-
-// ---- Topology ---------------------------------------------------------------
-
-// The skeleton as a tree. Tolerates malformed input (sizes that differ, a parent
-// that is not before its child): such a joint is treated as a root.
-struct Tree {
-  std::vector<std::string> names;
-  std::vector<int> parent;
-  std::vector<std::vector<int>> children;
-  std::vector<int> depth, leaves, size, height;
-
-  explicit Tree(const Skeleton& s) {
-    const std::size_t n = std::min(s.names.size(), s.parents.size());
-    names.assign(s.names.begin(), s.names.begin() + static_cast<std::ptrdiff_t>(n));
-    parent.resize(n, -1);
-    children.resize(n);
-    depth.resize(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const int p = s.parents[i];
-      if (p >= 0 && static_cast<std::size_t>(p) < i) {
-        parent[i] = p;
-        children[p].push_back(static_cast<int>(i));
-        depth[i] = depth[p] + 1;
-      }
-    }
-    leaves.assign(n, 0);
-    size.assign(n, 1);
-    height.assign(n, 0);
-    for (std::size_t k = n; k-- > 0;) {  // children come after their parent
-      if (children[k].empty()) leaves[k] = 1;
-      if (const int p = parent[k]; p >= 0) {
-        leaves[p] += leaves[k];
-        size[p] += size[k];
-        height[p] = std::max(height[p], height[k] + 1);
-      }
-    }
-  }
-  [[nodiscard]] int count() const { return static_cast<int>(parent.size()); }
-  [[nodiscard]] bool valid(int j) const { return j >= 0 && j < count(); }
-  // True when `a` is a proper ancestor of `d`.
-  [[nodiscard]] bool above(int a, int d) const {
-    if (!valid(a) || !valid(d)) return false;
-    for (int p = parent[d]; p >= 0; p = parent[p])
-      if (p == a) return true;
-    return false;
-  }
-  [[nodiscard]] std::string name(int j) const { return valid(j) ? names[j] : std::string(); }
-  [[nodiscard]] int find(const std::string& n) const {
-    for (int j = 0; j < count(); ++j)
-      if (names[j] == n) return j;
-    return -1;
-  }
-  // The child of `a` on the way down to its descendant `d`.
-  [[nodiscard]] int childToward(int a, int d) const {
-    for (int j = d; valid(j); j = parent[j])
-      if (parent[j] == a) return j;
-    return -1;
-  }
-  // Among >= 3 children where the others form mirror pairs (same shape: two legs,
-  // two arms), the one child whose shape is unique (the spine, the neck); else -1.
-  [[nodiscard]] int oddChildOut(int j, int minPairHeight) const {
-    if (!valid(j) || children[j].size() < 3) return -1;
-    auto same = [&](int a, int b) { return size[a] == size[b] && height[a] == height[b] && leaves[a] == leaves[b]; };
-    int odd = -1;
-    bool pairFound = false;
-    for (int c : children[j]) {
-      int twins = 0;
-      for (int o : children[j]) twins += o != c && same(o, c);
-      if (twins == 0) {
-        if (odd >= 0) return -1;  // two unique shapes: no telling which is the spine
-        odd = c;
-      } else if (height[c] >= minPairHeight) {
-        pairFound = true;
-      }
-    }
-    return pairFound ? odd : -1;
-  }
-};
-
-std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
-std::string joined(const std::vector<std::string>& v) {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : ", ") + inQuotes(s);
-  return out;
-}
-
-// Field-tagged notes: the loader keeps those of the fields it guesses.
-using Notes = std::vector<std::pair<std::string, std::string>>;
 
 struct JointGuess {
   int hips = -1, neck = -1, head = -1, leftEye = -1, rightEye = -1, jaw = -1;
@@ -550,6 +400,7 @@ Guess guess(const Asset& asset) {
   set("leftEye", p.leftEye, j.leftEye, j.leftEyeHow);
   set("rightEye", p.rightEye, j.rightEye, j.rightEyeHow);
   set("jaw", p.jaw, j.jaw, j.jawHow);
+  guessLimbs(asset, t, BodyChain{j.hips, j.neck, j.head}, p, g.notes);
   guessFace(asset, p, g.notes);
   guessClips(asset, p, g.notes);
   return g;
@@ -686,7 +537,7 @@ class ProfileReader {
   }
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"joints", "face", "clips", "gestures", "comment"});
+    unknownKeys(doc, "", {"joints", "limbs", "face", "clips", "gestures", "comment"});
     const Json& joints = section(doc, "joints");
     const Json& clips = section(doc, "clips");
     unknownKeys(joints, "/joints", {"hips", "spine", "neck", "head", "leftEye", "rightEye", "jaw"});
@@ -710,6 +561,7 @@ class ProfileReader {
                        " (path from the hips to the neck; not in the profile)");
     }
     checkChain(p, joints);
+    limbs(doc, p, guessed);
 
     if (!(doc.contains("face") && face(doc["face"], p))) p.face = guessed.profile.face, noteGuessed(guessed, "face");
 
@@ -838,6 +690,78 @@ class ProfileReader {
         prev = j;
       }
     }
+  }
+
+  // The "limbs" section: per limb and per joint of a limb, what the file leaves
+  // out is guessed; chains that do not hang together are warnings.
+  void limbs(const Json& doc, CharacterProfile& p, const Guess& guessed) {
+    const Json& section = this->section(doc, "limbs");
+    unknownKeys(section, "/limbs", {"leftLeg", "rightLeg", "leftArm", "rightArm", "leftToe", "rightToe"});
+    const std::pair<const char*, Limb CharacterProfile::*> limbFields[] = {{"leftLeg", &CharacterProfile::leftLeg},
+                                                                           {"rightLeg", &CharacterProfile::rightLeg},
+                                                                           {"leftArm", &CharacterProfile::leftArm},
+                                                                           {"rightArm", &CharacterProfile::rightArm}};
+    const std::pair<const char*, std::string Limb::*> jointsOfLimb[] = {
+        {"upper", &Limb::upper}, {"lower", &Limb::lower}, {"end", &Limb::end}};
+    for (const auto& [field, member] : limbFields) {
+      const std::string where = std::string("/limbs/") + field;
+      Limb& out = p.*member;
+      out = guessed.profile.*member;
+      if (!section.contains(field)) {
+        noteGuessed(guessed, field);
+        continue;
+      }
+      const Json& v = section[field];
+      if (!v.is_object()) {
+        warn(where, "expected an object {\"upper\", \"lower\", \"end\"} of joint names; ignored, guessed");
+        noteGuessed(guessed, field);
+        continue;
+      }
+      unknownKeys(v, where, {"upper", "lower", "end"});
+      std::string leftOut;
+      for (const auto& [key, part] : jointsOfLimb) {
+        if (auto n = v.contains(key) ? name(v[key], where + "/" + key, Kind::Joint) : std::nullopt)
+          out.*part = *n;
+        else
+          leftOut += (leftOut.empty() ? "" : ", ") + std::string(key);
+      }
+      const bool leg = field[std::string_view(field).size() - 3] == 'L';  // "...Leg"
+      const std::string detached = checkLimb(out, v, where, leg);
+      notes_.push_back(std::string(field) + ": " + describeLimb(out) + " (profile" +
+                       (leftOut.empty() ? "" : "; " + leftOut + " not in the profile, guessed") + ")" + detached);
+    }
+    const std::tuple<const char*, std::string CharacterProfile::*, const Limb*> toeFields[] = {
+        {"leftToe", &CharacterProfile::leftToe, &p.leftLeg}, {"rightToe", &CharacterProfile::rightToe, &p.rightLeg}};
+    for (const auto& [field, member, leg] : toeFields) {
+      const std::string where = std::string("/limbs/") + field;
+      if (auto n = section.contains(field) ? name(section[field], where, Kind::Joint) : std::nullopt) {
+        note(field, p.*member = *n);
+        const int toe = tree_.find(p.*member), foot = tree_.find(leg->end);
+        if (toe >= 0 && foot >= 0 && !tree_.above(foot, toe))
+          warn(where, "'" + p.*member + "' is not below the foot '" + leg->end + "'");
+      } else {
+        p.*member = guessed.profile.*member, noteGuessed(guessed, field);
+      }
+    }
+    notes_.push_back(sidesNote(tree_, restPositions(asset_.skeleton, tree_),
+                               BodyChain{tree_.find(p.hips), tree_.find(p.neck), tree_.find(p.head)}, p));
+  }
+
+  // Warnings where a limb's joints do not descend from one another. A leg's end
+  // elsewhere (an IK target under the root) is fine: the returned note says so.
+  std::string checkLimb(const Limb& l, const Json& given, const std::string& where, bool leg) {
+    const int u = tree_.find(l.upper), lo = tree_.find(l.lower), e = tree_.find(l.end);
+    auto at = [&](const char* key, const char* other) { return where + "/" + (given.contains(key) ? key : other); };
+    if (u >= 0 && lo >= 0 && !tree_.above(u, lo))
+      warn(at("lower", "upper"), "'" + l.lower + "' is not below the upper joint '" + l.upper + "'");
+    const int before = lo >= 0 ? lo : u;
+    if (before < 0 || e < 0 || tree_.above(before, e)) return {};
+    const bool elsewhere = !tree_.above(e, before) && !(u >= 0 && tree_.above(e, u));
+    if (leg && lo >= 0 && elsewhere)
+      return "; '" + l.end + "' is not below '" + l.lower + "': the end point is its rest offset from the lower joint";
+    warn(at("end", lo >= 0 ? "lower" : "upper"),
+         "'" + l.end + "' is not below the " + (lo >= 0 ? "lower" : "upper") + " joint '" + (lo >= 0 ? l.lower : l.upper) + "'");
+    return {};
   }
 
   // False when the section is unusable (then it is guessed).

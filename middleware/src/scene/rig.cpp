@@ -42,6 +42,13 @@ void Rig::setProfile(CharacterProfile profile) {
   joints_.jaw = joint(profile_.jaw);
   for (const std::string& name : profile_.spine)
     if (int j = joint(name); j >= 0) joints_.spine.push_back(j);
+  auto limb = [&](const Limb& l) { return RigJoints::LimbJoints{joint(l.upper), joint(l.lower), joint(l.end)}; };
+  joints_.leftLeg = limb(profile_.leftLeg);
+  joints_.rightLeg = limb(profile_.rightLeg);
+  joints_.leftArm = limb(profile_.leftArm);
+  joints_.rightArm = limb(profile_.rightArm);
+  joints_.leftToe = joint(profile_.leftToe);
+  joints_.rightToe = joint(profile_.rightToe);
   const auto& morphs = asset_->morphTargets;
   for (const auto& [expression, list] : profile_.face) {
     std::vector<std::pair<int, float>> resolved;

@@ -20,10 +20,21 @@ struct FaceMorph {
   float amount = 1.0f; // in [0, 1]
 };
 
+// A leg or an arm as three joints by name, "" for any the character lacks. Leg:
+// thigh, shin, foot (the ankle). Arm: upper arm, forearm, hand (the wrist).
+// `lower` descends from `upper`; an arm's `end` descends from `lower`, a leg's
+// usually does too (RobotExpressive's feet are IK targets under the root).
+struct Limb {
+  std::string upper, lower, end;
+};
+
 struct CharacterProfile {
   // Joints by name in the character's skeleton; "" when the character has none.
   std::string hips, neck, head, leftEye, rightEye, jaw;
   std::vector<std::string> spine;  // from the hips' child up to the chest, hips excluded
+  // Left and right are the character's own.
+  Limb leftLeg, rightLeg, leftArm, rightArm;
+  std::string leftToe, rightToe;  // below the foot; "" when absent
   // BML faceLexeme names (SMILE, RAISE_BROWS, ...) and FACS units ("AU12") to morphs.
   std::map<std::string, std::vector<FaceMorph>> face;
   // Clip names of the rig; "" when absent.
@@ -47,7 +58,9 @@ struct CharacterProfileResult {
 // Guesses a profile from the asset alone: joint names in the common conventions
 // (Mixamo, VRM/J_Bip, Blender ".L/.R", CMU BVH, Pab), checked against the
 // topology (the head is a descendant of the neck, which descends from the
-// hips); expressions from morph names; locomotion clips from clip names.
+// hips; a limb's joints descend from one another); limbs of unnamed skeletons
+// from their shape, sides from the rest pose; expressions from morph names;
+// locomotion clips from clip names.
 [[nodiscard]] CharacterProfile guessCharacterProfile(const Asset& asset);
 
 }  // namespace marionette

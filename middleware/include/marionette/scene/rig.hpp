@@ -37,6 +37,11 @@ struct RigOptions {
 struct RigJoints {
   int hips = -1, neck = -1, head = -1, leftEye = -1, rightEye = -1, jaw = -1;
   std::vector<int> spine;
+  struct LimbJoints {
+    int upper = -1, lower = -1, end = -1;  // as CharacterProfile's Limb
+  };
+  LimbJoints leftLeg, rightLeg, leftArm, rightArm;
+  int leftToe = -1, rightToe = -1;
   // Face expression name -> (morph target index, amount).
   std::map<std::string, std::vector<std::pair<int, float>>, std::less<>> face;
 };
