@@ -70,6 +70,15 @@ std::optional<double> naturalDuration(const Behavior& b, const Rig& rig) {
   return static_cast<double>(clip->clip.duration);
 }
 
+std::optional<double> naturalDuration(const Behavior& b, const Character& character) {
+  if (b.type != "locomotion") return naturalDuration(b, character.rig());
+  BehaviorRequest r;
+  r.id = b.id;
+  r.kind = BehaviorKind::Locomotion;
+  for (const Attribute& a : b.attributes) r.parameters.emplace_back(a.name, a.value);
+  return character.estimateLocomotion(r);
+}
+
 BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std::string& blockId, double blockStart,
                           const Rig& rig) {
   BehaviorRequest r;

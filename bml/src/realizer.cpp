@@ -118,7 +118,7 @@ Schedule Realizer::perform(std::string_view bmlText, std::string_view character,
   SchedulerOptions opts = options;
   if (!opts.externalSync) opts.externalSync = [&](const SyncRef& ref) { return resolveExternal(ref, start); };
   if (!opts.defaultDuration && target)
-    opts.defaultDuration = [rig = &target->rig()](const Behavior& b) { return naturalDuration(b, *rig); };
+    opts.defaultDuration = [target](const Behavior& b) { return naturalDuration(b, *target); };
   Schedule schedule = scheduleParsed(parsed, opts);
 
   if (!schedule.failed && !target) {
@@ -157,11 +157,15 @@ Schedule Realizer::perform(std::string_view bmlText, std::string_view character,
   a.blockId = schedule.blockId;
   a.start = start;
   double blockEnd = 0.0;
-  for (const ScheduledBehavior& b : schedule.behaviors)
+  for (const ScheduledBehavior& b : schedule.behaviors) {
+    const auto parsedIt = std::find_if(parsed.block->behaviors.begin(), parsed.block->behaviors.end(),
+                                       [&](const Behavior& p) { return p.id == b.id; });
+    const bool locomotion = parsedIt != parsed.block->behaviors.end() && parsedIt->type == "locomotion";
     for (const SyncTime& s : b.syncs) {
-      a.events.push_back({start + s.time, b.id, s.name, s.time});
+      a.events.push_back({start + s.time, b.id, s.name, s.time, locomotion && s.name == "end"});
       blockEnd = std::max(blockEnd, s.time);
     }
+  }
   std::stable_sort(a.events.begin(), a.events.end(), [](const Event& x, const Event& y) { return x.sceneTime < y.sceneTime; });
   a.end = start + blockEnd;
   if (!submit(*target, a, *parsed.block, schedule)) return schedule;
@@ -279,6 +283,19 @@ void Realizer::finish(Active& block, double sceneTime) {
   emit(f);
 }
 
+bool Realizer::arrived(Active& b, Event& e, double now) {
+  // The scheduled end was an estimate; the character says when it arrived. A
+  // locomotion that was replaced, cancelled or never started ends now.
+  const Character* c = scene_.findCharacter(b.character);
+  const LocomotionStatus st = c ? c->locomotionStatus(b.blockId + ":" + e.behaviorId) : LocomotionStatus{};
+  if (st.state == LocomotionStatus::kPending || st.state == LocomotionStatus::kMoving) return false;
+  const double at = st.state == LocomotionStatus::kDone && st.doneTime >= 0.0 ? st.doneTime : now;
+  e.blockTime += at - e.sceneTime;
+  e.sceneTime = at;
+  b.end = std::max(b.end, at);
+  return true;
+}
+
 void Realizer::update() {
   const double now = scene_.time();
   for (Active& b : blocks_) {
@@ -293,7 +310,10 @@ void Realizer::update() {
       emit(f);
     }
     while (b.started && b.next < b.events.size() && b.events[b.next].sceneTime <= now) {
-      emit(syncFeedback(Feedback::Kind::SyncPointProgress, b, b.events[b.next++]));
+      Event& e = b.events[b.next];
+      if (e.onArrival && !arrived(b, e, now)) break;  // holds this block's later feedback too, keeping order
+      emit(syncFeedback(Feedback::Kind::SyncPointProgress, b, e));
+      ++b.next;
     }
   }
   // Blocks whose last sync point has passed end now.

@@ -285,3 +285,52 @@ TEST(Realizer, StandingPostureIsTheProfilesIdleClip) {
   EXPECT_EQ(scene.findCharacter("robot")->behaviors().find("b:q")->request.clip, "walk");
   EXPECT_TRUE(scene.findCharacter("robot")->behaviors().find("b:p")->request.loop);
 }
+
+// A locomotion's sync points are scheduled on the walk's estimated length from
+// where the character stands; its end feedback fires when the character arrives.
+TEST_F(RealizerWithRobot, LocomotionEndFiresOnArrival) {
+  Character* c = scene.findCharacter("robot");
+  const Schedule s = r.perform(
+      "<bml id='b'><locomotion id='w' target='0 3' facing='90'/><head id='n' lexeme='NOD' start='w:end'/></bml>");
+  ASSERT_FALSE(s.failed);
+  const auto end = s.time("w", "end");
+  ASSERT_TRUE(end);
+  // 3 m at the synthetic walk's 1 m/s, plus accelerating, braking and turning 90 degrees.
+  EXPECT_GT(*end, 3.0);
+  EXPECT_LT(*end, 5.0);
+  EXPECT_NEAR(*s.time("n", "start"), *end, 1e-9);
+  step(scene, r, 8.0, 1.0 / 60.0);
+  const Feedback* arrival = nullptr;
+  for (const Feedback* f : rec.of(Feedback::Kind::SyncPointProgress))
+    if (f->behaviorId == "w" && f->syncPoint == "end") arrival = f;
+  ASSERT_TRUE(arrival);
+  const LocomotionStatus st = c->locomotionStatus("b:w");
+  ASSERT_EQ(st.state, LocomotionStatus::kDone);
+  EXPECT_DOUBLE_EQ(arrival->sceneTime, st.doneTime);
+  EXPECT_NEAR(arrival->sceneTime, *end, 0.1);  // the estimate is close
+  EXPECT_LT(glm::length(glm::vec2(c->position().x, c->position().z) - glm::vec2(0, 3)), 0.05f);
+  EXPECT_NEAR(c->heading(), glm::radians(90.0f), glm::radians(1.0f));
+  EXPECT_EQ(r.activeBlocks(), 0u);
+}
+
+// Bad targets are warnings that name the target; nothing moves, nothing crashes.
+TEST_F(RealizerWithRobot, LocomotionBadTargetsAreWarnings) {
+  Character* c = scene.findCharacter("robot");
+  r.perform("<bml id='b1'><locomotion id='w' target='nan 2'/></bml>");
+  r.perform("<bml id='b2'><locomotion id='w' target='Nobody'/></bml>");
+  r.perform("<bml id='b3'><locomotion id='w' target='0 0'/></bml>");
+  r.perform("<bml id='b4' composition='APPEND'><locomotion id='w' target='10000 0' manner='RUN'/></bml>");
+  const auto w = rec.warnings(WarningType::CannotCreateBehavior);
+  ASSERT_GE(w.size(), 2u);
+  EXPECT_NE(w[0]->warning.message.find("'nan 2'"), std::string::npos) << w[0]->warning.message;
+  EXPECT_NE(w[1]->warning.message.find("'Nobody'"), std::string::npos) << w[1]->warning.message;
+  bool inside = false, far = false;
+  for (const Feedback* f : rec.warnings(WarningType::ParsingFailure)) {
+    inside |= f->warning.message.find("inside the character") != std::string::npos;
+    far |= f->warning.message.find("10.0 km away") != std::string::npos;
+  }
+  EXPECT_TRUE(inside);
+  EXPECT_TRUE(far);
+  step(scene, r, 2.0, 0.5);
+  EXPECT_TRUE(std::isfinite(c->position().x) && std::isfinite(c->position().z));
+}

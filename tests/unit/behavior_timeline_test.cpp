@@ -198,10 +198,14 @@ TEST(BehaviorTimeline, CharacterRejectsUnknownClipsAndReportsUnrealizedKinds) {
   EXPECT_FALSE(missing.added);
   EXPECT_NE(missing.message.find("no clip named 'dance' (it has 'walk', 'wave')"), std::string::npos) << missing.message;
   EXPECT_EQ(log.last, missing.message);
+  BehaviorResult speak = c->addBehavior(request("speak", {{"start", 0}, {"end", 1}}, BehaviorKind::Speech));
+  EXPECT_TRUE(speak.added);
+  EXPECT_FALSE(speak.realized);
+  EXPECT_NE(speak.message.find("no controller for speech behaviors"), std::string::npos);
+  // A locomotion without a target is not added at all, and says what is missing.
   BehaviorResult walk = c->addBehavior(request("walk", {{"start", 0}, {"end", 1}}, BehaviorKind::Locomotion));
-  EXPECT_TRUE(walk.added);
-  EXPECT_FALSE(walk.realized);
-  EXPECT_NE(walk.message.find("no controller for locomotion behaviors"), std::string::npos);
+  EXPECT_FALSE(walk.added);
+  EXPECT_NE(walk.message.find("needs a target"), std::string::npos) << walk.message;
   BehaviorRequest clipless = request("k", {{"start", 0}, {"end", 1}}, BehaviorKind::Clip);
   EXPECT_FALSE(c->addBehavior(clipless).added);
   EXPECT_TRUE(c->addBehavior(request("w", {{"start", 0}, {"end", 1}}, BehaviorKind::Wait)).realized);

@@ -143,6 +143,18 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     return result;
   }
   const BehaviorKind kind = request.kind;
+  // A locomotion lasts until the character arrives: its entry stays until a later one replaces it.
+  std::shared_ptr<LocomotionPlan> plan;
+  std::string locomotionWarning;
+  if (kind == BehaviorKind::Locomotion) {
+    std::string why = bindLocomotion(request, plan, locomotionWarning);
+    if (!why.empty()) {
+      result.message = std::move(why);
+      if (scene_) scene_->log(LogLevel::Warning, "behavior request '" + request.id + "': " + result.message);
+      return result;
+    }
+    request.persistent = true;
+  }
   BehaviorTimeline::Entry& e = behaviors_.add(std::move(request));
   result.added = true;
   if (clip) {
@@ -152,6 +164,13 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
       if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n &&
           (!t.translation.empty() || !t.rotation.empty() || !t.scale.empty()))
         e.mask[static_cast<std::size_t>(t.joint)] = 1.0f;
+    // Gestures play on the upper body, over the posture and the locomotion.
+    if (kind == BehaviorKind::Gesture || kind == BehaviorKind::Pointing) {
+      e.upperBody = true;
+      const std::vector<float> upper = upperBodyMask();
+      if (!upper.empty())
+        for (std::size_t i = 0; i < n; ++i) e.mask[i] *= upper[i];
+    }
     e.cursor.reset(clip->clip);
     e.rootCursor.reset(clip->inPlaceRoot);
     e.clip = std::move(clip);
@@ -163,6 +182,17 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     result.realized = true;
   } else if (kind == BehaviorKind::Wait) {
     result.realized = true;  // nothing to move
+  } else if (kind == BehaviorKind::Locomotion) {
+    e.locomotion = std::move(plan);
+    if (!locomotion_) locomotion_ = std::make_unique<LocomotionController>(locomotionSet_, skeleton().jointCount());
+    locomotion_->setSettings(locomotionSettings_);
+    if (!scratch_) {
+      ownScratch_ = std::make_unique<FrameScratch>();
+      scratch_ = ownScratch_.get();
+    }
+    scratch_->reserve(skeleton().jointCount());
+    result.realized = true;
+    result.message = std::move(locomotionWarning);
   } else if (kind == BehaviorKind::Gaze || kind == BehaviorKind::GazeShift ||
              kind == BehaviorKind::HeadDirectionShift) {
     auto findJoint = [this](std::string_view name, std::string_view joint) -> int {
@@ -192,6 +222,95 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
   return result;
 }
 
+std::vector<float> Character::upperBodyMask() const {
+  // The first spine joint and everything above it; empty when the profile has no spine.
+  const RigJoints& j = rig_->joints();
+  const int root = !j.spine.empty() ? j.spine.front() : j.neck;
+  if (root < 0) return {};
+  const Skeleton& s = skeleton();
+  std::vector<float> mask(s.jointCount(), 0.0f);
+  mask[static_cast<std::size_t>(root)] = 1.0f;
+  for (std::size_t i = static_cast<std::size_t>(root) + 1; i < s.jointCount(); ++i)
+    if (s.parents[i] >= 0 && mask[static_cast<std::size_t>(s.parents[i])] > 0.0f) mask[i] = 1.0f;
+  return mask;
+}
+
+const LocomotionSet& Character::locomotionSet() const {
+  if (!locomotionSet_) locomotionSet_ = std::make_shared<const LocomotionSet>(makeLocomotionSet(*rig_));
+  return *locomotionSet_;
+}
+
+void Character::setLocomotionSettings(const LocomotionSettings& settings) noexcept {
+  locomotionSettings_ = settings;
+  if (locomotion_) locomotion_->setSettings(settings);
+}
+
+std::string Character::bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
+                                      std::string& warning) const {
+  const LocomotionSet& set = locomotionSet();
+  if (!set.usable()) {
+    std::string why = "the character has no walk clip it can travel with (set \"walk\" in its profile)";
+    for (const std::string& n : set.notes) why += "; " + n;
+    return why;
+  }
+  plan = std::make_shared<LocomotionPlan>();
+  std::string why = parseLocomotionPlan(request, set, locomotionSettings_, *plan, warning);
+  if (!why.empty()) return why;
+  auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
+  if (!plan->targetCharacter.empty()) {
+    const Character* target = scene_ ? scene_->findCharacter(plan->targetCharacter) : nullptr;
+    if (!target) return "locomotion target: the scene has no character '" + plan->targetCharacter + "'";
+    if (target == this) return "locomotion target: a character cannot walk to itself";
+    return {};
+  }
+  // The destination as seen from here: warn about the implausible ones, still go.
+  const glm::vec2 here(position_.x, position_.z);
+  const float distance = glm::length(plan->waypoints.back() - here);
+  char buf[200];
+  if (distance < 0.1f && plan->waypoints.size() == 1) {
+    std::snprintf(buf, sizeof buf, "locomotion target is inside the character (%.3f m from its root); it stays and only turns to the facing",
+                  static_cast<double>(distance));
+    note(buf);
+  } else if (distance > 1000.0f) {
+    std::snprintf(buf, sizeof buf, "locomotion target is %.1f km away; at %.2f m/s that takes %.0f min",
+                  static_cast<double>(distance) / 1000.0, static_cast<double>(plan->speed),
+                  static_cast<double>(distance / plan->speed / 60.0f));
+    note(buf);
+  }
+  return {};
+}
+
+std::optional<double> Character::estimateLocomotion(const BehaviorRequest& request) const {
+  std::shared_ptr<LocomotionPlan> plan;
+  std::string warning;
+  if (!bindLocomotion(request, plan, warning).empty()) return std::nullopt;
+  SteeringState from;
+  from.position = {position_.x, position_.z};
+  from.heading = heading_;
+  glm::vec2 target(0.0f);
+  std::span<const glm::vec2> waypoints = plan->waypoints;
+  if (!plan->targetCharacter.empty()) {
+    const Character* t = scene_ ? scene_->findCharacter(plan->targetCharacter) : nullptr;
+    if (t) target = {t->position().x, t->position().z};
+    waypoints = std::span<const glm::vec2>(&target, 1);
+  }
+  return estimateLocomotionSeconds(from, *plan, waypoints, locomotionSettings_);
+}
+
+LocomotionStatus Character::locomotionStatus(std::string_view id) const noexcept {
+  LocomotionStatus st;
+  const BehaviorTimeline::Entry* e = behaviors_.find(id);
+  if (!e || !e->locomotion) return st;
+  if (!locomotion_ || e->order > locomotionOrder_) st.state = LocomotionStatus::kPending;
+  else if (e->order < locomotionOrder_) st.state = LocomotionStatus::kSuperseded;
+  else if (locomotion_->moving()) st.state = LocomotionStatus::kMoving;
+  else {
+    st.state = LocomotionStatus::kDone;
+    st.doneTime = locomotion_->doneTime();
+  }
+  return st;
+}
+
 bool Character::cancelBehavior(std::string_view id, double blendOut) { return behaviors_.cancel(id, clock_, blendOut); }
 
 std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOut) {
@@ -209,7 +328,9 @@ void Character::applyBehaviors(float dt) noexcept {
       stats_.controllerMicros[which] =
           std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   };
-  run(CharacterStats::kClipBehaviors, [&] { return applyBehaviorClips(); });
+  run(CharacterStats::kClipBehaviors, [&] { return applyBehaviorClips(false); });
+  if (locomotion_) run(CharacterStats::kLocomotion, [&] { return applyLocomotion(dt); });
+  if (applyBehaviorClips(true)) stats_.controllerUsed[CharacterStats::kClipBehaviors] = true;
   run(CharacterStats::kGaze, [&] {
     bool any = false;
     const glm::mat4 worldToModel = glm::inverse(worldMatrix());
@@ -254,6 +375,9 @@ void Character::applyBehaviors(float dt) noexcept {
 
 void Character::resolveExternalTargets() noexcept {
   if (!scene_) return;
+  for (BehaviorTimeline::Entry& e : behaviors_.entries())
+    if (e.locomotion && e.order >= locomotionOrder_ && !e.locomotion->targetCharacter.empty())
+      if (const Character* t = scene_->findCharacter(e.locomotion->targetCharacter)) e.resolvedTarget = t->position();
   for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (!e.isGaze || e.gaze.targetCharacter.empty()) continue;
     GazeState& g = e.gaze;
@@ -267,13 +391,32 @@ void Character::resolveExternalTargets() noexcept {
   }
 }
 
-bool Character::applyBehaviorClips() noexcept {
+bool Character::applyLocomotion(float dt) noexcept {
+  // Follow the newest locomotion request that has started; stop when it is cancelled.
+  bool cancelled = false;
+  for (const BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (!e.locomotion || e.request.start() > clock_) continue;
+    if (e.order > locomotionOrder_) {
+      locomotion_->start(e.locomotion, position_, heading_);
+      locomotionOrder_ = e.order;
+    }
+    if (e.order != locomotionOrder_) continue;
+    if (!e.locomotion->targetCharacter.empty()) locomotion_->setTargetPosition(e.resolvedTarget);
+    if (e.cancelled() && clock_ >= e.cancelAt) cancelled = true;
+  }
+  if (cancelled && locomotion_->moving()) locomotion_->stop();
+  const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(pose_.size());
+  locomotion_->update(dt, clock_, position_, heading_, skeleton().restPose, pose_, scratch);
+  return true;
+}
+
+bool Character::applyBehaviorClips(bool upperBody) noexcept {
   bool any = false;
   const std::span<const Transform> rest = skeleton().restPose;
   const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(rest.size());
   const std::span<float> morphs = buffer_.writeMorphWeights();
   for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
-    if (!e.clip) continue;
+    if (!e.clip || e.upperBody != upperBody) continue;
     const float w = BehaviorTimeline::weightAt(e, clock_);
     if (w <= 0.0f) continue;
     const AnimationClip& ac = *e.clip;

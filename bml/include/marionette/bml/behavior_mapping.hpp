@@ -9,6 +9,7 @@
 
 #include "marionette/behavior/behavior_request.hpp"
 #include "marionette/bml/scheduler.hpp"
+#include "marionette/scene/character.hpp"
 #include "marionette/scene/rig.hpp"
 
 namespace marionette::bml {
@@ -31,6 +32,9 @@ namespace marionette::bml {
 // repetition), for the scheduler's SchedulerOptions::defaultDuration.
 // Postures loop, so they keep the built-in default.
 [[nodiscard]] std::optional<double> naturalDuration(const Behavior& behavior, const Rig& rig);
+// The same for a character: a locomotion lasts as long as the walk from where
+// the character stands takes (Character::estimateLocomotion); the rest as on its rig.
+[[nodiscard]] std::optional<double> naturalDuration(const Behavior& behavior, const Character& character);
 
 // The request for one scheduled behavior of a block that starts at `blockStart`
 // (scene seconds). Its id is "blockId:behaviorId".

@@ -105,6 +105,7 @@ class Realizer {
     double sceneTime;
     std::string behaviorId, syncPoint;
     double blockTime;
+    bool onArrival = false;  // a locomotion's end: fires when the character arrives
   };
   struct Active {
     std::string character, blockId;
@@ -114,6 +115,7 @@ class Realizer {
     bool started = false;
   };
   void emit(const Feedback& f);
+  bool arrived(Active& block, Event& event, double now);
   static Feedback syncFeedback(Feedback::Kind kind, const Active& block, const Event& event);
   void warn(const std::string& character, const std::string& blockId, double sceneTime, Warning warning);
   bool submit(Character& character, const Active& block, const Block& parsed, Schedule& schedule);

@@ -20,6 +20,7 @@
 namespace marionette {
 
 struct AnimationClip;
+struct LocomotionPlan;
 
 class BehaviorTimeline {
  public:
@@ -45,6 +46,9 @@ class BehaviorTimeline {
     std::vector<std::pair<int, float>> morphs;  // face: (morph target, weight at full expression)
     bool isGaze = false;
     GazeState gaze;                             // gaze: target, influence and the tracking state
+    std::shared_ptr<const LocomotionPlan> locomotion;  // locomotion: where to go
+    glm::vec3 resolvedTarget{0.0f};             // locomotion: a target character's place before this frame
+    bool upperBody = false;                     // a gesture: played over posture and locomotion
     bool done = false;           // prune()'s mark
 
     [[nodiscard]] bool cancelled() const noexcept { return cancelAt != std::numeric_limits<double>::infinity(); }

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "marionette/animation/blending.hpp"
 #include "marionette/animation/sampling.hpp"
 #include "marionette/behavior/behavior_timeline.hpp"
+#include "marionette/behavior/locomotion.hpp"
 #include "marionette/scene/listener.hpp"
 #include "marionette/scene/rig.hpp"
 #include "marionette/scene/transform_buffer.hpp"
@@ -39,6 +41,12 @@ struct FrameScratch {
   void reserve(std::size_t joints);  // grows only
 };
 
+// Where a locomotion request stands (Character::locomotionStatus).
+struct LocomotionStatus {
+  enum State { kUnknown, kPending, kMoving, kDone, kSuperseded } state = kUnknown;
+  double doneTime = -1.0;  // character clock at arrival (and final facing), for kDone
+};
+
 // What became of a behavior request (Character::addBehavior).
 struct BehaviorResult {
   bool added = false;     // on the timeline: it has a channel, a weight envelope, an owner
@@ -53,8 +61,9 @@ struct CharacterStats {
   // Behavior controllers, in frame order: whether each has run at least once (they
   // exist only while a behavior uses them) and its wall time in the last frame
   // (measured only while the scene's stats are on).
-  enum Controller { kClipBehaviors, kGaze, kHead, kFace, kControllerCount };
-  static constexpr const char* kControllerNames[kControllerCount] = {"clip behaviors", "gaze", "head", "face"};
+  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kFace, kControllerCount };
+  static constexpr const char* kControllerNames[kControllerCount] = {"clip behaviors", "locomotion", "gaze", "head",
+                                                                     "face"};
   bool controllerUsed[kControllerCount] = {};
   double controllerMicros[kControllerCount] = {};
 };
@@ -104,6 +113,18 @@ class Character {
   [[nodiscard]] const BehaviorTimeline& behaviors() const noexcept { return behaviors_; }
   // The character's clock: the scene's time for a character in a scene.
   [[nodiscard]] double time() const noexcept { return clock_; }
+  // Locomotion: speed presets, turn speed, acceleration (before or after requests).
+  void setLocomotionSettings(const LocomotionSettings& settings) noexcept;
+  [[nodiscard]] const LocomotionSettings& locomotionSettings() const noexcept { return locomotionSettings_; }
+  // The locomotion controller; null until the character got a locomotion request.
+  [[nodiscard]] const LocomotionController* locomotion() const noexcept { return locomotion_.get(); }
+  [[nodiscard]] LocomotionStatus locomotionStatus(std::string_view id) const noexcept;
+  // Seconds a locomotion request with these parameters would take from where the
+  // character stands now (for scheduling its sync points); nullopt when it cannot
+  // be performed. Command time.
+  [[nodiscard]] std::optional<double> estimateLocomotion(const BehaviorRequest& request) const;
+  // The character's gait set (walk and run clips analysed), made on first use.
+  [[nodiscard]] const LocomotionSet& locomotionSet() const;
   // Gaze tracking and limits (time constant, speed limits, per-joint limits).
   void setGazeSettings(const GazeSettings& settings) noexcept { gazeSettings_ = settings; }
   [[nodiscard]] const GazeSettings& gazeSettings() const noexcept { return gazeSettings_; }
@@ -134,7 +155,11 @@ class Character {
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
   void blendLayers() noexcept;
   void applyBehaviors(float dt) noexcept;
-  bool applyBehaviorClips() noexcept;  // true if a clip behavior contributed
+  bool applyBehaviorClips(bool upperBody) noexcept;  // true if a clip behavior contributed
+  bool applyLocomotion(float dt) noexcept;
+  [[nodiscard]] std::vector<float> upperBodyMask() const;
+  [[nodiscard]] std::string bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
+                                           std::string& warning) const;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                        float& turn) const noexcept;
 
@@ -147,6 +172,10 @@ class Character {
   std::vector<Transform> pose_;
   BehaviorTimeline behaviors_;
   GazeSettings gazeSettings_;
+  LocomotionSettings locomotionSettings_;
+  mutable std::shared_ptr<const LocomotionSet> locomotionSet_;  // made on first use (command time)
+  std::unique_ptr<LocomotionController> locomotion_;
+  std::uint64_t locomotionOrder_ = 0;  // timeline order of the request it follows; 0 = none yet
   std::vector<float> morphScratch_;  // one per morph target, for weighted clip morphs
   double clock_ = 0.0;
   FrameScratch* scratch_ = nullptr;             // the scene's, or ownScratch_ when standalone

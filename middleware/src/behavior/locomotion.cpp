@@ -1,0 +1,399 @@
+#include "marionette/behavior/locomotion.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "marionette/animation/blending.hpp"
+#include "marionette/animation/pose.hpp"
+#include "marionette/core/number_list.hpp"
+#include "marionette/core/text.hpp"
+#include "marionette/scene/rig.hpp"
+
+namespace marionette {
+
+namespace {
+constexpr float kTwoPi = 6.28318530718f;
+constexpr std::size_t kMaxWaypoints = 1000;
+constexpr float kMaxSpeed = 12.0f;  // m/s: faster than any human gait
+
+float wrapAngle(float a) noexcept { return std::remainder(a, kTwoPi); }
+glm::vec2 forwardOf(float heading) noexcept { return {std::sin(heading), std::cos(heading)}; }
+
+// Clip-local time of a gait clip at an unwrapped phase (cycles), strike-aligned.
+double gaitTime(const GaitClip& g, double phase) noexcept { return (phase + g.strikePhase) * g.duration(); }
+
+// Distance left along the path from `position` through waypoints[from..].
+float pathRemaining(const glm::vec2& position, std::span<const glm::vec2> waypoints, std::size_t from) noexcept {
+  if (from >= waypoints.size()) return 0.0f;
+  float d = glm::length(waypoints[from] - position);
+  for (std::size_t i = from + 1; i < waypoints.size(); ++i) d += glm::length(waypoints[i] - waypoints[i - 1]);
+  return d;
+}
+
+// The heading the character must end with, or false when any will do.
+bool finalFacing(const SteeringState& s, const LocomotionPlan& plan, std::span<const glm::vec2> waypoints,
+                 float& facing) noexcept {
+  if (plan.hasFacing) {
+    facing = plan.facing;
+    return true;
+  }
+  if (plan.faceTargetCharacter && !waypoints.empty()) {
+    const glm::vec2 to = waypoints.back() - s.position;
+    if (glm::dot(to, to) < 1e-8f) return false;
+    facing = std::atan2(to.x, to.y);
+    return true;
+  }
+  return false;
+}
+}  // namespace
+
+float GaitClip::duration() const noexcept { return clip ? clip->clip.duration : 0.0f; }
+
+GaitClip analyzeGait(std::shared_ptr<const AnimationClip> clip, const Skeleton& skeleton, int leftFoot, int rightFoot) {
+  GaitClip g;
+  g.clip = std::move(clip);
+  if (!g.clip || !(g.clip->clip.duration > 0.0f)) return g;
+  const AnimationClip& ac = *g.clip;
+  const float T = ac.clip.duration;
+  if (!ac.rootMotion.empty()) {
+    glm::vec3 travel;
+    float yaw;
+    ac.rootMotion.evaluate(ac.rootMotion.duration, travel, yaw);
+    if (glm::length(travel) > 0.01f) {
+      g.hasRootMotion = true;
+      g.groundSpeed = glm::length(travel) / T;
+    }
+  }
+  const int n = static_cast<int>(skeleton.jointCount());
+  if (leftFoot < 0 || rightFoot < 0 || leftFoot >= n || rightFoot >= n) return g;
+  // Sample the cycle; the stance foot is the lower one.
+  const int samples = std::max(64, static_cast<int>(std::ceil(240.0f * T)));
+  const float h = T / static_cast<float>(samples);
+  std::vector<Transform> pose(skeleton.jointCount());
+  std::vector<glm::mat4> model(skeleton.jointCount());
+  std::vector<glm::vec3> left(static_cast<std::size_t>(samples)), right(static_cast<std::size_t>(samples));
+  for (int k = 0; k < samples; ++k) {
+    sampleClip(ac.clip, h * static_cast<float>(k), skeleton.restPose, pose);
+    if (g.hasRootMotion) sampleClipTracks(ac.inPlaceRoot, h * static_cast<float>(k), pose);
+    localToModel(skeleton, pose, model);
+    left[static_cast<std::size_t>(k)] = glm::vec3(model[static_cast<std::size_t>(leftFoot)][3]);
+    right[static_cast<std::size_t>(k)] = glm::vec3(model[static_cast<std::size_t>(rightFoot)][3]);
+  }
+  auto at = [&](const std::vector<glm::vec3>& v, int k) { return v[static_cast<std::size_t>((k + samples) % samples)]; };
+  auto leftStance = [&](int k) { return at(left, k).y <= at(right, k).y; };
+  // The stance foot's horizontal path over the cycle, per second of stance: what
+  // the ground must cover for the feet to stay put on average (cartoon gaits move
+  // the stance foot unevenly; foot planting takes out the rest).
+  double stancePath = 0.0;
+  int stanceSteps = 0;
+  for (int k = 0; k < samples; ++k) {
+    if (leftStance(k) != leftStance(k + 1)) continue;
+    const std::vector<glm::vec3>& foot = leftStance(k) ? left : right;
+    const glm::vec3 d = at(foot, k + 1) - at(foot, k);
+    stancePath += std::hypot(d.x, d.z);
+    ++stanceSteps;
+  }
+  for (int k = 0; k < samples; ++k)
+    if (leftStance(k) && !leftStance(k - 1)) {
+      g.strikePhase = static_cast<float>(k) / static_cast<float>(samples);
+      break;
+    }
+  if (!g.hasRootMotion && stanceSteps > 0) {
+    const double speed = stancePath / (stanceSteps * static_cast<double>(h));
+    g.groundSpeed = std::isfinite(speed) ? static_cast<float>(speed) : 0.0f;
+  }
+  return g;
+}
+
+LocomotionSet makeLocomotionSet(const Rig& rig) {
+  LocomotionSet set;
+  const CharacterProfile& p = rig.profile();
+  const RigJoints& j = rig.joints();
+  const int left = j.leftLeg.end, right = j.rightLeg.end;
+  if (left < 0 || right < 0)
+    set.notes.push_back("no feet in the profile (legs): gait speed from root motion only, phases unaligned");
+  auto load = [&](const std::string& name, const char* what) {
+    GaitClip g;
+    if (name.empty()) {
+      set.notes.push_back(std::string("no ") + what + " clip in the profile");
+      return g;
+    }
+    auto clip = rig.findClip(name);
+    if (!clip) {
+      set.notes.push_back(std::string("the profile's ") + what + " clip '" + name + "' is not in the rig");
+      return g;
+    }
+    g = analyzeGait(std::move(clip), rig.skeleton(), left, right);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%s clip '%s': %.3f m/s over the ground (%s), left strike at phase %.3f", what,
+                  name.c_str(), static_cast<double>(g.groundSpeed),
+                  g.hasRootMotion ? "root motion" : "stance foot speed", static_cast<double>(g.strikePhase));
+    set.notes.push_back(buf);
+    if (!(g.groundSpeed > 0.0f)) g.clip.reset();
+    return g;
+  };
+  set.walk = load(p.walk, "walk");
+  set.run = load(p.run, "run");
+  if (!set.walk.clip && set.run.clip) std::swap(set.walk, set.run);  // a run alone is the only gait
+  if (set.run.clip && set.run.groundSpeed <= set.walk.groundSpeed) {
+    set.notes.push_back("the run clip is not faster than the walk clip; it is not used");
+    set.run = {};
+  }
+  return set;
+}
+
+std::string parseLocomotionPlan(const BehaviorRequest& r, const LocomotionSet& set, const LocomotionSettings& settings,
+                                LocomotionPlan& plan, std::string& warning) {
+  auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
+  const std::string_view target = r.parameter("target");
+  if (target.empty()) return "a locomotion needs a target: \"x z\" in metres, waypoints \"x1 z1 x2 z2 ...\", or a character";
+  const std::string shown(target.substr(0, 60));
+  if (const auto numbers = parseNumberList(target)) {
+    const std::vector<float>& v = *numbers;
+    for (float x : v)
+      if (!std::isfinite(x)) return "locomotion target '" + shown + "' is not finite (NaN or infinite); nothing moves";
+    if (v.size() == 3) {
+      plan.waypoints.push_back({v[0], v[2]});
+    } else if (v.size() >= 2 && v.size() % 2 == 0 && v.size() / 2 <= kMaxWaypoints) {
+      for (std::size_t i = 0; i < v.size(); i += 2) plan.waypoints.push_back({v[i], v[i + 1]});
+    } else {
+      return "locomotion target '" + shown + "' has " + std::to_string(v.size()) +
+             " numbers: give \"x z\", \"x y z\", or up to 1000 waypoints \"x1 z1 x2 z2 ...\"";
+    }
+  } else {
+    plan.targetCharacter = std::string(target.substr(0, target.find(':')));
+    plan.proximity = settings.characterProximity;
+    plan.faceTargetCharacter = true;
+  }
+  // Speed: the manner's preset, unless given.
+  const float walk = settings.walkSpeed > 0.0f ? settings.walkSpeed : set.walk.groundSpeed;
+  const float run = settings.runSpeed > 0.0f ? settings.runSpeed
+                    : set.run.clip         ? set.run.groundSpeed
+                                           : 2.0f * walk;
+  const std::string manner = toUpper(r.parameter("manner"));
+  plan.speed = walk;
+  if (manner == "RUN" || manner == "JOG") plan.speed = run;
+  else if (manner == "STROLL") plan.speed = 0.5f * walk;
+  else if (manner == "SPRINT") plan.speed = 1.3f * run;
+  else if (!manner.empty() && manner != "WALK")
+    note("manner '" + manner.substr(0, 40) + "' is not WALK, RUN, JOG, STROLL or SPRINT; WALK is used");
+  auto number = [&](std::string_view name, float lo, float hi, float& out) {
+    const std::string_view text = r.parameter(name);
+    if (text.empty()) return false;
+    const auto v = parseNumberList(text);
+    if (!v || v->size() != 1 || !std::isfinite((*v)[0]) || (*v)[0] < lo || (*v)[0] > hi) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "%s '%.40s' is not a number in [%g, %g]; ignored", std::string(name).c_str(),
+                    std::string(text).c_str(), static_cast<double>(lo), static_cast<double>(hi));
+      note(buf);
+      return false;
+    }
+    out = (*v)[0];
+    return true;
+  };
+  number("speed", 0.05f, kMaxSpeed, plan.speed);
+  float facingDegrees = 0.0f;
+  if (number("facing", -360.0f, 360.0f, facingDegrees)) {
+    plan.hasFacing = true;
+    plan.facing = wrapAngle(glm::radians(facingDegrees));
+    plan.faceTargetCharacter = false;
+  }
+  number("proximity", 0.0f, 100.0f, plan.proximity);
+  if (!(plan.speed > 0.0f)) return "the character has no usable walk clip, so no speed for the locomotion";
+  return {};
+}
+
+float steer(SteeringState& s, const LocomotionPlan& plan, std::span<const glm::vec2> waypoints,
+            const LocomotionSettings& settings, float dt) noexcept {
+  if (s.done || !(dt >= 0.0f)) return 0.0f;
+  const float maxTurn = settings.turnSpeed * dt;
+  if (s.arrived || waypoints.empty() || s.waypoint >= waypoints.size()) {
+    s.arrived = true;
+    s.speed = 0.0f;
+    float facing = 0.0f;
+    if (!finalFacing(s, plan, waypoints, facing)) {
+      s.done = true;
+      return 0.0f;
+    }
+    const float error = wrapAngle(facing - s.heading);
+    s.heading = wrapAngle(s.heading + std::clamp(error, -maxTurn, maxTurn));
+    if (std::fabs(wrapAngle(facing - s.heading)) <= settings.facingTolerance) s.done = true;
+    return 0.0f;
+  }
+  const glm::vec2 to = waypoints[s.waypoint] - s.position;
+  const float distance = glm::length(to);
+  const bool last = s.waypoint + 1 == waypoints.size();
+  float error = 0.0f;
+  if (distance > 1e-4f) {
+    error = wrapAngle(std::atan2(to.x, to.y) - s.heading);
+    s.heading = wrapAngle(s.heading + std::clamp(error, -maxTurn, maxTurn));
+    error = wrapAngle(std::atan2(to.x, to.y) - s.heading);
+  }
+  const float remaining = std::max(0.0f, pathRemaining(s.position, waypoints, s.waypoint) - plan.proximity);
+  // Cruise, slowed while the target is off to the side (turning in place when it
+  // is beside or behind), and braking so as to stop at the destination.
+  const float brake = std::sqrt(2.0f * settings.deceleration * std::max(0.0f, remaining - settings.arriveRadius));
+  const float wanted = std::min(plan.speed * std::max(0.0f, std::cos(error)), brake);
+  if (s.speed < wanted) s.speed = std::min(wanted, s.speed + settings.acceleration * dt);
+  else s.speed = std::max(wanted, s.speed - settings.deceleration * dt);
+  s.speed = std::min(s.speed, brake);
+  float limit = s.speed * dt;
+  if (last) limit = std::min(limit, std::max(0.0f, distance - plan.proximity));
+  return limit;
+}
+
+void advance(SteeringState& s, const LocomotionPlan& plan, std::span<const glm::vec2> waypoints,
+             const LocomotionSettings& settings, const glm::vec2& travel) noexcept {
+  if (std::isfinite(travel.x) && std::isfinite(travel.y)) s.position += travel;
+  while (!s.arrived && s.waypoint < waypoints.size()) {
+    const bool last = s.waypoint + 1 == waypoints.size();
+    const float distance = glm::length(waypoints[s.waypoint] - s.position);
+    if (!last) {
+      if (distance > settings.waypointRadius) break;
+      ++s.waypoint;
+      continue;
+    }
+    if (distance - plan.proximity <= settings.arriveRadius) {
+      s.arrived = true;
+      s.speed = 0.0f;
+    }
+    break;
+  }
+  if (waypoints.empty()) s.arrived = true;
+}
+
+double estimateLocomotionSeconds(SteeringState s, const LocomotionPlan& plan, std::span<const glm::vec2> waypoints,
+                                 const LocomotionSettings& settings) {
+  constexpr float dt = 1.0f / 60.0f;
+  constexpr int kMaxSteps = 4 * 3600 * 60;
+  int steps = 0;
+  while (!s.done && steps < kMaxSteps) {
+    const float limit = steer(s, plan, waypoints, settings, dt);
+    advance(s, plan, waypoints, settings, forwardOf(s.heading) * limit);
+    ++steps;
+  }
+  return steps * static_cast<double>(dt);
+}
+
+LocomotionController::LocomotionController(std::shared_ptr<const LocomotionSet> set, std::size_t jointCount)
+    : set_(std::move(set)), gaitPose_(jointCount) {
+  if (set_->walk.clip) {
+    walkCursor_.reset(set_->walk.clip->clip);
+    walkRootCursor_.reset(set_->walk.clip->inPlaceRoot);
+  }
+  if (set_->run.clip) {
+    runCursor_.reset(set_->run.clip->clip);
+    runRootCursor_.reset(set_->run.clip->inPlaceRoot);
+  }
+}
+
+void LocomotionController::start(std::shared_ptr<const LocomotionPlan> plan, const glm::vec3& position,
+                                 float heading) noexcept {
+  plan_ = std::move(plan);
+  const float speed = state_.speed;
+  state_ = {};
+  state_.position = {position.x, position.z};
+  drawnAt_ = position;
+  state_.heading = heading;
+  state_.speed = speed;
+  if (plan_ && plan_->targetCharacter.empty() && plan_->waypoints.empty()) state_.arrived = true;
+}
+
+void LocomotionController::stop() noexcept {
+  plan_.reset();
+  state_.done = true;
+}
+
+void LocomotionController::setTargetPosition(const glm::vec3& world) noexcept {
+  if (std::isfinite(world.x) && std::isfinite(world.z)) targetPosition_ = {world.x, world.z};
+}
+
+void LocomotionController::update(float dt, double clock, glm::vec3& position, float& heading,
+                                  std::span<const Transform> rest, std::span<Transform> pose,
+                                  std::span<Transform> scratch) noexcept {
+  if (!set_->usable() || (!plan_ && weight_ <= 0.0f && state_.speed <= 0.0f)) return;
+  // Someone else moved the character (setPosition, a layer's root motion): steer from there.
+  if (position != drawnAt_) state_.position = {position.x, position.z};
+  state_.heading = heading;
+  const bool wasDone = state_.done;
+  float limit = 0.0f;
+  if (plan_ && !state_.done) {
+    const std::span<const glm::vec2> waypoints =
+        plan_->targetCharacter.empty() ? std::span<const glm::vec2>(plan_->waypoints)
+                                       : std::span<const glm::vec2>(&targetPosition_, 1);
+    limit = steer(state_, *plan_, waypoints, settings_, dt);
+  } else {  // stopped: brake where it is
+    state_.speed = std::max(0.0f, state_.speed - settings_.deceleration * dt);
+    limit = state_.speed * dt;
+  }
+
+  // Gait blend and phase: the run's weight from the speed; one cycle covers D metres.
+  const GaitClip& walk = set_->walk;
+  const GaitClip& run = set_->run;
+  const float v = state_.speed;
+  runWeight_ = run.clip ? std::clamp((v - walk.groundSpeed) / (run.groundSpeed - walk.groundSpeed), 0.0f, 1.0f) : 0.0f;
+  const float cycle = (1.0f - runWeight_) * walk.cycleDistance() + runWeight_ * run.cycleDistance();
+  const double phase0 = phase_;
+  phase_ += static_cast<double>(v * dt / cycle);
+
+  // Travel: the clips' root motion over the step (or their ground speed). The
+  // forward part moves the steering along its path; the sideways sway of the
+  // root (detrended, so a cycle comes back to the path) is added to the place the
+  // character is drawn at but not steered from, so the heading does not wobble.
+  float forward = 0.0f, lateral = 0.0f;
+  auto addTravel = [&](const GaitClip& g, float w) {
+    if (w <= 0.0f) return;
+    const double t0 = gaitTime(g, phase0), t1 = gaitTime(g, phase_);
+    if (!g.hasRootMotion) {
+      forward += w * static_cast<float>(t1 - t0) * g.groundSpeed;
+      return;
+    }
+    glm::vec3 d;
+    float turn;
+    g.clip->rootMotion.between(t0, t1, WrapMode::Loop, d, turn);
+    forward += w * d.z;
+    const RootMotion& rm = g.clip->rootMotion;
+    glm::vec3 now, whole;
+    float yaw;
+    const float t = wrapClipTime(t1, rm.duration, WrapMode::Loop);
+    rm.evaluate(t, now, yaw);
+    rm.evaluate(rm.duration, whole, yaw);
+    lateral += w * (now.x - whole.x * t / rm.duration);
+  };
+  addTravel(walk, 1.0f - runWeight_);
+  addTravel(run, runWeight_);
+  const glm::vec2 step = forwardOf(state_.heading) * std::clamp(forward, 0.0f, limit);
+  if (plan_ && !state_.done) {
+    const std::span<const glm::vec2> waypoints =
+        plan_->targetCharacter.empty() ? std::span<const glm::vec2>(plan_->waypoints)
+                                       : std::span<const glm::vec2>(&targetPosition_, 1);
+    advance(state_, *plan_, waypoints, settings_, step);
+  } else {
+    state_.position += step;
+  }
+  if (plan_ && state_.done && !wasDone) doneTime_ = clock;
+  heading = state_.heading;
+
+  // The gait's weight over the posture follows the speed (exact first-order lag).
+  const float target = std::clamp(v / (0.3f * walk.groundSpeed), 0.0f, 1.0f);
+  weight_ += (target - weight_) * (1.0f - std::exp(-dt / settings_.blendTimeConstant));
+  if (weight_ < 1e-4f && target == 0.0f) weight_ = 0.0f;
+  const glm::vec3 sway = glm::angleAxis(state_.heading, glm::vec3(0, 1, 0)) * glm::vec3(lateral * weight_, 0.0f, 0.0f);
+  position.x = state_.position.x + sway.x;
+  position.z = state_.position.y + sway.z;
+  drawnAt_ = position;
+  if (weight_ <= 0.0f) return;
+  const std::span<Transform> gait(gaitPose_);
+  const float walkTime = static_cast<float>(gaitTime(walk, phase_) - std::floor(phase_ + walk.strikePhase) * walk.duration());
+  sampleClip(walk.clip->clip, walkTime, rest, gait, &walkCursor_);
+  if (!walk.clip->rootMotion.empty()) sampleClipTracks(walk.clip->inPlaceRoot, walkTime, gait, &walkRootCursor_);
+  if (runWeight_ > 0.0f) {
+    const float runTime = static_cast<float>(gaitTime(run, phase_) - std::floor(phase_ + run.strikePhase) * run.duration());
+    sampleClip(run.clip->clip, runTime, rest, scratch, &runCursor_);
+    if (!run.clip->rootMotion.empty()) sampleClipTracks(run.clip->inPlaceRoot, runTime, scratch, &runRootCursor_);
+    blendOver(gait, scratch, runWeight_, {});
+  }
+  blendOver(pose, gait, weight_, {});
+}
+
+}  // namespace marionette
