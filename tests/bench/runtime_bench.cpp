@@ -6,6 +6,8 @@
 //   Scaling/Characters/N     RobotExpressive, N characters
 //   Behaviors/IdleGazeNodFace/RobotExpressive  Idle clip + gaze (NECK, tracking) + a
 //                            repeated head nod + a face expression, 1000 characters
+//   Behaviors/IdleLocomotionGazeNodFace/RobotExpressive  the same plus locomotion (walk and
+//                            run blended by speed, root motion, two-leg foot planting)
 // Counter us_per_char: microseconds per character per frame (one core).
 #include <benchmark/benchmark.h>
 
@@ -183,8 +185,22 @@ void behaviorsBench(benchmark::State& state) {
       state.SkipWithError("RobotExpressive's guessed profile does not support gaze, nod and ANGER");
       return;
     }
+    if (state.range(0) == 0) continue;
+    // Locomotion at a speed between the walk and the run (both clips blended, feet
+    // planted), toward a point 400 m ahead so that no character arrives while measured.
+    const LocomotionSet& set = c->locomotionSet();
+    BehaviorRequest walk;
+    walk.id = "walk";
+    walk.kind = BehaviorKind::Locomotion;
+    walk.parameters = {{"target", std::to_string(i % 10) + " 400"},
+                       {"speed", std::to_string(0.5f * (set.walk.groundSpeed + set.run.groundSpeed))}};
+    walk.syncs = {{"start", 0.0}, {"end", 1e6}};
+    if (!c->addBehavior(walk).realized) {
+      state.SkipWithError("RobotExpressive cannot walk (its profile's walk and run clips)");
+      return;
+    }
   }
-  scene.update(1.0 / 60.0);
+  for (int warmUp = 0; warmUp < 60; ++warmUp) scene.update(1.0 / 60.0);  // up to speed
   timedLoop(state, kCharacters, [&] {
     scene.update(1.0 / 60.0);
     benchmark::DoNotOptimize(scene.characters().front()->transformBuffer().skinning().data());
@@ -192,7 +208,8 @@ void behaviorsBench(benchmark::State& state) {
 }
 
 }  // namespace
-BENCHMARK(behaviorsBench)->Name("Behaviors/IdleGazeNodFace/RobotExpressive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(behaviorsBench)->Name("Behaviors/IdleGazeNodFace/RobotExpressive")->Arg(0)->Unit(benchmark::kMicrosecond);
+BENCHMARK(behaviorsBench)->Name("Behaviors/IdleLocomotionGazeNodFace/RobotExpressive")->Arg(1)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_CAPTURE(runtimeBench, Pab_Sample1, std::string("Pab"), 1)->Name("Runtime/Sample1/Pab")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(runtimeBench, Pab_Blend3, std::string("Pab"), 3)->Name("Runtime/Blend3/Pab")->Unit(benchmark::kMicrosecond);

@@ -14,6 +14,16 @@ void localToModel(const Skeleton& skeleton, std::span<const Transform> local, st
   }
 }
 
+glm::mat4 modelMatrixOf(const Skeleton& skeleton, std::span<const Transform> local, int joint) noexcept {
+  if (joint < 0 || static_cast<std::size_t>(joint) >= std::min(skeleton.jointCount(), local.size()))
+    return skeleton.rootTransform;
+  // Parents come before children, so the chain up is at most `joint` long; compose from the top.
+  glm::mat4 m(1.0f);
+  for (int j = joint; j >= 0; j = skeleton.parents[static_cast<std::size_t>(j)])
+    m = affineMultiply(local[static_cast<std::size_t>(j)].matrix(), m);
+  return affineMultiply(skeleton.rootTransform, m);
+}
+
 void skinningPalette(std::span<const glm::mat4> model, std::span<const glm::mat4> inverseBind,
                      std::span<glm::mat4> palette) noexcept {
   const std::size_t n = std::min({model.size(), inverseBind.size(), palette.size()});

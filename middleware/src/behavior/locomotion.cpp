@@ -79,6 +79,11 @@ GaitClip analyzeGait(std::shared_ptr<const AnimationClip> clip, const Skeleton& 
     left[static_cast<std::size_t>(k)] = glm::vec3(model[static_cast<std::size_t>(leftFoot)][3]);
     right[static_cast<std::size_t>(k)] = glm::vec3(model[static_cast<std::size_t>(rightFoot)][3]);
   }
+  g.floor[0] = g.floor[1] = INFINITY;
+  for (int k = 0; k < samples; ++k) {
+    g.floor[0] = std::min(g.floor[0], left[static_cast<std::size_t>(k)].y);
+    g.floor[1] = std::min(g.floor[1], right[static_cast<std::size_t>(k)].y);
+  }
   auto at = [&](const std::vector<glm::vec3>& v, int k) { return v[static_cast<std::size_t>((k + samples) % samples)]; };
   auto leftStance = [&](int k) { return at(left, k).y <= at(right, k).y; };
   // The stance foot's horizontal path over the cycle, per second of stance: what
@@ -275,8 +280,9 @@ double estimateLocomotionSeconds(SteeringState s, const LocomotionPlan& plan, st
   return steps * static_cast<double>(dt);
 }
 
-LocomotionController::LocomotionController(std::shared_ptr<const LocomotionSet> set, std::size_t jointCount)
-    : set_(std::move(set)), gaitPose_(jointCount) {
+LocomotionController::LocomotionController(std::shared_ptr<const LocomotionSet> set, const Skeleton& skeleton,
+                                           const RigJoints& joints)
+    : set_(std::move(set)), gaitPose_(skeleton.jointCount()), planter_(skeleton, joints) {
   if (set_->walk.clip) {
     walkCursor_.reset(set_->walk.clip->clip);
     walkRootCursor_.reset(set_->walk.clip->inPlaceRoot);
@@ -309,9 +315,10 @@ void LocomotionController::setTargetPosition(const glm::vec3& world) noexcept {
 }
 
 void LocomotionController::update(float dt, double clock, glm::vec3& position, float& heading,
-                                  std::span<const Transform> rest, std::span<Transform> pose,
+                                  const Skeleton& skeleton, std::span<Transform> pose,
                                   std::span<Transform> scratch) noexcept {
-  if (!set_->usable() || (!plan_ && weight_ <= 0.0f && state_.speed <= 0.0f)) return;
+  const std::span<const Transform> rest = skeleton.restPose;
+  if (!set_->usable() || (!plan_ && weight_ <= 0.0f && state_.speed <= 0.0f && !planter_.active())) return;
   // Someone else moved the character (setPosition, a layer's root motion): steer from there.
   if (position != drawnAt_) state_.position = {position.x, position.z};
   state_.heading = heading;
@@ -331,10 +338,15 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
   const GaitClip& walk = set_->walk;
   const GaitClip& run = set_->run;
   const float v = state_.speed;
+  // Turning on the spot steps too: the gait runs as if at the speed of a foot
+  // circling the body (a tenth of a walk cycle's length away), but travels only v.
+  const float turnRate = dt > 0.0f ? std::fabs(wrapAngle(state_.heading - heading)) / dt : 0.0f;
+  const float gaitSpeed = std::max(v, turnRate * 0.1f * walk.cycleDistance());
   runWeight_ = run.clip ? std::clamp((v - walk.groundSpeed) / (run.groundSpeed - walk.groundSpeed), 0.0f, 1.0f) : 0.0f;
   const float cycle = (1.0f - runWeight_) * walk.cycleDistance() + runWeight_ * run.cycleDistance();
   const double phase0 = phase_;
-  phase_ += static_cast<double>(v * dt / cycle);
+  phase_ += static_cast<double>(gaitSpeed * dt / cycle);
+  const float travelShare = gaitSpeed > 0.0f ? v / gaitSpeed : 0.0f;
 
   // Travel: the clips' root motion over the step (or their ground speed). The
   // forward part moves the steering along its path; the sideways sway of the
@@ -345,13 +357,13 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
     if (w <= 0.0f) return;
     const double t0 = gaitTime(g, phase0), t1 = gaitTime(g, phase_);
     if (!g.hasRootMotion) {
-      forward += w * static_cast<float>(t1 - t0) * g.groundSpeed;
+      forward += travelShare * w * static_cast<float>(t1 - t0) * g.groundSpeed;
       return;
     }
     glm::vec3 d;
     float turn;
     g.clip->rootMotion.between(t0, t1, WrapMode::Loop, d, turn);
-    forward += w * d.z;
+    forward += travelShare * w * d.z;
     const RootMotion& rm = g.clip->rootMotion;
     glm::vec3 now, whole;
     float yaw;
@@ -375,14 +387,21 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
   heading = state_.heading;
 
   // The gait's weight over the posture follows the speed (exact first-order lag).
-  const float target = std::clamp(v / (0.3f * walk.groundSpeed), 0.0f, 1.0f);
+  const float target = std::clamp(gaitSpeed / (0.3f * walk.groundSpeed), 0.0f, 1.0f);
   weight_ += (target - weight_) * (1.0f - std::exp(-dt / settings_.blendTimeConstant));
   if (weight_ < 1e-4f && target == 0.0f) weight_ = 0.0f;
   const glm::vec3 sway = glm::angleAxis(state_.heading, glm::vec3(0, 1, 0)) * glm::vec3(lateral * weight_, 0.0f, 0.0f);
   position.x = state_.position.x + sway.x;
   position.z = state_.position.y + sway.z;
   drawnAt_ = position;
-  if (weight_ <= 0.0f) return;
+  Transform placement;
+  placement.translation = position;
+  placement.rotation = glm::angleAxis(heading, glm::vec3(0, 1, 0));
+  if (weight_ <= 0.0f) {  // the posture alone; planted feet ease into it
+    const float none[2] = {0.0f, 0.0f};
+    if (planter_.active()) planter_.apply(skeleton, pose, placement.matrix(), none, 0.0f, dt, settings_.feet);
+    return;
+  }
   const std::span<Transform> gait(gaitPose_);
   const float walkTime = static_cast<float>(gaitTime(walk, phase_) - std::floor(phase_ + walk.strikePhase) * walk.duration());
   sampleClip(walk.clip->clip, walkTime, rest, gait, &walkCursor_);
@@ -394,6 +413,10 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
     blendOver(gait, scratch, runWeight_, {});
   }
   blendOver(pose, gait, weight_, {});
+  // Plant the feet where they touch down, in this frame's placement.
+  const float floor[2] = {walk.floor[0] + runWeight_ * (run.floor[0] - walk.floor[0]),
+                          walk.floor[1] + runWeight_ * (run.floor[1] - walk.floor[1])};
+  planter_.apply(skeleton, pose, placement.matrix(), floor, weight_, dt, settings_.feet);
 }
 
 }  // namespace marionette

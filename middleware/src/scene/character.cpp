@@ -184,7 +184,7 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     result.realized = true;  // nothing to move
   } else if (kind == BehaviorKind::Locomotion) {
     e.locomotion = std::move(plan);
-    if (!locomotion_) locomotion_ = std::make_unique<LocomotionController>(locomotionSet_, skeleton().jointCount());
+    if (!locomotion_) locomotion_ = std::make_unique<LocomotionController>(locomotionSet_, skeleton(), rig_->joints());
     locomotion_->setSettings(locomotionSettings_);
     if (!scratch_) {
       ownScratch_ = std::make_unique<FrameScratch>();
@@ -406,7 +406,7 @@ bool Character::applyLocomotion(float dt) noexcept {
   }
   if (cancelled && locomotion_->moving()) locomotion_->stop();
   const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(pose_.size());
-  locomotion_->update(dt, clock_, position_, heading_, skeleton().restPose, pose_, scratch);
+  locomotion_->update(dt, clock_, position_, heading_, skeleton(), pose_, scratch);
   return true;
 }
 

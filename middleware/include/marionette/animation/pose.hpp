@@ -11,6 +11,10 @@ namespace marionette {
 // All spans have the skeleton's joint count.
 void localToModel(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept;
 
+// Model-space matrix of one joint, walking up its ancestors (no allocation): for
+// controllers that need a few joints mid-frame, before the full localToModel.
+[[nodiscard]] glm::mat4 modelMatrixOf(const Skeleton& skeleton, std::span<const Transform> local, int joint) noexcept;
+
 // palette[i] = model[i] * inverseBind[i].
 void skinningPalette(std::span<const glm::mat4> model, std::span<const glm::mat4> inverseBind,
                      std::span<glm::mat4> palette) noexcept;

@@ -21,6 +21,7 @@
 
 #include "marionette/animation/sampling.hpp"
 #include "marionette/behavior/behavior_request.hpp"
+#include "marionette/behavior/foot_planting.hpp"
 #include "marionette/core/transform.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 
@@ -28,6 +29,7 @@ namespace marionette {
 
 struct AnimationClip;
 class Rig;
+struct RigJoints;
 
 struct LocomotionSettings {
   float walkSpeed = 0.0f;           // m/s for manner WALK; 0 = the walk clip's own ground speed
@@ -40,6 +42,7 @@ struct LocomotionSettings {
   float characterProximity = 1.0f;  // m: stop this far from a target character
   float facingTolerance = 0.005f;   // rad: final facing reached
   float blendTimeConstant = 0.15f;  // s: lag of the gait's weight over the posture behind the speed
+  FootPlantSettings feet;           // foot planting (on by default)
 };
 
 // A gait clip of the locomotion set, analysed once.
@@ -48,6 +51,7 @@ struct GaitClip {
   float groundSpeed = 0.0f;  // m/s travelled at playback rate 1
   float strikePhase = 0.0f;  // cycle phase in [0, 1) at which the left foot becomes the stance foot
   bool hasRootMotion = false;
+  float floor[2] = {0.0f, 0.0f};  // lowest model height of the left and right foot over the cycle
   [[nodiscard]] float duration() const noexcept;
   [[nodiscard]] float cycleDistance() const noexcept { return groundSpeed * duration(); }
 };
@@ -112,7 +116,7 @@ void advance(SteeringState& state, const LocomotionPlan& plan, std::span<const g
 // Command time: the constructor and start(); per frame: update() (no allocation).
 class LocomotionController {
  public:
-  LocomotionController(std::shared_ptr<const LocomotionSet> set, std::size_t jointCount);
+  LocomotionController(std::shared_ptr<const LocomotionSet> set, const Skeleton& skeleton, const RigJoints& joints);
 
   // Follows `plan` from now, keeping the current speed and gait phase.
   void start(std::shared_ptr<const LocomotionPlan> plan, const glm::vec3& position, float heading) noexcept;
@@ -123,8 +127,9 @@ class LocomotionController {
 
   // Steers, advances the gait, moves `position` / `heading`, and blends the gait
   // over `pose` (weight rising with speed). `scratch` is any pose-sized buffer.
-  void update(float dt, double clock, glm::vec3& position, float& heading, std::span<const Transform> rest,
+  void update(float dt, double clock, glm::vec3& position, float& heading, const Skeleton& skeleton,
               std::span<Transform> pose, std::span<Transform> scratch) noexcept;
+  [[nodiscard]] const FootPlanter& feet() const noexcept { return planter_; }
 
   [[nodiscard]] bool moving() const noexcept { return plan_ && !state_.done; }
   [[nodiscard]] double doneTime() const noexcept { return doneTime_; }  // clock of the last arrival; < 0 none
@@ -147,6 +152,7 @@ class LocomotionController {
   float weight_ = 0.0f, runWeight_ = 0.0f;
   double doneTime_ = -1.0;
   std::vector<Transform> gaitPose_;
+  FootPlanter planter_;
   SamplingCursor walkCursor_, walkRootCursor_, runCursor_, runRootCursor_;
 };
 

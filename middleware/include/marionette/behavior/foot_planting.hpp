@@ -1,0 +1,60 @@
+// Foot planting: while a foot of the gait is on the ground, keep it where it
+// touched down and bend the leg to reach it (two-bone IK), so that feet do not
+// slide when the steering, the speed blend or the sway move the body a little
+// differently from the clip. A foot is on the ground while its animated height
+// (model space) is within `contactHeight` of the gait's floor for that foot; it
+// is locked at its world place (x, z) when it touches down, keeps its animated
+// height (the foot still rolls), and on lift-off the correction fades out over
+// `releaseSeconds`. When the character stops (the gait's weight reaches 0) the
+// planted feet ease to the posture's stance no faster than 0.4 m/s: a slow slide,
+// below what reads as skating (a stop-step clip would do better; none of the
+// assets has one). Per-frame code: no allocation.
+#pragma once
+#include <span>
+
+#include "marionette/behavior/two_bone_ik.hpp"
+#include "marionette/scene/rig.hpp"
+
+namespace marionette {
+
+struct FootPlantSettings {
+  bool enabled = true;
+  float contactHeight = 0.06f;   // m above the foot's floor
+  float releaseSeconds = 0.12f;  // fade of the correction after lift-off
+  TwoBoneIkSettings ik;
+};
+
+class FootPlanter {
+ public:
+  FootPlanter(const Skeleton& skeleton, const RigJoints& joints);
+  [[nodiscard]] bool usable() const noexcept { return legs_[0].upper >= 0 && legs_[1].upper >= 0; }
+
+  // After the gait was blended into `pose`. `floor` is each foot's lowest model
+  // height in the gait (left, right); `weight` the gait's weight over the posture
+  // (planting fades with it); `worldFromModel` the character's placement this frame.
+  void apply(const Skeleton& skeleton, std::span<Transform> pose, const glm::mat4& worldFromModel,
+             const float floor[2], float weight, float dt, const FootPlantSettings& settings) noexcept;
+  void reset() noexcept;
+  [[nodiscard]] bool planted(int foot) const noexcept { return feet_[foot].locked; }
+  // True while a foot is planted or easing back to the animation (the planter still has work).
+  [[nodiscard]] bool active() const noexcept {
+    return feet_[0].locked || feet_[1].locked || feet_[0].release > 0.0f || feet_[1].release > 0.0f;
+  }
+  // Largest distance the IK left between a planted foot and its target last frame (m).
+  [[nodiscard]] float lastResidual() const noexcept { return residual_; }
+
+ private:
+  struct Foot {
+    bool locked = false;
+    glm::vec3 lockWorld{0.0f};
+    glm::vec3 releaseOffset{0.0f};  // model space, at lift-off
+    float release = 0.0f;           // 1 at lift-off, down to 0
+    float releaseSeconds = 0.0f;
+  };
+  LimbIk legs_[2];
+  int feet_joints_[2] = {-1, -1};
+  Foot feet_[2];
+  float residual_ = 0.0f;
+};
+
+}  // namespace marionette
