@@ -255,3 +255,37 @@ TEST(CliRunBml, BmlWarningsAndFailuresSetTheExitCode) {
   EXPECT_EQ(run("run " + scene + " --frames 5 --bml /nonexistent.xml").status, 2);
 }
 #endif
+
+// Issue 4's scene: the robot walks to (1.5, 1.2), ends facing 90 degrees, looks at
+// Godette and nods; she looks back and smiles. Checked from what the tool prints.
+TEST(CliRunBml, WalkLookNodSmileScene) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/Godette_vrm_v4.vrm"));
+  const std::string feedback = ::testing::TempDir() + "walk_feedback.jsonl";
+  CliRun r = run("run " + sourceFile("assets/scenes/walk_look_nod_smile.json") + " --frames 600 --fps 60 --stats" +
+                 " --feedback " + feedback);
+  ASSERT_EQ(r.status, 0) << r.out;
+  double x = 0, y = 0, z = 0, heading = 0;
+  const std::size_t at = r.out.find("  robot ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("at (", at), "at (%lf, %lf, %lf) heading %lf", &x, &y, &z, &heading), 4)
+      << r.out;
+  EXPECT_LT(std::hypot(x - 1.5, z - 1.2), 0.2) << r.out;
+  EXPECT_NEAR(heading, 90.0, 5.0) << r.out;
+  EXPECT_NE(r.out.find("locomotion"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("face"), std::string::npos) << r.out;
+  std::ifstream in(feedback);
+  std::string line;
+  double arrived = -1, nodStroke = -1, smileStart = -1;
+  while (std::getline(in, line)) {
+    auto j = nlohmann::json::parse(line, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << line;
+    if (j["kind"] != "syncPointProgress") continue;
+    if (j["behavior"] == "walk" && j["sync"] == "end") arrived = j["sceneTime"];
+    if (j["behavior"] == "nod" && j["sync"] == "stroke") nodStroke = j["sceneTime"];
+    if (j["behavior"] == "smile" && j["sync"] == "start") smileStart = j["sceneTime"];
+  }
+  EXPECT_GT(arrived, 0.5 + 1.0);     // a walk of about 3.7 m takes a while
+  EXPECT_GT(nodStroke, arrived);     // the nod comes after the arrival
+  EXPECT_NEAR(smileStart, nodStroke, 1e-6);  // she smiles at the nod's stroke
+}
