@@ -7,6 +7,7 @@
 #include "marionette/io/import.hpp"
 #include "joint_rotation.hpp"
 #include "marionette/scene/scene.hpp"
+#include "real_rig.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
@@ -15,17 +16,6 @@ using marionette::test::preciseAngleBetween;
 using namespace marionette::test;
 
 namespace {
-std::shared_ptr<Rig> loadWithProfile(const std::string& asset, const std::string& profile) {
-  ImportResult r = importAsset(sharedAsset(asset));
-  EXPECT_TRUE(r.ok()) << r.diagnostics.format();
-  if (!r.ok()) return nullptr;
-  auto a = std::make_shared<Asset>(std::move(*r.asset));
-  auto rig = std::make_shared<Rig>(a);
-  CharacterProfileResult p = loadCharacterProfile(sourceFile("assets/profiles/" + profile), *a);
-  EXPECT_TRUE(p.diagnostics.items.empty()) << p.diagnostics.format();
-  rig->setProfile(std::move(p.profile));
-  return rig;
-}
 
 BehaviorRequest nod(double start) {
   BehaviorRequest r;
@@ -43,7 +33,7 @@ BehaviorRequest nod(double start) {
 // the character's lateral axis relative to the same Idle frame without the nod.
 TEST(BehaviorsOnRealCharacters, RobotNodsOverItsIdle) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
-  auto rig = loadWithProfile("characters/RobotExpressive.glb", "RobotExpressive.json");
+  auto rig = loadRigWithProfile(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
   ASSERT_TRUE(rig);
   const int head = rig->joints().head;
   ASSERT_GE(head, 0);
@@ -65,7 +55,7 @@ TEST(BehaviorsOnRealCharacters, RobotNodsOverItsIdle) {
 // Godette (VRM): SMILE maps to its joy expression through the shipped profile.
 TEST(BehaviorsOnRealCharacters, GodetteSmiles) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/Godette_vrm_v4.vrm"));
-  auto rig = loadWithProfile("characters/Godette_vrm_v4.vrm", "Godette_vrm_v4.json");
+  auto rig = loadRigWithProfile(sharedAsset("characters/Godette_vrm_v4.vrm"), "Godette_vrm_v4.json");
   ASSERT_TRUE(rig);
   auto it = rig->joints().face.find("SMILE");
   ASSERT_NE(it, rig->joints().face.end());
@@ -89,7 +79,7 @@ TEST(BehaviorsOnRealCharacters, GodetteSmiles) {
 // NECK influence: once settled, its head faces the point within 3 degrees.
 TEST(BehaviorsOnRealCharacters, RobotGazesAtAPoint) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
-  auto rig = loadWithProfile("characters/RobotExpressive.glb", "RobotExpressive.json");
+  auto rig = loadRigWithProfile(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
   ASSERT_TRUE(rig);
   const int head = rig->joints().head;
   Scene scene;

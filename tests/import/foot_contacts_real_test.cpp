@@ -13,6 +13,7 @@
 #include "marionette/behavior/two_bone_ik.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/scene/rig.hpp"
+#include "real_rig.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
@@ -20,17 +21,6 @@ using namespace marionette::test;
 
 namespace {
 
-std::shared_ptr<Rig> loadRig(const std::string& asset, const std::string& profile) {
-  ImportResult r = importAsset(asset);
-  EXPECT_TRUE(r.ok()) << r.diagnostics.format();
-  if (!r.ok()) return nullptr;
-  auto a = std::make_shared<Asset>(std::move(*r.asset));
-  auto rig = std::make_shared<Rig>(a);
-  CharacterProfileResult p = loadCharacterProfile(sourceFile("assets/profiles/" + profile), *a);
-  EXPECT_TRUE(p.diagnostics.items.empty()) << p.diagnostics.format();
-  rig->setProfile(std::move(p.profile));
-  return rig;
-}
 
 // Hip to ankle in the rest pose (through the lower joint).
 float legLength(const Rig& rig) {
@@ -91,7 +81,7 @@ void checkClip(const Rig& rig, const std::string& clipName, const char* who, Exp
 
 TEST(FootContactsOnRealClips, RobotExpressiveWalkingAndRunning) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
-  auto rig = loadRig(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
+  auto rig = loadRigWithProfile(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
   ASSERT_TRUE(rig);
   // A cartoon gait, not a human one (measured, see docs/foot-ik.md): the right
   // foot is within reach of the ground for only a third of the walk, and in the
@@ -103,7 +93,7 @@ TEST(FootContactsOnRealClips, RobotExpressiveWalkingAndRunning) {
 #ifdef MARIONETTE_HAS_ASSIMP
 TEST(FootContactsOnRealClips, PabWalkAndJog) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/pab_arnaud.fbx"));
-  auto rig = loadRig(sharedAsset("characters/pab_arnaud.fbx"), "pab_arnaud.json");
+  auto rig = loadRigWithProfile(sharedAsset("characters/pab_arnaud.fbx"), "pab_arnaud.json");
   ASSERT_TRUE(rig);
   for (const char* motion : {"walk", "jog"}) {
     const std::string path = sharedAsset(std::string("motions/fbx/pab_") + motion + ".fbx");

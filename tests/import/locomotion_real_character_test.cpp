@@ -9,6 +9,7 @@
 
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
+#include "real_rig.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
@@ -18,15 +19,7 @@ namespace {
 constexpr float kPi = 3.14159265f;
 
 std::shared_ptr<Rig> robot() {
-  ImportResult r = importAsset(sharedAsset("characters/RobotExpressive.glb"));
-  EXPECT_TRUE(r.ok()) << r.diagnostics.format();
-  if (!r.ok()) return nullptr;
-  auto a = std::make_shared<Asset>(std::move(*r.asset));
-  auto rig = std::make_shared<Rig>(a);
-  CharacterProfileResult p = loadCharacterProfile(sourceFile("assets/profiles/RobotExpressive.json"), *a);
-  EXPECT_TRUE(p.diagnostics.ok()) << p.diagnostics.format();
-  rig->setProfile(std::move(p.profile));
-  return rig;
+  return loadRigWithProfile(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
 }
 
 std::shared_ptr<Rig> pab() {
@@ -118,7 +111,7 @@ WalkResult walk(const std::shared_ptr<Rig>& rig, glm::vec2 target, float facingD
       }
     }
   }
-  result.skatingRatio = result.contactFrames ? static_cast<float>(skating) / result.contactFrames : 1.0f;
+  result.skatingRatio = result.contactFrames ? static_cast<float>(skating) / static_cast<float>(result.contactFrames) : 1.0f;
   return result;
 }
 

@@ -15,6 +15,7 @@
 #include "marionette/behavior/two_bone_ik.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/scene/rig.hpp"
+#include "real_rig.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
@@ -22,17 +23,6 @@ using namespace marionette::test;
 
 namespace {
 
-std::shared_ptr<Rig> loadRig(const std::string& asset, const std::string& profile) {
-  ImportResult r = importAsset(asset);
-  EXPECT_TRUE(r.ok()) << r.diagnostics.format();
-  if (!r.ok()) return nullptr;
-  auto a = std::make_shared<Asset>(std::move(*r.asset));
-  auto rig = std::make_shared<Rig>(a);
-  CharacterProfileResult p = loadCharacterProfile(sourceFile("assets/profiles/" + profile), *a);
-  EXPECT_TRUE(p.diagnostics.items.empty()) << p.diagnostics.format();
-  rig->setProfile(std::move(p.profile));
-  return rig;
-}
 
 glm::vec3 modelPosition(const Skeleton& s, const std::vector<Transform>& pose, int joint) {
   std::vector<glm::mat4> model(pose.size());
@@ -98,7 +88,7 @@ void checkLegs(const Rig& rig, const Clip& clip, const char* who) {
 
 TEST(TwoBoneIkOnRealCharacters, RobotExpressiveLegsWithDetachedFeet) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
-  auto rig = loadRig(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
+  auto rig = loadRigWithProfile(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
   ASSERT_TRUE(rig);
   const Skeleton& s = rig->skeleton();
   const LimbIk left = makeLimbIk(s, rig->joints().leftLeg);
@@ -131,7 +121,7 @@ TEST(TwoBoneIkOnRealCharacters, RobotExpressiveLegsWithDetachedFeet) {
 TEST(TwoBoneIkOnRealCharacters, PabLegsOnItsWalk) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/pab_arnaud.fbx"));
   MARIONETTE_REQUIRE_FILE(sharedAsset("motions/fbx/pab_walk.fbx"));
-  auto rig = loadRig(sharedAsset("characters/pab_arnaud.fbx"), "pab_arnaud.json");
+  auto rig = loadRigWithProfile(sharedAsset("characters/pab_arnaud.fbx"), "pab_arnaud.json");
   ASSERT_TRUE(rig);
   ImportOptions motionOnly;
   motionOnly.loadMeshes = false;
