@@ -76,3 +76,40 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
   std::vector<int> v(10);
   EXPECT_GT(g_allocations.load() - before, 0);
 }
+
+// The same with two threads: waking the workers, the shared chunk index, the
+// per-thread scratch and the serialized listener calls allocate nothing either.
+TEST(Allocation, NoHeapAllocationPerFrameWithTwoThreads) {
+  auto rig = marionette::test::makeSyntheticRig();
+  Scene scene;
+  struct Counting : SceneListener {
+    int stopped = 0;
+    void onCharacterChanged(const Character&, ChangeKind kind, std::string_view) override {
+      stopped += kind == ChangeKind::ClipStopped;
+    }
+  } listener;
+  scene.addListener(&listener);
+  for (int i = 0; i < 64; ++i) {  // four chunks of 16: the frame is really split
+    Character* c = scene.addCharacter("c" + std::to_string(i), rig);
+    c->play(0, "walk", {.rootMotion = true});
+    c->play(1, "wave", {.weight = 0.5f, .additive = i % 2 == 0, .jointMask = {0, 0, 1, 1}});
+    BehaviorRequest g;
+    g.id = "g";
+    g.kind = BehaviorKind::Gesture;
+    g.clip = "wave";
+    g.syncs = {{"start", 0.0}, {"ready", 0.2}, {"relax", 1.0}, {"end", 2.0}};
+    c->addBehavior(g);
+  }
+  scene.setThreadCount(2);
+  scene.setStatsEnabled(true);
+  scene.update(1.0 / 60.0);  // warm-up
+  const long before = g_allocations.load();
+  for (int f = 0; f < 300; ++f) {
+    if (f == 100)
+      for (const auto& c : scene.characters()) c->stop(1, 0.2f);  // ClipStopped from inside update()
+    scene.update(f % 7 == 0 ? 0.5 : 1.0 / 60.0);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(listener.stopped, 64);
+  EXPECT_EQ(scene.threadCount(), 2);
+}

@@ -1,14 +1,58 @@
 #include "marionette/scene/scene.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <string>
+#include <thread>
+
+#include "worker_pool.hpp"
 
 namespace marionette {
 
+namespace {
+constexpr int kMaxThreads = 64;
+// Characters taken at a time from the shared index: large enough that the atomic
+// increment is lost in the work (16 RobotExpressive updates take ~25 us), small
+// enough to balance a noisy machine. Scenes of one chunk run on the caller alone.
+constexpr std::size_t kChunk = 16;
+}  // namespace
+
+struct Scene::Parallel {
+  // One scratch per worker (the caller uses Scene::scratch_), each reserved to
+  // the largest skeleton, so that no two threads blend through the same memory.
+  std::vector<std::unique_ptr<FrameScratch>> scratch;
+  std::atomic<std::size_t> next{0};  // first character of the next chunk to take
+  double dt = 0.0;
+  detail::WorkerPool pool;  // declared last: its workers are joined first
+};
+
 // No listener calls here: listeners are often declared after the scene and so
-// destroyed before it (UBSan caught exactly that in the tests).
+// destroyed before it (UBSan caught exactly that in the tests). parallel_'s
+// destructor joins the (idle) workers.
+Scene::Scene() = default;
 Scene::~Scene() = default;
+
+int Scene::threadCount() const noexcept { return parallel_ ? parallel_->pool.participants() : 1; }
+
+void Scene::setThreadCount(int n) {
+  if (n == 0) n = static_cast<int>(std::thread::hardware_concurrency());  // 0 when unknown: clamped to 1
+  n = std::clamp(n, 1, kMaxThreads);
+  if (n == threadCount()) return;
+  parallel_.reset();
+  if (n == 1) return;
+  auto p = std::make_unique<Parallel>();
+  for (int k = 1; k < n; ++k) {
+    p->scratch.push_back(std::make_unique<FrameScratch>());
+    p->scratch.back()->reserve(scratch_.pose.size());
+  }
+  const int started = p->pool.resize(n);
+  if (started < n)
+    log(LogLevel::Warning, "setThreadCount: the system started only " + std::to_string(started) + " of " +
+                               std::to_string(n) + " threads; updating with " + std::to_string(started));
+  if (started > 1) parallel_ = std::move(p);
+}
 
 Character* Scene::addCharacter(std::string name, std::shared_ptr<const Rig> rig) {
   if (!rig) {
@@ -23,7 +67,11 @@ Character* Scene::addCharacter(std::string name, std::shared_ptr<const Rig> rig)
   Character* c = characters_.back().get();
   c->scene_ = this;
   c->clock_ = time_;
+  // Every thread's scratch fits every character; between updates a character
+  // points at the caller's, which its command-time calls (play) use.
   scratch_.reserve(c->skeleton().jointCount());
+  if (parallel_)
+    for (auto& s : parallel_->scratch) s->reserve(c->skeleton().jointCount());
   c->scratch_ = &scratch_;
   forEachListener([&](SceneListener& l) { l.onCharacterCreated(*c); });
   return c;
@@ -63,17 +111,46 @@ void Scene::update(double dt) noexcept {
   }
   time_ += dt;
   ++frame_;
+  // Serial: reads other characters' last frame. After it, a character's update
+  // reads only itself, so any order and any thread give the same result.
   for (auto& c : characters_) c->resolveExternalTargets();
-  for (auto& c : characters_) {
-    if (stats_) {
-      const auto start = std::chrono::steady_clock::now();
-      c->update(dt);
-      c->stats_.lastUpdateMicros =
-          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
-    } else {
-      c->update(dt);
-    }
+  if (parallel_ && characters_.size() > kChunk) {
+    parallel_->next.store(0, std::memory_order_relaxed);  // published by the pool's mutex
+    parallel_->dt = dt;
+    lockListeners_ = true;
+    parallel_->pool.run(&Scene::updateChunks, this);
+    lockListeners_ = false;
+  } else {
+    for (auto& c : characters_) updateCharacter(*c, scratch_, dt);
   }
+}
+
+void Scene::updateChunks(void* scene, int participant) noexcept {
+  Scene& s = *static_cast<Scene*>(scene);
+  Parallel& p = *s.parallel_;
+  FrameScratch& scratch = participant == 0 ? s.scratch_ : *p.scratch[static_cast<std::size_t>(participant - 1)];
+  // Copies: `next` shares a cache line with these and bounces between threads.
+  const std::size_t n = s.characters_.size();
+  const double dt = p.dt;
+  for (;;) {
+    const std::size_t begin = p.next.fetch_add(kChunk, std::memory_order_relaxed);
+    if (begin >= n) return;
+    const std::size_t end = std::min(n, begin + kChunk);
+    for (std::size_t i = begin; i < end; ++i) s.updateCharacter(*s.characters_[i], scratch, dt);
+  }
+}
+
+void Scene::updateCharacter(Character& c, FrameScratch& scratch, double dt) noexcept {
+  c.scratch_ = &scratch;
+  if (stats_) {
+    const auto start = std::chrono::steady_clock::now();
+    c.update(dt);
+    c.stats_.lastUpdateMicros =
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+  } else {
+    c.update(dt);
+  }
+  c.scratch_ = &scratch_;  // back to the caller's: command-time calls find a reserved scratch
 }
 
 }  // namespace marionette

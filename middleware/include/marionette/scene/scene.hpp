@@ -1,8 +1,19 @@
 // Scene: many characters on one monotonic clock. No process-wide state: several
 // scenes may coexist. update(dt) is deterministic: the same calls give
-// bit-identical transform buffers.
+// bit-identical transform buffers, whatever threadCount() is.
+//
+// Threads. A scene is used from one thread at a time. With setThreadCount(n > 1),
+// update() updates the characters on that thread and n - 1 worker threads of the
+// scene's own. Listener callbacks that characters make during update() (for
+// example onCharacterChanged when a clip fades out, onLog) may then arrive on a
+// worker thread, one at a time (the scene serializes them; a callback may call
+// log() again) and in an unspecified order. Until update() returns, such a
+// callback may read the character it is about but must not read other characters
+// or call anything else that changes the scene (addListener, update, ...).
+// Callbacks outside update() stay on the calling thread.
 #pragma once
 #include <memory>
+#include <mutex>
 #include <string_view>
 #include <vector>
 
@@ -13,7 +24,7 @@ namespace marionette {
 
 class Scene {
  public:
-  Scene() = default;
+  Scene();  // out of line: Parallel is complete only in scene.cpp
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
   ~Scene();
@@ -37,21 +48,43 @@ class Scene {
   [[nodiscard]] double time() const noexcept { return time_; }
   [[nodiscard]] std::uint64_t frame() const noexcept { return frame_; }
 
+  // Threads that update() uses, the calling one included: 1 (the default) updates
+  // every character on the caller; 0 means std::thread::hardware_concurrency();
+  // clamped to [1, 64]. Command time: starts or joins worker threads (never per
+  // frame); call it between updates. Scenes of at most 16 characters update on the
+  // caller alone. Fewer threads than asked (with a warning) if the system refuses one.
+  void setThreadCount(int n);
+  [[nodiscard]] int threadCount() const noexcept;
+
   // Per-character wall-clock timing in CharacterStats (costs two clock reads each).
   void setStatsEnabled(bool on) noexcept { stats_ = on; }
   [[nodiscard]] bool statsEnabled() const noexcept { return stats_; }
 
-  // Listener fan-out (used by characters and, later, behavior realizers).
+  // Listener fan-out (used by characters and, later, behavior realizers). During
+  // a parallel update the calls are serialized (see the threads note above).
   void log(LogLevel level, std::string_view message) const;
   template <class F>
   void forEachListener(F&& f) const {
-    for (SceneListener* l : listeners_) f(*l);
+    if (lockListeners_) {
+      std::lock_guard lock(listenerMutex_);
+      for (SceneListener* l : listeners_) f(*l);
+    } else {
+      for (SceneListener* l : listeners_) f(*l);
+    }
   }
 
  private:
+  struct Parallel;  // worker pool and per-worker scratch (scene.cpp)
+  static void updateChunks(void* scene, int participant) noexcept;
+  void updateCharacter(Character& c, FrameScratch& scratch, double dt) noexcept;
+
   std::vector<std::unique_ptr<Character>> characters_;
   std::vector<SceneListener*> listeners_;
-  FrameScratch scratch_;  // shared by the characters' blends, sized to the largest skeleton
+  FrameScratch scratch_;  // the calling thread's blend scratch, sized to the largest skeleton
+  std::unique_ptr<Parallel> parallel_;  // null while threadCount() == 1
+  // Recursive: a callback serialized by it may call log() on the same thread.
+  mutable std::recursive_mutex listenerMutex_;
+  bool lockListeners_ = false;  // true only while update() runs on several threads
   double time_ = 0.0;
   std::uint64_t frame_ = 0;
   bool stats_ = false;
