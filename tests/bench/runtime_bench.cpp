@@ -18,6 +18,7 @@
 
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
+#include "bench_behaviors.hpp"
 #include "synthetic.hpp"
 
 using namespace marionette;
@@ -165,23 +166,7 @@ void behaviorsBench(benchmark::State& state) {
   fillScene(scene, b.rig, b.clips, kCharacters, 1);
   for (int i = 0; i < kCharacters; ++i) {
     Character* c = scene.characters()[static_cast<std::size_t>(i)].get();
-    BehaviorRequest gaze;
-    gaze.id = "gaze";
-    gaze.kind = BehaviorKind::Gaze;
-    gaze.parameters = {{"target", std::to_string(i % 7 - 3) + " 1.5 2"}, {"influence", "NECK"}};
-    gaze.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
-    BehaviorRequest nod;
-    nod.id = "nod";
-    nod.kind = BehaviorKind::Head;
-    nod.parameters = {{"lexeme", "NOD"}};
-    // One long stroke, so the nod is applied (not skipped) on every benchmarked frame.
-    nod.syncs = {{"start", 0.0}, {"strokeStart", 0.0}, {"stroke", 5e5}, {"strokeEnd", 1e6}, {"end", 1e6}};
-    BehaviorRequest face;
-    face.id = "face";
-    face.kind = BehaviorKind::FaceLexeme;
-    face.parameters = {{"lexeme", "ANGER"}, {"amount", "0.5"}};
-    face.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
-    if (!c->addBehavior(gaze).realized || !c->addBehavior(nod).realized || !c->addBehavior(face).realized) {
+    if (!test::addGazeNodFace(*c, i)) {
       state.SkipWithError("RobotExpressive's guessed profile does not support gaze, nod and ANGER");
       return;
     }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "marionette/io/import.hpp"
+#include "bench_behaviors.hpp"
 #include "marionette/scene/scene.hpp"
 
 using namespace marionette;
@@ -46,23 +47,7 @@ bool fillBehaviorScene(Scene& scene, const std::shared_ptr<const Rig>& rig) {
     Character* c = scene.addCharacter("c" + std::to_string(i), rig);
     c->setPosition({static_cast<float>(i % 40), 0.0f, static_cast<float>(i / 40)});
     c->play(0, "Idle", {.startTime = 0.013 * i});  // each at its own time
-    BehaviorRequest gaze;
-    gaze.id = "gaze";
-    gaze.kind = BehaviorKind::Gaze;
-    gaze.parameters = {{"target", std::to_string(i % 7 - 3) + " 1.5 2"}, {"influence", "NECK"}};
-    gaze.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
-    BehaviorRequest nod;
-    nod.id = "nod";
-    nod.kind = BehaviorKind::Head;
-    nod.parameters = {{"lexeme", "NOD"}};
-    // One long stroke: the nod is applied on every benchmarked frame.
-    nod.syncs = {{"start", 0.0}, {"strokeStart", 0.0}, {"stroke", 5e5}, {"strokeEnd", 1e6}, {"end", 1e6}};
-    BehaviorRequest face;
-    face.id = "face";
-    face.kind = BehaviorKind::FaceLexeme;
-    face.parameters = {{"lexeme", "ANGER"}, {"amount", "0.5"}};
-    face.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
-    if (!c->addBehavior(gaze).realized || !c->addBehavior(nod).realized || !c->addBehavior(face).realized)
+    if (!test::addGazeNodFace(*c, i))
       return false;
   }
   return true;

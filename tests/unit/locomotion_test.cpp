@@ -222,6 +222,8 @@ TEST(LocomotionPlanParsing, TargetsMannersAndBadValues) {
     std::string warning;
     const std::string why = parseLocomotionPlan(request({{"target", bad}}), set, settings, p, warning);
     EXPECT_NE(why, "") << bad;
-    if (*bad) EXPECT_NE(why.find(bad), std::string::npos) << why;
+    if (*bad) {
+      EXPECT_NE(why.find(bad), std::string::npos) << why;
+    }
   }
 }

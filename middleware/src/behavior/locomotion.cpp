@@ -61,6 +61,7 @@ GaitClip analyzeGait(std::shared_ptr<const AnimationClip> clip, const Skeleton& 
     ac.rootMotion.evaluate(ac.rootMotion.duration, travel, yaw);
     if (glm::length(travel) > 0.01f) {
       g.hasRootMotion = true;
+      g.lateralDrift = travel.x;
       g.groundSpeed = glm::length(travel) / T;
     }
   }
@@ -310,6 +311,12 @@ void LocomotionController::stop() noexcept {
   state_.done = true;
 }
 
+std::span<const glm::vec2> LocomotionController::waypoints() const noexcept {
+  // A target character's place (resolved before the frame) stands in for the plan's waypoints.
+  if (!plan_->targetCharacter.empty()) return {&targetPosition_, 1};
+  return plan_->waypoints;
+}
+
 void LocomotionController::setTargetPosition(const glm::vec3& world) noexcept {
   if (std::isfinite(world.x) && std::isfinite(world.z)) targetPosition_ = {world.x, world.z};
 }
@@ -325,10 +332,7 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
   const bool wasDone = state_.done;
   float limit = 0.0f;
   if (plan_ && !state_.done) {
-    const std::span<const glm::vec2> waypoints =
-        plan_->targetCharacter.empty() ? std::span<const glm::vec2>(plan_->waypoints)
-                                       : std::span<const glm::vec2>(&targetPosition_, 1);
-    limit = steer(state_, *plan_, waypoints, settings_, dt);
+    limit = steer(state_, *plan_, waypoints(), settings_, dt);
   } else {  // stopped: brake where it is
     state_.speed = std::max(0.0f, state_.speed - settings_.deceleration * dt);
     limit = state_.speed * dt;
@@ -365,21 +369,17 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
     g.clip->rootMotion.between(t0, t1, WrapMode::Loop, d, turn);
     forward += travelShare * w * d.z;
     const RootMotion& rm = g.clip->rootMotion;
-    glm::vec3 now, whole;
+    glm::vec3 now;
     float yaw;
     const float t = wrapClipTime(t1, rm.duration, WrapMode::Loop);
     rm.evaluate(t, now, yaw);
-    rm.evaluate(rm.duration, whole, yaw);
-    lateral += w * (now.x - whole.x * t / rm.duration);
+    lateral += w * (now.x - g.lateralDrift * t / rm.duration);
   };
   addTravel(walk, 1.0f - runWeight_);
   addTravel(run, runWeight_);
   const glm::vec2 step = forwardOf(state_.heading) * std::clamp(forward, 0.0f, limit);
   if (plan_ && !state_.done) {
-    const std::span<const glm::vec2> waypoints =
-        plan_->targetCharacter.empty() ? std::span<const glm::vec2>(plan_->waypoints)
-                                       : std::span<const glm::vec2>(&targetPosition_, 1);
-    advance(state_, *plan_, waypoints, settings_, step);
+    advance(state_, *plan_, waypoints(), settings_, step);
   } else {
     state_.position += step;
   }

@@ -52,6 +52,7 @@ struct GaitClip {
   float strikePhase = 0.0f;  // cycle phase in [0, 1) at which the left foot becomes the stance foot
   bool hasRootMotion = false;
   float floor[2] = {0.0f, 0.0f};  // lowest model height of the left and right foot over the cycle
+  float lateralDrift = 0.0f;      // sideways root travel over a whole cycle (detrends the sway)
   [[nodiscard]] float duration() const noexcept;
   [[nodiscard]] float cycleDistance() const noexcept { return groundSpeed * duration(); }
 };
@@ -142,6 +143,8 @@ class LocomotionController {
   [[nodiscard]] const LocomotionSettings& settings() const noexcept { return settings_; }
 
  private:
+  [[nodiscard]] std::span<const glm::vec2> waypoints() const noexcept;  // plan_ must be set
+
   std::shared_ptr<const LocomotionSet> set_;
   std::shared_ptr<const LocomotionPlan> plan_;
   LocomotionSettings settings_;

@@ -124,6 +124,7 @@ class Character {
   // be performed. Command time.
   [[nodiscard]] std::optional<double> estimateLocomotion(const BehaviorRequest& request) const;
   // The character's gait set (walk and run clips analysed), made on first use.
+  // Command time only: not to be called from update() (threads would race on it).
   [[nodiscard]] const LocomotionSet& locomotionSet() const;
   // Gaze tracking and limits (time constant, speed limits, per-joint limits).
   void setGazeSettings(const GazeSettings& settings) noexcept { gazeSettings_ = settings; }

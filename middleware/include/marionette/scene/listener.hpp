@@ -1,7 +1,9 @@
 // SceneListener: how an engine hears what the runtime does. Every callback has
 // a no-op default, so a listener overrides only what it needs. Callbacks come
 // from Scene::update (and from the calls that change a scene) on the caller's
-// thread; the string views are valid only during the call.
+// thread, except that with Scene::setThreadCount > 1 callbacks made during
+// update() may come from worker threads, one at a time (see scene.hpp); the
+// string views are valid only during the call.
 #pragma once
 #include <string_view>
 

@@ -1,0 +1,32 @@
+// The behavior load the benchmarks share: a gaze at a point (NECK, tracking),
+// a head nod applied on every frame, and a face expression, on one character.
+#pragma once
+#include <string>
+
+#include "marionette/scene/character.hpp"
+
+namespace marionette::test {
+
+// `i` varies the gaze target between characters. False when the character's
+// profile cannot realize one of them.
+inline bool addGazeNodFace(Character& c, int i) {
+  BehaviorRequest gaze;
+  gaze.id = "gaze";
+  gaze.kind = BehaviorKind::Gaze;
+  gaze.parameters = {{"target", std::to_string(i % 7 - 3) + " 1.5 2"}, {"influence", "NECK"}};
+  gaze.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
+  BehaviorRequest nod;
+  nod.id = "nod";
+  nod.kind = BehaviorKind::Head;
+  nod.parameters = {{"lexeme", "NOD"}};
+  // One long stroke, so the nod is applied (not skipped) on every benchmarked frame.
+  nod.syncs = {{"start", 0.0}, {"strokeStart", 0.0}, {"stroke", 5e5}, {"strokeEnd", 1e6}, {"end", 1e6}};
+  BehaviorRequest face;
+  face.id = "face";
+  face.kind = BehaviorKind::FaceLexeme;
+  face.parameters = {{"lexeme", "ANGER"}, {"amount", "0.5"}};
+  face.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
+  return c.addBehavior(gaze).realized && c.addBehavior(nod).realized && c.addBehavior(face).realized;
+}
+
+}  // namespace marionette::test
