@@ -2,6 +2,7 @@
 
 #include "marionette/bml/realizer.hpp"
 #include "synthetic_rig.hpp"
+#include "synthetic_upper_body.hpp"
 
 using namespace marionette;
 using namespace marionette::bml;
@@ -333,4 +334,30 @@ TEST_F(RealizerWithRobot, LocomotionBadTargetsAreWarnings) {
   EXPECT_TRUE(far);
   step(scene, r, 2.0, 0.5);
   EXPECT_TRUE(std::isfinite(c->position().x) && std::isfinite(c->position().z));
+}
+
+// <pointing> with a target aims the arm (no "no controller" warning); a bad
+// target is a CANNOT_CREATE_BEHAVIOR warning naming it.
+TEST(Realizer, PointingAimsTheArmAndBadTargetsAreWarnings) {
+  Scene scene;
+  Realizer r(scene);
+  Recorder rec;
+  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+  Character* c = scene.addCharacter("ann", test::makeUpperBodyRig());
+  r.perform("<bml id='b1' characterId='ann'><pointing id='p' target='3 4 6' mode='LEFT_HAND' start='0' ready='0.3' end='2'/></bml>");
+  ASSERT_TRUE(rec.of(Feedback::Kind::Warning).empty()) << rec.all.front().xml();
+  const int lower = c->skeleton().findJoint("LeftForeArm"), hand = c->skeleton().findJoint("LeftHand");
+  step(scene, r, 1.0, 1.0 / 30.0);
+  EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kPointing]);
+  auto world = [&](int j) {
+    return glm::vec3(c->transformBuffer().worldMatrix() * c->transformBuffer().modelMatrices()[static_cast<std::size_t>(j)][3]);
+  };
+  const glm::vec3 elbow = world(lower), forearm = glm::normalize(world(hand) - elbow);
+  EXPECT_GT(glm::dot(forearm, glm::normalize(glm::vec3(3, 4, 6) - elbow)), std::cos(glm::radians(0.5f)));
+  r.perform("<bml id='b2' characterId='ann' composition='APPEND'><pointing id='q' target='inf 0 0'/></bml>");
+  r.perform("<bml id='b3' characterId='ann' composition='APPEND'><pointing id='q' target='Nobody'/></bml>");
+  const auto w = rec.warnings(WarningType::CannotCreateBehavior);
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0]->warning.message.find("pointing target 'inf 0 0' is not finite"), std::string::npos) << w[0]->warning.message;
+  EXPECT_NE(w[1]->warning.message.find("'Nobody'"), std::string::npos) << w[1]->warning.message;
 }

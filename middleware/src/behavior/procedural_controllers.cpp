@@ -1,6 +1,5 @@
 #include "marionette/behavior/procedural_controllers.hpp"
 
-#include "marionette/core/number_list.hpp"
 #include "marionette/core/text.hpp"
 
 #include <algorithm>
@@ -118,15 +117,6 @@ void applyFace(const BehaviorTimeline::Entry& e, float weight, std::span<float> 
 }
 
 namespace {
-// "x y z": three numbers. False if it is not three numbers at all.
-bool parsePoint(std::string_view text, glm::vec3& out, bool& finite) {
-  const auto v = parseNumberList(text);
-  if (!v || v->size() != 3) return false;
-  out = {(*v)[0], (*v)[1], (*v)[2]};
-  finite = std::isfinite(out.x) && std::isfinite(out.y) && std::isfinite(out.z);
-  return true;
-}
-
 float degreesParameter(const BehaviorRequest& r, std::string_view name, std::string& warning) {
   const std::string_view text = r.parameter(name);
   if (text.empty()) return 0.0f;
@@ -141,30 +131,13 @@ float degreesParameter(const BehaviorRequest& r, std::string_view name, std::str
 }  // namespace
 
 std::string bindGaze(BehaviorTimeline::Entry& e, const Rig& rig,
-                     const std::function<int(std::string_view, std::string_view)>& findJoint, std::string& warning) {
+                     const TargetJointFinder& findJoint, std::string& warning) {
   const BehaviorRequest& r = e.request;
   GazeState& g = e.gaze;
   const RigJoints& j = rig.joints();
   if (j.head < 0 && j.neck < 0 && j.leftEye < 0 && j.rightEye < 0)
     return "the character has no eye, head or neck joint to gaze with (set them in its profile)";
-  const std::string_view target = r.parameter("target");
-  if (target.empty()) return "a gaze needs a target: \"x y z\" in metres, a character, or character:joint";
-  bool finite = true;
-  glm::vec3 point;
-  if (parsePoint(target, point, finite)) {
-    if (!finite) return "gaze target '" + std::string(target) + "' is not finite (NaN or infinite); the gaze was not started";
-    g.point = point;
-  } else {
-    const std::size_t colon = target.find(':');
-    g.targetCharacter = std::string(target.substr(0, colon));
-    g.targetJoint = colon == std::string_view::npos ? std::string() : std::string(target.substr(colon + 1));
-    const int index = findJoint(g.targetCharacter, g.targetJoint);
-    if (index == -2) return "gaze target '" + std::string(target) + "': the scene has no character '" + g.targetCharacter + "'";
-    if (index < 0 && !g.targetJoint.empty())
-      return "gaze target '" + std::string(target) + "': character '" + g.targetCharacter + "' has no joint '" +
-             g.targetJoint + "'";
-    g.targetJointIndex = index;
-  }
+  if (std::string why = parseSpatialTarget(r.parameter("target"), "gaze", findJoint, g.target); !why.empty()) return why;
   const std::string_view influence = r.parameter("influence");
   if (!influence.empty()) {
     if (auto i = gazeInfluenceFromName(influence)) g.influence = *i;

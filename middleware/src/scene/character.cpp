@@ -180,6 +180,12 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     }
     scratch_->reserve(n);
     result.realized = true;
+    // A pointing clip shapes the hand; with a target the arm is aimed over it.
+    if (kind == BehaviorKind::Pointing && !e.request.parameter("target").empty()) {
+      std::string warning;
+      const std::string why = bindPointingEntry(e, warning);
+      result.message = why.empty() ? warning : why + "; the clip plays without aiming";
+    }
   } else if (kind == BehaviorKind::Wait) {
     result.realized = true;  // nothing to move
   } else if (kind == BehaviorKind::Locomotion) {
@@ -193,15 +199,15 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     scratch_->reserve(skeleton().jointCount());
     result.realized = true;
     result.message = std::move(locomotionWarning);
+  } else if (kind == BehaviorKind::Pointing) {
+    std::string warning;
+    const std::string why = bindPointingEntry(e, warning);
+    result.realized = why.empty();
+    result.message = why.empty() ? warning : why;
   } else if (kind == BehaviorKind::Gaze || kind == BehaviorKind::GazeShift ||
              kind == BehaviorKind::HeadDirectionShift) {
-    auto findJoint = [this](std::string_view name, std::string_view joint) -> int {
-      Character* c = scene_ ? scene_->findCharacter(name) : nullptr;
-      if (!c) return -2;
-      return joint.empty() ? c->rig().joints().head : c->skeleton().findJoint(joint);
-    };
     std::string warning;
-    const std::string why = bindGaze(e, *rig_, findJoint, warning);
+    const std::string why = bindGaze(e, *rig_, targetJointFinder(false), warning);
     // headDirectionShift points the head (with the neck), not the eyes.
     if (kind == BehaviorKind::HeadDirectionShift && why.empty()) {
       e.gaze.influence = GazeInfluence::Neck;
@@ -220,6 +226,23 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
                      " behaviors exists yet; its timing, channel and feedback run but the body does not move";
   }
   return result;
+}
+
+TargetJointFinder Character::targetJointFinder(bool chest) const {
+  // A character named without a joint: its head for a gaze, its chest for a pointing.
+  return [this, chest](std::string_view name, std::string_view joint) -> int {
+    const Character* c = scene_ ? scene_->findCharacter(name) : nullptr;
+    if (!c) return -2;
+    if (!joint.empty()) return c->skeleton().findJoint(joint);
+    const RigJoints& j = c->rig().joints();
+    return chest ? (!j.spine.empty() ? j.spine.back() : j.hips) : j.head;
+  };
+}
+
+std::string Character::bindPointingEntry(BehaviorTimeline::Entry& e, std::string& warning) const {
+  const std::string why = bindPointing(e.request, *rig_, skeleton(), targetJointFinder(true), e.pointing, warning);
+  e.isPointing = why.empty();
+  return why;
 }
 
 std::vector<float> Character::upperBodyMask() const {
@@ -318,8 +341,10 @@ std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOu
 }
 
 void Character::applyBehaviors(float dt) noexcept {
-  // Fixed order (DESIGN.md): clip behaviors (postures, gestures) over the layers,
-  // then gaze, then head movements added on top of it, then face expressions.
+  // Fixed order (DESIGN.md): clip behaviors (postures) over the layers, locomotion,
+  // upper-body gestures, then gaze, head movements added on top of it, pointing
+  // (after the gaze has turned the torso, so the arm aims from where it ends up),
+  // then face expressions.
   const bool timing = scene_ && scene_->statsEnabled();
   auto run = [&](CharacterStats::Controller which, auto&& pass) {
     const auto start = timing ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
@@ -331,19 +356,16 @@ void Character::applyBehaviors(float dt) noexcept {
   run(CharacterStats::kClipBehaviors, [&] { return applyBehaviorClips(false); });
   if (locomotion_) run(CharacterStats::kLocomotion, [&] { return applyLocomotion(dt); });
   if (applyBehaviorClips(true)) stats_.controllerUsed[CharacterStats::kClipBehaviors] = true;
+  const glm::mat4 worldToModel = glm::inverse(worldMatrix());  // gaze and pointing targets
   run(CharacterStats::kGaze, [&] {
     bool any = false;
-    const glm::mat4 worldToModel = glm::inverse(worldMatrix());
     for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
       if (!e.isGaze) continue;
       const float w = BehaviorTimeline::weightAt(e, clock_);
       if (w <= 0.0f) continue;
-      const GazeState& g = e.gaze;
-      const bool external = !g.targetCharacter.empty();
-      const glm::vec3 world = external ? g.resolvedPoint : g.point;
-      const bool known = !external || g.resolvedKnown;  // a target that has left the scene: hold the direction
-      updateGaze(e.gaze, glm::vec3(worldToModel * glm::vec4(world, 1.0f)), known, w, gazeSettings_, skeleton(),
-                 rig_->joints(), pose_, dt);
+      const SpatialTarget& t = e.gaze.target;  // a target that has left the scene: hold the direction
+      updateGaze(e.gaze, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), w, gazeSettings_,
+                 skeleton(), rig_->joints(), pose_, dt);
       any = true;
     }
     return any;
@@ -354,6 +376,19 @@ void Character::applyBehaviors(float dt) noexcept {
       if (e.clip || e.strokes.empty()) continue;
       if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
         applyHead(e, w, clock_, *rig_, pose_);
+        any = true;
+      }
+    }
+    return any;
+  });
+  run(CharacterStats::kPointing, [&] {
+    bool any = false;
+    for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+      if (!e.isPointing) continue;
+      if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
+        const SpatialTarget& t = e.pointing.target;
+        updatePointing(e.pointing, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), w,
+                       pointingSettings_, skeleton(), pose_);
         any = true;
       }
     }
@@ -378,16 +413,20 @@ void Character::resolveExternalTargets() noexcept {
   for (BehaviorTimeline::Entry& e : behaviors_.entries())
     if (e.locomotion && e.order >= locomotionOrder_ && !e.locomotion->targetCharacter.empty())
       if (const Character* t = scene_->findCharacter(e.locomotion->targetCharacter)) e.resolvedTarget = t->position();
-  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
-    if (!e.isGaze || e.gaze.targetCharacter.empty()) continue;
-    GazeState& g = e.gaze;
-    const Character* t = scene_->findCharacter(g.targetCharacter);
-    g.resolvedKnown = t != nullptr;
-    if (!t) continue;
+  auto resolve = [this](SpatialTarget& target) {
+    if (!target.external()) return;
+    const Character* t = scene_->findCharacter(target.character);
+    target.resolvedKnown = t != nullptr;
+    if (!t) return;
     const auto models = t->transformBuffer().modelMatrices();
-    g.resolvedPoint = g.targetJointIndex >= 0 && static_cast<std::size_t>(g.targetJointIndex) < models.size()
-                          ? glm::vec3(t->worldMatrix() * models[static_cast<std::size_t>(g.targetJointIndex)][3])
-                          : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+    const auto j = static_cast<std::size_t>(target.jointIndex);
+    target.resolvedPoint = target.jointIndex >= 0 && j < models.size()
+                               ? glm::vec3(t->worldMatrix() * models[j][3])
+                               : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+  };
+  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (e.isGaze) resolve(e.gaze.target);
+    if (e.isPointing) resolve(e.pointing.target);
   }
 }
 

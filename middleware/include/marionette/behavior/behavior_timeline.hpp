@@ -16,6 +16,7 @@
 #include "marionette/behavior/behavior_request.hpp"
 #include "marionette/behavior/gaze.hpp"
 #include "marionette/behavior/head_motion.hpp"
+#include "marionette/behavior/pointing.hpp"
 
 namespace marionette {
 
@@ -46,6 +47,8 @@ class BehaviorTimeline {
     std::vector<std::pair<int, float>> morphs;  // face: (morph target, weight at full expression)
     bool isGaze = false;
     GazeState gaze;                             // gaze: target, influence and the tracking state
+    bool isPointing = false;
+    PointingState pointing;                     // pointing: target, arms, last elbow direction
     std::shared_ptr<const LocomotionPlan> locomotion;  // locomotion: where to go
     glm::vec3 resolvedTarget{0.0f};             // locomotion: a target character's place before this frame
     bool upperBody = false;                     // a gesture: played over posture and locomotion

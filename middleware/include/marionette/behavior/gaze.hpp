@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "marionette/behavior/spatial_target.hpp"
 #include "marionette/core/transform.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 
@@ -60,14 +61,7 @@ struct DampedAngle {
 // Per-request gaze state (lives in the request's timeline entry).
 struct GazeState {
   GazeInfluence influence = GazeInfluence::Neck;
-  glm::vec3 point{0.0f};        // world target when `targetCharacter` is empty
-  std::string targetCharacter;  // a character's name, and optionally one of its joints
-  std::string targetJoint;
-  int targetJointIndex = -1;    // in the target character's skeleton; -1: its head, else 1.6 m above it
-  // A character target as found before this frame's updates (Scene::update reads every
-  // cross-character target first, from the last frame, so order and threads do not matter).
-  glm::vec3 resolvedPoint{0.0f};
-  bool resolvedKnown = false;
+  SpatialTarget target;         // a character without a joint: its head
   float offsetYaw = 0.0f, offsetPitch = 0.0f;  // BML offsetAngle / offsetDirection, radians
   bool useEyes = true;          // false for headDirectionShift: the head points, the eyes stay centred
   DampedAngle chainYaw, chainPitch, eyeYaw, eyePitch;

@@ -21,7 +21,7 @@ namespace marionette {
 // Gaze targets: "x y z" (world metres), "name" (a character's head) or "name:joint".
 // `findJoint` answers the joint index of a named character (-2: no such character).
 [[nodiscard]] std::string bindGaze(BehaviorTimeline::Entry& entry, const Rig& rig,
-                                   const std::function<int(std::string_view, std::string_view)>& findJoint,
+                                   const TargetJointFinder& findJoint,
                                    std::string& warning);
 
 void applyHead(const BehaviorTimeline::Entry& entry, float weight, double t, const Rig& rig,

@@ -61,9 +61,9 @@ struct CharacterStats {
   // Behavior controllers, in frame order: whether each has run at least once (they
   // exist only while a behavior uses them) and its wall time in the last frame
   // (measured only while the scene's stats are on).
-  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kFace, kControllerCount };
+  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kPointing, kFace, kControllerCount };
   static constexpr const char* kControllerNames[kControllerCount] = {"clip behaviors", "locomotion", "gaze", "head",
-                                                                     "face"};
+                                                                     "pointing", "face"};
   bool controllerUsed[kControllerCount] = {};
   double controllerMicros[kControllerCount] = {};
 };
@@ -129,6 +129,8 @@ class Character {
   // Gaze tracking and limits (time constant, speed limits, per-joint limits).
   void setGazeSettings(const GazeSettings& settings) noexcept { gazeSettings_ = settings; }
   [[nodiscard]] const GazeSettings& gazeSettings() const noexcept { return gazeSettings_; }
+  void setPointingSettings(const PointingSettings& settings) noexcept { pointingSettings_ = settings; }
+  [[nodiscard]] const PointingSettings& pointingSettings() const noexcept { return pointingSettings_; }
 
   // Advances the layers by dt seconds and writes the transform buffer. Per-frame:
   // no allocation, no exceptions. dt must be finite and >= 0 (Scene checks).
@@ -159,6 +161,8 @@ class Character {
   bool applyBehaviorClips(bool upperBody) noexcept;  // true if a clip behavior contributed
   bool applyLocomotion(float dt) noexcept;
   [[nodiscard]] std::vector<float> upperBodyMask() const;
+  [[nodiscard]] TargetJointFinder targetJointFinder(bool chest) const;
+  [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning) const;
   [[nodiscard]] std::string bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
                                            std::string& warning) const;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
@@ -173,6 +177,7 @@ class Character {
   std::vector<Transform> pose_;
   BehaviorTimeline behaviors_;
   GazeSettings gazeSettings_;
+  PointingSettings pointingSettings_;
   LocomotionSettings locomotionSettings_;
   mutable std::shared_ptr<const LocomotionSet> locomotionSet_;  // made on first use (command time)
   std::unique_ptr<LocomotionController> locomotion_;

@@ -1,0 +1,42 @@
+// What a gaze or a pointing aims at: a world point ("x y z", metres), a
+// character ("Bob": a joint the behavior picks, e.g. the head for a gaze) or a
+// joint of one ("Bob:Head"). A character target is looked up again before every
+// frame (Scene::update reads all of them from the last frame first, so the
+// order of characters and threads does not change the result).
+#pragma once
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include <glm/vec3.hpp>
+
+namespace marionette {
+
+struct SpatialTarget {
+  glm::vec3 point{0.0f};   // the world target when `character` is empty
+  std::string character;   // a character's name, and optionally one of its joints
+  std::string joint;
+  int jointIndex = -1;     // in the target character's skeleton; -1: 1.6 m above its root
+  // A character target as found before this frame's updates.
+  glm::vec3 resolvedPoint{0.0f};
+  bool resolvedKnown = false;
+
+  [[nodiscard]] bool external() const noexcept { return !character.empty(); }
+  // The world point to aim at this frame, and whether it is known (false for a
+  // target character that has left the scene: hold the current direction).
+  [[nodiscard]] glm::vec3 world() const noexcept { return external() ? resolvedPoint : point; }
+  [[nodiscard]] bool known() const noexcept { return !external() || resolvedKnown; }
+};
+
+// Answers the joint index of `joint` in the character named `character`, or the
+// behavior's default joint of that character when `joint` is empty (-1: none);
+// -2 when the scene has no such character.
+using TargetJointFinder = std::function<int(std::string_view character, std::string_view joint)>;
+
+// Parses `text` into `target`. Empty when it is usable, else why not, naming the
+// behavior (`what`, e.g. "gaze") and the target: empty text, a point that is not
+// finite, an unknown character or joint.
+[[nodiscard]] std::string parseSpatialTarget(std::string_view text, std::string_view what,
+                                             const TargetJointFinder& findJoint, SpatialTarget& target);
+
+}  // namespace marionette
