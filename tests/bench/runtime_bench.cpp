@@ -171,16 +171,7 @@ void behaviorsBench(benchmark::State& state) {
       return;
     }
     if (state.range(0) == 0) continue;
-    // Locomotion at a speed between the walk and the run (both clips blended, feet
-    // planted), toward a point 400 m ahead so that no character arrives while measured.
-    const LocomotionSet& set = c->locomotionSet();
-    BehaviorRequest walk;
-    walk.id = "walk";
-    walk.kind = BehaviorKind::Locomotion;
-    walk.parameters = {{"target", std::to_string(i % 10) + " 400"},
-                       {"speed", std::to_string(0.5f * (set.walk.groundSpeed + set.run.groundSpeed))}};
-    walk.syncs = {{"start", 0.0}, {"end", 1e6}};
-    if (!c->addBehavior(walk).realized) {
+    if (!test::addMidSpeedWalk(*c, i)) {
       state.SkipWithError("RobotExpressive cannot walk (its profile's walk and run clips)");
       return;
     }

@@ -2,6 +2,8 @@
 //   Scene/Update1000/threads:N  1000 RobotExpressive characters (one shared rig),
 //                               each with the Idle clip, a gaze at a point, a head
 //                               NOD and a face expression, updated on N threads.
+//   Scene/Update1000Locomotion/threads:N  the same, each also walking (walk and run
+//                               blended by speed, root motion, feet planted): issue 4's load.
 // Counters: us_per_char (wall-clock microseconds per character per frame, all
 // threads together) and, for N > 1, speedup: median one-thread frame time over
 // median N-thread frame time, measured in this run on the same scene in
@@ -41,13 +43,14 @@ std::shared_ptr<const Rig> sceneBenchRig(std::string& error) {
   return rig;
 }
 
-// The Behaviors/IdleGazeNodFace load: every controller that exists runs every frame.
-bool fillBehaviorScene(Scene& scene, const std::shared_ptr<const Rig>& rig) {
+// The Behaviors/IdleGazeNodFace load (and IdleLocomotionGazeNodFace with
+// `walking`): every controller that exists runs every frame.
+bool fillBehaviorScene(Scene& scene, const std::shared_ptr<const Rig>& rig, bool walking) {
   for (int i = 0; i < kSceneCharacters; ++i) {
     Character* c = scene.addCharacter("c" + std::to_string(i), rig);
     c->setPosition({static_cast<float>(i % 40), 0.0f, static_cast<float>(i / 40)});
     c->play(0, "Idle", {.startTime = 0.013 * i});  // each at its own time
-    if (!test::addGazeNodFace(*c, i))
+    if (!test::addGazeNodFace(*c, i) || (walking && !test::addMidSpeedWalk(*c, i)))
       return false;
   }
   return true;
@@ -80,7 +83,7 @@ double measureSpeedup(Scene& scene, int threads) {
   return median(one) / median(many);
 }
 
-void sceneUpdateBench(benchmark::State& state) {
+void sceneUpdateBench(benchmark::State& state, bool walking) {
   const int threads = static_cast<int>(state.range(0));
   std::string error;
   const auto rig = sceneBenchRig(error);
@@ -89,12 +92,12 @@ void sceneUpdateBench(benchmark::State& state) {
     return;
   }
   Scene scene;
-  if (!fillBehaviorScene(scene, rig)) {
-    state.SkipWithError("RobotExpressive's guessed profile does not support gaze, nod and ANGER");
+  if (!fillBehaviorScene(scene, rig, walking)) {
+    state.SkipWithError("RobotExpressive's guessed profile does not support gaze, nod, ANGER or walking");
     return;
   }
   scene.setThreadCount(threads);
-  scene.update(1.0 / 60.0);  // warm-up
+  for (int warmUp = 0; warmUp < 60; ++warmUp) scene.update(1.0 / 60.0);  // walkers up to speed
   double timed = 0.0;
   for (auto _ : state) timed += secondsOf(scene);
   state.counters["us_per_char"] = timed * 1e6 / (static_cast<double>(state.iterations()) * kSceneCharacters);
@@ -104,4 +107,5 @@ void sceneUpdateBench(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(sceneUpdateBench)->Name("Scene/Update1000")->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(sceneUpdateBench, idle, false)->Name("Scene/Update1000")->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(sceneUpdateBench, walking, true)->Name("Scene/Update1000Locomotion")->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);

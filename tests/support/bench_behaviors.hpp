@@ -1,5 +1,6 @@
 // The behavior load the benchmarks share: a gaze at a point (NECK, tracking),
-// a head nod applied on every frame, and a face expression, on one character.
+// a head nod applied on every frame, and a face expression, on one character;
+// optionally locomotion.
 #pragma once
 #include <string>
 
@@ -27,6 +28,20 @@ inline bool addGazeNodFace(Character& c, int i) {
   face.parameters = {{"lexeme", "ANGER"}, {"amount", "0.5"}};
   face.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
   return c.addBehavior(gaze).realized && c.addBehavior(nod).realized && c.addBehavior(face).realized;
+}
+
+// Locomotion at a speed between the walk and the run (both clips blended, feet
+// planted), toward a point 400 m ahead so that no character arrives while
+// measured. False when the character cannot walk.
+inline bool addMidSpeedWalk(Character& c, int i) {
+  const LocomotionSet& set = c.locomotionSet();
+  BehaviorRequest walk;
+  walk.id = "walk";
+  walk.kind = BehaviorKind::Locomotion;
+  walk.parameters = {{"target", std::to_string(i % 10) + " 400"},
+                     {"speed", std::to_string(0.5f * (set.walk.groundSpeed + set.run.groundSpeed))}};
+  walk.syncs = {{"start", 0.0}, {"end", 1e6}};
+  return c.addBehavior(walk).realized;
 }
 
 }  // namespace marionette::test
