@@ -3,10 +3,9 @@
 // FBX files). Walks 5 m and checks arrival, final facing and foot skating.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
+#include "locomotion_walk.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
 #include "real_rig.hpp"
@@ -16,8 +15,6 @@ using namespace marionette;
 using namespace marionette::test;
 
 namespace {
-constexpr float kPi = 3.14159265f;
-
 std::shared_ptr<Rig> robot() {
   return loadRigWithProfile(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
 }
@@ -48,74 +45,15 @@ std::shared_ptr<Rig> pab() {
 
 #endif
 
-struct WalkResult {
-  bool done = false;
-  float arrivalError = 0.0f, facingError = 0.0f, skatingRatio = 0.0f, seconds = 0.0f;
-  int contactFrames = 0;
-};
+using WalkResult = WalkMeasure;
 
 // Walks from the origin (facing +Z) to `target` at `speed` m/s (0: the manner's
-// preset) and measures it. A frame skates when a foot is within 5 cm of its
-// lowest height in the trace and moves faster than 0.5 m/s horizontally; the
-// ratio is skating frames over such ground-contact frames.
+// preset) and measures it (skating as defined in locomotion_walk.hpp).
 WalkResult walk(const std::shared_ptr<Rig>& rig, glm::vec2 target, float facingDegrees, const std::string& manner,
                 float speed, float dt = 1.0f / 60.0f) {
-  Scene scene;
-  Character* c = scene.addCharacter("c", rig);
-  if (!rig->profile().idle.empty()) c->play(0, rig->profile().idle);
-  BehaviorRequest r;
-  r.id = "walk";
-  r.kind = BehaviorKind::Locomotion;
-  r.syncs = {{"start", 0.0}, {"end", 5.0}};
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g %g", static_cast<double>(target.x), static_cast<double>(target.y));
-  r.parameters = {{"target", buf}, {"manner", manner}};
-  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(facingDegrees));
-  r.parameters.emplace_back("facing", buf);
-  if (speed > 0.0f) r.parameters.emplace_back("speed", std::to_string(speed));
-  const BehaviorResult added = c->addBehavior(r);
-  EXPECT_TRUE(added.realized) << added.message;
-  const int feet[2] = {rig->joints().leftLeg.end, rig->joints().rightLeg.end};
-  EXPECT_GE(feet[0], 0);
-  EXPECT_GE(feet[1], 0);
-  std::vector<glm::vec3> trace[2];
-  std::vector<int> planted[2];
-  std::vector<float> gaitWeight;
-  WalkResult result;
-  for (int frame = 0; frame < static_cast<int>(30.0f / dt); ++frame) {
-    scene.update(dt);
-    for (int f = 0; f < 2; ++f)
-      trace[f].push_back(glm::vec3(c->transformBuffer().worldMatrix() *
-                                   c->transformBuffer().modelMatrices()[static_cast<std::size_t>(feet[f])][3]));
-    for (int f = 0; f < 2; ++f) planted[f].push_back(c->locomotion()->feet().planted(f));
-    gaitWeight.push_back(c->locomotion()->weight());
-    const LocomotionStatus st = c->locomotionStatus("walk");
-    if (st.state == LocomotionStatus::kDone && !result.done) {
-      result.done = true;
-      result.seconds = static_cast<float>(st.doneTime);
-    }
-    if (result.done && c->locomotion()->weight() == 0.0f) break;
-  }
-  result.arrivalError = glm::length(glm::vec2(c->position().x, c->position().z) - target);
-  result.facingError = std::fabs(std::remainder(c->heading() - glm::radians(facingDegrees), 2.0f * kPi));
-  int skating = 0;
-  for (int f = 0; f < 2; ++f) {
-    float lowest = 1e9f;
-    for (const glm::vec3& p : trace[f]) lowest = std::min(lowest, p.y);
-    for (std::size_t k = 1; k < trace[f].size(); ++k) {
-      if (trace[f][k].y - lowest > 0.05f) continue;
-      ++result.contactFrames;
-      const glm::vec3 d = trace[f][k] - trace[f][k - 1];
-      if (std::hypot(d.x, d.z) / dt > 0.5f) {
-        ++skating;
-        if (std::getenv("MARIONETTE_DEBUG_SKATING"))
-          std::printf("skate foot %d frame %zu h %.3f v %.2f planted %d/%d w %.2f\n", f, k, trace[f][k].y - lowest,
-                      std::hypot(d.x, d.z) / dt, planted[f][k - 1], planted[f][k], gaitWeight[k]);
-      }
-    }
-  }
-  result.skatingRatio = result.contactFrames ? static_cast<float>(skating) / static_cast<float>(result.contactFrames) : 1.0f;
-  return result;
+  WalkResult w = measureWalk(rig, {target, facingDegrees, manner, speed}, dt);
+  EXPECT_TRUE(w.realized) << w.message;
+  return w;
 }
 
 void expectGoodWalk(const WalkResult& w, const std::string& what) {
