@@ -9,6 +9,25 @@ namespace marionette {
 
 namespace {
 constexpr float kEaseSpeed = 0.4f;  // m/s
+// Sine of the knee angle above which the animated leg's bend axis is measured
+// (about 3 degrees): below it thigh x shin is mostly rounding.
+constexpr float kHingeMinSine = 0.05f;
+
+// The animated leg's bend axis in the upper joint's frame, or zero when the leg
+// is too straight to tell.
+glm::vec3 measureHinge(const glm::mat4& upperModel, const glm::vec3& knee, const glm::vec3& end) noexcept {
+  const glm::vec3 hip(upperModel[3]);
+  const glm::vec3 thigh = knee - hip, shin = end - knee;
+  const glm::vec3 axis = glm::cross(thigh, shin);
+  const float lengths = glm::length(thigh) * glm::length(shin);
+  if (!(glm::length(axis) > kHingeMinSine * lengths)) return glm::vec3(0.0f);
+  const glm::mat3 linear(upperModel);
+  const float det = glm::determinant(linear);
+  if (!(std::fabs(det) > 1e-30f) || !std::isfinite(det)) return glm::vec3(0.0f);
+  const glm::vec3 local = glm::inverse(linear) * axis;
+  const float n = glm::length(local);
+  return n > 0.0f && std::isfinite(n) ? local / n : glm::vec3(0.0f);
+}
 }  // namespace
 
 FootPlanter::FootPlanter(const Skeleton& skeleton, const RigJoints& joints) {
@@ -62,20 +81,39 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
       foot.release = foot.releaseSeconds > 0.0f ? std::max(0.0f, foot.release - dt / foot.releaseSeconds) : 0.0f;
       target = animated + foot.releaseOffset * foot.release;
     }
-    // The knee bends the way it does now: the pole is in front of the current knee.
+    // The animated leg, before the correction. Its knee's bend axis is measured
+    // whenever the leg is bent (a hinge: the axis stays put in the thigh's frame,
+    // so one from an earlier step still holds when the leg is straight now).
+    const glm::mat4 upperModel = modelMatrixOf(skeleton, pose, leg.upper);
     const glm::vec3 knee(modelMatrixOf(skeleton, pose, leg.lower)[3]);
-    const glm::vec3 pole = knee + (knee - 0.5f * (glm::vec3(modelMatrixOf(skeleton, pose, leg.upper)[3]) + animated));
-    const float w = 1.0f;  // a planted foot stays planted however far the gait has blended in
-    const float miss = solveTwoBoneIk(skeleton, pose, leg, target, pole, w, settings.ik);
+    // Where the leg ends as animated: the foot joint itself, except for a detached
+    // foot, which the pose may hold some way off the shin (RobotExpressive: up to
+    // 5 cm in its clips, up to 19 cm while the gait blends over the idle).
+    const glm::vec3 animatedEnd = limbEndModel(skeleton, pose, leg);
+    if (const glm::vec3 h = measureHinge(upperModel, knee, animatedEnd); h != glm::vec3(0.0f)) foot.hinge = h;
+    // The correction moves the leg's end as much as it moves the foot, so that
+    // no correction leaves the animated pose as it is: a detached foot's offset
+    // from the shin is the clip's, and the leg does not jump by that offset when
+    // the foot locks or when the release fade ends.
+    const glm::vec3 endTarget = animatedEnd + (target - animated);
+    // The knee bends about its hinge as the thigh now carries it: for the chain
+    // to bend about axis h the knee goes toward u x h, u the line to the target.
+    // (A pole from the animated knee alone flips across that line when the leg
+    // is nearly straight and the target is not where the animated foot is.)
+    // Before any bend was seen, the current knee's side.
+    const glm::vec3 hip(upperModel[3]);
+    glm::vec3 pole = knee;
+    if (foot.hinge != glm::vec3(0.0f))
+      pole = hip + glm::cross(endTarget - hip, glm::mat3(upperModel) * foot.hinge);
+    const float miss = solveTwoBoneIk(skeleton, pose, leg, endTarget, pole, 1.0f, settings.ik);
     if (std::isfinite(miss)) residual_ = std::max(residual_, miss);
     if (!leg.endIsDescendant) {
-      // A detached foot (an IK target in its file, RobotExpressive): put it where the leg now ends.
+      // A detached foot (an IK target in its file, RobotExpressive) goes with the
+      // leg's end, at its animated offset from it.
       const int parent = skeleton.parents[static_cast<std::size_t>(joint)];
       const glm::mat4 parentModel = modelMatrixOf(skeleton, pose, parent);
-      const glm::vec3 reached = limbEndModel(skeleton, pose, leg);
-      const glm::vec3 local(glm::inverse(parentModel) * glm::vec4(reached, 1.0f));
-      Transform& t = pose[static_cast<std::size_t>(joint)];
-      t.translation = glm::mix(t.translation, local, w);
+      const glm::vec3 placed = limbEndModel(skeleton, pose, leg) + (animated - animatedEnd);
+      pose[static_cast<std::size_t>(joint)].translation = glm::vec3(glm::inverse(parentModel) * glm::vec4(placed, 1.0f));
     }
   }
 }

@@ -8,7 +8,13 @@
 // `releaseSeconds`. When the character stops (the gait's weight reaches 0) the
 // planted feet ease to the posture's stance no faster than 0.4 m/s: a slow slide,
 // below what reads as skating (a stop-step clip would do better; none of the
-// assets has one). Per-frame code: no allocation.
+// assets has one). The knee bends about its hinge: the axis of the animated
+// leg's bend, kept in the thigh's frame from the last frame the leg was bent, so
+// a leg that straightens (a trailing leg at push-off) keeps its knee forward
+// instead of flipping it. The correction (lock place minus animated place) moves
+// the leg's end and the foot alike: a detached foot (an IK target that is not
+// the shin's child) keeps its animated offset from the leg's end, and with no
+// correction the pose is the animation's. Per-frame code: no allocation.
 #pragma once
 #include <span>
 
@@ -50,6 +56,9 @@ class FootPlanter {
     glm::vec3 releaseOffset{0.0f};  // model space, at lift-off
     float release = 0.0f;           // 1 at lift-off, down to 0
     float releaseSeconds = 0.0f;
+    // The knee's bend axis (thigh x shin) in the upper joint's frame, from the last
+    // frame the animated leg was bent; zero until then.
+    glm::vec3 hinge{0.0f};
   };
   LimbIk legs_[2];
   int feet_joints_[2] = {-1, -1};

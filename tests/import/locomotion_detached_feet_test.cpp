@@ -1,0 +1,94 @@
+// RobotExpressive's feet are IK targets under the root, not children of its
+// shins; its foot meshes hang from them. Locomotion must keep them on the legs
+// as the clips do: the gait used to play its in-place Walking and Running with
+// the body's sway and hip turn taken out (root motion made in place although
+// the clips do not travel), which moved the legs and not the feet.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "marionette/animation/pose.hpp"
+#include "marionette/animation/sampling.hpp"
+#include "marionette/behavior/two_bone_ik.hpp"
+#include "marionette/scene/scene.hpp"
+#include "real_rig.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+using namespace marionette::test;
+
+namespace {
+
+// Distance from the foot joint to where the leg (thigh, shin) ends, model space.
+float footGap(std::span<const glm::mat4> model, const LimbIk& leg) {
+  const glm::vec3 end(model[static_cast<std::size_t>(leg.lower)] * glm::vec4(leg.endOffsetInLower, 1.0f));
+  return glm::length(glm::vec3(model[static_cast<std::size_t>(leg.end)][3]) - end);
+}
+
+// The largest gap over a clip's cycle as the file has it.
+float clipGap(const Rig& rig, const std::string& clip, const LimbIk legs[2]) {
+  const Skeleton& s = rig.skeleton();
+  std::vector<Transform> pose(s.jointCount());
+  std::vector<glm::mat4> model(s.jointCount());
+  const Clip& c = rig.findClip(clip)->clip;
+  float worst = 0.0f;
+  for (int k = 0; k <= 480; ++k) {
+    sampleClip(c, c.duration * static_cast<float>(k) / 480.0f, s.restPose, pose);
+    localToModel(s, pose, model);
+    for (int f = 0; f < 2; ++f) worst = std::max(worst, footGap(model, legs[f]));
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(LocomotionOnRealCharacters, RobotFeetStayOnItsLegsAsInItsClips) {
+  const std::string file = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(file);
+  const auto rig = loadRigWithProfile(file, "RobotExpressive.json");
+  ASSERT_TRUE(rig);
+  const LimbIk legs[2] = {makeLimbIk(rig->skeleton(), rig->joints().leftLeg),
+                          makeLimbIk(rig->skeleton(), rig->joints().rightLeg)};
+  ASSERT_GE(legs[0].upper, 0);
+  ASSERT_GE(legs[1].upper, 0);
+  ASSERT_FALSE(legs[0].endIsDescendant);  // the case this test is about
+  const float authored = std::max({clipGap(*rig, "Walking", legs), clipGap(*rig, "Running", legs), clipGap(*rig, "Idle", legs)});
+
+  // 5 m walking; 20 m running (5 m is too short to get above the walk's speed at 2 m/s^2).
+  for (const auto& [manner, target] : {std::pair{"WALK", "3 4"}, std::pair{"RUN", "12 16"}}) {
+    Scene scene;
+    Character* c = scene.addCharacter("robot", rig);
+    c->play(0, "Idle");
+    BehaviorRequest r;
+    r.id = "walk";
+    r.kind = BehaviorKind::Locomotion;
+    r.syncs = {{"start", 0.0}, {"end", 5.0}};
+    r.parameters = {{"target", target}, {"manner", manner}, {"facing", "90"}};
+    ASSERT_TRUE(c->addBehavior(r).realized);
+    // One clip at full weight, and while the gait blends over the idle or walk and run blend.
+    float worst = 0.0f, blending = 0.0f, runWeight = 0.0f;
+    for (int frame = 0; frame < 12 * 60; ++frame) {
+      scene.update(1.0 / 60.0);
+      const auto model = c->transformBuffer().modelMatrices();
+      const float gap = std::max(footGap(model, legs[0]), footGap(model, legs[1]));
+      const float run = c->locomotion()->runWeight();
+      float& into = c->locomotion()->weight() >= 0.99f && (run == 0.0f || run == 1.0f) ? worst : blending;
+      into = std::max(into, gap);
+      runWeight = std::max(runWeight, run);
+    }
+    EXPECT_EQ(c->locomotionStatus("walk").state, LocomotionStatus::kDone) << manner;
+    std::printf("%s: feet at most %.3f m off the legs' ends on one clip, %.3f m while blending (run weight up to %.2f); "
+                "the clips: %.3f m\n",
+                manner, static_cast<double>(worst), static_cast<double>(blending), static_cast<double>(runWeight),
+                static_cast<double>(authored));
+    if (std::string(manner) == "RUN") {
+      EXPECT_EQ(runWeight, 1.0f);
+    }
+    EXPECT_LT(worst, authored + 0.01f) << manner;
+    // Blending two poses interpolates the feet's places but the legs' rotations,
+    // which disagree by up to 19 cm here: a known limit, bounded so that it is seen
+    // (was 23 cm with the in-place root).
+    EXPECT_LT(blending, 0.2f) << manner;
+  }
+}
