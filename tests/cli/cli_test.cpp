@@ -9,27 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
 #include "test_data.hpp"
 
 using namespace marionette::test;
 
 namespace {
-struct CliRun {
-  int status;
-  std::string out;  // stdout and stderr
-};
-
-CliRun run(const std::string& args) {
-  const std::string cmd = std::string(MARIONETTE_CLI) + " " + args + " 2>&1";
-  CliRun r{-1, {}};
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-  const int s = pclose(p);
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  return r;
-}
+CliRun run(const std::string& args) { return runCli(args); }
 
 std::string tempFile(const std::string& name, const std::string& content) {
   const std::string path = ::testing::TempDir() + name;

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
 #include "test_data.hpp"
 #include "trace_metrics.hpp"
 
@@ -164,22 +165,6 @@ TEST(TraceMetrics, CharacterPlacementTakesOffTheRootsOffset) {
 #ifdef MARIONETTE_CLI_HAS_BML  // the scene sends BML
 namespace {
 
-struct ToolRun {
-  int status = -1;
-  std::string out;  // stdout and stderr
-};
-
-ToolRun runTool(const std::string& args) {
-  const std::string cmd = std::string(MARIONETTE_CLI) + " " + args + " 2>&1";
-  ToolRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-  const int s = pclose(p);
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  return r;
-}
 
 nlohmann::json readJson(const std::string& path) { return nlohmann::json::parse(readFile(path), nullptr, false); }
 
@@ -229,7 +214,7 @@ TEST_P(WalkLookNodSmileTrace, NoNaNNoFastJointsArrivesAndPlantsItsFeet) {
 
   const long frames = static_cast<long>(std::ceil(kSceneSeconds * fps)) + 1;  // frame 0 is t = 0
   const std::string trace = ::testing::TempDir() + "walk_look_nod_smile_" + std::to_string(fps) + "fps.csv";
-  const ToolRun r = runTool("run " + scene + " --fps " + std::to_string(fps) + " --frames " + std::to_string(frames) +
+  const CliRun r = runCli("run " + scene + " --fps " + std::to_string(fps) + " --frames " + std::to_string(frames) +
                             " --trace " + trace);
   ASSERT_EQ(r.status, 0) << r.out;
   const Trace t = readTrace(trace);
