@@ -160,10 +160,12 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
   if (clip) {
     const std::size_t n = skeleton().jointCount();
     e.mask.assign(n, 0.0f);
-    for (const JointTrack& t : clip->clip.tracks)
-      if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n &&
-          (!t.translation.empty() || !t.rotation.empty() || !t.scale.empty()))
-        e.mask[static_cast<std::size_t>(t.joint)] = 1.0f;
+    // The in-place tracks count: they move joints the clip may hold at rest (IK feet beside the root).
+    for (const Clip* c : {&clip->clip, &clip->inPlaceRoot})
+      for (const JointTrack& t : c->tracks)
+        if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n &&
+            (!t.translation.empty() || !t.rotation.empty() || !t.scale.empty()))
+          e.mask[static_cast<std::size_t>(t.joint)] = 1.0f;
     // Gestures play on the upper body, over the posture and the locomotion.
     if (kind == BehaviorKind::Gesture || kind == BehaviorKind::Pointing) {
       e.upperBody = true;

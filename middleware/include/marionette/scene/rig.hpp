@@ -18,7 +18,10 @@ struct AnimationClip {
   Clip clip;              // bound to the rig's skeleton; optimized unless RigOptions say not
   ClipOptimizeStats optimization;  // what the load-time optimizer removed, and the error it allowed
   RootMotion rootMotion;  // empty when the clip has no root translation
-  Clip inPlaceRoot;       // the root joint's track with root motion removed (one track)
+  // What plays the clip in place, sampled over it: the root joint's track with
+  // the root motion removed, and the tracks of the joints carried with the root
+  // (RootMotion::carried, extractRootMotion's rule) with the same motion removed.
+  Clip inPlaceRoot;
 };
 
 struct RigOptions {
@@ -27,8 +30,8 @@ struct RigOptions {
 };
 
 // Optimizes the clip (unless told not to) and extracts its root motion
-// (pickRootMotionJoint, or `rootJoint`) alongside it; the clip's own root track
-// is kept as authored.
+// (pickRootMotionJoint, or `rootJoint`) alongside it; the clip's own tracks
+// are kept as authored (the in-place ones are AnimationClip::inPlaceRoot).
 [[nodiscard]] std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton& skeleton,
                                                                       const RigOptions& options = {},
                                                                       int rootJoint = -1);
