@@ -36,6 +36,7 @@ struct WalkMeasure {
   float plantedDrift = 0.0f, plantedDriftFullGait = 0.0f, ikResidual = 0.0f;
   int locks = 0;          // feet planted (each touch-down once)
   int fullGaitLocks = 0;  // of them made at full gait weight (none: the gait never got there)
+  int steps = 0;          // catch-up steps (a planted foot the leg could no longer reach)
   // Sums over the frames, when the scene's stats are on (CharacterStats).
   double updateMicros = 0.0, locomotionMicros = 0.0;
 };
@@ -110,6 +111,7 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
     }
     if (result.done && loco && loco->weight() == 0.0f) break;
   }
+  if (const LocomotionController* loco = c->locomotion()) result.steps = loco->feet().steps();
   result.arrivalError = glm::length(glm::vec2(c->position().x, c->position().z) - spec.target);
   result.facingError = std::fabs(std::remainder(c->heading() - spec.facingDegrees * kPi / 180.0f, 2.0f * kPi));
   const bool debug = std::getenv("MARIONETTE_DEBUG_SKATING") != nullptr;

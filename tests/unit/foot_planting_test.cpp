@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "marionette/animation/pose.hpp"
@@ -100,12 +101,17 @@ glm::mat4 placedAt(glm::vec3 p) {
 // from where the clip has the foot (a turn, a speed change), while the clip
 // straightens the leg to 0.5 degrees: the knee stays in front and the thigh
 // turns smoothly, whichever way the lock is off. A pole taken from the animated
-// knee and ankle flipped the knee across the leg here.
+// knee and ankle flipped the knee across the leg here. The lock is held however
+// far the straight leg falls short of it (maxMiss off), so that the knee is seen
+// over the whole straightening (by default the foot would step away at frame
+// 162 of the first direction, the leg 5 cm short).
 TEST(FootPlanting, KneeKeepsItsSideWhileAPlantedLegStraightens) {
   const Legs legs = makeLegs(false);
   const float floor[2] = {0.0f, 0.0f};
   const float dt = 1.0f / 240.0f;
   const int frames = 240;
+  FootPlantSettings holdAlways;
+  holdAlways.maxMiss = INFINITY;
   for (int direction = 0; direction < 8; ++direction) {
     const float a = static_cast<float>(direction) * 45.0f * kDeg;
     const glm::vec3 mismatch = 0.15f * glm::vec3(std::sin(a), 0.0f, std::cos(a));
@@ -122,7 +128,7 @@ TEST(FootPlanting, KneeKeepsItsSideWhileAPlantedLegStraightens) {
       // Place the body so that the lock is at animated + mismatch (ramped in over the first third).
       const glm::vec3 off = mismatch * std::min(1.0f, 3.0f * s);
       const glm::vec3 placement = lockWorld - animated - off;
-      planter.apply(legs.skeleton, pose, placedAt({placement.x, 0.0f, placement.z}), floor, 1.0f, dt, {});
+      planter.apply(legs.skeleton, pose, placedAt({placement.x, 0.0f, placement.z}), floor, 1.0f, dt, holdAlways);
       ASSERT_TRUE(planter.planted(0)) << "frame " << k;
       ASSERT_FALSE(planter.planted(1)) << "frame " << k;
       const glm::vec3 hip = at(legs, pose, legs.leftThigh), knee = at(legs, pose, legs.leftShin);
@@ -192,4 +198,67 @@ TEST(FootPlanting, DetachedFootOffTheShinMovesTheLegOnlyByTheCorrection) {
   }
   // 10 cm of correction fading out in 0.12 s on a 1 m leg: 1.8 rad/s; the jump was 120.
   EXPECT_LT(fastest, 3.0f);
+}
+
+// The body walks on at 1 m/s while the clip keeps the left foot on the ground
+// under it (as the gait blending in over an idle stance, or out of it at a stop,
+// does): the lock falls behind out of the leg's reach. A planted foot stays
+// within maxMiss of its lock; when the leg can no longer reach it, the foot
+// steps (lifts and comes down where the clip has it, in stepSeconds) and plants
+// there, again and again, the thigh turning smoothly throughout. Before, the lock
+// was held for ever: the straight leg dragged the foot after the body, up off
+// the ground.
+TEST(FootPlanting, AFootLeftOutOfReachStepsToTheAnimation) {
+  const Legs legs = makeLegs(false);
+  const float floor[2] = {0.0f, 0.0f};
+  const float dt = 1.0f / 60.0f;
+  const FootPlantSettings settings;
+  FootPlanter planter(legs.skeleton, legs.joints);
+  ASSERT_TRUE(planter.usable());
+  glm::vec3 lockWorld(0.0f);
+  bool wasPlanted = false, wasStepping = false;
+  glm::vec3 previousFoot(0.0f);
+  int stepFrames = 0, longestStep = 0;
+  float worstMiss = 0.0f, highestStep = 0.0f, worstLanding = 0.0f, fastest = 0.0f;
+  glm::quat previousThigh(1.0f, 0.0f, 0.0f, 0.0f);
+  for (int k = 0; k < 180; ++k) {
+    std::vector<Transform> pose = animate(legs, 0.0f, 30.0f * kDeg);
+    const glm::vec3 animated = at(legs, pose, legs.leftFoot);
+    const glm::vec3 body(0.0f, 0.0f, 1.0f * dt * static_cast<float>(k));
+    planter.apply(legs.skeleton, pose, placedAt(body), floor, 1.0f, dt, settings);
+    const glm::vec3 foot = at(legs, pose, legs.leftFoot) + body;  // world
+    const bool planted = planter.planted(0), stepping = planter.stepping(0);
+    ASSERT_FALSE(planted && stepping) << "frame " << k;
+    ASSERT_TRUE(planted || stepping) << "frame " << k << ": the foot is on the ground in the clip";
+    if (planted && !wasPlanted) {
+      lockWorld = foot;
+      // It comes down on the place it plants on, not sliding in.
+      if (wasStepping)
+        worstLanding = std::max(worstLanding, std::hypot(foot.x - previousFoot.x, foot.z - previousFoot.z));
+    }
+    if (planted) worstMiss = std::max(worstMiss, std::hypot(foot.x - lockWorld.x, foot.z - lockWorld.z));
+    if (stepping) {
+      ++stepFrames;
+      longestStep = std::max(longestStep, stepFrames);
+      highestStep = std::max(highestStep, foot.y - animated.y);
+    } else {
+      stepFrames = 0;
+    }
+    const glm::quat thigh = modelRotation(legs, pose, legs.leftThigh);
+    if (k > 0) fastest = std::max(fastest, angleBetween(previousThigh, thigh) / dt);
+    previousThigh = thigh;
+    wasPlanted = planted;
+    wasStepping = stepping;
+    previousFoot = foot;
+  }
+  std::printf("%d steps in 3 s at 1 m/s; planted feet within %.3f m of their locks; steps up to %d frames, %.3f m "
+              "high, moving %.4f m on the landing frame; thigh at most %.2f rad/s\n",
+              planter.steps(), static_cast<double>(worstMiss), longestStep, static_cast<double>(highestStep),
+              static_cast<double>(worstLanding), static_cast<double>(fastest));
+  EXPECT_GE(planter.steps(), 3);  // the reach is about 0.45 m ahead of the lock at 1 m/s
+  EXPECT_LE(worstMiss, settings.maxMiss + 0.01f);  // a frame of motion past the threshold at most
+  EXPECT_LE(longestStep, static_cast<int>(std::ceil(settings.stepSeconds / dt)) + 1);
+  EXPECT_GT(highestStep, 0.05f);  // up off the ground while it moves
+  EXPECT_LT(worstLanding, 0.5f * dt);  // slower than 0.5 m/s, the skating speed, as it plants
+  EXPECT_LT(fastest, 20.0f);
 }

@@ -9,6 +9,13 @@ namespace marionette {
 
 namespace {
 constexpr float kEaseSpeed = 0.4f;  // m/s
+constexpr float kPi = 3.14159265f;
+// A catch-up step rises to this fraction of its length at mid-step, so that the
+// foot is clear of the ground while it moves (a quarter let small steps at a
+// stop shuffle along the ground), and moves across in the middle of the step,
+// from kStepLiftOff to 1 - kStepLiftOff of its time: up first, down last.
+constexpr float kStepLift = 0.5f;
+constexpr float kStepLiftOff = 0.2f;
 // Sine of the knee angle above which the animated leg's bend axis is measured
 // (about 3 degrees): below it thigh x shin is mostly rounding.
 constexpr float kHingeMinSine = 0.05f;
@@ -51,6 +58,8 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
   }
   const bool gaitGone = !(weight > 0.0f);
   const glm::mat4 modelFromWorld = glm::inverse(worldFromModel);
+  auto toModel = [&](const glm::vec3& world) { return glm::vec3(modelFromWorld * glm::vec4(world, 1.0f)); };
+  auto toWorld = [&](const glm::vec3& model) { return glm::vec3(worldFromModel * glm::vec4(model, 1.0f)); };
   for (int f = 0; f < 2; ++f) {
     Foot& foot = feet_[f];
     const LimbIk& leg = legs_[f];
@@ -58,13 +67,13 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
     const glm::vec3 animated(modelMatrixOf(skeleton, pose, joint)[3]);
     // Once the gait is gone (the character stopped) the feet ease into the posture's stance.
     const bool contact = !gaitGone && animated.y <= floor[f] + settings.contactHeight;
-    if (contact && !foot.locked) {
+    if (contact && !foot.locked && !foot.stepping) {
       foot.locked = true;
-      foot.lockWorld = glm::vec3(worldFromModel * glm::vec4(animated, 1.0f));
+      foot.lockWorld = toWorld(animated);
     }
     glm::vec3 target = animated;
     if (foot.locked) {
-      target = glm::vec3(modelFromWorld * glm::vec4(foot.lockWorld, 1.0f));
+      target = toModel(foot.lockWorld);
       target.y = animated.y;  // the foot keeps its animated height: it still rolls heel to toe
       if (!contact) {        // lift-off (or stop): fade the correction out from here
         foot.locked = false;
@@ -76,7 +85,28 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
         foot.releaseSeconds = gaitGone ? std::max(settings.releaseSeconds, distance / kEaseSpeed) : settings.releaseSeconds;
       }
     }
-    if (!foot.locked) {
+    if (foot.stepping) {
+      // Up on an arc; across, from where it stood to the animated place, while it is
+      // up; the place it comes down on is held from the top of the arc, so that it
+      // does not slide in, and it plants there at the end. If the animation lifts
+      // the foot meanwhile (the step began near the end of its stance), the step
+      // ends there and the foot is released to the animation as at a lift-off.
+      foot.step = settings.stepSeconds > 0.0f ? std::min(1.0f, foot.step + dt / settings.stepSeconds) : 1.0f;
+      if (foot.step <= 0.5f) foot.stepTo = toWorld(animated);
+      const float u = std::clamp((foot.step - kStepLiftOff) / (1.0f - 2.0f * kStepLiftOff), 0.0f, 1.0f);
+      target = glm::mix(toModel(foot.stepFrom), toModel(foot.stepTo), u * u * (3.0f - 2.0f * u));
+      target.y = animated.y + foot.stepLift * std::sin(kPi * foot.step);
+      if (!contact) {
+        foot.stepping = false;
+        foot.releaseOffset = target - animated;
+        foot.release = 1.0f;
+        foot.releaseSeconds = settings.releaseSeconds;
+      } else if (foot.step >= 1.0f) {
+        foot.stepping = false;
+        foot.locked = true;
+        foot.lockWorld = toWorld(target);
+      }
+    } else if (!foot.locked) {
       if (foot.release <= 0.0f) continue;
       foot.release = foot.releaseSeconds > 0.0f ? std::max(0.0f, foot.release - dt / foot.releaseSeconds) : 0.0f;
       target = animated + foot.releaseOffset * foot.release;
@@ -107,13 +137,32 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
       pole = hip + glm::cross(endTarget - hip, glm::mat3(upperModel) * foot.hinge);
     const float miss = solveTwoBoneIk(skeleton, pose, leg, endTarget, pole, 1.0f, settings.ik);
     if (std::isfinite(miss)) residual_ = std::max(residual_, miss);
+    // Where the foot is now: a detached foot (an IK target in its file,
+    // RobotExpressive) is placed with the leg's end, at its animated offset from it.
+    glm::vec3 placed;
     if (!leg.endIsDescendant) {
-      // A detached foot (an IK target in its file, RobotExpressive) goes with the
-      // leg's end, at its animated offset from it.
       const int parent = skeleton.parents[static_cast<std::size_t>(joint)];
       const glm::mat4 parentModel = modelMatrixOf(skeleton, pose, parent);
-      const glm::vec3 placed = limbEndModel(skeleton, pose, leg) + (animated - animatedEnd);
+      placed = limbEndModel(skeleton, pose, leg) + (animated - animatedEnd);
       pose[static_cast<std::size_t>(joint)].translation = glm::vec3(glm::inverse(parentModel) * glm::vec4(placed, 1.0f));
+    } else {
+      placed = glm::vec3(modelMatrixOf(skeleton, pose, joint)[3]);
+    }
+    if (foot.locked && std::isfinite(miss) && miss > settings.maxMiss) {
+      // The leg no longer reaches the lock: the body went on without the foot (the
+      // gait blending out at a stop leaves a planted foot behind; an idle stance the
+      // gait blended in over did too). Held, the leg would go straight and drag the
+      // foot after the body and up off the ground (up to 0.5 m, 0.68 m from its
+      // lock); released to the animation, it would slide along the ground to where
+      // the clip has it. It takes a step there instead, from where the leg got it
+      // this frame.
+      foot.locked = false;
+      foot.stepping = true;
+      foot.step = 0.0f;
+      foot.stepFrom = toWorld(placed);
+      foot.stepTo = toWorld(animated);
+      foot.stepLift = kStepLift * std::hypot(placed.x - animated.x, placed.z - animated.z);
+      ++steps_;
     }
   }
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "marionette/animation/blending.hpp"
 #include "marionette/animation/pose.hpp"
@@ -48,6 +49,16 @@ bool finalFacing(const SteeringState& s, const LocomotionPlan& plan, std::span<c
 }  // namespace
 
 float GaitClip::duration() const noexcept { return clip ? clip->clip.duration : 0.0f; }
+
+glm::vec3 GaitClip::footAt(int foot, double phase) const noexcept {
+  const std::vector<glm::vec3>& path = footPath[foot];
+  if (path.empty()) return glm::vec3(0.0f);
+  const double u = phase + strikePhase;
+  const double x = (u - std::floor(u)) * static_cast<double>(path.size());
+  const std::size_t i = std::min(static_cast<std::size_t>(x), path.size() - 1);
+  const float a = static_cast<float>(x - static_cast<double>(i));
+  return glm::mix(path[i], path[(i + 1) % path.size()], a);
+}
 
 GaitClip analyzeGait(std::shared_ptr<const AnimationClip> clip, const Skeleton& skeleton, int leftFoot, int rightFoot) {
   GaitClip g;
@@ -108,8 +119,69 @@ GaitClip analyzeGait(std::shared_ptr<const AnimationClip> clip, const Skeleton& 
     const double speed = stancePath / (stanceSteps * static_cast<double>(h));
     g.groundSpeed = std::isfinite(speed) ? static_cast<float>(speed) : 0.0f;
   }
+  g.footPath[0] = std::move(left);
+  g.footPath[1] = std::move(right);
   return g;
 }
+
+namespace {
+// A foot's height above its floor at a clip phase (cycles from clip time 0).
+float heightAt(const GaitClip& g, int foot, double clipPhase) noexcept {
+  const std::vector<glm::vec3>& path = g.footPath[foot];
+  const double x = (clipPhase - std::floor(clipPhase)) * static_cast<double>(path.size());
+  const std::size_t i = std::min(static_cast<std::size_t>(x), path.size() - 1);
+  const float a = static_cast<float>(x - static_cast<double>(i));
+  return glm::mix(path[i].y, path[(i + 1) % path.size()].y, a) - g.floor[foot];
+}
+
+// The walk and run are played at one phase, so where the run's cycle starts
+// decides which of its poses blends with which of the walk's. Aligned by each
+// clip's left-foot "strike" (the lower foot changing), a run whose swing foot
+// dips near the ground (RobotExpressive's) put its stance against the walk's
+// swing: halfway between the two speeds the right foot never came lower than
+// 0.19 above the ground. The run's start is chosen instead so that, blended half
+// and half with the walk, each foot comes down as close to its floor as it can
+// (the worse of the two feet, minimised): the two clips' footfalls coincide.
+void alignRunToWalk(LocomotionSet& set) {
+  const GaitClip& walk = set.walk;
+  GaitClip& run = set.run;
+  for (int f = 0; f < 2; ++f)
+    if (walk.footPath[f].empty() || run.footPath[f].empty()) return;
+  constexpr int kOffsets = 240, kPhases = 240;
+  // How close each foot comes to its floor with the run started at `start`.
+  auto lowest = [&](double start, float low[2]) {
+    low[0] = low[1] = INFINITY;
+    for (int j = 0; j < kPhases; ++j) {
+      const double p = static_cast<double>(j) / kPhases;
+      for (int f = 0; f < 2; ++f)
+        low[f] = std::min(low[f], 0.5f * (heightAt(walk, f, p + walk.strikePhase) + heightAt(run, f, p + start)));
+    }
+  };
+  // The strike alignment stays unless another start brings the feet down by more
+  // than a millimetre (Pab's walk and jog already come down together from it).
+  constexpr float kBetter = 1e-3f;
+  float strikeLow[2];
+  lowest(run.strikePhase, strikeLow);
+  float best = std::max(strikeLow[0], strikeLow[1]), bestLow[2] = {strikeLow[0], strikeLow[1]};
+  double bestStart = run.strikePhase;
+  for (int k = 0; k < kOffsets; ++k) {
+    const double start = static_cast<double>(k) / kOffsets;
+    float low[2];
+    lowest(start, low);
+    const float worse = std::max(low[0], low[1]);
+    if (worse < best - kBetter) best = worse, bestStart = start, bestLow[0] = low[0], bestLow[1] = low[1];
+  }
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "run clip aligned to the walk from phase %.3f: blended half and half, the feet come down to %.3f and "
+                "%.3f above their floors (from its left strike, %.3f: %.3f and %.3f)",
+                bestStart, static_cast<double>(bestLow[0]), static_cast<double>(bestLow[1]),
+                static_cast<double>(run.strikePhase), static_cast<double>(strikeLow[0]),
+                static_cast<double>(strikeLow[1]));
+  set.notes.push_back(buf);
+  run.strikePhase = static_cast<float>(bestStart);
+}
+}  // namespace
 
 LocomotionSet makeLocomotionSet(const Rig& rig) {
   LocomotionSet set;
@@ -145,6 +217,7 @@ LocomotionSet makeLocomotionSet(const Rig& rig) {
     set.notes.push_back("the run clip is not faster than the walk clip; it is not used");
     set.run = {};
   }
+  if (set.run.clip) alignRunToWalk(set);
   return set;
 }
 
@@ -284,6 +357,8 @@ double estimateLocomotionSeconds(SteeringState s, const LocomotionPlan& plan, st
 LocomotionController::LocomotionController(std::shared_ptr<const LocomotionSet> set, const Skeleton& skeleton,
                                            const RigJoints& joints)
     : set_(std::move(set)), gaitPose_(skeleton.jointCount()), planter_(skeleton, joints) {
+  feetJoints_[0] = joints.leftLeg.end;
+  feetJoints_[1] = joints.rightLeg.end;
   if (set_->walk.clip) {
     walkCursor_.reset(set_->walk.clip->clip);
     walkRootCursor_.reset(set_->walk.clip->inPlaceRoot);
@@ -317,6 +392,34 @@ std::span<const glm::vec2> LocomotionController::waypoints() const noexcept {
   return plan_->waypoints;
 }
 
+double LocomotionController::stanceMatchingPhase(const Skeleton& skeleton,
+                                                 std::span<const Transform> posture) const noexcept {
+  const int n = static_cast<int>(skeleton.jointCount());
+  if (feetJoints_[0] < 0 || feetJoints_[1] < 0 || feetJoints_[0] >= n || feetJoints_[1] >= n ||
+      set_->walk.footPath[0].empty())
+    return phase_;
+  const glm::vec3 stand[2] = {glm::vec3(modelMatrixOf(skeleton, posture, feetJoints_[0])[3]),
+                              glm::vec3(modelMatrixOf(skeleton, posture, feetJoints_[1])[3])};
+  const GaitClip& walk = set_->walk;
+  const GaitClip& run = set_->run;
+  const bool blendRun = runWeight_ > 0.0f && !run.footPath[0].empty();
+  constexpr int kCandidates = 64;
+  double best = phase_;
+  float bestDistance = INFINITY;
+  for (int k = 0; k < kCandidates; ++k) {
+    const double p = static_cast<double>(k) / kCandidates;
+    glm::vec3 foot[2];
+    for (int f = 0; f < 2; ++f) {
+      foot[f] = walk.footAt(f, p);
+      if (blendRun) foot[f] = glm::mix(foot[f], run.footAt(f, p), runWeight_);
+    }
+    const int stance = foot[0].y <= foot[1].y ? 0 : 1;
+    const float d = std::hypot(foot[stance].x - stand[stance].x, foot[stance].z - stand[stance].z);
+    if (d < bestDistance) bestDistance = d, best = p;
+  }
+  return best;
+}
+
 void LocomotionController::setTargetPosition(const glm::vec3& world) noexcept {
   if (std::isfinite(world.x) && std::isfinite(world.z)) targetPosition_ = {world.x, world.z};
 }
@@ -348,6 +451,11 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
   const float gaitSpeed = std::max(v, turnRate * 0.1f * walk.cycleDistance());
   runWeight_ = run.clip ? std::clamp((v - walk.groundSpeed) / (run.groundSpeed - walk.groundSpeed), 0.0f, 1.0f) : 0.0f;
   const float cycle = (1.0f - runWeight_) * walk.cycleDistance() + runWeight_ * run.cycleDistance();
+  // Setting out from the posture: the gait starts where its stance foot is where
+  // the posture has that foot, so that blending the gait in does not carry a
+  // planted foot away (from its left-foot strike, the gait's weight rising over an
+  // idle stance moved the left foot 1.4 m forward while it stayed on the ground).
+  if (weight_ <= 0.0f && gaitSpeed > 0.0f) phase_ = stanceMatchingPhase(skeleton, pose);
   const double phase0 = phase_;
   phase_ += static_cast<double>(gaitSpeed * dt / cycle);
   const float travelShare = gaitSpeed > 0.0f ? v / gaitSpeed : 0.0f;

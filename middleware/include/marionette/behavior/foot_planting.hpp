@@ -5,10 +5,14 @@
 // (model space) is within `contactHeight` of the gait's floor for that foot; it
 // is locked at its world place (x, z) when it touches down, keeps its animated
 // height (the foot still rolls), and on lift-off the correction fades out over
-// `releaseSeconds`. When the character stops (the gait's weight reaches 0) the
-// planted feet ease to the posture's stance no faster than 0.4 m/s: a slow slide,
-// below what reads as skating (a stop-step clip would do better; none of the
-// assets has one). The knee bends about its hinge: the axis of the animated
+// `releaseSeconds`. A planted foot the leg can no longer reach (the IK misses it
+// by more than `maxMiss`: the body went on while a blend between the gait and the
+// posture carried the animated foot away) takes a catch-up step: it lifts, swings
+// to where the animation has it and plants there, in `stepSeconds`, instead of
+// being dragged by a straight leg. When the character stops (the gait's weight
+// reaches 0) the planted feet ease to the posture's stance no faster than
+// 0.4 m/s: a slow slide, below what reads as skating (a stop-step clip would do
+// better; none of the assets has one). The knee bends about its hinge: the axis of the animated
 // leg's bend, kept in the thigh's frame from the last frame the leg was bent, so
 // a leg that straightens (a trailing leg at push-off) keeps its knee forward
 // instead of flipping it. The correction (lock place minus animated place) moves
@@ -27,6 +31,10 @@ struct FootPlantSettings {
   bool enabled = true;
   float contactHeight = 0.06f;   // m above the foot's floor
   float releaseSeconds = 0.12f;  // fade of the correction after lift-off
+  // A planted foot that the leg misses by more than maxMiss (m) is not held: it
+  // steps to where the animation has it, in stepSeconds, and plants there.
+  float maxMiss = 0.05f;
+  float stepSeconds = 0.25f;
   TwoBoneIkSettings ik;
 };
 
@@ -44,8 +52,12 @@ class FootPlanter {
   [[nodiscard]] bool planted(int foot) const noexcept { return feet_[foot].locked; }
   // True while a foot is planted or easing back to the animation (the planter still has work).
   [[nodiscard]] bool active() const noexcept {
-    return feet_[0].locked || feet_[1].locked || feet_[0].release > 0.0f || feet_[1].release > 0.0f;
+    return feet_[0].locked || feet_[1].locked || feet_[0].release > 0.0f || feet_[1].release > 0.0f ||
+           feet_[0].stepping || feet_[1].stepping;
   }
+  // True while a foot takes a catch-up step (its lock went out of the leg's reach).
+  [[nodiscard]] bool stepping(int foot) const noexcept { return feet_[foot].stepping; }
+  [[nodiscard]] int steps() const noexcept { return steps_; }  // catch-up steps taken since construction
   // Largest distance the IK left between a planted foot and its target last frame (m).
   [[nodiscard]] float lastResidual() const noexcept { return residual_; }
 
@@ -59,11 +71,17 @@ class FootPlanter {
     // The knee's bend axis (thigh x shin) in the upper joint's frame, from the last
     // frame the animated leg was bent; zero until then.
     glm::vec3 hinge{0.0f};
+    // A catch-up step: from stepFrom (world) to the animated foot, lifted by stepLift at mid-step.
+    bool stepping = false;
+    glm::vec3 stepFrom{0.0f}, stepTo{0.0f};
+    float step = 0.0f;  // progress, 0 to 1
+    float stepLift = 0.0f;
   };
   LimbIk legs_[2];
   int feet_joints_[2] = {-1, -1};
   Foot feet_[2];
   float residual_ = 0.0f;
+  int steps_ = 0;
 };
 
 }  // namespace marionette

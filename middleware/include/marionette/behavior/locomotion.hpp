@@ -53,8 +53,13 @@ struct GaitClip {
   bool hasRootMotion = false;
   float floor[2] = {0.0f, 0.0f};  // lowest model height of the left and right foot over the cycle
   float lateralDrift = 0.0f;      // sideways root travel over a whole cycle (detrends the sway)
+  // Each foot's model place over the cycle (left, right), evenly sampled from clip
+  // time 0, as the gait plays the clip (in place when it travels).
+  std::vector<glm::vec3> footPath[2];
   [[nodiscard]] float duration() const noexcept;
   [[nodiscard]] float cycleDistance() const noexcept { return groundSpeed * duration(); }
+  // A foot's model place at an unwrapped gait phase (strike-aligned), interpolated; zero without a path.
+  [[nodiscard]] glm::vec3 footAt(int foot, double phase) const noexcept;
 };
 
 struct LocomotionSet {
@@ -144,6 +149,9 @@ class LocomotionController {
 
  private:
   [[nodiscard]] std::span<const glm::vec2> waypoints() const noexcept;  // plan_ must be set
+  // The gait phase in [0, 1) whose stance foot (the lower one) is nearest, across
+  // the ground, to where `posture` has that foot; the current phase without feet.
+  [[nodiscard]] double stanceMatchingPhase(const Skeleton& skeleton, std::span<const Transform> posture) const noexcept;
 
   std::shared_ptr<const LocomotionSet> set_;
   std::shared_ptr<const LocomotionPlan> plan_;
@@ -156,6 +164,7 @@ class LocomotionController {
   double doneTime_ = -1.0;
   std::vector<Transform> gaitPose_;
   FootPlanter planter_;
+  int feetJoints_[2] = {-1, -1};
   SamplingCursor walkCursor_, walkRootCursor_, runCursor_, runRootCursor_;
 };
 
