@@ -1,7 +1,9 @@
 // Locomotion on the real characters of ../shared/assets: RobotExpressive (in-place
 // Walking and Running clips) and Pab (walk and jog with root motion, separate
-// FBX files). Walks 5 m and checks arrival, final facing, foot skating and how
-// far planted feet drift.
+// FBX files). Walks 5 m and checks arrival, final facing and foot skating; and
+// 20 m, long enough to cruise at the run preset and halfway between the walk and
+// the run (5 m at 2 m/s^2 tops out below the walk's speed: the run clip never
+// plays), where the feet must still come down, be planted and not skate.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -77,6 +79,33 @@ void expectGoodWalk(const WalkResult& w, const std::string& what) {
   EXPECT_GT(w.contactFrames, 20) << what;
   EXPECT_LT(w.plantedDrift, kPlantedDrift) << what;
 }
+
+// A 20 m course: the walk reaches `speed` and cruises there for at least a
+// second with the run clip at `runWeight` (the cruise's run weight spans the 1 %
+// of speed below the top: 0.94 to 1 at the run preset), the feet coming down
+// (ground contact at that speed: none at RobotExpressive's mid speed before its
+// run was aligned to its walk) and planted; arrival, facing and skating over the
+// whole course as for the 5 m walks. Skating over the cruise alone is printed,
+// not bounded: at run speed a foot is down for 2 to 5 frames a step at 60 Hz and
+// the frame it comes down in moves (RobotExpressive's run also brushes the
+// ground with its swing foot at 8.8 m/s), so about one frame a step counts: 29 %
+// of the robot's 21 cruise contact frames, 10 % of Pab's 178 (17 % and 11 %
+// before the first-step fix); no planted foot slides there (drift < 4 cm).
+void expectCruise(const WalkResult& w, float speed, float runWeight, const std::string& what) {
+  const double cruiseSkating =
+      w.cruiseContactFrames ? 100.0 * w.cruiseSkatingFrames / static_cast<double>(w.cruiseContactFrames) : 0.0;
+  std::printf("%-28s cruise at %.2f units/s for %d frames, run weight %.2f to %.2f, skating %.1f %% of its %d contact "
+              "frames; planted drift %.3f, %d catch-up steps\n",
+              what.c_str(), static_cast<double>(w.topSpeed), w.cruiseFrames,
+              static_cast<double>(w.cruiseRunWeightMin), static_cast<double>(w.cruiseRunWeightMax), cruiseSkating,
+              w.cruiseContactFrames, static_cast<double>(w.plantedDrift), w.steps);
+  expectGoodWalk(w, what);
+  EXPECT_NEAR(w.topSpeed, speed, 0.001f * speed) << what;
+  EXPECT_GE(w.cruiseFrames, 60) << what;
+  EXPECT_NEAR(w.cruiseRunWeightMax, runWeight, 0.01f) << what;
+  EXPECT_GE(w.cruiseRunWeightMin, runWeight - 0.07f) << what;
+  EXPECT_GE(w.cruiseContactFrames, 10) << what;
+}
 }  // namespace
 
 TEST(LocomotionOnRealCharacters, RobotGaitIsAnalysed) {
@@ -110,6 +139,17 @@ TEST(LocomotionOnRealCharacters, RobotWalksAndRunsFiveMetres) {
   expectGoodWalk(walk(rig, {0.0f, 5.0f}, 0.0f, "WALK", mid), "Robot between walk and run");
 }
 
+TEST(LocomotionOnRealCharacters, RobotCruisesAtRunAndMidSpeedOverTwentyMetres) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  auto rig = robot();
+  ASSERT_TRUE(rig);
+  Scene scene;
+  const LocomotionSet& set = scene.addCharacter("c", rig)->locomotionSet();
+  const float mid = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
+  expectCruise(walk(rig, {-12.0f, -16.0f}, -30.0f, "RUN", 0.0f), set.run.groundSpeed, 1.0f, "Robot RUN to (-12, -16)");
+  expectCruise(walk(rig, {0.0f, 20.0f}, 0.0f, "WALK", mid), mid, 0.5f, "Robot mid speed to (0, 20)");
+}
+
 #ifdef MARIONETTE_HAS_ASSIMP
 TEST(LocomotionOnRealCharacters, PabWalksAndJogsFiveMetres) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/pab_arnaud.fbx"));
@@ -125,6 +165,18 @@ TEST(LocomotionOnRealCharacters, PabWalksAndJogsFiveMetres) {
   expectGoodWalk(walk(rig, {0.0f, 5.0f}, 0.0f, "RUN", 0.0f), "Pab RUN (jog) to (0, 5)");
   expectGoodWalk(walk(rig, {5.0f, 0.0f}, 90.0f, "WALK", 0.5f * (set.walk.groundSpeed + set.run.groundSpeed)),
                  "Pab between walk and jog");
+}
+
+TEST(LocomotionOnRealCharacters, PabCruisesAtJogAndMidSpeedOverTwentyMetres) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/pab_arnaud.fbx"));
+  auto rig = pab();
+  ASSERT_TRUE(rig);
+  Scene scene;
+  const LocomotionSet& set = scene.addCharacter("c", rig)->locomotionSet();
+  ASSERT_TRUE(set.run.clip);
+  const float mid = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
+  expectCruise(walk(rig, {0.0f, 20.0f}, 0.0f, "RUN", 0.0f), set.run.groundSpeed, 1.0f, "Pab RUN (jog) to (0, 20)");
+  expectCruise(walk(rig, {20.0f, 0.0f}, 90.0f, "WALK", mid), mid, 0.5f, "Pab mid speed to (20, 0)");
 }
 
 #endif

@@ -37,6 +37,13 @@ struct WalkMeasure {
   int locks = 0;          // feet planted (each touch-down once)
   int fullGaitLocks = 0;  // of them made at full gait weight (none: the gait never got there)
   int steps = 0;          // catch-up steps (a planted foot the leg could no longer reach)
+  // The cruise: the frames at the top speed of the walk (within 1 %) with the gait
+  // at full weight; the run clip's weight over them, and skating counted on them
+  // alone (the ground as for the whole walk).
+  float topSpeed = 0.0f;
+  int cruiseFrames = 0;
+  float cruiseRunWeightMin = 0.0f, cruiseRunWeightMax = 0.0f;
+  int cruiseContactFrames = 0, cruiseSkatingFrames = 0;
   // Sums over the frames, when the scene's stats are on (CharacterStats).
   double updateMicros = 0.0, locomotionMicros = 0.0;
 };
@@ -73,7 +80,7 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
 
   std::vector<glm::vec3> trace[2];
   std::vector<int> planted[2];
-  std::vector<float> gaitWeight;
+  std::vector<float> gaitWeight, speed, runWeight;
   glm::vec3 lockedAt[2]{};
   bool lockedAtFullGait[2] = {false, false};
   const int maxFrames = static_cast<int>(30.0f / dt);
@@ -104,6 +111,8 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
     if (loco && (loco->feet().planted(0) || loco->feet().planted(1)))
       result.ikResidual = std::max(result.ikResidual, loco->feet().lastResidual());
     gaitWeight.push_back(loco ? loco->weight() : 0.0f);
+    speed.push_back(loco ? loco->steering().speed : 0.0f);
+    runWeight.push_back(loco ? loco->runWeight() : 0.0f);
     const LocomotionStatus st = c->locomotionStatus("walk");
     if (st.state == LocomotionStatus::kDone && !result.done) {
       result.done = true;
@@ -112,6 +121,17 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
     if (result.done && loco && loco->weight() == 0.0f) break;
   }
   if (const LocomotionController* loco = c->locomotion()) result.steps = loco->feet().steps();
+  for (float v : speed) result.topSpeed = std::max(result.topSpeed, v);
+  std::vector<bool> cruise(speed.size(), false);
+  result.cruiseRunWeightMin = 1.0f;
+  for (std::size_t k = 0; k < speed.size(); ++k) {
+    cruise[k] = result.topSpeed > 0.0f && speed[k] >= 0.99f * result.topSpeed && gaitWeight[k] >= 0.99f;
+    if (!cruise[k]) continue;
+    ++result.cruiseFrames;
+    result.cruiseRunWeightMin = std::min(result.cruiseRunWeightMin, runWeight[k]);
+    result.cruiseRunWeightMax = std::max(result.cruiseRunWeightMax, runWeight[k]);
+  }
+  if (result.cruiseFrames == 0) result.cruiseRunWeightMin = 0.0f;
   result.arrivalError = glm::length(glm::vec2(c->position().x, c->position().z) - spec.target);
   result.facingError = std::fabs(std::remainder(c->heading() - spec.facingDegrees * kPi / 180.0f, 2.0f * kPi));
   const bool debug = std::getenv("MARIONETTE_DEBUG_SKATING") != nullptr;
@@ -121,9 +141,11 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
     for (std::size_t k = 1; k < trace[f].size(); ++k) {
       if (trace[f][k].y - lowest > 0.05f) continue;
       ++result.contactFrames;
+      result.cruiseContactFrames += cruise[k];
       const glm::vec3 d = trace[f][k] - trace[f][k - 1];
       if (std::hypot(d.x, d.z) / dt > 0.5f) {
         ++result.skatingFrames;
+        result.cruiseSkatingFrames += cruise[k];
         if (debug)
           std::printf("skate foot %d frame %zu h %.3f v %.2f planted %d/%d w %.2f\n", f, k, trace[f][k].y - lowest,
                       std::hypot(d.x, d.z) / dt, planted[f][k - 1], planted[f][k], gaitWeight[k]);
