@@ -90,8 +90,9 @@ TEST(LocomotionSettingsOnRobot, SkatingStaysUnderFivePercentForAnyBlendTime) {
 // ground; the lock held, and the straight leg dragged the foot up to 0.5 m high
 // and 0.14 to 0.68 m from its lock (work-precision, "planted drift, all locks").
 // Now the gait starts where its stance foot is under the posture's, and a foot
-// the leg misses by more than 5 cm steps away: at most 3.0 cm here (1/30 s, no
-// blend lag), 2.0 cm at the defaults; the bound leaves a third of that again.
+// whose lock is 5 cm beyond the leg's length steps away (the soft reach leaves it
+// up to 6.5 cm short then): at most 3.6 cm here (1/60 s, no blend lag), 2.5 cm at
+// the defaults; 3.9 cm over 189 walks of 2 to 25 m. The old code: 5.6 to 88 cm.
 TEST(LocomotionSettingsOnRobot, EveryPlantedFootHoldsWithinAFewCentimetres) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
   auto rig = robot();
@@ -103,14 +104,15 @@ TEST(LocomotionSettingsOnRobot, EveryPlantedFootHoldsWithinAFewCentimetres) {
         s.blendTimeConstant = tau;
         const WalkMeasure m = walkWith(rig, g, s, dt);
         EXPECT_GT(m.locks, 0) << g.name << " dt " << dt << " blendTimeConstant " << tau;
-        EXPECT_LT(m.plantedDrift, 0.04f) << g.name << " dt " << dt << " blendTimeConstant " << tau;
+        EXPECT_LT(m.plantedDrift, 0.05f) << g.name << " dt " << dt << " blendTimeConstant " << tau;
       }
 }
 
 // The defaults: under 5 % skating at frame steps from 1/120 s to 1/30 s, and once
 // the gait is fully in, a planted foot stays within 10 cm of where it was locked
-// (work-precision: 2.4 to 5.2 cm, the most at the stop, when the posture returns;
-// the bound catches a lock that no longer holds, 20 cm and more).
+// (work-precision: 1.3 to 1.8 cm; 2.4 to 5.2 cm before catch-up steps, the most
+// at the stop, when the posture returns; the bound catches a lock that no longer
+// holds, 20 cm and more).
 TEST(LocomotionSettingsOnRobot, DefaultsHoldTheFeetAtUsualFrameRates) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
   auto rig = robot();

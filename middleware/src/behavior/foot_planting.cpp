@@ -71,11 +71,42 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
       foot.locked = true;
       foot.lockWorld = toWorld(animated);
     }
+    if (!foot.locked && !foot.stepping && foot.release <= 0.0f) continue;  // the animation's own
+    // The animated leg, before the correction. Its knee's bend axis is measured
+    // whenever the leg is bent (a hinge: the axis stays put in the thigh's frame,
+    // so one from an earlier step still holds when the leg is straight now).
+    const glm::mat4 upperModel = modelMatrixOf(skeleton, pose, leg.upper);
+    const glm::vec3 hip(upperModel[3]);
+    const glm::vec3 knee(modelMatrixOf(skeleton, pose, leg.lower)[3]);
+    // Where the leg ends as animated: the foot joint itself, except for a detached
+    // foot, which the pose may hold some way off the shin (RobotExpressive: up to
+    // 5 cm in its clips, up to 19 cm while the gait blends over the idle).
+    const glm::vec3 animatedEnd = limbEndModel(skeleton, pose, leg);
+    if (const glm::vec3 h = measureHinge(upperModel, knee, animatedEnd); h != glm::vec3(0.0f)) foot.hinge = h;
+    const float legLength = glm::length(knee - hip) + glm::length(animatedEnd - knee);
     glm::vec3 target = animated;
+    bool stepStarts = false;
     if (foot.locked) {
       target = toModel(foot.lockWorld);
       target.y = animated.y;  // the foot keeps its animated height: it still rolls heel to toe
-      if (!contact) {        // lift-off (or stop): fade the correction out from here
+      if (contact && glm::length(animatedEnd + (target - animated) - hip) > legLength + settings.maxOverreach) {
+        // The lock is out of the leg's reach: the body went on without the foot (the
+        // gait blending out at a stop leaves a planted foot behind; an idle stance the
+        // gait blended in over did too). Held, the straight leg would drag the foot
+        // after the body and up off the ground (up to 0.5 m, 0.68 m from its lock);
+        // released to the animation, the foot would slide along the ground to where
+        // the clip has it. It takes a step there instead. The leg's length, not the
+        // IK's miss: the soft reach leaves a foot short by design (up to 11 cm at a
+        // softness of 0.2) well within reach.
+        foot.locked = false;
+        foot.stepping = true;
+        stepStarts = true;
+        foot.step = 0.0f;
+        foot.stepFrom = foot.lockWorld;
+        foot.stepTo = toWorld(animated);
+        foot.stepLift = kStepLift * std::hypot(target.x - animated.x, target.z - animated.z);
+        ++steps_;
+      } else if (!contact) {  // lift-off (or stop): fade the correction out from here
         foot.locked = false;
         foot.releaseOffset = target - animated;
         foot.release = 1.0f;
@@ -91,7 +122,11 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
       // does not slide in, and it plants there at the end. If the animation lifts
       // the foot meanwhile (the step began near the end of its stance), the step
       // ends there and the foot is released to the animation as at a lift-off.
-      foot.step = settings.stepSeconds > 0.0f ? std::min(1.0f, foot.step + dt / settings.stepSeconds) : 1.0f;
+      // It leaves the ground on the frame after the one it left its lock on, so a
+      // step is never shorter than a frame (at long frame steps it would otherwise
+      // go from one lock to the next unseen).
+      if (!stepStarts)
+        foot.step = settings.stepSeconds > 0.0f ? std::min(1.0f, foot.step + dt / settings.stepSeconds) : 1.0f;
       if (foot.step <= 0.5f) foot.stepTo = toWorld(animated);
       const float u = std::clamp((foot.step - kStepLiftOff) / (1.0f - 2.0f * kStepLiftOff), 0.0f, 1.0f);
       target = glm::mix(toModel(foot.stepFrom), toModel(foot.stepTo), u * u * (3.0f - 2.0f * u));
@@ -107,20 +142,9 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
         foot.lockWorld = toWorld(target);
       }
     } else if (!foot.locked) {
-      if (foot.release <= 0.0f) continue;
       foot.release = foot.releaseSeconds > 0.0f ? std::max(0.0f, foot.release - dt / foot.releaseSeconds) : 0.0f;
       target = animated + foot.releaseOffset * foot.release;
     }
-    // The animated leg, before the correction. Its knee's bend axis is measured
-    // whenever the leg is bent (a hinge: the axis stays put in the thigh's frame,
-    // so one from an earlier step still holds when the leg is straight now).
-    const glm::mat4 upperModel = modelMatrixOf(skeleton, pose, leg.upper);
-    const glm::vec3 knee(modelMatrixOf(skeleton, pose, leg.lower)[3]);
-    // Where the leg ends as animated: the foot joint itself, except for a detached
-    // foot, which the pose may hold some way off the shin (RobotExpressive: up to
-    // 5 cm in its clips, up to 19 cm while the gait blends over the idle).
-    const glm::vec3 animatedEnd = limbEndModel(skeleton, pose, leg);
-    if (const glm::vec3 h = measureHinge(upperModel, knee, animatedEnd); h != glm::vec3(0.0f)) foot.hinge = h;
     // The correction moves the leg's end as much as it moves the foot, so that
     // no correction leaves the animated pose as it is: a detached foot's offset
     // from the shin is the clip's, and the leg does not jump by that offset when
@@ -131,38 +155,18 @@ void FootPlanter::apply(const Skeleton& skeleton, std::span<Transform> pose, con
     // (A pole from the animated knee alone flips across that line when the leg
     // is nearly straight and the target is not where the animated foot is.)
     // Before any bend was seen, the current knee's side.
-    const glm::vec3 hip(upperModel[3]);
     glm::vec3 pole = knee;
     if (foot.hinge != glm::vec3(0.0f))
       pole = hip + glm::cross(endTarget - hip, glm::mat3(upperModel) * foot.hinge);
     const float miss = solveTwoBoneIk(skeleton, pose, leg, endTarget, pole, 1.0f, settings.ik);
     if (std::isfinite(miss)) residual_ = std::max(residual_, miss);
-    // Where the foot is now: a detached foot (an IK target in its file,
-    // RobotExpressive) is placed with the leg's end, at its animated offset from it.
-    glm::vec3 placed;
     if (!leg.endIsDescendant) {
+      // A detached foot (an IK target in its file, RobotExpressive) goes with the
+      // leg's end, at its animated offset from it.
       const int parent = skeleton.parents[static_cast<std::size_t>(joint)];
       const glm::mat4 parentModel = modelMatrixOf(skeleton, pose, parent);
-      placed = limbEndModel(skeleton, pose, leg) + (animated - animatedEnd);
+      const glm::vec3 placed = limbEndModel(skeleton, pose, leg) + (animated - animatedEnd);
       pose[static_cast<std::size_t>(joint)].translation = glm::vec3(glm::inverse(parentModel) * glm::vec4(placed, 1.0f));
-    } else {
-      placed = glm::vec3(modelMatrixOf(skeleton, pose, joint)[3]);
-    }
-    if (foot.locked && std::isfinite(miss) && miss > settings.maxMiss) {
-      // The leg no longer reaches the lock: the body went on without the foot (the
-      // gait blending out at a stop leaves a planted foot behind; an idle stance the
-      // gait blended in over did too). Held, the leg would go straight and drag the
-      // foot after the body and up off the ground (up to 0.5 m, 0.68 m from its
-      // lock); released to the animation, it would slide along the ground to where
-      // the clip has it. It takes a step there instead, from where the leg got it
-      // this frame.
-      foot.locked = false;
-      foot.stepping = true;
-      foot.step = 0.0f;
-      foot.stepFrom = toWorld(placed);
-      foot.stepTo = toWorld(animated);
-      foot.stepLift = kStepLift * std::hypot(placed.x - animated.x, placed.z - animated.z);
-      ++steps_;
     }
   }
 }

@@ -5,9 +5,9 @@
 // (model space) is within `contactHeight` of the gait's floor for that foot; it
 // is locked at its world place (x, z) when it touches down, keeps its animated
 // height (the foot still rolls), and on lift-off the correction fades out over
-// `releaseSeconds`. A planted foot the leg can no longer reach (the IK misses it
-// by more than `maxMiss`: the body went on while a blend between the gait and the
-// posture carried the animated foot away) takes a catch-up step: it lifts, swings
+// `releaseSeconds`. A planted foot the leg can no longer reach (farther than the
+// leg's length plus `maxOverreach`: the body went on while a blend between the
+// gait and the posture carried the animated foot away) takes a catch-up step: it lifts, swings
 // to where the animation has it and plants there, in `stepSeconds`, instead of
 // being dragged by a straight leg. When the character stops (the gait's weight
 // reaches 0) the planted feet ease to the posture's stance no faster than
@@ -31,9 +31,10 @@ struct FootPlantSettings {
   bool enabled = true;
   float contactHeight = 0.06f;   // m above the foot's floor
   float releaseSeconds = 0.12f;  // fade of the correction after lift-off
-  // A planted foot that the leg misses by more than maxMiss (m) is not held: it
-  // steps to where the animation has it, in stepSeconds, and plants there.
-  float maxMiss = 0.05f;
+  // A planted foot farther from the hip than the leg's length plus maxOverreach
+  // (m) is not held: it steps to where the animation has it, in stepSeconds, and
+  // plants there.
+  float maxOverreach = 0.05f;
   float stepSeconds = 0.25f;
   TwoBoneIkSettings ik;
 };
