@@ -1,12 +1,14 @@
 // Work-precision of the locomotion smoothing and foot IK (docs/accuracy.md) on
 // RobotExpressive (../shared/assets/characters) with its profile. For each setting
 // LocomotionSettings offers (gait blend time constant, foot planting on/off,
-// contact height, release time, IK softness) and for the frame step, over a
+// contact height, release time, IK softness, and how far beyond the leg's reach
+// a planted foot steps and the time it steps in) and for the frame step, over a
 // range: the 5 m walk, run and mid-speed walk of
 // tests/import/locomotion_real_character_test.cpp, measured as there
 // (tests/support/locomotion_walk.hpp): foot skating, arrival and facing error,
 // planted-foot drift from the lock point (all locks; the locks made at full gait
-// weight) and the IK's own residual; and the run time per Character update and of
+// weight), the IK's own residual and the catch-up steps taken (a planted foot the
+// leg no longer reached); and the run time per Character update and of
 // the locomotion controller alone (CharacterStats, wall clock: the mean over a
 // walk's frames, median of kRepeats rounds that each run every walk once).
 //   marionette_locomotion_work_precision OUT.csv
@@ -14,7 +16,9 @@
 // `index`); within a block a row per (value, gait) and a row "all" that pools the
 // three gaits (skating frames over contact frames, the largest errors, the mean
 // costs). planted_drift_m is empty when no foot was planted, and
-// planted_drift_full_gait_m when none was planted at full gait weight. Exit status 1 when two rounds measured differently (not deterministic).
+// planted_drift_full_gait_m when none was planted at full gait weight. The blocks
+// of the two step settings come after the frame step's (the plot shows the first
+// six). Exit status 1 when two rounds measured differently (not deterministic).
 #include <algorithm>
 #include <cstdio>
 #include <iterator>
@@ -29,6 +33,7 @@ using namespace marionette::test;
 
 namespace {
 constexpr int kRepeats = 15;
+constexpr double kNever = 1e9;  // a setting value that switches the feature off
 
 std::shared_ptr<Rig> loadRobot() {
   ImportResult r = importAsset(std::string(MARIONETTE_SHARED_DIR) + "/assets/characters/RobotExpressive.glb");
@@ -85,6 +90,7 @@ std::vector<Family> families() {
       char buf[64];
       // Frame steps below 0.05 s read better as rates: 1/60.
       if (name.starts_with("frame") && v < 0.05) std::snprintf(buf, sizeof buf, "1/%.0f", 1.0 / v);
+      else if (v >= kNever) std::snprintf(buf, sizeof buf, "never");  // no lock gets that far: no step
       else std::snprintf(buf, sizeof buf, "%g", v);
       s.label = buf;
       f.settings.push_back(s);
@@ -103,6 +109,10 @@ std::vector<Family> families() {
          [](Setting& s, double v) { s.settings.feet.ik.softness = static_cast<float>(v); });
   family("frame step (s)", {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 0.1, 0.25, 0.5}, 1.0 / 60,
          [](Setting& s, double v) { s.dt = static_cast<float>(v); });
+  family("step beyond the leg's reach by (m)", {0.0, 0.02, 0.05, 0.08, 0.12, kNever}, d.feet.maxOverreach,
+         [](Setting& s, double v) { s.settings.feet.maxOverreach = static_cast<float>(v); });
+  family("step time (s)", {0.1, 0.15, 0.25, 0.4, 0.6}, d.feet.stepSeconds,
+         [](Setting& s, double v) { s.settings.feet.stepSeconds = static_cast<float>(v); });
   return out;
 }
 }  // namespace
@@ -131,7 +141,7 @@ int main(int argc, char** argv) {
   std::fprintf(out,
                "family,setting,is_default,gait,dt_s,skating_pct,contact_frames,arrival_error_m,facing_error_deg,"
                "planted_drift_m,planted_drift_full_gait_m,ik_residual_m,arrived,seconds,us_per_update,"
-               "us_locomotion_per_update,us_locomotion_per_simulated_second\n");
+               "us_locomotion_per_update,us_locomotion_per_simulated_second,steps\n");
   // Every walk once per round, the rounds repeated: load from other processes
   // then falls on all settings alike instead of on whichever ran during it.
   const std::vector<Family> all = families();
@@ -147,7 +157,7 @@ int main(int argc, char** argv) {
           if (round == 0) row.m = m;
           // The update is deterministic: every round must measure the same.
           if (m.skatingFrames != row.m.skatingFrames || m.arrivalError != row.m.arrivalError ||
-              m.plantedDrift != row.m.plantedDrift || m.ikResidual != row.m.ikResidual)
+              m.plantedDrift != row.m.plantedDrift || m.ikResidual != row.m.ikResidual || m.steps != row.m.steps)
             row.deterministic = false;
           row.usPerUpdate.push_back(m.updateMicros / std::max(1, m.frames));
           row.usLocomotion.push_back(m.locomotionMicros / std::max(1, m.frames));
@@ -161,27 +171,27 @@ int main(int argc, char** argv) {
     first = false;
     std::printf("%s\n", family.name.c_str());
     for (const Setting& s : family.settings) {
-      int skating = 0, contact = 0;
+      int skating = 0, contact = 0, steps = 0;
       bool arrived = true;
       float arrival = 0.0f, facing = 0.0f, drift = -1.0f, driftFull = -1.0f, residual = 0.0f, seconds = 0.0f;
       double us = 0.0, usLoco = 0.0;
       // A drift < 0: no such lock was made (an empty field).
       auto line = [&](const char* gait, float skatingPct, int contactFrames, float arr, float fac, float dri,
-                      float driFull, float res, bool done, float sec, double u, double ul) {
+                      float driFull, float res, bool done, float sec, double u, double ul, int stepCount) {
         char any[32] = "", full[32] = "";
         if (dri >= 0.0f) std::snprintf(any, sizeof any, "%.5f", static_cast<double>(dri));
         if (driFull >= 0.0f) std::snprintf(full, sizeof full, "%.5f", static_cast<double>(driFull));
-        std::fprintf(out, "%s,%s,%d,%s,%.6f,%.3f,%d,%.5f,%.3f,%s,%s,%.5f,%d,%.3f,%.3f,%.3f,%.1f\n",
+        std::fprintf(out, "%s,%s,%d,%s,%.6f,%.3f,%d,%.5f,%.3f,%s,%s,%.5f,%d,%.3f,%.3f,%.3f,%.1f,%d\n",
                      family.name.c_str(), s.label.c_str(), s.isDefault ? 1 : 0, gait, static_cast<double>(s.dt),
                      static_cast<double>(skatingPct), contactFrames, static_cast<double>(arr),
                      static_cast<double>(fac), any, full, static_cast<double>(res), done ? 1 : 0,
-                     static_cast<double>(sec), u, ul, ul / static_cast<double>(s.dt));
+                     static_cast<double>(sec), u, ul, ul / static_cast<double>(s.dt), stepCount);
         std::printf("  %-6s %-4s skating %6.2f %% of %4d  arrival %.3f m  facing %.2f deg  drift %.3f m (full gait "
-                    "%.3f)  IK miss %.3f m  %s %.2f s  %.2f us/update, locomotion %.2f us%s\n",
+                    "%.3f)  IK miss %.3f m  %d steps  %s %.2f s  %.2f us/update, locomotion %.2f us%s\n",
                     s.label.c_str(), gait, static_cast<double>(skatingPct), contactFrames, static_cast<double>(arr),
                     static_cast<double>(fac), static_cast<double>(dri), static_cast<double>(driFull),
-                    static_cast<double>(res), done ? "arrived" : "NOT ARRIVED", static_cast<double>(sec), u, ul,
-                    s.isDefault ? "  (default)" : "");
+                    static_cast<double>(res), stepCount, done ? "arrived" : "NOT ARRIVED", static_cast<double>(sec),
+                    u, ul, s.isDefault ? "  (default)" : "");
       };
       for (const auto& gait : gaits) {
         const Row& r = rows[j++];
@@ -190,8 +200,10 @@ int main(int argc, char** argv) {
         const double u = median(r.usPerUpdate), ul = median(r.usLocomotion);
         line(gait.first, 100.0f * r.m.skatingRatio, r.m.contactFrames, r.m.arrivalError, facingDeg,
              r.m.locks ? r.m.plantedDrift : -1.0f,
-             r.m.fullGaitLocks ? r.m.plantedDriftFullGait : -1.0f, r.m.ikResidual, r.m.done, r.m.seconds, u, ul);
+             r.m.fullGaitLocks ? r.m.plantedDriftFullGait : -1.0f, r.m.ikResidual, r.m.done, r.m.seconds, u, ul,
+             r.m.steps);
         skating += r.m.skatingFrames;
+        steps += r.m.steps;
         contact += r.m.contactFrames;
         arrived = arrived && r.m.done;
         arrival = std::max(arrival, r.m.arrivalError);
@@ -204,7 +216,7 @@ int main(int argc, char** argv) {
         usLoco += ul / static_cast<double>(std::size(gaits));
       }
       line("all", contact ? 100.0f * static_cast<float>(skating) / static_cast<float>(contact) : 100.0f, contact,
-           arrival, facing, drift, driftFull, residual, arrived, seconds, us, usLoco);
+           arrival, facing, drift, driftFull, residual, arrived, seconds, us, usLoco, steps);
     }
   }
   std::fclose(out);
