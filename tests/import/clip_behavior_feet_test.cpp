@@ -17,6 +17,7 @@
 #include "marionette/animation/sampling.hpp"
 #include "marionette/behavior/two_bone_ik.hpp"
 #include "marionette/scene/scene.hpp"
+#include "detached_feet.hpp"
 #include "real_rig.hpp"
 #include "test_data.hpp"
 
@@ -26,24 +27,6 @@ using namespace marionette::test;
 namespace {
 
 constexpr int kSamples = 240;  // poses per cycle
-
-// Distance from the foot joint to the leg's end point (for a detached foot: the
-// lower leg's model transform applied to the foot's rest offset in its frame).
-float footGap(const Skeleton& s, std::span<const Transform> pose, const LimbIk& leg) {
-  const glm::vec3 foot(modelMatrixOf(s, pose, leg.end)[3]);
-  return glm::length(foot - limbEndModel(s, pose, leg));
-}
-
-// The largest gap over the clip as the file has it (no in-place processing).
-float authoredGap(const Skeleton& s, const Clip& clip, const LimbIk legs[2]) {
-  std::vector<Transform> pose(s.jointCount());
-  float worst = 0.0f;
-  for (int k = 0; k <= kSamples; ++k) {
-    sampleClip(clip, clip.duration * static_cast<float>(k) / kSamples, s.restPose, pose);
-    worst = std::max({worst, footGap(s, pose, legs[0]), footGap(s, pose, legs[1])});
-  }
-  return worst;
-}
 
 struct InPlaceGaps {
   float worst = 0.0f;       // largest gap played in place
@@ -101,14 +84,10 @@ InPlaceGaps layerGaps(const std::shared_ptr<Rig>& rig, const Clip& clip, const L
 TEST(ClipBehaviorsOnRealCharacters, RobotFeetStayOnItsLegsInPlace) {
   const std::string file = sharedAsset("characters/RobotExpressive.glb");
   MARIONETTE_REQUIRE_FILE(file);
-  const auto rig = loadRigWithProfile(file, "RobotExpressive.json");
-  ASSERT_TRUE(rig);
-  const LimbIk legs[2] = {makeLimbIk(rig->skeleton(), rig->joints().leftLeg),
-                          makeLimbIk(rig->skeleton(), rig->joints().rightLeg)};
-  ASSERT_GE(legs[0].upper, 0);
-  ASSERT_GE(legs[1].upper, 0);
-  ASSERT_FALSE(legs[0].endIsDescendant);  // the case this test is about
-  ASSERT_FALSE(legs[1].endIsDescendant);
+  const RobotWithLegs robot = robotWithDetachedFeet();
+  ASSERT_TRUE(robot.rig);
+  const auto& rig = robot.rig;
+  const LimbIk* legs = robot.legs;
   // The clip's own gap is large where its foot target is out of the leg's reach
   // (Punch's right foot, 0.57 m; both feet in Jump, 0.25 m): each foot's gap is
   // therefore also compared with the clip's at the same clip time.
@@ -116,7 +95,7 @@ TEST(ClipBehaviorsOnRealCharacters, RobotFeetStayOnItsLegsInPlace) {
     const auto ac = rig->findClip(name);
     ASSERT_TRUE(ac) << "RobotExpressive has no clip " << name;
     ASSERT_GT(ac->clip.duration, 0.0f) << name;
-    const float authored = authoredGap(rig->skeleton(), ac->clip, legs);
+    const float authored = authoredFootGap(rig->skeleton(), ac->clip, legs, kSamples);
     const InPlaceGaps behavior = behaviorGaps(rig, ac->clip, legs);
     const InPlaceGaps layer = layerGaps(rig, ac->clip, legs);
     std::printf("%-9s feet off the shins' ends: clip %.3f m, behavior %.3f m, root-motion layer %.3f m "

@@ -12,48 +12,23 @@
 #include "marionette/animation/sampling.hpp"
 #include "marionette/behavior/two_bone_ik.hpp"
 #include "marionette/scene/scene.hpp"
+#include "detached_feet.hpp"
 #include "real_rig.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
 using namespace marionette::test;
 
-namespace {
-
-// Distance from the foot joint to where the leg (thigh, shin) ends, model space.
-float footGap(std::span<const glm::mat4> model, const LimbIk& leg) {
-  const glm::vec3 end(model[static_cast<std::size_t>(leg.lower)] * glm::vec4(leg.endOffsetInLower, 1.0f));
-  return glm::length(glm::vec3(model[static_cast<std::size_t>(leg.end)][3]) - end);
-}
-
-// The largest gap over a clip's cycle as the file has it.
-float clipGap(const Rig& rig, const std::string& clip, const LimbIk legs[2]) {
-  const Skeleton& s = rig.skeleton();
-  std::vector<Transform> pose(s.jointCount());
-  std::vector<glm::mat4> model(s.jointCount());
-  const Clip& c = rig.findClip(clip)->clip;
-  float worst = 0.0f;
-  for (int k = 0; k <= 480; ++k) {
-    sampleClip(c, c.duration * static_cast<float>(k) / 480.0f, s.restPose, pose);
-    localToModel(s, pose, model);
-    for (int f = 0; f < 2; ++f) worst = std::max(worst, footGap(model, legs[f]));
-  }
-  return worst;
-}
-
-}  // namespace
-
 TEST(LocomotionOnRealCharacters, RobotFeetStayOnItsLegsAsInItsClips) {
   const std::string file = sharedAsset("characters/RobotExpressive.glb");
   MARIONETTE_REQUIRE_FILE(file);
-  const auto rig = loadRigWithProfile(file, "RobotExpressive.json");
-  ASSERT_TRUE(rig);
-  const LimbIk legs[2] = {makeLimbIk(rig->skeleton(), rig->joints().leftLeg),
-                          makeLimbIk(rig->skeleton(), rig->joints().rightLeg)};
-  ASSERT_GE(legs[0].upper, 0);
-  ASSERT_GE(legs[1].upper, 0);
-  ASSERT_FALSE(legs[0].endIsDescendant);  // the case this test is about
-  const float authored = std::max({clipGap(*rig, "Walking", legs), clipGap(*rig, "Running", legs), clipGap(*rig, "Idle", legs)});
+  const RobotWithLegs robot = robotWithDetachedFeet();
+  ASSERT_TRUE(robot.rig);
+  const auto& rig = robot.rig;
+  const LimbIk* legs = robot.legs;
+  float authored = 0.0f;
+  for (const char* clip : {"Walking", "Running", "Idle"})
+    authored = std::max(authored, authoredFootGap(rig->skeleton(), rig->findClip(clip)->clip, legs, 480));
 
   // 5 m walking; 20 m running (5 m is too short to get above the walk's speed at 2 m/s^2).
   for (const auto& [manner, target] : {std::pair{"WALK", "3 4"}, std::pair{"RUN", "12 16"}}) {
