@@ -1,0 +1,21 @@
+// espeak-ng in process (Debian libespeak-ng-dev, GPL-3.0-or-later: a build with
+// MARIONETTE_WITH_TTS links it; see docs/credits.md). The text's marks become SSML
+// <mark/> elements; espeak-ng's phoneme events give sample-accurate phoneme
+// times (their `sample` field) and its mark events the marks' times. espeak-ng
+// keeps global state, so every backend shares one engine behind a lock; it is
+// started on the first synthesize(), not before (a scene without speech pays nothing).
+#pragma once
+#include <memory>
+#include <string>
+
+#include "marionette/speech/speech_backend.hpp"
+
+namespace marionette::speech {
+
+// Whether this build has the espeak-ng backend.
+[[nodiscard]] bool espeakAvailable() noexcept;
+// The espeak-ng backend; null (and `whyNot` says so) when the build has no TTS.
+// A missing voice or data directory is reported by synthesize(), as an error naming the voice.
+[[nodiscard]] std::shared_ptr<SpeechBackend> makeEspeakBackend(std::string* whyNot = nullptr);
+
+}  // namespace marionette::speech
