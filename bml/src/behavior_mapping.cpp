@@ -1,5 +1,7 @@
 #include "marionette/bml/behavior_mapping.hpp"
 
+#include "marionette/speech/speech_service.hpp"
+
 #include "marionette/core/text.hpp"
 
 #include <algorithm>
@@ -79,6 +81,34 @@ std::optional<double> naturalDuration(const Behavior& b, const Character& charac
   return character.estimateLocomotion(r);
 }
 
+namespace {
+
+// The speech parameters the middleware reads (speech_controller.hpp): text and marks.
+void addSpeechParameters(const Behavior& b, BehaviorRequest& r) {
+  r.parameters.emplace_back("text", b.text);
+  std::string marks;
+  for (const WordMark& m : b.marks) marks += (marks.empty() ? "" : " ") + std::to_string(m.characterOffset) + ":" + m.id;
+  if (!marks.empty()) r.parameters.emplace_back("markOffsets", std::move(marks));
+}
+
+}  // namespace
+
+std::optional<SpeechTiming> speechTiming(const Behavior& b, const Character& character) {
+  if (b.type != "speech") return std::nullopt;
+  BehaviorRequest r;
+  r.id = b.id;
+  r.kind = BehaviorKind::Speech;
+  for (const Attribute& a : b.attributes) r.parameters.emplace_back(a.name, a.value);
+  addSpeechParameters(b, r);
+  std::string error;
+  const auto line = character.prepareSpeech(r, error);
+  if (!line) return std::nullopt;
+  SpeechTiming t;
+  t.duration = line->utterance->duration;
+  for (const speech::Mark& m : line->utterance->marks) t.marks.push_back({m.id, m.time});
+  return t;
+}
+
 BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std::string& blockId, double blockStart,
                           const Rig& rig) {
   BehaviorRequest r;
@@ -93,7 +123,7 @@ BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const s
   }
   for (const Attribute& a : b.attributes)
     if (!s.time(a.name)) r.parameters.emplace_back(a.name, a.value);
-  if (r.kind == BehaviorKind::Speech) r.parameters.emplace_back("text", b.text);
+  if (r.kind == BehaviorKind::Speech) addSpeechParameters(b, r);
   if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
   r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||

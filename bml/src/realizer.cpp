@@ -119,6 +119,8 @@ Schedule Realizer::perform(std::string_view bmlText, std::string_view character,
   if (!opts.externalSync) opts.externalSync = [&](const SyncRef& ref) { return resolveExternal(ref, start); };
   if (!opts.defaultDuration && target)
     opts.defaultDuration = [target](const Behavior& b) { return naturalDuration(b, *target); };
+  if (!opts.speechTiming && target)
+    opts.speechTiming = [target](const Behavior& b) { return speechTiming(b, *target); };
   Schedule schedule = scheduleParsed(parsed, opts);
 
   if (!schedule.failed && !target) {

@@ -80,9 +80,22 @@ SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
     SyncTemplate s;
     s.stretchable = false;  // speech keeps its own timing
     const double spc = options.speechSecondsPerCharacter;
+    std::optional<SpeechTiming> said;
+    if (options.speechTiming) said = options.speechTiming(b);
+    if (said && !(std::isfinite(said->duration) && said->duration >= 0.0)) said.reset();
+    double end = std::max(options.minimumSpeechSeconds, static_cast<double>(b.text.size()) * spc);
+    if (said) end = said->duration;
     s.syncs.push_back({"start", 0.0});
-    for (const WordMark& m : b.marks) s.syncs.push_back({m.id, static_cast<double>(m.characterOffset) * spc});
-    s.syncs.push_back({"end", std::max(options.minimumSpeechSeconds, static_cast<double>(b.text.size()) * spc)});
+    double last = 0.0;  // marks stay in text order and inside the speech
+    for (const WordMark& m : b.marks) {
+      double at = static_cast<double>(m.characterOffset) * spc;
+      if (said)
+        for (const auto& [id, time] : said->marks)
+          if (id == m.id && std::isfinite(time)) at = time;
+      last = std::clamp(at, last, end);
+      s.syncs.push_back({m.id, last});
+    }
+    s.syncs.push_back({"end", end});
     return s;
   }
   if (t == "wait") return fromProportions({{"start", 0}, {"end", 1}}, 0.0);

@@ -8,6 +8,8 @@ namespace marionette::cli {
 
 int inspectCommand(const std::vector<std::string>& args);
 int runCommand(const std::vector<std::string>& args);
+int speakCommand(const std::vector<std::string>& args);
+int lipsyncCommand(const std::vector<std::string>& args);
 #ifdef MARIONETTE_CLI_HAS_BML
 int bmlCheckCommand(const std::vector<std::string>& args);
 #endif

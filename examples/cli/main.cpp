@@ -9,9 +9,14 @@ void usage() {
   std::fputs(
       "usage: marionette <command> [arguments]\n"
       "  inspect FILE [--json]    skeleton, clips, morph targets and meshes of a character or motion file\n"
-      "  run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]\n"
+      "  run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats] [--morphs OUT.csv] [--audio-dir DIR]\n"
       "                           step a scene headless; --trace writes\n"
       "                           frame,time,character,joint,px,py,pz,qx,qy,qz,qw (world space, metres)\n"
+      "  speak \"TEXT\" [--voice en-us] [--rate WPM] -o OUT.wav --visemes V.csv [--phonemes P.csv]\n"
+      "                           synthesize with espeak-ng: audio, lip-sync channels per 1/100 s, phonemes\n"
+      "  lipsync [--audio A.wav] --phones P.txt --visemes V.csv\n"
+      "                           lip-sync channels of a recorded line from its phoneme alignment\n"
+      "                           (.phones.txt, HTS .lab, Rhubarb .tsv)\n"
 #ifdef MARIONETTE_CLI_HAS_BML
       "  bml-check FILE.xml... [--json] [--character ASSET]\n"
       "                           parse and schedule BML blocks: predicted sync-point times and\n"
@@ -32,6 +37,8 @@ int main(int argc, char** argv) {
   args.erase(args.begin());
   if (command == "inspect") return marionette::cli::inspectCommand(args);
   if (command == "run") return marionette::cli::runCommand(args);
+  if (command == "speak") return marionette::cli::speakCommand(args);
+  if (command == "lipsync") return marionette::cli::lipsyncCommand(args);
 #ifdef MARIONETTE_CLI_HAS_BML
   if (command == "bml-check") return marionette::cli::bmlCheckCommand(args);
 #endif

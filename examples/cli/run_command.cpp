@@ -22,7 +22,7 @@ namespace marionette::cli {
 
 namespace {
 struct RunArgs {
-  std::string scene, trace, feedback;
+  std::string scene, trace, feedback, morphs, audioDir;
   std::vector<std::string> bml;
   long frames = 120;
   double fps = 60.0;
@@ -73,6 +73,10 @@ int parseArgs(const std::vector<std::string>& args, RunArgs& r) {
       if (!s) return 2;
       if (a == "--bml") r.bml.push_back(*s);
       else r.feedback = *s;
+    } else if (a == "--morphs" || a == "--audio-dir") {
+      const std::string* s = value(a.c_str());
+      if (!s) return 2;
+      (a == "--morphs" ? r.morphs : r.audioDir) = *s;
     } else if (a == "--stats") {
       r.stats = true;
     } else if (!a.empty() && a[0] == '-') {
@@ -87,16 +91,22 @@ int parseArgs(const std::vector<std::string>& args, RunArgs& r) {
   }
   if (r.scene.empty()) {
     std::fputs("usage: marionette run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]"
-               " [--bml FILE.xml]... [--feedback OUT.jsonl]\n",
+               " [--bml FILE.xml]... [--feedback OUT.jsonl] [--morphs OUT.csv] [--audio-dir DIR]\n",
                stderr);
     return 2;
   }
   return 0;
 }
 
-// Counts warnings the runtime reports while running.
+// Counts warnings the runtime reports while running, and says when speech starts.
 struct WarningCounter : SceneListener {
   int warnings = 0;
+  void onSpeech(const Character& c, std::string_view id, const speech::Utterance& u, std::string_view audioFile,
+                double start) override {
+    std::printf("speech: %s '%.*s' at %.3f s for %.3f s%s%.*s\n", c.name().c_str(), static_cast<int>(id.size()),
+                id.data(), start, u.duration, audioFile.empty() ? "" : ", audio ", static_cast<int>(audioFile.size()),
+                audioFile.data());
+  }
   void onLog(LogLevel level, std::string_view message) override {
     if (level == LogLevel::Info) return;
     ++warnings;
@@ -104,6 +114,14 @@ struct WarningCounter : SceneListener {
                  static_cast<int>(message.size()), message.data());
   }
 };
+
+// frame,time,character,morph,weight for every morph target of every character that has some.
+void writeMorphRows(std::FILE* out, long frame, double time, const Character& c) {
+  const std::span<const float> w = c.transformBuffer().morphWeights();
+  const auto& names = c.rig().asset().morphTargets;
+  for (std::size_t m = 0; m < w.size() && m < names.size(); ++m)
+    std::fprintf(out, "%ld,%.6f,%s,%s,%.5f\n", frame, time, c.name().c_str(), names[m].c_str(), static_cast<double>(w[m]));
+}
 
 void writeTraceRows(std::FILE* out, long frame, double time, const Character& c) {
   const TransformBuffer& b = c.transformBuffer();
@@ -139,6 +157,15 @@ int runCommand(const std::vector<std::string>& args) {
     }
     std::fputs("frame,time,character,joint,px,py,pz,qx,qy,qz,qw\n", trace);
   }
+  std::FILE* morphs = nullptr;
+  if (!r.morphs.empty()) {
+    if (!(morphs = std::fopen(r.morphs.c_str(), "w"))) {
+      std::fprintf(stderr, "%s: error: cannot open the morph file for writing\n", r.morphs.c_str());
+      return 2;
+    }
+    std::fputs("frame,time,character,morph,weight\n", morphs);
+  }
+  if (!r.audioDir.empty()) scene.speech().setAudioDirectory(r.audioDir);
   scene.setStatsEnabled(r.stats);
 #ifdef MARIONETTE_CLI_HAS_BML
   // BML: files from the scene (at their times) and from --bml (at 0), sent as the clock reaches them.
@@ -201,6 +228,7 @@ int runCommand(const std::vector<std::string>& args) {
       for (int k = 0; k < CharacterStats::kControllerCount; ++k)
         controllerMicros[i][static_cast<std::size_t>(k)] += scene.characters()[i]->stats().controllerMicros[k];
       if (trace) writeTraceRows(trace, f, scene.time(), *scene.characters()[i]);
+      if (morphs) writeMorphRows(morphs, f, scene.time(), *scene.characters()[i]);
     }
   }
   const double runMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - runStart).count();
@@ -236,7 +264,12 @@ int runCommand(const std::vector<std::string>& args) {
                   controllers.c_str());
     }
   }
+  if (morphs && std::fclose(morphs) != 0) {
+    std::fprintf(stderr, "%s: error: writing the morph weights failed\n", r.morphs.c_str());
+    return 2;
+  }
   if (trace) std::printf("trace: %s\n", r.trace.c_str());
+  if (morphs) std::printf("morphs: %s\n", r.morphs.c_str());
 #ifdef MARIONETTE_CLI_HAS_BML
   if (feedback && std::fclose(feedback) != 0) {
     std::fprintf(stderr, "%s: error: writing the feedback failed\n", r.feedback.c_str());

@@ -159,6 +159,7 @@ TEST_F(RealizerWithRobot, HandsConflictOnlyWhenTheyShareAHand) {
 // Every scheduled behavior reaches the character's timeline as a request, the
 // same C++ API an engine uses without BML.
 TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
+  scene.speech().useDefaultSynthesizer(false);  // as a build without TTS: the speech cannot be said
   step(scene, r, 1.0);
   Schedule s = r.perform("<bml id='b1'><gesture id='g' lexeme='wave' mode='RIGHT_HAND' start='0.5' amount='2'/>"
                          "<speech id='s'><text>hi there</text></speech><faceLexeme id='f' lexeme='SMILE'/></bml>");
@@ -179,13 +180,13 @@ TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
   EXPECT_EQ(sp->request.parameter("text"), "hi there");
   EXPECT_EQ(sp->request.channelBits(), kChannelVoice);
   EXPECT_EQ(robot.behaviors().find("b1:f")->request.channelBits(), 0u);
-  // The gesture has a clip and the smile a morph (guessed profile: "smile"); speech
-  // has no controller yet: said, not dropped.
+  // The gesture has a clip and the smile a morph (guessed profile: "smile"); the
+  // speech has no backend: reported, its timing and feedback still run.
   EXPECT_FALSE(robot.behaviors().find("b1:f")->morphs.empty());
   const auto unrealized = rec.warnings(WarningType::CannotCreateBehavior);
   ASSERT_EQ(unrealized.size(), 1u);
   EXPECT_EQ(unrealized[0]->behaviorId, "s");
-  EXPECT_NE(unrealized[0]->warning.message.find("character 'robot': no controller for speech behaviors"),
+  EXPECT_NE(unrealized[0]->warning.message.find("character 'robot': speech cannot be said: no speech backend"),
             std::string::npos) << unrealized[0]->warning.message;
   EXPECT_FALSE(unrealized[0]->warning.fatal);
 }

@@ -7,6 +7,7 @@
 #include "marionette/animation/pose.hpp"
 #include "marionette/behavior/procedural_controllers.hpp"
 #include "marionette/scene/scene.hpp"
+#include "marionette/speech/speech_service.hpp"
 
 namespace marionette {
 
@@ -223,11 +224,47 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
     const std::string why = kind == BehaviorKind::Head ? bindHead(e, *rig_, warning) : bindFace(e, *rig_, warning);
     result.realized = why.empty();
     result.message = why.empty() ? warning : why;
+  } else if (kind == BehaviorKind::Speech) {
+    std::string warning;
+    const std::string why = bindSpeechEntry(e, warning);
+    result.realized = why.empty();
+    result.message = why.empty() ? warning : why;
   } else {
     result.message = "no controller for " + std::string(toString(kind)) +
                      " behaviors exists yet; its timing, channel and feedback run but the body does not move";
   }
   return result;
+}
+
+std::shared_ptr<const speech::SpokenLine> Character::prepareSpeech(const BehaviorRequest& request,
+                                                                   std::string& error) const {
+  if (!scene_) {
+    error = "a character outside a scene has no speech service";
+    return nullptr;
+  }
+  std::string warning;
+  speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(request, warning));
+  error = said.line ? std::string() : said.error;
+  return said.line;
+}
+
+std::string Character::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  if (!scene_) return "a character outside a scene has no speech service";
+  speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(e.request, warning));
+  if (!said.line) return "speech cannot be said: " + said.error;
+  // `warning` is for bad parameters (the realizer reports it so); what the backend
+  // repaired or guessed, and a face that cannot move, go to the scene's log.
+  const std::string who = "speech '" + e.request.id + "' of '" + name_ + "': ";
+  if (!said.error.empty()) scene_->log(LogLevel::Warning, who + said.error);  // no WAV; the line still plays
+  for (const std::string& w : said.line->utterance->warnings) scene_->log(LogLevel::Warning, who + w);
+  e.speech.line = said.line;
+  e.speech.nextPhoneme = 0;
+  if (std::string face = bindSpeechFace(e.speech, *rig_); !face.empty()) scene_->log(LogLevel::Info, who + face);
+  e.isSpeech = true;
+  const std::string audio = said.line->audioFile.string();
+  const double start = e.request.start();
+  scene_->forEachListener([&](SceneListener& l) { l.onSpeech(*this, e.request.id, *said.line->utterance, audio, start); });
+  return {};
 }
 
 TargetJointFinder Character::targetJointFinder(bool chest) const {
@@ -408,6 +445,37 @@ void Character::applyBehaviors(float dt) noexcept {
     }
     return any;
   });
+  run(CharacterStats::kSpeech, [&] { return applySpeechEntries(); });
+}
+
+bool Character::applySpeechEntries() noexcept {
+  bool any = false;
+  // Overlapping speech on one character: the one that owns the voice (added last) moves the lips.
+  const BehaviorRequest* voice = behaviors_.owner(kChannelVoice, clock_);
+  std::array<float, speech::kLipChannelCount> channels{};
+  const std::span<float> morphs = buffer_.writeMorphWeights();
+  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (!e.isSpeech) continue;
+    const double local = clock_ - e.request.start();
+    // Visemes of the phonemes that started by now, once each (also for a silenced line: the engine hears it).
+    const std::vector<speech::Phoneme>& phonemes = e.speech.line->utterance->phonemes;
+    while (e.speech.nextPhoneme < phonemes.size() && phonemes[e.speech.nextPhoneme].start <= local &&
+           clock_ < e.finishTime()) {
+      const speech::Phoneme& p = phonemes[e.speech.nextPhoneme++];
+      if (!scene_) continue;
+      e.speech.line->curves.evaluate(0.5 * (p.start + p.end), channels);
+      const float peak = channels[static_cast<std::size_t>(p.cls.viseme)];
+      scene_->forEachListener([&](SceneListener& l) {
+        l.onViseme(*this, speech::visemeName(p.cls.viseme), peak, e.request.start() + p.start);
+      });
+    }
+    if (&e.request != voice) continue;
+    if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
+      applySpeech(e.speech, w, local, *rig_, channels, morphs, pose_);
+      any = true;
+    }
+  }
+  return any;
 }
 
 void Character::resolveExternalTargets() noexcept {

@@ -1,4 +1,5 @@
 #include "marionette/scene/character_profile.hpp"
+#include "marionette/speech/lipsync.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -303,6 +304,58 @@ void guessFace(const Asset& asset, CharacterProfile& p, Notes& notes) {
                                                           : "face: none (no morph name matches a face lexeme)");
 }
 
+// The lip-sync channels a character's morphs can show (speech/lipsync.hpp):
+// the file's VRM mouth shapes first (A I U E O, both VRM versions), then a full
+// set of OVR viseme morphs ("viseme_PP", ...), then an ARKit-style jaw opening.
+void guessVisemes(const Asset& asset, CharacterProfile& p, Notes& notes) {
+  if (asset.hasHumanoid) {
+    const std::pair<const char*, const char*> vrm[] = {
+        {"A", "vrm_aa"}, {"I", "vrm_ih"}, {"U", "vrm_ou"}, {"E", "vrm_ee"}, {"O", "vrm_oh"}};
+    for (const auto& [alias, channel] : vrm) {
+      auto it = asset.humanoid.expressions.find(alias);
+      if (it == asset.humanoid.expressions.end()) continue;
+      std::vector<FaceMorph> morphs;
+      for (const auto& [index, weight] : it->second)
+        if (index >= 0 && static_cast<std::size_t>(index) < asset.morphTargets.size() && weight > 0.0f)
+          morphs.push_back({asset.morphTargets[index], std::clamp(weight, 0.0f, 1.0f)});
+      if (!morphs.empty()) p.visemes[channel] = std::move(morphs);
+    }
+  }
+  // OVR names are short ("E", "aa", "oh"): taken only with a "viseme" word, or as a nearly full set.
+  static const char* const ovr[] = {"sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou"};
+  std::map<std::string, std::string> tagged, bare;
+  for (const auto& m : asset.morphTargets) {
+    const NameParts np = parts(m, kMorphNoise);
+    std::vector<std::string> core = np.core;
+    const bool hasTag = std::erase(core, std::string("viseme")) > 0;
+    if (np.side != 0) continue;
+    if (np.is({"jaw", "open"}) || np.is({"mouth", "open"})) bare.emplace("jawopen", m);
+    if (core.size() == 1) (hasTag ? tagged : bare).emplace(core.front(), m);
+  }
+  auto lowered = [](std::string_view v) {
+    std::string out;
+    for (char c : v) out += lower(c);
+    return out;
+  };
+  std::size_t bareHits = 0;
+  for (const char* v : ovr) bareHits += bare.count(lowered(v));
+  for (const char* v : ovr) {
+    if (p.visemes.count(v)) continue;
+    const std::string key = lowered(v);
+    if (auto it = tagged.find(key); it != tagged.end()) p.visemes[v] = {{it->second, 1.0f}};
+    else if (auto b = bare.find(key); b != bare.end() && bareHits >= 12) p.visemes[v] = {{b->second, 1.0f}};
+  }
+  if (auto it = bare.find("jawopen"); it != bare.end() && !p.visemes.count("jawOpen")) p.visemes["jawOpen"] = {{it->second, 1.0f}};
+  std::string list;
+  for (const auto& [channel, morphs] : p.visemes) {
+    std::vector<std::string> names;
+    for (const auto& m : morphs) names.push_back(m.morph);
+    list += (list.empty() ? "" : "; ") + channel + " " + joined(names);
+  }
+  notes.emplace_back("visemes", p.visemes.empty() ? std::string("visemes: none (no VRM mouth shapes or viseme morphs)")
+                                                  : "visemes: " + list + " (VRM expressions and morph names)");
+}
+
 // ---- Clips ------------------------------------------------------------------
 
 // Words that make a clip something other than the plain cycle ("WalkJump", "Idle_to_Walk").
@@ -402,6 +455,7 @@ Guess guess(const Asset& asset) {
   set("jaw", p.jaw, j.jaw, j.jawHow);
   guessLimbs(asset, t, BodyChain{j.hips, j.neck, j.head}, p, g.notes);
   guessFace(asset, p, g.notes);
+  guessVisemes(asset, p, g.notes);
   guessClips(asset, p, g.notes);
   return g;
 }
@@ -537,7 +591,7 @@ class ProfileReader {
   }
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"joints", "limbs", "face", "clips", "gestures", "comment"});
+    unknownKeys(doc, "", {"joints", "limbs", "face", "visemes", "clips", "gestures", "comment"});
     const Json& joints = section(doc, "joints");
     const Json& clips = section(doc, "clips");
     unknownKeys(joints, "/joints", {"hips", "spine", "neck", "head", "leftEye", "rightEye", "jaw"});
@@ -564,6 +618,8 @@ class ProfileReader {
     limbs(doc, p, guessed);
 
     if (!(doc.contains("face") && face(doc["face"], p))) p.face = guessed.profile.face, noteGuessed(guessed, "face");
+    if (!(doc.contains("visemes") && visemes(doc["visemes"], p)))
+      p.visemes = guessed.profile.visemes, noteGuessed(guessed, "visemes");
 
     const std::pair<const char*, std::string CharacterProfile::*> clipFields[] = {
         {"idle", &CharacterProfile::idle}, {"walk", &CharacterProfile::walk}, {"run", &CharacterProfile::run}};
@@ -789,6 +845,45 @@ class ProfileReader {
     }
     notes_.push_back("face: " + std::to_string(p.face.size()) + " expressions (profile)");
     return true;
+  }
+
+  // False when the section is unusable (then it is guessed).
+  bool visemes(const Json& j, CharacterProfile& p) {
+    if (!j.is_object()) {
+      warn("/visemes", "expected an object of CHANNEL: [{\"morph\", \"amount\"}]; ignored");
+      return false;
+    }
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string channel = it.key();
+      const std::string where = "/visemes/" + JsonPlaces::escape(channel);
+      if (!isLipChannel(channel)) {
+        warn(where, "'" + channel + "' is not a lip-sync channel (" + lipChannelList() + "); dropped");
+        continue;
+      }
+      std::vector<FaceMorph> morphs;
+      if (it->is_string()) {
+        if (auto n = name(*it, where, Kind::Morph); n && !n->empty()) morphs.push_back({*n, 1.0f});
+      } else if (it->is_array()) {
+        for (std::size_t i = 0; i < it->size(); ++i)
+          if (auto m = faceMorph((*it)[i], where + "/" + std::to_string(i))) morphs.push_back(std::move(*m));
+      } else {
+        warn(where, "expected a list of {\"morph\": NAME, \"amount\": 0..1}; dropped");
+      }
+      if (!morphs.empty()) p.visemes[channel] = std::move(morphs);
+    }
+    notes_.push_back("visemes: " + std::to_string(p.visemes.size()) + " channels (profile)");
+    return true;
+  }
+
+  static bool isLipChannel(const std::string& name) {
+    for (int c = 0; c < speech::kLipChannelCount; ++c)
+      if (speech::lipChannelName(c) == name) return true;
+    return false;
+  }
+  static std::string lipChannelList() {
+    std::string out;
+    for (int c = 0; c < speech::kLipChannelCount; ++c) out += (c ? ", " : "") + std::string(speech::lipChannelName(c));
+    return out;
   }
 
   std::optional<FaceMorph> faceMorph(const Json& e, const std::string& where) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "marionette/io/import.hpp"
+#include "marionette/speech/lipsync.hpp"
 
 namespace marionette {
 
@@ -61,6 +62,16 @@ void Rig::setProfile(CharacterProfile profile) {
       if (it != morphs.end()) resolved.emplace_back(static_cast<int>(it - morphs.begin()), std::clamp(m.amount, 0.0f, 1.0f));
     }
     if (!resolved.empty()) joints_.face.emplace(expression, std::move(resolved));
+  }
+  for (const auto& [channelName, list] : profile_.visemes) {
+    int channel = -1;
+    for (int c = 0; c < speech::kLipChannelCount && channel < 0; ++c)
+      if (speech::lipChannelName(c) == channelName) channel = c;
+    for (const FaceMorph& m : list) {
+      auto it = std::find(morphs.begin(), morphs.end(), m.morph);
+      if (channel >= 0 && it != morphs.end())
+        joints_.visemes.push_back({channel, static_cast<int>(it - morphs.begin()), std::clamp(m.amount, 0.0f, 1.0f)});
+    }
   }
 }
 

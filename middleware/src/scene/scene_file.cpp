@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "marionette/io/import.hpp"
+#include "marionette/speech/recorded_speech.hpp"
 
 namespace marionette {
 
@@ -176,7 +177,37 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     r.fail("/", "expected an object with a \"characters\" array");
     return result;
   }
-  r.unknownKeys(doc, "", {"characters", "comment", "bml"});
+  r.unknownKeys(doc, "", {"characters", "comment", "bml", "speech"});
+  // Recorded voice lines: read now (errors name the line), added to the scene's speech below.
+  std::shared_ptr<speech::RecordedSpeech> recorded;
+  bool synthesizer = true;
+  if (doc.contains("speech")) {
+    const Json& sp = doc["speech"];
+    if (!sp.is_object()) {
+      r.fail("/speech", "expected {\"lines\": [{\"text\", \"audio\", \"alignment\"}], \"synthesizer\": true}");
+    } else {
+      r.unknownKeys(sp, "/speech", {"lines", "synthesizer", "comment"});
+      if (sp.contains("synthesizer")) r.boolean(sp["synthesizer"], "/speech/synthesizer", synthesizer);
+      const Json* lines = sp.contains("lines") ? &sp["lines"] : nullptr;
+      if (lines && !lines->is_array()) r.fail("/speech/lines", "expected an array of {\"text\", \"audio\", \"alignment\"}");
+      for (std::size_t i = 0; lines && lines->is_array() && i < lines->size(); ++i) {
+        const std::string where = "/speech/lines/" + std::to_string(i);
+        const Json& e = (*lines)[i];
+        std::string lineText, audio, alignment;
+        if (!e.is_object() || !e.contains("text") || !e.contains("alignment")) {
+          r.fail(where, "expected {\"text\": WORDS, \"audio\": WAV, \"alignment\": PHONES}");
+          continue;
+        }
+        r.unknownKeys(e, where, {"text", "audio", "alignment"});
+        if (!r.string(e["text"], where + "/text", lineText) || !r.string(e["alignment"], where + "/alignment", alignment)) continue;
+        if (e.contains("audio") && !r.string(e["audio"], where + "/audio", audio)) continue;
+        if (!recorded) recorded = std::make_shared<speech::RecordedSpeech>();
+        const std::string error =
+            recorded->addLine(lineText, audio.empty() ? fs::path() : fs::path(resolve(baseDir, audio)), resolve(baseDir, alignment));
+        if (!error.empty()) r.fail(where, error);
+      }
+    }
+  }
   if (doc.contains("bml")) {
     const Json& list = doc["bml"];
     if (!list.is_array()) {
@@ -293,6 +324,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
   }
   if (!diags.ok()) return result;
 
+  if (recorded) scene.speech().addBackend(recorded);
+  if (!synthesizer) scene.speech().useDefaultSynthesizer(false);
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const CharacterSpec& c = specs[i];
     Character* ch = scene.addCharacter(c.name, rigOf[i]);

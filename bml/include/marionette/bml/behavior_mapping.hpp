@@ -36,6 +36,11 @@ namespace marionette::bml {
 // the character stands takes (Character::estimateLocomotion); the rest as on its rig.
 [[nodiscard]] std::optional<double> naturalDuration(const Behavior& behavior, const Character& character);
 
+// A <speech>'s timing as the character's speech service says it (synthesized
+// once, cached for the realization), for SchedulerOptions::speechTiming; nullopt
+// when it cannot be said (the request then fails with the reason when realized).
+[[nodiscard]] std::optional<SpeechTiming> speechTiming(const Behavior& behavior, const Character& character);
+
 // The request for one scheduled behavior of a block that starts at `blockStart`
 // (scene seconds). Its id is "blockId:behaviorId".
 [[nodiscard]] BehaviorRequest toRequest(const Behavior& behavior, const ScheduledBehavior& scheduled,

@@ -23,6 +23,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "marionette/bml/document.hpp"
@@ -30,9 +31,15 @@
 
 namespace marionette::bml {
 
+// A speech's length and its word marks' times (seconds from its start), as a speech backend says them.
+struct SpeechTiming {
+  double duration = 0.0;
+  std::vector<std::pair<std::string, double>> marks;  // id, time
+};
+
 struct SchedulerOptions {
-  // Speech duration until a speech backend provides it: seconds per character
-  // of text (about 15 characters per second, a typical TTS rate), at least the minimum.
+  // Speech duration when speechTiming gives none: seconds per character of text
+  // (about 15 characters per second, a typical TTS rate), at least the minimum.
   double speechSecondsPerCharacter = 0.065;
   double minimumSpeechSeconds = 0.3;
 
@@ -52,6 +59,10 @@ struct SchedulerOptions {
   // built-in default. For head/gesture/pointing it is one repetition's length.
   // Used for every type except speech and wait; a value that is not finite and > 0 is ignored.
   std::function<std::optional<double>(const Behavior&)> defaultDuration;
+
+  // A speech's real timing (the realizer asks the character's speech service).
+  // Marks it does not name keep the per-character estimate, clamped into the speech.
+  std::function<std::optional<SpeechTiming>(const Behavior&)> speechTiming;
 };
 
 struct SyncTime {

@@ -17,6 +17,7 @@
 #include "marionette/behavior/gaze.hpp"
 #include "marionette/behavior/head_motion.hpp"
 #include "marionette/behavior/pointing.hpp"
+#include "marionette/behavior/speech_controller.hpp"
 
 namespace marionette {
 
@@ -26,7 +27,8 @@ struct LocomotionPlan;
 class BehaviorTimeline {
  public:
   // Blend time used when a request has no ready (or attackPeak) / relax sync point: this long,
-  // or a quarter of the request's duration if that is shorter.
+  // or a quarter of the request's duration if that is shorter Speech has no such blend:
+  // its lip-sync curves start and end at rest, and its first phoneme must show at once.
   static constexpr double kDefaultBlendSeconds = 0.3;
 
   struct Entry {
@@ -49,6 +51,8 @@ class BehaviorTimeline {
     GazeState gaze;                             // gaze: target, influence and the tracking state
     bool isPointing = false;
     PointingState pointing;                     // pointing: target, arms, last elbow direction
+    bool isSpeech = false;
+    SpeechState speech;                         // speech: the spoken line, its jaw axis, viseme events sent
     std::shared_ptr<const LocomotionPlan> locomotion;  // locomotion: where to go
     glm::vec3 resolvedTarget{0.0f};             // locomotion: a target character's place before this frame
     bool upperBody = false;                     // a gesture: played over posture and locomotion

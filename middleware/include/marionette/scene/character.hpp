@@ -61,9 +61,9 @@ struct CharacterStats {
   // Behavior controllers, in frame order: whether each has run at least once (they
   // exist only while a behavior uses them) and its wall time in the last frame
   // (measured only while the scene's stats are on).
-  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kPointing, kFace, kControllerCount };
+  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kPointing, kFace, kSpeech, kControllerCount };
   static constexpr const char* kControllerNames[kControllerCount] = {"clip behaviors", "locomotion", "gaze", "head",
-                                                                     "pointing", "face"};
+                                                                     "pointing", "face", "speech"};
   bool controllerUsed[kControllerCount] = {};
   double controllerMicros[kControllerCount] = {};
 };
@@ -126,6 +126,11 @@ class Character {
   // The character's gait set (walk and run clips analysed), made on first use.
   // Command time only: not to be called from update() (threads would race on it).
   [[nodiscard]] const LocomotionSet& locomotionSet() const;
+  // The spoken line a speech request would play (said now by the scene's speech
+  // service, or taken from its cache): the BML realizer schedules word marks with
+  // it. Null when it cannot be said (`error` says why). Command time.
+  [[nodiscard]] std::shared_ptr<const speech::SpokenLine> prepareSpeech(const BehaviorRequest& request,
+                                                                        std::string& error) const;
   // Gaze tracking and limits (time constant, speed limits, per-joint limits).
   void setGazeSettings(const GazeSettings& settings) noexcept { gazeSettings_ = settings; }
   [[nodiscard]] const GazeSettings& gazeSettings() const noexcept { return gazeSettings_; }
@@ -163,6 +168,8 @@ class Character {
   [[nodiscard]] std::vector<float> upperBodyMask() const;
   [[nodiscard]] TargetJointFinder targetJointFinder(bool chest) const;
   [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning) const;
+  [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  bool applySpeechEntries() noexcept;
   [[nodiscard]] std::string bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
                                            std::string& warning) const;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,

@@ -37,6 +37,8 @@ struct CharacterProfile {
   std::string leftToe, rightToe;  // below the foot; "" when absent
   // BML faceLexeme names (SMILE, RAISE_BROWS, ...) and FACS units ("AU12") to morphs.
   std::map<std::string, std::vector<FaceMorph>> face;
+  // Lip-sync channels (speech/lipsync.hpp names: "PP", "aa", "vrm_aa", "jawOpen", ...) to morphs.
+  std::map<std::string, std::vector<FaceMorph>> visemes;
   // Clip names of the rig; "" when absent.
   std::string idle, walk, run;
   // BML gesture lexemes to clip names (BEAT -> "ThumbsUp", ...).

@@ -7,6 +7,8 @@
 #pragma once
 #include <string_view>
 
+#include "marionette/speech/utterance.hpp"
+
 namespace marionette {
 
 class Character;
@@ -28,8 +30,16 @@ class SceneListener {
   // BML feedback: a block reached a sync point (e.g. "start", "stroke", "end").
   virtual void onBehaviorProgress(const Character& /*character*/, std::string_view /*blockId*/,
                                   std::string_view /*syncPoint*/, double /*time*/) {}
+  // A speech behavior's phoneme starts: its OVR viseme ("PP", "aa", ...; speech/phoneme.hpp),
+  // the weight its channel reaches in that phoneme, and the phoneme's start on the scene clock.
   virtual void onViseme(const Character& /*character*/, std::string_view /*viseme*/, float /*weight*/,
                         double /*time*/) {}
+  // A speech behavior was realized (at command time, before its start): play
+  // `utterance.audio` (or `audioFile`, written when the scene's speech service has an
+  // audio directory; empty otherwise) from scene time `sceneStart` to stay in sync.
+  virtual void onSpeech(const Character& /*character*/, std::string_view /*behaviorId*/,
+                        const speech::Utterance& /*utterance*/, std::string_view /*audioFile*/,
+                        double /*sceneStart*/) {}
   virtual void onChannelChanged(const Character& /*character*/, std::string_view /*channel*/, float /*value*/) {}
   virtual void onLog(LogLevel /*level*/, std::string_view /*message*/) {}
 };

@@ -47,6 +47,12 @@ struct RigJoints {
   int leftToe = -1, rightToe = -1;
   // Face expression name -> (morph target index, amount).
   std::map<std::string, std::vector<std::pair<int, float>>, std::less<>> face;
+  // Lip-sync channel (speech/lipsync.hpp index) -> morph target, at full channel weight.
+  struct LipMorph {
+    int channel = 0, morph = 0;
+    float amount = 1.0f;
+  };
+  std::vector<LipMorph> visemes;
 };
 
 class Rig {

@@ -19,6 +19,7 @@
 
 #include "marionette/scene/character.hpp"
 #include "marionette/scene/listener.hpp"
+#include "marionette/speech/speech_service.hpp"
 
 namespace marionette {
 
@@ -60,6 +61,9 @@ class Scene {
   void setStatsEnabled(bool on) noexcept { stats_ = on; }
   [[nodiscard]] bool statsEnabled() const noexcept { return stats_; }
 
+  // The scene's speech: backends, utterance cache, WAV output (speech_service.hpp).
+  [[nodiscard]] speech::SpeechService& speech() noexcept { return speech_; }
+
   // Listener fan-out (used by characters and, later, behavior realizers). During
   // a parallel update the calls are serialized (see the threads note above).
   void log(LogLevel level, std::string_view message) const;
@@ -80,6 +84,7 @@ class Scene {
 
   std::vector<std::unique_ptr<Character>> characters_;
   std::vector<SceneListener*> listeners_;
+  speech::SpeechService speech_;
   FrameScratch scratch_;  // the calling thread's blend scratch, sized to the largest skeleton
   std::unique_ptr<Parallel> parallel_;  // null while threadCount() == 1
   // Recursive: a callback serialized by it may call log() on the same thread.

@@ -13,8 +13,15 @@
 //       //             "rootMotion": false, "fadeIn": 0, "additive": false, "start": 0 } ]
 //       // ("clip" may be left out in a layer: the first clip)
 //     } ],
-//   "bml": [ { "file": "greet.xml", "time": 1.5, "character": "robot" } ]  // optional
+//   "bml": [ { "file": "greet.xml", "time": 1.5, "character": "robot" } ],  // optional
+//   "speech": {                              // optional
+//     "lines": [ { "text": "Hello there.", "audio": "hello.wav", "alignment": "hello.phones.txt" } ],
+//     "synthesizer": true                    // false: recorded lines only, never espeak-ng
+//   }
 // }
+//
+// "speech" lines are recorded voice lines (speech/recorded_speech.hpp): a <speech>
+// whose text matches one plays it instead of synthesizing. They are read at load.
 //
 // "bml" lists files to send at scene times; the middleware does not read BML
 // (module rule): it resolves the paths and hands the list to whoever drives a

@@ -1,0 +1,88 @@
+#include "marionette/behavior/speech_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "marionette/behavior/head_motion.hpp"
+#include "marionette/speech/speech_service.hpp"
+
+namespace marionette {
+
+speech::SpeechRequest speechRequestOf(const BehaviorRequest& request, std::string& warning) {
+  speech::SpeechRequest out;
+  out.text = std::string(request.parameter("text"));
+  out.voice = std::string(request.parameter("voice"));
+  auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
+  if (const std::string_view rate = request.parameter("rate"); !rate.empty()) {
+    const std::string text(rate);
+    char* end = nullptr;
+    const double wpm = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size() || !std::isfinite(wpm) || wpm < 1.0 || wpm > 10000.0)
+      note("speech rate '" + text + "' is not a number of words per minute in [1, 10000]; the voice's default is used");
+    else
+      out.wordsPerMinute = static_cast<int>(std::lround(wpm));
+  }
+  // "OFFSET:ID OFFSET:ID ...": ids may hold ':' themselves, offsets never do.
+  const std::string_view marks = request.parameter("markOffsets");
+  std::size_t i = 0;
+  while (i < marks.size()) {
+    while (i < marks.size() && marks[i] == ' ') ++i;
+    std::size_t j = i;
+    while (j < marks.size() && marks[j] != ' ') ++j;
+    if (j == i) break;
+    const std::string item(marks.substr(i, j - i));
+    const std::size_t colon = item.find(':');
+    std::size_t offset = 0;
+    bool ok = colon != std::string::npos && colon > 0 && colon + 1 < item.size() && colon <= 9;
+    for (std::size_t k = 0; ok && k < colon; ++k) {
+      ok = item[k] >= '0' && item[k] <= '9';
+      offset = offset * 10 + static_cast<std::size_t>(item[k] - '0');
+    }
+    if (ok && offset <= out.text.size())
+      out.marks.push_back({item.substr(colon + 1), offset});
+    else
+      note("speech mark '" + item + "' is not OFFSET:ID inside the text; dropped");
+    i = j;
+  }
+  return out;
+}
+
+std::string bindSpeechFace(SpeechState& state, const Rig& rig) {
+  const RigJoints& j = rig.joints();
+  // Left minus right at rest, from whichever pair the profile has.
+  const std::vector<glm::mat4> rest = rig.skeleton().restModelMatrices();
+  auto at = [&](int joint) { return glm::vec3(rest[static_cast<std::size_t>(joint)][3]); };
+  const std::pair<int, int> pairs[] = {{j.leftArm.upper, j.rightArm.upper}, {j.leftLeg.upper, j.rightLeg.upper},
+                                       {j.leftEye, j.rightEye}};
+  for (const auto& [left, right] : pairs) {
+    if (left < 0 || right < 0) continue;
+    glm::vec3 axis = at(left) - at(right);
+    axis.y = 0.0f;  // a level axis: the jaw drops, it does not roll
+    if (glm::length(axis) > 1e-6f) {
+      state.jawAxis = glm::normalize(axis);
+      break;
+    }
+  }
+  if (j.visemes.empty() && j.jaw < 0)
+    return "the character has no viseme morphs and no jaw joint: its audio and viseme events play, its face does not move";
+  return {};
+}
+
+void applySpeech(const SpeechState& state, float weight, double localTime, const Rig& rig, std::span<float> channels,
+                 std::span<float> morphWeights, std::span<Transform> pose) noexcept {
+  if (!state.line || channels.size() < static_cast<std::size_t>(speech::kLipChannelCount)) return;
+  state.line->curves.evaluate(localTime, channels);
+  const RigJoints& j = rig.joints();
+  for (const RigJoints::LipMorph& m : j.visemes) {
+    if (m.morph < 0 || static_cast<std::size_t>(m.morph) >= morphWeights.size()) continue;
+    float& w = morphWeights[static_cast<std::size_t>(m.morph)];
+    w = std::clamp(w + weight * m.amount * channels[static_cast<std::size_t>(m.channel)], 0.0f, 1.0f);
+  }
+  if (j.jaw >= 0) {
+    const float open = std::clamp(channels[speech::kJawOpenChannel], 0.0f, 1.0f) * weight;
+    if (open > 0.0f) rotateInModelFrame(rig.skeleton(), pose, j.jaw, glm::angleAxis(open * kMaxJawOpenRadians, state.jawAxis));
+  }
+}
+
+}  // namespace marionette

@@ -1,0 +1,126 @@
+// BML <speech> end to end: the realizer schedules a speech with the timing its
+// backend says (word marks as sync points other behaviors refer to), and
+// composition decides what happens to two utterances on one character.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "marionette/bml/realizer.hpp"
+#include "marionette/speech/espeak_backend.hpp"
+#include "marionette/speech/recorded_speech.hpp"
+#include "real_rig.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+using namespace marionette::bml;
+
+namespace {
+
+constexpr const char* kArcticText = "He turned sharply, and faced Gregson across the table.";
+
+std::string speechBlock(const std::string& id, const std::string& composition = "MERGE") {
+  return "<bml xmlns='http://www.bml-initiative.org/bml/bml-1.0' id='" + id + "' composition='" + composition +
+         "'><speech id='s1'><text>He turned sharply, and <sync id='w4'/> faced Gregson across the table.</text>"
+         "</speech><head id='h1' lexeme='NOD' start='s1:w4'/></bml>";
+}
+
+struct GodetteRealizer : ::testing::Test {
+  Scene scene;
+  Realizer realizer{scene};
+  std::vector<Feedback> feedback;
+  std::shared_ptr<speech::RecordedSpeech> recorded = std::make_shared<speech::RecordedSpeech>();
+  void SetUp() override {
+    const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
+    MARIONETTE_REQUIRE_FILE(vrm);
+    ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
+    ASSERT_EQ(recorded->addLine(kArcticText, test::sharedAsset("speech/arctic_a0009.wav"),
+                                test::sharedAsset("speech/arctic_a0009.phones.txt")),
+              "");
+    scene.speech().addBackend(recorded);
+    realizer.addFeedbackListener([this](const Feedback& f) { feedback.push_back(f); });
+  }
+  void step(double seconds) {
+    for (int i = 0, n = static_cast<int>(std::lround(seconds * 60.0)); i < n; ++i) {
+      scene.update(1.0 / 60.0);
+      realizer.update();
+    }
+  }
+};
+
+TEST_F(GodetteRealizer, WordMarksAreSyncPointsAtTheTimesTheVoiceSaysThem) {
+  const Schedule s = realizer.perform(speechBlock("b1"), "godette");
+  ASSERT_FALSE(s.failed);
+  for (const Warning& w : s.warnings) ADD_FAILURE() << w.message;
+  // The recording's length, not the characters-per-second estimate (54 chars x 0.065 s = 3.51 s).
+  ASSERT_TRUE(s.time("s1", "end"));
+  EXPECT_NEAR(*s.time("s1", "end"), 49520.0 / 16000.0, 1e-6);
+  // The same mark time the backend gives for the same words.
+  speech::SpeechRequest direct;
+  direct.text = kArcticText;
+  direct.marks = {{"w4", std::string(kArcticText).find(" faced") + 1}};
+  const speech::SpeechResult said = recorded->synthesize(direct);
+  ASSERT_TRUE(said.utterance);
+  ASSERT_TRUE(s.time("s1", "w4"));
+  EXPECT_NEAR(*s.time("s1", "w4"), said.utterance->marks.at(0).time, 0.02);
+  EXPECT_NEAR(*s.time("h1", "start"), *s.time("s1", "w4"), 1e-9);  // the nod starts on the word
+  // Feedback: the mark passes as a syncPointProgress at its time.
+  step(3.5);
+  bool seen = false;
+  for (const Feedback& f : feedback)
+    if (f.kind == Feedback::Kind::SyncPointProgress && f.behaviorId == "s1" && f.syncPoint == "w4") {
+      seen = true;
+      EXPECT_NEAR(f.blockTime, *s.time("s1", "w4"), 1.0 / 60.0 + 1e-9);
+    }
+  EXPECT_TRUE(seen);
+}
+
+TEST_F(GodetteRealizer, AppendQueuesTheSecondUtteranceAndReplaceInterruptsTheFirst) {
+  ASSERT_FALSE(realizer.perform(speechBlock("b1"), "godette").failed);
+  ASSERT_FALSE(realizer.perform(speechBlock("b2", "APPEND"), "godette").failed);
+  const double first = 49520.0 / 16000.0;
+  ASSERT_TRUE(realizer.blockStart("b2"));
+  EXPECT_NEAR(*realizer.blockStart("b2"), first, 1e-6);  // queued after the first ends
+  step(1.0);
+  ASSERT_FALSE(realizer.perform(speechBlock("b3", "REPLACE"), "godette").failed);
+  const Character& g = *scene.findCharacter("godette");
+  // b1 is cut off now (blending out over the replace blend), b2 never starts, b3 speaks.
+  ASSERT_NE(g.behaviors().find("b1:s1"), nullptr);
+  EXPECT_TRUE(g.behaviors().find("b1:s1")->cancelled());
+  EXPECT_EQ(g.behaviors().find("b2:s1"), nullptr);
+  EXPECT_EQ(g.behaviors().owner(kChannelVoice, scene.time() + 0.5), &g.behaviors().find("b3:s1")->request);
+}
+
+#ifdef MARIONETTE_HAS_TTS
+// With espeak-ng, the schedule holds the synthesized utterance's own length and mark.
+TEST(SpeechBml, EspeakTimingDrivesTheSchedule) {
+  Scene scene;
+  Realizer realizer(scene);
+  const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
+  MARIONETTE_REQUIRE_FILE(vrm);
+  ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
+  const Schedule s = realizer.perform(
+      "<bml id='b1'><speech id='s1'><text>Hello there, <sync id='w3'/> how are you?</text></speech>"
+      "<gesture id='g1' lexeme='BEAT' stroke='s1:w3'/></bml>",
+      "godette");
+  ASSERT_FALSE(s.failed);
+  std::string why;
+  auto tts = speech::makeEspeakBackend(&why);
+  ASSERT_TRUE(tts) << why;
+  speech::SpeechRequest r;
+  r.text = "Hello there, how are you?";
+  r.marks = {{"w3", std::string("Hello there, ").size()}};
+  const speech::SpeechResult said = tts->synthesize(r);
+  ASSERT_TRUE(said.utterance) << said.error;
+  EXPECT_NEAR(*s.time("s1", "end"), said.utterance->duration, 1e-6);
+  ASSERT_EQ(said.utterance->marks.size(), 1u);
+  EXPECT_NEAR(*s.time("s1", "w3"), said.utterance->marks[0].time, 1e-6);
+  EXPECT_GT(*s.time("s1", "w3"), 0.3);  // after "Hello there,"
+  EXPECT_LT(*s.time("s1", "w3"), *s.time("s1", "end"));
+  const auto* entry = scene.findCharacter("godette")->behaviors().find("b1:s1");
+  ASSERT_NE(entry, nullptr);
+  EXPECT_TRUE(entry->isSpeech);
+}
+#endif
+
+}  // namespace
