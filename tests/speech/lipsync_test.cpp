@@ -278,15 +278,11 @@ TEST(LipSync, AVeryShortPhonemeIsSeenForTheMinimumDuration) {
   const double seen = secondsAboveHalfPeak(held, static_cast<int>(Viseme::ou));
   EXPECT_GE(seen, s.minVisible) << "an 8 ms ou";
   EXPECT_GT(lipChannelAt(held, 0.304, static_cast<int>(Viseme::ou)), 0.25f);
-  // Without the minimum it is seen for less time and less strongly.
+  // Without the minimum it is seen for less time.
   s.minVisible = 0.0;
   const VisemeCurves bare = buildVisemeCurves(ps, 0.6, s);
-  float peakHeld = 0.0f, peakBare = 0.0f;
-  for (double t = 0.2; t < 0.5; t += 0.001) {
-    peakHeld = std::max(peakHeld, lipChannelAt(held, t, static_cast<int>(Viseme::ou)));
-    peakBare = std::max(peakBare, lipChannelAt(bare, t, static_cast<int>(Viseme::ou)));
-  }
-  EXPECT_GT(peakHeld, peakBare + 0.1f);
+  const double seenBare = secondsAboveHalfPeak(bare, static_cast<int>(Viseme::ou));
+  EXPECT_GT(seen, seenBare + 0.02) << "held " << seen << " s, bare " << seenBare << " s";
 }
 
 TEST(LipSync, PausesRelaxTheMouthOverTheirLength) {

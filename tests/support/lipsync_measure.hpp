@@ -34,6 +34,7 @@ inline constexpr double kLipMeasureStep = 0.0005;
 
 struct OnsetReport {
   std::vector<double> errors;  // seconds, one per measured unit
+  std::vector<double> peaks;   // each unit's peak P (how far its viseme shows), in [0,1]
   int units = 0;               // measured units (runs)
   int phonemesInRuns = 0;      // phonemes those units cover
   int merged = 0;              // phonemes merged into a run started by an earlier one
@@ -82,6 +83,7 @@ inline OnsetReport measureOnsets(std::span<const speech::Phoneme> phonemes, cons
       }
       if (at >= e) break;
     }
+    r.peaks.push_back(peak);
     if (peak < 0.05f) {
       ++r.invisible;
       continue;
@@ -141,6 +143,22 @@ inline ErrorStats errorStats(std::span<const double> errors) {
   st.p95Abs = a[std::min(idx, a.size() - 1)];
   st.maxAbs = a.back();
   return st;
+}
+
+// The phonemes repeated back to back until `seconds` (the last one cut there):
+// a longer utterance of real timing, for the 10 s build benchmark.
+inline std::vector<speech::Phoneme> tiledTo(std::span<const speech::Phoneme> phonemes, double seconds) {
+  std::vector<speech::Phoneme> out;
+  double length = 0.0;
+  for (const auto& p : phonemes) length = std::max(length, p.end);
+  if (!(length > 0.0)) return out;
+  for (double offset = 0.0; offset < seconds; offset += length)
+    for (speech::Phoneme p : phonemes) {
+      p.start += offset;
+      p.end = std::min(p.end + offset, seconds);
+      if (p.start < seconds) out.push_back(std::move(p));
+    }
+  return out;
 }
 
 struct ClosureReport {
