@@ -21,8 +21,28 @@ inline constexpr int kJawOpenChannel = 20;
 // "sil" .. "ou", "vrm_aa" .. "vrm_oh", "jawOpen"; "" out of range.
 [[nodiscard]] std::string_view lipChannelName(int channel) noexcept;
 
+// Co-articulation (Cohen & Massaro 1993): every phoneme has a target for its
+// channels and a dominance over time: flat over the central `dominanceWidth` of
+// its interval, decaying exponentially outside it (before: anticipation, after:
+// carry-over). A channel is the dominance-weighted average of all targets plus a
+// weak rest target (sil = 1), so far from any phoneme the mouth is at rest.
+// Then, in this order: full closure pinned inside every P / B / M, the speed
+// limit (which starts the approach to a closure early instead of breaking it),
+// and a clamp to [0,1]. Out-of-range settings are replaced by their defaults.
+// Defaults chosen from docs/accuracy.md's lip-sync work-precision table.
 struct LipSyncSettings {
   double sampleRate = 100.0;  // curve samples per second (the accuracy knob: higher, finer timing)
+  // Curves longer than this many samples get a lower sample rate (memory bound:
+  // 2^19 samples x 21 channels = 44 MB, 87 min at 100 Hz).
+  int maxFrames = 1 << 19;
+  double anticipationRate = 60.0;  // 1/s: how fast a phoneme's dominance rises before its interval
+  double carryOverRate = 60.0;     // 1/s: how fast it decays after its interval
+  double dominanceWidth = 1.0;     // share of the interval (around its centre) where dominance is flat; 0: peak at the centre
+  double pauseDominance = 0.3;     // a pause's dominance against a spoken phoneme's 1: the mouth relaxes into it, not at once
+  double restDominance = 0.01;     // the rest target's constant dominance: what the mouth returns to away from speech
+  double minVisible = 0.05;        // s: a shorter phoneme's flat dominance is held from its start this long
+  double maxSpeed = 12.0;          // per second: no channel changes faster (0->1 in 1/maxSpeed s); <= 0: no limit
+  double closureHold = 0.02;       // s: a bilabial's full closure is held this long around its centre (at least one sample each side)
 };
 
 struct VisemeCurves {
@@ -30,6 +50,9 @@ struct VisemeCurves {
   double duration = 0.0;      // seconds covered; outside [0, duration] the mouth is at rest
   int frames = 0;
   std::vector<float> values;  // frames x kLipChannelCount, frame-major
+  // Samples pinned to full closure (PP = 1, every other channel 0) for a P / B / M,
+  // in increasing order: the speed limit never moves them.
+  std::vector<int> closureFrames;
 
   // Channel weights at time t (seconds from the utterance's start) into
   // out[0..kLipChannelCount). Per-frame: no allocation. At rest: sil = 1, others 0.
