@@ -91,6 +91,13 @@ TEST_P(ShippedProfileTest, LoadsWithoutDiagnosticsAndTheGuessAgrees) {
   EXPECT_EQ(g.leftEye, p.leftEye) << notes(g);
   EXPECT_EQ(g.rightEye, p.rightEye) << notes(g);
   EXPECT_EQ(g.jaw, p.jaw) << notes(g);
+  // Lip-sync channels: the VRM mouth shapes A I U E O are found in the file as the profile maps them.
+  EXPECT_EQ(g.visemes.size(), p.visemes.size()) << notes(g);
+  for (const auto& [channel, morphs] : p.visemes) {
+    ASSERT_TRUE(g.visemes.count(channel)) << channel << "\n" << notes(g);
+    ASSERT_EQ(g.visemes.at(channel).size(), morphs.size()) << channel;
+    for (std::size_t i = 0; i < morphs.size(); ++i) EXPECT_EQ(g.visemes.at(channel)[i].morph, morphs[i].morph) << channel;
+  }
 
   // Limbs and toes: the guess (names, the VRM map, or Cesium Man's shape and rest
   // pose) finds what the profile says, and both put the left limbs on the left.

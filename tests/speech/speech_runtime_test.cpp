@@ -223,7 +223,9 @@ TEST_F(GodetteSpeaks, VisemesMoveHerMouthInTimeWithTheRecording) {
         closedInBilabials += mouthOpen() < 0.15f ? 1 : 0;
       }
     for (float w : godette->transformBuffer().morphWeights()) ASSERT_TRUE(std::isfinite(w) && w >= 0.0f && w <= 1.0f);
-    if (local < 0.0) EXPECT_EQ(mouthOpen(), 0.0f) << "before the speech starts";
+    if (local < 0.0) {
+      EXPECT_EQ(mouthOpen(), 0.0f) << "before the speech starts";
+    }
   }
   EXPECT_GT(widest, 0.5f) << "vowels should open the mouth visibly";
   ASSERT_GT(bilabials, 0);  // "sharply", "table": p, b

@@ -32,10 +32,28 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
   auto rig = marionette::test::makeSyntheticRig();
   Scene scene;
   struct Quiet : SceneListener {
-    int events = 0;
-    void onLog(LogLevel, std::string_view) override { ++events; }
+    int events = 0, visemes = 0;
+    void onLog(LogLevel level, std::string_view) override { events += level != LogLevel::Info; }
+    void onViseme(const Character&, std::string_view, float, double) override { ++visemes; }
   } listener;
   scene.addListener(&listener);
+  // Speech: a line of three phonemes (a bilabial among them) from an in-test backend.
+  struct Line : speech::SpeechBackend {
+    std::string_view name() const noexcept override { return "line"; }
+    speech::SpeechResult synthesize(const speech::SpeechRequest&) override {
+      auto u = std::make_shared<speech::Utterance>();
+      const char* names[] = {"m", "aa", "p"};
+      for (int k = 0; k < 3; ++k) {
+        speech::Phoneme ph;
+        ph.start = 0.2 * k, ph.end = 0.2 * (k + 1), ph.name = names[k];
+        ph.cls = speech::classifyPhoneme(names[k], speech::PhonemeAlphabet::Arpabet).cls;
+        u->phonemes.push_back(ph);
+      }
+      u->duration = 0.7;
+      return {u, {}};
+    }
+  };
+  scene.speech().addBackend(std::make_shared<Line>());
   for (int i = 0; i < 20; ++i) {
     Character* c = scene.addCharacter("c" + std::to_string(i), rig);
     PlayOptions walk;
@@ -59,6 +77,12 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
     g.loop = true;
     g.syncs = {{"start", 0.5}, {"end", 1000.0}};
     c->addBehavior(g);
+    BehaviorRequest say;
+    say.id = "say";
+    say.kind = BehaviorKind::Speech;
+    say.parameters = {{"text", "map"}};
+    say.syncs = {{"start", 0.1}, {"end", 0.8}};
+    EXPECT_TRUE(c->addBehavior(say).realized);
   }
   scene.setStatsEnabled(true);
   scene.update(1.0 / 60.0);  // warm-up
@@ -72,6 +96,7 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
   scene.update(-1.0);  // a rejected dt warns without allocating
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(listener.events, 1);
+  EXPECT_EQ(listener.visemes, 20 * 3);  // each phoneme's viseme once per character
   // The counter works: a vector allocates.
   std::vector<int> v(10);
   EXPECT_GT(g_allocations.load() - before, 0);
