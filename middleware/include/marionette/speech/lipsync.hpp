@@ -42,12 +42,17 @@ struct LipSyncSettings {
   double restDominance = 0.01;     // the rest target's constant dominance: what the mouth returns to away from speech
   double minVisible = 0.05;        // s: a shorter phoneme's flat dominance is held from its start this long
   double maxSpeed = 12.0;          // per second: no channel changes faster (0->1 in 1/maxSpeed s); <= 0: no limit
-  double closureHold = 0.02;       // s: a bilabial's full closure is held this long around its centre (at least one sample each side)
+  // s: a bilabial's full closure (PP = 1, jaw and every other channel 0) is held
+  // this long around its centre, and always on the two samples either side of the
+  // centre, so that the interpolated curve is closed at the centre itself: a
+  // zero-length or 10 ms "m" between two samples closes too.
+  double closureHold = 0.02;
 };
 
 struct VisemeCurves {
-  double sampleRate = 100.0;
+  double sampleRate = 100.0;  // as set, or lower when settings.maxFrames would be exceeded
   double duration = 0.0;      // seconds covered; outside [0, duration] the mouth is at rest
+                              // (a non-finite or negative duration: the last finite phoneme end)
   int frames = 0;
   std::vector<float> values;  // frames x kLipChannelCount, frame-major
   // Samples pinned to full closure (PP = 1, every other channel 0) for a P / B / M,
