@@ -35,13 +35,15 @@ struct LipSyncSettings {
   // Curves longer than this many samples get a lower sample rate (memory bound:
   // 2^19 samples x 21 channels = 44 MB, 87 min at 100 Hz).
   int maxFrames = 1 << 19;
-  double anticipationRate = 60.0;  // 1/s: how fast a phoneme's dominance rises before its interval
+  double anticipationRate = 90.0;  // 1/s: how fast a phoneme's dominance rises before its interval
   double carryOverRate = 60.0;     // 1/s: how fast it decays after its interval
   double dominanceWidth = 1.0;     // share of the interval (around its centre) where dominance is flat; 0: peak at the centre
   double pauseDominance = 0.3;     // a pause's dominance against a spoken phoneme's 1: the mouth relaxes into it, not at once
   double restDominance = 0.01;     // the rest target's constant dominance: what the mouth returns to away from speech
   double minVisible = 0.05;        // s: a shorter phoneme's flat dominance is held from its start this long
-  double maxSpeed = 12.0;          // per second: no channel changes faster (0->1 in 1/maxSpeed s); <= 0: no limit
+  // Per second: no channel changes faster; <= 0: no limit. A step is spread over
+  // 2 / maxSpeed s centred on it, the approach to a closure over 1 / maxSpeed s.
+  double maxSpeed = 16.0;
   // s: a bilabial's full closure (PP = 1, jaw and every other channel 0) is held
   // this long around its centre, and always on the two samples either side of the
   // centre, so that the interpolated curve is closed at the centre itself: a
