@@ -315,6 +315,18 @@ TEST(LipSync, PausesRelaxTheMouthOverTheirLength) {
   EXPECT_GT(lipChannelAt(ct, 0.6, 0), 0.99f);
 }
 
+TEST(LipSync, TimeWithoutPhonemesIsSilence) {
+  // No pause phoneme before the first or after the last, nor in a gap: the mouth is
+  // still at rest there, not showing the next phoneme 200 ms early.
+  const std::vector<Phoneme> ps = {ph(0.3, 0.34, kPP), ph(0.34, 0.5, kAA), ph(0.9, 1.0, kOU)};
+  const VisemeCurves c = buildVisemeCurves(ps, 1.4);
+  for (const double t : {0.0, 0.1, 0.2, 0.25, 0.7, 1.2, 1.4}) {
+    EXPECT_GT(lipChannelAt(c, t, 0), 0.9f) << t;
+    EXPECT_LT(lipChannelAt(c, t, static_cast<int>(Viseme::PP)), 0.1f) << t;
+  }
+  EXPECT_EQ(test::measureClosures(ps, c).missed, 0);
+}
+
 TEST(LipSync, StableForAnyInput) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();

@@ -189,6 +189,37 @@ VisemeCurves buildVisemeCurves(std::span<const Phoneme> phonemes, double duratio
     sources.push_back(src);
   }
 
+  // Time no phoneme covers (before the first, after the last, gaps) is silence:
+  // without a source there, the weak rest dominance would let the nearest
+  // phoneme's tail show its shape long before it starts.
+  {
+    std::vector<std::pair<double, double>> spans;
+    spans.reserve(phonemes.size());
+    for (const Phoneme& p : phonemes)
+      if (std::isfinite(p.start) && std::isfinite(p.end))
+        spans.emplace_back(std::clamp(std::min(p.start, p.end), 0.0, duration),
+                           std::clamp(std::max(p.start, p.end), 0.0, duration));
+    std::sort(spans.begin(), spans.end());
+    double covered = 0.0;
+    const auto silence = [&](double a, double b) {
+      if (b - a <= 1e-6) return;
+      Source src;
+      src.flatLo = a;
+      src.flatHi = b;
+      src.before = s.anticipationRate;
+      src.after = s.carryOverRate;
+      src.alpha = static_cast<float>(s.pauseDominance);
+      src.channel[0] = 0;
+      src.target[0] = 1.0f;
+      sources.push_back(src);
+    };
+    for (const auto& [a, b] : spans) {
+      silence(covered, a);
+      covered = std::max(covered, b);
+    }
+    silence(covered, duration);
+  }
+
   // Scatter: numerators into `values`, denominators into `weight`; the rest
   // target (sil = 1) everywhere with its constant dominance.
   curves.values.assign(static_cast<std::size_t>(frames) * kC, 0.0f);
