@@ -450,6 +450,15 @@ void expectAcceptance(const std::vector<std::vector<Phoneme>>& utterances, const
     bilabials += cr.bilabials;
     missed += cr.missed;
     EXPECT_EQ(cr.missed, 0) << what << " utterance " << u << ": best PP " << cr.worstPP << ", jaw " << cr.worstJaw;
+    // The speed limit holds on real timing too, closures included.
+    int faster = 0;
+    for (int k = 0; k + 1 < c.frames; ++k)
+      for (int ch = 0; ch < kLipChannelCount; ++ch)
+        if (std::fabs(c.values[static_cast<std::size_t>((k + 1) * kLipChannelCount + ch)] -
+                      c.values[static_cast<std::size_t>(k * kLipChannelCount + ch)]) * c.sampleRate >
+            s.maxSpeed * (1.0 + 1e-4))
+          ++faster;
+    EXPECT_EQ(faster, 0) << what << " utterance " << u;
   }
   const test::ErrorStats st = test::errorStats(errors);
   EXPECT_GE(units, minUnits) << what;
