@@ -25,8 +25,9 @@ inline constexpr int kJawOpenChannel = 20;
 // channels and a dominance over time: flat over the central `dominanceWidth` of
 // its interval, decaying exponentially outside it (before: anticipation, after:
 // carry-over). A channel is the dominance-weighted average of all targets plus a
-// weak rest target (sil = 1), so far from any phoneme the mouth is at rest.
-// Then, in this order: full closure pinned inside every P / B / M, the speed
+// weak rest target (sil = 1), so far from any phoneme the mouth is at rest. Pauses
+// and time no phoneme covers pull toward rest with `pauseDominance`.
+// Then, in this order: full closure pinned at the centre of every P / B / M, the speed
 // limit (which starts the approach to a closure early instead of breaking it),
 // and a clamp to [0,1]. Out-of-range settings are replaced by their defaults.
 // Defaults chosen from docs/accuracy.md's lip-sync work-precision table.
@@ -54,7 +55,8 @@ struct LipSyncSettings {
 struct VisemeCurves {
   double sampleRate = 100.0;  // as set, or lower when settings.maxFrames would be exceeded
   double duration = 0.0;      // seconds covered; outside [0, duration] the mouth is at rest
-                              // (a non-finite or negative duration: the last finite phoneme end)
+                              // (a non-finite or negative duration: the last finite phoneme end;
+                              // 0: no frames, always at rest)
   int frames = 0;
   std::vector<float> values;  // frames x kLipChannelCount, frame-major
   // Samples pinned to full closure (PP = 1, every other channel 0) for a P / B / M,
