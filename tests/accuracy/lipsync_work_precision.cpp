@@ -27,7 +27,6 @@
 #include "marionette/speech/alignment_io.hpp"
 #include "marionette/speech/espeak_backend.hpp"
 #include "marionette/speech/lipsync.hpp"
-#include "test_data.hpp"
 
 using namespace marionette;
 using namespace marionette::speech;
@@ -95,7 +94,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<Source> sources;
-  const Alignment arctic = readAlignment(test::sharedAsset("speech/arctic_a0009.phones.txt"));
+  const Alignment arctic = readAlignment(std::string(MARIONETTE_SHARED_DIR) + "/assets/speech/arctic_a0009.phones.txt");
   if (!arctic.error.empty() || arctic.phonemes.empty()) {
     std::fprintf(stderr, "arctic_a0009: %s\n", arctic.error.c_str());
     return 1;
