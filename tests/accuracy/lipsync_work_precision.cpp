@@ -11,8 +11,9 @@
 // mean_abs_ms, p95_abs_ms, max_abs_ms, share_within_45ms, bilabials, closure_missed,
 // mean_peak and min_peak (how far each unit's viseme shows: 1 is no co-articulation
 // at its peak), fastest_per_s (the fastest change of any channel, 1/s: how abrupt
-// the mouth moves), build_us_10s, evaluate_ns. One block per setting and source, separated by two
-// blank lines (gnuplot's `index`): the block order is printed on stderr.
+// the mouth moves), build_us_10s and evaluate_ns (0 in the last, joint block:
+// its cost is the defaults'). One block per setting and source, separated by two
+// blank lines (gnuplot's `index`); the block order is printed on stderr.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -26,7 +27,6 @@
 #include "marionette/speech/alignment_io.hpp"
 #include "marionette/speech/espeak_backend.hpp"
 #include "marionette/speech/lipsync.hpp"
-#include "test_data.hpp"
 
 using namespace marionette;
 using namespace marionette::speech;
@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<Source> sources;
-  const Alignment arctic = readAlignment(test::sharedAsset("speech/arctic_a0009.phones.txt"));
+  const Alignment arctic = readAlignment(std::string(MARIONETTE_SHARED_DIR) + "/assets/speech/arctic_a0009.phones.txt");
   if (!arctic.error.empty() || arctic.phonemes.empty()) {
     std::fprintf(stderr, "arctic_a0009: %s\n", arctic.error.c_str());
     return 1;
@@ -148,6 +148,40 @@ int main(int argc, char** argv) {
   std::fprintf(out,
                "setting,value,source,units,merged,dips,mean_ms,mean_abs_ms,p95_abs_ms,max_abs_ms,share_within_45ms,"
                "bilabials,closure_missed,mean_peak,min_peak,fastest_per_s,build_us_10s,evaluate_ns\n");
+  // One row: `s` on every utterance of `src`.
+  const auto row = [&](const std::string& setting, const std::string& value, const Source& src, const LipSyncSettings& s,
+                       double buildUs, double evalNs) {
+    std::vector<double> errors;
+    int units = 0, merged = 0, dips = 0, bilabials = 0, missed = 0;
+    double peakSum = 0.0, peakMin = 1.0, fastest = 0.0;
+    std::size_t peakCount = 0;
+    for (std::size_t u = 0; u < src.utterances.size(); ++u) {
+      const VisemeCurves c = buildVisemeCurves(src.utterances[u], src.durations[u], s);
+      const test::OnsetReport r = test::measureOnsets(src.utterances[u], c);
+      errors.insert(errors.end(), r.errors.begin(), r.errors.end());
+      for (const double p : r.peaks) {
+        peakSum += p;
+        peakMin = std::min(peakMin, p);
+        ++peakCount;
+      }
+      for (int k = 0; k + 1 < c.frames; ++k)
+        for (std::size_t ch = 0; ch < static_cast<std::size_t>(kLipChannelCount); ++ch)
+          fastest = std::max(fastest, static_cast<double>(std::fabs(c.values[(static_cast<std::size_t>(k) + 1) * kLipChannelCount + ch] -
+                                                                    c.values[static_cast<std::size_t>(k) * kLipChannelCount + ch])) *
+                                          c.sampleRate);
+      units += r.units;
+      merged += r.merged;
+      dips += r.dips;
+      const test::ClosureReport cr = test::measureClosures(src.utterances[u], c);
+      bilabials += cr.bilabials;
+      missed += cr.missed;
+    }
+    const test::ErrorStats st = test::errorStats(errors);
+    std::fprintf(out, "%s,%s,%s,%d,%d,%d,%.2f,%.2f,%.2f,%.2f,%.3f,%d,%d,%.3f,%.3f,%.1f,%.2f,%.2f\n", setting.c_str(),
+                 value.c_str(), src.name.c_str(), units, merged, dips, st.mean * 1e3, st.meanAbs * 1e3, st.p95Abs * 1e3,
+                 st.maxAbs * 1e3, st.shareUnder(0.045, errors), bilabials, missed,
+                 peakCount ? peakSum / static_cast<double>(peakCount) : 0.0, peakMin, fastest, buildUs, evalNs);
+  };
   int block = 0;
   for (const Sweep& sw : sweeps) {
     // Timing per value once (it does not depend on the source).
@@ -163,39 +197,29 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < sw.values.size(); ++i) {
         LipSyncSettings s;
         sw.set(s, sw.values[i]);
-        std::vector<double> errors;
-        int units = 0, merged = 0, dips = 0, bilabials = 0, missed = 0;
-        double peakSum = 0.0, peakMin = 1.0, fastest = 0.0;
-        std::size_t peakCount = 0;
-        for (std::size_t u = 0; u < src.utterances.size(); ++u) {
-          const VisemeCurves c = buildVisemeCurves(src.utterances[u], src.durations[u], s);
-          const test::OnsetReport r = test::measureOnsets(src.utterances[u], c);
-          errors.insert(errors.end(), r.errors.begin(), r.errors.end());
-          for (const double p : r.peaks) {
-            peakSum += p;
-            peakMin = std::min(peakMin, p);
-            ++peakCount;
-          }
-          for (int k = 0; k + 1 < c.frames; ++k)
-            for (std::size_t ch = 0; ch < static_cast<std::size_t>(kLipChannelCount); ++ch)
-              fastest = std::max(fastest, static_cast<double>(std::fabs(c.values[(static_cast<std::size_t>(k) + 1) * kLipChannelCount + ch] -
-                                                                        c.values[static_cast<std::size_t>(k) * kLipChannelCount + ch])) *
-                                              c.sampleRate);
-          units += r.units;
-          merged += r.merged;
-          dips += r.dips;
-          const test::ClosureReport cr = test::measureClosures(src.utterances[u], c);
-          bilabials += cr.bilabials;
-          missed += cr.missed;
-        }
-        const test::ErrorStats st = test::errorStats(errors);
-        std::fprintf(out, "%s,%g,%s,%d,%d,%d,%.2f,%.2f,%.2f,%.2f,%.3f,%d,%d,%.3f,%.3f,%.1f,%.2f,%.2f\n", sw.name, sw.values[i],
-                     src.name.c_str(), units, merged, dips, st.mean * 1e3, st.meanAbs * 1e3, st.p95Abs * 1e3,
-                     st.maxAbs * 1e3, st.shareUnder(0.045, errors), bilabials, missed,
-                     peakCount ? peakSum / static_cast<double>(peakCount) : 0.0, peakMin, fastest, buildUs[i], evalNs[i]);
+        char value[32];
+        std::snprintf(value, sizeof value, "%g", sw.values[i]);
+        row(sw.name, value, src, s, buildUs[i], evalNs[i]);
       }
       std::fprintf(out, "\n\n");
     }
+  }
+  // The three settings that trade smoothness for timing, together (how the
+  // defaults were picked: docs/accuracy.md). Value: maxSpeed/anticipation/carry-over.
+  for (const Source& src : sources) {
+    std::fprintf(stderr, "block %d: maxSpeed x anticipationRate x carryOverRate on %s\n", block++, src.name.c_str());
+    for (const double speed : {12.0, 16.0, 20.0, 24.0})
+      for (const double ant : {60.0, 90.0})
+        for (const double carry : {60.0, 90.0}) {
+          LipSyncSettings s;
+          s.maxSpeed = speed;
+          s.anticipationRate = ant;
+          s.carryOverRate = carry;
+          char value[48];
+          std::snprintf(value, sizeof value, "%g/%g/%g", speed, ant, carry);
+          row("speed/anticipation/carryOver", value, src, s, 0.0, 0.0);
+        }
+    std::fprintf(out, "\n\n");
   }
   std::fclose(out);
   return 0;

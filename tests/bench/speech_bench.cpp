@@ -8,12 +8,12 @@
 
 #include <array>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "lipsync_measure.hpp"
 #include "marionette/speech/alignment_io.hpp"
 #include "marionette/speech/lipsync.hpp"
-#include "test_data.hpp"
 
 using namespace marionette;
 using namespace marionette::speech;
@@ -21,7 +21,7 @@ using namespace marionette::speech;
 namespace {
 
 const std::vector<Phoneme>* tenSecondsOfSpeech(benchmark::State& state) {
-  static const Alignment a = readAlignment(test::sharedAsset("speech/arctic_a0009.phones.txt"));
+  static const Alignment a = readAlignment(std::string(MARIONETTE_SHARED_DIR) + "/assets/speech/arctic_a0009.phones.txt");
   static const std::vector<Phoneme> tiled = test::tiledTo(a.phonemes, 10.0);
   if (!a.error.empty() || tiled.empty()) {
     state.SkipWithError(("arctic_a0009 alignment: " + a.error).c_str());

@@ -56,24 +56,37 @@ struct Source {
   float target[3] = {0.0f, 0.0f, 0.0f};
 };
 
-// Slew limit of one channel to `step` per sample: the mean of a forward and a
-// backward pass. Each pass keeps every difference within `step`, so does their
-// mean; the forward pass delays a change and the backward pass advances it, so
-// the mean stays centred on the original change. Samples already within `step`
-// of a pinned value on a cone (see buildVisemeCurves) are never moved.
-void limitSpeed(float* values, int frames, int channel, float step, std::vector<float>& fwd) {
-  float prev = values[channel];
-  fwd[0] = prev;
-  for (int k = 1; k < frames; ++k) {
-    const float v = values[static_cast<std::size_t>(k) * kC + static_cast<std::size_t>(channel)];
-    prev = std::clamp(v, prev - step, prev + step);
-    fwd[static_cast<std::size_t>(k)] = prev;
-  }
-  float next = values[static_cast<std::size_t>(frames - 1) * kC + static_cast<std::size_t>(channel)];
-  for (int k = frames - 1; k >= 0; --k) {
-    float& v = values[static_cast<std::size_t>(k) * kC + static_cast<std::size_t>(channel)];
-    next = std::clamp(v, next - step, next + step);
-    v = 0.5f * (next + fwd[static_cast<std::size_t>(k)]);
+// Slew limit to `step` per sample: the mean of a forward and a backward pass.
+// Each pass keeps every difference within `step`, so does their mean; the forward
+// pass delays a change and the backward pass advances it, so the mean stays
+// centred on the original change. Samples already within `step` of a pinned value
+// on a cone (see buildVisemeCurves) are never moved. Eight channels at a time:
+// the inner loop vectorises across channels (one channel alone is a chain of
+// dependent clamps), and the scratch stays small (fresh pages cost more than the
+// arithmetic here).
+constexpr std::size_t kGroup = 8;
+void limitSpeed(float* values, int frames, float step, std::vector<float>& fwd) {
+  const auto n = static_cast<std::size_t>(frames);
+  fwd.resize(n * kGroup);
+  for (std::size_t c0 = 0; c0 < kC; c0 += kGroup) {
+    const std::size_t g = std::min(kGroup, kC - c0);
+    std::copy_n(values + c0, g, fwd.data());
+    for (std::size_t k = 1; k < n; ++k) {
+      const float* prev = fwd.data() + (k - 1) * kGroup;
+      const float* v = values + k * kC + c0;
+      float* cur = fwd.data() + k * kGroup;
+      for (std::size_t c = 0; c < g; ++c) cur[c] = std::clamp(v[c], prev[c] - step, prev[c] + step);
+    }
+    std::array<float, kGroup> next{};
+    std::copy_n(values + (n - 1) * kC + c0, g, next.begin());
+    for (std::size_t k = n; k-- > 0;) {
+      float* v = values + k * kC + c0;
+      const float* f = fwd.data() + k * kGroup;
+      for (std::size_t c = 0; c < g; ++c) {
+        next[c] = std::clamp(v[c], next[c] - step, next[c] + step);
+        v[c] = 0.5f * (next[c] + f[c]);
+      }
+    }
   }
 }
 
@@ -176,6 +189,37 @@ VisemeCurves buildVisemeCurves(std::span<const Phoneme> phonemes, double duratio
     sources.push_back(src);
   }
 
+  // Time no phoneme covers (before the first, after the last, gaps) is silence:
+  // without a source there, the weak rest dominance would let the nearest
+  // phoneme's tail show its shape long before it starts.
+  {
+    std::vector<std::pair<double, double>> spans;
+    spans.reserve(phonemes.size());
+    for (const Phoneme& p : phonemes)
+      if (std::isfinite(p.start) && std::isfinite(p.end))
+        spans.emplace_back(std::clamp(std::min(p.start, p.end), 0.0, duration),
+                           std::clamp(std::max(p.start, p.end), 0.0, duration));
+    std::sort(spans.begin(), spans.end());
+    double covered = 0.0;
+    const auto silence = [&](double a, double b) {
+      if (b - a <= 1e-6) return;
+      Source src;
+      src.flatLo = a;
+      src.flatHi = b;
+      src.before = s.anticipationRate;
+      src.after = s.carryOverRate;
+      src.alpha = static_cast<float>(s.pauseDominance);
+      src.channel[0] = 0;
+      src.target[0] = 1.0f;
+      sources.push_back(src);
+    };
+    for (const auto& [a, b] : spans) {
+      silence(covered, a);
+      covered = std::max(covered, b);
+    }
+    silence(covered, duration);
+  }
+
   // Scatter: numerators into `values`, denominators into `weight`; the rest
   // target (sil = 1) everywhere with its constant dominance.
   curves.values.assign(static_cast<std::size_t>(frames) * kC, 0.0f);
@@ -252,8 +296,8 @@ VisemeCurves buildVisemeCurves(std::span<const Phoneme> phonemes, double duratio
     }
   }
   if (limited && frames > 1) {
-    std::vector<float> scratch(static_cast<std::size_t>(frames));
-    for (int c = 0; c < kLipChannelCount; ++c) limitSpeed(values, frames, c, step, scratch);
+    std::vector<float> scratch;
+    limitSpeed(values, frames, step, scratch);
   }
   for (float& v : curves.values) v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
   return curves;

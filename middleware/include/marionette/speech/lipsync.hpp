@@ -25,8 +25,9 @@ inline constexpr int kJawOpenChannel = 20;
 // channels and a dominance over time: flat over the central `dominanceWidth` of
 // its interval, decaying exponentially outside it (before: anticipation, after:
 // carry-over). A channel is the dominance-weighted average of all targets plus a
-// weak rest target (sil = 1), so far from any phoneme the mouth is at rest.
-// Then, in this order: full closure pinned inside every P / B / M, the speed
+// weak rest target (sil = 1), so far from any phoneme the mouth is at rest. Pauses
+// and time no phoneme covers pull toward rest with `pauseDominance`.
+// Then, in this order: full closure pinned at the centre of every P / B / M, the speed
 // limit (which starts the approach to a closure early instead of breaking it),
 // and a clamp to [0,1]. Out-of-range settings are replaced by their defaults.
 // Defaults chosen from docs/accuracy.md's lip-sync work-precision table.
@@ -35,19 +36,27 @@ struct LipSyncSettings {
   // Curves longer than this many samples get a lower sample rate (memory bound:
   // 2^19 samples x 21 channels = 44 MB, 87 min at 100 Hz).
   int maxFrames = 1 << 19;
-  double anticipationRate = 60.0;  // 1/s: how fast a phoneme's dominance rises before its interval
+  double anticipationRate = 90.0;  // 1/s: how fast a phoneme's dominance rises before its interval
   double carryOverRate = 60.0;     // 1/s: how fast it decays after its interval
   double dominanceWidth = 1.0;     // share of the interval (around its centre) where dominance is flat; 0: peak at the centre
   double pauseDominance = 0.3;     // a pause's dominance against a spoken phoneme's 1: the mouth relaxes into it, not at once
   double restDominance = 0.01;     // the rest target's constant dominance: what the mouth returns to away from speech
   double minVisible = 0.05;        // s: a shorter phoneme's flat dominance is held from its start this long
-  double maxSpeed = 12.0;          // per second: no channel changes faster (0->1 in 1/maxSpeed s); <= 0: no limit
-  double closureHold = 0.02;       // s: a bilabial's full closure is held this long around its centre (at least one sample each side)
+  // Per second: no channel changes faster; <= 0: no limit. A step is spread over
+  // 2 / maxSpeed s centred on it, the approach to a closure over 1 / maxSpeed s.
+  double maxSpeed = 16.0;
+  // s: a bilabial's full closure (PP = 1, jaw and every other channel 0) is held
+  // this long around its centre, and always on the two samples either side of the
+  // centre, so that the interpolated curve is closed at the centre itself: a
+  // zero-length or 10 ms "m" between two samples closes too.
+  double closureHold = 0.02;
 };
 
 struct VisemeCurves {
-  double sampleRate = 100.0;
+  double sampleRate = 100.0;  // as set, or lower when settings.maxFrames would be exceeded
   double duration = 0.0;      // seconds covered; outside [0, duration] the mouth is at rest
+                              // (a non-finite or negative duration: the last finite phoneme end;
+                              // 0: no frames, always at rest)
   int frames = 0;
   std::vector<float> values;  // frames x kLipChannelCount, frame-major
   // Samples pinned to full closure (PP = 1, every other channel 0) for a P / B / M,
