@@ -1,5 +1,7 @@
 #include "marionette/bml/realizer.hpp"
 
+#include "marionette/core/text.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -10,16 +12,7 @@ namespace marionette::bml {
 std::string xmlEscape(std::string_view text) {
   std::string out;
   out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
+  appendXmlEscaped(out, text);
   return out;
 }
 

@@ -831,17 +831,7 @@ class ProfileReader {
       const std::string where = "/face/" + JsonPlaces::escape(lexeme);
       if (!faceLexemes().count(lexeme) && !isFacsUnit(lexeme))
         warn(where, "'" + lexeme + "' is not a BML face lexeme, emotion or FACS unit (AUn); kept", true);
-      std::vector<FaceMorph> morphs;
-      if (it->is_string()) {  // shorthand: one morph at full amount
-        if (auto n = name(*it, where, Kind::Morph); n && !n->empty()) morphs.push_back({*n, 1.0f});
-      } else if (it->is_array()) {
-        for (std::size_t i = 0; i < it->size(); ++i) {
-          if (auto m = faceMorph((*it)[i], where + "/" + std::to_string(i))) morphs.push_back(std::move(*m));
-        }
-      } else {
-        warn(where, "expected a list of {\"morph\": NAME, \"amount\": 0..1}; dropped");
-      }
-      if (!morphs.empty()) p.face[lexeme] = std::move(morphs);
+      if (std::vector<FaceMorph> morphs = morphList(*it, where); !morphs.empty()) p.face[lexeme] = std::move(morphs);
     }
     notes_.push_back("face: " + std::to_string(p.face.size()) + " expressions (profile)");
     return true;
@@ -860,16 +850,7 @@ class ProfileReader {
         warn(where, "'" + channel + "' is not a lip-sync channel (" + lipChannelList() + "); dropped");
         continue;
       }
-      std::vector<FaceMorph> morphs;
-      if (it->is_string()) {
-        if (auto n = name(*it, where, Kind::Morph); n && !n->empty()) morphs.push_back({*n, 1.0f});
-      } else if (it->is_array()) {
-        for (std::size_t i = 0; i < it->size(); ++i)
-          if (auto m = faceMorph((*it)[i], where + "/" + std::to_string(i))) morphs.push_back(std::move(*m));
-      } else {
-        warn(where, "expected a list of {\"morph\": NAME, \"amount\": 0..1}; dropped");
-      }
-      if (!morphs.empty()) p.visemes[channel] = std::move(morphs);
+      if (std::vector<FaceMorph> morphs = morphList(*it, where); !morphs.empty()) p.visemes[channel] = std::move(morphs);
     }
     notes_.push_back("visemes: " + std::to_string(p.visemes.size()) + " channels (profile)");
     return true;
@@ -884,6 +865,20 @@ class ProfileReader {
     std::string out;
     for (int c = 0; c < speech::kLipChannelCount; ++c) out += (c ? ", " : "") + std::string(speech::lipChannelName(c));
     return out;
+  }
+
+  // A face or viseme entry: a list of {"morph", "amount"}, or one morph name (at full amount).
+  std::vector<FaceMorph> morphList(const Json& entry, const std::string& where) {
+    std::vector<FaceMorph> morphs;
+    if (entry.is_string()) {
+      if (auto n = name(entry, where, Kind::Morph); n && !n->empty()) morphs.push_back({*n, 1.0f});
+    } else if (entry.is_array()) {
+      for (std::size_t i = 0; i < entry.size(); ++i)
+        if (auto m = faceMorph(entry[i], where + "/" + std::to_string(i))) morphs.push_back(std::move(*m));
+    } else {
+      warn(where, "expected a list of {\"morph\": NAME, \"amount\": 0..1}; dropped");
+    }
+    return morphs;
   }
 
   std::optional<FaceMorph> faceMorph(const Json& e, const std::string& where) {

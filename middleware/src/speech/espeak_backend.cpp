@@ -19,6 +19,8 @@
 // "w 3: d l", as a sort would), then normalizeTiming clamps what is past the end.
 #include "marionette/speech/espeak_backend.hpp"
 
+#include "marionette/core/text.hpp"
+
 #include <espeak-ng/speak_lib.h>
 
 #include <algorithm>
@@ -121,18 +123,6 @@ void startEngine(Engine& e) {
   espeak_SetSynthCallback(onSynth);
 }
 
-void appendEscaped(std::string& out, std::string_view text) {
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-}
 
 // A mark's offset moved back to the start of the UTF-8 sequence it falls in.
 std::size_t utf8Boundary(std::string_view text, std::size_t offset) {
@@ -212,7 +202,7 @@ class EspeakBackend final : public SpeechBackend {
     int ssmlCodePoints = 0;
     std::vector<int> markPositions;  // where each <mark/> starts, as espeak-ng counts: 1-based code points
     for (const TextMark& m : marks) {
-      appendEscaped(ssml, std::string_view(request.text).substr(at, m.characterOffset - at));
+      appendXmlEscaped(ssml, std::string_view(request.text).substr(at, m.characterOffset - at));
       at = m.characterOffset;
       ssmlCodePoints += codePoints(std::string_view(ssml).substr(counted));
       counted = ssml.size();
@@ -221,7 +211,7 @@ class EspeakBackend final : public SpeechBackend {
       // truncates long mark names), and a mark it reports is matched exactly.
       ssml += "<mark name=\"m" + std::to_string(markPositions.size() - 1) + "\"/>";
     }
-    appendEscaped(ssml, std::string_view(request.text).substr(at));
+    appendXmlEscaped(ssml, std::string_view(request.text).substr(at));
     ssml += "</speak>";
 
     std::string key = voice + '\n' + std::to_string(rate) + '\n' + ssml;

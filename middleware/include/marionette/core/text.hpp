@@ -1,4 +1,4 @@
-// Small text helpers for names in files and BML (ASCII case folding).
+// Small text helpers for names in files and BML (ASCII case folding, XML escaping).
 #pragma once
 #include <algorithm>
 #include <cctype>
@@ -17,6 +17,20 @@ namespace marionette {
   std::string out(s);
   for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return out;
+}
+
+// Appends `text` with &, <, >, " and ' escaped for XML text and attribute values.
+inline void appendXmlEscaped(std::string& out, std::string_view text) {
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
 }
 
 }  // namespace marionette
