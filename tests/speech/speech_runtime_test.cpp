@@ -178,11 +178,12 @@ struct GodetteSpeaks : ::testing::Test {
   Scene scene;
   SpeechListener listener;
   Character* godette = nullptr;
+  std::shared_ptr<Rig> rig;
   std::vector<int> mouth;  // Godette's VRM mouth morphs: ah ih uu ee oh
   void SetUp() override {
     const std::string vrm = sharedAsset("characters/Godette_vrm_v4.vrm");
     MARIONETTE_REQUIRE_FILE(vrm);
-    auto rig = test::loadRigWithProfile(vrm, "Godette_vrm_v4.json");
+    rig = test::loadRigWithProfile(vrm, "Godette_vrm_v4.json");
     ASSERT_TRUE(rig);
     godette = scene.addCharacter("godette", rig);
     scene.addListener(&listener);
@@ -272,6 +273,41 @@ TEST(SpeechWithoutBackend, FailsClearlyAndTheRestKeepsWorking) {
   float any = 0.0f;
   for (float w : c->transformBuffer().morphWeights()) any = std::max(any, w);
   EXPECT_GT(any, 0.2f) << "the smile still shows";
+}
+
+#ifndef MARIONETTE_HAS_TTS
+TEST(SpeechWithoutBackend, ABuildWithoutTtsSaysSoWhenSpeechIsAsked) {
+  Scene scene;
+  Character* c = scene.addCharacter("c", std::make_shared<Rig>(std::make_shared<Asset>()));
+  const BehaviorResult said = c->addBehavior(speechRequest("s1", 0.0, 1.0, "Hello there."));
+  EXPECT_FALSE(said.realized);
+  EXPECT_NE(said.message.find("MARIONETTE_WITH_TTS=OFF"), std::string::npos) << said.message;
+}
+#endif
+
+// Stiff and extreme frame steps: a line said at scene time 1e7 s, stepped by 0, 1/240,
+// 0.5 and 10 s. Every phoneme's viseme is reported once, weights stay in [0, 1], and
+// the mouth is at rest once the line is over, whatever the step.
+TEST_F(GodetteSpeaks, AnyFrameStepAtAnySceneTime) {
+  for (double dt : {1.0 / 240.0, 0.5, 10.0}) {
+    Scene far;
+    SpeechListener heard;
+    far.addListener(&heard);
+    far.speech().addBackend(arcticLine());
+    Character* g = far.addCharacter("g", rig);
+    far.update(1e7);
+    const double start = far.time() + 0.25;
+    ASSERT_TRUE(g->addBehavior(speechRequest("s", start, 3.095, kArcticText)).realized);
+    for (int f = 0; far.time() < start + 4.0; ++f) {
+      far.update(f % 5 == 0 ? 0.0 : dt);
+      for (float w : g->transformBuffer().morphWeights()) ASSERT_TRUE(std::isfinite(w) && w >= 0.0f && w <= 1.0f);
+    }
+    EXPECT_EQ(heard.visemes.size(), 40u) << "dt " << dt;
+    for (std::size_t i = 1; i < heard.visemes.size(); ++i) EXPECT_GE(heard.visemes[i].second, heard.visemes[i - 1].second);
+    float open = 0.0f;
+    for (float w : g->transformBuffer().morphWeights()) open = std::max(open, w);
+    EXPECT_EQ(open, 0.0f) << "dt " << dt;
+  }
 }
 
 #ifdef MARIONETTE_HAS_ASSIMP

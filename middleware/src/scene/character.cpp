@@ -457,10 +457,13 @@ bool Character::applySpeechEntries() noexcept {
   for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (!e.isSpeech) continue;
     const double local = clock_ - e.request.start();
-    // Visemes of the phonemes that started by now, once each (also for a silenced line: the engine hears it).
+    // Visemes of the phonemes that started by now, once each, also for a line whose lips another
+    // owns (the engine hears it) and for phonemes a long frame stepped over; not those after
+    // the line was cut off.
     const std::vector<speech::Phoneme>& phonemes = e.speech.line->utterance->phonemes;
+    const double cutoff = e.finishTime() - e.request.start();
     while (e.speech.nextPhoneme < phonemes.size() && phonemes[e.speech.nextPhoneme].start <= local &&
-           clock_ < e.finishTime()) {
+           phonemes[e.speech.nextPhoneme].start < cutoff) {
       const speech::Phoneme& p = phonemes[e.speech.nextPhoneme++];
       if (!scene_) continue;
       e.speech.line->curves.evaluate(0.5 * (p.start + p.end), channels);
