@@ -325,14 +325,20 @@ TEST(SpeechJaw, TheJawOfACharacterWithOneOpensOnVowels) {
   const auto jaw = static_cast<std::size_t>(rig->joints().jaw);
   const glm::quat rest = c->localPose()[jaw].rotation;
   ASSERT_TRUE(c->addBehavior(speechRequest("s1", 0.0, 3.095, kArcticText)).realized);
-  float largest = 0.0f;
+  // The lower lip hangs from the jaw: opening the mouth moves it down.
+  const int lip = rig->skeleton().findJoint("B_LowerLip");
+  ASSERT_GE(lip, 0);
+  const float lipRest = c->transformBuffer().modelMatrices()[static_cast<std::size_t>(lip)][3].y;
+  float largest = 0.0f, lipAtLargest = lipRest;
   for (int f = 0; f < 180; ++f) {
     scene.update(1.0 / 60.0);
     const float angle = 2.0f * std::acos(std::min(1.0f, std::abs(glm::dot(rest, c->localPose()[jaw].rotation))));
-    largest = std::max(largest, angle);
+    if (angle > largest)
+      largest = angle, lipAtLargest = c->transformBuffer().modelMatrices()[static_cast<std::size_t>(lip)][3].y;
   }
   EXPECT_GT(largest, 0.3f * kMaxJawOpenRadians) << "the jaw should open on the open vowels";
   EXPECT_LE(largest, kMaxJawOpenRadians + 1e-3f);
+  EXPECT_LT(lipAtLargest, lipRest) << "the jaw opens downward, not up into the skull";
 }
 #endif
 
