@@ -52,7 +52,6 @@ BehaviorTimeline::Entry& BehaviorTimeline::add(BehaviorRequest request) {
   e.blendInEnd = (ready && *ready > start && *ready <= end) ? *ready : start + fallback;
   e.blendOutStart = (relax && *relax < end && *relax >= start) ? *relax : end - fallback;
   e.blendOutStart = std::max(e.blendOutStart, e.blendInEnd);
-  if (request.kind == BehaviorKind::Speech) e.blendInEnd = start, e.blendOutStart = end;
   e.request = std::move(request);
   e.order = ++nextOrder_;
   entries_.push_back(std::move(e));

@@ -2,12 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
+#include <charconv>
 
 #include "marionette/behavior/head_motion.hpp"
 #include "marionette/speech/speech_service.hpp"
 
 namespace marionette {
+
+std::optional<int> parseWordsPerMinute(std::string_view text) noexcept {
+  double wpm = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), wpm);
+  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(wpm) || wpm < 1.0 || wpm > 10000.0)
+    return std::nullopt;
+  return static_cast<int>(std::lround(wpm));
+}
 
 speech::SpeechRequest speechRequestOf(const BehaviorRequest& request, std::string& warning) {
   speech::SpeechRequest out;
@@ -15,13 +23,8 @@ speech::SpeechRequest speechRequestOf(const BehaviorRequest& request, std::strin
   out.voice = std::string(request.parameter("voice"));
   auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
   if (const std::string_view rate = request.parameter("rate"); !rate.empty()) {
-    const std::string text(rate);
-    char* end = nullptr;
-    const double wpm = std::strtod(text.c_str(), &end);
-    if (end != text.c_str() + text.size() || !std::isfinite(wpm) || wpm < 1.0 || wpm > 10000.0)
-      note("speech rate '" + text + "' is not a number of words per minute in [1, 10000]; the voice's default is used");
-    else
-      out.wordsPerMinute = static_cast<int>(std::lround(wpm));
+    if (const auto wpm = parseWordsPerMinute(rate)) out.wordsPerMinute = *wpm;
+    else note("speech rate '" + std::string(rate) + "' is not a number of words per minute in [1, 10000]; the voice's default is used");
   }
   // "OFFSET:ID OFFSET:ID ...": ids may hold ':' themselves, offsets never do.
   const std::string_view marks = request.parameter("markOffsets");
@@ -48,22 +51,8 @@ speech::SpeechRequest speechRequestOf(const BehaviorRequest& request, std::strin
   return out;
 }
 
-std::string bindSpeechFace(SpeechState& state, const Rig& rig) {
+std::string speechFaceNote(const Rig& rig) {
   const RigJoints& j = rig.joints();
-  // Left minus right at rest, from whichever pair the profile has.
-  const std::vector<glm::mat4> rest = rig.skeleton().restModelMatrices();
-  auto at = [&](int joint) { return glm::vec3(rest[static_cast<std::size_t>(joint)][3]); };
-  const std::pair<int, int> pairs[] = {{j.leftArm.upper, j.rightArm.upper}, {j.leftLeg.upper, j.rightLeg.upper},
-                                       {j.leftEye, j.rightEye}};
-  for (const auto& [left, right] : pairs) {
-    if (left < 0 || right < 0) continue;
-    glm::vec3 axis = at(left) - at(right);
-    axis.y = 0.0f;  // a level axis: the jaw drops, it does not roll
-    if (glm::length(axis) > 1e-6f) {
-      state.jawAxis = glm::normalize(axis);
-      break;
-    }
-  }
   if (j.visemes.empty() && j.jaw < 0)
     return "the character has no viseme morphs and no jaw joint: its audio and viseme events play, its face does not move";
   return {};
@@ -79,9 +68,9 @@ void applySpeech(const SpeechState& state, float weight, double localTime, const
     float& w = morphWeights[static_cast<std::size_t>(m.morph)];
     w = std::clamp(w + weight * m.amount * channels[static_cast<std::size_t>(m.channel)], 0.0f, 1.0f);
   }
-  if (j.jaw >= 0) {
+  if (j.jaw >= 0 && !j.jawOpenByMorph) {
     const float open = std::clamp(channels[speech::kJawOpenChannel], 0.0f, 1.0f) * weight;
-    if (open > 0.0f) rotateInModelFrame(rig.skeleton(), pose, j.jaw, glm::angleAxis(open * kMaxJawOpenRadians, state.jawAxis));
+    if (open > 0.0f) rotateInModelFrame(rig.skeleton(), pose, j.jaw, glm::angleAxis(open * kMaxJawOpenRadians, j.leftAxis));
   }
 }
 

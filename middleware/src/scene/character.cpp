@@ -252,18 +252,30 @@ std::string Character::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& 
   if (!scene_) return "a character outside a scene has no speech service";
   speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(e.request, warning));
   if (!said.line) return "speech cannot be said: " + said.error;
-  // `warning` is for bad parameters (the realizer reports it so); what the backend
-  // repaired or guessed, and a face that cannot move, go to the scene's log.
-  const std::string who = "speech '" + e.request.id + "' of '" + name_ + "': ";
-  if (!said.error.empty()) scene_->log(LogLevel::Warning, who + said.error);  // no WAV; the line still plays
-  for (const std::string& w : said.line->utterance->warnings) scene_->log(LogLevel::Warning, who + w);
-  e.speech.line = said.line;
+  const std::shared_ptr<const speech::SpokenLine> line = said.line;
+  e.speech.line = line;
   e.speech.nextPhoneme = 0;
-  if (std::string face = bindSpeechFace(e.speech, *rig_); !face.empty()) scene_->log(LogLevel::Info, who + face);
   e.isSpeech = true;
-  const std::string audio = said.line->audioFile.string();
-  const double start = e.request.start();
-  scene_->forEachListener([&](SceneListener& l) { l.onSpeech(*this, e.request.id, *said.line->utterance, audio, start); });
+  // No envelope: the curves start and end at rest, and a blend-in would hide the first phoneme.
+  e.blendInEnd = e.request.start();
+  e.blendOutStart = e.request.end();
+  // Everything below may call listeners, which may add or cancel behaviors (moving `e`): copies only.
+  const std::string id = e.request.id;
+  const double start = e.request.start(), span = e.request.end() - e.request.start();
+  const std::string who = "speech '" + id + "' of '" + name_ + "': ";
+  // `warning` is for bad parameters (the realizer reports it so); what the backend repaired
+  // or guessed, and a face that cannot move, go to the scene's log.
+  if (!line->audioError.empty()) scene_->log(LogLevel::Warning, who + line->audioError);  // no WAV; it still plays
+  for (const std::string& w : line->utterance->warnings) scene_->log(LogLevel::Warning, who + w);
+  if (std::abs(span - line->utterance->duration) > 0.05) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "the request lasts %.3f s but the line %.3f s (Character::prepareSpeech gives its length)",
+                  span, line->utterance->duration);
+    scene_->log(LogLevel::Warning, who + buf);
+  }
+  if (std::string face = speechFaceNote(*rig_); !face.empty()) scene_->log(LogLevel::Info, who + face);
+  const std::string audio = line->audioFile.string();
+  scene_->forEachListener([&](SceneListener& l) { l.onSpeech(*this, id, *line->utterance, audio, start); });
   return {};
 }
 
@@ -373,10 +385,34 @@ LocomotionStatus Character::locomotionStatus(std::string_view id) const noexcept
   return st;
 }
 
-bool Character::cancelBehavior(std::string_view id, double blendOut) { return behaviors_.cancel(id, clock_, blendOut); }
+bool Character::cancelBehavior(std::string_view id, double blendOut) {
+  const std::vector<std::string> stopped = speechStoppedBy(id, false);
+  const bool known = behaviors_.cancel(id, clock_, blendOut);
+  notifySpeechStopped(stopped);
+  return known;
+}
 
 std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOut) {
-  return behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
+  const std::vector<std::string> stopped = speechStoppedBy(idPrefix, true);
+  const std::size_t n = behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
+  notifySpeechStopped(stopped);
+  return n;
+}
+
+std::vector<std::string> Character::speechStoppedBy(std::string_view id, bool prefix) const {
+  // Speech whose audio the engine was told to play and that has not ended yet.
+  std::vector<std::string> ids;
+  for (const BehaviorTimeline::Entry& e : behaviors_.entries())
+    if (e.isSpeech && !e.cancelled() && clock_ < e.request.end() &&
+        (prefix ? std::string_view(e.request.id).substr(0, id.size()) == id : e.request.id == id))
+      ids.push_back(e.request.id);
+  return ids;
+}
+
+void Character::notifySpeechStopped(const std::vector<std::string>& ids) const {
+  if (!scene_) return;
+  for (const std::string& id : ids)
+    scene_->forEachListener([&](SceneListener& l) { l.onSpeechStopped(*this, id, clock_); });
 }
 
 void Character::applyBehaviors(float dt) noexcept {
@@ -450,8 +486,11 @@ void Character::applyBehaviors(float dt) noexcept {
 
 bool Character::applySpeechEntries() noexcept {
   bool any = false;
-  // Overlapping speech on one character: the one that owns the voice (added last) moves the lips.
-  const BehaviorRequest* voice = behaviors_.owner(kChannelVoice, clock_);
+  // Overlapping speech on one character: the one added last of those speaking now moves the
+  // lips (a speech that could not be said takes nothing from the others).
+  const BehaviorTimeline::Entry* voice = nullptr;
+  for (const BehaviorTimeline::Entry& e : behaviors_.entries())
+    if (e.isSpeech && clock_ >= e.request.start() && clock_ < e.finishTime()) voice = &e;
   std::array<float, speech::kLipChannelCount> channels{};
   const std::span<float> morphs = buffer_.writeMorphWeights();
   for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
@@ -465,14 +504,13 @@ bool Character::applySpeechEntries() noexcept {
     while (e.speech.nextPhoneme < phonemes.size() && phonemes[e.speech.nextPhoneme].start <= local &&
            phonemes[e.speech.nextPhoneme].start < cutoff) {
       const speech::Phoneme& p = phonemes[e.speech.nextPhoneme++];
-      if (!scene_) continue;
       e.speech.line->curves.evaluate(0.5 * (p.start + p.end), channels);
       const float peak = channels[static_cast<std::size_t>(p.cls.viseme)];
       scene_->forEachListener([&](SceneListener& l) {
         l.onViseme(*this, speech::visemeName(p.cls.viseme), peak, e.request.start() + p.start);
       });
     }
-    if (&e.request != voice) continue;
+    if (&e != voice) continue;
     if (const float w = BehaviorTimeline::weightAt(e, clock_); w > 0.0f) {
       applySpeech(e.speech, w, local, *rig_, channels, morphs, pose_);
       any = true;

@@ -256,17 +256,23 @@ const std::vector<std::pair<std::string_view, const char*>> kVrmExpressions = {
     {"joy", "SMILE"},       {"happy", "SMILE"},         {"angry", "ANGER"}, {"sorrow", "SADNESS"},
     {"sad", "SADNESS"},     {"surprised", "SURPRISE"}, {"blink", "CLOSE_EYES"}};
 
+// The morphs of one of the file's VRM expressions, with their weights; empty when it has none.
+std::vector<FaceMorph> vrmExpressionMorphs(const Asset& asset, std::string_view expression) {
+  std::vector<FaceMorph> morphs;
+  auto it = asset.humanoid.expressions.find(std::string(expression));
+  if (it == asset.humanoid.expressions.end()) return morphs;
+  for (const auto& [index, weight] : it->second)
+    if (index >= 0 && static_cast<std::size_t>(index) < asset.morphTargets.size() && weight > 0.0f)
+      morphs.push_back({asset.morphTargets[static_cast<std::size_t>(index)], std::clamp(weight, 0.0f, 1.0f)});
+  return morphs;
+}
+
 void guessFace(const Asset& asset, CharacterProfile& p, Notes& notes) {
   // The file's own expression groups first: authored intent, with weights.
   if (asset.hasHumanoid) {
     for (const auto& [preset, lexeme] : kVrmExpressions) {
       if (p.face.count(lexeme)) continue;
-      auto it = asset.humanoid.expressions.find(std::string(preset));
-      if (it == asset.humanoid.expressions.end()) continue;
-      std::vector<FaceMorph> morphs;
-      for (const auto& [index, weight] : it->second)
-        if (index >= 0 && static_cast<std::size_t>(index) < asset.morphTargets.size() && weight > 0.0f)
-          morphs.push_back({asset.morphTargets[index], std::clamp(weight, 0.0f, 1.0f)});
+      std::vector<FaceMorph> morphs = vrmExpressionMorphs(asset, preset);
       if (morphs.empty()) continue;
       std::string list;
       for (const auto& m : morphs) list += (list.empty() ? "" : ", ") + inQuotes(m.morph) + " " + std::to_string(m.amount).substr(0, 4);
@@ -312,13 +318,8 @@ void guessVisemes(const Asset& asset, CharacterProfile& p, Notes& notes) {
     const std::pair<const char*, const char*> vrm[] = {
         {"A", "vrm_aa"}, {"I", "vrm_ih"}, {"U", "vrm_ou"}, {"E", "vrm_ee"}, {"O", "vrm_oh"}};
     for (const auto& [alias, channel] : vrm) {
-      auto it = asset.humanoid.expressions.find(alias);
-      if (it == asset.humanoid.expressions.end()) continue;
-      std::vector<FaceMorph> morphs;
-      for (const auto& [index, weight] : it->second)
-        if (index >= 0 && static_cast<std::size_t>(index) < asset.morphTargets.size() && weight > 0.0f)
-          morphs.push_back({asset.morphTargets[index], std::clamp(weight, 0.0f, 1.0f)});
-      if (!morphs.empty()) p.visemes[channel] = std::move(morphs);
+      if (std::vector<FaceMorph> morphs = vrmExpressionMorphs(asset, alias); !morphs.empty())
+        p.visemes[channel] = std::move(morphs);
     }
   }
   // OVR names are short ("E", "aa", "oh"): taken only with a "viseme" word, or as a nearly full set.
@@ -846,7 +847,7 @@ class ProfileReader {
     for (auto it = j.begin(); it != j.end(); ++it) {
       const std::string channel = it.key();
       const std::string where = "/visemes/" + JsonPlaces::escape(channel);
-      if (!isLipChannel(channel)) {
+      if (!speech::lipChannelFromName(channel)) {
         warn(where, "'" + channel + "' is not a lip-sync channel (" + lipChannelList() + "); dropped");
         continue;
       }
@@ -856,11 +857,6 @@ class ProfileReader {
     return true;
   }
 
-  static bool isLipChannel(const std::string& name) {
-    for (int c = 0; c < speech::kLipChannelCount; ++c)
-      if (speech::lipChannelName(c) == name) return true;
-    return false;
-  }
   static std::string lipChannelList() {
     std::string out;
     for (int c = 0; c < speech::kLipChannelCount; ++c) out += (c ? ", " : "") + std::string(speech::lipChannelName(c));

@@ -1,6 +1,8 @@
 #include "marionette/scene/rig.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 
 #include "marionette/io/import.hpp"
 #include "marionette/speech/lipsync.hpp"
@@ -55,22 +57,37 @@ void Rig::setProfile(CharacterProfile profile) {
   joints_.leftToe = joint(profile_.leftToe);
   joints_.rightToe = joint(profile_.rightToe);
   const auto& morphs = asset_->morphTargets;
-  for (const auto& [expression, list] : profile_.face) {
+  // Morph names to (index, amount); names the asset lacks are left out.
+  auto resolveMorphs = [&](const std::vector<FaceMorph>& list) {
     std::vector<std::pair<int, float>> resolved;
     for (const FaceMorph& m : list) {
       auto it = std::find(morphs.begin(), morphs.end(), m.morph);
       if (it != morphs.end()) resolved.emplace_back(static_cast<int>(it - morphs.begin()), std::clamp(m.amount, 0.0f, 1.0f));
     }
-    if (!resolved.empty()) joints_.face.emplace(expression, std::move(resolved));
-  }
+    return resolved;
+  };
+  for (const auto& [expression, list] : profile_.face)
+    if (auto resolved = resolveMorphs(list); !resolved.empty()) joints_.face.emplace(expression, std::move(resolved));
   for (const auto& [channelName, list] : profile_.visemes) {
-    int channel = -1;
-    for (int c = 0; c < speech::kLipChannelCount && channel < 0; ++c)
-      if (speech::lipChannelName(c) == channelName) channel = c;
-    for (const FaceMorph& m : list) {
-      auto it = std::find(morphs.begin(), morphs.end(), m.morph);
-      if (channel >= 0 && it != morphs.end())
-        joints_.visemes.push_back({channel, static_cast<int>(it - morphs.begin()), std::clamp(m.amount, 0.0f, 1.0f)});
+    const std::optional<int> channel = speech::lipChannelFromName(channelName);
+    for (const auto& [morph, amount] : resolveMorphs(list))
+      if (channel) joints_.visemes.push_back({*channel, morph, amount});
+  }
+  joints_.jawOpenByMorph = std::any_of(joints_.visemes.begin(), joints_.visemes.end(), [](const RigJoints::LipMorph& m) {
+    return m.channel == speech::kJawOpenChannel;
+  });
+  // Left minus right at rest, from whichever pair the profile has, made level.
+  const std::vector<glm::mat4> rest = s.restModelMatrices();
+  const std::pair<int, int> pairs[] = {{joints_.leftArm.upper, joints_.rightArm.upper},
+                                       {joints_.leftLeg.upper, joints_.rightLeg.upper},
+                                       {joints_.leftEye, joints_.rightEye}};
+  for (const auto& [left, right] : pairs) {
+    if (left < 0 || right < 0 || static_cast<std::size_t>(std::max(left, right)) >= rest.size()) continue;
+    glm::vec3 axis = glm::vec3(rest[static_cast<std::size_t>(left)][3]) - glm::vec3(rest[static_cast<std::size_t>(right)][3]);
+    axis.y = 0.0f;
+    if (glm::length(axis) > 1e-6f && std::isfinite(glm::length(axis))) {
+      joints_.leftAxis = glm::normalize(axis);
+      break;
     }
   }
 }

@@ -242,7 +242,9 @@ class EspeakBackend final : public SpeechBackend {
       const espeak_ERROR status = espeak_Synth(ssml.c_str(), ssml.size() + 1, 0, POS_CHARACTER, 0,
                                                espeakSSML | espeakCHARS_UTF8, nullptr, &capture);
       if (status != EE_OK) {
-        result.error = "espeak-ng could not synthesize the text (error " + std::to_string(status) + ")";
+        result.error = "espeak-ng could not synthesize \"" + request.text.substr(0, 60) +
+                       (request.text.size() > 60 ? "...\"" : "\"") + " with voice '" + voice + "' (error " +
+                       std::to_string(status) + ")";
         return result;
       }
     }
@@ -331,6 +333,12 @@ class EspeakBackend final : public SpeechBackend {
     {
       Engine& e = engine();
       std::lock_guard lock(e.mutex);
+      // Another thread may have said the same meanwhile: keep the first, so repeats stay identical.
+      for (const auto& [k, done] : e.recent)
+        if (k == key) {
+          result.utterance = done;
+          return result;
+        }
       e.recent.emplace_back(std::move(key), result.utterance);
       if (e.recent.size() > kRecentResults) e.recent.pop_front();
     }

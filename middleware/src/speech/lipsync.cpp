@@ -97,6 +97,12 @@ std::string_view lipChannelName(int channel) noexcept {
                                                     : std::string_view();
 }
 
+std::optional<int> lipChannelFromName(std::string_view name) noexcept {
+  for (int c = 0; c < kLipChannelCount; ++c)
+    if (lipChannelName(c) == name) return c;
+  return std::nullopt;
+}
+
 void VisemeCurves::evaluate(double t, std::span<float> out) const noexcept {
   const std::size_t n = std::min(out.size(), kC);
   const bool have = frames > 0 && values.size() >= static_cast<std::size_t>(frames) * kC;

@@ -45,6 +45,7 @@ std::size_t SpeechService::backendCount() const {
 void SpeechService::setAudioDirectory(std::filesystem::path directory) {
   std::lock_guard lock(mutex_);
   audioDirectory_ = std::move(directory);
+  cache_.clear();  // lines said before have no file there
 }
 
 std::filesystem::path SpeechService::audioDirectory() const {
@@ -63,14 +64,19 @@ SpeechService::Result SpeechService::speak(const SpeechRequest& request) {
   const std::string key = cacheKey(request);
   for (const Cached& c : cache_)
     if (c.key == key) return {c.line, {}};
-  if (backends_.empty() && defaultSynthesizer_ && !defaultTried_) {
-    defaultTried_ = true;
-    if (auto tts = makeEspeakBackend(&defaultMissing_)) backends_.push_back(std::move(tts));
+  std::vector<SpeechBackend*> order;
+  for (const auto& b : backends_) order.push_back(b.get());
+  if (defaultSynthesizer_) {
+    if (!defaultTried_) {
+      defaultTried_ = true;
+      synthesizer_ = makeEspeakBackend(&defaultMissing_);
+    }
+    if (synthesizer_) order.push_back(synthesizer_.get());
   }
-  if (backends_.empty())
+  if (order.empty())
     return {nullptr, "no speech backend: " + (defaultMissing_.empty() ? std::string("none was added") : defaultMissing_)};
-  std::string errors, writeError;
-  for (const auto& backend : backends_) {
+  std::string errors;
+  for (SpeechBackend* backend : order) {
     SpeechResult said = backend->synthesize(request);
     if (!said.utterance) {
       errors += (errors.empty() ? "" : "; ") + std::string(backend->name()) + ": " + said.error;
@@ -80,20 +86,19 @@ SpeechService::Result SpeechService::speak(const SpeechRequest& request) {
     line->utterance = said.utterance;
     line->backend = std::string(backend->name());
     line->curves = buildVisemeCurves(said.utterance->phonemes, said.utterance->duration, lipSync_);
+    // Every line's audio goes to the one directory, recordings too: the engine plays from one place.
     if (!audioDirectory_.empty() && !said.utterance->audio.empty()) {
       char name[40];
       std::snprintf(name, sizeof name, "utterance-%016llx.wav", static_cast<unsigned long long>(fnv1a(key)));
       std::error_code ec;
       std::filesystem::create_directories(audioDirectory_, ec);
       const std::filesystem::path file = audioDirectory_ / name;
-      if (std::string error = writeWav(file, said.utterance->audio, said.utterance->sampleRate); error.empty())
-        line->audioFile = file;
-      else
-        writeError = std::move(error);  // the line still plays, without a file; the caller reports it
+      line->audioError = writeWav(file, said.utterance->audio, said.utterance->sampleRate);
+      if (line->audioError.empty()) line->audioFile = file;
     }
     if (cache_.size() >= kCacheSize) cache_.erase(cache_.begin());
     cache_.push_back({key, line});
-    return {std::move(line), std::move(writeError)};
+    return {std::move(line), {}};
   }
   return {nullptr, errors};
 }

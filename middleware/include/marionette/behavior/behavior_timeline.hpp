@@ -27,8 +27,8 @@ struct LocomotionPlan;
 class BehaviorTimeline {
  public:
   // Blend time used when a request has no ready (or attackPeak) / relax sync point: this long,
-  // or a quarter of the request's duration if that is shorter Speech has no such blend:
-  // its lip-sync curves start and end at rest, and its first phoneme must show at once.
+  // or a quarter of the request's duration if that is shorter A controller may set
+  // its own envelope after add() (speech has none: Character::bindSpeechEntry).
   static constexpr double kDefaultBlendSeconds = 0.3;
 
   struct Entry {

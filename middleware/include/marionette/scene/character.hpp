@@ -102,12 +102,15 @@ class Character {
   // is played by the clip controller: blended over the clip layers on the joints
   // the clip animates, time-warped onto [start, end] (or looping), weighted by
   // the request's envelope. Head requests (NOD, SHAKE, TILT) and face requests
-  // (lexemes, FACS units, through the rig's profile) are procedural. Requests of
-  // other kinds wait for their controllers (BehaviorResult::realized says whether
-  // one exists; `message` then says why, or notes a replaced bad parameter).
+  // (lexemes, FACS units, through the rig's profile) are procedural. Gaze,
+  // pointing and locomotion have their controllers; speech is said by the scene's
+  // speech service (time it with prepareSpeech). BehaviorResult::realized says
+  // whether a controller moves the body; `message` says why not, or notes a
+  // replaced bad parameter.
   // Command time: may allocate.
   BehaviorResult addBehavior(BehaviorRequest request);
-  // Ends requests now, blending them out over `blendOut` seconds.
+  // Ends requests now, blending them out over `blendOut` seconds. A speech cut off
+  // before its end is reported to the listeners (onSpeechStopped: stop its audio).
   bool cancelBehavior(std::string_view id, double blendOut);
   std::size_t cancelBehaviors(std::string_view idPrefix, double blendOut);
   [[nodiscard]] const BehaviorTimeline& behaviors() const noexcept { return behaviors_; }
@@ -169,6 +172,8 @@ class Character {
   [[nodiscard]] TargetJointFinder targetJointFinder(bool chest) const;
   [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning) const;
   [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::vector<std::string> speechStoppedBy(std::string_view id, bool prefix) const;
+  void notifySpeechStopped(const std::vector<std::string>& ids) const;
   bool applySpeechEntries() noexcept;
   [[nodiscard]] std::string bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
                                            std::string& warning) const;

@@ -40,6 +40,9 @@ class SceneListener {
   virtual void onSpeech(const Character& /*character*/, std::string_view /*behaviorId*/,
                         const speech::Utterance& /*utterance*/, std::string_view /*audioFile*/,
                         double /*sceneStart*/) {}
+  // A speech was cut off before its end (BML REPLACE, interrupt, Character::cancelBehavior):
+  // stop its audio. `time` is the scene time of the cut; the lips blend out from there.
+  virtual void onSpeechStopped(const Character& /*character*/, std::string_view /*behaviorId*/, double /*time*/) {}
   virtual void onChannelChanged(const Character& /*character*/, std::string_view /*channel*/, float /*value*/) {}
   virtual void onLog(LogLevel /*level*/, std::string_view /*message*/) {}
 };

@@ -53,6 +53,8 @@ struct RigJoints {
     float amount = 1.0f;
   };
   std::vector<LipMorph> visemes;
+  bool jawOpenByMorph = false;     // a morph shows the jaw-open channel: the jaw joint is left alone
+  glm::vec3 leftAxis{1.0f, 0.0f, 0.0f};  // model frame, level: the character's left (arms, legs or eyes at rest)
 };
 
 class Rig {

@@ -4,6 +4,10 @@
 // times (their `sample` field) and its mark events the marks' times. espeak-ng
 // keeps global state, so every backend shares one engine behind a lock; it is
 // started on the first synthesize(), not before (a scene without speech pays nothing).
+// It keeps its last 32 results process-wide: espeak-ng's wave generator carries
+// state between calls, so only a repeat from that store is sample-identical. (A
+// scene's SpeechService caches lines too, with their curves and WAV files; this
+// one makes repeats across scenes identical.)
 #pragma once
 #include <memory>
 #include <string>

@@ -5,6 +5,7 @@
 // command time, sampled at `sampleRate`; evaluated per frame by interpolation
 // (no allocation, no exceptions).
 #pragma once
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,8 @@ inline constexpr int kVrmChannelBase = 15;
 inline constexpr int kJawOpenChannel = 20;
 // "sil" .. "ou", "vrm_aa" .. "vrm_oh", "jawOpen"; "" out of range.
 [[nodiscard]] std::string_view lipChannelName(int channel) noexcept;
+// The channel of a name lipChannelName gives; nullopt for any other text.
+[[nodiscard]] std::optional<int> lipChannelFromName(std::string_view name) noexcept;
 
 // Co-articulation (Cohen & Massaro 1993): every phoneme has a target for its
 // channels and a dominance over time: flat over the central `dominanceWidth` of

@@ -22,24 +22,25 @@ struct SpokenLine {
   VisemeCurves curves;
   std::string backend;              // the backend that said it
   std::filesystem::path audioFile;  // its WAV, when an audio directory is set and it has audio
+  std::string audioError;           // why its WAV could not be written (the line still plays)
 };
 
 class SpeechService {
  public:
-  // Backends are asked in the order added. With none added, the first speak()
-  // adds espeak-ng when the build has it (useDefaultSynthesizer(false) stops that).
+  // Backends are asked in the order added, then espeak-ng when the build has it
+  // (started on the first speech it is asked for; useDefaultSynthesizer(false) leaves it out).
   void addBackend(std::shared_ptr<SpeechBackend> backend);
   void useDefaultSynthesizer(bool use);
   [[nodiscard]] std::size_t backendCount() const;
   // Where each new utterance's audio is written ("utterance-<hash>.wav"); empty
-  // (the default): not written. Created when needed.
+  // (the default): not written. Created when needed. Changing it forgets cached lines.
   void setAudioDirectory(std::filesystem::path directory);
   [[nodiscard]] std::filesystem::path audioDirectory() const;
   void setLipSyncSettings(const LipSyncSettings& settings);
 
   struct Result {
     std::shared_ptr<const SpokenLine> line;  // null on failure
-    std::string error;  // why no backend could say it; with a line: why its WAV could not be written
+    std::string error;  // why no backend could say it
   };
   // The same request gives the same line (cached; at most kCacheSize kept).
   Result speak(const SpeechRequest& request);
@@ -54,7 +55,8 @@ class SpeechService {
   std::vector<std::shared_ptr<SpeechBackend>> backends_;
   bool defaultSynthesizer_ = true;
   bool defaultTried_ = false;
-  std::string defaultMissing_;  // why the default synthesizer is not there
+  std::shared_ptr<SpeechBackend> synthesizer_;  // espeak-ng, once asked for
+  std::string defaultMissing_;                  // why it is not there
   std::filesystem::path audioDirectory_;
   LipSyncSettings lipSync_;
   std::vector<Cached> cache_;  // oldest first
