@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_places.hpp"
 #include "limb_guess.hpp"
 #include "profile_skeleton.hpp"
 
@@ -22,6 +23,8 @@ namespace marionette {
 namespace {
 using Json = nlohmann::json;
 using namespace profile_detail;
+using json_detail::JsonPlaces;
+using json_detail::parseJsonText;
 
 // ---- Names ------------------------------------------------------------------
 
@@ -461,106 +464,6 @@ Guess guess(const Asset& asset) {
   return g;
 }
 
-// ---- JSON places ------------------------------------------------------------
-
-// Byte offsets of the keys and values of a JSON text that nlohmann accepted, by
-// JSON pointer ("/face/SMILE/0/amount"), so warnings can name line:column
-// (nlohmann keeps no positions in its values). Also finds duplicate keys, which
-// nlohmann resolves silently (the last one wins).
-class JsonPlaces {
- public:
-  explicit JsonPlaces(const std::string& text) {
-    struct Frame {
-      bool object = true;
-      std::string pointer;
-      std::size_t index = 0;
-      bool expectKey = true;
-      std::set<std::string> keys;
-    };
-    std::vector<Frame> stack;
-    const std::size_t n = text.size();
-    std::size_t i = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // nlohmann skips a BOM
-    std::string pointer;  // of the value that starts next
-    auto skipSpace = [&] {
-      while (i < n && (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\r')) ++i;
-    };
-    // Reads the string at text[i] (a quote); returns its decoded value.
-    auto readString = [&]() -> std::string {
-      const std::size_t start = i++;
-      bool escaped = false;
-      while (i < n && text[i] != '"') i += text[i] == '\\' ? (escaped = true, 2) : 1;
-      i = std::min(i + 1, n);
-      if (!escaped) return text.substr(start + 1, i - start - 2);
-      try {  // rare: let nlohmann decode the escapes
-        return Json::parse(text.substr(start, i - start)).get<std::string>();
-      } catch (...) {
-        return {};
-      }
-    };
-    constexpr std::size_t kMaxDepth = 8;  // a profile is 4 deep; deeper nests are skipped, not recorded
-    for (skipSpace(); i < n; skipSpace()) {
-      if (!stack.empty()) {
-        Frame& f = stack.back();
-        const char c = text[i];
-        if (c == (f.object ? '}' : ']')) {
-          stack.pop_back();
-          ++i;
-          continue;
-        }
-        if (c == ',') {
-          ++i;
-          continue;
-        }
-        if (f.object && f.expectKey) {
-          if (c != '"') return;  // not JSON after all
-          const std::size_t at = i;
-          const std::string key = readString();
-          skipSpace();
-          if (i < n && text[i] == ':') ++i;
-          pointer = f.pointer + "/" + escape(key);
-          if (stack.size() <= kMaxDepth) {
-            if (!f.keys.insert(key).second) duplicates.emplace_back(pointer, at);
-            keys_[pointer] = at;
-          }
-          f.expectKey = false;
-          continue;
-        }
-        if (f.object) f.expectKey = true;
-        else pointer = f.pointer + "/" + std::to_string(f.index++);
-      }
-      if (stack.size() <= kMaxDepth) values_[pointer] = i;
-      const char c = text[i];
-      if (c == '{' || c == '[') {
-        Frame f;
-        f.object = c == '{';
-        if (stack.size() < kMaxDepth) f.pointer = pointer;
-        stack.push_back(std::move(f));
-        ++i;
-      } else if (c == '"') {
-        readString();
-      } else {
-        while (i < n && std::string_view(",]} \t\r\n").find(text[i]) == std::string_view::npos) ++i;
-      }
-    }
-  }
-  static std::string escape(const std::string& key) {
-    std::string out;
-    for (char c : key) out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
-    return out;
-  }
-  [[nodiscard]] std::ptrdiff_t value(const std::string& pointer) const { return find(values_, pointer); }
-  [[nodiscard]] std::ptrdiff_t key(const std::string& pointer) const { return find(keys_, pointer); }
-
-  std::vector<std::pair<std::string, std::size_t>> duplicates;
-
- private:
-  static std::ptrdiff_t find(const std::map<std::string, std::size_t>& m, const std::string& p) {
-    auto it = m.find(p);
-    return it == m.end() ? -1 : static_cast<std::ptrdiff_t>(it->second);
-  }
-  std::map<std::string, std::size_t> values_, keys_;
-};
-
 // ---- Loading ----------------------------------------------------------------
 
 const std::set<std::string_view>& faceLexemes() {
@@ -967,24 +870,7 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
   ss << in.rdbuf();
   const std::string text = ss.str();
   Json doc;
-  try {  // load time: nlohmann reports the byte offset only through its exception
-    doc = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    const auto [line, col] = lineColumnAt(text, e.byte > 0 ? static_cast<std::ptrdiff_t>(e.byte) - 1 : 0);
-    std::string msg = e.what();
-    const auto pos = msg.find("syntax error");
-    result.diagnostics.error(path, pos != std::string::npos ? msg.substr(pos) : msg, line, col);
-    return fallBack();
-  } catch (const Json::exception& e) {
-    // A number too large for a double ("number overflow parsing '1e999'"): place it by its text.
-    std::string msg = e.what();
-    const auto open = msg.find('\''), close = msg.rfind('\'');
-    const auto at = open < close ? text.find(msg.substr(open + 1, close - open - 1)) : std::string::npos;
-    const auto [line, col] = at == std::string::npos ? std::pair{0, 0} : lineColumnAt(text, static_cast<std::ptrdiff_t>(at));
-    const auto pos = msg.find("] ");
-    result.diagnostics.error(path, pos != std::string::npos ? msg.substr(pos + 2) : msg, line, col);
-    return fallBack();
-  }
+  if (!parseJsonText(path, text, doc, result.diagnostics)) return fallBack();
   if (!doc.is_object()) {
     result.diagnostics.error(path, "expected an object with \"joints\", \"face\", \"clips\" and \"gestures\"", 1, 1);
     return fallBack();
