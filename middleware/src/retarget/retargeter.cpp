@@ -1,0 +1,449 @@
+#include "marionette/retarget/retargeter.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "marionette/animation/pose.hpp"
+#include "marionette/animation/sampling.hpp"
+
+namespace marionette::retarget {
+namespace {
+
+// Under a mirrored parent (sign pattern s, det d = sx*sy*sz), a local rotation R
+// appears in model space as diag(s) R diag(s)^-1: the quaternion's vector part
+// times d*s. The map is its own inverse.
+inline glm::quat flipped(const glm::quat& q, const glm::vec3& f) noexcept {
+  return glm::quat(q.w, q.x * f.x, q.y * f.y, q.z * f.z);
+}
+inline glm::vec3 flipOf(const glm::vec3& signs) noexcept { return signs * (signs.x * signs.y * signs.z); }
+inline glm::vec3 signsOf(const glm::vec3& v) noexcept {
+  return {v.x < 0.0f ? -1.0f : 1.0f, v.y < 0.0f ? -1.0f : 1.0f, v.z < 0.0f ? -1.0f : 1.0f};
+}
+inline bool finite(const glm::vec3& v) noexcept { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Model rotations (true rotation part, mirrors tracked as sign patterns) of a pose.
+struct ModelRotations {
+  std::vector<glm::quat> rotation;
+  std::vector<glm::vec3> flip;  // per joint, for its local rotation
+};
+
+ModelRotations modelRotations(const Skeleton& s, const glm::quat& rootQ, const glm::vec3& rootSigns) {
+  const std::size_t n = s.jointCount();
+  ModelRotations m;
+  m.rotation.resize(n);
+  m.flip.resize(n);
+  std::vector<glm::vec3> signs(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int p = s.parents[i];
+    const glm::vec3 ps = p < 0 ? rootSigns : signs[static_cast<std::size_t>(p)];
+    const glm::quat pq = p < 0 ? rootQ : m.rotation[static_cast<std::size_t>(p)];
+    m.flip[i] = flipOf(ps);
+    m.rotation[i] = safeNormalize(pq * flipped(safeNormalize(s.restPose[i].rotation), m.flip[i]));
+    signs[i] = ps * signsOf(s.restPose[i].scale);
+  }
+  return m;
+}
+
+float distance(const std::vector<glm::mat4>& model, int a, int b) {
+  if (a < 0 || b < 0) return 0.0f;
+  const float d = glm::length(glm::vec3(model[static_cast<std::size_t>(a)][3]) - glm::vec3(model[static_cast<std::size_t>(b)][3]));
+  return std::isfinite(d) ? d : 0.0f;
+}
+
+glm::vec3 positionOf(const std::vector<glm::mat4>& model, int j) { return glm::vec3(model[static_cast<std::size_t>(j)][3]); }
+
+// Middle of each chain bone as a fraction of the chain's rest length. A chain
+// joint's bone runs to the next chain joint; the last one to `end` (or, without
+// it, as long as the previous bone). Zero total length: evenly spaced.
+std::vector<float> boneMiddles(const std::vector<int>& chain, int end, const std::vector<glm::mat4>& model) {
+  const std::size_t n = chain.size();
+  std::vector<float> len(n, 0.0f);
+  for (std::size_t k = 0; k + 1 < n; ++k) len[k] = distance(model, chain[k], chain[k + 1]);
+  if (n > 0) len[n - 1] = end >= 0 ? distance(model, chain[n - 1], end) : (n > 1 ? len[n - 2] : 0.0f);
+  float total = 0.0f;
+  for (float l : len) total += l;
+  std::vector<float> mid(n);
+  if (!(total > 1e-6f)) {
+    for (std::size_t k = 0; k < n; ++k) mid[k] = (static_cast<float>(k) + 0.5f) / static_cast<float>(n);
+    return mid;
+  }
+  float cum = 0.0f;
+  for (std::size_t k = 0; k < n; ++k) {
+    mid[k] = (cum + 0.5f * len[k]) / total;
+    cum += len[k];
+  }
+  return mid;
+}
+
+float legLength(const JointMap& m, const std::vector<glm::mat4>& model) {
+  float sum = 0.0f;
+  int sides = 0;
+  for (auto [u, l, f] : {std::array{Bone::LeftUpperLeg, Bone::LeftLowerLeg, Bone::LeftFoot},
+                         std::array{Bone::RightUpperLeg, Bone::RightLowerLeg, Bone::RightFoot}}) {
+    if (m.joint(u) < 0 || m.joint(l) < 0 || m.joint(f) < 0) continue;
+    sum += distance(model, m.joint(u), m.joint(l)) + distance(model, m.joint(l), m.joint(f));
+    ++sides;
+  }
+  return sides ? sum / static_cast<float>(sides) : 0.0f;
+}
+
+// Hips height above the lowest foot or toe joint at rest (model +Y up).
+float hipHeight(const JointMap& m, const std::vector<glm::mat4>& model) {
+  const int hips = m.joint(Bone::Hips);
+  if (hips < 0) return 0.0f;
+  float lowest = positionOf(model, hips).y;
+  bool any = false;
+  for (Bone b : {Bone::LeftFoot, Bone::RightFoot, Bone::LeftToes, Bone::RightToes}) {
+    if (m.joint(b) < 0) continue;
+    lowest = std::min(lowest, positionOf(model, m.joint(b)).y);
+    any = true;
+  }
+  const float h = positionOf(model, hips).y - lowest;
+  return any && std::isfinite(h) ? h : 0.0f;
+}
+
+// Horizontal (XZ) left-right axis of the rest pose: from the right upper leg to
+// the left one (else the arms, shoulders). Zero when none is usable.
+glm::vec2 lateralAxis(const JointMap& m, const std::vector<glm::mat4>& model) {
+  for (auto [l, r] : {std::pair{Bone::LeftUpperLeg, Bone::RightUpperLeg}, std::pair{Bone::LeftUpperArm, Bone::RightUpperArm},
+                      std::pair{Bone::LeftShoulder, Bone::RightShoulder}}) {
+    if (m.joint(l) < 0 || m.joint(r) < 0) continue;
+    const glm::vec3 d = positionOf(model, m.joint(l)) - positionOf(model, m.joint(r));
+    const glm::vec2 h(d.x, d.z);
+    const float len = glm::length(h);
+    if (len > 1e-6f && std::isfinite(len)) return h / len;
+  }
+  return glm::vec2(0.0f);
+}
+
+bool mapInRange(const JointMap& m, std::size_t n) {
+  for (int j : m.bones)
+    if (j >= static_cast<int>(n)) return false;
+  for (const auto& c : m.chains)
+    for (int j : c)
+      if (j < 0 || j >= static_cast<int>(n)) return false;
+  return true;
+}
+
+std::string jointLabel(const Skeleton& s, int j) {
+  return "'" + (static_cast<std::size_t>(j) < s.names.size() && !s.names[static_cast<std::size_t>(j)].empty()
+                    ? s.names[static_cast<std::size_t>(j)]
+                    : "#" + std::to_string(j)) +
+         "'";
+}
+
+}  // namespace
+
+Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, const Skeleton& target,
+                            const JointMap& targetMap, const RetargetOptions& options) {
+  Retargeter r;
+  const std::size_t ns = source.jointCount(), nt = target.jointCount();
+  // The fallback binding writes the target's rest pose.
+  r.target_.resize(nt);
+  for (std::size_t j = 0; j < nt && j < target.restPose.size(); ++j) {
+    r.target_[j].parent = target.parents[j];
+    r.target_[j].rest = target.restPose[j];
+  }
+  if (std::string e = source.validate(); !e.empty()) {
+    r.notes_.push_back("source skeleton invalid: " + e + "; the target keeps its rest pose");
+    return r;
+  }
+  if (std::string e = target.validate(); !e.empty()) {
+    r.notes_.push_back("target skeleton invalid: " + e + "; the target keeps its rest pose");
+    r.target_.clear();
+    return r;
+  }
+  if (!mapInRange(sourceMap, ns) || !mapInRange(targetMap, nt)) {
+    r.notes_.push_back("a joint map names joints outside its skeleton; the target keeps its rest pose");
+    return r;
+  }
+
+  const Transform srcRoot = decompose(source.rootTransform), tgtRoot = decompose(target.rootTransform);
+  r.sourceRoot_ = srcRoot.rotation;
+  r.targetRoot_ = tgtRoot.rotation;
+  r.sourceRootFlip_ = flipOf(signsOf(srcRoot.scale));
+  r.targetRootFlip_ = flipOf(signsOf(tgtRoot.scale));
+  r.sourceRootTransform_ = source.rootTransform;
+  const ModelRotations srcRest = modelRotations(source, r.sourceRoot_, signsOf(srcRoot.scale));
+  const ModelRotations tgtRest = modelRotations(target, r.targetRoot_, signsOf(tgtRoot.scale));
+  const std::vector<glm::mat4> srcModel = source.restModelMatrices(), tgtModel = target.restModelMatrices();
+
+  // Facing: the yaw taking the source's rest left-right axis onto the target's.
+  if (options.alignFacing) {
+    const glm::vec2 a = lateralAxis(sourceMap, srcModel), b = lateralAxis(targetMap, tgtModel);
+    if (glm::length(a) > 0.5f && glm::length(b) > 0.5f) {
+      // Rotation about +Y by angle t maps (x, z) to (x cos t + z sin t, -x sin t + z cos t).
+      const float angle = std::atan2(a.y * b.x - a.x * b.y, a.x * b.x + a.y * b.y);
+      r.align_ = glm::angleAxis(angle, glm::vec3(0.0f, 1.0f, 0.0f));
+      if (std::fabs(angle) > 1e-3f)
+        r.notes_.push_back("facing: the target's rest faces " + std::to_string(angle * 57.29578f) +
+                           " degrees about +Y from the source's; the motion is turned by that");
+    } else {
+      r.notes_.push_back("facing: no left-right axis (upper legs, arms) on both sides; rests taken to face alike");
+    }
+  }
+  const glm::quat alignInv = glm::conjugate(r.align_);
+
+  r.sourceParents_ = source.parents;
+  r.source_.resize(ns);
+  r.sourceRest_ = source.restPose;
+  for (std::size_t i = 0; i < ns; ++i) {
+    r.source_[i].parent = source.parents[i];
+    r.source_[i].flip = srcRest.flip[i];
+    r.source_[i].pre = glm::conjugate(srcRest.rotation[i]) * alignInv;
+  }
+  for (std::size_t j = 0; j < nt; ++j) {
+    r.target_[j].flip = tgtRest.flip[j];
+    r.target_[j].restModel = tgtRest.rotation[j];
+  }
+
+  auto drive = [&](int t, int a, int b, float w) {
+    TargetJoint& tj = r.target_[static_cast<std::size_t>(t)];
+    tj.srcA = a;
+    tj.srcB = w > 0.0f ? b : -1;
+    tj.weight = w > 0.0f ? w : 0.0f;
+    r.source_[static_cast<std::size_t>(a)].used = true;
+    if (tj.srcB >= 0) r.source_[static_cast<std::size_t>(b)].used = true;
+  };
+
+  // Single bones.
+  for (int b = 0; b < kBoneCount; ++b) {
+    const Bone bone = static_cast<Bone>(b);
+    const int s = sourceMap.joint(bone), t = targetMap.joint(bone);
+    if (s >= 0 && t >= 0) {
+      drive(t, s, -1, 0.0f);
+    } else if (s >= 0) {
+      r.notes_.push_back("unmapped in target: " + std::string(boneName(bone)) + " (source joint " +
+                         jointLabel(source, s) + " has no counterpart)");
+    } else if (t >= 0) {
+      r.notes_.push_back("unmapped in source: " + std::string(boneName(bone)) + " (target joint " +
+                         jointLabel(target, t) + " keeps its rest rotation)");
+    }
+  }
+
+  // Chains: by bone middles along the rest length.
+  auto chainEnd = [](const JointMap& m, Chain c) {
+    if (c == Chain::Spine) return !m.chain(Chain::Neck).empty() ? m.chain(Chain::Neck).front() : m.joint(Bone::Head);
+    if (c == Chain::Neck) return m.joint(Bone::Head);
+    return -1;
+  };
+  for (int c = 0; c < kChainCount; ++c) {
+    const Chain chain = static_cast<Chain>(c);
+    const std::vector<int>& sc = sourceMap.chain(chain);
+    const std::vector<int>& tc = targetMap.chain(chain);
+    if (sc.empty() || tc.empty()) {
+      if (!sc.empty())
+        r.notes_.push_back("unmapped in target: chain " + std::string(chainName(chain)) + " (" +
+                           std::to_string(sc.size()) + " source joints from " + jointLabel(source, sc.front()) + ")");
+      else if (!tc.empty())
+        r.notes_.push_back("unmapped in source: chain " + std::string(chainName(chain)) + " (" +
+                           std::to_string(tc.size()) + " target joints from " + jointLabel(target, tc.front()) +
+                           " keep their rest rotations)");
+      continue;
+    }
+    const std::vector<float> sm = boneMiddles(sc, chainEnd(sourceMap, chain), srcModel);
+    const std::vector<float> tm = boneMiddles(tc, chainEnd(targetMap, chain), tgtModel);
+    if (sc.size() != tc.size())
+      r.notes_.push_back("chain " + std::string(chainName(chain)) + ": " + std::to_string(sc.size()) +
+                         " source joints onto " + std::to_string(tc.size()) +
+                         " target joints, interpolated along the rest length");
+    for (std::size_t k = 0; k < tc.size(); ++k) {
+      const float f = tm[k];
+      if (f <= sm.front()) {
+        drive(tc[k], sc.front(), -1, 0.0f);
+      } else if (f >= sm.back()) {
+        drive(tc[k], sc.back(), -1, 0.0f);
+      } else {
+        std::size_t i = 0;
+        while (i + 2 < sm.size() && f >= sm[i + 1]) ++i;
+        const float span = sm[i + 1] - sm[i];
+        const float w = span > 0.0f ? (f - sm[i]) / span : 0.0f;
+        drive(tc[k], sc[i], sc[i + 1], std::clamp(w, 0.0f, 1.0f));
+      }
+    }
+  }
+
+  // Joints outside the maps, named so a user can see what is lost.
+  {
+    std::vector<std::uint8_t> inSource(ns, 0);
+    for (int j : sourceMap.bones)
+      if (j >= 0) inSource[static_cast<std::size_t>(j)] = 1;
+    for (const auto& c : sourceMap.chains)
+      for (int j : c) inSource[static_cast<std::size_t>(j)] = 1;
+    std::string list;
+    int count = 0;
+    for (std::size_t i = 0; i < ns; ++i)
+      if (!inSource[i]) {
+        list += (count++ ? ", " : "") + jointLabel(source, static_cast<int>(i));
+      }
+    if (count) r.notes_.push_back("source joints outside the joint map (their motion is not transferred): " + list);
+  }
+
+  // Hips translation.
+  r.sourceHips_ = sourceMap.joint(Bone::Hips);
+  r.targetHips_ = targetMap.joint(Bone::Hips);
+  r.translateHips_ = options.translateHips && r.sourceHips_ >= 0 && r.targetHips_ >= 0;
+  if (options.translateHips && !r.translateHips_)
+    r.notes_.push_back("hips unmapped on a side: the target's hips stay at their rest translation");
+  if (r.translateHips_) {
+    for (int j = r.sourceHips_; j >= 0; j = source.parents[static_cast<std::size_t>(j)]) r.hipsPath_.push_back(j);
+    std::reverse(r.hipsPath_.begin(), r.hipsPath_.end());
+    r.sourceHipsRef_ = options.sourceHipsReference && finite(*options.sourceHipsReference)
+                           ? *options.sourceHipsReference
+                           : positionOf(srcModel, r.sourceHips_);
+    r.targetHipsRest_ = positionOf(tgtModel, r.targetHips_);
+    const int p = target.parents[static_cast<std::size_t>(r.targetHips_)];
+    const glm::mat4 parentModel = p < 0 ? target.rootTransform : tgtModel[static_cast<std::size_t>(p)];
+    const float det = glm::determinant(glm::mat3(parentModel));
+    if (std::fabs(det) > 1e-12f && std::isfinite(det)) {
+      r.targetHipsParentInverse_ = glm::inverse(parentModel);
+    } else {
+      r.translateHips_ = false;
+      r.notes_.push_back("the target hips' parent space is degenerate (zero scale): hips stay at rest");
+    }
+    const float sl = legLength(sourceMap, srcModel), tl = legLength(targetMap, tgtModel);
+    const float sh = hipHeight(sourceMap, srcModel), th = hipHeight(targetMap, tgtModel);
+    r.hScale_ = sl > 1e-6f && tl > 1e-6f ? tl / sl : 1.0f;
+    r.vScale_ = sh > 1e-6f && th > 1e-6f ? th / sh : r.hScale_;
+    if (!(sl > 1e-6f && tl > 1e-6f)) r.notes_.push_back("no leg length on a side: horizontal hips scale 1");
+    if (!(sh > 1e-6f && th > 1e-6f)) r.notes_.push_back("no hip height on a side: vertical hips scale = horizontal");
+    if (options.horizontalScale && std::isfinite(*options.horizontalScale)) r.hScale_ = *options.horizontalScale;
+    if (options.verticalScale && std::isfinite(*options.verticalScale)) r.vScale_ = *options.verticalScale;
+    r.notes_.push_back("hips displacement scaled " + std::to_string(r.hScale_) + " horizontally, " +
+                       std::to_string(r.vScale_) + " vertically");
+  }
+  if (options.limbIk) r.notes_.push_back("limbIk is not implemented yet: ignored");
+
+  r.scratch_ = r.makeScratch();
+  r.valid_ = true;
+  return r;
+}
+
+RetargetScratch Retargeter::makeScratch() const {
+  RetargetScratch s;
+  s.source.resize(source_.size());
+  s.target.resize(target_.size());
+  return s;
+}
+
+std::vector<int> Retargeter::drivenJoints() const {
+  std::vector<int> out;
+  for (std::size_t j = 0; j < target_.size(); ++j)
+    if (target_[j].srcA >= 0) out.push_back(static_cast<int>(j));
+  return out;
+}
+
+void Retargeter::apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal) const noexcept {
+  applyImpl(sourceLocal, targetLocal, scratch_);
+}
+
+void Retargeter::apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
+                       RetargetScratch& scratch) const noexcept {
+  applyImpl(sourceLocal, targetLocal, scratch);
+}
+
+void Retargeter::applyImpl(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
+                           RetargetScratch& scratch) const noexcept {
+  const std::size_t ns = source_.size(), nt = target_.size();
+  const bool usable = valid_ && sourceLocal.size() >= ns && targetLocal.size() >= nt &&
+                      scratch.source.size() >= ns && scratch.target.size() >= nt;
+  if (!usable) {
+    for (std::size_t j = 0; j < nt && j < targetLocal.size(); ++j) targetLocal[j] = target_[j].rest;
+    return;
+  }
+  glm::quat* qs = scratch.source.data();
+  glm::quat* qt = scratch.target.data();
+  for (std::size_t i = 0; i < ns; ++i) {
+    const SourceJoint& sj = source_[i];
+    const glm::quat& parent = sj.parent < 0 ? sourceRoot_ : qs[sj.parent];
+    qs[i] = parent * flipped(safeNormalize(sourceLocal[i].rotation), sj.flip);
+  }
+  // D' = A * Qs * inverse(QsRest) * inverse(A) for source joint i.
+  auto delta = [&](int i) noexcept { return align_ * qs[i] * source_[static_cast<std::size_t>(i)].pre; };
+  for (std::size_t j = 0; j < nt; ++j) {
+    const TargetJoint& tj = target_[j];
+    const glm::quat& parent = tj.parent < 0 ? targetRoot_ : qt[tj.parent];
+    Transform& out = targetLocal[j];
+    out.translation = tj.rest.translation;
+    out.scale = tj.rest.scale;
+    if (tj.srcA < 0) {
+      out.rotation = tj.rest.rotation;
+      qt[j] = parent * flipped(tj.rest.rotation, tj.flip);
+      continue;
+    }
+    const glm::quat d = tj.srcB < 0 ? delta(tj.srcA) : slerpShortest(delta(tj.srcA), delta(tj.srcB), tj.weight);
+    qt[j] = safeNormalize(d * tj.restModel);
+    out.rotation = safeNormalize(flipped(glm::conjugate(parent) * qt[j], tj.flip));
+  }
+  if (!translateHips_) return;
+  glm::mat4 m = sourceRootTransform_;
+  for (int i : hipsPath_) m = affineMultiply(m, sourceLocal[static_cast<std::size_t>(i)].matrix());
+  const glm::vec3 disp = align_ * (glm::vec3(m[3]) - sourceHipsRef_);
+  const glm::vec3 p = targetHipsRest_ + glm::vec3(hScale_ * disp.x, vScale_ * disp.y, hScale_ * disp.z);
+  const glm::vec3 local = glm::vec3(targetHipsParentInverse_ * glm::vec4(p, 1.0f));
+  if (finite(local)) targetLocal[static_cast<std::size_t>(targetHips_)].translation = local;
+}
+
+Clip Retargeter::retargetClip(const Clip& sourceClip, float sampleRate) const {
+  Clip out;
+  out.name = sourceClip.name;
+  if (!valid_ || !sourceClip.validate(source_.size()).empty()) return out;
+  std::vector<float> times;
+  if (sampleRate > 0.0f && std::isfinite(sampleRate)) {
+    const auto frames = static_cast<std::size_t>(std::floor(sourceClip.duration * sampleRate + 1e-3f));
+    for (std::size_t k = 0; k <= frames; ++k) times.push_back(static_cast<float>(k) / sampleRate);
+    if (times.back() < sourceClip.duration - 1e-6f) times.push_back(sourceClip.duration);
+  } else {
+    for (const JointTrack& t : sourceClip.tracks) {
+      times.insert(times.end(), t.translation.times.begin(), t.translation.times.end());
+      times.insert(times.end(), t.rotation.times.begin(), t.rotation.times.end());
+      times.insert(times.end(), t.scale.times.begin(), t.scale.times.end());
+    }
+    std::sort(times.begin(), times.end());
+    // Keys a microsecond apart are one key (tracks exported with rounding differences).
+    times.erase(std::unique(times.begin(), times.end(), [](float a, float b) { return b - a < 1e-6f; }), times.end());
+    if (times.empty()) times.push_back(0.0f);
+  }
+
+  const std::vector<int> driven = drivenJoints();
+  std::vector<int> trackOf(target_.size(), -1);
+  for (int j : driven) trackOf[static_cast<std::size_t>(j)] = 0;
+  if (translateHips_) trackOf[static_cast<std::size_t>(targetHips_)] = 0;
+  for (std::size_t j = 0; j < target_.size(); ++j) {
+    if (trackOf[j] < 0) continue;
+    trackOf[j] = static_cast<int>(out.tracks.size());
+    JointTrack& t = out.tracks.emplace_back();
+    t.joint = static_cast<int>(j);
+    if (target_[j].srcA >= 0) {
+      t.rotation.times = times;
+      t.rotation.values.reserve(times.size());
+    }
+    if (translateHips_ && static_cast<int>(j) == targetHips_) {
+      t.translation.times = times;
+      t.translation.values.reserve(times.size());
+    }
+  }
+
+  std::vector<Transform> src(source_.size()), tgt(target_.size());
+  RetargetScratch scratch = makeScratch();
+  SamplingCursor cursor;
+  cursor.reset(sourceClip);
+  for (float time : times) {
+    sampleClip(sourceClip, time, sourceRest_, src, &cursor);
+    applyImpl(src, tgt, scratch);
+    for (JointTrack& t : out.tracks) {
+      const Transform& x = tgt[static_cast<std::size_t>(t.joint)];
+      if (!t.rotation.times.empty()) {
+        glm::quat q = x.rotation;
+        // Keep neighbouring keys in one hemisphere so that linear keys interpolate the short way.
+        if (!t.rotation.values.empty() && glm::dot(t.rotation.values.back(), q) < 0.0f) q = -q;
+        t.rotation.values.push_back(q);
+      }
+      if (!t.translation.times.empty()) t.translation.values.push_back(x.translation);
+    }
+  }
+  out.updateDuration();
+  return out;
+}
+
+}  // namespace marionette::retarget
