@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "marionette/animation/pose.hpp"
+#include "marionette/core/easing.hpp"
 #include "marionette/animation/sampling.hpp"
 
 namespace marionette::retarget {
@@ -116,6 +117,78 @@ glm::vec2 lateralAxis(const JointMap& m, const std::vector<glm::mat4>& model) {
   return glm::vec2(0.0f);
 }
 
+// The mapped child that gives a canonical bone its direction (-1: none).
+int boneChild(const JointMap& m, Bone b) {
+  switch (b) {
+    case Bone::LeftShoulder: return m.joint(Bone::LeftUpperArm);
+    case Bone::RightShoulder: return m.joint(Bone::RightUpperArm);
+    case Bone::LeftUpperArm: return m.joint(Bone::LeftLowerArm);
+    case Bone::RightUpperArm: return m.joint(Bone::RightLowerArm);
+    case Bone::LeftLowerArm: return m.joint(Bone::LeftHand);
+    case Bone::RightLowerArm: return m.joint(Bone::RightHand);
+    case Bone::LeftHand: return !m.chain(Chain::LeftMiddle).empty() ? m.chain(Chain::LeftMiddle).front() : -1;
+    case Bone::RightHand: return !m.chain(Chain::RightMiddle).empty() ? m.chain(Chain::RightMiddle).front() : -1;
+    case Bone::LeftUpperLeg: return m.joint(Bone::LeftLowerLeg);
+    case Bone::RightUpperLeg: return m.joint(Bone::RightLowerLeg);
+    case Bone::LeftLowerLeg: return m.joint(Bone::LeftFoot);
+    case Bone::RightLowerLeg: return m.joint(Bone::RightFoot);
+    case Bone::LeftFoot: return m.joint(Bone::LeftToes);
+    case Bone::RightFoot: return m.joint(Bone::RightToes);
+    default: return -1;
+  }
+}
+
+// Unit direction from a to b, or zero when shorter than `eps` (zero-length bones).
+glm::vec3 direction(const glm::vec3& a, const glm::vec3& b, float eps) {
+  const glm::vec3 d = b - a;
+  const float len = glm::length(d);
+  return len > eps && std::isfinite(len) ? d / len : glm::vec3(0.0f);
+}
+
+// The minimal rotation taking unit `from` onto unit `to`; identity when either is
+// zero. Antiparallel: a half turn about an axis perpendicular to `from`.
+glm::quat minimalArc(const glm::vec3& from, const glm::vec3& to) {
+  if (glm::dot(from, from) < 0.5f || glm::dot(to, to) < 0.5f) return glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  const float c = glm::dot(from, to);
+  if (c < -0.999999f) {
+    glm::vec3 axis = glm::cross(glm::vec3(1.0f, 0.0f, 0.0f), from);
+    if (glm::dot(axis, axis) < 1e-6f) axis = glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), from);
+    return glm::angleAxis(3.14159265f, glm::normalize(axis));
+  }
+  const glm::vec3 axis = glm::cross(from, to);
+  return safeNormalize(glm::quat(1.0f + c, axis.x, axis.y, axis.z));
+}
+
+// A chain as a polyline of rest positions (its joints, then `end` when there is
+// one) and the point at fraction f of its length.
+struct Polyline {
+  std::vector<glm::vec3> points;
+  std::vector<float> at;  // cumulative length fraction of each point
+  [[nodiscard]] glm::vec3 point(float f) const {
+    if (points.empty()) return glm::vec3(0.0f);
+    for (std::size_t k = 0; k + 1 < points.size(); ++k)
+      if (f <= at[k + 1]) {
+        const float span = at[k + 1] - at[k];
+        return glm::mix(points[k], points[k + 1], span > 0.0f ? (f - at[k]) / span : 0.0f);
+      }
+    return points.back();
+  }
+};
+Polyline chainPolyline(const std::vector<int>& chain, int end, const std::vector<glm::mat4>& model) {
+  Polyline p;
+  for (int j : chain) p.points.push_back(glm::vec3(model[static_cast<std::size_t>(j)][3]));
+  if (end >= 0) p.points.push_back(glm::vec3(model[static_cast<std::size_t>(end)][3]));
+  p.at.assign(p.points.size(), 0.0f);
+  float total = 0.0f;
+  for (std::size_t k = 1; k < p.points.size(); ++k) {
+    const float d = glm::length(p.points[k] - p.points[k - 1]);
+    total += std::isfinite(d) ? d : 0.0f;
+    p.at[k] = total;
+  }
+  for (float& a : p.at) a = total > 1e-6f ? a / total : 0.0f;
+  return p;
+}
+
 bool mapInRange(const JointMap& m, std::size_t n) {
   for (int j : m.bones)
     if (j >= static_cast<int>(n)) return false;
@@ -206,12 +279,32 @@ Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, c
     if (tj.srcB >= 0) r.source_[static_cast<std::size_t>(b)].used = true;
   };
 
+  // Rest shapes: C turns a target bone's rest direction onto the source's (turned
+  // by A). Directions shorter than a millionth of the skeleton are zero-length
+  // bones: no alignment for them.
+  auto extent = [](const std::vector<glm::mat4>& model) {
+    float e = 0.0f;
+    for (const glm::mat4& m : model) e = std::max(e, glm::length(glm::vec3(m[3]) - glm::vec3(model.front()[3])));
+    return std::isfinite(e) ? e : 0.0f;
+  };
+  const float srcEps = 1e-6f * extent(srcModel), tgtEps = 1e-6f * extent(tgtModel);
+  int aligned = 0;
+  auto alignRest = [&](int t, const glm::vec3& targetDir, const glm::vec3& sourceDir) {
+    const glm::quat c = minimalArc(targetDir, r.align_ * sourceDir);
+    r.target_[static_cast<std::size_t>(t)].restModel = safeNormalize(c * tgtRest.rotation[static_cast<std::size_t>(t)]);
+    if (std::fabs(c.w) < 0.99999f) ++aligned;
+  };
+
   // Single bones.
   for (int b = 0; b < kBoneCount; ++b) {
     const Bone bone = static_cast<Bone>(b);
     const int s = sourceMap.joint(bone), t = targetMap.joint(bone);
     if (s >= 0 && t >= 0) {
       drive(t, s, -1, 0.0f);
+      const int sc = boneChild(sourceMap, bone), tc = boneChild(targetMap, bone);
+      if (sc >= 0 && tc >= 0)
+        alignRest(t, direction(positionOf(tgtModel, t), positionOf(tgtModel, tc), tgtEps),
+                  direction(positionOf(srcModel, s), positionOf(srcModel, sc), srcEps));
     } else if (s >= 0) {
       r.notes_.push_back("unmapped in target: " + std::string(boneName(bone)) + " (source joint " +
                          jointLabel(source, s) + " has no counterpart)");
@@ -247,7 +340,12 @@ Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, c
       r.notes_.push_back("chain " + std::string(chainName(chain)) + ": " + std::to_string(sc.size()) +
                          " source joints onto " + std::to_string(tc.size()) +
                          " target joints, interpolated along the rest length");
+    const Polyline sp = chainPolyline(sc, chainEnd(sourceMap, chain), srcModel);
+    const Polyline tp = chainPolyline(tc, chainEnd(targetMap, chain), tgtModel);
     for (std::size_t k = 0; k < tc.size(); ++k) {
+      if (k + 1 < tp.points.size())
+        alignRest(tc[k], direction(tp.points[k], tp.points[k + 1], tgtEps),
+                  direction(sp.point(tp.at[k]), sp.point(tp.at[k + 1]), srcEps));
       const float f = tm[k];
       if (f <= sm.front()) {
         drive(tc[k], sc.front(), -1, 0.0f);
@@ -262,6 +360,10 @@ Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, c
       }
     }
   }
+
+  if (aligned > 0)
+    r.notes_.push_back("rest shapes differ: " + std::to_string(aligned) +
+                       " target bones turned to the source's rest directions (T-pose / A-pose, bone axes)");
 
   // Joints outside the maps, named so a user can see what is lost.
   {
@@ -312,17 +414,72 @@ Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, c
     r.notes_.push_back("hips displacement scaled " + std::to_string(r.hScale_) + " horizontally, " +
                        std::to_string(r.vScale_) + " vertically");
   }
-  if (options.limbIk) r.notes_.push_back("limbIk is not implemented yet: ignored");
+  r.bindIk(source, sourceMap, target, targetMap, srcModel, options.ik);
 
   r.scratch_ = r.makeScratch();
   r.valid_ = true;
   return r;
 }
 
+void Retargeter::bindIk(const Skeleton& source, const JointMap& sourceMap, const Skeleton& target,
+                        const JointMap& targetMap, const std::vector<glm::mat4>& sourceRestModel, const RetargetIk& ik) {
+  ik_ = ik;
+  if (!ik.feet && !ik.hands) return;
+  struct Limb {
+    Bone upper, lower, end;
+    const char* name;
+  };
+  static constexpr std::array<Limb, 4> kLimbs{{{Bone::LeftUpperLeg, Bone::LeftLowerLeg, Bone::LeftFoot, "left leg"},
+                                               {Bone::RightUpperLeg, Bone::RightLowerLeg, Bone::RightFoot, "right leg"},
+                                               {Bone::LeftUpperArm, Bone::LeftLowerArm, Bone::LeftHand, "left arm"},
+                                               {Bone::RightUpperArm, Bone::RightLowerArm, Bone::RightHand, "right arm"}}};
+  for (std::size_t k = 0; k < kLimbs.size(); ++k) {
+    const bool foot = k < 2;
+    if (foot ? !ik.feet : !ik.hands) continue;
+    const Limb& l = kLimbs[k];
+    const RigJoints::LimbJoints joints{targetMap.joint(l.upper), targetMap.joint(l.lower), targetMap.joint(l.end)};
+    const int sourceEnd = sourceMap.joint(l.end);
+    if (joints.upper < 0 || joints.lower < 0 || joints.end < 0 || sourceEnd < 0) {
+      notes_.push_back(std::string("ik: the ") + l.name + " is not mapped on both sides: no IK on it");
+      continue;
+    }
+    const LimbIk limb = makeLimbIk(target, joints);
+    if (limb.upper < 0) {
+      notes_.push_back(std::string("ik: the target's ") + l.name +
+                       " is unusable for IK (zero-length bone, or joints not chained): no IK on it");
+      continue;
+    }
+    effectors_[k] = IkEffector{limb, sourceEnd, foot};
+    anyIk_ = true;
+  }
+  if (!anyIk_) return;
+  sourceSkeleton_ = source;
+  targetSkeleton_ = target;
+  sourceLegLength_ = legLength(sourceMap, sourceRestModel);
+  if (!(sourceLegLength_ > 0.0f)) {
+    // No legs: contact thresholds from the skeleton's size instead.
+    float e = 0.0f;
+    for (const glm::mat4& m : sourceRestModel)
+      e = std::max(e, glm::length(glm::vec3(m[3]) - glm::vec3(sourceRestModel.front()[3])));
+    sourceLegLength_ = std::isfinite(e) && e > 0.0f ? 0.5f * e : 1.0f;
+    notes_.push_back("ik: the source has no leg length; contact thresholds use half its size");
+  }
+  // The ground under the source's feet: their rest height, moved with the hips
+  // reference (BVH rests keep the hips at the origin while the motion stands).
+  const float lift = sourceHips_ >= 0 ? sourceHipsRef_.y - positionOf(sourceRestModel, sourceHips_).y : 0.0f;
+  for (std::size_t k = 0; k < 2; ++k)
+    if (effectors_[k].sourceEnd >= 0)
+      sourceFootRestY_[k] = positionOf(sourceRestModel, effectors_[k].sourceEnd).y + lift;
+}
+
 RetargetScratch Retargeter::makeScratch() const {
   RetargetScratch s;
   s.source.resize(source_.size());
   s.target.resize(target_.size());
+  if (anyIk_) {
+    s.sourceModel.resize(source_.size());
+    s.targetModel.resize(target_.size());
+  }
   return s;
 }
 
@@ -333,20 +490,21 @@ std::vector<int> Retargeter::drivenJoints() const {
   return out;
 }
 
-void Retargeter::apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal) const noexcept {
-  applyImpl(sourceLocal, targetLocal, scratch_);
+void Retargeter::apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, float dt) const noexcept {
+  applyImpl(sourceLocal, targetLocal, scratch_, dt);
 }
 
 void Retargeter::apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
-                       RetargetScratch& scratch) const noexcept {
-  applyImpl(sourceLocal, targetLocal, scratch);
+                       RetargetScratch& scratch, float dt) const noexcept {
+  applyImpl(sourceLocal, targetLocal, scratch, dt);
 }
 
 void Retargeter::applyImpl(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
-                           RetargetScratch& scratch) const noexcept {
+                           RetargetScratch& scratch, float dt) const noexcept {
   const std::size_t ns = source_.size(), nt = target_.size();
   const bool usable = valid_ && sourceLocal.size() >= ns && targetLocal.size() >= nt &&
-                      scratch.source.size() >= ns && scratch.target.size() >= nt;
+                      scratch.source.size() >= ns && scratch.target.size() >= nt &&
+                      (!anyIk_ || (scratch.sourceModel.size() >= ns && scratch.targetModel.size() >= nt));
   if (!usable) {
     for (std::size_t j = 0; j < nt && j < targetLocal.size(); ++j) targetLocal[j] = target_[j].rest;
     return;
@@ -375,13 +533,86 @@ void Retargeter::applyImpl(std::span<const Transform> sourceLocal, std::span<Tra
     qt[j] = safeNormalize(d * tj.restModel);
     out.rotation = safeNormalize(flipped(glm::conjugate(parent) * qt[j], tj.flip));
   }
-  if (!translateHips_) return;
-  glm::mat4 m = sourceRootTransform_;
-  for (int i : hipsPath_) m = affineMultiply(m, sourceLocal[static_cast<std::size_t>(i)].matrix());
-  const glm::vec3 disp = align_ * (glm::vec3(m[3]) - sourceHipsRef_);
-  const glm::vec3 p = targetHipsRest_ + glm::vec3(hScale_ * disp.x, vScale_ * disp.y, hScale_ * disp.z);
-  const glm::vec3 local = glm::vec3(targetHipsParentInverse_ * glm::vec4(p, 1.0f));
-  if (finite(local)) targetLocal[static_cast<std::size_t>(targetHips_)].translation = local;
+  if (translateHips_) {
+    glm::mat4 m = sourceRootTransform_;
+    for (int i : hipsPath_) m = affineMultiply(m, sourceLocal[static_cast<std::size_t>(i)].matrix());
+    const glm::vec3 disp = align_ * (glm::vec3(m[3]) - sourceHipsRef_);
+    const glm::vec3 p = targetHipsRest_ + glm::vec3(hScale_ * disp.x, vScale_ * disp.y, hScale_ * disp.z);
+    const glm::vec3 local = glm::vec3(targetHipsParentInverse_ * glm::vec4(p, 1.0f));
+    if (finite(local)) targetLocal[static_cast<std::size_t>(targetHips_)].translation = local;
+  }
+  if (anyIk_) applyIk(sourceLocal, targetLocal, scratch, dt);
+}
+
+void Retargeter::applyIk(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
+                         RetargetScratch& scratch, float dt) const noexcept {
+  const std::size_t ns = source_.size(), nt = target_.size();
+  localToModel(sourceSkeleton_, sourceLocal.first(ns), std::span<glm::mat4>(scratch.sourceModel).first(ns));
+  localToModel(targetSkeleton_, targetLocal.first(nt), std::span<glm::mat4>(scratch.targetModel).first(nt));
+  const bool timed = dt > 0.0f && std::isfinite(dt);
+  for (std::size_t k = 0; k < effectors_.size(); ++k) {
+    const IkEffector& e = effectors_[k];
+    if (e.limb.upper < 0) continue;
+    RetargetScratch::Effector& st = scratch.effectors[k];
+    if (!timed) st = {};
+    const glm::vec3 ps = glm::vec3(scratch.sourceModel[static_cast<std::size_t>(e.sourceEnd)][3]);
+    if (!finite(ps)) {
+      st = {};
+      continue;
+    }
+    const float speed = timed && st.havePrevious
+                            ? glm::length(glm::vec2(ps.x - st.previousSource.x, ps.z - st.previousSource.z)) / dt
+                            : 0.0f;
+    const bool contact =
+        e.foot ? ps.y - sourceFootRestY_[k] < ik_.contactHeight * sourceLegLength_ &&
+                     speed < ik_.contactSpeed * sourceLegLength_
+               : timed && st.havePrevious && speed < ik_.handContactSpeed * sourceLegLength_;
+    st.previousSource = ps;
+    st.havePrevious = true;
+
+    const glm::mat4& lower = scratch.targetModel[static_cast<std::size_t>(e.limb.lower)];
+    const glm::vec3 fk = e.limb.endIsDescendant ? glm::vec3(scratch.targetModel[static_cast<std::size_t>(e.limb.end)][3])
+                                                : glm::vec3(lower * glm::vec4(e.limb.endOffsetInLower, 1.0f));
+    // Where the effector is drawn now: FK plus what is left of a released hold.
+    if (timed && !st.inContact) st.sinceRelease += dt;
+    const float ease = ik_.blendTime > 0.0f ? 1.0f - static_cast<float>(smoothstep(st.sinceRelease / ik_.blendTime)) : 0.0f;
+    glm::vec3 goal = fk + glm::vec3(st.offset.x, 0.0f, st.offset.y) * ease;
+    if (contact && !st.inContact) st.held = goal;  // touch-down: hold it here
+    if (contact) goal = glm::vec3(st.held.x, fk.y, st.held.z);
+    if (!contact && st.inContact) {  // lift-off: ease the hold out
+      st.offset = glm::vec2(st.held.x - fk.x, st.held.z - fk.z);
+      st.sinceRelease = 0.0f;
+      goal = glm::vec3(st.held.x, fk.y, st.held.z);
+    }
+    st.inContact = contact;
+    if (glm::dot(goal - fk, goal - fk) < 1e-12f) continue;
+
+    // The knee (elbow) bends where it bends now: pole pushed out from the hip-ankle line.
+    const glm::vec3 upperPos = glm::vec3(scratch.targetModel[static_cast<std::size_t>(e.limb.upper)][3]);
+    const glm::vec3 knee = glm::vec3(lower[3]);
+    const glm::vec3 pole = knee + (knee - 0.5f * (upperPos + fk));
+    solveTwoBoneIk(targetSkeleton_, targetLocal, e.limb, goal, pole, 1.0f);
+    // Keep the end's model rotation (the foot flat as in the motion): recompute
+    // model rotations from the upper joint down to the end's parent.
+    if (!e.limb.endIsDescendant) continue;
+    const int endParent = targetSkeleton_.parents[static_cast<std::size_t>(e.limb.end)];
+    std::array<int, 16> path{};
+    std::size_t depth = 0;
+    for (int j = endParent; j >= 0 && depth < path.size(); j = target_[static_cast<std::size_t>(j)].parent) {
+      path[depth++] = j;
+      if (j == e.limb.upper) break;
+    }
+    if (depth == 0 || path[depth - 1] != e.limb.upper) continue;  // deeper than 16 joints: leave the end as IK left it
+    glm::quat* qt = scratch.target.data();
+    for (std::size_t d = depth; d-- > 0;) {
+      const TargetJoint& tj = target_[static_cast<std::size_t>(path[d])];
+      const glm::quat& parent = tj.parent < 0 ? targetRoot_ : qt[tj.parent];
+      qt[path[d]] = safeNormalize(parent * flipped(targetLocal[static_cast<std::size_t>(path[d])].rotation, tj.flip));
+    }
+    const TargetJoint& ej = target_[static_cast<std::size_t>(e.limb.end)];
+    targetLocal[static_cast<std::size_t>(e.limb.end)].rotation =
+        safeNormalize(flipped(glm::conjugate(qt[endParent]) * qt[e.limb.end], ej.flip));
+  }
 }
 
 Clip Retargeter::retargetClip(const Clip& sourceClip, float sampleRate) const {
@@ -428,9 +659,11 @@ Clip Retargeter::retargetClip(const Clip& sourceClip, float sampleRate) const {
   RetargetScratch scratch = makeScratch();
   SamplingCursor cursor;
   cursor.reset(sourceClip);
+  float previousTime = -1.0f;
   for (float time : times) {
     sampleClip(sourceClip, time, sourceRest_, src, &cursor);
-    applyImpl(src, tgt, scratch);
+    applyImpl(src, tgt, scratch, previousTime >= 0.0f ? time - previousTime : 0.0f);
+    previousTime = time;
     for (JointTrack& t : out.tracks) {
       const Transform& x = tgt[static_cast<std::size_t>(t.joint)];
       if (!t.rotation.times.empty()) {

@@ -6,11 +6,15 @@
 // and mirrored (negative-scale) joints included):
 //  - Rest-pose compensation in model space. For a canonical bone mapped on both
 //    sides, the source's model-space change from its rest, D = Qs * inverse(QsRest),
-//    is applied to the target's rest: Qt = A * D * inverse(A) * QtRest. So joint axes,
-//    bone roll and rest shape (T-pose, A-pose, arms down) may differ: only the
-//    change from rest is transferred. A is the yaw (about model +Y) that turns the
-//    source's rest facing into the target's (from the hips' left-right axis), so a
-//    character facing -Z plays a +Z motion in its own frame.
+//    is applied to the target's rest, after C, the minimal rotation that turns the
+//    target's rest bone direction (to its mapped child: upper arm to lower arm,
+//    ...) onto the source's: Qt = A * D * inverse(A) * C * QtRest. So joint axes
+//    and bone roll may differ (only the change from rest is transferred), and so
+//    may rest shapes (T-pose, A-pose, arms down): a target bone points where the
+//    source's points. A is the yaw (about model +Y) that turns the source's rest
+//    facing into the target's (from the hips' left-right axis), so a character
+//    facing -Z plays a +Z motion in its own frame. Bones without a mapped child
+//    on both sides (hips, head, hands without fingers) take C = identity.
 //  - Chains (spine, neck, fingers) with different joint counts: each joint of a
 //    chain stands for the bone from it to the next joint (the last one to the
 //    joint after the chain: the neck, the head). A target bone takes the source's
@@ -26,6 +30,7 @@
 //    vertical part by the hip-height ratio (hip height above the feet at rest),
 //    added to the target's rest hips.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -33,10 +38,29 @@
 #include <vector>
 
 #include "marionette/animation/clip.hpp"
+#include "marionette/behavior/two_bone_ik.hpp"
 #include "marionette/retarget/joint_map.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 
 namespace marionette::retarget {
+
+// Contact preservation: proportions that differ make a planted foot slide,
+// since the target's foot follows its own (longer or shorter) leg. When the
+// source's foot (or hand) is in contact, the target's is held where it was when
+// the contact began (horizontally; its height follows the motion), by two-bone
+// IK on the leg (arm); the foot keeps the source's orientation. On release the
+// held offset eases out over blendTime.
+// Contact: the source foot is at most contactHeight leg lengths above its rest
+// height and moves at most contactSpeed leg lengths per second horizontally; a
+// hand: it moves at most handContactSpeed leg lengths per second (any height).
+struct RetargetIk {
+  bool feet = false;
+  bool hands = false;
+  float contactHeight = 0.1f;
+  float contactSpeed = 0.5f;
+  float handContactSpeed = 0.1f;
+  float blendTime = 0.15f;  // s
+};
 
 struct RetargetOptions {
   bool translateHips = true;   // false: the target's hips stay at their rest translation
@@ -49,16 +73,28 @@ struct RetargetOptions {
   // Unset: the source's rest hips. BVH files often keep the rest hips at the
   // origin while the motion stands at hip height; pass a standing frame's hips then.
   std::optional<glm::vec3> sourceHipsReference;
-  // Later step (not implemented yet): two-bone IK on feet and hands after the
-  // rotation transfer, pinning feet in contact (animation/foot_contacts.hpp). When
-  // true, bind() adds a note saying it is ignored.
-  bool limbIk = false;
+  // Limb IK with contact preservation (see RetargetIk); off by default.
+  RetargetIk ik;
 };
 
 // Per-frame working memory of apply(): one model rotation per source and target joint.
+// Also the contact state of one motion stream (a character): keep one scratch per
+// character when IK is on, and reset() it when the motion jumps.
 struct RetargetScratch {
   std::vector<glm::quat> source;
   std::vector<glm::quat> target;
+  std::vector<glm::mat4> sourceModel;  // IK only
+  std::vector<glm::mat4> targetModel;  // IK only
+  struct Effector {
+    bool inContact = false;
+    bool havePrevious = false;
+    glm::vec3 previousSource{0.0f};  // source effector, model space, last frame
+    glm::vec3 held{0.0f};            // target effector at contact start
+    glm::vec2 offset{0.0f};          // horizontal correction at release, eased out
+    float sinceRelease = 1e30f;      // s
+  };
+  std::array<Effector, 4> effectors;  // left foot, right foot, left hand, right hand
+  void reset() noexcept { effectors = {}; }
 };
 
 class Retargeter {
@@ -75,10 +111,12 @@ class Retargeter {
   // exceptions, never NaN (non-finite inputs fall back to rest). Spans shorter
   // than the skeletons' joint counts write the target's rest pose (when it fits).
   // This overload uses the binding's own scratch: one thread at a time per binding.
-  void apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal) const noexcept;
+  // `dt` is the time since the previous frame of this stream (contact speeds);
+  // dt <= 0 (a jump, or the first frame) releases all contacts at once.
+  void apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, float dt = 0.0f) const noexcept;
   // Same with caller scratch (sized by makeScratch()): a shared binding on many threads.
-  void apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
-             RetargetScratch& scratch) const noexcept;
+  void apply(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, RetargetScratch& scratch,
+             float dt = 0.0f) const noexcept;
   [[nodiscard]] RetargetScratch makeScratch() const;
 
   // Offline: the whole clip, sampled at its own key times (sampleRate <= 0: the union
@@ -116,8 +154,20 @@ class Retargeter {
     bool used = false;                      // some target joint reads its D
   };
 
-  void applyImpl(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
-                 RetargetScratch& scratch) const noexcept;
+  void applyImpl(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, RetargetScratch& scratch,
+                 float dt) const noexcept;
+  void bindIk(const Skeleton& source, const JointMap& sourceMap, const Skeleton& target, const JointMap& targetMap,
+              const std::vector<glm::mat4>& sourceRestModel, const RetargetIk& ik);
+  void applyIk(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, RetargetScratch& scratch,
+               float dt) const noexcept;
+
+  // One IK effector: a two-bone limb of the target, the source joint whose
+  // contacts it copies, and the target end joint whose model rotation is restored.
+  struct IkEffector {
+    LimbIk limb;
+    int sourceEnd = -1;
+    bool foot = false;
+  };
 
   std::vector<int> sourceParents_;
   std::vector<SourceJoint> source_;
@@ -135,6 +185,13 @@ class Retargeter {
   glm::mat4 targetHipsParentInverse_{1.0f};  // model -> the hips' parent space (its ancestors stay at rest)
   std::vector<std::string> notes_;
   bool valid_ = false;
+  // IK (empty limbs when off): copies of the skeletons for the solver and FK.
+  RetargetIk ik_;
+  std::array<IkEffector, 4> effectors_;
+  bool anyIk_ = false;
+  Skeleton sourceSkeleton_, targetSkeleton_;
+  float sourceLegLength_ = 0.0f;
+  std::array<float, 2> sourceFootRestY_{};  // where a source foot stands on the ground, model +Y
   mutable RetargetScratch scratch_;
 };
 
