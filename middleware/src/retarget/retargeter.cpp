@@ -414,7 +414,41 @@ Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, c
     r.notes_.push_back("hips displacement scaled " + std::to_string(r.hScale_) + " horizontally, " +
                        std::to_string(r.vScale_) + " vertically");
   }
+  r.targetSkeleton_ = target;
+  for (auto [lower, end] : {std::pair{Bone::LeftLowerLeg, Bone::LeftFoot}, std::pair{Bone::RightLowerLeg, Bone::RightFoot},
+                            std::pair{Bone::LeftLowerArm, Bone::LeftHand}, std::pair{Bone::RightLowerArm, Bone::RightHand}}) {
+    const int l = targetMap.joint(lower), e = targetMap.joint(end);
+    if (l < 0 || e < 0 || r.target_[static_cast<std::size_t>(e)].srcA < 0) continue;
+    bool below = false;
+    for (int j = target.parents[static_cast<std::size_t>(e)]; j >= 0 && !below; j = target.parents[static_cast<std::size_t>(j)])
+      below = j == l;
+    if (below) continue;
+    const glm::mat4& lm = tgtModel[static_cast<std::size_t>(l)];
+    if (!(std::fabs(glm::determinant(glm::mat3(lm))) > 1e-30f)) continue;
+    r.detached_.push_back({e, l, glm::vec3(glm::inverse(lm) * tgtModel[static_cast<std::size_t>(e)][3])});
+    r.notes_.push_back("target joint " + jointLabel(target, e) + " (" + std::string(boneName(end)) +
+                       ") does not hang from " + jointLabel(target, l) + ": placed at its end every frame");
+  }
   r.bindIk(source, sourceMap, target, targetMap, srcModel, options.ik);
+
+  // Per-frame shortcuts: constant products folded, and only the model rotations
+  // that are read get computed.
+  r.alignIdentity_ = std::fabs(r.align_.w) >= 1.0f - 1e-7f;
+  for (std::size_t i = ns; i-- > 0;) {
+    SourceJoint& sj = r.source_[i];
+    sj.needed = sj.needed || sj.used;
+    if (sj.needed && sj.parent >= 0) r.source_[static_cast<std::size_t>(sj.parent)].needed = true;
+  }
+  for (std::size_t j = 0; j < nt; ++j) {
+    TargetJoint& tj = r.target_[j];
+    tj.restFlipped = flipped(tj.rest.rotation, tj.flip);
+    if (tj.srcA >= 0 && tj.srcB < 0) tj.direct = safeNormalize(r.source_[static_cast<std::size_t>(tj.srcA)].pre * tj.restModel);
+    tj.needsModel = r.anyIk_;
+  }
+  for (std::size_t j = nt; j-- > 0;) {
+    const TargetJoint& tj = r.target_[j];
+    if ((tj.srcA >= 0 || tj.needsModel) && tj.parent >= 0) r.target_[static_cast<std::size_t>(tj.parent)].needsModel = true;
+  }
 
   r.scratch_ = r.makeScratch();
   r.valid_ = true;
@@ -454,7 +488,6 @@ void Retargeter::bindIk(const Skeleton& source, const JointMap& sourceMap, const
   }
   if (!anyIk_) return;
   sourceSkeleton_ = source;
-  targetSkeleton_ = target;
   sourceLegLength_ = legLength(sourceMap, sourceRestModel);
   if (!(sourceLegLength_ > 0.0f)) {
     // No legs: contact thresholds from the skeleton's size instead.
@@ -513,6 +546,7 @@ void Retargeter::applyImpl(std::span<const Transform> sourceLocal, std::span<Tra
   glm::quat* qt = scratch.target.data();
   for (std::size_t i = 0; i < ns; ++i) {
     const SourceJoint& sj = source_[i];
+    if (!sj.needed) continue;
     const glm::quat& parent = sj.parent < 0 ? sourceRoot_ : qs[sj.parent];
     qs[i] = parent * flipped(safeNormalize(sourceLocal[i].rotation), sj.flip);
   }
@@ -520,17 +554,20 @@ void Retargeter::applyImpl(std::span<const Transform> sourceLocal, std::span<Tra
   auto delta = [&](int i) noexcept { return align_ * qs[i] * source_[static_cast<std::size_t>(i)].pre; };
   for (std::size_t j = 0; j < nt; ++j) {
     const TargetJoint& tj = target_[j];
-    const glm::quat& parent = tj.parent < 0 ? targetRoot_ : qt[tj.parent];
     Transform& out = targetLocal[j];
-    out.translation = tj.rest.translation;
-    out.scale = tj.rest.scale;
     if (tj.srcA < 0) {
-      out.rotation = tj.rest.rotation;
-      qt[j] = parent * flipped(tj.rest.rotation, tj.flip);
+      out = tj.rest;
+      if (tj.needsModel) qt[j] = (tj.parent < 0 ? targetRoot_ : qt[tj.parent]) * tj.restFlipped;
       continue;
     }
-    const glm::quat d = tj.srcB < 0 ? delta(tj.srcA) : slerpShortest(delta(tj.srcA), delta(tj.srcB), tj.weight);
-    qt[j] = safeNormalize(d * tj.restModel);
+    const glm::quat& parent = tj.parent < 0 ? targetRoot_ : qt[tj.parent];
+    out.translation = tj.rest.translation;
+    out.scale = tj.rest.scale;
+    if (tj.srcB < 0) {
+      qt[j] = (alignIdentity_ ? qs[tj.srcA] : align_ * qs[tj.srcA]) * tj.direct;
+    } else {
+      qt[j] = slerpShortest(delta(tj.srcA), delta(tj.srcB), tj.weight) * tj.restModel;
+    }
     out.rotation = safeNormalize(flipped(glm::conjugate(parent) * qt[j], tj.flip));
   }
   if (translateHips_) {
@@ -541,7 +578,21 @@ void Retargeter::applyImpl(std::span<const Transform> sourceLocal, std::span<Tra
     const glm::vec3 local = glm::vec3(targetHipsParentInverse_ * glm::vec4(p, 1.0f));
     if (finite(local)) targetLocal[static_cast<std::size_t>(targetHips_)].translation = local;
   }
-  if (anyIk_) applyIk(sourceLocal, targetLocal, scratch, dt);
+  placeDetached(targetLocal);
+  if (anyIk_) {
+    applyIk(sourceLocal, targetLocal, scratch, dt);
+    placeDetached(targetLocal);
+  }
+}
+
+void Retargeter::placeDetached(std::span<Transform> targetLocal) const noexcept {
+  for (const DetachedEnd& d : detached_) {
+    const glm::vec3 p = glm::vec3(modelMatrixOf(targetSkeleton_, targetLocal, d.lower) * glm::vec4(d.offsetInLower, 1.0f));
+    const int parent = target_[static_cast<std::size_t>(d.end)].parent;
+    const glm::mat4 pm = parent < 0 ? targetSkeleton_.rootTransform : modelMatrixOf(targetSkeleton_, targetLocal, parent);
+    const glm::vec3 local = glm::vec3(glm::inverse(pm) * glm::vec4(p, 1.0f));
+    if (finite(local)) targetLocal[static_cast<std::size_t>(d.end)].translation = local;
+  }
 }
 
 void Retargeter::applyIk(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal,
@@ -639,7 +690,11 @@ Clip Retargeter::retargetClip(const Clip& sourceClip, float sampleRate) const {
   const std::vector<int> driven = drivenJoints();
   std::vector<int> trackOf(target_.size(), -1);
   for (int j : driven) trackOf[static_cast<std::size_t>(j)] = 0;
-  if (translateHips_) trackOf[static_cast<std::size_t>(targetHips_)] = 0;
+  std::vector<std::uint8_t> moves(target_.size(), 0);  // joints with a translation track
+  if (translateHips_) moves[static_cast<std::size_t>(targetHips_)] = 1;
+  for (const DetachedEnd& d : detached_) moves[static_cast<std::size_t>(d.end)] = 1;
+  for (std::size_t j = 0; j < target_.size(); ++j)
+    if (moves[j]) trackOf[j] = 0;
   for (std::size_t j = 0; j < target_.size(); ++j) {
     if (trackOf[j] < 0) continue;
     trackOf[j] = static_cast<int>(out.tracks.size());
@@ -649,7 +704,7 @@ Clip Retargeter::retargetClip(const Clip& sourceClip, float sampleRate) const {
       t.rotation.times = times;
       t.rotation.values.reserve(times.size());
     }
-    if (translateHips_ && static_cast<int>(j) == targetHips_) {
+    if (moves[j]) {
       t.translation.times = times;
       t.translation.values.reserve(times.size());
     }

@@ -144,7 +144,10 @@ class Retargeter {
     int srcA = -1, srcB = -1;  // source joints whose D drives this one; srcA < 0: rest
     float weight = 0.0f;       // slerp weight from srcA to srcB
     glm::vec3 flip{1.0f};      // signs of the vector part: model rotation <-> local rotation under mirrors
-    glm::quat restModel{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::quat restModel{1.0f, 0.0f, 0.0f, 0.0f};  // C * QtRest
+    glm::quat direct{1.0f, 0.0f, 0.0f, 0.0f};     // one source joint: pre(srcA) * restModel, so Qt = A * Qs * direct
+    glm::quat restFlipped{1.0f, 0.0f, 0.0f, 0.0f};
+    bool needsModel = true;  // its model rotation is read (a driven joint below it, or IK)
     Transform rest;
   };
   struct SourceJoint {
@@ -152,6 +155,7 @@ class Retargeter {
     glm::vec3 flip{1.0f};
     glm::quat pre{1.0f, 0.0f, 0.0f, 0.0f};  // inverse(QsRest) * inverse(A), for mapped joints
     bool used = false;                      // some target joint reads its D
+    bool needed = false;                    // used, or an ancestor of a used joint
   };
 
   void applyImpl(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, RetargetScratch& scratch,
@@ -178,6 +182,7 @@ class Retargeter {
   glm::vec3 sourceRootFlip_{1.0f}, targetRootFlip_{1.0f};
   glm::mat4 sourceRootTransform_{1.0f};
   glm::quat align_{1.0f, 0.0f, 0.0f, 0.0f};
+  bool alignIdentity_ = true;
   float hScale_ = 1.0f, vScale_ = 1.0f;
   bool translateHips_ = false;
   int sourceHips_ = -1, targetHips_ = -1;
@@ -185,6 +190,14 @@ class Retargeter {
   glm::mat4 targetHipsParentInverse_{1.0f};  // model -> the hips' parent space (its ancestors stay at rest)
   std::vector<std::string> notes_;
   bool valid_ = false;
+  // Target feet or hands that do not hang from their limb (RobotExpressive's feet
+  // are IK targets under the root): placed every frame at the limb's end.
+  struct DetachedEnd {
+    int end = -1, lower = -1;
+    glm::vec3 offsetInLower{0.0f};
+  };
+  std::vector<DetachedEnd> detached_;
+  void placeDetached(std::span<Transform> targetLocal) const noexcept;
   // IK (empty limbs when off): copies of the skeletons for the solver and FK.
   RetargetIk ik_;
   std::array<IkEffector, 4> effectors_;
