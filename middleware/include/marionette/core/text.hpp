@@ -4,6 +4,7 @@
 #include <cctype>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace marionette {
 
@@ -31,6 +32,14 @@ inline void appendXmlEscaped(std::string& out, std::string_view text) {
       default: out += c;
     }
   }
+}
+
+// "'a', 'b' and 3 more": names for a diagnostic, at most `shown` of them spelled out.
+[[nodiscard]] inline std::string quotedNameList(const std::vector<std::string>& names, std::size_t shown = 8) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", '" : "'") + names[i] + "'";
+  if (names.size() > shown) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
 }
 
 }  // namespace marionette
