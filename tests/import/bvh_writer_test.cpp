@@ -50,9 +50,7 @@ double maxDifference(const glm::dmat3& a, const glm::dmat3& b) {
   return worst;
 }
 
-glm::quat euler(double zDeg, double xDeg, double yDeg) {
-  return glm::quat(fromBvhEuler({zDeg, xDeg, yDeg}));
-}
+glm::quat euler(double zDeg, double xDeg, double yDeg) { return glm::quat(fromBvhEuler({zDeg, xDeg, yDeg})); }
 
 // The values of each MOTION line of a BVH text.
 std::vector<std::vector<double>> motionRows(const std::string& text) {
@@ -68,6 +66,21 @@ std::vector<std::vector<double>> motionRows(const std::string& text) {
     if (!row.empty()) rows.push_back(std::move(row));
   }
   return rows;
+}
+
+// Indices of the rotation channels in a MOTION row, from the CHANNELS lines.
+std::vector<std::size_t> rotationColumns(const std::string& text) {
+  std::vector<std::size_t> columns;
+  std::istringstream in(text.substr(0, text.find("MOTION")));
+  std::size_t column = 0;
+  for (std::string word; in >> word;) {
+    if (word != "CHANNELS") continue;
+    int count = 0;
+    in >> count;
+    for (int c = 0; c < count && in >> word; ++c, ++column)
+      if (word.find("rotation") != std::string::npos) columns.push_back(column);
+  }
+  return columns;
 }
 
 // A chain of `count` joints, each 0.1 m above its parent.
@@ -229,8 +242,7 @@ TEST(BvhWriter, AnimatedTranslationGetsPositionChannels) {
   ASSERT_TRUE(d.ok()) << d.format();
   EXPECT_NE(text.find("JOINT j1\n  {\n    OFFSET 0.000000 0.100000 0.000000\n    CHANNELS 3 "), std::string::npos)
       << text.substr(0, 600);
-  EXPECT_NE(text.find("JOINT j2\n    {\n      OFFSET 0.000000 0.100000 0.000000\n      CHANNELS 6 "),
-            std::string::npos)
+  EXPECT_NE(text.find("JOINT j2\n    {\n      OFFSET 0.000000 0.100000 0.000000\n      CHANNELS 6 "), std::string::npos)
       << text.substr(0, 600);
   const auto rows = motionRows(text);
   ASSERT_FALSE(rows.empty());
@@ -270,6 +282,18 @@ TEST(BvhWriter, SeveralRootsGetASyntheticRoot) {
   EXPECT_NE(text.find("  JOINT a\n"), std::string::npos);
   EXPECT_NE(text.find("    JOINT MarionetteRoot\n"), std::string::npos);
   EXPECT_TRUE(mentions(d, Severity::Warning, "synthetic root 'MarionetteRoot_2'")) << d.format();
+  // Leaves without a bone length: a small End Site (1 cm when no bone has a length).
+  EXPECT_NE(text.find("  End Site\n      {\n        OFFSET 0.000000 0.010000 0.000000\n"), std::string::npos) << text;
+}
+
+TEST(BvhWriter, ZeroLengthLeafGetsATenthOfTheMeanBoneAsEndSite) {
+  Skeleton s = chain(3);
+  s.restPose[1].translation = glm::vec3(0.3f, 0.0f, 0.0f);
+  s.restPose[2].translation = glm::vec3(0.0f);  // mean bone length 0.3 (zero-length bones do not count)
+  Diagnostics d;
+  const std::string text = bvhText(s, {}, {}, d);
+  ASSERT_TRUE(d.ok()) << d.format();
+  EXPECT_NE(text.find("End Site\n      {\n        OFFSET 0.000000 0.030000 0.000000\n"), std::string::npos) << text;
 }
 
 TEST(BvhWriter, ScaleIsDroppedWithAWarningNamingTheJoints) {
@@ -344,8 +368,8 @@ TEST(BvhWriter, RootTransformThatMirrorsOrScalesUnevenlyIsAnError) {
 TEST(BvhWriter, UniformRootScaleAndRotationAreBakedIntoTheRoot) {
   Skeleton s = chain(2);
   // Z-up to Y-up and centimetres to metres, as an exporter's root node might say.
-  s.rootTransform = glm::rotate(glm::scale(glm::mat4(1.0f), glm::vec3(0.01f)), glm::radians(-90.0f),
-                                glm::vec3(1, 0, 0));
+  s.rootTransform =
+      glm::rotate(glm::scale(glm::mat4(1.0f), glm::vec3(0.01f)), glm::radians(-90.0f), glm::vec3(1, 0, 0));
   s.restPose[0].translation = glm::vec3(0.0f, 0.0f, 100.0f);  // 1 m up in the file's Z-up centimetres
   s.restPose[1].translation = glm::vec3(0.0f, 0.0f, 10.0f);
   Diagnostics d;
@@ -369,10 +393,10 @@ TEST(BvhWriter, FrameRateFromKeySpacingOrDefault) {
     const std::size_t at = text.find("Frame Time: ");
     return at == std::string::npos ? -1.0 : std::stod(text.substr(at + 12));
   };
-  EXPECT_NEAR(frameTime({}, 0.0f), 1.0 / 30.0, 1e-9);                                    // no keys
-  EXPECT_NEAR(frameTime(spin(1, glm::vec3(0, 1, 0), 90.0f, 1.8f), 0.0f), 0.1, 1e-7);      // 19 keys over 1.8 s
+  EXPECT_NEAR(frameTime({}, 0.0f), 1.0 / 30.0, 1e-9);                                        // no keys
+  EXPECT_NEAR(frameTime(spin(1, glm::vec3(0, 1, 0), 90.0f, 1.8f), 0.0f), 0.1, 1e-7);         // 19 keys over 1.8 s
   EXPECT_NEAR(frameTime(spin(1, glm::vec3(0, 1, 0), 900.0f, 0.9f), 0.0f), 1.0 / 120, 1e-9);  // 200 fps, capped
-  EXPECT_NEAR(frameTime(spin(1, glm::vec3(0, 1, 0), 90.0f, 1.8f), 24.0f), 1.0 / 24, 1e-9);  // asked for
+  EXPECT_NEAR(frameTime(spin(1, glm::vec3(0, 1, 0), 90.0f, 1.8f), 24.0f), 1.0 / 24, 1e-9);   // asked for
 }
 
 // ---------------------------------------------------------------- round trips through Assimp
@@ -390,6 +414,7 @@ struct Measured {
   double height = 0.0;
   std::size_t frames = 0;
   double frameRate = 0.0;
+  double maxAngleStep = 0.0;  // degrees, largest change of a rotation channel between frames
 };
 
 std::vector<glm::vec3> modelPositions(const Skeleton& s, const std::vector<Transform>& local) {
@@ -412,32 +437,28 @@ double heightOf(const Skeleton& s) {
   return std::max({e.x, e.y, e.z});
 }
 
-void roundTrip(const RoundTripCase& c, Measured& m) {
-  MARIONETTE_REQUIRE_FILE(c.path);
-  ImportOptions noMeshes;
-  noMeshes.loadMeshes = false;
-  const ImportResult source = importAsset(c.path, noMeshes);
-  ASSERT_TRUE(source.ok()) << source.diagnostics.format();
-  const Asset& a = *source.asset;
-  ASSERT_FALSE(a.clips.empty());
-  const Clip* clip = &a.clips[0];
-  if (!c.clip.empty()) {
-    auto it = std::find_if(a.clips.begin(), a.clips.end(), [&](const Clip& k) { return k.name == c.clip; });
-    ASSERT_NE(it, a.clips.end()) << c.clip;
-    clip = &*it;
-  }
-  const std::string out = tempPath(fs::path(c.path).stem().string() + ".bvh");
+// Writes `clip` as BVH, reads it back through Assimp and measures the largest
+// model-space joint distance over the written frames.
+void writeAndReread(const Skeleton& s, const Clip& clip, const std::string& out, float unitScale, Measured& m) {
   BvhWriteOptions options;
-  options.unitScale = c.unitScale;
-  const Diagnostics written = writeBvh(out, a.skeleton, *clip, options);
+  options.unitScale = unitScale;
+  const Diagnostics written = writeBvh(out, s, clip, options);
   ASSERT_TRUE(written.ok()) << written.format();
   if (written.hasWarnings()) std::cout << written.format();
 
-  ImportOptions back = noMeshes;
-  back.extraScale = 1.0f / c.unitScale;  // the file is in file units; compare in the source's
+  const std::string text = readFile(out);
+  const auto rows = motionRows(text);
+  const std::vector<std::size_t> columns = rotationColumns(text);
+  ASSERT_FALSE(columns.empty());
+  for (std::size_t f = 1; f < rows.size(); ++f)
+    for (std::size_t col : columns)
+      m.maxAngleStep = std::max(m.maxAngleStep, std::abs(rows[f][col] - rows[f - 1][col]));
+
+  ImportOptions back;
+  back.loadMeshes = false;
+  back.extraScale = 1.0f / unitScale;  // the file is in file units; compare in the source's
   const ImportResult reread = importAsset(out, back);
   ASSERT_TRUE(reread.ok()) << reread.diagnostics.format() << "\n" << readFile(out).substr(0, 2000);
-  const Skeleton& s = a.skeleton;
   const Skeleton& r = reread.asset->skeleton;
   ASSERT_EQ(reread.asset->clips.size(), 1u);
   const Clip& rc = reread.asset->clips[0];
@@ -458,16 +479,33 @@ void roundTrip(const RoundTripCase& c, Measured& m) {
   ASSERT_GT(m.height, 0.0);
   std::vector<Transform> sp(s.jointCount()), rp(r.jointCount());
   SamplingCursor sc, rcur;
-  sc.reset(*clip);
+  sc.reset(clip);
   rcur.reset(rc);
   for (float t : times) {
-    sampleClip(*clip, std::min(t, clip->duration), s.restPose, sp, &sc);
+    sampleClip(clip, std::min(t, clip.duration), s.restPose, sp, &sc);
     sampleClip(rc, t, r.restPose, rp, &rcur);
     const std::vector<glm::vec3> ps = modelPositions(s, sp), pr = modelPositions(r, rp);
     for (std::size_t j = 0; j < s.jointCount(); ++j)
       m.maxError = std::max(m.maxError, static_cast<double>(glm::length(ps[j] - pr[match[j]])));
   }
   fs::remove(out);
+}
+
+void roundTrip(const RoundTripCase& c, Measured& m) {
+  MARIONETTE_REQUIRE_FILE(c.path);
+  ImportOptions noMeshes;
+  noMeshes.loadMeshes = false;
+  const ImportResult source = importAsset(c.path, noMeshes);
+  ASSERT_TRUE(source.ok()) << source.diagnostics.format();
+  const Asset& a = *source.asset;
+  ASSERT_FALSE(a.clips.empty());
+  const Clip* clip = &a.clips[0];
+  if (!c.clip.empty()) {
+    auto it = std::find_if(a.clips.begin(), a.clips.end(), [&](const Clip& k) { return k.name == c.clip; });
+    ASSERT_NE(it, a.clips.end()) << c.clip;
+    clip = &*it;
+  }
+  writeAndReread(a.skeleton, *clip, tempPath(fs::path(c.path).stem().string() + ".bvh"), c.unitScale, m);
 }
 
 TEST(BvhWriterRoundTrip, RealMotionsAndCharactersKeepTheirJointPositions) {
@@ -487,11 +525,72 @@ TEST(BvhWriterRoundTrip, RealMotionsAndCharactersKeepTheirJointPositions) {
     roundTrip(c, m);
     if (HasFatalFailure()) return;
     const double relative = m.maxError / m.height;
-    std::cout << "[ bvh round trip ] " << fs::path(c.path).filename().string() << (c.clip.empty() ? "" : " ")
-              << c.clip << " unitScale " << c.unitScale << ": " << m.frames << " frames at " << m.frameRate
-              << " fps, max joint error " << m.maxError << " / height " << m.height << " = " << relative << "\n";
+    std::cout << "[ bvh round trip ] " << fs::path(c.path).filename().string() << (c.clip.empty() ? "" : " ") << c.clip
+              << " unitScale " << c.unitScale << ": " << m.frames << " frames at " << m.frameRate
+              << " fps, max joint error " << m.maxError << " / height " << m.height << " = " << relative
+              << ", largest Euler step " << m.maxAngleStep << " deg\n";
     EXPECT_LT(relative, 1e-4);
+    // Unwrapping keeps every channel within 180 degrees of its previous frame; a
+    // larger step is a wrap (179 -> -179) that readers would interpolate as a spin.
+    // Steps near 180 do occur where a joint passes close to gimbal lock (x = +-90).
+    EXPECT_LE(m.maxAngleStep, 180.0);
   }
+}
+
+TEST(BvhWriterRoundTrip, SeveralRootsInARotatedScaledSpaceWithMovingJoints) {
+  // Z-up, half scale and offset (an exporter's root node), two roots, rest
+  // rotations, and a non-root joint that slides: the paths real files did not take.
+  Skeleton s;
+  s.rootTransform =
+      glm::rotate(glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(1.0f, 0.0f, 2.0f)), glm::vec3(0.5f)),
+                  glm::radians(-90.0f), glm::vec3(1, 0, 0));
+  auto rest = [](glm::vec3 t, float degrees, glm::vec3 axis) {
+    Transform r;
+    r.translation = t;
+    r.rotation = glm::angleAxis(glm::radians(degrees), glm::normalize(axis));
+    return r;
+  };
+  s.addJoint("pelvis", -1, rest({0.0f, 0.0f, 1.0f}, 20.0f, {0, 0, 1}));
+  s.addJoint("spine", 0, rest({0.0f, 0.0f, 0.3f}, -35.0f, {1, 1, 0}));
+  s.addJoint("head", 1, rest({0.0f, 0.05f, 0.25f}, 10.0f, {0, 1, 0}));
+  s.addJoint("prop", -1, rest({0.5f, 0.0f, 0.8f}, 90.0f, {0, 1, 0}));
+  s.addJoint("tip", 3, rest({0.1f, 0.0f, 0.0f}, 0.0f, {0, 1, 0}));
+  Clip clip;
+  clip.name = "test";
+  for (int j : {0, 1, 3, 4}) {
+    JointTrack jt;
+    jt.joint = j;
+    for (int k = 0; k <= 30; ++k) {
+      const float t = static_cast<float>(k) / 30.0f;
+      const float turn = glm::radians(400.0f * t * static_cast<float>(j + 1));
+      const Transform& r = s.restPose[static_cast<std::size_t>(j)];
+      jt.rotation.times.push_back(t);
+      jt.rotation.values.push_back(
+          r.rotation * glm::angleAxis(turn, glm::normalize(glm::vec3(1.0f, 2.0f, 0.5f * static_cast<float>(j)))));
+      if (j == 0 || j == 4) {
+        jt.translation.times.push_back(t);
+        jt.translation.values.push_back(r.translation + glm::vec3(0.3f * t, 0.1f * std::sin(6.0f * t), 0.0f));
+      }
+    }
+    clip.tracks.push_back(jt);
+  }
+  clip.updateDuration();
+
+  Diagnostics d;
+  const std::string text = bvhText(s, clip, {}, d);
+  ASSERT_TRUE(d.ok()) << d.format();
+  EXPECT_TRUE(mentions(d, Severity::Warning, "synthetic root")) << d.format();
+  EXPECT_NE(text.find("    JOINT tip\n    {\n      OFFSET 0.050000 0.000000 0.000000\n      CHANNELS 6 "),
+            std::string::npos)
+      << text.substr(0, 1500);
+
+  Measured m;
+  writeAndReread(s, clip, tempPath("two_roots.bvh"), 1.0f, m);
+  ASSERT_FALSE(HasFatalFailure());
+  EXPECT_EQ(m.frames, 31u);
+  std::cout << "[ bvh round trip ] two roots, rotated scaled space: max joint error " << m.maxError << " / height "
+            << m.height << " = " << m.maxError / m.height << "\n";
+  EXPECT_LT(m.maxError / m.height, 1e-5) << m.maxError;
 }
 
 TEST(BvhWriterRoundTrip, GimbalLockThroughAssimp) {
@@ -500,9 +599,9 @@ TEST(BvhWriterRoundTrip, GimbalLockThroughAssimp) {
   Clip clip;
   JointTrack jt;
   jt.joint = 1;
-  const std::vector<glm::quat> rotations = {
-      glm::angleAxis(glm::radians(90.0f), glm::vec3(1, 0, 0)), glm::angleAxis(glm::radians(-90.0f), glm::vec3(1, 0, 0)),
-      euler(40.0, 90.0, -25.0), euler(-130.0, -90.0, 70.0)};
+  const std::vector<glm::quat> rotations = {glm::angleAxis(glm::radians(90.0f), glm::vec3(1, 0, 0)),
+                                            glm::angleAxis(glm::radians(-90.0f), glm::vec3(1, 0, 0)),
+                                            euler(40.0, 90.0, -25.0), euler(-130.0, -90.0, 70.0)};
   for (std::size_t k = 0; k < rotations.size(); ++k) {
     jt.rotation.times.push_back(static_cast<float>(k));
     jt.rotation.values.push_back(rotations[k]);

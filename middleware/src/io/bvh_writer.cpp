@@ -36,7 +36,7 @@ constexpr double kFrameSlack = 1e-3;
 // cos x below this: gimbal lock, only z -/+ y is defined. Above it the doubles
 // computed from a float quaternion still give y and z to about 1e-8 rad.
 constexpr double kLockCos = 1e-8;
-constexpr float kScaleTolerance = 1e-4f;     // |scale - 1| that counts as scale
+constexpr float kScaleTolerance = 1e-4f;      // |scale - 1| that counts as scale
 constexpr double kRootSpaceTolerance = 1e-4;  // relative: non-uniform scale, shear
 constexpr int kMaxPrecision = 9;
 // Bounds the text to a few GB: more is a wrong frame rate, not a motion.
@@ -73,8 +73,8 @@ std::string sanitizedName(const std::string& name, std::size_t index) {
 }
 
 struct Naming {
-  std::vector<std::string> joints;  // by skeleton index
-  std::string syntheticRoot;        // unique even when a joint is called MarionetteRoot
+  std::vector<std::string> joints;   // by skeleton index
+  std::string syntheticRoot;         // unique even when a joint is called MarionetteRoot
   std::vector<std::string> changed;  // "'old' -> 'new'" for the warning
 };
 
@@ -129,8 +129,9 @@ std::optional<RootSpace> rootSpace(const glm::mat4& m, Diagnostics& d, const std
     return std::nullopt;
   }
   if (det < 0.0) {
-    d.error(file, "the skeleton's rootTransform mirrors (negative determinant); BVH rotations cannot mirror, "
-                  "mirror the skeleton and clip first");
+    d.error(file,
+            "the skeleton's rootTransform mirrors (negative determinant); BVH rotations cannot mirror, "
+            "mirror the skeleton and clip first");
     return std::nullopt;
   }
   if (largest / smallest - 1.0 > kRootSpaceTolerance) {
@@ -193,7 +194,7 @@ struct FileJoint {
   int depth = 0;
   bool positions = false;  // has Xposition Yposition Zposition channels
   bool leaf = false;
-  int closeAfter = 0;      // braces to close after this joint's block (its subtree ends)
+  int closeAfter = 0;  // braces to close after this joint's block (its subtree ends)
 };
 
 class BvhBuilder {
@@ -359,8 +360,8 @@ void BvhBuilder::layOut() {
     std::vector<std::string> names;
     for (int r : roots) names.push_back(naming_.joints[static_cast<std::size_t>(r)]);
     d_.warning(file_, "the skeleton has " + std::to_string(roots.size()) + " roots (" + quotedNameList(names) +
-                          "); BVH has one ROOT, so they are children of a synthetic root '" +
-                          naming_.syntheticRoot + "'");
+                          "); BVH has one ROOT, so they are children of a synthetic root '" + naming_.syntheticRoot +
+                          "'");
   }
   // Depth-first without recursion: long chains (ropes, tails) stay off the call stack.
   struct Pending {
@@ -423,7 +424,7 @@ glm::dvec3 BvhBuilder::endSiteOffset(int joint) const {
 
 void BvhBuilder::number(double v) {
   if (std::abs(v) < zeroBelow_) v = 0.0;  // no "-0.000000"
-  char buffer[400];                         // fixed notation of any finite double fits
+  char buffer[400];                       // fixed notation of any finite double fits
   const auto r = std::to_chars(buffer, buffer + sizeof buffer, v, std::chars_format::fixed, options_.precision);
   text_.append(buffer, r.ptr);
 }
@@ -490,9 +491,10 @@ bool BvhBuilder::writeMotion() {
       const glm::dvec3 t = fileTranslation(fj.joint, local);
       // Finite inputs can still overflow (1e38 m times a unit scale).
       if (!allFinite({angles.x, angles.y, angles.z, t.x, t.y, t.z})) {
-        d_.error(file_, "frame " + std::to_string(f) + ", joint '" +
-                            (fj.joint < 0 ? naming_.syntheticRoot : naming_.joints[static_cast<std::size_t>(fj.joint)]) +
-                            "': a value is not finite after unit scaling; nothing written");
+        d_.error(file_,
+                 "frame " + std::to_string(f) + ", joint '" +
+                     (fj.joint < 0 ? naming_.syntheticRoot : naming_.joints[static_cast<std::size_t>(fj.joint)]) +
+                     "': a value is not finite after unit scaling; nothing written");
         return false;
       }
       if (i > 0) text_ += ' ';
