@@ -482,10 +482,7 @@ std::string uniqueClipName(const Importing& im, const aiAnimation& anim, std::si
   if (base.empty())
     base = im.scene.mNumAnimations == 1 ? fs::path(im.path).stem().string() : "animation_" + std::to_string(index);
   if (base.empty()) base = "animation_" + std::to_string(index);
-  std::string name = base;
-  for (int n = 2; used.count(name); ++n) name = base + "_" + std::to_string(n);
-  used.insert(name);
-  return name;
+  return claimUniqueName(base, used);
 }
 
 double ticksPerSecond(Importing& im, const aiAnimation& anim, const std::string& clip) {

@@ -78,25 +78,18 @@ struct Naming {
   std::vector<std::string> changed;  // "'old' -> 'new'" for the warning
 };
 
-std::string uniqueName(const std::string& base, std::set<std::string>& used) {
-  std::string name = base;
-  for (int n = 2; used.count(name); ++n) name = base + "_" + std::to_string(n);
-  used.insert(name);
-  return name;
-}
-
 Naming nameJoints(const Skeleton& skeleton) {
   Naming naming;
   std::set<std::string> used;
   for (std::size_t j = 0; j < skeleton.jointCount(); ++j) {
     const std::string& original = j < skeleton.names.size() ? skeleton.names[j] : std::string();
-    std::string name = uniqueName(sanitizedName(original, j), used);
+    std::string name = claimUniqueName(sanitizedName(original, j), used);
     if (name != original)
       naming.changed.push_back((original.empty() ? "joint " + std::to_string(j) + " (unnamed)" : "'" + original + "'") +
                                " -> '" + name + "'");
     naming.joints.push_back(std::move(name));
   }
-  naming.syntheticRoot = uniqueName(kBvhSyntheticRoot, used);
+  naming.syntheticRoot = claimUniqueName(kBvhSyntheticRoot, used);
   return naming;
 }
 
@@ -502,11 +495,7 @@ bool BvhBuilder::writeMotion() {
         vector(t);
         text_ += ' ';
       }
-      number(angles.z);
-      text_ += ' ';
-      number(angles.x);
-      text_ += ' ';
-      number(angles.y);
+      vector({angles.z, angles.x, angles.y});
     }
     text_ += '\n';
   }
