@@ -35,6 +35,7 @@
 
 #include "file_extension.hpp"
 #include "isolated_call.hpp"
+#include "marionette/core/text.hpp"
 #include "marionette/io/import.hpp"
 
 namespace marionette {
@@ -51,7 +52,6 @@ constexpr std::string_view kFbxHelperTag = "_$AssimpFbx$_";
 constexpr double kDefaultTicksPerSecond = 25.0;
 // MeshPrimitive::joints stores joint indices as 16 bits.
 constexpr std::size_t kMaxSkinJoints = 65535;
-constexpr std::size_t kMaxNamesListed = 8;
 
 // ---------------------------------------------------------------- small helpers
 
@@ -80,13 +80,6 @@ glm::mat4 scaleLengths(glm::mat4 m, float s) {
 std::string str(const aiString& s) { return std::string(s.C_Str()); }
 
 using detail::lowerExtension;
-
-std::string listNames(const std::vector<std::string>& names) {
-  std::string out;
-  for (std::size_t i = 0; i < names.size() && i < kMaxNamesListed; ++i) out += (i ? ", '" : "'") + names[i] + "'";
-  if (names.size() > kMaxNamesListed) out += " and " + std::to_string(names.size() - kMaxNamesListed) + " more";
-  return out;
-}
 
 bool isFbxHelper(const aiNode& node) {
   return std::string_view(node.mName.C_Str()).find(kFbxHelperTag) != std::string_view::npos;
@@ -328,7 +321,7 @@ BoneBinds collectBoneBinds(Importing& im) {
     }
   }
   if (!conflicting.empty())
-    im.warning("bones " + listNames(conflicting) +
+    im.warning("bones " + quotedNameList(conflicting) +
                " have different bind matrices in different meshes; the first mesh's are used");
   return binds;
 }
@@ -379,7 +372,7 @@ void buildSkeleton(Importing& im) {
       addJointTree(im, *root.mChildren[i], -1, glm::mat4(1.0f), kept, binds, duplicates);
   }
   if (!duplicates.empty())
-    im.warning("joint names " + listNames(duplicates) +
+    im.warning("joint names " + quotedNameList(duplicates) +
                " occur more than once; bones and animation channels bind to the first of each");
 }
 
@@ -489,10 +482,7 @@ std::string uniqueClipName(const Importing& im, const aiAnimation& anim, std::si
   if (base.empty())
     base = im.scene.mNumAnimations == 1 ? fs::path(im.path).stem().string() : "animation_" + std::to_string(index);
   if (base.empty()) base = "animation_" + std::to_string(index);
-  std::string name = base;
-  for (int n = 2; used.count(name); ++n) name = base + "_" + std::to_string(n);
-  used.insert(name);
-  return name;
+  return claimUniqueName(base, used);
 }
 
 double ticksPerSecond(Importing& im, const aiAnimation& anim, const std::string& clip) {
@@ -522,9 +512,9 @@ std::vector<std::pair<int, const aiNodeAnim*>> boundChannels(Importing& im, cons
     }
   }
   if (!unbound.empty())
-    im.warning("clip '" + clip + "': channels for " + listNames(unbound) + " match no joint and were dropped");
+    im.warning("clip '" + clip + "': channels for " + quotedNameList(unbound) + " match no joint and were dropped");
   if (!repeated.empty())
-    im.warning("clip '" + clip + "': joints " + listNames(repeated) + " have several channels; the first is used");
+    im.warning("clip '" + clip + "': joints " + quotedNameList(repeated) + " have several channels; the first is used");
   std::sort(bound.begin(), bound.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   return bound;
 }
@@ -736,7 +726,7 @@ bool readSkin(Importing& im, const aiMesh& mesh, int nodeJoint, const std::strin
     }
   }
   if (!unbound.empty())
-    im.warning(where + ": bones " + listNames(unbound) + " match no node; their weights were dropped");
+    im.warning(where + ": bones " + quotedNameList(unbound) + " match no node; their weights were dropped");
   p.joints.resize(mesh.mNumVertices);
   p.weights.resize(mesh.mNumVertices);
   for (unsigned v = 0; v < mesh.mNumVertices; ++v) {

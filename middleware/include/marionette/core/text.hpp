@@ -2,8 +2,10 @@
 #pragma once
 #include <algorithm>
 #include <cctype>
+#include <set>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace marionette {
 
@@ -31,6 +33,22 @@ inline void appendXmlEscaped(std::string& out, std::string_view text) {
       default: out += c;
     }
   }
+}
+
+// `base`, or base_2, base_3... whichever `used` does not hold yet; added to `used`.
+[[nodiscard]] inline std::string claimUniqueName(const std::string& base, std::set<std::string>& used) {
+  std::string name = base;
+  for (int n = 2; used.count(name); ++n) name = base + "_" + std::to_string(n);
+  used.insert(name);
+  return name;
+}
+
+// "'a', 'b' and 3 more": names for a diagnostic, at most `shown` of them spelled out.
+[[nodiscard]] inline std::string quotedNameList(const std::vector<std::string>& names, std::size_t shown = 8) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", '" : "'") + names[i] + "'";
+  if (names.size() > shown) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
 }
 
 }  // namespace marionette
