@@ -147,7 +147,7 @@ int retargetCommand(const std::vector<std::string>& args) {
   if (!sourceMap || !targetMap) return 2;
 
   retarget::RetargetOptions options;
-  options.sourceHipsReference = retarget::standingHipsReference(source.skeleton, *sourceMap, *clip);
+  options.sourceHipsReference = retarget::standingHipsReference(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap);
   options.ik.feet = a.feet;
   options.ik.hands = a.hands;
   const auto t0 = std::chrono::steady_clock::now();

@@ -68,7 +68,7 @@ const Data* data(benchmark::State& state) {
 
 RetargetOptions optionsFor(const Data& d, bool feetIk) {
   RetargetOptions o;
-  o.sourceHipsReference = standingHipsReference(d.source.skeleton, d.sourceMap, d.source.clips.front());
+  o.sourceHipsReference = standingHipsReference(d.source.skeleton, d.sourceMap, d.source.clips.front(), d.target.skeleton, d.targetMap);
   o.ik.feet = feetIk;
   return o;
 }

@@ -68,13 +68,28 @@ float restLegLength(const Skeleton& skeleton, const JointMap& map) {
   return sides && std::isfinite(sum) ? sum / static_cast<float>(sides) : 0.0f;
 }
 
-std::optional<glm::vec3> standingHipsReference(const Skeleton& skeleton, const JointMap& map, const Clip& clip) {
+namespace {
+// The lowest foot or toe joint of the rest pose, model +Y; +infinity without feet.
+float restFeetHeight(const std::vector<glm::mat4>& rest, const JointMap& map) {
+  float lowest = std::numeric_limits<float>::infinity();
+  for (Bone b : kFeet)
+    if (map.joint(b) >= 0) lowest = std::min(lowest, at(rest, map.joint(b)).y);
+  return lowest;
+}
+}  // namespace
+
+std::optional<glm::vec3> standingHipsReference(const Skeleton& skeleton, const JointMap& map, const Clip& clip,
+                                               const Skeleton& target, const JointMap& targetMap) {
   const int hips = map.joint(Bone::Hips);
   if (!usable(skeleton, map) || hips < 0 || !clip.validate(skeleton.jointCount()).empty()) return std::nullopt;
+  if (!usable(target, targetMap) || targetMap.joint(Bone::Hips) < 0) return std::nullopt;
+  const std::vector<glm::mat4> targetRest = target.restModelMatrices();
+  const float targetFeet = restFeetHeight(targetRest, targetMap);
+  const float targetHipHeight = at(targetRest, targetMap.joint(Bone::Hips)).y - targetFeet;
+  if (!std::isfinite(targetFeet) || !(targetHipHeight > 0.0f) || std::fabs(targetFeet) > 0.25f * targetHipHeight)
+    return std::nullopt;
   const std::vector<glm::mat4> rest = skeleton.restModelMatrices();
-  float restLowest = std::numeric_limits<float>::infinity();
-  for (Bone b : kFeet)
-    if (map.joint(b) >= 0) restLowest = std::min(restLowest, at(rest, map.joint(b)).y);
+  const float restLowest = restFeetHeight(rest, map);
   if (!std::isfinite(restLowest)) return std::nullopt;
   const Sampled s = sample(skeleton, clip, 30.0f, clip.duration);
   float ground = std::numeric_limits<float>::infinity();

@@ -88,18 +88,26 @@ float legLength(const JointMap& m, const std::vector<glm::mat4>& model) {
   return sides ? sum / static_cast<float>(sides) : 0.0f;
 }
 
-// Hips height above the lowest foot or toe joint at rest (model +Y up).
+// Hip height at rest: the hip joints (where the legs attach, the upper-leg
+// joints) above the lowest foot or toe joint, model +Y up; the hips joint when
+// there are no upper legs. The legs' own height, not the pelvis joint's: a
+// pelvis joint placed high above the thighs (Godette) would make the hips sink
+// and rise more than the legs can follow.
 float hipHeight(const JointMap& m, const std::vector<glm::mat4>& model) {
-  const int hips = m.joint(Bone::Hips);
-  if (hips < 0) return 0.0f;
-  float lowest = positionOf(model, hips).y;
+  float top = 0.0f;
+  int n = 0;
+  for (Bone b : {Bone::LeftUpperLeg, Bone::RightUpperLeg})
+    if (m.joint(b) >= 0) top += positionOf(model, m.joint(b)).y, ++n;
+  if (n == 0 && m.joint(Bone::Hips) < 0) return 0.0f;
+  top = n ? top / static_cast<float>(n) : positionOf(model, m.joint(Bone::Hips)).y;
+  float lowest = top;
   bool any = false;
   for (Bone b : {Bone::LeftFoot, Bone::RightFoot, Bone::LeftToes, Bone::RightToes}) {
     if (m.joint(b) < 0) continue;
     lowest = std::min(lowest, positionOf(model, m.joint(b)).y);
     any = true;
   }
-  const float h = positionOf(model, hips).y - lowest;
+  const float h = top - lowest;
   return any && std::isfinite(h) ? h : 0.0f;
 }
 

@@ -20,12 +20,16 @@ namespace marionette::retarget {
 // Rest leg length (hip to knee to ankle, mean of both sides); 0 without legs.
 [[nodiscard]] float restLegLength(const Skeleton& skeleton, const JointMap& map);
 
-// The source's rest hips moved up or down so that its rest feet stand on the
-// clip's ground (the lowest foot or toe joint height over the clip). For
-// RetargetOptions::sourceHipsReference: BVH files keep the rest hips at the
-// origin while the motion stands on y = 0. Unset when the map has no hips or feet.
-[[nodiscard]] std::optional<glm::vec3> standingHipsReference(const Skeleton& skeleton, const JointMap& map,
-                                                             const Clip& clip);
+// RetargetOptions::sourceHipsReference for a clip: the source's rest hips moved
+// up or down so that its rest feet stand on the clip's ground (the lowest foot
+// or toe joint height over the clip), when the target's rest feet stand on y = 0
+// (within a quarter of its hip height), as characters do. BVH files keep the rest
+// hips at the origin while the motion stands on y = 0; without this the target
+// would sink by the source's hip height. Unset (rest maps to rest) when the
+// target's rest floats too (a BVH target), or a map lacks hips or feet.
+[[nodiscard]] std::optional<glm::vec3> standingHipsReference(const Skeleton& source, const JointMap& sourceMap,
+                                                             const Clip& clip, const Skeleton& target,
+                                                             const JointMap& targetMap);
 
 struct EffectorError {
   double mean = 0.0, max = 0.0;  // fraction of character height

@@ -27,7 +27,8 @@
 //  - Hips translation: the source's hips displacement from a reference (its rest
 //    hips, or RetargetOptions::sourceHipsReference), turned by A, with the
 //    horizontal part scaled by the leg-length ratio (stride follows legs) and the
-//    vertical part by the hip-height ratio (hip height above the feet at rest),
+//    vertical part by the hip-height ratio (the hip joints, where the legs attach,
+//    above the feet at rest),
 //    added to the target's rest hips.
 #pragma once
 #include <array>
