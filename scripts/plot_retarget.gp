@@ -1,10 +1,10 @@
 # Retargeting figures for docs/accuracy.md (data from marionette_retarget_work_precision).
-set terminal pngcairo size 1200,900 font ",10"
+set terminal pngcairo size 1200,900 font ",10" noenhanced
 set datafile commentschars "#"
 
 # 1. The CMU walk (131_01) as stick figures, side view, every 0.25 s from 2 s.
 set output "docs/retarget_walk_strips.png"
-set multiplot layout 5,1 title "CMU 131\\_01 walk retargeted (side view, character heights; a figure every 0.25 s)"
+set multiplot layout 5,1 title "CMU 131_01 walk retargeted (side view, character heights; a figure every 0.25 s)"
 set size ratio -1
 unset key
 set xrange [-0.6:10.5]
@@ -13,7 +13,7 @@ set ytics 0.5
 names = "cmu_131_01_walk RobotExpressive Godette pab_arnaud CesiumMan"
 do for [i=1:5] {
   n = word(names, i)
-  set title n noenhanced offset 0,-0.8
+  set title n offset 0,-0.8
   plot "docs/data/retarget_strip_".n.".csv" using 2:3:4:5 with vectors nohead lw 1.5 lc rgb "#204080"
 }
 unset multiplot
@@ -38,7 +38,7 @@ unset multiplot
 
 # 3. Work-precision: error against run time per frame, no IK / feet / feet and hands.
 set output "docs/work_precision_retarget.png"
-set terminal pngcairo size 1200,500 font ",10"
+set terminal pngcairo size 1200,500 font ",10" noenhanced
 set multiplot layout 1,2 title "Retargeting the CMU walk: error against run time (points: no IK, feet IK, feet and hands IK)"
 set xlabel "run time per frame (us)"
 set xrange [*:*]

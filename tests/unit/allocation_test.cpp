@@ -6,6 +6,8 @@
 #include <new>
 
 #include "marionette/scene/scene.hpp"
+#include "marionette/retarget/retargeter.hpp"
+#include "synthetic_humanoid.hpp"
 #include "synthetic_rig.hpp"
 
 namespace {
@@ -137,4 +139,26 @@ TEST(Allocation, NoHeapAllocationPerFrameWithTwoThreads) {
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(listener.stopped, 64);
   EXPECT_EQ(scene.threadCount(), 2);
+}
+
+TEST(Allocation, RetargeterApplyAllocatesNothing) {
+  // Online retargeting with feet and hands IK, mirrored joints and a different
+  // spine: bound once, then applied per frame with its own or a caller's scratch.
+  const auto src = marionette::test::makeHumanoid({.spineJoints = 3});
+  const auto dst = marionette::test::makeHumanoid({.spineJoints = 5, .armDownDegrees = 45.0f, .rollSeed = 3,
+                                                   .mirrorLeftArm = true});
+  marionette::retarget::RetargetOptions o;
+  o.ik.feet = o.ik.hands = true;
+  const auto r = marionette::retarget::Retargeter::bind(src.skeleton, src.map, dst.skeleton, dst.map, o);
+  ASSERT_TRUE(r.valid());
+  auto scratch = r.makeScratch();
+  std::vector<Transform> pose = src.skeleton.restPose, out(dst.skeleton.jointCount());
+  const long before = g_allocations.load();
+  for (int f = 0; f < 200; ++f) {
+    pose[0].translation.z = 0.01f * static_cast<float>(f);
+    pose[3].rotation = glm::angleAxis(0.01f * static_cast<float>(f), glm::vec3(1, 0, 0));
+    r.apply(pose, out, 1.0f / 60.0f);
+    r.apply(pose, out, scratch, 1.0f / 60.0f);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
 }
