@@ -234,6 +234,36 @@ std::vector<glm::vec3> restPositions(const Skeleton& s, const Tree& t) {
   return out;
 }
 
+int restSide(const std::vector<glm::vec3>& rest, const BodyChain& body, const std::array<LegJoints, 2>& legs, int a,
+             int b, std::string* facing) {
+  const int n = static_cast<int>(rest.size());
+  auto valid = [n](int j) { return j >= 0 && j < n; };
+  if (!valid(a) || !valid(b)) return 0;
+  std::array<Chain, 2> chains;
+  std::array<int, 2> toes{-1, -1};
+  for (std::size_t s = 0; s < 2; ++s) {
+    const LegJoints& l = legs[s];
+    if (valid(l.upper) && valid(l.lower) && valid(l.end)) chains[s] = Chain{l.upper, l.lower, l.end};
+    else if (valid(l.end)) chains[s].end = l.end;
+    if (valid(l.toe) && valid(l.end)) toes[s] = l.toe;
+  }
+  const BodyChain checked{valid(body.hips) ? body.hips : -1, valid(body.neck) ? body.neck : -1,
+                          valid(body.head) ? body.head : -1};
+  // A motion file's rest pose may be its first frame: a foot kicked up behind
+  // (pab_jog.fbx) points its toes backwards. Toes that disagree say nothing; the
+  // knees, which bend forward in any pose, decide then.
+  if (toes[0] >= 0 && toes[1] >= 0) {
+    const Facing upOnly = findFacing(rest, checked, {}, {-1, -1});
+    const glm::vec3 ta = horizontal(rest[toes[0]] - rest[chains[0].end], upOnly.up);
+    const glm::vec3 tb = horizontal(rest[toes[1]] - rest[chains[1].end], upOnly.up);
+    if (glm::length(ta) > 1e-6f && glm::length(tb) > 1e-6f && glm::dot(glm::normalize(ta), glm::normalize(tb)) < 0.5f)
+      toes = {-1, -1};
+  }
+  const Facing f = findFacing(rest, checked, chains, toes);
+  if (facing) *facing = facingText(f);
+  return f.assumed ? 0 : sideOf(rest, f, a, b);
+}
+
 std::string describeLimb(const Limb& l) {
   auto one = [](const char* what, const std::string& n) { return std::string(what) + " " + (n.empty() ? "none" : inQuotes(n)); };
   return one("upper", l.upper) + ", " + one("lower", l.lower) + ", " + one("end", l.end);
