@@ -123,6 +123,22 @@ std::vector<Problem> topologyProblems(const JointMap& m, const Tree& t, const Sk
       {Bone::Head, Bone::LeftEye},                {Bone::Head, Bone::RightEye},
       {Bone::Head, Bone::Jaw}};
   for (auto [a, b] : pairs) below(entryOf(a), m.joint(a), entryOf(b), m.joint(b));
+  // Within a limb the bones are parent and child: a joint between them keeps its
+  // rest rotation when retargeted, and a named one there means the names lie
+  // (a forearm called the upper arm).
+  const std::pair<Bone, Bone> segments[] = {
+      {Bone::LeftUpperArm, Bone::LeftLowerArm},   {Bone::LeftLowerArm, Bone::LeftHand},
+      {Bone::RightUpperArm, Bone::RightLowerArm}, {Bone::RightLowerArm, Bone::RightHand},
+      {Bone::LeftUpperLeg, Bone::LeftLowerLeg},   {Bone::RightUpperLeg, Bone::RightLowerLeg},
+      {Bone::LeftLowerLeg, Bone::LeftFoot},       {Bone::RightLowerLeg, Bone::RightFoot}};
+  for (auto [a, b] : segments) {
+    const int ja = m.joint(a), jb = m.joint(b);
+    if (ja < 0 || jb < 0 || !t.above(ja, jb) || t.parent[jb] == ja) continue;
+    std::vector<std::string> between;
+    for (int j = t.parent[jb]; j != ja; j = t.parent[j]) between.insert(between.begin(), t.names[j]);
+    out.push_back({entryOf(b), describe(entryOf(b), jb) + " is not the child of " + describe(entryOf(a), ja) + ": " +
+                                   profile_detail::joined(between) + " lies between (it keeps its rest rotation)"});
+  }
   // Feet are not checked against the shin: RobotExpressive's are IK targets under
   // the root. Toes are below their foot.
   below(entryOf(Bone::LeftFoot), m.joint(Bone::LeftFoot), entryOf(Bone::LeftToes), m.joint(Bone::LeftToes));
