@@ -167,11 +167,17 @@ Facing findFacing(const std::vector<glm::vec3>& rest, const BodyChain& body, con
     if (glm::length(d) > 1e-6f) f.up = glm::normalize(d);
   }
   glm::vec3 sum(0.0f);
+  std::array<glm::vec3, 2> toeDir{glm::vec3(0.0f), glm::vec3(0.0f)};
   for (int i = 0; i < 2; ++i)
     if (legs[i].end >= 0 && toes[i] >= 0) {
       const glm::vec3 h = horizontal(rest[toes[i]] - rest[legs[i].end], f.up);
-      if (glm::length(h) > 1e-6f) sum += glm::normalize(h);
+      if (glm::length(h) > 1e-6f) sum += toeDir[i] = glm::normalize(h);
     }
+  // A motion file's rest pose may be its first frame: a foot kicked up behind
+  // (pab_jog.fbx) points its toes backwards. Toes more than 60 degrees apart say
+  // nothing; the knees, which bend forward in any pose, decide then.
+  if (glm::dot(toeDir[0], toeDir[1]) < 0.5f && glm::length(toeDir[0]) > 0.5f && glm::length(toeDir[1]) > 0.5f)
+    sum = glm::vec3(0.0f);
   if (glm::length(sum) > 1e-3f) {
     f.how = "from the toes";
   } else {
@@ -249,16 +255,6 @@ int restSide(const std::vector<glm::vec3>& rest, const BodyChain& body, const st
   }
   const BodyChain checked{valid(body.hips) ? body.hips : -1, valid(body.neck) ? body.neck : -1,
                           valid(body.head) ? body.head : -1};
-  // A motion file's rest pose may be its first frame: a foot kicked up behind
-  // (pab_jog.fbx) points its toes backwards. Toes that disagree say nothing; the
-  // knees, which bend forward in any pose, decide then.
-  if (toes[0] >= 0 && toes[1] >= 0) {
-    const Facing upOnly = findFacing(rest, checked, {}, {-1, -1});
-    const glm::vec3 ta = horizontal(rest[toes[0]] - rest[chains[0].end], upOnly.up);
-    const glm::vec3 tb = horizontal(rest[toes[1]] - rest[chains[1].end], upOnly.up);
-    if (glm::length(ta) > 1e-6f && glm::length(tb) > 1e-6f && glm::dot(glm::normalize(ta), glm::normalize(tb)) < 0.5f)
-      toes = {-1, -1};
-  }
   const Facing f = findFacing(rest, checked, chains, toes);
   if (facing) *facing = facingText(f);
   return f.assumed ? 0 : sideOf(rest, f, a, b);
