@@ -115,17 +115,10 @@ std::vector<Problem> topologyProblems(const JointMap& m, const Tree& t, const Sk
       if (m.joint(b) >= 0) return bone(b);
     return std::pair{Entry{}, -1};
   };
-  const std::pair<Bone, Bone> pairs[] = {
-      {Bone::LeftUpperArm, Bone::LeftLowerArm},   {Bone::LeftLowerArm, Bone::LeftHand},
-      {Bone::RightUpperArm, Bone::RightLowerArm}, {Bone::RightLowerArm, Bone::RightHand},
-      {Bone::LeftUpperLeg, Bone::LeftLowerLeg},   {Bone::RightUpperLeg, Bone::RightLowerLeg},
-      {Bone::LeftShoulder, Bone::LeftUpperArm},   {Bone::RightShoulder, Bone::RightUpperArm},
-      {Bone::Head, Bone::LeftEye},                {Bone::Head, Bone::RightEye},
-      {Bone::Head, Bone::Jaw}};
-  for (auto [a, b] : pairs) below(entryOf(a), m.joint(a), entryOf(b), m.joint(b));
-  // Within a limb the bones are parent and child: a joint between them keeps its
-  // rest rotation when retargeted, and a named one there means the names lie
-  // (a forearm called the upper arm).
+  // Limb bones in order: each below the one before it, and its child. A joint
+  // between keeps its rest rotation when retargeted, and a named one there means
+  // the names lie (a forearm called the upper arm). A foot need not be below its
+  // shin: RobotExpressive's are IK targets under the root.
   const std::pair<Bone, Bone> segments[] = {
       {Bone::LeftUpperArm, Bone::LeftLowerArm},   {Bone::LeftLowerArm, Bone::LeftHand},
       {Bone::RightUpperArm, Bone::RightLowerArm}, {Bone::RightLowerArm, Bone::RightHand},
@@ -133,16 +126,18 @@ std::vector<Problem> topologyProblems(const JointMap& m, const Tree& t, const Sk
       {Bone::LeftLowerLeg, Bone::LeftFoot},       {Bone::RightLowerLeg, Bone::RightFoot}};
   for (auto [a, b] : segments) {
     const int ja = m.joint(a), jb = m.joint(b);
+    if (b != Bone::LeftFoot && b != Bone::RightFoot) below(entryOf(a), ja, entryOf(b), jb);
     if (ja < 0 || jb < 0 || !t.above(ja, jb) || t.parent[jb] == ja) continue;
     std::vector<std::string> between;
     for (int j = t.parent[jb]; j != ja; j = t.parent[j]) between.insert(between.begin(), t.names[j]);
     out.push_back({entryOf(b), describe(entryOf(b), jb) + " is not the child of " + describe(entryOf(a), ja) + ": " +
                                    profile_detail::joined(between) + " lies between (it keeps its rest rotation)"});
   }
-  // Feet are not checked against the shin: RobotExpressive's are IK targets under
-  // the root. Toes are below their foot.
-  below(entryOf(Bone::LeftFoot), m.joint(Bone::LeftFoot), entryOf(Bone::LeftToes), m.joint(Bone::LeftToes));
-  below(entryOf(Bone::RightFoot), m.joint(Bone::RightFoot), entryOf(Bone::RightToes), m.joint(Bone::RightToes));
+  const std::pair<Bone, Bone> pairs[] = {{Bone::LeftShoulder, Bone::LeftUpperArm}, {Bone::RightShoulder, Bone::RightUpperArm},
+                                         {Bone::Head, Bone::LeftEye},              {Bone::Head, Bone::RightEye},
+                                         {Bone::Head, Bone::Jaw},                  {Bone::LeftFoot, Bone::LeftToes},
+                                         {Bone::RightFoot, Bone::RightToes}};
+  for (auto [a, b] : pairs) below(entryOf(a), m.joint(a), entryOf(b), m.joint(b));
 
   const int hips = m.joint(Bone::Hips);
   const Entry hipsE = entryOf(Bone::Hips);
@@ -341,18 +336,18 @@ void settleHips(const Tree& t, JointMap& m) {
   if (left < 0 || right < 0 || top < 0) return;
   const int shared = commonAncestor(t, commonAncestor(t, left, right), top);
   const int old = m.joint(Bone::Hips);
-  if (shared < 0 || shared == old) return;
+  if (shared < 0 || shared == old || shared == top) return;  // the last: no body above the legs; the checks report it
   std::vector<int> path;  // from above `shared` up to below `top`
   for (int j = t.parent[top]; j >= 0 && j != shared; j = t.parent[j]) path.push_back(j);
   std::reverse(path.begin(), path.end());
   m.bones[at(Bone::Hips)] = shared;
-  if (neck.empty() && top == spine.back()) path.push_back(top);  // the spine's end was the top
+  if (neck.empty() && !spine.empty() && top == spine.back()) path.push_back(top);  // the spine's end was the top
   spine = std::move(path);
   const std::string was = old >= 0 ? inQuotes(t.names[old]) : std::string("none");
   m.notes.push_back("hips: " + inQuotes(t.names[shared]) + ", not " + was + " (topology: the joint the upper legs " +
                     inQuotes(t.names[left]) + ", " + inQuotes(t.names[right]) + " and the upper body share" +
                     (old >= 0 && t.above(old, shared) ? "; the legs hang from " + inQuotes(t.names[shared]) + ", below " + was
-                     : old >= 0 ? "; " + was + " turns the upper body only" : std::string()) +
+                     : t.above(shared, old) ? "; " + was + " turns the upper body only" : std::string()) +
                     "); spine now " + std::to_string(spine.size()) + " joints");
 }
 
