@@ -11,6 +11,7 @@
 
 #include "marionette/scene/character_profile.hpp"
 #include "../scene/json_places.hpp"
+#include "../scene/limb_guess.hpp"
 #include "../scene/profile_skeleton.hpp"
 
 namespace marionette::retarget {
@@ -41,35 +42,161 @@ std::size_t at(Chain c) { return static_cast<std::size_t>(c); }
 
 // ---- Consistency ------------------------------------------------------------
 
+// An entry of a map: a bone, or joint k of a chain.
+struct Entry {
+  int bone = -1, chain = -1, k = -1;
+};
+std::string entryName(const Entry& e) {
+  if (e.bone >= 0) return std::string(kBoneNames[static_cast<std::size_t>(e.bone)]);
+  return std::string(kChainNames[static_cast<std::size_t>(e.chain)]) + "[" + std::to_string(e.k) + "]";
+}
+Entry entryOf(Bone b) { return {static_cast<int>(b), -1, -1}; }
+
 // Drops every later mention of a joint already mapped (bones first, in enum
 // order, then chains), so that a map never names a joint twice; calls `dropped`
-// with the joint, the entry that keeps it and the one that loses it.
+// with the joint, the entry that keeps it and the one that loses it (its index
+// in the chain before any drop).
 template <class F>
 void dropDuplicates(JointMap& m, F&& dropped) {
-  std::map<int, std::string> owner;
+  std::map<int, Entry> owner;
   for (int b = 0; b < kBoneCount; ++b) {
     int& j = m.bones[static_cast<std::size_t>(b)];
     if (j < 0) continue;
-    const std::string name(kBoneNames[static_cast<std::size_t>(b)]);
-    if (auto [it, fresh] = owner.emplace(j, name); !fresh) dropped(j, it->second, name, -1), j = -1;
+    const Entry e{b, -1, -1};
+    if (auto [it, fresh] = owner.emplace(j, e); !fresh) dropped(j, it->second, e), j = -1;
   }
   for (int c = 0; c < kChainCount; ++c) {
     auto& chain = m.chains[static_cast<std::size_t>(c)];
     std::vector<int> kept;
     for (std::size_t k = 0; k < chain.size(); ++k) {
-      const std::string name = std::string(kChainNames[static_cast<std::size_t>(c)]) + "[" + std::to_string(k) + "]";
-      if (auto [it, fresh] = owner.emplace(chain[k], name); fresh) kept.push_back(chain[k]);
-      else dropped(chain[k], it->second, name, static_cast<int>(k));
+      const Entry e{-1, c, static_cast<int>(k)};
+      if (auto [it, fresh] = owner.emplace(chain[k], e); fresh) kept.push_back(chain[k]);
+      else dropped(chain[k], it->second, e);
     }
     chain = std::move(kept);
   }
 }
 
-void noteMissing(JointMap& m) {
+std::string missingRequired(const JointMap& m) {
   std::string missing;
   for (Bone b : kRequired)
     if (m.joint(b) < 0) missing += (missing.empty() ? "" : ", ") + std::string(boneName(b));
-  if (!missing.empty()) m.notes.push_back("required bones missing: " + missing);
+  return missing;
+}
+
+// In the canonical set but absent from some real skeletons (CesiumMan has no
+// clavicles, RobotExpressive and pirouette.bvh no toes): a file must say "" or
+// [] for them, so that an absence is a decision, not an oversight.
+constexpr Bone kExpectedBones[] = {Bone::LeftShoulder, Bone::RightShoulder, Bone::LeftToes, Bone::RightToes};
+constexpr Chain kExpectedChains[] = {Chain::Spine, Chain::Neck};
+
+struct Problem {
+  Entry entry;
+  std::string message;
+};
+
+// What the topology and the rest pose say against a map: each limb joint below
+// the one before it, the legs and arms below the hips, the spine between the
+// hips and the neck and not above the legs (turning a spine joint must not turn
+// the legs), the neck above the head, eyes and jaw below it, fingers below the
+// hand, and left joints on the character's left of the right ones.
+std::vector<Problem> topologyProblems(const JointMap& m, const Tree& t, const Skeleton& s) {
+  std::vector<Problem> out;
+  auto q = [&](int j) { return inQuotes(t.name(j)); };
+  auto describe = [&](Entry e, int j) { return entryName(e) + " " + q(j); };
+  auto below = [&](Entry upper, int ju, Entry lower, int jl) {
+    if (ju < 0 || jl < 0 || t.above(ju, jl)) return;
+    out.push_back({lower, describe(lower, jl) + " is not below " + describe(upper, ju)});
+  };
+  auto bone = [&](Bone b) { return std::pair{entryOf(b), m.joint(b)}; };
+  // The nearest mapped joint of `bs` (in order), for checks that skip absent ones.
+  auto first = [&](std::initializer_list<Bone> bs) {
+    for (Bone b : bs)
+      if (m.joint(b) >= 0) return bone(b);
+    return std::pair{Entry{}, -1};
+  };
+  // Limb bones in order: each below the one before it, and its child. A joint
+  // between keeps its rest rotation when retargeted, and a named one there means
+  // the names lie (a forearm called the upper arm). A foot need not be below its
+  // shin: RobotExpressive's are IK targets under the root.
+  const std::pair<Bone, Bone> segments[] = {
+      {Bone::LeftUpperArm, Bone::LeftLowerArm},   {Bone::LeftLowerArm, Bone::LeftHand},
+      {Bone::RightUpperArm, Bone::RightLowerArm}, {Bone::RightLowerArm, Bone::RightHand},
+      {Bone::LeftUpperLeg, Bone::LeftLowerLeg},   {Bone::RightUpperLeg, Bone::RightLowerLeg},
+      {Bone::LeftLowerLeg, Bone::LeftFoot},       {Bone::RightLowerLeg, Bone::RightFoot}};
+  for (auto [a, b] : segments) {
+    const int ja = m.joint(a), jb = m.joint(b);
+    if (b != Bone::LeftFoot && b != Bone::RightFoot) below(entryOf(a), ja, entryOf(b), jb);
+    if (ja < 0 || jb < 0 || !t.above(ja, jb) || t.parent[jb] == ja) continue;
+    std::vector<std::string> between;
+    for (int j = t.parent[jb]; j != ja; j = t.parent[j]) between.insert(between.begin(), t.names[j]);
+    out.push_back({entryOf(b), describe(entryOf(b), jb) + " is not the child of " + describe(entryOf(a), ja) + ": " +
+                                   profile_detail::joined(between) + " lies between (it keeps its rest rotation)"});
+  }
+  const std::pair<Bone, Bone> pairs[] = {{Bone::LeftShoulder, Bone::LeftUpperArm}, {Bone::RightShoulder, Bone::RightUpperArm},
+                                         {Bone::Head, Bone::LeftEye},              {Bone::Head, Bone::RightEye},
+                                         {Bone::Head, Bone::Jaw},                  {Bone::LeftFoot, Bone::LeftToes},
+                                         {Bone::RightFoot, Bone::RightToes}};
+  for (auto [a, b] : pairs) below(entryOf(a), m.joint(a), entryOf(b), m.joint(b));
+
+  const int hips = m.joint(Bone::Hips);
+  const Entry hipsE = entryOf(Bone::Hips);
+  for (Bone b : {Bone::LeftUpperLeg, Bone::RightUpperLeg}) below(hipsE, hips, entryOf(b), m.joint(b));
+  for (auto [e, j] : {first({Bone::LeftShoulder, Bone::LeftUpperArm}), first({Bone::RightShoulder, Bone::RightUpperArm})})
+    below(hipsE, hips, e, j);
+  // Spine, neck and head in a row, from the hips up.
+  std::vector<std::pair<Entry, int>> column{{hipsE, hips}};
+  for (Chain c : {Chain::Spine, Chain::Neck}) {
+    const auto& chain = m.chain(c);
+    for (std::size_t k = 0; k < chain.size(); ++k) column.push_back({Entry{-1, static_cast<int>(c), static_cast<int>(k)}, chain[k]});
+  }
+  column.push_back(bone(Bone::Head));
+  for (std::size_t i = 1; i < column.size(); ++i) {
+    std::size_t p = i;  // the nearest mapped joint before this one
+    while (p > 0 && column[p - 1].second < 0) --p;
+    if (p > 0) below(column[p - 1].first, column[p - 1].second, column[i].first, column[i].second);
+  }
+  const auto& spine = m.chain(Chain::Spine);
+  for (std::size_t k = 0; k < spine.size(); ++k)
+    for (Bone leg : {Bone::LeftUpperLeg, Bone::RightUpperLeg})
+      if (t.above(spine[k], m.joint(leg))) {
+        out.push_back({Entry{-1, static_cast<int>(Chain::Spine), static_cast<int>(k)},
+                       "spine[" + std::to_string(k) + "] " + q(spine[k]) + " is above " + describe(entryOf(leg), m.joint(leg)) +
+                           ": the legs hang from it, so it is the hips (or below them), not the spine"});
+        break;
+      }
+  // Fingers below the hand, or below the forearm of a skeleton without a hand joint.
+  for (int side = 0; side < 2; ++side) {
+    const auto [he, hand] = side == 0 ? first({Bone::LeftHand, Bone::LeftLowerArm}) : first({Bone::RightHand, Bone::RightLowerArm});
+    for (int f = 0; f < 5; ++f) {
+      const int c = static_cast<int>(Chain::LeftThumb) + side * 5 + f;
+      const auto& chain = m.chains[static_cast<std::size_t>(c)];
+      for (std::size_t k = 0; k < chain.size(); ++k) {
+        const Entry e{-1, c, static_cast<int>(k)};
+        if (k == 0) below(he, hand, e, chain[0]);
+        else below(Entry{-1, c, static_cast<int>(k - 1)}, chain[k - 1], e, chain[k]);
+      }
+    }
+  }
+
+  // Sides from the rest pose: the left upper arm and leg on the character's left.
+  const std::vector<glm::vec3> rest = profile_detail::restPositions(s, t);
+  const profile_detail::BodyChain body{hips, !m.chain(Chain::Neck).empty() ? m.chain(Chain::Neck).front() : -1,
+                                       m.joint(Bone::Head)};
+  const std::array<profile_detail::LegJoints, 2> legs{
+      profile_detail::LegJoints{m.joint(Bone::LeftUpperLeg), m.joint(Bone::LeftLowerLeg), m.joint(Bone::LeftFoot),
+                                m.joint(Bone::LeftToes)},
+      profile_detail::LegJoints{m.joint(Bone::RightUpperLeg), m.joint(Bone::RightLowerLeg), m.joint(Bone::RightFoot),
+                                m.joint(Bone::RightToes)}};
+  for (auto [l, r] : {std::pair{Bone::LeftUpperLeg, Bone::RightUpperLeg}, std::pair{Bone::LeftUpperArm, Bone::RightUpperArm}}) {
+    if (m.joint(l) < 0 || m.joint(r) < 0) continue;
+    std::string facing;
+    if (profile_detail::restSide(rest, body, legs, m.joint(l), m.joint(r), &facing) < 0)
+      out.push_back({entryOf(l), describe(entryOf(l), m.joint(l)) + " lies on the character's right of " +
+                                     describe(entryOf(r), m.joint(r)) + " in the rest pose (" + facing +
+                                     "): left and right swapped?"});
+  }
+  return out;
 }
 
 // ---- Guessing: VRM humanoid map ---------------------------------------------
@@ -129,8 +256,9 @@ int fingerOf(const std::string& name) {
   return finger;
 }
 
-// The finger chains below a hand: per finger, its named joints root to tip. Joints
-// of a finger that branch away from its first chain are left out with a note.
+// The finger chains below a hand (or a forearm): per finger, its named joints
+// root to tip. Joints of a finger that branch away from its first chain are left
+// out with a note.
 void guessFingers(const Tree& t, int hand, int side, JointMap& m) {
   const std::string sideName = side == 0 ? "left" : "right";
   std::array<std::vector<int>, 5> named;
@@ -156,7 +284,7 @@ void guessFingers(const Tree& t, int hand, int side, JointMap& m) {
     m.chains[at(Chain::LeftThumb) + static_cast<std::size_t>(side * 5 + f)] = std::move(chain);
   }
   if (!unnamed.empty())
-    m.notes.push_back(sideName + " fingers: joints below the hand " + inQuotes(t.names[hand]) + " not named after a finger (" +
+    m.notes.push_back(sideName + " fingers: joints below " + inQuotes(t.names[hand]) + " not named after a finger (" +
                       profile_detail::joined(unnamed) + "); left out" + (any ? "" : ", no finger chains"));
 }
 
@@ -187,6 +315,40 @@ void guessClavicle(const Tree& t, int upperArm, const std::set<int>& body, Bone 
     m.notes.push_back(bname + ": " + inQuotes(t.names[between[0]]) + " (topology: the one joint between " +
                       inQuotes(t.names[p]) + " and the upper arm " + inQuotes(t.names[upperArm]) + ")");
   }
+}
+
+// The lowest joint above both `a` and `b` (or one of them), or -1.
+int commonAncestor(const Tree& t, int a, int b) {
+  for (int j = a; j >= 0; j = t.parent[j])
+    if (j == b || t.above(j, b)) return j;
+  return -1;
+}
+
+// The hips are the joint the upper legs and the upper body share: turning it
+// turns both. When the names point elsewhere, topology decides, with a note, and
+// the spine becomes the path from there up to the neck.
+void settleHips(const Tree& t, JointMap& m) {
+  const int left = m.joint(Bone::LeftUpperLeg), right = m.joint(Bone::RightUpperLeg);
+  const auto& neck = m.chain(Chain::Neck);
+  auto& spine = m.chains[at(Chain::Spine)];
+  const int top = !neck.empty() ? neck.front() : m.joint(Bone::Head) >= 0 ? m.joint(Bone::Head)
+                                                 : !spine.empty() ? spine.back() : -1;
+  if (left < 0 || right < 0 || top < 0) return;
+  const int shared = commonAncestor(t, commonAncestor(t, left, right), top);
+  const int old = m.joint(Bone::Hips);
+  if (shared < 0 || shared == old || shared == top) return;  // the last: no body above the legs; the checks report it
+  std::vector<int> path;  // from above `shared` up to below `top`
+  for (int j = t.parent[top]; j >= 0 && j != shared; j = t.parent[j]) path.push_back(j);
+  std::reverse(path.begin(), path.end());
+  m.bones[at(Bone::Hips)] = shared;
+  if (neck.empty() && !spine.empty() && top == spine.back()) path.push_back(top);  // the spine's end was the top
+  spine = std::move(path);
+  const std::string was = old >= 0 ? inQuotes(t.names[old]) : std::string("none");
+  m.notes.push_back("hips: " + inQuotes(t.names[shared]) + ", not " + was + " (topology: the joint the upper legs " +
+                    inQuotes(t.names[left]) + ", " + inQuotes(t.names[right]) + " and the upper body share" +
+                    (old >= 0 && t.above(old, shared) ? "; the legs hang from " + inQuotes(t.names[shared]) + ", below " + was
+                     : t.above(shared, old) ? "; " + was + " turns the upper body only" : std::string()) +
+                    "); spine now " + std::to_string(spine.size()) + " joints");
 }
 
 // Names that are the clavicle in some conventions and the upper arm in others
@@ -245,6 +407,10 @@ JointMap fromNames(const Asset& asset, const Tree& t) {
     m.notes.push_back("neck: " + inQuotes(p.neck) + " down to the head's parent");
   }
 
+  // The hips are where the legs and the spine part. Pab's legs hang from "Spine"
+  // (below "Hips" and "Pelvis"), RobotExpressive's from "Body" (above "Hips").
+  settleHips(t, m);
+
   // Clavicles hang from the chest end of the spine, or from the neck (Pab), or the hips.
   std::set<int> body(m.chain(Chain::Spine).begin(), m.chain(Chain::Spine).end());
   body.insert(m.chain(Chain::Neck).begin(), m.chain(Chain::Neck).end());
@@ -265,8 +431,17 @@ JointMap fromNames(const Asset& asset, const Tree& t) {
 
   for (int side = 0; side < 2; ++side) {
     const int hand = m.joint(side == 0 ? Bone::LeftHand : Bone::RightHand);
-    if (hand >= 0) guessFingers(t, hand, side, m);
-    else m.notes.push_back(std::string(side == 0 ? "left" : "right") + " fingers: none (no hand)");
+    const int forearm = m.joint(side == 0 ? Bone::LeftLowerArm : Bone::RightLowerArm);
+    const std::string sideName = side == 0 ? "left" : "right";
+    if (hand >= 0) {
+      guessFingers(t, hand, side, m);
+    } else if (forearm >= 0) {
+      // RobotExpressive: palms and the thumb hang from the forearm, no joint turns the whole hand.
+      m.notes.push_back(sideName + " fingers: no hand joint; searched below the forearm " + inQuotes(t.names[forearm]));
+      guessFingers(t, forearm, side, m);
+    } else {
+      m.notes.push_back(sideName + " fingers: none (no hand or forearm)");
+    }
   }
   return m;
 }
@@ -276,7 +451,7 @@ JointMap fromNames(const Asset& asset, const Tree& t) {
 class MapReader {
  public:
   MapReader(const std::string& file, const std::string& text, const Asset& asset, Diagnostics& d)
-      : file_(file), lines_(text), places_(text), tree_(asset.skeleton), diags_(d) {
+      : file_(file), lines_(text), places_(text), tree_(asset.skeleton), skeleton_(asset.skeleton), diags_(d) {
     for (const auto& [pointer, offset] : places_.duplicates)
       warnAt(static_cast<std::ptrdiff_t>(offset), pointer.substr(1) + ": duplicate key; the last one is used");
   }
@@ -298,6 +473,7 @@ class MapReader {
         continue;
       }
       m.bones[at(*b)] = joint(it.value().get<std::string>(), ptr);
+      bonePtr_[at(*b)] = ptr;
     }
     for (auto it = chains.begin(); it != chains.end(); ++it) {
       const std::string ptr = "/chains/" + JsonPlaces::escape(it.key());
@@ -310,7 +486,9 @@ class MapReader {
         warn(ptr, "expected an array of joint names root to tip ([] for none); ignored");
         continue;
       }
+      chainListed_[at(*c)] = true;
       std::vector<int> chain;
+      auto& ptrs = chainPtr_[at(*c)];
       for (std::size_t k = 0; k < it.value().size(); ++k) {
         const std::string kp = ptr + "/" + std::to_string(k);
         const Json& v = it.value()[k];
@@ -320,57 +498,63 @@ class MapReader {
         }
         const int j = joint(v.get<std::string>(), kp);
         if (j < 0) {
-          if (!v.get<std::string>().empty()) continue;  // already warned
-          warn(kp, "an empty name in a chain; ignored");
-          continue;
+          if (v.get<std::string>().empty()) warn(kp, "an empty name in a chain; ignored");
+          continue;  // else already warned
         }
-        if (!chain.empty() && !tree_.above(chain.back(), j))
-          warn(kp, inQuotes(tree_.names[j]) + " is not below " + inQuotes(tree_.names[chain.back()]) +
-                       ": a chain goes root to tip");
         chain.push_back(j);
+        ptrs.push_back(kp);
       }
       m.chains[at(*c)] = std::move(chain);
     }
-    dropDuplicates(m, [&](int j, const std::string& keeps, const std::string& loses, int) {
-      std::string ptr = "/bones/" + loses;
-      if (const auto br = loses.find('['); br != std::string::npos)
-        ptr = "/chains/" + loses.substr(0, br) + "/" + loses.substr(br + 1, loses.size() - br - 2);
-      warn(ptr, "joint " + inQuotes(tree_.names[j]) + " is already mapped as " + keeps + "; dropped here");
+    // A joint mapped twice keeps its first entry (bones in canonical order, then chains).
+    std::array<std::vector<bool>, kChainCount> dropped;
+    for (std::size_t c = 0; c < dropped.size(); ++c) dropped[c].assign(m.chains[c].size(), false);
+    dropDuplicates(m, [&](int j, const Entry& keeps, const Entry& loses) {
+      warn(pointer(loses), "joint " + inQuotes(tree_.names[j]) + " is already mapped as " + entryName(keeps) + " (" +
+                               pointer(keeps).substr(1) + "); dropped here");
+      if (loses.chain >= 0) dropped[static_cast<std::size_t>(loses.chain)][static_cast<std::size_t>(loses.k)] = true;
     });
-    std::string missing;
-    for (Bone b : kRequired)
-      if (m.joint(b) < 0) missing += (missing.empty() ? "" : ", ") + std::string(boneName(b));
-    if (!missing.empty()) {
-      const std::ptrdiff_t offset = places_.value("/bones") >= 0 ? places_.value("/bones") : 0;
-      warnAt(offset, "required bones not mapped: " + missing);
+    for (std::size_t c = 0; c < dropped.size(); ++c) {
+      std::vector<std::string> kept;
+      for (std::size_t k = 0; k < dropped[c].size(); ++k)
+        if (!dropped[c][k]) kept.push_back(chainPtr_[c][k]);
+      chainPtr_[c] = std::move(kept);
     }
-    checkOrder(m);
+    const std::ptrdiff_t bonesAt = places_.value("/bones") >= 0 ? places_.value("/bones") : 0;
+    if (const std::string missing = missingRequired(m); !missing.empty())
+      warnAt(bonesAt, "required bones not mapped: " + missing);
+    std::string unsaid;
+    for (Bone b : kExpectedBones)
+      if (bonePtr_[at(b)].empty()) unsaid += (unsaid.empty() ? "" : ", ") + std::string(boneName(b));
+    for (Chain c : kExpectedChains)
+      if (!chainListed_[at(c)]) unsaid += (unsaid.empty() ? "" : ", ") + std::string(chainName(c));
+    if (!unsaid.empty())
+      warnAt(bonesAt, "not in the file: " + unsaid + " (write \"\" or [] where the skeleton has none)");
+    for (const Problem& p : topologyProblems(m, tree_, skeleton_)) warn(pointer(p.entry), p.message);
     m.notes.push_back("all entries from " + file_);
   }
 
  private:
-  // Limb joints out of order are likely typos (left for right, lower for upper).
-  // Feet are not checked: RobotExpressive's are IK targets under the root.
-  void checkOrder(const JointMap& m) {
-    const std::pair<Bone, Bone> pairs[] = {
-        {Bone::Hips, Bone::Head},          {Bone::LeftShoulder, Bone::LeftUpperArm},
-        {Bone::LeftUpperArm, Bone::LeftLowerArm}, {Bone::LeftLowerArm, Bone::LeftHand},
-        {Bone::RightShoulder, Bone::RightUpperArm}, {Bone::RightUpperArm, Bone::RightLowerArm},
-        {Bone::RightLowerArm, Bone::RightHand},   {Bone::LeftUpperLeg, Bone::LeftLowerLeg},
-        {Bone::RightUpperLeg, Bone::RightLowerLeg}};
-    for (auto [a, b] : pairs) {
-      const int ja = m.joint(a), jb = m.joint(b);
-      if (ja < 0 || jb < 0 || tree_.above(ja, jb)) continue;
-      warn("/bones/" + std::string(boneName(b)), std::string(boneName(b)) + " " + inQuotes(tree_.names[jb]) +
-                                                     " is not below " + std::string(boneName(a)) + " " +
-                                                     inQuotes(tree_.names[ja]));
+  // The JSON pointer an entry was read from ("/bones" for one the file leaves out).
+  std::string pointer(const Entry& e) const {
+    if (e.bone >= 0) {
+      const std::string& p = bonePtr_[static_cast<std::size_t>(e.bone)];
+      return p.empty() ? "/bones" : p;
     }
+    const auto& ps = chainPtr_[static_cast<std::size_t>(e.chain)];
+    return static_cast<std::size_t>(e.k) < ps.size() ? ps[static_cast<std::size_t>(e.k)] : "/chains";
   }
 
   // A joint by name, or "#N" by index; -1 (with a warning) when the skeleton lacks it.
   int joint(const std::string& name, const std::string& ptr) {
     if (name.empty()) return -1;
-    if (const int j = tree_.find(name); j >= 0) return j;
+    if (const int j = tree_.find(name); j >= 0) {
+      const auto same = std::count(tree_.names.begin(), tree_.names.end(), name);
+      if (same > 1)
+        warn(ptr, std::to_string(same) + " joints are named '" + name + "': the first one (#" + std::to_string(j) +
+                      ") is used; write \"#N\" to pick another");
+      return j;
+    }
     if (name[0] == '#') {
       const std::string digits = name.substr(1);
       const bool number = !digits.empty() && digits.size() <= 9 &&
@@ -416,7 +600,11 @@ class MapReader {
   LineIndex lines_;
   JsonPlaces places_;
   Tree tree_;
+  const Skeleton& skeleton_;
   Diagnostics& diags_;
+  std::array<std::string, kBoneCount> bonePtr_;                // where each bone was read; "" when not
+  std::array<std::vector<std::string>, kChainCount> chainPtr_;  // where each chain joint was read
+  std::array<bool, kChainCount> chainListed_{};                 // the file has the chain (maybe [])
 };
 
 JointMapResult load(const std::string& path, const Asset& asset) {
@@ -446,13 +634,25 @@ JointMapResult load(const std::string& path, const Asset& asset) {
 JointMapResult guess(const Asset& asset) {
   JointMapResult r;
   const Tree t(asset.skeleton);
+  const std::string& file = asset.sourcePath;
   const bool vrm = asset.hasHumanoid && asset.humanoid.bones.count("hips") &&
                    t.find(asset.humanoid.bones.at("hips")) >= 0;
   r.map = vrm ? fromHumanoid(asset, t) : fromNames(asset, t);
-  dropDuplicates(r.map, [&](int j, const std::string& keeps, const std::string& loses, int) {
-    r.map.notes.push_back(loses + ": " + inQuotes(t.name(j)) + " is already " + keeps + "; dropped");
+  dropDuplicates(r.map, [&](int j, const Entry& keeps, const Entry& loses) {
+    r.diagnostics.warning(file, "joint map guess: " + entryName(loses) + ": joint " + inQuotes(t.name(j)) + " is already " +
+                                    entryName(keeps) + "; dropped");
   });
-  noteMissing(r.map);
+  if (const std::string missing = missingRequired(r.map); !missing.empty())
+    r.diagnostics.warning(file, "joint map guess: required bones not found: " + missing);
+  std::string absent;
+  for (Bone b : kExpectedBones)
+    if (r.map.joint(b) < 0) absent += (absent.empty() ? "" : ", ") + std::string(boneName(b));
+  for (Chain c : kExpectedChains)
+    if (r.map.chain(c).empty()) absent += (absent.empty() ? "" : ", ") + std::string(chainName(c));
+  if (!absent.empty()) r.map.notes.push_back("not found (the skeleton may have none): " + absent);
+  // The guess keeps what the names say and reports what the topology contradicts.
+  for (const Problem& p : topologyProblems(r.map, t, asset.skeleton))
+    r.diagnostics.warning(file, "joint map guess: " + p.message);
   return r;
 }
 

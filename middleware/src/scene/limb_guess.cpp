@@ -167,11 +167,17 @@ Facing findFacing(const std::vector<glm::vec3>& rest, const BodyChain& body, con
     if (glm::length(d) > 1e-6f) f.up = glm::normalize(d);
   }
   glm::vec3 sum(0.0f);
+  std::array<glm::vec3, 2> toeDir{glm::vec3(0.0f), glm::vec3(0.0f)};
   for (int i = 0; i < 2; ++i)
     if (legs[i].end >= 0 && toes[i] >= 0) {
       const glm::vec3 h = horizontal(rest[toes[i]] - rest[legs[i].end], f.up);
-      if (glm::length(h) > 1e-6f) sum += glm::normalize(h);
+      if (glm::length(h) > 1e-6f) sum += toeDir[i] = glm::normalize(h);
     }
+  // A motion file's rest pose may be its first frame: a foot kicked up behind
+  // (pab_jog.fbx) points its toes backwards. Toes more than 60 degrees apart say
+  // nothing; the knees, which bend forward in any pose, decide then.
+  if (glm::dot(toeDir[0], toeDir[1]) < 0.5f && glm::length(toeDir[0]) > 0.5f && glm::length(toeDir[1]) > 0.5f)
+    sum = glm::vec3(0.0f);
   if (glm::length(sum) > 1e-3f) {
     f.how = "from the toes";
   } else {
@@ -232,6 +238,26 @@ std::vector<glm::vec3> restPositions(const Skeleton& s, const Tree& t) {
     if (!std::isfinite(out[i].x) || !std::isfinite(out[i].y) || !std::isfinite(out[i].z)) out[i] = glm::vec3(0.0f);
   }
   return out;
+}
+
+int restSide(const std::vector<glm::vec3>& rest, const BodyChain& body, const std::array<LegJoints, 2>& legs, int a,
+             int b, std::string* facing) {
+  const int n = static_cast<int>(rest.size());
+  auto valid = [n](int j) { return j >= 0 && j < n; };
+  if (!valid(a) || !valid(b)) return 0;
+  std::array<Chain, 2> chains;
+  std::array<int, 2> toes{-1, -1};
+  for (std::size_t s = 0; s < 2; ++s) {
+    const LegJoints& l = legs[s];
+    if (valid(l.upper) && valid(l.lower) && valid(l.end)) chains[s] = Chain{l.upper, l.lower, l.end};
+    else if (valid(l.end)) chains[s].end = l.end;
+    if (valid(l.toe) && valid(l.end)) toes[s] = l.toe;
+  }
+  const BodyChain checked{valid(body.hips) ? body.hips : -1, valid(body.neck) ? body.neck : -1,
+                          valid(body.head) ? body.head : -1};
+  const Facing f = findFacing(rest, checked, chains, toes);
+  if (facing) *facing = facingText(f);
+  return f.assumed ? 0 : sideOf(rest, f, a, b);
 }
 
 std::string describeLimb(const Limb& l) {

@@ -66,11 +66,14 @@ struct JointMapResult {
 // Reads a joint-map JSON file for a skeleton. Joint names must exist in the skeleton; "#N"
 // names joint N (for skeletons without names, e.g. CesiumMan). Missing required bones
 // (hips, head, upper/lower arms and legs, hands, feet) and joints mapped twice are warnings
-// naming them; unknown keys and names the skeleton lacks too.
+// naming them; unknown keys and names the skeleton lacks too; so are clavicles, toes, spine
+// and neck the file does not list ("" / [] says the skeleton has none), and what the topology
+// or the rest pose contradicts (docs/joint-maps.md).
 [[nodiscard]] JointMapResult loadJointMap(const std::string& path, const Asset& asset);
 // The map from the asset alone: its VRM humanoid map when it has one, else names and topology.
 // Ambiguities settled by topology are noted (CMU's "LeftShoulder" is the clavicle in one export
-// and the upper arm in another).
+// and the upper arm in another; the hips are the joint the legs and the spine share). Missing
+// required bones, duplicates and topology contradictions are warnings.
 [[nodiscard]] JointMapResult guessJointMap(const Asset& asset);
 // The map as JSON text in loadJointMap's format (joint names, or "#N" for unnamed joints).
 [[nodiscard]] std::string jointMapJson(const JointMap& map, const Skeleton& skeleton);
