@@ -296,11 +296,16 @@ Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, c
     return std::isfinite(e) ? e : 0.0f;
   };
   const float srcEps = 1e-6f * extent(srcModel), tgtEps = 1e-6f * extent(tgtModel);
-  int aligned = 0;
+  // A bone without a direction on both sides (no mapped child: RobotExpressive's
+  // forearm has no hand joint; finger tips; zero-length bones) turns with its
+  // nearest driven ancestor's C, so a T-pose arm brought down to an arms-down
+  // source keeps its straight elbow and the hand follows the forearm.
+  std::vector<glm::quat> rest(nt, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+  std::vector<std::uint8_t> hasRest(nt, 0);
   auto alignRest = [&](int t, const glm::vec3& targetDir, const glm::vec3& sourceDir) {
-    const glm::quat c = minimalArc(targetDir, r.align_ * sourceDir);
-    r.target_[static_cast<std::size_t>(t)].restModel = safeNormalize(c * tgtRest.rotation[static_cast<std::size_t>(t)]);
-    if (std::fabs(c.w) < 0.99999f) ++aligned;
+    if (glm::dot(targetDir, targetDir) < 0.5f || glm::dot(sourceDir, sourceDir) < 0.5f) return;
+    rest[static_cast<std::size_t>(t)] = minimalArc(targetDir, r.align_ * sourceDir);
+    hasRest[static_cast<std::size_t>(t)] = 1;
   };
 
   // Single bones.
@@ -369,6 +374,20 @@ Retargeter Retargeter::bind(const Skeleton& source, const JointMap& sourceMap, c
     }
   }
 
+  int aligned = 0;
+  for (std::size_t j = 0; j < nt; ++j) {
+    TargetJoint& tj = r.target_[j];
+    if (!hasRest[j])  // parents come first: an ancestor's C is final here
+      for (int a = tj.parent; a >= 0; a = r.target_[static_cast<std::size_t>(a)].parent)
+        if (hasRest[static_cast<std::size_t>(a)]) {
+          rest[j] = rest[static_cast<std::size_t>(a)];
+          hasRest[j] = 1;
+          break;
+        }
+    if (tj.srcA < 0) continue;
+    tj.restModel = safeNormalize(rest[j] * tgtRest.rotation[j]);
+    if (std::fabs(rest[j].w) < 0.99999f) ++aligned;
+  }
   if (aligned > 0)
     r.notes_.push_back("rest shapes differ: " + std::to_string(aligned) +
                        " target bones turned to the source's rest directions (T-pose / A-pose, bone axes)");
