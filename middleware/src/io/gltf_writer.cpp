@@ -21,8 +21,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <set>
-#include <sstream>
 
 #include "file_extension.hpp"
 #include "gltf_skeleton.hpp"
@@ -917,6 +915,7 @@ class Writer {
       const MorphTrack& first = clip.morphTracks[covering[0]];
       std::vector<std::size_t> merged;
       for (std::size_t k : covering) {
+        used[k] = 1;
         const MorphTrack& t = clip.morphTracks[k];
         if (t.times == first.times && t.interpolation == first.interpolation)
           merged.push_back(k);
@@ -928,7 +927,6 @@ class Writer {
       const std::size_t targets = mesh.morphTargets.size();
       std::vector<float> out(first.times.size() * per * targets, 0.0f);
       for (std::size_t k : merged) {
-        used[k] = 1;
         const MorphTrack& t = clip.morphTracks[k];
         for (std::size_t s = 0; s < t.targets.size(); ++s) {
           auto it = std::find(mesh.morphTargets.begin(), mesh.morphTargets.end(), t.targets[s]);
