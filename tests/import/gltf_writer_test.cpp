@@ -379,6 +379,104 @@ TEST(GltfWriter, SkeletonWithoutMeshes) {
   EXPECT_EQ(back.asset->clips[0].tracks[0].rotation.interpolation, Interpolation::Step);
 }
 
+// Cubic-spline keys (tangents kept as they are) and a one-key cubic track, which
+// glTF cannot hold and which is written as STEP with the same value.
+TEST(GltfWriter, CubicSplineTracks) {
+  Asset a = chainCharacter();
+  Clip clip;
+  clip.name = "cubic";
+  JointTrack jt;
+  jt.joint = 1;
+  jt.rotation.interpolation = Interpolation::CubicSpline;
+  jt.rotation.times = {0.0f, 1.0f};
+  const glm::quat q0 = glm::angleAxis(0.2f, glm::vec3(1, 0, 0)), q1 = glm::angleAxis(1.1f, glm::vec3(1, 0, 0));
+  jt.rotation.values = {glm::quat(0, 0.1f, 0, 0), q0, glm::quat(0, 0.3f, 0, 0),
+                        glm::quat(0, -0.2f, 0, 0), q1, glm::quat(0, 0, 0, 0)};
+  jt.translation.interpolation = Interpolation::CubicSpline;
+  jt.translation.times = {0.5f};
+  jt.translation.values = {glm::vec3(1), glm::vec3(0, 0.7f, 0), glm::vec3(2)};
+  clip.tracks.push_back(jt);
+  clip.updateDuration();
+  const std::string out = outputPath("cubic.glb");
+  writeOk(out, a, std::span<const Clip>(&clip, 1));
+  expectValid(out);
+  const ImportResult back = importGltf(out, {});
+  ASSERT_TRUE(back.ok()) << back.diagnostics.format();
+  const JointTrack& r = back.asset->clips.at(0).tracks.at(0);
+  EXPECT_EQ(r.rotation.interpolation, Interpolation::CubicSpline);
+  EXPECT_EQ(r.translation.interpolation, Interpolation::Step);
+  expectSameMotion(a, clip, *back.asset, back.asset->clips[0]);
+}
+
+// An unskinned mesh attached to a joint is written under that joint's node; a
+// reader (ours) then binds it rigidly to the joint at its rest place.
+TEST(GltfWriter, RigidMeshFollowsItsJoint) {
+  Asset a = chainCharacter();
+  Mesh mesh;
+  mesh.name = "hat";
+  mesh.joint = 2;
+  MeshPrimitive p;
+  p.positions = {glm::vec3(0), glm::vec3(0.1f, 0, 0), glm::vec3(0, 0, 0.1f)};
+  p.indices = {0, 1, 2};
+  mesh.primitives.push_back(p);
+  a.meshes.push_back(mesh);
+  const std::string out = outputPath("hat.glb");
+  writeOk(out, a, {});
+  expectValid(out);
+  const ImportResult back = importGltf(out, {});
+  ASSERT_TRUE(back.ok()) << back.diagnostics.format();
+  const Mesh& m = back.asset->meshes.at(0);
+  ASSERT_EQ(m.primitives.at(0).positions.size(), 3u);
+  // Skinned at rest (joint rest model * inverse bind * vertex) it sits where the joint puts it.
+  const glm::mat4 jointRest = back.asset->skeleton.restModelMatrices()[2];
+  const glm::mat4 skinning = jointRest * back.asset->skeleton.inverseBind[2];
+  for (std::size_t v = 0; v < 3; ++v) {
+    EXPECT_EQ(m.primitives[0].joints[v][0], 2);
+    const glm::vec3 placed = glm::vec3(skinning * glm::vec4(m.primitives[0].positions[v], 1.0f));
+    const glm::vec3 expected = glm::vec3(jointRest * glm::vec4(p.positions[v], 1.0f));
+    EXPECT_LT(glm::length(placed - expected), 1e-5f) << v;
+  }
+}
+
+// A texture file: copied into the file by default, referenced by a relative URI
+// with embedTextures = false (the validator then reads it from there).
+TEST(GltfWriter, TextureFileEmbeddedOrReferenced) {
+  const std::string png = test::sourceFile("docs/scaling_joints.png");
+  MARIONETTE_REQUIRE_FILE(png);
+  Asset a = chainCharacter();
+  Mesh mesh;
+  mesh.name = "card";
+  MeshPrimitive p;
+  p.positions = {glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)};
+  p.uvs = {glm::vec2(0), glm::vec2(1, 0), glm::vec2(0, 1)};
+  p.indices = {0, 1, 2};
+  p.material = 0;
+  mesh.primitives.push_back(p);
+  a.meshes.push_back(mesh);
+  Material m;
+  m.name = "picture";
+  m.baseColor = glm::vec4(1.0f, 0.5f, 0.25f, 1.0f);
+  m.baseColorTexture = png;
+  a.materials.push_back(m);
+  for (const bool embed : {true, false}) {
+    const std::string out = outputPath(embed ? "embedded.gltf" : "referenced.gltf");
+    GltfWriteOptions options;
+    options.embedTextures = embed;
+    const Diagnostics d = writeGltf(out, a, {}, options);
+    ASSERT_TRUE(d.ok()) << d.format();
+    EXPECT_FALSE(d.hasWarnings()) << d.format();
+    expectValid(out);
+    const ImportResult back = importGltf(out, {});
+    ASSERT_TRUE(back.ok()) << back.diagnostics.format();
+    const Material& r = back.asset->materials.at(0);
+    EXPECT_EQ(r.baseColor, m.baseColor);
+    if (embed)
+      EXPECT_EQ(r.baseColorTexture, "embedded:0");
+    else
+      EXPECT_TRUE(fs::equivalent(r.baseColorTexture, png)) << r.baseColorTexture;
+  }
+}
+
 TEST(GltfWriter, UnwritablePathIsAnErrorNamingIt) {
   const Asset a = chainCharacter();
   const std::string path = "/nonexistent-marionette-dir/out.glb";
