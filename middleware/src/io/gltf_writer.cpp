@@ -12,9 +12,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +21,7 @@
 #include <optional>
 
 #include "file_extension.hpp"
+#include "file_write.hpp"
 #include "gltf_skeleton.hpp"
 
 namespace marionette {
@@ -299,44 +298,26 @@ std::string uriEncoded(const std::string& path) {
 
 // ---- files --------------------------------------------------------------------------------------
 
-bool writeBytes(const std::string& path, const std::vector<unsigned char>& bytes, Diagnostics& diag) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) {
-    diag.error(path, std::string("cannot open for writing: ") + std::strerror(errno));
-    return false;
-  }
-  const bool written = bytes.empty() || std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const int err = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!written || !closed) {
-    diag.error(path, std::string("cannot write: ") + std::strerror(written ? errno : err));
-    return false;
-  }
-  return true;
-}
-
-void appendU32(std::vector<unsigned char>& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));  // GLB is little-endian
+void appendU32(std::string& out, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) out += static_cast<char>(v >> (8 * i));  // GLB is little-endian
 }
 
 // GLB: 12-byte header, the JSON chunk padded with spaces, the BIN chunk with zeros.
-std::vector<unsigned char> glbContainer(const std::string& json, std::vector<unsigned char> bin) {
-  std::string text = json;
-  text.resize((text.size() + 3) & ~std::size_t{3}, ' ');
+std::string glbContainer(std::string json, std::vector<unsigned char> bin) {
+  json.resize((json.size() + 3) & ~std::size_t{3}, ' ');
   bin.resize((bin.size() + 3) & ~std::size_t{3}, 0);
-  const std::size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
-  std::vector<unsigned char> out;
+  const std::size_t total = 12 + 8 + json.size() + (bin.empty() ? 0 : 8 + bin.size());
+  std::string out = "glTF";
   out.reserve(total);
-  out.insert(out.end(), {'g', 'l', 'T', 'F'});
   appendU32(out, 2);
   appendU32(out, static_cast<std::uint32_t>(total));
-  appendU32(out, static_cast<std::uint32_t>(text.size()));
+  appendU32(out, static_cast<std::uint32_t>(json.size()));
   appendU32(out, 0x4E4F534Au);  // "JSON"
-  out.insert(out.end(), text.begin(), text.end());
+  out += json;
   if (!bin.empty()) {
     appendU32(out, static_cast<std::uint32_t>(bin.size()));
     appendU32(out, 0x004E4942u);  // "BIN\0"
-    out.insert(out.end(), bin.begin(), bin.end());
+    out.append(reinterpret_cast<const char*>(bin.data()), bin.size());
   }
   return out;
 }
@@ -992,11 +973,12 @@ class Writer {
         error("the GLB would be larger than 4 GB, which the container cannot address");
         return;
       }
-      writeBytes(path_, glbContainer(json, std::move(buffer_.bytes)), diag_);
+      detail::writeFileReplacing(path_, glbContainer(json, std::move(buffer_.bytes)), "a .glb file path", diag_);
       return;
     }
-    if (!buffer_.bytes.empty() && !writeBytes(binPath(), buffer_.bytes, diag_)) return;
-    writeBytes(path_, std::vector<unsigned char>(json.begin(), json.end()), diag_);
+    const std::string_view bin(reinterpret_cast<const char*>(buffer_.bytes.data()), buffer_.bytes.size());
+    if (!bin.empty() && !detail::writeFileReplacing(binPath(), bin, "a .bin file path", diag_)) return;
+    detail::writeFileReplacing(path_, json, "a .gltf file path", diag_);
   }
 };
 
