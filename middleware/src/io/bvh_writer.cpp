@@ -18,6 +18,7 @@
 #include <set>
 #include <system_error>
 
+#include "file_write.hpp"
 #include "marionette/animation/sampling.hpp"
 #include "marionette/core/text.hpp"
 
@@ -502,36 +503,6 @@ bool BvhBuilder::writeMotion() {
   return true;
 }
 
-void writeWhole(const std::string& path, const std::string& text, Diagnostics& d) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    d.error(path, "is a directory, expected a BVH file path");
-    return;
-  }
-  // Written beside the target and renamed: a failed write never leaves half a file.
-  const std::string partial = path + ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      d.error(path, "cannot open for writing (" + std::error_code(errno, std::generic_category()).message() + ")");
-      return;
-    }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) {
-      d.error(path, "write failed (" + std::error_code(errno, std::generic_category()).message() + ")");
-      fs::remove(partial, ec);
-      return;
-    }
-  }
-  fs::rename(partial, path, ec);
-  if (ec) {
-    d.error(path, "cannot replace the file (" + ec.message() + ")");
-    std::error_code ignored;
-    fs::remove(partial, ignored);
-  }
-}
-
 }  // namespace
 
 BvhEuler toBvhEuler(const glm::quat& rotation, const BvhEuler* previous) noexcept {
@@ -596,7 +567,7 @@ Diagnostics writeBvh(const std::string& path, const Skeleton& skeleton, const Cl
       return d;
     }
     const std::string text = bvhText(skeleton, clip, options, d, path);
-    if (d.ok()) writeWhole(path, text, d);
+    if (d.ok()) detail::writeFileReplacing(path, text, "a BVH file path", d);
   } catch (const std::exception& e) {
     d.error(path, std::string("cannot write the BVH file: ") + e.what());
   }
