@@ -17,6 +17,10 @@ void usage() {
       "  lipsync [--audio A.wav] --phones P.txt --visemes V.csv\n"
       "                           lip-sync channels of a recorded line from its phoneme alignment\n"
       "                           (.phones.txt, HTS .lab, Rhubarb .tsv)\n"
+      "  retarget SRC_MOTION --to TARGET_CHARACTER [--src-map M.json] [--dst-map M.json] [--clip NAME]\n"
+      "           [--fps F] [--ik feet,hands|none] -o OUT.glb|OUT.gltf|OUT.bvh [--report] [--json]\n"
+      "                           a motion played by another skeleton, written as glTF (the character\n"
+      "                           with the animation) or BVH; --report: end-effector error, foot skating\n"
 #ifdef MARIONETTE_CLI_HAS_BML
       "  bml-check FILE.xml... [--json] [--character ASSET]\n"
       "                           parse and schedule BML blocks: predicted sync-point times and\n"
@@ -39,6 +43,7 @@ int main(int argc, char** argv) {
   if (command == "run") return marionette::cli::runCommand(args);
   if (command == "speak") return marionette::cli::speakCommand(args);
   if (command == "lipsync") return marionette::cli::lipsyncCommand(args);
+  if (command == "retarget") return marionette::cli::retargetCommand(args);
 #ifdef MARIONETTE_CLI_HAS_BML
   if (command == "bml-check") return marionette::cli::bmlCheckCommand(args);
 #endif

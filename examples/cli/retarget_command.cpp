@@ -173,9 +173,7 @@ int retargetCommand(const std::vector<std::string>& args) {
   if (a.report) {
     const auto err = retarget::endEffectorError(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap, out,
                                                 r.facingAlignment());
-    const auto ss = retarget::footSkating(source.skeleton, *sourceMap, *clip);
-    const auto ts = retarget::footSkating(target.skeleton, *targetMap, out);
-    const double ratio = ss.legLengthsPerSecond > 0.0 ? ts.legLengthsPerSecond / ss.legLengthsPerSecond : 0.0;
+    const auto sk = retarget::compareSkating(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap, out);
     const int frames = static_cast<int>(out.tracks.empty() ? 0 : out.tracks.front().rotation.keyCount());
     if (a.json) {
       nlohmann::ordered_json j;
@@ -188,9 +186,10 @@ int retargetCommand(const std::vector<std::string>& args) {
       j["seconds"] = seconds;
       j["endEffectorMean"] = err.mean;
       j["endEffectorMax"] = err.max;
-      j["sourceSkating"] = ss.legLengthsPerSecond;
-      j["targetSkating"] = ts.legLengthsPerSecond;
-      j["skatingRatio"] = ratio;
+      j["sourceSkating"] = sk.source;
+      j["targetSkating"] = sk.target;
+      j["skatingRatio"] = sk.ratio;
+      j["contactFraction"] = sk.contactFraction;
       std::cout << j.dump(2) << '\n';
     } else {
       std::printf("| metric | value |\n|---|---|\n");
@@ -198,9 +197,10 @@ int retargetCommand(const std::vector<std::string>& args) {
       std::printf("| retarget time | %.1f ms |\n", seconds * 1e3);
       std::printf("| end-effector error, mean | %.2f %% of height |\n", 100.0 * err.mean);
       std::printf("| end-effector error, max | %.2f %% of height |\n", 100.0 * err.max);
-      std::printf("| foot skating, source | %.4f leg lengths/s |\n", ss.legLengthsPerSecond);
-      std::printf("| foot skating, output | %.4f leg lengths/s |\n", ts.legLengthsPerSecond);
-      std::printf("| skating ratio (output / source) | %.3f |\n", ratio);
+      std::printf("| foot skating in the source's contacts (%.0f %% of foot-frames), source | %.4f leg lengths/s |\n",
+                  100.0 * sk.contactFraction, sk.source);
+      std::printf("| foot skating in the source's contacts, output | %.4f leg lengths/s |\n", sk.target);
+      std::printf("| skating ratio (output / source) | %.3f |\n", sk.ratio);
     }
   }
   return warned ? 1 : 0;

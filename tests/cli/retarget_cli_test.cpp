@@ -1,0 +1,108 @@
+// `marionette retarget`, run as a user would: a CMU walk onto the characters,
+// written as BVH and glTF (checked by the Khronos glTF-Validator), with --report.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_run.hpp"
+#include "marionette/io/import.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+using namespace marionette::test;
+
+namespace {
+
+const std::string kWalk = sharedAsset("motions/bvh/cmu_131_01_maxfriendly.bvh");
+
+std::string out(const std::string& name) { return ::testing::TempDir() + name; }
+
+// The JSON object printed last on stdout (notes and warnings come before it on stderr).
+nlohmann::json lastJson(const std::string& text) {
+  const std::size_t open = text.rfind("\n{");
+  return nlohmann::json::parse(text.substr(open == std::string::npos ? 0 : open + 1));
+}
+
+}  // namespace
+
+TEST(RetargetCli, CmuWalkOntoRobotAsBvhWithReport) {
+  MARIONETTE_REQUIRE_FILE(kWalk);
+  const std::string file = out("walk_robot.bvh");
+  std::filesystem::remove(file);
+  const CliRun r = runCli("retarget " + kWalk + " --to " + sharedAsset("characters/RobotExpressive.glb") + " --dst-map " +
+                          sourceFile("assets/jointmaps/RobotExpressive.json") + " -o " + file + " --report");
+  ASSERT_LE(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("| skating ratio (output / source) |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| end-effector error, mean |"), std::string::npos);
+  // The file reads back as the target's skeleton with the whole motion.
+  ImportOptions o;
+  o.loadMeshes = false;
+  const ImportResult back = importAsset(file, o);
+  ASSERT_TRUE(back.ok()) << back.diagnostics.format();
+  EXPECT_EQ(back.asset->skeleton.jointCount(), 43u);
+  ASSERT_EQ(back.asset->clips.size(), 1u);
+  EXPECT_NEAR(back.asset->clips[0].duration, 8.27, 0.02);
+}
+
+TEST(RetargetCli, FeetIkReportAsJson) {
+  MARIONETTE_REQUIRE_FILE(kWalk);
+  const std::string godette = sharedAsset("characters/Godette_vrm_v4.vrm");
+  const CliRun none = runCli("retarget " + kWalk + " --to " + godette + " -o " + out("walk_godette.bvh") + " --report --json");
+  const CliRun feet =
+      runCli("retarget " + kWalk + " --to " + godette + " --ik feet -o " + out("walk_godette_ik.bvh") + " --report --json");
+  ASSERT_LE(none.status, 1) << none.out;
+  ASSERT_LE(feet.status, 1) << feet.out;
+  const nlohmann::json a = lastJson(none.out), b = lastJson(feet.out);
+  EXPECT_EQ(b["ik"], "feet");
+  EXPECT_LT(b["skatingRatio"].get<double>(), 0.7);
+  EXPECT_LT(b["skatingRatio"].get<double>(), 0.6 * a["skatingRatio"].get<double>());
+  EXPECT_LT(a["endEffectorMean"].get<double>(), 0.15);
+  EXPECT_GT(b["frames"].get<int>(), 900);
+}
+
+TEST(RetargetCli, GltfOutputPassesTheKhronosValidator) {
+  MARIONETTE_REQUIRE_FILE(kWalk);
+  for (const char* character : {"RobotExpressive.glb", "Godette_vrm_v4.vrm", "CesiumMan.glb"}) {
+    SCOPED_TRACE(character);
+    const std::string file = out(std::string("walk_on_") + character + ".glb");
+    std::filesystem::remove(file);
+    const std::string map = std::string(character) == "RobotExpressive.glb"
+                                ? " --dst-map " + sourceFile("assets/jointmaps/RobotExpressive.json")
+                                : "";
+    const CliRun r = runCli("retarget " + kWalk + " --to " + sharedAsset(std::string("characters/") + character) + map +
+                            " --ik feet -o " + file);
+    ASSERT_LE(r.status, 1) << r.out;
+    const std::string validate = sourceFile("scripts/validate-gltf") + " " + file + " > " + file + ".report 2>&1";
+    EXPECT_EQ(std::system(validate.c_str()), 0) << readFile(file + ".report");
+    const ImportResult back = importAsset(file);
+    ASSERT_TRUE(back.ok()) << back.diagnostics.format();
+    ASSERT_EQ(back.asset->clips.size(), 1u);
+    EXPECT_NEAR(back.asset->clips[0].duration, 8.27, 0.02);
+    EXPECT_FALSE(back.asset->meshes.empty());
+  }
+}
+
+TEST(RetargetCli, BadArgumentsAreClearErrors) {
+  const CliRun noTarget = runCli("retarget " + kWalk + " -o " + out("x.bvh"));
+  EXPECT_EQ(noTarget.status, 2);
+  EXPECT_NE(noTarget.out.find("usage: marionette retarget"), std::string::npos) << noTarget.out;
+  const CliRun badIk = runCli("retarget " + kWalk + " --to " + kWalk + " --ik elbows -o " + out("x.bvh"));
+  EXPECT_EQ(badIk.status, 2);
+  EXPECT_NE(badIk.out.find("--ik 'elbows': expected feet, hands, feet,hands or none"), std::string::npos) << badIk.out;
+  const CliRun badOut = runCli("retarget " + kWalk + " --to " + kWalk + " -o " + out("x.fbx"));
+  EXPECT_EQ(badOut.status, 2);
+  EXPECT_NE(badOut.out.find("expected a .glb, .gltf or .bvh file name"), std::string::npos) << badOut.out;
+  const CliRun missing = runCli("retarget /nonexistent/walk.bvh --to " + kWalk + " -o " + out("x.bvh"));
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.out.find("/nonexistent/walk.bvh"), std::string::npos) << missing.out;
+  const CliRun badClip = runCli("retarget " + kWalk + " --to " + kWalk + " --clip nope -o " + out("x.bvh"));
+  EXPECT_EQ(badClip.status, 2);
+  EXPECT_NE(badClip.out.find("no clip named 'nope'"), std::string::npos) << badClip.out;
+  const CliRun badMap = runCli("retarget " + kWalk + " --to " + kWalk + " --src-map /nonexistent/map.json -o " + out("x.bvh"));
+  EXPECT_EQ(badMap.status, 2);
+  EXPECT_NE(badMap.out.find("/nonexistent/map.json"), std::string::npos) << badMap.out;
+}
