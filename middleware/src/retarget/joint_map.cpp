@@ -19,6 +19,7 @@ namespace marionette::retarget {
 namespace {
 using Json = nlohmann::json;
 using json_detail::JsonPlaces;
+using json_detail::JsonReaderBase;
 using profile_detail::inQuotes;
 using profile_detail::Tree;
 
@@ -448,13 +449,10 @@ JointMap fromNames(const Asset& asset, const Tree& t) {
 
 // ---- Loading ----------------------------------------------------------------
 
-class MapReader {
+class MapReader : JsonReaderBase {
  public:
   MapReader(const std::string& file, const std::string& text, const Asset& asset, Diagnostics& d)
-      : file_(file), lines_(text), places_(text), tree_(asset.skeleton), skeleton_(asset.skeleton), diags_(d) {
-    for (const auto& [pointer, offset] : places_.duplicates)
-      warnAt(static_cast<std::ptrdiff_t>(offset), pointer.substr(1) + ": duplicate key; the last one is used");
-  }
+      : JsonReaderBase(file, text, d, "ignored"), tree_(asset.skeleton), skeleton_(asset.skeleton) {}
 
   void read(const Json& doc, JointMap& m) {
     unknownKeys(doc, "", {"comment", "bones", "chains"});
@@ -573,35 +571,9 @@ class MapReader {
     return -1;
   }
 
-  void warnAt(std::ptrdiff_t offset, const std::string& message) {
-    const auto [line, column] = lines_.at(offset);
-    diags_.warning(file_, message, line, column);
-  }
-  void warn(const std::string& pointer, const std::string& message, bool atKey = false) {
-    std::ptrdiff_t offset = atKey ? places_.key(pointer) : places_.value(pointer);
-    if (offset < 0) offset = places_.value(pointer);
-    warnAt(offset, pointer.substr(1) + ": " + message);
-  }
-  void unknownKeys(const Json& obj, const std::string& where, std::initializer_list<const char*> known) {
-    for (auto it = obj.begin(); it != obj.end(); ++it) {
-      const bool ok = std::any_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; });
-      if (!ok) warn(where + "/" + JsonPlaces::escape(it.key()), "unknown key '" + it.key() + "' ignored", true);
-    }
-  }
-  const Json& section(const Json& doc, const char* key) {
-    static const Json empty = Json::object();
-    if (!doc.contains(key)) return empty;
-    if (doc[key].is_object()) return doc[key];
-    warn(std::string("/") + key, "expected an object; ignored");
-    return empty;
-  }
 
-  const std::string& file_;
-  LineIndex lines_;
-  JsonPlaces places_;
   Tree tree_;
   const Skeleton& skeleton_;
-  Diagnostics& diags_;
   std::array<std::string, kBoneCount> bonePtr_;                // where each bone was read; "" when not
   std::array<std::vector<std::string>, kChainCount> chainPtr_;  // where each chain joint was read
   std::array<bool, kChainCount> chainListed_{};                 // the file has the chain (maybe [])

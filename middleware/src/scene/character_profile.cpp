@@ -24,6 +24,7 @@ namespace {
 using Json = nlohmann::json;
 using namespace profile_detail;
 using json_detail::JsonPlaces;
+using json_detail::JsonReaderBase;
 using json_detail::parseJsonText;
 
 // ---- Names ------------------------------------------------------------------
@@ -486,13 +487,10 @@ bool isFacsUnit(const std::string& k) {
   return i == k.size() && k.back() != '_';
 }
 
-class ProfileReader {
+class ProfileReader : JsonReaderBase {
  public:
   ProfileReader(const std::string& file, const std::string& text, const Asset& asset, Diagnostics& d)
-      : file_(file), lines_(text), places_(text), asset_(asset), tree_(asset.skeleton), diags_(d) {
-    for (const auto& [pointer, at] : places_.duplicates)
-      warnAt(static_cast<std::ptrdiff_t>(at), pointer.substr(1) + ": duplicate key; the last one is used");
-  }
+      : JsonReaderBase(file, text, d, "ignored, its fields guessed"), asset_(asset), tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
     unknownKeys(doc, "", {"joints", "limbs", "face", "visemes", "clips", "gestures", "comment"});
@@ -542,34 +540,6 @@ class ProfileReader {
  private:
   enum class Kind { Joint, Morph, Clip };
 
-  void warnAt(std::ptrdiff_t offset, const std::string& message) {
-    const auto [line, column] = lines_.at(offset);
-    diags_.warning(file_, message, line, column);
-  }
-  // A warning about the value at `pointer` (or its key), naming the field.
-  void warn(const std::string& pointer, const std::string& message, bool atKey = false) {
-    std::ptrdiff_t at = atKey ? places_.key(pointer) : places_.value(pointer);
-    if (at < 0) at = places_.value(pointer);
-    warnAt(at, pointer.substr(1) + ": " + message);
-  }
-
-  void unknownKeys(const Json& obj, const std::string& where, std::initializer_list<const char*> known) {
-    if (!obj.is_object()) return;
-    for (auto it = obj.begin(); it != obj.end(); ++it) {
-      const bool ok = std::any_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; });
-      if (!ok) warn(where + "/" + JsonPlaces::escape(it.key()), "unknown key '" + it.key() + "' ignored", true);
-    }
-  }
-
-  // The object at doc[key], or an empty object (with a warning when it is not one).
-  const Json& section(const Json& doc, const char* key) {
-    static const Json empty = Json::object();
-    if (!doc.contains(key)) return empty;
-    const Json& s = doc[key];
-    if (s.is_object()) return s;
-    warn(std::string("/") + key, "expected an object; ignored, its fields guessed");
-    return empty;
-  }
 
   [[nodiscard]] bool exists(const std::string& n, Kind kind) const {
     switch (kind) {
@@ -844,12 +814,8 @@ class ProfileReader {
   }
 
   std::vector<std::string> notes_;
-  const std::string& file_;
-  LineIndex lines_;
-  JsonPlaces places_;
   const Asset& asset_;
   Tree tree_;
-  Diagnostics& diags_;
 };
 
 CharacterProfileResult load(const std::string& path, const Asset& asset) {

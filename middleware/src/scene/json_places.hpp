@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <string>
@@ -139,5 +140,53 @@ inline bool parseJsonText(const std::string& path, const std::string& text, Json
   }
   return false;
 }
+
+// What both JSON readers (character profiles, joint maps) share: warnings placed
+// at line:column by JSON pointer, duplicate and unknown keys, sections that must be
+// objects. Derived readers add the meaning of the fields.
+class JsonReaderBase {
+ protected:
+  // `sectionIgnored`: what happens to a section that is not an object ("ignored").
+  JsonReaderBase(const std::string& file, const std::string& text, Diagnostics& d, const char* sectionIgnored)
+      : file_(file), lines_(text), places_(text), diags_(d), sectionIgnored_(sectionIgnored) {
+    for (const auto& [pointer, at] : places_.duplicates)
+      warnAt(static_cast<std::ptrdiff_t>(at), pointer.substr(1) + ": duplicate key; the last one is used");
+  }
+
+  void warnAt(std::ptrdiff_t offset, const std::string& message) {
+    const auto [line, column] = lines_.at(offset);
+    diags_.warning(file_, message, line, column);
+  }
+  // A warning about the value at `pointer` (or its key), naming the field.
+  void warn(const std::string& pointer, const std::string& message, bool atKey = false) {
+    std::ptrdiff_t at = atKey ? places_.key(pointer) : places_.value(pointer);
+    if (at < 0) at = places_.value(pointer);
+    warnAt(at, pointer.substr(1) + ": " + message);
+  }
+  void unknownKeys(const Json& obj, const std::string& where, std::initializer_list<const char*> known) {
+    if (!obj.is_object()) return;
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      const bool ok = std::any_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; });
+      if (!ok) warn(where + "/" + JsonPlaces::escape(it.key()), "unknown key '" + it.key() + "' ignored", true);
+    }
+  }
+  // The object at doc[key], or an empty object (with a warning when it is not one).
+  const Json& section(const Json& doc, const char* key) {
+    static const Json empty = Json::object();
+    if (!doc.contains(key)) return empty;
+    const Json& s = doc[key];
+    if (s.is_object()) return s;
+    warn(std::string("/") + key, std::string("expected an object; ") + sectionIgnored_);
+    return empty;
+  }
+
+  const std::string& file_;
+  LineIndex lines_;
+  JsonPlaces places_;
+  Diagnostics& diags_;
+
+ private:
+  const char* sectionIgnored_;
+};
 
 }  // namespace marionette::json_detail
