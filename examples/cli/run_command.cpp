@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "marionette/bml/realizer.hpp"
+#include "marionette/bml/timed_files.hpp"
 #endif
 
 namespace marionette::cli {
@@ -173,8 +174,8 @@ int runCommand(const std::vector<std::string>& args) {
   realizer.setForwardWarningsToScene(false);  // the run loop prints them with their file:line:col
   std::vector<TimedFile> sends = loaded.bml;
   for (const std::string& f : r.bml) sends.push_back({f, 0.0, {}});
-  std::stable_sort(sends.begin(), sends.end(), [](const TimedFile& a, const TimedFile& b) { return a.time < b.time; });
-  std::size_t nextSend = 0;
+  const std::size_t bmlFileCount = sends.size();
+  bml::TimedFiles bmlFiles(realizer, std::move(sends));
   int bmlProblems = 0, bmlErrors = 0;
   std::FILE* feedback = nullptr;
   if (!r.feedback.empty() && !(feedback = std::fopen(r.feedback.c_str(), "w"))) {
@@ -190,25 +191,11 @@ int runCommand(const std::vector<std::string>& args) {
     std::fprintf(feedback, "%s\n", j.dump().c_str());
   });
   auto sendDue = [&](double now) {
-    for (; nextSend < sends.size() && sends[nextSend].time <= now + 1e-9; ++nextSend) {
-      std::ifstream in(sends[nextSend].path, std::ios::binary);
-      if (!in) {
-        std::fprintf(stderr, "%s: error: cannot open the BML file\n", sends[nextSend].path.c_str());
-        ++bmlProblems;
-        ++bmlErrors;
-        continue;
-      }
-      std::stringstream text;
-      text << in.rdbuf();
-      bml::Schedule s = realizer.perform(text.str(), sends[nextSend].character, {}, sends[nextSend].time);
-      for (const bml::Warning& w : s.warnings) {
-        Diagnostic d{w.fatal ? Severity::Error : Severity::Warning, sends[nextSend].path, w.line, w.column,
-                     std::string(bml::toString(w.type)) + ": " + (w.behaviorId.empty() ? "" : "behavior '" + w.behaviorId + "': ") + w.message};
-        std::fprintf(stderr, "%s\n", d.format().c_str());
-        ++bmlProblems;
-        bmlErrors += w.fatal ? 1 : 0;
-      }
-    }
+    bmlFiles.sendDue(now, [&](const Diagnostic& d) {
+      std::fprintf(stderr, "%s\n", d.format().c_str());
+      ++bmlProblems;
+      bmlErrors += d.severity == Severity::Error ? 1 : 0;
+    });
   };
 #endif
   std::vector<double> totalMicros(scene.characters().size(), 0.0);
@@ -276,7 +263,7 @@ int runCommand(const std::vector<std::string>& args) {
     return 2;
   }
   if (feedback) std::printf("feedback: %s\n", r.feedback.c_str());
-  if (!sends.empty()) std::printf("bml: %zu blocks sent, %d warnings or errors\n", sends.size(), bmlProblems);
+  if (bmlFileCount > 0) std::printf("bml: %zu blocks sent, %d warnings or errors\n", bmlFileCount, bmlProblems);
   if (bmlErrors > 0) return 2;
   if (bmlProblems > 0) counter.warnings += bmlProblems;
 #endif

@@ -9,7 +9,7 @@
 // image bytes, which is what the validator checks.
 #include "marionette/io/gltf_writer.hpp"
 
-#include <tiny_gltf.h>
+#include "marionette/io/embedded_images.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -236,43 +236,6 @@ std::string imageMimeType(const std::vector<unsigned char>& b) {
   return {};
 }
 
-// tinygltf hands every image's encoded bytes to this loader; we keep them as they are.
-bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                      const unsigned char* bytes, int size, void*) {
-  image->image.assign(bytes, bytes + size);
-  return true;
-}
-
-// Images stored inside the character's source file ("embedded:N" textures of a
-// glTF / GLB / VRM). Read once, on first use; other formats give nothing.
-class SourceImages {
- public:
-  explicit SourceImages(std::string source) : source_(std::move(source)) {}
-
-  const tinygltf::Image* find(int index) {
-    if (!tried_) load();
-    if (index < 0 || static_cast<std::size_t>(index) >= model_.images.size()) return nullptr;
-    return &model_.images[static_cast<std::size_t>(index)];
-  }
-
- private:
-  std::string source_;
-  bool tried_ = false;
-  tinygltf::Model model_;
-
-  void load() {
-    tried_ = true;
-    const std::string ext = detail::lowerExtension(source_);
-    if (ext != ".gltf" && ext != ".glb" && ext != ".vrm") return;
-    tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(keepEncodedImage, nullptr);
-    std::string err, warn;
-    const bool ok = ext == ".gltf" ? loader.LoadASCIIFromFile(&model_, &err, &warn, source_)
-                                   : loader.LoadBinaryFromFile(&model_, &err, &warn, source_);
-    if (!ok) model_ = tinygltf::Model{};
-  }
-};
-
 std::optional<std::vector<unsigned char>> readBytes(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return std::nullopt;
@@ -359,7 +322,7 @@ class Writer {
   std::span<const Clip> clips_;
   const GltfWriteOptions& options_;
   Diagnostics& diag_;
-  SourceImages images_;
+  EmbeddedImages images_;
   bool ok_ = true;
   bool binary_ = true;
 
@@ -530,15 +493,14 @@ class Writer {
   }
 
   std::optional<ImageBytes> embeddedImage(const Material& m) {
-    const int index = std::atoi(m.baseColorTexture.c_str() + std::strlen("embedded:"));
-    const tinygltf::Image* image = images_.find(index);
-    if (!image || image->image.empty()) {
+    const std::vector<unsigned char>* image = images_.find(EmbeddedImages::indexOf(m.baseColorTexture));
+    if (!image) {
       warning("material '" + m.name + "': texture '" + m.baseColorTexture + "' is inside " +
               (asset_.sourcePath.empty() ? std::string("the source file") : "'" + asset_.sourcePath + "'") +
               " and its bytes cannot be read from there; the texture is dropped");
       return std::nullopt;
     }
-    ImageBytes out{image->image, imageMimeType(image->image)};
+    ImageBytes out{*image, imageMimeType(*image)};
     if (out.mimeType.empty()) {
       warning("material '" + m.name + "': texture '" + m.baseColorTexture +
               "' is neither PNG nor JPEG (what glTF allows); the texture is dropped");

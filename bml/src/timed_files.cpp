@@ -1,0 +1,32 @@
+#include "marionette/bml/timed_files.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace marionette::bml {
+
+TimedFiles::TimedFiles(Realizer& realizer, std::vector<TimedFile> files)
+    : realizer_(realizer), files_(std::move(files)) {
+  std::stable_sort(files_.begin(), files_.end(), [](const TimedFile& a, const TimedFile& b) { return a.time < b.time; });
+}
+
+void TimedFiles::sendDue(double now, const std::function<void(const Diagnostic&)>& report) {
+  for (; next_ < files_.size() && files_[next_].time <= now + 1e-9; ++next_) {
+    const TimedFile& f = files_[next_];
+    std::ifstream in(f.path, std::ios::binary);
+    if (!in) {
+      report(Diagnostic{Severity::Error, f.path, 0, 0, "cannot open the BML file"});
+      continue;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    const Schedule s = realizer_.perform(text.str(), f.character, {}, f.time);
+    for (const Warning& w : s.warnings)
+      report(Diagnostic{w.fatal ? Severity::Error : Severity::Warning, f.path, w.line, w.column,
+                        std::string(toString(w.type)) + ": " +
+                            (w.behaviorId.empty() ? "" : "behavior '" + w.behaviorId + "': ") + w.message});
+  }
+}
+
+}  // namespace marionette::bml

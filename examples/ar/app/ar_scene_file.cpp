@@ -1,0 +1,171 @@
+#include "ar_scene_file.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace marionette::ar {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+class Reader {
+ public:
+  Reader(const std::string& path, Diagnostics& d) : path_(path), d_(d) {}
+
+  void error(const std::string& key, const std::string& message) {
+    d_.items.push_back({Severity::Error, path_, 0, 0, "'" + key + "': " + message});
+  }
+
+  std::string resolve(const std::string& p) const {
+    if (p.empty() || fs::path(p).is_absolute()) return p;
+    return (fs::path(path_).parent_path() / p).lexically_normal().string();
+  }
+
+  void number(const Json& obj, const char* key, const std::string& where, float& out, float lo, float hi) {
+    if (!obj.contains(key)) return;
+    const Json& v = obj[key];
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo || v.get<double>() > hi) {
+      error(where + "." + key, "expected a number in [" + trim(lo) + ", " + trim(hi) + "]");
+      return;
+    }
+    out = v.get<float>();
+  }
+
+  void vec3(const Json& obj, const char* key, const std::string& where, glm::vec3& out) {
+    if (!obj.contains(key)) return;
+    const Json& v = obj[key];
+    bool ok = v.is_array() && v.size() == 3;
+    for (std::size_t i = 0; ok && i < 3; ++i) ok = v[i].is_number() && std::isfinite(v[i].get<double>());
+    if (!ok) {
+      error(where + "." + key, "expected 3 finite numbers");
+      return;
+    }
+    out = {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+  }
+
+  bool object(const Json& root, const char* key) {
+    if (!root.contains(key)) return false;
+    if (!root[key].is_object()) {
+      error(key, "expected an object");
+      return false;
+    }
+    return true;
+  }
+
+  std::string string(const Json& obj, const char* key, const std::string& where, bool required) {
+    if (!obj.contains(key)) {
+      if (required) error(where.empty() ? key : where + "." + key, "missing");
+      return {};
+    }
+    if (!obj[key].is_string() || obj[key].get<std::string>().empty()) {
+      error(where.empty() ? key : where + "." + key, "expected a non-empty string");
+      return {};
+    }
+    return obj[key].get<std::string>();
+  }
+
+  void unknownKeys(const Json& obj, const std::string& where, std::initializer_list<const char*> known) {
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      bool found = false;
+      for (const char* k : known) found = found || it.key() == k;
+      if (!found)
+        d_.items.push_back({Severity::Warning, path_, 0, 0,
+                            "'" + (where.empty() ? it.key() : where + "." + it.key()) + "': unknown key, ignored"});
+    }
+  }
+
+ private:
+  static std::string trim(float v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  }
+  const std::string& path_;
+  Diagnostics& d_;
+};
+
+}  // namespace
+
+Diagnostics readArScene(const std::string& path, ArScene& out) {
+  Diagnostics d;
+  out.path = path;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    d.items.push_back({Severity::Error, path, 0, 0, "cannot open the AR scene file"});
+    return d;
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  Json root = Json::parse(text.str(), nullptr, false);
+  if (root.is_discarded() || !root.is_object()) {
+    d.items.push_back({Severity::Error, path, 0, 0, "not a JSON object (syntax error)"});
+    return d;
+  }
+  Reader r(path, d);
+  r.unknownKeys(root, "", {"comment", "scene", "camera", "background", "environment", "render"});
+  out.scene = r.resolve(r.string(root, "scene", "", true));
+
+  if (r.object(root, "camera")) {
+    const Json& c = root["camera"];
+    r.unknownKeys(c, "camera", {"position", "target", "up", "fovY", "near", "far"});
+    r.vec3(c, "position", "camera", out.camera.position);
+    r.vec3(c, "target", "camera", out.camera.target);
+    r.vec3(c, "up", "camera", out.camera.up);
+    r.number(c, "fovY", "camera", out.camera.fovYDegrees, 1.0f, 170.0f);
+    r.number(c, "near", "camera", out.camera.nearPlane, 1e-4f, 1e3f);
+    r.number(c, "far", "camera", out.camera.farPlane, 1e-3f, 1e7f);
+    const glm::vec3 look = out.camera.target - out.camera.position;
+    if (glm::length(look) < 1e-6f) r.error("camera.target", "equals the camera position (no view direction)");
+    else if (glm::length(glm::cross(glm::normalize(look), out.camera.up)) < 1e-4f)
+      r.error("camera.up", "is parallel to the view direction");
+    if (!(out.camera.farPlane > out.camera.nearPlane)) r.error("camera.far", "must be greater than camera.near");
+  }
+  if (r.object(root, "background")) {
+    const Json& b = root["background"];
+    r.unknownKeys(b, "background", {"kind", "file", "fps", "color"});
+    const std::string kind = r.string(b, "kind", "background", true);
+    using K = ArBackground::Kind;
+    if (kind == "environment") out.background.kind = K::Environment;
+    else if (kind == "image") out.background.kind = K::Image;
+    else if (kind == "sequence") out.background.kind = K::Sequence;
+    else if (kind == "video") out.background.kind = K::Video;
+    else if (kind == "color") out.background.kind = K::Color;
+    else if (!kind.empty()) r.error("background.kind", "'" + kind + "' is none of environment, image, sequence, video, color");
+    const bool needsFile = out.background.kind == K::Image || out.background.kind == K::Sequence ||
+                           out.background.kind == K::Video;
+    out.background.file = r.resolve(r.string(b, "file", "background", needsFile));
+    float fps = static_cast<float>(out.background.fps);
+    r.number(b, "fps", "background", fps, 0.1f, 1000.0f);
+    out.background.fps = fps;
+    r.vec3(b, "color", "background", out.background.color);
+  }
+  if (r.object(root, "environment")) {
+    const Json& e = root["environment"];
+    r.unknownKeys(e, "environment", {"file", "rotation", "exposure"});
+    out.environment.file = r.resolve(r.string(e, "file", "environment", true));
+    r.number(e, "rotation", "environment", out.environment.rotationDegrees, -3600.0f, 3600.0f);
+    r.number(e, "exposure", "environment", out.environment.exposure, 0.0f, 1e6f);
+  }
+  if (out.background.kind == ArBackground::Kind::Environment && out.environment.file.empty() &&
+      root.contains("background"))
+    r.error("background.kind", "'environment' needs an \"environment\" map");
+  if (r.object(root, "render")) {
+    const Json& rd = root["render"];
+    r.unknownKeys(rd, "render", {"width", "height", "fps"});
+    float w = static_cast<float>(out.width), h = static_cast<float>(out.height), fps = static_cast<float>(out.fps);
+    r.number(rd, "width", "render", w, 16.0f, 8192.0f);
+    r.number(rd, "height", "render", h, 16.0f, 8192.0f);
+    r.number(rd, "fps", "render", fps, 1.0f, 1000.0f);
+    out.width = static_cast<int>(w);
+    out.height = static_cast<int>(h);
+    out.fps = fps;
+  }
+  return d;
+}
+
+}  // namespace marionette::ar

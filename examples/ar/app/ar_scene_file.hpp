@@ -1,0 +1,59 @@
+// AR scene files: what the reference renderer shows around a middleware scene.
+//
+// {
+//   "scene": "walk.json",                       // required: the middleware scene (scene/scene_file.hpp)
+//   "camera": { "position": [0, 1.5, 4.5], "target": [0, 0.9, 0], "up": [0, 1, 0],
+//               "fovY": 45, "near": 0.05, "far": 100 },
+//   "background": { "kind": "environment" },    // or "image" / "sequence" / "video" with "file"
+//                                               //   (and "fps" for a sequence), or "color" with "color": [r, g, b]
+//   "environment": { "file": "studio.exr", "rotation": 0, "exposure": 1.0 },  // optional: HDR lat-long
+//   "render": { "width": 960, "height": 540, "fps": 30 }
+// }
+//
+// Paths are relative to the AR scene file, or absolute. Without "environment"
+// the characters get a neutral grey sky light. The camera is static for now:
+// ScenePose implements the CameraPoseSource a tracker will implement later.
+#pragma once
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "marionette/core/diagnostic.hpp"
+
+namespace marionette::ar {
+
+struct ArCamera {
+  glm::vec3 position{0.0f, 1.5f, 4.0f};
+  glm::vec3 target{0.0f, 1.0f, 0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fovYDegrees = 45.0f;
+  float nearPlane = 0.05f, farPlane = 100.0f;
+};
+
+struct ArBackground {
+  enum class Kind { Environment, Image, Sequence, Video, Color } kind = Kind::Environment;
+  std::string file;
+  double fps = 30.0;
+  glm::vec3 color{0.2f};
+};
+
+struct ArEnvironment {
+  std::string file;  // empty: no map (neutral sky light)
+  float rotationDegrees = 0.0f;
+  float exposure = 1.0f;
+};
+
+struct ArScene {
+  std::string path;   // the AR scene file
+  std::string scene;  // the middleware scene, resolved
+  ArCamera camera;
+  ArBackground background;
+  ArEnvironment environment;
+  int width = 960, height = 540;
+  double fps = 30.0;
+};
+
+// Reads an AR scene file; every problem names the file and the key.
+[[nodiscard]] Diagnostics readArScene(const std::string& path, ArScene& out);
+
+}  // namespace marionette::ar

@@ -1,0 +1,53 @@
+// What the renderer reads besides the middleware scene: the environment's
+// lighting (9 SH irradiance coefficients) and texture, the camera pose, and the
+// background frames. None of it needs OpenGL, so it loads before the window.
+#pragma once
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "ar_scene_file.hpp"
+#include "marionette_ar/render/image.hpp"
+
+namespace marionette::ar {
+
+struct CameraView {
+  glm::mat4 view{1.0f}, projection{1.0f};
+};
+
+class FrameInputs {
+ public:
+  FrameInputs();
+  ~FrameInputs();
+  // Loads the environment map and opens the background; errors name the file.
+  bool load(const ArScene& scene, std::string& error);
+  [[nodiscard]] const std::vector<std::string>& warnings() const noexcept { return warnings_; }
+
+  [[nodiscard]] const std::array<glm::vec3, 9>& irradianceSH() const noexcept { return irradiance_; }
+  [[nodiscard]] bool hasEnvironment() const noexcept { return !environment_.empty(); }
+  [[nodiscard]] int environmentWidth() const noexcept { return envWidth_; }
+  [[nodiscard]] int environmentHeight() const noexcept { return envHeight_; }
+  [[nodiscard]] const float* environmentPixels() const noexcept { return environment_.data(); }
+
+  [[nodiscard]] ArBackground::Kind backgroundKind() const noexcept { return kind_; }
+  // The camera frame for a scene time; the same pointer while the frame does not
+  // change; nullptr with `error` set when the source fails.
+  [[nodiscard]] const Image8* backgroundFrame(double time, std::string& error);
+  [[nodiscard]] CameraView camera(double time, float aspect) const;
+
+ private:
+  struct Sources;
+  std::unique_ptr<Sources> sources_;
+  std::vector<std::string> warnings_;
+  std::array<glm::vec3, 9> irradiance_{};
+  std::vector<float> environment_;
+  int envWidth_ = 0, envHeight_ = 0;
+  ArBackground::Kind kind_ = ArBackground::Kind::Color;
+  ArCamera cameraSettings_;
+  Image8 still_;
+};
+
+}  // namespace marionette::ar

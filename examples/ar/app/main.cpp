@@ -1,0 +1,282 @@
+// marionette-ar: the reference AR renderer. Embeds the middleware as an engine
+// would (scene, BML realizer, the bridge's palettes) and draws its characters,
+// skinned and lit by the environment, over a camera background.
+//
+//   marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]
+//                 [--exposure E] [--width W] [--height H] [--hide-characters]
+//
+// Headless renders offscreen into DIR/frame_0000.png ... (still needs an X
+// display: run it under xvfb-run; docs/ar-renderer.md).
+#include <epoxy/gl.h>
+#include <GLFW/glfw3.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "ar_scene_file.hpp"
+#include "frame_inputs.hpp"
+#include "marionette/bml/realizer.hpp"
+#include "marionette/bml/timed_files.hpp"
+#include "marionette/scene/scene_file.hpp"
+#include "marionette_ar/render/background_renderer.hpp"
+#include "marionette_ar/render/character_renderer.hpp"
+#include "marionette_ar/render/gl_context.hpp"
+#include "marionette_ar/render/render_target.hpp"
+
+namespace {
+
+using namespace marionette;
+using namespace marionette::ar;
+
+struct Args {
+  std::string scene, outDir, screenshot;
+  bool headless = false, hideCharacters = false;
+  long frames = -1;  // headless default: 5 s of scene time
+  float exposure = -1.0f;
+  int width = 0, height = 0;
+};
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]\n"
+               "                     [--exposure E] [--width W] [--height H] [--hide-characters]\n");
+  return 2;
+}
+
+bool parseArgs(int argc, char** argv, Args& a) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto value = [&](const char* what) -> const char* {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "marionette-ar: %s needs a value\n", what);
+        return nullptr;
+      }
+      return argv[++i];
+    };
+    auto number = [&](const char* what, double lo, double hi, double& out) {
+      const char* v = value(what);
+      if (!v) return false;
+      char* end = nullptr;
+      out = std::strtod(v, &end);
+      if (end == v || *end || !(out >= lo && out <= hi)) {
+        std::fprintf(stderr, "marionette-ar: %s '%s' is not a number in [%g, %g]\n", what, v, lo, hi);
+        return false;
+      }
+      return true;
+    };
+    double n = 0;
+    if (s == "--headless") a.headless = true;
+    else if (s == "--hide-characters") a.hideCharacters = true;
+    else if (s == "--frames") {
+      if (!number("--frames", 1, 1e6, n)) return false;
+      a.frames = static_cast<long>(n);
+    } else if (s == "--out") {
+      const char* v = value("--out");
+      if (!v) return false;
+      a.outDir = v;
+    } else if (s == "--screenshot") {
+      const char* v = value("--screenshot");
+      if (!v) return false;
+      a.screenshot = v;
+    } else if (s == "--exposure") {
+      if (!number("--exposure", 0, 1e6, n)) return false;
+      a.exposure = static_cast<float>(n);
+    } else if (s == "--width") {
+      if (!number("--width", 16, 8192, n)) return false;
+      a.width = static_cast<int>(n);
+    } else if (s == "--height") {
+      if (!number("--height", 16, 8192, n)) return false;
+      a.height = static_cast<int>(n);
+    } else if (!s.empty() && s[0] == '-') {
+      std::fprintf(stderr, "marionette-ar: unknown option '%s'\n", s.c_str());
+      return false;
+    } else if (a.scene.empty()) a.scene = s;
+    else {
+      std::fprintf(stderr, "marionette-ar: more than one scene file ('%s')\n", s.c_str());
+      return false;
+    }
+  }
+  if (a.scene.empty()) return false;
+  if (a.headless && a.outDir.empty()) {
+    std::fprintf(stderr, "marionette-ar: --headless needs --out DIR\n");
+    return false;
+  }
+  return true;
+}
+
+// Logs the runtime's warnings to stderr.
+struct LogListener : SceneListener {
+  int warnings = 0;
+  void onLog(LogLevel level, std::string_view message) override {
+    if (level == LogLevel::Info) return;
+    ++warnings;
+    std::fprintf(stderr, "marionette-ar: %s: %.*s\n", level == LogLevel::Error ? "error" : "warning",
+                 static_cast<int>(message.size()), message.data());
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  if (!parseArgs(argc, argv, args)) return usage();
+  ArScene ar;
+  const Diagnostics arDiag = readArScene(args.scene, ar);
+  std::fputs(arDiag.format().c_str(), stderr);
+  if (!arDiag.ok()) return 2;
+  if (args.width) ar.width = args.width;
+  if (args.height) ar.height = args.height;
+  if (args.exposure >= 0.0f) ar.environment.exposure = args.exposure;
+
+  // Inputs that need no GL: the environment's lighting, the background source.
+  FrameInputs inputs;
+  std::string error;
+  if (!inputs.load(ar, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 2;
+  }
+  for (const std::string& w : inputs.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
+
+  std::string glError;
+  auto gl = GlContext::create({ar.width, ar.height, !args.headless, "marionette-ar: " + args.scene}, glError);
+  if (!gl) {
+    std::fprintf(stderr, "marionette-ar: %s\n", glError.c_str());
+    return 3;
+  }
+  std::printf("marionette-ar: %s\n", gl->rendererName().c_str());
+
+  Scene scene;
+  LogListener log;
+  scene.addListener(&log);
+  SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
+  std::fputs(loaded.diagnostics.format().c_str(), stderr);
+  if (!loaded.ok()) return 2;
+  bml::Realizer realizer(scene);
+  realizer.setForwardWarningsToScene(false);
+  bml::TimedFiles bmlFiles(realizer, loaded.bml);
+  int bmlErrors = 0;
+
+  // GPU models, one per asset; a pose (palette texture) per character.
+  std::map<const Asset*, std::unique_ptr<CharacterModel>> models;
+  std::vector<std::unique_ptr<CharacterPose>> poses;
+  std::vector<const CharacterModel*> drawn;
+  for (const auto& c : scene.characters()) {
+    const Asset* asset = &c->rig().asset();
+    auto& model = models[asset];
+    if (!model) {
+      std::vector<std::string> warnings;
+      auto m = std::make_unique<CharacterModel>();
+      if (m->upload(*asset, warnings, error)) model = std::move(m);
+      else std::fprintf(stderr, "marionette-ar: character '%s' is not drawn: %s\n", c->name().c_str(), error.c_str());
+      for (const std::string& w : warnings) std::fprintf(stderr, "marionette-ar: warning: %s\n", w.c_str());
+    }
+    poses.push_back(std::make_unique<CharacterPose>(c->skeleton()));
+    drawn.push_back(model.get());
+  }
+
+  ShaderProgram characterProgram;
+  BackgroundRenderer background;
+  RenderTarget target;
+  if (!characterProgram.build("character.vert", "character.frag", error) || !background.create(error) ||
+      !target.create(ar.width, ar.height, 4, error)) {
+    std::fprintf(stderr, "marionette-ar: %s\n", error.c_str());
+    return 3;
+  }
+  if (inputs.hasEnvironment())
+    background.setEnvironment(inputs.environmentWidth(), inputs.environmentHeight(), inputs.environmentPixels());
+
+  if (!args.outDir.empty()) std::filesystem::create_directories(args.outDir);
+  const double dt = 1.0 / ar.fps;
+  const long frames = args.frames > 0 ? args.frames : (args.headless ? static_cast<long>(5.0 * ar.fps) : -1);
+  const float aspect = static_cast<float>(ar.width) / static_cast<float>(ar.height);
+  Image8 frameImage;
+  Lighting lighting;
+  lighting.irradianceSH = inputs.irradianceSH();
+  lighting.exposure = ar.environment.exposure;
+  double cpuMs = 0.0;
+  auto last = std::chrono::steady_clock::now();
+  long frame = 0;
+  for (; frames < 0 || frame < frames; ++frame) {
+    if (!args.headless && gl->shouldClose()) break;
+    // Headless steps at the scene's fps exactly; a window follows the wall clock (at most 0.1 s a frame).
+    double step = dt;
+    if (!args.headless) {
+      const auto now = std::chrono::steady_clock::now();
+      step = std::min(0.1, std::chrono::duration<double>(now - last).count());
+      last = now;
+    }
+    const auto cpuStart = std::chrono::steady_clock::now();
+    bmlFiles.sendDue(scene.time() + (frame == 0 ? 0.0 : step), [&](const Diagnostic& d) {
+      std::fprintf(stderr, "%s\n", d.format().c_str());
+      bmlErrors += d.severity == Severity::Error ? 1 : 0;
+    });
+    scene.update(frame == 0 ? 0.0 : step);
+    realizer.update();
+    cpuMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+
+    const CameraView view = inputs.camera(scene.time(), aspect);
+    target.bind();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    switch (inputs.backgroundKind()) {
+      case ArBackground::Kind::Environment:
+        background.drawEnvironment(glm::inverse(view.projection * view.view), lighting.exposure,
+                                   glm::radians(ar.environment.rotationDegrees));
+        break;
+      case ArBackground::Kind::Color:
+        background.drawFlat(ar.background.color);
+        break;
+      default:
+        if (const Image8* image = inputs.backgroundFrame(scene.time(), error)) background.setImage(*image);
+        else if (!error.empty()) {
+          std::fprintf(stderr, "%s\n", error.c_str());
+          return 2;
+        }
+        background.drawImage(aspect);
+    }
+    if (!args.hideCharacters) {
+      glEnable(GL_DEPTH_TEST);
+      for (std::size_t i = 0; i < scene.characters().size(); ++i) {
+        if (!drawn[i]) continue;
+        const Character& c = *scene.characters()[i];
+        poses[i]->update(c.transformBuffer());
+        drawCharacter(characterProgram, *drawn[i], *poses[i], c.transformBuffer().worldMatrix(),
+                      view.projection * view.view, lighting);
+      }
+    }
+    if (args.headless) {
+      target.read(frameImage);
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04ld.png", frame);
+      if (!writeImage((std::filesystem::path(args.outDir) / name).string(), frameImage, error)) {
+        std::fprintf(stderr, "marionette-ar: %s\n", error.c_str());
+        return 2;
+      }
+    } else {
+      int w = 0, h = 0;
+      gl->framebufferSize(w, h);
+      target.present(w, h);
+      gl->swapAndPoll();
+    }
+  }
+  if (!args.screenshot.empty()) {
+    target.read(frameImage);
+    if (!writeImage(args.screenshot, frameImage, error)) {
+      std::fprintf(stderr, "marionette-ar: %s\n", error.c_str());
+      return 2;
+    }
+    std::printf("marionette-ar: screenshot %s\n", args.screenshot.c_str());
+  }
+  std::printf("marionette-ar: %ld frames of %dx%d, %.3f s of scene time, middleware %.3f ms per frame\n", frame,
+              ar.width, ar.height, scene.time(), frame > 0 ? cpuMs / static_cast<double>(frame) : 0.0);
+  if (args.headless) std::printf("marionette-ar: frames in %s\n", args.outDir.c_str());
+  return bmlErrors > 0 ? 1 : 0;
+}

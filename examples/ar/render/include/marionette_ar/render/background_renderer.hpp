@@ -1,0 +1,36 @@
+// What is drawn behind the characters: the camera's image (a photo, an image
+// sequence or a video frame, fitted to cover the viewport without stretching),
+// the HDR environment seen through the camera, or a flat colour.
+#pragma once
+#include <glm/glm.hpp>
+
+#include "marionette_ar/render/image.hpp"
+#include "marionette_ar/render/shader_program.hpp"
+
+namespace marionette::ar {
+
+class BackgroundRenderer {
+ public:
+  BackgroundRenderer() = default;
+  ~BackgroundRenderer();
+  BackgroundRenderer(const BackgroundRenderer&) = delete;
+  BackgroundRenderer& operator=(const BackgroundRenderer&) = delete;
+
+  bool create(std::string& error);
+  // A new camera frame (RGB or RGBA, row 0 at the top); re-allocates only when the size changes.
+  void setImage(const Image8& image);
+  // The environment as linear RGB floats, lat-long, row 0 at +Y.
+  void setEnvironment(int width, int height, const float* rgb);
+
+  void drawImage(float viewportAspect) const;
+  void drawEnvironment(const glm::mat4& inverseViewProjection, float exposure, float rotationRadians) const;
+  void drawFlat(const glm::vec3& color) const;
+
+ private:
+  void draw() const;
+  ShaderProgram program_;
+  unsigned vao_ = 0, image_ = 0, environment_ = 0;
+  int imageWidth_ = 0, imageHeight_ = 0;
+};
+
+}  // namespace marionette::ar

@@ -1,0 +1,96 @@
+// Draws characters from the middleware: GPU linear-blend skinning from the
+// palette the bridge fills, every sub-mesh of a multi-mesh character, base-colour
+// textures (OpenImageIO) and morph targets (visemes and expressions).
+//
+// CharacterModel is the GPU copy of one asset (shared by every character made
+// from it); CharacterPose is one character's per-frame state (its palette
+// texture and morph weights), filled from its TransformBuffer.
+#pragma once
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "marionette/bridge/palette_binding.hpp"
+#include "marionette/io/asset.hpp"
+#include "marionette/scene/transform_buffer.hpp"
+#include "marionette_ar/render/shader_program.hpp"
+
+namespace marionette::ar {
+
+// What the character shader needs besides the character.
+struct Lighting {
+  std::array<glm::vec3, 9> irradianceSH{};  // E(n) = sum c_i Y_i(n); all zero = unlit black
+  float exposure = 1.0f;
+  int outputMode = 0;  // 0 lit, 1 unlit base colour, 2 normals (tests)
+};
+
+class CharacterModel {
+ public:
+  CharacterModel() = default;
+  ~CharacterModel();
+  CharacterModel(const CharacterModel&) = delete;
+  CharacterModel& operator=(const CharacterModel&) = delete;
+
+  // Uploads every mesh primitive, its morph deltas and its material's texture.
+  // Problems that leave the character drawable (a texture that cannot be read)
+  // go to `warnings`, naming the asset, material and file; returns false (with
+  // `error`) only when nothing can be drawn.
+  bool upload(const Asset& asset, std::vector<std::string>& warnings, std::string& error);
+  [[nodiscard]] std::size_t primitiveCount() const noexcept { return primitives_.size(); }
+  [[nodiscard]] std::size_t triangleCount() const noexcept;
+  [[nodiscard]] std::size_t morphTargetCount() const noexcept { return morphCount_; }
+
+ private:
+  friend class CharacterPose;
+  friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const class CharacterPose&, const glm::mat4&,
+                            const glm::mat4&, const Lighting&);
+  struct Primitive {
+    unsigned vao = 0, vertexBuffer = 0, indexBuffer = 0;
+    int indexCount = 0, vertexCount = 0;
+    bool skinned = true;
+    int rigidJoint = -1;  // unskinned mesh attached to a joint
+    glm::vec4 baseColor{1.0f};
+    int texture = -1;     // into textures_
+    unsigned morphPositions = 0, morphNormals = 0;
+    int morphTextureWidth = 1;
+    std::vector<int> morphs;  // asset morph index of each local morph target
+  };
+  std::vector<Primitive> primitives_;
+  std::vector<unsigned> textures_;
+  std::size_t morphCount_ = 0;
+  std::size_t jointCount_ = 0;
+};
+
+class CharacterPose {
+ public:
+  explicit CharacterPose(const Skeleton& skeleton);
+  ~CharacterPose();
+  CharacterPose(const CharacterPose&) = delete;
+  CharacterPose& operator=(const CharacterPose&) = delete;
+
+  // Copies the frame's palette (through the bridge, packed 3x4 with the inverse
+  // bind applied) and morph weights; uploads the palette. No allocation.
+  void update(const TransformBuffer& buffer);
+  // Replaces the palette with explicit skinning matrices (tests: a known pose).
+  void setPalette(std::span<const glm::mat4> skinning, std::span<const glm::mat4> model);
+
+ private:
+  friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const CharacterPose&, const glm::mat4&,
+                            const glm::mat4&, const Lighting&);
+  void upload();
+  bridge::PaletteBinding binding_;
+  std::vector<float> palette_;        // joints x 12 floats
+  std::vector<glm::mat4> model_;      // model-space joint matrices (rigid meshes)
+  std::vector<float> morphWeights_;
+  unsigned paletteTexture_ = 0;
+  int joints_ = 0;
+};
+
+// Draws one character with `program` (character.vert + character.frag).
+void drawCharacter(const ShaderProgram& program, const CharacterModel& model, const CharacterPose& pose,
+                   const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting);
+
+}  // namespace marionette::ar

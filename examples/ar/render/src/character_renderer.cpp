@@ -1,0 +1,273 @@
+#include "marionette_ar/render/character_renderer.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+
+#include "marionette/io/embedded_images.hpp"
+#include "marionette_ar/render/image.hpp"
+
+namespace marionette::ar {
+namespace {
+
+// Interleaved vertex: position, normal, uv, joints (as floats), weights.
+struct Vertex {
+  float position[3], normal[3], uv[2], joints[4], weights[4];
+};
+
+constexpr int kMorphTextureWidth = 2048;
+constexpr int kMaxActiveMorphs = 8;  // as character.vert
+
+unsigned makeFloatTexture(int width, int height, const float* rgba) {
+  unsigned t = 0;
+  glGenTextures(1, &t);
+  glBindTexture(GL_TEXTURE_2D, t);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, rgba);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return t;
+}
+
+unsigned makeColorTexture(const Image8& image) {
+  unsigned t = 0;
+  glGenTextures(1, &t);
+  glBindTexture(GL_TEXTURE_2D, t);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  // Row 0 (the image's top) at t = 0: glTF uvs have their origin at the top-left.
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               image.pixels.data());
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  return t;
+}
+
+// Morph deltas of one primitive as two RGBA32F textures (texel = morph * V + vertex).
+void uploadMorphs(const MeshPrimitive& p, unsigned& positions, unsigned& normals, int& width) {
+  const std::size_t v = p.positions.size();
+  const std::size_t texels = std::max<std::size_t>(1, v * p.morphTargets.size());
+  width = static_cast<int>(std::min<std::size_t>(texels, kMorphTextureWidth));
+  const std::size_t height = (texels + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);
+  std::vector<float> pos(static_cast<std::size_t>(width) * height * 4, 0.0f), nrm(pos.size(), 0.0f);
+  for (std::size_t m = 0; m < p.morphTargets.size(); ++m) {
+    const MorphTargetDelta& d = p.morphTargets[m];
+    for (std::size_t i = 0; i < v; ++i) {
+      const std::size_t t = (m * v + i) * 4;
+      if (i < d.positions.size()) std::memcpy(&pos[t], &d.positions[i], sizeof(glm::vec3));
+      if (i < d.normals.size()) std::memcpy(&nrm[t], &d.normals[i], sizeof(glm::vec3));
+    }
+  }
+  positions = makeFloatTexture(width, static_cast<int>(height), pos.data());
+  normals = makeFloatTexture(width, static_cast<int>(height), nrm.data());
+}
+
+}  // namespace
+
+CharacterModel::~CharacterModel() {
+  for (Primitive& p : primitives_) {
+    glDeleteVertexArrays(1, &p.vao);
+    glDeleteBuffers(1, &p.vertexBuffer);
+    glDeleteBuffers(1, &p.indexBuffer);
+    if (p.morphPositions) glDeleteTextures(1, &p.morphPositions);
+    if (p.morphNormals) glDeleteTextures(1, &p.morphNormals);
+  }
+  if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+}
+
+std::size_t CharacterModel::triangleCount() const noexcept {
+  std::size_t n = 0;
+  for (const Primitive& p : primitives_) n += static_cast<std::size_t>(p.indexCount) / 3;
+  return n;
+}
+
+bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnings, std::string& error) {
+  morphCount_ = asset.morphTargets.size();
+  jointCount_ = asset.skeleton.jointCount();
+  EmbeddedImages embedded(asset.sourcePath);
+  std::map<std::string, int> textureOf;  // texture reference -> textures_ index (-1: unreadable)
+  auto texture = [&](const Material& m) -> int {
+    if (m.baseColorTexture.empty()) return -1;
+    if (auto it = textureOf.find(m.baseColorTexture); it != textureOf.end()) return it->second;
+    Image8 image;
+    std::string why;
+    bool ok = false;
+    if (const int index = EmbeddedImages::indexOf(m.baseColorTexture); index >= 0) {
+      const std::vector<unsigned char>* bytes = embedded.find(index);
+      ok = bytes && readImage(*bytes, asset.sourcePath + " image " + std::to_string(index), image, why);
+      if (!bytes) why = "the image is inside the file and cannot be read from there";
+    } else {
+      ok = readImage(m.baseColorTexture, image, why);
+    }
+    int slot = -1;
+    if (ok) {
+      slot = static_cast<int>(textures_.size());
+      textures_.push_back(makeColorTexture(image));
+    } else {
+      warnings.push_back(asset.sourcePath + ": material '" + m.name + "': texture '" + m.baseColorTexture +
+                         "' not used: " + why);
+    }
+    textureOf[m.baseColorTexture] = slot;
+    return slot;
+  };
+
+  for (const Mesh& mesh : asset.meshes) {
+    for (const MeshPrimitive& p : mesh.primitives) {
+      const std::size_t n = p.positions.size();
+      if (n == 0 || p.indices.empty()) continue;
+      const bool skinned = mesh.skinned && p.joints.size() == n && p.weights.size() == n;
+      std::vector<Vertex> vertices(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        Vertex& v = vertices[i];
+        std::memcpy(v.position, &p.positions[i], sizeof v.position);
+        const glm::vec3 normal = i < p.normals.size() ? p.normals[i] : glm::vec3(0, 1, 0);
+        std::memcpy(v.normal, &normal, sizeof v.normal);
+        const glm::vec2 uv = i < p.uvs.size() ? p.uvs[i] : glm::vec2(0.0f);
+        std::memcpy(v.uv, &uv, sizeof v.uv);
+        for (int k = 0; k < 4; ++k) {
+          v.joints[k] = skinned ? static_cast<float>(p.joints[i][k]) : 0.0f;
+          v.weights[k] = skinned ? p.weights[i][k] : (k == 0 ? 1.0f : 0.0f);
+        }
+      }
+      Primitive gp;
+      gp.vertexCount = static_cast<int>(n);
+      gp.indexCount = static_cast<int>(p.indices.size());
+      gp.skinned = skinned;
+      gp.rigidJoint = skinned ? -1 : mesh.joint;
+      if (p.material >= 0 && static_cast<std::size_t>(p.material) < asset.materials.size()) {
+        const Material& m = asset.materials[static_cast<std::size_t>(p.material)];
+        gp.baseColor = m.baseColor;
+        if (p.uvs.size() == n) gp.texture = texture(m);
+      }
+      glGenVertexArrays(1, &gp.vao);
+      glBindVertexArray(gp.vao);
+      glGenBuffers(1, &gp.vertexBuffer);
+      glBindBuffer(GL_ARRAY_BUFFER, gp.vertexBuffer);
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(n * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);
+      const auto attrib = [](unsigned loc, int size, std::size_t offset) {
+        glEnableVertexAttribArray(loc);
+        glVertexAttribPointer(loc, size, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<const void*>(offset));
+      };
+      attrib(0, 3, offsetof(Vertex, position));
+      attrib(1, 3, offsetof(Vertex, normal));
+      attrib(2, 2, offsetof(Vertex, uv));
+      attrib(3, 4, offsetof(Vertex, joints));
+      attrib(4, 4, offsetof(Vertex, weights));
+      glGenBuffers(1, &gp.indexBuffer);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gp.indexBuffer);
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(p.indices.size() * sizeof(std::uint32_t)),
+                   p.indices.data(), GL_STATIC_DRAW);
+      glBindVertexArray(0);
+      if (!p.morphTargets.empty() && p.morphTargets.size() == mesh.morphTargets.size()) {
+        gp.morphs = mesh.morphTargets;
+        uploadMorphs(p, gp.morphPositions, gp.morphNormals, gp.morphTextureWidth);
+      }
+      primitives_.push_back(std::move(gp));
+    }
+  }
+  if (primitives_.empty()) {
+    error = asset.sourcePath + ": no mesh to draw (the file has a skeleton and clips only)";
+    return false;
+  }
+  return true;
+}
+
+CharacterPose::CharacterPose(const Skeleton& skeleton)
+    : binding_(skeleton),
+      palette_(skeleton.jointCount() * 12, 0.0f),
+      model_(skeleton.jointCount(), glm::mat4(1.0f)),
+      joints_(static_cast<int>(skeleton.jointCount())) {
+  binding_.clearUnmapped(palette_, bridge::PaletteLayout::Mat3x4RowMajor);
+  glGenTextures(1, &paletteTexture_);
+  glBindTexture(GL_TEXTURE_2D, paletteTexture_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 3, std::max(1, joints_), 0, GL_RGBA, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+}
+
+CharacterPose::~CharacterPose() { glDeleteTextures(1, &paletteTexture_); }
+
+void CharacterPose::update(const TransformBuffer& buffer) {
+  binding_.copy(buffer, palette_, bridge::PaletteLayout::Mat3x4RowMajor);
+  const auto models = buffer.modelMatrices();
+  std::copy_n(models.begin(), std::min(models.size(), model_.size()), model_.begin());
+  const auto weights = buffer.morphWeights();
+  morphWeights_.resize(weights.size());  // sized once: the morph count does not change
+  std::copy(weights.begin(), weights.end(), morphWeights_.begin());
+  upload();
+}
+
+void CharacterPose::setPalette(std::span<const glm::mat4> skinning, std::span<const glm::mat4> model) {
+  for (std::size_t j = 0; j < skinning.size() && j < model_.size(); ++j) {
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) palette_[j * 12 + static_cast<std::size_t>(row * 4 + col)] = skinning[j][col][row];
+    if (j < model.size()) model_[j] = model[j];
+  }
+  upload();
+}
+
+void CharacterPose::upload() {
+  if (joints_ == 0) return;
+  glBindTexture(GL_TEXTURE_2D, paletteTexture_);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 3, joints_, GL_RGBA, GL_FLOAT, palette_.data());
+}
+
+void drawCharacter(const ShaderProgram& program, const CharacterModel& model, const CharacterPose& pose,
+                   const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting) {
+  program.use();
+  program.set("uWorld", world);
+  program.set("uViewProjection", viewProjection);
+  program.set("uExposure", lighting.exposure);
+  program.set("uOutputMode", lighting.outputMode);
+  glUniform3fv(program.location("uIrradianceSH"), 9, &lighting.irradianceSH[0].x);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, pose.paletteTexture_);
+  program.set("uPalette", 0);
+  program.set("uBaseColorTexture", 1);
+  program.set("uMorphPositions", 2);
+  program.set("uMorphNormals", 3);
+  for (const CharacterModel::Primitive& p : model.primitives_) {
+    program.set("uSkinned", p.skinned ? 1 : 0);
+    const bool rigid = p.rigidJoint >= 0 && static_cast<std::size_t>(p.rigidJoint) < pose.model_.size();
+    program.set("uRigid", rigid ? pose.model_[static_cast<std::size_t>(p.rigidJoint)] : glm::mat4(1.0f));
+    program.set("uBaseColor", p.baseColor);
+    program.set("uHasTexture", p.texture >= 0 ? 1 : 0);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, p.texture >= 0 ? model.textures_[static_cast<std::size_t>(p.texture)] : 0);
+    // The strongest morphs of this primitive (at most kMaxActiveMorphs).
+    int indices[kMaxActiveMorphs] = {};
+    float weights[kMaxActiveMorphs] = {};
+    int active = 0;
+    for (std::size_t local = 0; local < p.morphs.size(); ++local) {
+      const auto global = static_cast<std::size_t>(p.morphs[local]);
+      const float w = global < pose.morphWeights_.size() ? pose.morphWeights_[global] : 0.0f;
+      if (!(std::abs(w) > 1e-4f)) continue;
+      int slot = active < kMaxActiveMorphs ? active++ : -1;
+      if (slot < 0) {  // full: replace the weakest if this one is stronger
+        slot = static_cast<int>(std::min_element(weights, weights + kMaxActiveMorphs,
+                                                 [](float a, float b) { return std::abs(a) < std::abs(b); }) - weights);
+        if (std::abs(weights[slot]) >= std::abs(w)) continue;
+      }
+      indices[slot] = static_cast<int>(local);
+      weights[slot] = w;
+    }
+    program.set("uActiveMorphs", active);
+    glUniform1iv(program.location("uMorphIndex"), kMaxActiveMorphs, indices);
+    glUniform1fv(program.location("uMorphWeight"), kMaxActiveMorphs, weights);
+    program.set("uVertexCount", p.vertexCount);
+    program.set("uMorphTextureWidth", p.morphTextureWidth);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, p.morphPositions);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, p.morphNormals);
+    glBindVertexArray(p.vao);
+    glDrawElements(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  glActiveTexture(GL_TEXTURE0);
+}
+
+}  // namespace marionette::ar

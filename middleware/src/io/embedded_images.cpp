@@ -1,0 +1,55 @@
+#include "marionette/io/embedded_images.hpp"
+
+#include <tiny_gltf.h>
+
+#include <charconv>
+#include <cstring>
+
+#include "file_extension.hpp"
+
+namespace marionette {
+namespace {
+
+// Keeps the encoded bytes instead of decoding them (no image library needed here).
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+  image->image.assign(bytes, bytes + size);
+  return true;
+}
+
+}  // namespace
+
+EmbeddedImages::EmbeddedImages(std::string sourcePath) : source_(std::move(sourcePath)) {}
+EmbeddedImages::~EmbeddedImages() = default;
+
+int EmbeddedImages::indexOf(std::string_view reference) noexcept {
+  constexpr std::string_view prefix = "embedded:";
+  if (reference.substr(0, prefix.size()) != prefix) return -1;
+  int index = -1;
+  const char* first = reference.data() + prefix.size();
+  const char* last = reference.data() + reference.size();
+  auto [end, ec] = std::from_chars(first, last, index);
+  return ec == std::errc{} && end == last && index >= 0 ? index : -1;
+}
+
+const std::vector<unsigned char>* EmbeddedImages::find(int index) {
+  if (!tried_) {
+    tried_ = true;
+    const std::string ext = detail::lowerExtension(source_);
+    if (ext == ".gltf" || ext == ".glb" || ext == ".vrm") {
+      tinygltf::TinyGLTF loader;
+      loader.SetImageLoader(keepEncodedImage, nullptr);
+      tinygltf::Model model;
+      std::string err, warn;
+      const bool ok = ext == ".gltf" ? loader.LoadASCIIFromFile(&model, &err, &warn, source_)
+                                     : loader.LoadBinaryFromFile(&model, &err, &warn, source_);
+      if (ok)
+        for (tinygltf::Image& image : model.images) images_.push_back(std::move(image.image));
+    }
+  }
+  if (index < 0 || static_cast<std::size_t>(index) >= images_.size() || images_[static_cast<std::size_t>(index)].empty())
+    return nullptr;
+  return &images_[static_cast<std::size_t>(index)];
+}
+
+}  // namespace marionette
