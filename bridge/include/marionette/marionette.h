@@ -101,6 +101,9 @@ MN_API const char* mn_character_joint_name(const mn_character* character, size_t
 MN_API int mn_character_find_joint(const mn_character* character, const char* name);
 MN_API mn_status mn_character_set_position(mn_character* character, float x, float y, float z); /* metres */
 MN_API mn_status mn_character_set_heading(mn_character* character, float radians);              /* about +Y */
+/* The character's world-from-model matrix as of the last update (16 floats, column-major).
+ * The palette is in model space: an engine places the skinned mesh with this. */
+MN_API mn_status mn_character_world_matrix(const mn_character* character, float* out16);
 
 typedef enum mn_palette_layout {
   MN_PALETTE_MAT4_COLUMN_MAJOR = 0, /* 16 floats per joint, column after column (OpenGL) */

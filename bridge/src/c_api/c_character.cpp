@@ -58,6 +58,13 @@ mn_status mn_character_set_heading(mn_character* character, float radians) {
   });
 }
 
+mn_status mn_character_world_matrix(const mn_character* character, float* out16) {
+  if (!character) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_character_world_matrix: character is NULL");
+  if (!out16) return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_world_matrix: out16 is NULL");
+  std::memcpy(out16, character->character->transformBuffer().world(), 16 * sizeof(float));
+  return MN_OK;
+}
+
 size_t mn_palette_floats_per_joint(mn_palette_layout layout) {
   return validLayout(layout) ? marionette::bridge::floatsPerBone(static_cast<marionette::bridge::PaletteLayout>(layout))
                              : 0;

@@ -38,10 +38,28 @@ void logWarnings(const mn_scene& s, const marionette::Diagnostics& d) {
 }
 
 #ifdef MARIONETTE_C_HAS_BML
-// "block:line:col: error: TYPE: behavior 'id': message" (the block names the place).
+// The id attribute of the <bml> element, read naively, for naming a block whose XML
+// is too broken to parse ("" when there is none to see).
+std::string sniffBlockId(std::string_view text) {
+  const std::size_t open = text.find("<bml");
+  const std::size_t close = open == std::string_view::npos ? open : text.find('>', open);
+  if (close == std::string_view::npos) return {};
+  const std::string_view tag = text.substr(open, close - open);
+  for (std::size_t at = tag.find("id="); at != std::string_view::npos; at = tag.find("id=", at + 3)) {
+    if (at == 0 || (tag[at - 1] != ' ' && tag[at - 1] != '\t' && tag[at - 1] != '\n')) continue;  // not characterId
+    const std::size_t q = at + 3;
+    if (q >= tag.size() || (tag[q] != '\'' && tag[q] != '"')) return {};
+    const std::size_t end = tag.find(tag[q], q + 1);
+    return end == std::string_view::npos ? std::string() : std::string(tag.substr(q + 1, end - q - 1));
+  }
+  return {};
+}
+
+// "bml block 'id':line:col: error: TYPE: behavior 'b': message" (the block names the place).
 std::string formatWarning(const std::string& blockId, const marionette::bml::Warning& w) {
-  const std::string block = !w.blockId.empty() ? w.blockId : !blockId.empty() ? blockId : "bml block";
-  return diagnostic(w.fatal ? marionette::Severity::Error : marionette::Severity::Warning, "bml block '" + block + "'",
+  const std::string block = !w.blockId.empty() ? w.blockId : blockId;
+  return diagnostic(w.fatal ? marionette::Severity::Error : marionette::Severity::Warning,
+                    block.empty() ? "bml block (no id)" : "bml block '" + block + "'",
                     std::string(marionette::bml::toString(w.type)) + ": " +
                         (w.behaviorId.empty() ? "" : "behavior '" + w.behaviorId + "': ") + w.message,
                     w.line, w.column)
@@ -80,6 +98,7 @@ namespace marionette::capi {
 
 mn_status fail(const mn_scene* scene, mn_status status, std::string_view message) noexcept {
   try {
+    while (!message.empty() && message.back() == '\n') message.remove_suffix(1);  // Diagnostics end lines
     (scene ? scene->lastError : t_lastError).assign(message);
   } catch (...) {  // no memory for the message: the status still says what happened
   }
@@ -248,9 +267,10 @@ mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* 
       return fail(scene, MN_ERROR_NOT_FOUND, std::string("mn_scene_send_bml: no character named '") + character + "'");
     const marionette::bml::Schedule s = scene->realizer->perform(bml_text, character ? character : "");
     if (!s.failed) return MN_OK;
+    const std::string blockId = !s.blockId.empty() ? s.blockId : sniffBlockId(bml_text);
     std::string message;
-    for (const marionette::bml::Warning& w : s.warnings) message += formatWarning(s.blockId, w) + "\n";
-    if (message.empty()) message = "bml block '" + s.blockId + "': error: the block failed\n";
+    for (const marionette::bml::Warning& w : s.warnings) message += formatWarning(blockId, w) + "\n";
+    if (message.empty()) message = "bml block '" + blockId + "': error: the block failed\n";
     message.pop_back();
     return fail(scene, MN_ERROR_BML, message);
   });
