@@ -1,6 +1,9 @@
 #include "marionette/bridge/palette_binding.hpp"
 
 #include <cstring>
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 
 namespace marionette::bridge {
 
@@ -119,13 +122,18 @@ bool PaletteBinding::copy(const TransformBuffer& buffer, std::span<float> out, P
     // Transposed: dst[row * 4 + col] = m[col][row], for 4 rows (4x4) or 3 (3x4).
     const int rows = layout == PaletteLayout::Mat4RowMajor ? 4 : 3;
     for (std::size_t k = 0; k < run.count; ++k, dst += per) {
-      const glm::mat4& a = m[k];
-      for (int row = 0; row < rows; ++row) {
-        dst[row * 4 + 0] = a[0][row];
-        dst[row * 4 + 1] = a[1][row];
-        dst[row * 4 + 2] = a[2][row];
-        dst[row * 4 + 3] = a[3][row];
-      }
+      const float* a = &m[k][0][0];
+#if defined(__SSE2__)  // baseline x86-64: four loads, an in-register transpose, three or four stores
+      __m128 c0 = _mm_loadu_ps(a), c1 = _mm_loadu_ps(a + 4), c2 = _mm_loadu_ps(a + 8), c3 = _mm_loadu_ps(a + 12);
+      _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+      _mm_storeu_ps(dst, c0);
+      _mm_storeu_ps(dst + 4, c1);
+      _mm_storeu_ps(dst + 8, c2);
+      if (rows == 4) _mm_storeu_ps(dst + 12, c3);
+#else
+      for (int row = 0; row < rows; ++row)
+        for (int col = 0; col < 4; ++col) dst[row * 4 + col] = a[col * 4 + row];
+#endif
     }
   }
   return true;
