@@ -22,8 +22,9 @@
  * mn_scene_send_bml, mn_scene_destroy or add characters on its own scene, and must
  * not throw (C++) or longjmp out.
  *
- * Per frame: mn_scene_update, mn_character_palette and mn_character_morph_weights
- * allocate nothing once warm (as long as no callback or BML send does).
+ * Per frame: mn_character_palette and mn_character_morph_weights allocate nothing;
+ * mn_scene_update is the scene's update (no allocation once warm) plus the BML
+ * realizer's progress and the callbacks.
  */
 #ifndef MARIONETTE_MARIONETTE_H
 #define MARIONETTE_MARIONETTE_H
