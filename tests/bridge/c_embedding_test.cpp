@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -86,6 +87,7 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
     maxDiff = std::max(maxDiff, static_cast<double>(std::fabs(fromC[k] - skin[k])));
     sum += skin[k];
   }
+  std::printf("C palette against the C++ buffer: %zu floats, max abs difference %g\n", skin.size(), maxDiff);
   EXPECT_LE(maxDiff, 1e-6);
   EXPECT_NEAR(number(out, "palette checksum:"), sum, 1e-4 * std::max(1.0, std::fabs(sum)));
 }
