@@ -23,11 +23,6 @@ bool readable(const char* path) {
   return std::filesystem::is_regular_file(path, ec);
 }
 
-marionette::Diagnostic diagnostic(marionette::Severity severity, std::string file, std::string message, int line = 0,
-                                  int column = 0) {
-  return {severity, std::move(file), line, column, std::move(message)};
-}
-
 // Warnings of a load that succeeded go to the log callback (one line each).
 void logWarnings(const mn_scene& s, const marionette::Diagnostics& d) {
   for (const marionette::Diagnostic& item : d.items)
@@ -38,6 +33,11 @@ void logWarnings(const mn_scene& s, const marionette::Diagnostics& d) {
 }
 
 #ifdef MARIONETTE_C_HAS_BML
+marionette::Diagnostic diagnostic(marionette::Severity severity, std::string file, std::string message, int line,
+                                  int column) {
+  return {severity, std::move(file), line, column, std::move(message)};
+}
+
 // The id attribute of the <bml> element, read naively, for naming a block whose XML
 // is too broken to parse ("" when there is none to see).
 std::string sniffBlockId(std::string_view text) {
