@@ -5,10 +5,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -24,11 +24,14 @@ using namespace marionette;
 
 namespace {
 
-// The number after `label` in the output (a line "label N ..."), or NaN.
-double number(const std::string& out, const std::string& pattern) {
-  std::smatch m;
-  if (!std::regex_search(out, m, std::regex(pattern + "\\s*([-+0-9.eE]+)"))) return NAN;
-  return std::stod(m[1].str());
+// The number right after `label` in the output ("label N ..."), or NaN.
+double number(const std::string& out, const std::string& label) {
+  const std::size_t at = out.find(label);
+  if (at == std::string::npos) return NAN;
+  const char* start = out.c_str() + at + label.size();
+  char* end = nullptr;
+  const double v = std::strtod(start, &end);
+  return end == start ? NAN : v;
 }
 
 }  // namespace
