@@ -1,5 +1,5 @@
-// Runs the `marionette` tool (the MARIONETTE_CLI path the test target defines)
-// as a user would, capturing its exit status and its stdout and stderr together.
+// Runs the `marionette` tool (the MARIONETTE_CLI path the test target defines),
+// or another program, as a user would, capturing its exit status and its stdout and stderr together.
 #pragma once
 #include <sys/wait.h>
 
@@ -14,8 +14,9 @@ struct CliRun {
   std::string out;  // stdout and stderr
 };
 
-inline CliRun runCli(const std::string& args) {
-  const std::string cmd = std::string(MARIONETTE_CLI) + " " + args + " 2>&1";
+// Runs a shell command line (stderr joined to stdout).
+inline CliRun runCommand(const std::string& commandLine) {
+  const std::string cmd = commandLine + " 2>&1";
   CliRun r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -25,5 +26,9 @@ inline CliRun runCli(const std::string& args) {
   r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
   return r;
 }
+
+#ifdef MARIONETTE_CLI
+inline CliRun runCli(const std::string& args) { return runCommand(std::string(MARIONETTE_CLI) + " " + args); }
+#endif
 
 }  // namespace marionette::test

@@ -7,6 +7,10 @@
 
 #include "marionette/scene/scene.hpp"
 #include "marionette/retarget/retargeter.hpp"
+#ifdef MARIONETTE_TEST_HAS_BRIDGE
+#include "marionette/bridge/morph_binding.hpp"
+#include "marionette/bridge/palette_binding.hpp"
+#endif
 #include "synthetic_humanoid.hpp"
 #include "synthetic_rig.hpp"
 
@@ -162,3 +166,34 @@ TEST(Allocation, RetargeterApplyAllocatesNothing) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
 }
+
+#ifdef MARIONETTE_TEST_HAS_BRIDGE
+// The bridge's per-frame copies into an engine's palette and morph slots, in every
+// layout, with unmatched bones (identity) and slots between bound runs.
+TEST(Allocation, BridgeCopiesAllocateNothing) {
+  const auto h = marionette::test::makeHumanoid({.spineJoints = 3, .rollSeed = 2});
+  auto asset = std::make_shared<Asset>();
+  asset->skeleton = h.skeleton;
+  asset->morphTargets = {"smile", "blink"};
+  Scene scene;
+  Character* c = scene.addCharacter("h", std::make_shared<Rig>(asset));
+  std::vector<std::string> bones(h.skeleton.names.rbegin(), h.skeleton.names.rend());
+  bones.insert(bones.begin() + 5, "engine_only");
+  const bridge::PaletteBinding palette(c->skeleton(), bones);
+  const std::vector<std::string> slots = {"blink", "jaw", "smile"};
+  const bridge::MorphBinding morphs(asset->morphTargets, slots);
+  std::vector<float> out(palette.floatCount(bridge::PaletteLayout::Mat4RowMajor)), weights(slots.size());
+  scene.update(1.0 / 60.0);
+  const long before = g_allocations.load();
+  int copied = 0;
+  for (int f = 0; f < 100; ++f) {
+    scene.update(1.0 / 60.0);
+    for (auto layout : {bridge::PaletteLayout::Mat4ColumnMajor, bridge::PaletteLayout::Mat4RowMajor,
+                        bridge::PaletteLayout::Mat3x4RowMajor})
+      copied += palette.copy(c->transformBuffer(), out, {layout, f % 2 == 0});
+    copied += morphs.copy(c->transformBuffer(), weights);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(copied, 400);
+}
+#endif

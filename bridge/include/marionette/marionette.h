@@ -1,0 +1,168 @@
+/* Marionette C API: the runtime for engines and languages that cannot take C++
+ * (C programs, C#, Python ctypes, Rust, Lua FFI). Library: marionette_c, a shared
+ * library (CMake target marionette::c). Plain C99; also compiles as C++.
+ *
+ * Handles. mn_scene is created and destroyed by the caller. mn_character handles
+ * belong to their scene: valid until the scene is destroyed; never freed by the
+ * caller. Strings returned (names, errors) stay valid until the next call that
+ * changes the same handle (for last errors: the next failing call on it).
+ *
+ * Errors. Every function that can fail returns an mn_status. The message of the
+ * last failure is kept per scene (mn_scene_last_error) and names the file or BML
+ * block, the place (line:column) and the problem. Failures without a valid scene
+ * (a NULL handle, mn_scene_create) keep theirs per thread: mn_scene_last_error(NULL).
+ * No C++ exception crosses this interface; NULL handles and bad arguments give
+ * MN_ERROR_INVALID_ARGUMENT, never a crash.
+ *
+ * Threads. A scene, its characters and its callbacks are used from one thread at a
+ * time (the caller serializes); different scenes may be used on different threads
+ * at once, independently. Callbacks come on the thread that calls mn_scene_update or
+ * mn_scene_send_bml, during that call; strings and structs passed to a callback are
+ * valid only during the call. A callback must not call mn_scene_update,
+ * mn_scene_send_bml, mn_scene_destroy or add characters on its own scene, and must
+ * not throw (C++) or longjmp out.
+ *
+ * Per frame: mn_character_palette and mn_character_morph_weights allocate nothing;
+ * mn_scene_update is the scene's update (no allocation once warm) plus the BML
+ * realizer's progress and the callbacks.
+ */
+#ifndef MARIONETTE_MARIONETTE_H
+#define MARIONETTE_MARIONETTE_H
+
+#include <stddef.h>
+
+#if defined(_WIN32) && defined(MARIONETTE_C_BUILDING)
+#define MN_API __declspec(dllexport)
+#elif defined(_WIN32)
+#define MN_API __declspec(dllimport)
+#elif defined(__GNUC__)
+#define MN_API __attribute__((visibility("default")))
+#else
+#define MN_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum mn_status {
+  MN_OK = 0,
+  MN_ERROR_INVALID_ARGUMENT = 1, /* NULL handle or pointer, bad number, buffer too small */
+  MN_ERROR_NOT_FOUND = 2,        /* no such character, joint, morph */
+  MN_ERROR_IO = 3,               /* a file cannot be read */
+  MN_ERROR_LOAD = 4,             /* a file was read but is not valid (asset, profile, scene) */
+  MN_ERROR_BML = 5,              /* the BML block failed (malformed, no id, unschedulable) */
+  MN_ERROR_UNSUPPORTED = 6,      /* the library was built without the feature (BML) */
+  MN_ERROR_OUT_OF_MEMORY = 7,
+  MN_ERROR_INTERNAL = 8          /* an unexpected failure; the message says what */
+} mn_status;
+
+/* A short name of a status ("MN_OK", "MN_ERROR_IO", ...); never NULL. */
+MN_API const char* mn_status_name(mn_status status);
+
+typedef struct mn_scene mn_scene;
+typedef struct mn_character mn_character;
+
+/* ---- scene ---- */
+MN_API mn_status mn_scene_create(mn_scene** out);
+MN_API void mn_scene_destroy(mn_scene* scene); /* NULL is a no-op; its characters die with it */
+/* The last failure's message on this scene ("" if none); with NULL, this thread's
+ * last failure that had no valid scene. Never NULL. */
+MN_API const char* mn_scene_last_error(const mn_scene* scene);
+
+/* Adds the characters of a scene JSON file (marionette/scene/scene_file.hpp). Its
+ * "bml" list is sent by mn_scene_update as the clock reaches each file's time. On
+ * an error nothing is added (MN_ERROR_IO, MN_ERROR_LOAD). */
+MN_API mn_status mn_scene_load_file(mn_scene* scene, const char* path);
+/* Loads a character file (glTF, VRM, FBX, ...) and adds it as `name` (unique).
+ * `profile_path` is a character profile JSON (docs/character-profiles.md) or NULL
+ * for the guessed profile. `out` may be NULL. */
+MN_API mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* asset_path,
+                                        const char* profile_path, mn_character** out);
+/* MN_ERROR_NOT_FOUND when the scene has no character of that name. */
+MN_API mn_status mn_scene_find_character(mn_scene* scene, const char* name, mn_character** out);
+MN_API size_t mn_scene_character_count(const mn_scene* scene);
+MN_API mn_character* mn_scene_character_at(mn_scene* scene, size_t index); /* NULL past the end */
+
+/* Sends one BML 1.0 block, for `character` (NULL: the block's characterId, else the
+ * first character). Non-fatal problems arrive as MN_FEEDBACK_WARNING feedback; a
+ * block that fails as a whole returns MN_ERROR_BML with a message naming the block,
+ * line:column and problem. MN_ERROR_UNSUPPORTED when built without BML. */
+MN_API mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* bml_text);
+/* Advances the clock by dt seconds (finite, >= 0) and updates every character and
+ * the BML realizer; callbacks come from here. */
+MN_API mn_status mn_scene_update(mn_scene* scene, double dt);
+MN_API double mn_scene_time(const mn_scene* scene); /* seconds; 0 for NULL */
+
+/* ---- characters ---- */
+MN_API const char* mn_character_name(const mn_character* character); /* "" for NULL */
+MN_API size_t mn_character_joint_count(const mn_character* character);
+MN_API const char* mn_character_joint_name(const mn_character* character, size_t joint); /* NULL if out of range */
+/* Index of a joint by exact name, or -1. */
+MN_API int mn_character_find_joint(const mn_character* character, const char* name);
+MN_API mn_status mn_character_set_position(mn_character* character, float x, float y, float z); /* metres */
+MN_API mn_status mn_character_set_heading(mn_character* character, float radians);              /* about +Y */
+/* The character's world-from-model matrix as of the last update (16 floats, column-major).
+ * The palette is in model space: an engine places the skinned mesh with this. */
+MN_API mn_status mn_character_world_matrix(const mn_character* character, float* out16);
+
+typedef enum mn_palette_layout {
+  MN_PALETTE_MAT4_COLUMN_MAJOR = 0, /* 16 floats per joint, column after column (OpenGL) */
+  MN_PALETTE_MAT4_ROW_MAJOR = 1,    /* 16 floats per joint, row after row (Direct3D row_major) */
+  MN_PALETTE_MAT3X4_ROW_MAJOR = 2   /* 12 floats per joint: rows 0..2 of the affine matrix */
+} mn_palette_layout;
+
+MN_API size_t mn_palette_floats_per_joint(mn_palette_layout layout); /* 16, 16, 12; 0 if unknown */
+/* Writes every joint's matrix, in the skeleton's order, into `out` (at least
+ * joint_count * floats_per_joint floats): skinning matrices (model * inverse bind)
+ * when `inverse_bind` is nonzero, else model-space joint matrices. Nothing is
+ * written on error (MN_ERROR_INVALID_ARGUMENT for a NULL or too small buffer). */
+MN_API mn_status mn_character_palette(const mn_character* character, mn_palette_layout layout, int inverse_bind,
+                                      float* out, size_t out_floats);
+
+MN_API size_t mn_character_morph_count(const mn_character* character);
+MN_API const char* mn_character_morph_name(const mn_character* character, size_t morph); /* NULL if out of range */
+/* Writes the morph weights in mn_character_morph_name order (out_floats >= morph count). */
+MN_API mn_status mn_character_morph_weights(const mn_character* character, float* out, size_t out_floats);
+
+/* ---- callbacks (one of each kind per scene; NULL function removes it) ---- */
+typedef enum mn_feedback_kind {
+  MN_FEEDBACK_PREDICTION = 0,     /* right after scheduling: when each sync point will be */
+  MN_FEEDBACK_BLOCK_PROGRESS = 1, /* a block's "start" or "end" */
+  MN_FEEDBACK_SYNC_POINT = 2,     /* a behavior's sync point was passed */
+  MN_FEEDBACK_WARNING = 3         /* a problem with a block; `message` says what */
+} mn_feedback_kind;
+
+typedef struct mn_feedback {
+  mn_feedback_kind kind;
+  const char* character;  /* never NULL; "" when not known */
+  const char* block;
+  const char* behavior;   /* "" for block progress */
+  const char* sync_point; /* "start"/"end" for block progress; the sync point's name otherwise */
+  const char* message;    /* warnings: "TYPE: text"; "" otherwise */
+  double block_time;      /* seconds from the block's start */
+  double scene_time;      /* on the scene clock */
+} mn_feedback;
+
+typedef struct mn_viseme {
+  const char* character;
+  const char* viseme; /* OVR viseme name: "sil", "PP", "FF", "aa", ... */
+  float weight;       /* the weight its channel reaches in that phoneme */
+  double time;        /* the phoneme's start on the scene clock */
+} mn_viseme;
+
+typedef enum mn_log_level { MN_LOG_INFO = 0, MN_LOG_WARNING = 1, MN_LOG_ERROR = 2 } mn_log_level;
+
+typedef void (*mn_feedback_fn)(void* user, const mn_feedback* feedback);
+typedef void (*mn_viseme_fn)(void* user, const mn_viseme* viseme);
+typedef void (*mn_log_fn)(void* user, mn_log_level level, const char* message);
+
+MN_API mn_status mn_scene_set_feedback_callback(mn_scene* scene, mn_feedback_fn fn, void* user);
+MN_API mn_status mn_scene_set_viseme_callback(mn_scene* scene, mn_viseme_fn fn, void* user);
+MN_API mn_status mn_scene_set_log_callback(mn_scene* scene, mn_log_fn fn, void* user);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MARIONETTE_MARIONETTE_H */

@@ -1,0 +1,322 @@
+// The C API's scene functions (marionette.h): creation, loading, BML, update,
+// callbacks, errors.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "handles.hpp"
+#include "marionette/io/import.hpp"
+#include "marionette/scene/character_profile.hpp"
+
+using marionette::capi::fail;
+using marionette::capi::guarded;
+
+namespace {
+
+thread_local std::string t_lastError;  // failures without a valid scene
+
+bool readable(const char* path) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
+// Warnings of a load that succeeded go to the log callback (one line each).
+void logWarnings(const mn_scene& s, const marionette::Diagnostics& d) {
+  for (const marionette::Diagnostic& item : d.items)
+    if (item.severity != marionette::Severity::Error)
+      s.scene.log(item.severity == marionette::Severity::Warning ? marionette::LogLevel::Warning
+                                                                 : marionette::LogLevel::Info,
+                  item.format());
+}
+
+#ifdef MARIONETTE_C_HAS_BML
+marionette::Diagnostic diagnostic(marionette::Severity severity, std::string file, std::string message, int line,
+                                  int column) {
+  return {severity, std::move(file), line, column, std::move(message)};
+}
+
+// The id attribute of the <bml> element, read naively, for naming a block whose XML
+// is too broken to parse ("" when there is none to see).
+std::string sniffBlockId(std::string_view text) {
+  const std::size_t open = text.find("<bml");
+  const std::size_t close = open == std::string_view::npos ? open : text.find('>', open);
+  if (close == std::string_view::npos) return {};
+  const std::string_view tag = text.substr(open, close - open);
+  for (std::size_t at = tag.find("id="); at != std::string_view::npos; at = tag.find("id=", at + 3)) {
+    if (at == 0 || (tag[at - 1] != ' ' && tag[at - 1] != '\t' && tag[at - 1] != '\n')) continue;  // not characterId
+    const std::size_t q = at + 3;
+    if (q >= tag.size() || (tag[q] != '\'' && tag[q] != '"')) return {};
+    const std::size_t end = tag.find(tag[q], q + 1);
+    return end == std::string_view::npos ? std::string() : std::string(tag.substr(q + 1, end - q - 1));
+  }
+  return {};
+}
+
+// "bml block 'id':line:col: error: TYPE: behavior 'b': message" (the block names the place).
+std::string formatWarning(const std::string& blockId, const marionette::bml::Warning& w) {
+  const std::string block = !w.blockId.empty() ? w.blockId : blockId;
+  return diagnostic(w.fatal ? marionette::Severity::Error : marionette::Severity::Warning,
+                    block.empty() ? "bml block (no id)" : "bml block '" + block + "'",
+                    std::string(marionette::bml::toString(w.type)) + ": " +
+                        (w.behaviorId.empty() ? "" : "behavior '" + w.behaviorId + "': ") + w.message,
+                    w.line, w.column)
+      .format();
+}
+
+void sendFeedback(mn_scene& s, const marionette::bml::Feedback& f) {
+  if (!s.feedbackFn) return;
+  static constexpr mn_feedback_kind kinds[] = {MN_FEEDBACK_PREDICTION, MN_FEEDBACK_BLOCK_PROGRESS,
+                                               MN_FEEDBACK_SYNC_POINT, MN_FEEDBACK_WARNING};
+  const std::string message = f.kind == marionette::bml::Feedback::Kind::Warning ? formatWarning(f.blockId, f.warning) : "";
+  mn_feedback out{kinds[static_cast<int>(f.kind)], f.character.c_str(), f.blockId.c_str(), f.behaviorId.c_str(),
+                  f.syncPoint.c_str(), message.c_str(), f.blockTime, f.sceneTime};
+  s.feedbackFn(s.feedbackUser, &out);
+}
+
+// Sends the scene files' BML whose time falls before `until` (the end of the coming frame).
+void sendDueBml(mn_scene& s, double until) {
+  for (; s.nextBml < s.pendingBml.size() && s.pendingBml[s.nextBml].time <= until + 1e-9; ++s.nextBml) {
+    const marionette::TimedFile& f = s.pendingBml[s.nextBml];
+    std::ifstream in(f.path, std::ios::binary);
+    if (!in) {
+      s.scene.log(marionette::LogLevel::Error, f.path + ": error: cannot open the BML file");
+      continue;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    s.realizer->perform(text.str(), f.character, {}, f.time);  // problems arrive as warning feedback
+  }
+}
+#endif
+
+}  // namespace
+
+namespace marionette::capi {
+
+mn_status fail(const mn_scene* scene, mn_status status, std::string_view message) noexcept {
+  try {
+    while (!message.empty() && message.back() == '\n') message.remove_suffix(1);  // Diagnostics end lines
+    (scene ? scene->lastError : t_lastError).assign(message);
+  } catch (...) {  // no memory for the message: the status still says what happened
+  }
+  return status;
+}
+
+}  // namespace marionette::capi
+
+void CallbackForwarder::onViseme(const marionette::Character& character, std::string_view viseme, float weight,
+                                 double time) {
+  if (!owner_.visemeFn) return;
+  text_.assign(viseme);
+  const mn_viseme v{character.name().c_str(), text_.c_str(), weight, time};
+  owner_.visemeFn(owner_.visemeUser, &v);
+}
+
+void CallbackForwarder::onLog(marionette::LogLevel level, std::string_view message) {
+  if (!owner_.logFn) return;
+  text_.assign(message);
+  owner_.logFn(owner_.logUser, static_cast<mn_log_level>(level), text_.c_str());
+}
+
+mn_scene::mn_scene() {
+  scene.addListener(&forwarder);
+#ifdef MARIONETTE_C_HAS_BML
+  realizer = std::make_unique<marionette::bml::Realizer>(scene);
+  realizer->addFeedbackListener([this](const marionette::bml::Feedback& f) { sendFeedback(*this, f); });
+#endif
+}
+
+mn_scene::~mn_scene() { scene.removeListener(&forwarder); }
+
+void mn_scene::syncHandles() {
+  const auto& characters = scene.characters();
+  while (handles.size() < characters.size()) {
+    auto h = std::make_unique<mn_character>();
+    h->owner = this;
+    h->character = characters[handles.size()].get();
+    h->palette = marionette::bridge::PaletteBinding(h->character->skeleton());
+    handles.push_back(std::move(h));
+  }
+}
+
+extern "C" {
+
+const char* mn_status_name(mn_status status) {
+  switch (status) {
+    case MN_OK: return "MN_OK";
+    case MN_ERROR_INVALID_ARGUMENT: return "MN_ERROR_INVALID_ARGUMENT";
+    case MN_ERROR_NOT_FOUND: return "MN_ERROR_NOT_FOUND";
+    case MN_ERROR_IO: return "MN_ERROR_IO";
+    case MN_ERROR_LOAD: return "MN_ERROR_LOAD";
+    case MN_ERROR_BML: return "MN_ERROR_BML";
+    case MN_ERROR_UNSUPPORTED: return "MN_ERROR_UNSUPPORTED";
+    case MN_ERROR_OUT_OF_MEMORY: return "MN_ERROR_OUT_OF_MEMORY";
+    case MN_ERROR_INTERNAL: return "MN_ERROR_INTERNAL";
+  }
+  return "MN_ERROR_UNKNOWN_STATUS";
+}
+
+mn_status mn_scene_create(mn_scene** out) {
+  if (!out) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_create: out is NULL");
+  *out = nullptr;
+  return guarded(nullptr, [&] {
+    *out = new mn_scene();
+    return MN_OK;
+  });
+}
+
+void mn_scene_destroy(mn_scene* scene) { delete scene; }
+
+const char* mn_scene_last_error(const mn_scene* scene) { return scene ? scene->lastError.c_str() : t_lastError.c_str(); }
+
+mn_status mn_scene_load_file(mn_scene* scene, const char* path) {
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_load_file: scene is NULL");
+  if (!path) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_load_file: path is NULL");
+  return guarded(scene, [&] {
+    if (!readable(path)) return fail(scene, MN_ERROR_IO, std::string(path) + ": error: cannot open the scene file");
+    marionette::SceneLoadResult r = marionette::loadSceneFile(path, scene->scene);
+    if (!r.ok()) return fail(scene, MN_ERROR_LOAD, r.diagnostics.format());
+    logWarnings(*scene, r.diagnostics);
+    scene->syncHandles();
+    if (!r.bml.empty()) {
+#ifdef MARIONETTE_C_HAS_BML
+      scene->pendingBml.insert(scene->pendingBml.end(), r.bml.begin(), r.bml.end());
+      std::stable_sort(scene->pendingBml.begin() + static_cast<std::ptrdiff_t>(scene->nextBml), scene->pendingBml.end(),
+                       [](const marionette::TimedFile& a, const marionette::TimedFile& b) { return a.time < b.time; });
+#else
+      scene->scene.log(marionette::LogLevel::Warning,
+                       std::string(path) + ": warning: \"bml\" is ignored: this library was built without BML");
+#endif
+    }
+    return MN_OK;
+  });
+}
+
+mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* asset_path, const char* profile_path,
+                                 mn_character** out) {
+  if (out) *out = nullptr;
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_character: scene is NULL");
+  if (!name || !*name) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_character: name is NULL or empty");
+  if (!asset_path) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_character: asset_path is NULL");
+  return guarded(scene, [&] {
+    if (scene->scene.findCharacter(name))
+      return fail(scene, MN_ERROR_INVALID_ARGUMENT,
+                  std::string("mn_scene_add_character: a character named '") + name + "' exists already");
+    if (!readable(asset_path))
+      return fail(scene, MN_ERROR_IO, std::string(asset_path) + ": error: cannot open the character file");
+    if (profile_path && !readable(profile_path))
+      return fail(scene, MN_ERROR_IO, std::string(profile_path) + ": error: cannot open the character profile");
+    marionette::ImportOptions options;
+    options.loadMeshes = false;  // the runtime needs the skeleton, clips and morph names
+    marionette::ImportResult imported = marionette::importAsset(asset_path, options);
+    if (!imported.ok()) return fail(scene, MN_ERROR_LOAD, imported.diagnostics.format());
+    logWarnings(*scene, imported.diagnostics);
+    auto asset = std::make_shared<marionette::Asset>(std::move(*imported.asset));
+    auto rig = std::make_shared<marionette::Rig>(asset);
+    if (profile_path) {
+      marionette::CharacterProfileResult p = marionette::loadCharacterProfile(profile_path, *asset);
+      if (!p.diagnostics.ok()) return fail(scene, MN_ERROR_LOAD, p.diagnostics.format());
+      logWarnings(*scene, p.diagnostics);
+      rig->setProfile(std::move(p.profile));
+    }
+    if (!scene->scene.addCharacter(name, rig))
+      return fail(scene, MN_ERROR_INTERNAL, std::string("mn_scene_add_character: the scene refused '") + name + "'");
+    scene->syncHandles();
+    if (out) *out = scene->handles.back().get();
+    return MN_OK;
+  });
+}
+
+mn_status mn_scene_find_character(mn_scene* scene, const char* name, mn_character** out) {
+  if (out) *out = nullptr;
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_find_character: scene is NULL");
+  if (!name || !out) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_find_character: name or out is NULL");
+  return guarded(scene, [&] {
+    scene->syncHandles();
+    for (const auto& h : scene->handles)
+      if (h->character->name() == name) {
+        *out = h.get();
+        return MN_OK;
+      }
+    return fail(scene, MN_ERROR_NOT_FOUND, std::string("no character named '") + name + "' in the scene");
+  });
+}
+
+size_t mn_scene_character_count(const mn_scene* scene) { return scene ? scene->scene.characters().size() : 0; }
+
+mn_character* mn_scene_character_at(mn_scene* scene, size_t index) {
+  if (!scene) return nullptr;
+  try {
+    scene->syncHandles();
+  } catch (...) {
+    fail(scene, MN_ERROR_OUT_OF_MEMORY, "out of memory");
+    return nullptr;
+  }
+  return index < scene->handles.size() ? scene->handles[index].get() : nullptr;
+}
+
+mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* bml_text) {
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_send_bml: scene is NULL");
+  if (!bml_text) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_send_bml: bml_text is NULL");
+#ifdef MARIONETTE_C_HAS_BML
+  return guarded(scene, [&] {
+    if (character && !scene->scene.findCharacter(character))
+      return fail(scene, MN_ERROR_NOT_FOUND, std::string("mn_scene_send_bml: no character named '") + character + "'");
+    const marionette::bml::Schedule s = scene->realizer->perform(bml_text, character ? character : "");
+    if (!s.failed) return MN_OK;
+    const std::string blockId = !s.blockId.empty() ? s.blockId : sniffBlockId(bml_text);
+    std::string message;
+    for (const marionette::bml::Warning& w : s.warnings) message += formatWarning(blockId, w) + "\n";
+    if (message.empty()) message = "bml block '" + blockId + "': error: the block failed\n";
+    message.pop_back();
+    return fail(scene, MN_ERROR_BML, message);
+  });
+#else
+  (void)character;
+  return fail(scene, MN_ERROR_UNSUPPORTED, "mn_scene_send_bml: this library was built without BML (MARIONETTE_WITH_BML=OFF)");
+#endif
+}
+
+mn_status mn_scene_update(mn_scene* scene, double dt) {
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_update: scene is NULL");
+  if (!std::isfinite(dt) || dt < 0.0)
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_update: dt must be finite and >= 0 seconds");
+  return guarded(scene, [&] {
+#ifdef MARIONETTE_C_HAS_BML
+    if (scene->nextBml < scene->pendingBml.size()) sendDueBml(*scene, scene->scene.time() + dt);
+#endif
+    scene->scene.update(dt);
+#ifdef MARIONETTE_C_HAS_BML
+    scene->realizer->update();
+#endif
+    return MN_OK;
+  });
+}
+
+double mn_scene_time(const mn_scene* scene) { return scene ? scene->scene.time() : 0.0; }
+
+mn_status mn_scene_set_feedback_callback(mn_scene* scene, mn_feedback_fn fn, void* user) {
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_feedback_callback: scene is NULL");
+  scene->feedbackFn = fn;
+  scene->feedbackUser = user;
+  return MN_OK;
+}
+
+mn_status mn_scene_set_viseme_callback(mn_scene* scene, mn_viseme_fn fn, void* user) {
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_viseme_callback: scene is NULL");
+  scene->visemeFn = fn;
+  scene->visemeUser = user;
+  return MN_OK;
+}
+
+mn_status mn_scene_set_log_callback(mn_scene* scene, mn_log_fn fn, void* user) {
+  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_log_callback: scene is NULL");
+  scene->logFn = fn;
+  scene->logUser = user;
+  return MN_OK;
+}
+
+}  // extern "C"

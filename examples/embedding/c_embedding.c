@@ -1,0 +1,141 @@
+/* Embedding Marionette from C through marionette.h alone (compiled as C11).
+ *   c_embedding CHARACTER_FILE [PROFILE_JSON|-] [PALETTE_OUT]
+ * Creates a scene, loads a character, sends a BML block (a nod and a spoken line),
+ * updates 3 s at 60 Hz reading the bone palette (column-major, inverse bind) and
+ * the morph weights into its own arrays each frame, counts BML feedback and
+ * visemes, and prints one line per fact. With PALETTE_OUT, writes the last frame's
+ * palette there (one float per line) for the test to compare with the C++ API. */
+#include <marionette/marionette.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "c_embedding_bml.h"
+
+typedef struct {
+  int feedback, predictions, block_starts, block_ends, sync_points, warnings;
+  int visemes, log_warnings;
+  char first_viseme[16];
+} counts;
+
+static void on_feedback(void* user, const mn_feedback* f) {
+  counts* c = (counts*)user;
+  ++c->feedback;
+  switch (f->kind) {
+    case MN_FEEDBACK_PREDICTION: ++c->predictions; break;
+    case MN_FEEDBACK_BLOCK_PROGRESS:
+      if (strcmp(f->sync_point, "start") == 0) ++c->block_starts;
+      if (strcmp(f->sync_point, "end") == 0) ++c->block_ends;
+      break;
+    case MN_FEEDBACK_SYNC_POINT: ++c->sync_points; break;
+    case MN_FEEDBACK_WARNING:
+      ++c->warnings;
+      fprintf(stderr, "bml warning: %s\n", f->message);
+      break;
+  }
+}
+
+static void on_viseme(void* user, const mn_viseme* v) {
+  counts* c = (counts*)user;
+  if (c->visemes++ == 0) snprintf(c->first_viseme, sizeof c->first_viseme, "%s", v->viseme);
+}
+
+static void on_log(void* user, mn_log_level level, const char* message) {
+  counts* c = (counts*)user;
+  if (level != MN_LOG_INFO) {
+    ++c->log_warnings;
+    fprintf(stderr, "log: %s\n", message);
+  }
+}
+
+int main(int argc, char** argv) {
+  mn_scene* scene = NULL;
+  mn_character* robot = NULL;
+  counts n;
+  size_t joints, floats, morphs, i;
+  float *palette, *first, *weights;
+  float max_weight = 0.0f, motion = 0.0f;
+  double checksum = 0.0;
+  int frame, finite = 1;
+  mn_status status;
+  const char* profile = argc > 2 && strcmp(argv[2], "-") != 0 ? argv[2] : NULL;
+
+  if (argc < 2) {
+    fprintf(stderr, "usage: %s CHARACTER_FILE [PROFILE_JSON|-] [PALETTE_OUT]\n", argv[0]);
+    return 2;
+  }
+  memset(&n, 0, sizeof n);
+  if (mn_scene_create(&scene) != MN_OK) {
+    fprintf(stderr, "%s\n", mn_scene_last_error(NULL));
+    return 2;
+  }
+  mn_scene_set_feedback_callback(scene, on_feedback, &n);
+  mn_scene_set_viseme_callback(scene, on_viseme, &n);
+  mn_scene_set_log_callback(scene, on_log, &n);
+  if (mn_scene_add_character(scene, "robot", argv[1], profile, &robot) != MN_OK) {
+    fprintf(stderr, "%s\n", mn_scene_last_error(scene));
+    mn_scene_destroy(scene);
+    return 2;
+  }
+  joints = mn_character_joint_count(robot);
+  floats = joints * mn_palette_floats_per_joint(MN_PALETTE_MAT4_COLUMN_MAJOR);
+  morphs = mn_character_morph_count(robot);
+  palette = malloc(floats * sizeof *palette);
+  first = malloc(floats * sizeof *first);
+  weights = malloc((morphs ? morphs : 1) * sizeof *weights);
+  if (!palette || !first || !weights) return 2;
+
+  status = mn_scene_send_bml(scene, "robot", C_EMBEDDING_BML);
+  if (status == MN_ERROR_UNSUPPORTED) {
+    printf("bml: not in this build\n");
+  } else if (status != MN_OK) {
+    fprintf(stderr, "%s: %s\n", mn_status_name(status), mn_scene_last_error(scene));
+    return 2;
+  }
+  for (frame = 0; frame < C_EMBEDDING_FRAMES; ++frame) {
+    if (mn_scene_update(scene, 1.0 / 60.0) != MN_OK ||
+        mn_character_palette(robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, palette, floats) != MN_OK ||
+        mn_character_morph_weights(robot, weights, morphs) != MN_OK) {
+      fprintf(stderr, "frame %d: %s\n", frame, mn_scene_last_error(scene));
+      return 2;
+    }
+    if (frame == 0) memcpy(first, palette, floats * sizeof *palette);
+    for (i = 0; i < floats; ++i) {
+      const float d = fabsf(palette[i] - first[i]);
+      motion = d > motion ? d : motion;
+      finite = finite && isfinite(palette[i]);
+    }
+    for (i = 0; i < morphs; ++i) max_weight = weights[i] > max_weight ? weights[i] : max_weight;
+  }
+  for (i = 0; i < floats; ++i) checksum += palette[i];
+
+  printf("character: %s, %zu joints, %zu morphs\n", mn_character_name(robot), joints, morphs);
+  printf("frames: %d, scene time %.4f s\n", frame, mn_scene_time(scene));
+  printf("feedback: %d messages (%d predictions, %d block start, %d block end, %d sync points, %d warnings)\n",
+         n.feedback, n.predictions, n.block_starts, n.block_ends, n.sync_points, n.warnings);
+  printf("visemes: %d (first '%s')\n", n.visemes, n.first_viseme);
+  printf("palette finite: %s\n", finite ? "yes" : "no");
+  printf("palette motion: %.6f (largest change of a palette float from the first frame: the nod)\n", motion);
+  printf("palette checksum: %.9g\n", checksum);
+  printf("max morph weight: %.4f\n", max_weight);
+  /* Errors come back as a status with a message, never as a crash. */
+  status = mn_character_palette(robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, palette, floats - 1);
+  printf("too small a buffer: %s: %s\n", mn_status_name(status), mn_scene_last_error(scene));
+
+  if (argc > 3) {
+    FILE* out = fopen(argv[3], "w");
+    if (!out) {
+      fprintf(stderr, "%s: cannot open for writing\n", argv[3]);
+      return 2;
+    }
+    for (i = 0; i < floats; ++i) fprintf(out, "%.9g\n", palette[i]);
+    fclose(out);
+  }
+  free(palette);
+  free(first);
+  free(weights);
+  mn_scene_destroy(scene); /* its characters go with it */
+  return 0;
+}

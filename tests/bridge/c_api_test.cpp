@@ -1,0 +1,321 @@
+// The C API as an FFI sees it: only marionette.h and the shared library. Null
+// handles, bad arguments, missing files, bad BML, buffer sizes, layouts, callbacks,
+// scene files, and scenes on two threads.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "marionette/marionette.h"
+#include "test_data.hpp"
+
+namespace {
+
+const std::string kRobot = marionette::test::sharedAsset("characters/RobotExpressive.glb");
+const std::string kRobotProfile = marionette::test::sourceFile("assets/profiles/RobotExpressive.json");
+
+// A scene with the robot, freed at the end of the test.
+struct SceneWithRobot {
+  mn_scene* scene = nullptr;
+  mn_character* robot = nullptr;
+  SceneWithRobot() {
+    EXPECT_EQ(mn_scene_create(&scene), MN_OK);
+    EXPECT_EQ(mn_scene_add_character(scene, "robot", kRobot.c_str(), kRobotProfile.c_str(), &robot), MN_OK)
+        << mn_scene_last_error(scene);
+  }
+  ~SceneWithRobot() { mn_scene_destroy(scene); }
+};
+
+std::string tempFile(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("mn_c_api_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+}  // namespace
+
+TEST(CApi, NullHandlesAndArgumentsAreErrorsNotCrashes) {
+  EXPECT_EQ(mn_scene_create(nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(nullptr)).find("mn_scene_create"), std::string::npos);
+  mn_scene_destroy(nullptr);
+  EXPECT_EQ(mn_scene_update(nullptr, 0.1), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(nullptr)).find("mn_scene_update: scene is NULL"), std::string::npos);
+  EXPECT_EQ(mn_scene_load_file(nullptr, "x.json"), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_send_bml(nullptr, nullptr, "<bml/>"), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_add_character(nullptr, "a", "b", nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_set_feedback_callback(nullptr, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_set_viseme_callback(nullptr, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_set_log_callback(nullptr, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_time(nullptr), 0.0);
+  EXPECT_EQ(mn_scene_character_count(nullptr), 0u);
+  EXPECT_EQ(mn_scene_character_at(nullptr, 0), nullptr);
+  float out[16];
+  EXPECT_EQ(mn_character_palette(nullptr, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, out, 16), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_morph_weights(nullptr, out, 16), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_world_matrix(nullptr, out), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_set_position(nullptr, 0, 0, 0), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_set_heading(nullptr, 0), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_joint_count(nullptr), 0u);
+  EXPECT_EQ(mn_character_joint_name(nullptr, 0), nullptr);
+  EXPECT_EQ(mn_character_morph_name(nullptr, 0), nullptr);
+  EXPECT_EQ(mn_character_find_joint(nullptr, "Head"), -1);
+  EXPECT_STREQ(mn_character_name(nullptr), "");
+  EXPECT_STREQ(mn_status_name(MN_ERROR_BML), "MN_ERROR_BML");
+
+  mn_scene* scene = nullptr;
+  ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+  EXPECT_STREQ(mn_scene_last_error(scene), "");
+  EXPECT_EQ(mn_scene_load_file(scene, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_add_character(scene, nullptr, kRobot.c_str(), nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_add_character(scene, "", kRobot.c_str(), nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_send_bml(scene, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_update(scene, -1.0), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_update(scene, NAN), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find("dt must be finite"), std::string::npos);
+  EXPECT_EQ(mn_scene_time(scene), 0.0);
+  mn_character* c = reinterpret_cast<mn_character*>(1);
+  EXPECT_EQ(mn_scene_find_character(scene, "nobody", &c), MN_ERROR_NOT_FOUND);
+  EXPECT_EQ(c, nullptr);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find("'nobody'"), std::string::npos);
+  mn_scene_destroy(scene);
+}
+
+TEST(CApi, MissingAndBadFilesNameTheFile) {
+  mn_scene* scene = nullptr;
+  ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+  mn_character* c = nullptr;
+  EXPECT_EQ(mn_scene_add_character(scene, "x", "/no/such/robot.glb", nullptr, &c), MN_ERROR_IO);
+  EXPECT_EQ(c, nullptr);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find("/no/such/robot.glb"), std::string::npos);
+  EXPECT_EQ(mn_scene_add_character(scene, "x", kRobot.c_str(), "/no/such/profile.json", &c), MN_ERROR_IO);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find("/no/such/profile.json"), std::string::npos);
+  EXPECT_EQ(mn_scene_load_file(scene, "/no/such/scene.json"), MN_ERROR_IO);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find("/no/such/scene.json"), std::string::npos);
+  // A file that exists but is not a character.
+  const std::string notGlb = tempFile("bad.glb", "not a glTF file");
+  EXPECT_EQ(mn_scene_add_character(scene, "x", notGlb.c_str(), nullptr, &c), MN_ERROR_LOAD);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find(notGlb), std::string::npos) << mn_scene_last_error(scene);
+  // A scene file with a syntax error on line 3: the message names the file and the line.
+  const std::string badScene = tempFile("bad_scene.json", "{\n  \"characters\": [\n    {\"name\": \"a\",, }\n  ]\n}\n");
+  EXPECT_EQ(mn_scene_load_file(scene, badScene.c_str()), MN_ERROR_LOAD);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find(badScene + ":3:"), std::string::npos) << mn_scene_last_error(scene);
+  EXPECT_EQ(mn_scene_character_count(scene), 0u);
+  std::filesystem::remove(notGlb);
+  std::filesystem::remove(badScene);
+  mn_scene_destroy(scene);
+}
+
+TEST(CApi, CharactersJointsMorphsAndDuplicateNames) {
+  SceneWithRobot s;
+  ASSERT_NE(s.robot, nullptr);
+  EXPECT_STREQ(mn_character_name(s.robot), "robot");
+  EXPECT_EQ(mn_character_joint_count(s.robot), 43u);
+  EXPECT_EQ(mn_character_find_joint(s.robot, "Head"), mn_character_find_joint(s.robot, mn_character_joint_name(s.robot, static_cast<size_t>(mn_character_find_joint(s.robot, "Head")))));
+  EXPECT_GE(mn_character_find_joint(s.robot, "Head"), 0);
+  EXPECT_EQ(mn_character_joint_name(s.robot, 43), nullptr);
+  ASSERT_EQ(mn_character_morph_count(s.robot), 3u);
+  EXPECT_STREQ(mn_character_morph_name(s.robot, 0), "Angry");
+  EXPECT_EQ(mn_character_morph_name(s.robot, 3), nullptr);
+  mn_character* again = nullptr;
+  EXPECT_EQ(mn_scene_add_character(s.scene, "robot", kRobot.c_str(), nullptr, &again), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("'robot' exists already"), std::string::npos);
+  mn_character* found = nullptr;
+  EXPECT_EQ(mn_scene_find_character(s.scene, "robot", &found), MN_OK);
+  EXPECT_EQ(found, s.robot);
+  EXPECT_EQ(mn_scene_character_count(s.scene), 1u);
+  EXPECT_EQ(mn_scene_character_at(s.scene, 0), s.robot);
+  EXPECT_EQ(mn_scene_character_at(s.scene, 1), nullptr);
+}
+
+TEST(CApi, WrongBufferSizesWriteNothing) {
+  SceneWithRobot s;
+  ASSERT_EQ(mn_scene_update(s.scene, 0.1), MN_OK);
+  const size_t joints = mn_character_joint_count(s.robot);
+  for (mn_palette_layout layout : {MN_PALETTE_MAT4_COLUMN_MAJOR, MN_PALETTE_MAT4_ROW_MAJOR, MN_PALETTE_MAT3X4_ROW_MAJOR}) {
+    const size_t need = joints * mn_palette_floats_per_joint(layout);
+    std::vector<float> small(need - 1, 7.0f);
+    EXPECT_EQ(mn_character_palette(s.robot, layout, 1, small.data(), small.size()), MN_ERROR_INVALID_ARGUMENT);
+    for (float v : small) ASSERT_EQ(v, 7.0f);
+    EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("needs " + std::to_string(need) + " floats"),
+              std::string::npos) << mn_scene_last_error(s.scene);
+    std::vector<float> exact(need, 7.0f);
+    EXPECT_EQ(mn_character_palette(s.robot, layout, 1, exact.data(), exact.size()), MN_OK);
+  }
+  std::vector<float> out(joints * 16);
+  EXPECT_EQ(mn_character_palette(s.robot, static_cast<mn_palette_layout>(3), 1, out.data(), out.size()),
+            MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_palette_floats_per_joint(static_cast<mn_palette_layout>(3)), 0u);
+  EXPECT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, nullptr, 1000), MN_ERROR_INVALID_ARGUMENT);
+  float morphs[3] = {7, 7, 7};
+  EXPECT_EQ(mn_character_morph_weights(s.robot, morphs, 2), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(morphs[0], 7.0f);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("has 3 morphs"), std::string::npos);
+  EXPECT_EQ(mn_character_morph_weights(s.robot, morphs, 3), MN_OK);
+}
+
+TEST(CApi, LayoutsAndInverseBindAgree) {
+  SceneWithRobot s;
+  ASSERT_EQ(mn_character_set_position(s.robot, 1.0f, 2.0f, 3.0f), MN_OK);
+  ASSERT_EQ(mn_character_set_heading(s.robot, 0.5f), MN_OK);
+  EXPECT_EQ(mn_character_set_position(s.robot, NAN, 0, 0), MN_ERROR_INVALID_ARGUMENT);
+  ASSERT_EQ(mn_scene_update(s.scene, 0.1), MN_OK);
+  const size_t n = mn_character_joint_count(s.robot);
+  std::vector<float> col(n * 16), row(n * 16), packed(n * 12), model(n * 16);
+  ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, col.data(), col.size()), MN_OK);
+  ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_ROW_MAJOR, 1, row.data(), row.size()), MN_OK);
+  ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT3X4_ROW_MAJOR, 1, packed.data(), packed.size()), MN_OK);
+  ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 0, model.data(), model.size()), MN_OK);
+  float differs = 0.0f;
+  for (size_t j = 0; j < n; ++j)
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) {
+        ASSERT_EQ(row[j * 16 + r * 4 + c], col[j * 16 + c * 4 + r]);
+        if (r < 3) {
+          ASSERT_EQ(packed[j * 12 + r * 4 + c], col[j * 16 + c * 4 + r]);
+        }
+        differs = std::max(differs, std::fabs(model[j * 16 + c * 4 + r] - col[j * 16 + c * 4 + r]));
+      }
+  EXPECT_GT(differs, 1e-3f) << "model-space and skinning matrices must differ for a skinned character";
+  float world[16];
+  ASSERT_EQ(mn_character_world_matrix(s.robot, world), MN_OK);
+  EXPECT_FLOAT_EQ(world[12], 1.0f);
+  EXPECT_FLOAT_EQ(world[13], 2.0f);
+  EXPECT_FLOAT_EQ(world[14], 3.0f);
+  EXPECT_NEAR(world[0], std::cos(0.5f), 1e-6f);
+}
+
+#ifdef MARIONETTE_TEST_HAS_BML
+namespace {
+struct Heard {
+  int feedback = 0, blockEnds = 0, warnings = 0, visemes = 0, logs = 0;
+  std::string lastWarning, character;
+  double lastVisemeTime = -1.0;
+};
+}  // namespace
+
+TEST(CApi, BadBmlNamesTheBlockAndTheLine) {
+  SceneWithRobot s;
+  // The <head> element is not closed: malformed XML on line 2.
+  const char* bad = "<bml id='broken' characterId='robot'>\n<head id='h' lexeme='NOD'>\n</bml>";
+  EXPECT_EQ(mn_scene_send_bml(s.scene, "robot", bad), MN_ERROR_BML);
+  const std::string message = mn_scene_last_error(s.scene);
+  EXPECT_NE(message.find("bml block 'broken':3:"), std::string::npos) << message;  // where the parser stopped
+  EXPECT_NE(message.find("PARSING_FAILURE"), std::string::npos) << message;
+  // A block without an id fails as a whole too.
+  EXPECT_EQ(mn_scene_send_bml(s.scene, nullptr, "<bml characterId='robot'><head lexeme='NOD'/></bml>"), MN_ERROR_BML);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("bml block (no id):1:1: error: PARSING_FAILURE"), std::string::npos)
+      << mn_scene_last_error(s.scene);
+  EXPECT_EQ(mn_scene_send_bml(s.scene, "nobody", "<bml id='b'><head id='h' lexeme='NOD'/></bml>"), MN_ERROR_NOT_FOUND);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("'nobody'"), std::string::npos);
+}
+
+TEST(CApi, CallbacksReportFeedbackVisemesAndWarnings) {
+  SceneWithRobot s;
+  Heard heard;
+  ASSERT_EQ(mn_scene_set_feedback_callback(s.scene, [](void* user, const mn_feedback* f) {
+    auto* h = static_cast<Heard*>(user);
+    ++h->feedback;
+    h->character = f->character;
+    if (f->kind == MN_FEEDBACK_BLOCK_PROGRESS && std::string(f->sync_point) == "end" && std::string(f->block) == "b1") ++h->blockEnds;
+    if (f->kind == MN_FEEDBACK_WARNING) {
+      ++h->warnings;
+      h->lastWarning = f->message;
+    }
+  }, &heard), MN_OK);
+  ASSERT_EQ(mn_scene_set_viseme_callback(s.scene, [](void* user, const mn_viseme* v) {
+    auto* h = static_cast<Heard*>(user);
+    ++h->visemes;
+    h->lastVisemeTime = v->time;
+    EXPECT_STREQ(v->character, "robot");
+    EXPECT_GT(std::string(v->viseme).size(), 0u);
+  }, &heard), MN_OK);
+  ASSERT_EQ(mn_scene_set_log_callback(s.scene, [](void* user, mn_log_level, const char*) { ++static_cast<Heard*>(user)->logs; },
+                                      &heard), MN_OK);
+  // A nod, a line, and an unknown behavior type (a non-fatal warning naming it).
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot",
+                              "<bml id='b1'>\n<head id='nod' lexeme='NOD'/>\n<speech id='say'><text>Hello there.</text></speech>\n"
+                              "<dance id='d' start='0' end='1'/>\n</bml>"),
+            MN_OK) << mn_scene_last_error(s.scene);
+  EXPECT_GE(heard.warnings, 1);
+  EXPECT_NE(heard.lastWarning.find("bml block 'b1':4:"), std::string::npos) << heard.lastWarning;
+  for (int f = 0; f < 240; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_EQ(heard.blockEnds, 1);
+  EXPECT_EQ(heard.character, "robot");
+#ifdef MARIONETTE_HAS_TTS
+  EXPECT_GT(heard.visemes, 3);
+  EXPECT_GT(heard.lastVisemeTime, 0.0);
+#endif
+  // Removed callbacks hear nothing more.
+  const int before = heard.feedback;
+  mn_scene_set_feedback_callback(s.scene, nullptr, nullptr);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='b2'><head id='n' lexeme='NOD'/></bml>"), MN_OK);
+  for (int f = 0; f < 90; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_EQ(heard.feedback, before);
+}
+
+TEST(CApi, SceneFileCharactersAndTheirBmlAtItsTime) {
+  const std::string bml = tempFile("nod.xml", "<bml id='filed'><head id='n' lexeme='NOD'/></bml>");
+  const std::string sceneFile = tempFile("scene.json", "{\"characters\": [{\"name\": \"r1\", \"asset\": \"" + kRobot +
+                                                           "\"}, {\"name\": \"r2\", \"asset\": \"" + kRobot +
+                                                           "\", \"position\": [2, 0, 0]}],\n"
+                                                           " \"bml\": [{\"file\": \"" + bml + "\", \"time\": 0.5, \"character\": \"r2\"}]}");
+  mn_scene* scene = nullptr;
+  ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+  ASSERT_EQ(mn_scene_load_file(scene, sceneFile.c_str()), MN_OK) << mn_scene_last_error(scene);
+  ASSERT_EQ(mn_scene_character_count(scene), 2u);
+  mn_character* r2 = nullptr;
+  ASSERT_EQ(mn_scene_find_character(scene, "r2", &r2), MN_OK);
+  EXPECT_EQ(mn_scene_character_at(scene, 1), r2);
+  struct Seen {
+    double start = -1.0;
+    std::string character;
+  } seen;
+  mn_scene_set_feedback_callback(scene, [](void* user, const mn_feedback* f) {
+    auto* s = static_cast<Seen*>(user);
+    if (f->kind == MN_FEEDBACK_BLOCK_PROGRESS && std::string(f->sync_point) == "start") {
+      s->start = f->scene_time;
+      s->character = f->character;
+    }
+  }, &seen);
+  for (int f = 0; f < 60; ++f) ASSERT_EQ(mn_scene_update(scene, 1.0 / 60.0), MN_OK);
+  EXPECT_NEAR(seen.start, 0.5, 1e-9);
+  EXPECT_EQ(seen.character, "r2");
+  mn_scene_destroy(scene);
+  std::filesystem::remove(bml);
+  std::filesystem::remove(sceneFile);
+}
+#else
+TEST(CApi, BmlIsUnsupportedWithoutTheRealizer) {
+  SceneWithRobot s;
+  EXPECT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='b'/>"), MN_ERROR_UNSUPPORTED);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("without BML"), std::string::npos);
+}
+#endif
+
+TEST(CApi, ScenesOnTwoThreadsAreIndependent) {
+  // Each thread its own scene; errors without a scene stay on their thread.
+  std::vector<float> first[2];
+  std::string threadError[2];
+  auto run = [&](int k) {
+    mn_scene* scene = nullptr;
+    ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+    mn_character* c = nullptr;
+    ASSERT_EQ(mn_scene_add_character(scene, "robot", kRobot.c_str(), nullptr, &c), MN_OK);
+    if (k == 1) mn_scene_update(nullptr, 0.0);  // a failure without a scene, on thread 1 only
+    for (int f = 0; f < 100; ++f) ASSERT_EQ(mn_scene_update(scene, 1.0 / 60.0), MN_OK);
+    first[k].resize(mn_character_joint_count(c) * 16);
+    ASSERT_EQ(mn_character_palette(c, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, first[k].data(), first[k].size()), MN_OK);
+    threadError[k] = mn_scene_last_error(nullptr);
+    mn_scene_destroy(scene);
+  };
+  std::thread a(run, 0), b(run, 1);
+  a.join();
+  b.join();
+  EXPECT_EQ(first[0], first[1]);
+  EXPECT_EQ(threadError[0], "");
+  EXPECT_NE(threadError[1].find("mn_scene_update"), std::string::npos);
+}

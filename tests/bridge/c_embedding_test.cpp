@@ -1,0 +1,96 @@
+// Runs examples/embedding/c_embedding (C, through marionette.h alone) on the robot
+// and checks what it prints; then performs the same block through the C++ API and
+// compares the example's last palette with the Character's buffer.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "c_embedding_bml.h"
+#include "cli_run.hpp"
+#include "marionette/bml/realizer.hpp"
+#include "marionette/io/import.hpp"
+#include "marionette/scene/character_profile.hpp"
+#include "marionette/scene/scene.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+
+namespace {
+
+// The number right after `label` in the output ("label N ..."), or NaN.
+double number(const std::string& out, const std::string& label) {
+  const std::size_t at = out.find(label);
+  if (at == std::string::npos) return NAN;
+  const char* start = out.c_str() + at + label.size();
+  char* end = nullptr;
+  const double v = std::strtod(start, &end);
+  return end == start ? NAN : v;
+}
+
+}  // namespace
+
+TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
+  const std::string robot = test::sharedAsset("characters/RobotExpressive.glb");
+  const std::string profile = test::sourceFile("assets/profiles/RobotExpressive.json");
+  MARIONETTE_REQUIRE_FILE(robot);
+  const std::string paletteFile =
+      (std::filesystem::temp_directory_path() / ("c_embedding_palette_" + std::to_string(::getpid()) + ".txt")).string();
+  const test::CliRun run =
+      test::runCommand(std::string(MARIONETTE_C_EMBEDDING) + " " + robot + " " + profile + " " + paletteFile);
+  ASSERT_EQ(run.status, 0) << run.out;
+  const std::string& out = run.out;
+  EXPECT_EQ(number(out, "character: robot,"), 43.0) << out;
+  EXPECT_EQ(number(out, "frames:"), C_EMBEDDING_FRAMES) << out;
+  EXPECT_NEAR(number(out, "scene time"), C_EMBEDDING_FRAMES / 60.0, 1e-6) << out;
+  EXPECT_EQ(number(out, "predictions,"), 1.0) << out;  // "N block start"
+  EXPECT_EQ(number(out, "block start,"), 1.0) << out;  // "N block end"
+  EXPECT_GE(number(out, "feedback:"), 4.0) << out;
+  EXPECT_NE(out.find(" 0 warnings)"), std::string::npos) << out;
+  EXPECT_NE(out.find("palette finite: yes"), std::string::npos) << out;
+  EXPECT_GT(number(out, "palette motion:"), 0.01) << "the nod must move the palette\n" << out;
+  EXPECT_NE(out.find("too small a buffer: MN_ERROR_INVALID_ARGUMENT: mn_character_palette: character 'robot' needs 688 floats"),
+            std::string::npos) << out;
+#ifdef MARIONETTE_HAS_TTS
+  EXPECT_GT(number(out, "visemes:"), 3.0) << "espeak-ng says the line: visemes arrive\n" << out;
+#endif
+
+  // The same inputs through the C++ API.
+  ImportOptions options;
+  options.loadMeshes = false;
+  ImportResult imported = importAsset(robot, options);
+  ASSERT_TRUE(imported.ok()) << imported.diagnostics.format();
+  auto asset = std::make_shared<Asset>(std::move(*imported.asset));
+  auto rig = std::make_shared<Rig>(asset);
+  CharacterProfileResult p = loadCharacterProfile(profile, *asset);
+  ASSERT_TRUE(p.diagnostics.ok()) << p.diagnostics.format();
+  rig->setProfile(std::move(p.profile));
+  Scene scene;
+  Character* c = scene.addCharacter("robot", rig);
+  bml::Realizer realizer(scene);
+  ASSERT_FALSE(realizer.perform(C_EMBEDDING_BML, "robot").failed);
+  for (int f = 0; f < C_EMBEDDING_FRAMES; ++f) {
+    scene.update(1.0 / 60.0);
+    realizer.update();
+  }
+  std::ifstream in(paletteFile);
+  std::vector<float> fromC;
+  for (float v; in >> v;) fromC.push_back(v);
+  std::filesystem::remove(paletteFile);
+  const auto skin = c->transformBuffer().skinning();
+  ASSERT_EQ(fromC.size(), skin.size());
+  double maxDiff = 0.0, sum = 0.0;
+  for (std::size_t k = 0; k < skin.size(); ++k) {
+    maxDiff = std::max(maxDiff, static_cast<double>(std::fabs(fromC[k] - skin[k])));
+    sum += skin[k];
+  }
+  std::printf("C palette against the C++ buffer: %zu floats, max abs difference %g\n", skin.size(), maxDiff);
+  EXPECT_LE(maxDiff, 1e-6);
+  EXPECT_NEAR(number(out, "palette checksum:"), sum, 1e-4 * std::max(1.0, std::fabs(sum)));
+}
