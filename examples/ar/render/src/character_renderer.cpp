@@ -180,7 +180,8 @@ CharacterPose::CharacterPose(const Skeleton& skeleton)
       palette_(skeleton.jointCount() * 12, 0.0f),
       model_(skeleton.jointCount(), glm::mat4(1.0f)),
       joints_(static_cast<int>(skeleton.jointCount())) {
-  binding_.clearUnmapped(palette_, bridge::PaletteLayout::Mat3x4RowMajor);
+  for (std::size_t j = 0; j < skeleton.jointCount(); ++j)  // identity until the first frame
+    palette_[j * 12 + 0] = palette_[j * 12 + 5] = palette_[j * 12 + 10] = 1.0f;
   glGenTextures(1, &paletteTexture_);
   glBindTexture(GL_TEXTURE_2D, paletteTexture_);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 3, std::max(1, joints_), 0, GL_RGBA, GL_FLOAT, nullptr);
@@ -191,7 +192,7 @@ CharacterPose::CharacterPose(const Skeleton& skeleton)
 CharacterPose::~CharacterPose() { glDeleteTextures(1, &paletteTexture_); }
 
 void CharacterPose::update(const TransformBuffer& buffer) {
-  binding_.copy(buffer, palette_, bridge::PaletteLayout::Mat3x4RowMajor);
+  binding_.copy(buffer, palette_, {bridge::PaletteLayout::Mat3x4RowMajor, /*inverseBind=*/true});
   const auto models = buffer.modelMatrices();
   std::copy_n(models.begin(), std::min(models.size(), model_.size()), model_.begin());
   const auto weights = buffer.morphWeights();

@@ -1,0 +1,148 @@
+// marionette-ar on the default scene, looked at as a person would: the frames
+// it writes headless show a lit character of plausible size that moves, over a
+// background that shows elsewhere. Bad scene files get clear errors.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "marionette_ar/render/image.hpp"
+#include "test_data.hpp"
+
+namespace marionette::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+  int status = -1;
+  std::string out;
+};
+
+Run runAr(const std::string& args) {
+  Run r;
+  FILE* p = popen((std::string(MARIONETTE_AR) + " " + args + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
+  const int s = pclose(p);
+  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  return r;
+}
+
+ar::Image8 frame(const fs::path& dir, int index) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%04d.png", index);
+  ar::Image8 image;
+  std::string error;
+  EXPECT_TRUE(ar::readImage((dir / name).string(), image, error)) << error;
+  return image;
+}
+
+double luminance(const ar::Image8& im, std::size_t pixel) {
+  const std::size_t i = pixel * std::size_t(im.channels);
+  return (0.2126 * im.pixels[i] + 0.7152 * im.pixels[i + 1] + 0.0722 * im.pixels[i + 2]) / 255.0;
+}
+
+// Character pixels: where the frame differs from the same frame drawn without characters.
+std::vector<bool> characterMask(const ar::Image8& with, const ar::Image8& without) {
+  std::vector<bool> mask(std::size_t(with.width * with.height), false);
+  for (std::size_t p = 0; p < mask.size(); ++p)
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(int(with.pixels[p * std::size_t(with.channels) + std::size_t(c)]) -
+                   int(without.pixels[p * std::size_t(without.channels) + std::size_t(c)])) > 6)
+        mask[p] = true;
+  return mask;
+}
+
+TEST(ArScene, DefaultSceneLooksRight) {
+  const std::string scene = sourceFile("assets/scenes/ar_demo.json");
+  MARIONETTE_REQUIRE_FILE(scene);
+  const fs::path dir = fs::temp_directory_path() / "marionette_ar_scene_test";
+  fs::remove_all(dir);
+  const int frames = 150;  // 5 s at 30 fps: the walk is under way
+  const std::string common = scene + " --headless --frames " + std::to_string(frames) + " --width 480 --height 270";
+  const Run with = runAr(common + " --out " + (dir / "with").string());
+  ASSERT_EQ(with.status, 0) << with.out;
+  EXPECT_EQ(with.out.find("warning"), std::string::npos) << with.out;
+  const Run without = runAr(common + " --hide-characters --out " + (dir / "without").string());
+  ASSERT_EQ(without.status, 0) << without.out;
+  ASSERT_TRUE(fs::exists(dir / "with" / "frame_0149.png"));
+
+  std::vector<std::vector<bool>> masks;
+  for (int f : {30, 90, 149}) {
+    const ar::Image8 a = frame(dir / "with", f), b = frame(dir / "without", f);
+    ASSERT_EQ(a.width, 480);
+    ASSERT_EQ(a.height, 270);
+    const std::vector<bool> mask = characterMask(a, b);
+    std::size_t covered = 0, black = 0, saturated = 0;
+    double lum = 0.0;
+    std::vector<double> backgroundLum;
+    for (std::size_t p = 0; p < mask.size(); ++p) {
+      if (!mask[p]) {
+        backgroundLum.push_back(luminance(a, p));
+        continue;
+      }
+      ++covered;
+      const double l = luminance(a, p);
+      lum += l;
+      black += l < 0.02;
+      saturated += l > 0.98;
+    }
+    const double fraction = double(covered) / double(mask.size());
+    SCOPED_TRACE("frame " + std::to_string(f));
+    EXPECT_GT(fraction, 0.003) << "the character is too small to see";
+    EXPECT_LT(fraction, 0.5) << "the character fills the frame";
+    ASSERT_GT(covered, 0u);
+    const double meanLum = lum / double(covered);
+    EXPECT_GT(meanLum, 0.08) << "the character is unlit";
+    EXPECT_LT(meanLum, 0.9) << "the character is blown out";
+    EXPECT_LT(double(black) / double(covered), 0.1);
+    EXPECT_LT(double(saturated) / double(covered), 0.05);
+    // The background shows around the character, and it is an image, not a flat fill.
+    double mean = 0.0, var = 0.0;
+    for (double l : backgroundLum) mean += l;
+    mean /= double(backgroundLum.size());
+    for (double l : backgroundLum) var += (l - mean) * (l - mean);
+    EXPECT_GT(std::sqrt(var / double(backgroundLum.size())), 0.02) << "the background is flat";
+    EXPECT_GT(mean, 0.02) << "the background is black";
+    masks.push_back(mask);
+  }
+  // The character moves: its silhouette changes between frames.
+  for (std::size_t k = 1; k < masks.size(); ++k) {
+    std::size_t changed = 0;
+    for (std::size_t p = 0; p < masks[k].size(); ++p) changed += masks[k][p] != masks[k - 1][p];
+    EXPECT_GT(double(changed) / double(masks[k].size()), 0.002) << "no motion between sampled frames " << k;
+  }
+}
+
+TEST(ArScene, BadInputIsNamed) {
+  const fs::path dir = fs::temp_directory_path() / "marionette_ar_bad_input";
+  fs::create_directories(dir);
+  Run r = runAr((dir / "missing.json").string() + " --headless --out " + dir.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("missing.json"), std::string::npos) << r.out;
+
+  std::ofstream(dir / "bad.json") << R"({"scene": "nowhere.json", "camera": {"position": [0, 1, "x"], "fovY": 400},
+                                         "background": {"kind": "hologram"}})";
+  r = runAr((dir / "bad.json").string() + " --headless --out " + dir.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("camera.position"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("camera.fovY"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("hologram"), std::string::npos) << r.out;
+
+  r = runAr("--frames -3");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("--frames"), std::string::npos) << r.out;
+
+  std::ofstream(dir / "noscene.json") << R"({"scene": "nowhere.json"})";
+  r = runAr((dir / "noscene.json").string() + " --headless --out " + dir.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("nowhere.json"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace marionette::test
