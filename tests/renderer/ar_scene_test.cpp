@@ -2,7 +2,6 @@
 // it writes headless show a lit character of plausible size that moves, over a
 // background that shows elsewhere. Bad scene files get clear errors.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -10,6 +9,7 @@
 #include <fstream>
 
 #include "marionette_ar/render/image.hpp"
+#include "cli_run.hpp"
 #include "test_data.hpp"
 
 namespace marionette::test {
@@ -17,21 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
-  int status = -1;
-  std::string out;
-};
-
-Run runAr(const std::string& args) {
-  Run r;
-  FILE* p = popen((std::string(MARIONETTE_AR) + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int s = pclose(p);
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  return r;
-}
+CliRun runAr(const std::string& args) { return runCommand(std::string(MARIONETTE_AR) + " " + args); }
 
 ar::Image8 frame(const fs::path& dir, int index) {
   char name[32];
@@ -65,10 +51,10 @@ TEST(ArScene, DefaultSceneLooksRight) {
   fs::remove_all(dir);
   const int frames = 150;  // 5 s at 30 fps: the walk is under way
   const std::string common = scene + " --headless --frames " + std::to_string(frames) + " --width 480 --height 270";
-  const Run with = runAr(common + " --out " + (dir / "with").string());
+  const CliRun with = runAr(common + " --out " + (dir / "with").string());
   ASSERT_EQ(with.status, 0) << with.out;
   EXPECT_EQ(with.out.find("warning"), std::string::npos) << with.out;
-  const Run without = runAr(common + " --hide-characters --out " + (dir / "without").string());
+  const CliRun without = runAr(common + " --hide-characters --out " + (dir / "without").string());
   ASSERT_EQ(without.status, 0) << without.out;
   ASSERT_TRUE(fs::exists(dir / "with" / "frame_0149.png"));
 
@@ -122,7 +108,7 @@ TEST(ArScene, DefaultSceneLooksRight) {
 TEST(ArScene, BadInputIsNamed) {
   const fs::path dir = fs::temp_directory_path() / "marionette_ar_bad_input";
   fs::create_directories(dir);
-  Run r = runAr((dir / "missing.json").string() + " --headless --out " + dir.string());
+  CliRun r = runAr((dir / "missing.json").string() + " --headless --out " + dir.string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("missing.json"), std::string::npos) << r.out;
 
