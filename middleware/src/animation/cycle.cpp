@@ -234,4 +234,35 @@ float closeLoop(Clip& clip, const Skeleton& skeleton, int rootJoint) {
   return turn;
 }
 
+float groundClip(Clip& clip, const Skeleton& skeleton, std::span<const int> feet, int rootJoint) {
+  const int root = rootOf(clip, skeleton, rootJoint);
+  if (root < 0 || !(clip.duration > 0.0f)) return 0.0f;
+  JointTrack* rt = nullptr;
+  for (JointTrack& t : clip.tracks)
+    if (t.joint == root) rt = &t;
+  if (!rt || rt->translation.empty() || rt->translation.interpolation == Interpolation::CubicSpline) return 0.0f;
+  const int n = static_cast<int>(skeleton.jointCount());
+  const std::vector<glm::mat4> restModel = skeleton.restModelMatrices();
+  std::vector<Transform> pose(skeleton.jointCount());
+  std::vector<glm::mat4> model(skeleton.jointCount());
+  float lowest = INFINITY;
+  const int samples = std::max(2, static_cast<int>(std::ceil(clip.duration * 120.0f)) + 1);
+  for (int k = 0; k < samples; ++k) {
+    sampleClip(clip, clip.duration * static_cast<float>(k) / static_cast<float>(samples - 1), skeleton.restPose, pose);
+    localToModel(skeleton, pose, model);
+    for (int f : feet)
+      if (f >= 0 && f < n)
+        lowest = std::min(lowest, model[static_cast<std::size_t>(f)][3].y - restModel[static_cast<std::size_t>(f)][3].y);
+  }
+  if (!std::isfinite(lowest)) return 0.0f;
+  const RootFrame frame(skeleton, root);
+  for (glm::vec3& v : rt->translation.values) {
+    Transform x;
+    x.translation = v;
+    const glm::vec3 m = frame.place(x) - glm::vec3(0.0f, lowest, 0.0f);
+    v = glm::vec3(glm::inverse(frame.parent) * glm::vec4(m, 1.0f));
+  }
+  return -lowest;
+}
+
 }  // namespace marionette

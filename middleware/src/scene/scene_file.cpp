@@ -294,6 +294,7 @@ std::optional<Clip> loadSceneClip(Reader& r, Diagnostics& diags, const std::stri
     return std::nullopt;
   }
   Clip clip;
+  float grounded = 0.0f;
   if (k.retarget) {
     const auto sourceMap = sceneJointMap(r, diags, baseDir, k.sourceMap, source,
                                          k.where + (k.sourceMap.empty() ? "/retarget" : "/retarget/sourceMap"),
@@ -303,7 +304,20 @@ std::optional<Clip> loadSceneClip(Reader& r, Diagnostics& diags, const std::stri
                                          "character");
     if (!sourceMap || !targetMap) return std::nullopt;
     retarget::RetargetOptions ro;
-    ro.sourceHipsReference = retarget::standingHipsReference(source.skeleton, *sourceMap, sourceClip, target.skeleton, *targetMap);
+    // A character's rest pose stands on its ground, wherever its origin is
+    // (BCN_Epileptic's is at its pelvis): the standing reference is found as if
+    // its rest feet stood on y = 0, which standingHipsReference requires.
+    Skeleton standing = target.skeleton;
+    {
+      const std::vector<glm::mat4> rest = standing.restModelMatrices();
+      float low = INFINITY;
+      for (retarget::Bone b : {retarget::Bone::LeftFoot, retarget::Bone::RightFoot, retarget::Bone::LeftToes,
+                               retarget::Bone::RightToes})
+        if (const int j = targetMap->joint(b); j >= 0 && j < static_cast<int>(rest.size()))
+          low = std::min(low, rest[static_cast<std::size_t>(j)][3].y);
+      if (std::isfinite(low)) standing.rootTransform[3].y -= low;
+    }
+    ro.sourceHipsReference = retarget::standingHipsReference(source.skeleton, *sourceMap, sourceClip, standing, *targetMap);
     ro.ik.feet = k.feetIk;
     const retarget::Retargeter bound = retarget::Retargeter::bind(source.skeleton, *sourceMap, target.skeleton, *targetMap, ro);
     if (!bound.valid()) {
@@ -313,6 +327,12 @@ std::optional<Clip> loadSceneClip(Reader& r, Diagnostics& diags, const std::stri
       return std::nullopt;
     }
     clip = bound.retargetClip(sourceClip);
+    // The feet come down to the character's rest ground (legs that bend otherwise float).
+    std::vector<int> feet;
+    for (retarget::Bone b : {retarget::Bone::LeftFoot, retarget::Bone::RightFoot, retarget::Bone::LeftToes,
+                             retarget::Bone::RightToes})
+      if (targetMap->joint(b) >= 0) feet.push_back(targetMap->joint(b));
+    grounded = groundClip(clip, target.skeleton, feet, targetMap->joint(retarget::Bone::Hips));
   } else {
     int unmatched = 0;
     clip = bindClipByName(sourceClip, source.skeleton, target.skeleton, &unmatched);
@@ -352,6 +372,7 @@ std::optional<Clip> loadSceneClip(Reader& r, Diagnostics& diags, const std::stri
       m << "; best loop: residual " << glm::degrees(info.loopResidual) << " deg RMS (worst joint "
         << glm::degrees(info.loopWorstJoint) << " deg), turning " << glm::degrees(info.loopTurn)
         << " deg per cycle; turned by " << glm::degrees(info.turnedBy) << " deg to face +Z";
+    if (k.retarget) m << "; lowered by " << -grounded << " to the rest ground";
     result.notes.push_back(m.str());
   }
   result.clips.push_back(std::move(info));

@@ -5,6 +5,8 @@
 // it to face +Z (what the locomotion expects of a walk clip). Command time only
 // (allocates).
 #pragma once
+#include <span>
+
 #include "marionette/animation/clip.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 
@@ -50,5 +52,13 @@ struct LoopMatch {
 // starts over its rest place (x, z). `rootJoint` < 0: pickRootMotionJoint.
 // Returns the yaw it turned the clip by (radians).
 float closeLoop(Clip& clip, const Skeleton& skeleton, int rootJoint = -1);
+
+// Moves the root's translation track up or down (model +Y) so that the feet come
+// down to where the rest pose has them: over the clip (sampled at 120 Hz), the
+// lowest height of each of `feet` (ankles, toes) above its rest height, the
+// smallest of these, is taken out. A retargeted walk whose legs bend differently
+// floated or sank by that much. Returns the shift (model units); 0 without feet
+// or a root translation track.
+float groundClip(Clip& clip, const Skeleton& skeleton, std::span<const int> feet, int rootJoint = -1);
 
 }  // namespace marionette
