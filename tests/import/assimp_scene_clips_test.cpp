@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <string>
@@ -156,6 +157,7 @@ TEST_F(SceneClipsTest, RetargetedWalkLoopsAndWalksAtAHumanSpeedOnBcn) {
   for (const auto& n : set.notes) notes += n + "\n";
   ASSERT_TRUE(set.usable()) << notes;
   EXPECT_TRUE(set.walk.hasRootMotion) << notes;
+  std::printf("%s", notes.c_str());  // the figures docs/retargeting.md quotes
   EXPECT_GE(set.walk.groundSpeed, 0.6f) << notes;
   EXPECT_LE(set.walk.groundSpeed, 1.5f) << notes;
   // Its feet come down to the rest ground (not floating, not sinking), each foot once a cycle.
