@@ -169,6 +169,23 @@ TEST_F(SceneClipsTest, RetargetedWalkLoopsAndWalksAtAHumanSpeedOnBcn) {
   }
 }
 
+TEST_F(SceneClipsTest, LoadingIsDeterministic) {
+  Scene a, b;
+  const SceneLoadResult ra = loadSceneFile(sourceFile("assets/scenes/ar_demo_walk.json"), a);
+  const SceneLoadResult rb = loadSceneFile(sourceFile("assets/scenes/ar_demo_walk.json"), b);
+  ASSERT_TRUE(ra.ok() && rb.ok()) << ra.diagnostics.format();
+  EXPECT_EQ(ra.notes, rb.notes);
+  const Clip& ca = a.characters()[0]->rig().findClip("walk_cmu_01_03")->clip;
+  const Clip& cb = b.characters()[0]->rig().findClip("walk_cmu_01_03")->clip;
+  ASSERT_EQ(ca.tracks.size(), cb.tracks.size());
+  for (std::size_t t = 0; t < ca.tracks.size(); ++t) {
+    ASSERT_EQ(ca.tracks[t].rotation.values.size(), cb.tracks[t].rotation.values.size());
+    for (std::size_t k = 0; k < ca.tracks[t].rotation.values.size(); ++k)
+      ASSERT_EQ(ca.tracks[t].rotation.values[k], cb.tracks[t].rotation.values[k]) << "track " << t << " key " << k;
+    ASSERT_EQ(ca.tracks[t].translation.values, cb.tracks[t].translation.values) << "track " << t;
+  }
+}
+
 TEST_F(SceneClipsTest, LoopSearchFindsAShiftedCopyOfItsStart) {
   // On the retargeted clip: the best loop's residual is far below a cut at arbitrary times.
   Scene scene;
