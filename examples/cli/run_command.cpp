@@ -233,6 +233,7 @@ int runCommand(const std::vector<std::string>& args) {
                 c->skeleton().jointCount(), c->layerCount(), p.x, p.y, p.z, glm::degrees(c->heading()));
   }
   if (r.stats) {
+    for (const std::string& note : loaded.notes) std::printf("scene clip %s\n", note.c_str());
     std::printf("stats (mean wall time per update, per character):\n");
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
       const Character& c = *scene.characters()[i];

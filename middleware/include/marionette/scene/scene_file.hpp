@@ -7,7 +7,11 @@
 //       "position": [0, 0, 0],                // metres (default origin)
 //       "heading": 0,                         // degrees about +Y; 0 faces +Z (default)
 //       "scale": 1.0,                         // extra length scale on import (e.g. BVH units to metres)
-//       "clips": [ { "file": "walk.fbx", "name": "walk" } ],  // more clips, bound by joint name
+//       "clips": [ { "file": "walk.fbx", "name": "walk" } ],  // more clips, bound by joint name,
+//       // or retargeted through joint maps, cut to a range, looped (see below):
+//       // "clips": [ { "file": "/usr/share/assimp/models/BVH/01_03.bvh", "name": "walk",
+//       //              "retarget": { "sourceMap": "cmu_mb.json", "targetMap": "bcn.json", "feetIk": true },
+//       //              "range": [0.2, 2.9], "loop": "best" } ],
 //       "play": "Walking"                     // a clip name, or a list of layers:
 //       // "play": [ { "clip": "Walking", "layer": 0, "weight": 1, "speed": 1, "loop": true,
 //       //             "rootMotion": false, "fadeIn": 0, "additive": false, "start": 0 } ]
@@ -20,6 +24,25 @@
 //   }
 // }
 //
+// "clips" entries: "file" (required: the motion, its first clip) and "name" (default:
+// the file's clip name). "retarget": true retargets it (retarget/retargeter.hpp)
+// with the joint maps guessed from both skeletons, or an object naming joint-map
+// files ("sourceMap" for the motion, "targetMap" for the character; each guessed
+// when left out, as `marionette retarget` without --src-map / --dst-map) and
+// "feetIk" (default true: the source's foot contacts hold; retargeting is done as
+// `marionette retarget --ik feet`, with the standing hips reference). Without it
+// the clip is bound by joint name (same naming). "range": [start, end] keeps those
+// seconds of the source clip (times then start at 0). "loop": "best" keeps, within
+// the range (or the clip), the sub-range of 0.8 to 2.6 s (one or two gait cycles)
+// whose end pose best matches its start pose (local joint rotations, the root's
+// without its yaw and travel), spreads the residual over it so that it loops, and
+// turns it to start facing +Z over the rest place: a walk for the locomotion.
+// The residual is reported in SceneLoadResult::clips and ::notes. The scene's
+// clips are added to the asset before the "profile" is read, so a profile can
+// name them ("clips": {"walk": "walk"}).
+//
+// Errors and warnings name the scene file, line:column and the JSON pointer.
+//
 // "speech" lines are recorded voice lines (speech/recorded_speech.hpp): a <speech>
 // whose text matches one plays it instead of synthesizing. They are read at load.
 //
@@ -28,7 +51,7 @@
 // BML realizer (the `marionette` tool does).
 //
 // Without "play", a character plays its first clip (or stands in its rest pose).
-// Assets are loaded once per (file, scale, clip files) and shared by the
+// Assets are loaded once per (file, scale, profile, clips with all their settings) and shared by the
 // characters that use them; meshes are not loaded (a headless scene needs none).
 #pragma once
 #include <string>
@@ -48,11 +71,25 @@ struct TimedFile {
   std::string character;  // empty = the block's characterId or the first character
 };
 
+// A clip a scene file added to a character: where it came from and how it loops.
+struct SceneClipInfo {
+  std::string where;           // JSON pointer of its "clips" entry
+  std::string name;
+  float start = 0.0f, end = 0.0f;  // seconds of the source clip kept
+  float duration = 0.0f;
+  float loopResidual = -1.0f;  // "loop": "best": radians RMS over the joints, end pose against start; else -1
+  float loopWorstJoint = 0.0f; // radians
+  float loopTurn = 0.0f;       // radians: the root's yaw over the cycle
+  float turnedBy = 0.0f;       // radians: the yaw that turned the cycle to face +Z
+};
+
 struct SceneLoadResult {
   Diagnostics diagnostics;  // each names the scene file (or asset) and the place
   int charactersAdded = 0;
   int assetsLoaded = 0;
   std::vector<TimedFile> bml;  // the file's "bml" list, sorted by time
+  std::vector<SceneClipInfo> clips;  // the clips its "clips" entries made, in file order (per distinct asset)
+  std::vector<std::string> notes;    // one line per such clip, for logs and --stats
   [[nodiscard]] bool ok() const noexcept { return diagnostics.ok(); }
 };
 
