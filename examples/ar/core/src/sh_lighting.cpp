@@ -46,40 +46,58 @@ glm::dvec3 ShCoefficients::evaluate(const glm::dvec3& direction) const noexcept 
   return sum;
 }
 
-ShBasis pixelBasisIntegrals(const EnvironmentMap& map, int column, int row) noexcept {
-  // Pixel: t = cos(theta) in [t1, t0], psi = 2 pi (u - 0.5) in [p0, p1]; dw = dt dpsi, and
-  // x = s sin(psi), y = t, z = -s cos(psi) with s = sqrt(1 - t^2). Every basis function is a
-  // product of a function of t and one of psi, so each integral is a product of two.
+namespace {
+// Integrals over t = cos(theta) in [t1, t0] of a pixel row: dt, s, t, s^2, s t, 3t^2 - 1.
+struct RowFactors {
+  double dt, S, T, Q, P, Z;
+};
+RowFactors rowFactors(const EnvironmentMap& map, int row) noexcept {
   const double t0 = std::cos(kPi * row / map.height()), t1 = std::cos(kPi * (row + 1) / map.height());
+  auto F = [&](auto f) { return f(t0) - f(t1); };
+  return {t0 - t1,
+          F([](double t) { return 0.5 * (t * std::sqrt(std::max(0.0, 1.0 - t * t)) + std::asin(t)); }),
+          F([](double t) { return 0.5 * t * t; }),
+          F([](double t) { return t - t * t * t / 3.0; }),
+          F([](double t) { return -std::pow(std::max(0.0, 1.0 - t * t), 1.5) / 3.0; }),
+          F([](double t) { return t * t * t - t; })};
+}
+// Integrals over psi = 2 pi (u - 0.5) in [p0, p1] of a pixel column: 1, sin, cos, sin cos, cos 2psi.
+struct ColumnFactors {
+  double dp, Is, Ic, Isc, Ic2;
+};
+ColumnFactors columnFactors(const EnvironmentMap& map, int column) noexcept {
   const double p0 = 2.0 * kPi * (static_cast<double>(column) / map.width() - 0.5);
   const double p1 = 2.0 * kPi * (static_cast<double>(column + 1) / map.width() - 0.5);
-  auto F = [](auto f, double a, double b) { return f(b) - f(a); };
-  const double dt = t0 - t1;
-  const double S = F([](double t) { return 0.5 * (t * std::sqrt(std::max(0.0, 1.0 - t * t)) + std::asin(t)); }, t1, t0);
-  const double T = F([](double t) { return 0.5 * t * t; }, t1, t0);                        // int t
-  const double Q = F([](double t) { return t - t * t * t / 3.0; }, t1, t0);                 // int s^2
-  const double P = F([](double t) { return -std::pow(std::max(0.0, 1.0 - t * t), 1.5) / 3.0; }, t1, t0);  // int s t
-  const double Z = F([](double t) { return t * t * t - t; }, t1, t0);                       // int 3t^2 - 1
-  const double dp = p1 - p0;
-  const double Is = std::cos(p0) - std::cos(p1);                                             // int sin
-  const double Ic = std::sin(p1) - std::sin(p0);                                             // int cos
-  const double Isc = 0.5 * (std::sin(p1) * std::sin(p1) - std::sin(p0) * std::sin(p0));     // int sin cos
-  const double Ic2 = 0.5 * (std::sin(2.0 * p1) - std::sin(2.0 * p0));                        // int cos 2psi
-  return {kY0 * dt * dp,
-          kY1 * S * Is, kY1 * T * dp, -kY1 * S * Ic,
-          -kY2 * Q * Isc, kY2 * P * Is, kY20 * Z * dp, -kY2 * P * Ic, kY22 * Q * Ic2};
+  return {p1 - p0, std::cos(p0) - std::cos(p1), std::sin(p1) - std::sin(p0),
+          0.5 * (std::sin(p1) * std::sin(p1) - std::sin(p0) * std::sin(p0)),
+          0.5 * (std::sin(2.0 * p1) - std::sin(2.0 * p0))};
+}
+// Pixel: x = s sin(psi), y = t, z = -s cos(psi) with s = sqrt(1 - t^2), dw = dt dpsi. Every
+// basis function is a product of a function of t and one of psi.
+ShBasis basisIntegrals(const RowFactors& r, const ColumnFactors& c) noexcept {
+  return {kY0 * r.dt * c.dp,
+          kY1 * r.S * c.Is, kY1 * r.T * c.dp, -kY1 * r.S * c.Ic,
+          -kY2 * r.Q * c.Isc, kY2 * r.P * c.Is, kY20 * r.Z * c.dp, -kY2 * r.P * c.Ic, kY22 * r.Q * c.Ic2};
+}
+}  // namespace
+
+ShBasis pixelBasisIntegrals(const EnvironmentMap& map, int column, int row) noexcept {
+  return basisIntegrals(rowFactors(map, row), columnFactors(map, column));
 }
 
 ShCoefficients projectRadiance(const EnvironmentMap& map) {
   ShCoefficients result;
   const int w = map.width(), h = map.height();
   const float* px = map.pixels().data();
+  std::vector<ColumnFactors> columns(static_cast<std::size_t>(std::max(w, 0)));
+  for (int col = 0; col < w; ++col) columns[col] = columnFactors(map, col);
   for (int row = 0; row < h; ++row) {
+    const RowFactors rf = rowFactors(map, row);
     std::array<glm::dvec3, kShCount> rowSum{};
     for (int col = 0; col < w; ++col) {
       const float* p = px + (static_cast<std::size_t>(row) * w + col) * 3;
       const glm::dvec3 radiance(p[0], p[1], p[2]);
-      const ShBasis y = pixelBasisIntegrals(map, col, row);
+      const ShBasis y = basisIntegrals(rf, columns[col]);
       for (int i = 0; i < kShCount; ++i) rowSum[i] += radiance * y[i];
     }
     for (int i = 0; i < kShCount; ++i) result.c[i] += rowSum[i];
