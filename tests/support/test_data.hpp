@@ -15,6 +15,9 @@ inline std::string sharedAsset(const std::string& relative) {
 inline std::string assimpModel(const std::string& relative) {
   return std::string(MARIONETTE_ASSIMP_MODELS) + "/" + relative;
 }
+inline std::string blenderStudiolight(const std::string& relative) {
+  return std::string(MARIONETTE_BLENDER_STUDIOLIGHTS) + "/" + relative;
+}
 inline std::string sourceFile(const std::string& relative) {
   return std::string(MARIONETTE_SOURCE_DIR) + "/" + relative;
 }

@@ -1,0 +1,48 @@
+// Where the AR camera is, over scene time. A later tracking issue implements
+// CameraPoseSource from a tracker; StaticCameraPose is a fixed camera from the scene file.
+// Convention: +Y up, right-handed; the view matrix maps world to camera space, the camera
+// looking along its -Z (OpenGL).
+#pragma once
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <optional>
+#include <string>
+
+#include "marionette/core/diagnostic.hpp"
+
+namespace marionette::ar {
+
+struct CameraPose {
+  glm::mat4 view{1.0f};      // world -> camera
+  float fovYDegrees = 60.0f;  // vertical field of view, degrees, in (0, 180)
+};
+
+class CameraPoseSource {
+ public:
+  virtual ~CameraPoseSource() = default;
+  // The pose at scene time `seconds`.
+  [[nodiscard]] virtual CameraPose poseAt(double seconds) const = 0;
+};
+
+class StaticCameraPose final : public CameraPoseSource {
+ public:
+  // A camera at `position` looking at `target`, `up` giving the roll. Errors (nothing
+  // returned; each names `file`, e.g. the scene file, when given): a NaN or infinite
+  // component, target == position (zero-length look direction), `up` zero or parallel to the
+  // look direction, fovYDegrees outside (0, 180).
+  [[nodiscard]] static std::optional<StaticCameraPose> create(const glm::vec3& position, const glm::vec3& target,
+                                                              const glm::vec3& up, float fovYDegrees,
+                                                              Diagnostics& diagnostics, const std::string& file = {});
+
+  [[nodiscard]] CameraPose poseAt(double /*seconds*/) const override { return pose_; }
+  [[nodiscard]] const glm::vec3& position() const noexcept { return position_; }
+
+ private:
+  StaticCameraPose(const CameraPose& pose, const glm::vec3& position) : pose_(pose), position_(position) {}
+  CameraPose pose_;
+  glm::vec3 position_{0.0f};
+};
+
+}  // namespace marionette::ar

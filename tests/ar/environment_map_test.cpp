@@ -1,0 +1,203 @@
+// Loading lat-long HDR maps: formats, channels, clamping, errors, the direction convention.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <fstream>
+
+#include "marionette_ar/environment_map.hpp"
+#include "test_data.hpp"
+
+using namespace marionette::ar;
+namespace mt = marionette::test;
+namespace fs = std::filesystem;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+fs::path tempDir(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("marionette_ar_env_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void writeFloatImage(const std::string& path, int w, int h, int nch, const std::vector<float>& data) {
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out) << OIIO::geterror();
+  OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::FLOAT);
+  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, data.data())) << out->geterror();
+  out->close();
+}
+
+bool mentions(const marionette::Diagnostics& d, const std::string& text) {
+  return d.format().find(text) != std::string::npos;
+}
+}  // namespace
+
+TEST(EnvironmentMap, DirectionConventionAndInverse) {
+  auto near = [](glm::dvec3 a, glm::dvec3 b) { return glm::length(a - b) < 1e-12; };
+  EXPECT_TRUE(near(EnvironmentMap::direction(0.5, 0.5), {0, 0, -1}));   // image centre: -Z
+  EXPECT_TRUE(near(EnvironmentMap::direction(0.75, 0.5), {1, 0, 0}));   // right of it: +X
+  EXPECT_TRUE(near(EnvironmentMap::direction(0.25, 0.5), {-1, 0, 0}));
+  EXPECT_TRUE(near(EnvironmentMap::direction(0.0, 0.5), {0, 0, 1}));    // the seam: +Z
+  EXPECT_TRUE(near(EnvironmentMap::direction(0.3, 0.0), {0, 1, 0}));    // top row: +Y
+  EXPECT_TRUE(near(EnvironmentMap::direction(0.3, 1.0), {0, -1, 0}));
+  for (double u : {0.01, 0.3, 0.5, 0.77, 0.99})
+    for (double v : {0.02, 0.4, 0.5, 0.93}) {
+      const glm::dvec2 back = EnvironmentMap::uv(EnvironmentMap::direction(u, v) * 3.0);
+      EXPECT_NEAR(back.x, u, 1e-12);
+      EXPECT_NEAR(back.y, v, 1e-12);
+    }
+}
+
+TEST(EnvironmentMap, TexelSolidAnglesAreExactAndSumToFourPi) {
+  const EnvironmentMap map(64, 32, std::vector<float>(64 * 32 * 3));
+  double total = 0.0;
+  for (int row = 0; row < 32; ++row) total += 64 * map.texelSolidAngle(row);
+  EXPECT_NEAR(total, 4.0 * kPi, 1e-12);
+  // Row 0: the cap theta in [0, pi/32] split into 64: 2 pi (1 - cos(pi/32)) / 64.
+  EXPECT_NEAR(map.texelSolidAngle(0), 2.0 * kPi * (1.0 - std::cos(kPi / 32)) / 64, 1e-16);
+  EXPECT_NEAR(map.texelSolidAngle(5), map.texelSolidAngle(26), 1e-15);  // symmetric about the equator
+}
+
+TEST(EnvironmentMap, BilinearSampleHitsTexelCentresAndWraps) {
+  std::vector<float> px(8 * 4 * 3);
+  for (int i = 0; i < 8 * 4; ++i) px[i * 3] = static_cast<float>(i), px[i * 3 + 1] = 1.0f, px[i * 3 + 2] = 2.0f;
+  const EnvironmentMap map(8, 4, px);
+  EXPECT_NEAR(map.sample(map.texelDirection(3, 2)).r, map.texel(3, 2).r, 1e-5);
+  // Halfway between the last and the first column of row 1 (the seam): their mean.
+  const glm::vec3 seam = map.sample(EnvironmentMap::direction(0.0, 1.5 / 4));
+  EXPECT_NEAR(seam.r, 0.5 * (map.texel(7, 1).r + map.texel(0, 1).r), 1e-5);
+  EXPECT_NEAR(seam.g, 1.0f, 1e-6);
+}
+
+TEST(EnvironmentMap, LoadsTheSharedHdrAndDwabExrMaps) {
+  for (const char* name : {"quarry_01_1k.hdr", "royal_esplanade_1k.hdr", "blender_studiolight_forest.exr"}) {
+    const std::string path = mt::sharedAsset(std::string("envmaps/") + name);
+    MARIONETTE_REQUIRE_FILE(path);
+    auto load = loadEnvironmentMap(path);
+    ASSERT_TRUE(load.map) << load.diagnostics.format();
+    if (std::string(name) == "blender_studiolight_forest.exr") {
+      // DWAB is lossy: its ringing leaves 784 slightly negative values, clamped with a warning.
+      EXPECT_TRUE(mentions(load.diagnostics, "784 pixel values clamped to 0 (784 negative")) << load.diagnostics.format();
+    } else {
+      EXPECT_FALSE(load.diagnostics.hasWarnings()) << load.diagnostics.format();
+    }
+    EXPECT_EQ(load.map->width(), 1024);
+    EXPECT_EQ(load.map->height(), 512);
+    double maxValue = 0.0, sum = 0.0;
+    for (float v : load.map->pixels()) {
+      ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << name;
+      maxValue = std::max(maxValue, static_cast<double>(v));
+      sum += v;
+    }
+    EXPECT_GT(sum, 0.0) << name;
+    if (std::string(name) == "royal_esplanade_1k.hdr") {  // the sun, per ASSETS.md about 3.9e4
+      EXPECT_GT(maxValue, 2e4);
+      EXPECT_LT(maxValue, 6e4);
+    }
+  }
+}
+
+TEST(EnvironmentMap, LoadsEveryBlenderStudiolightDwabExr) {
+  for (const char* name : {"city.exr", "courtyard.exr", "forest.exr", "interior.exr", "night.exr", "studio.exr",
+                           "sunrise.exr", "sunset.exr"}) {
+    const std::string path = mt::blenderStudiolight(name);
+    MARIONETTE_REQUIRE_FILE(path);
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().get_string_attribute("compression"), "dwab") << path;
+    auto load = loadEnvironmentMap(path);
+    ASSERT_TRUE(load.map) << load.diagnostics.format();
+    EXPECT_EQ(load.map->width(), 1024);
+  }
+}
+
+TEST(EnvironmentMap, NanInfAndNegativeValuesAreClampedWithOneWarningNamingTheFile) {
+  // A float EXR holds them all (Radiance RGBE cannot store NaN, Inf or negatives).
+  const fs::path dir = tempDir("clamp");
+  const std::string path = (dir / "bad.exr").string();
+  std::vector<float> px(16 * 8 * 3, 0.5f);
+  px[0] = std::numeric_limits<float>::quiet_NaN();
+  px[4] = std::numeric_limits<float>::infinity();
+  px[8] = -3.0f;
+  px[9] = -std::numeric_limits<float>::infinity();
+  writeFloatImage(path, 16, 8, 3, px);
+  auto load = loadEnvironmentMap(path);
+  ASSERT_TRUE(load.map) << load.diagnostics.format();
+  for (float v : load.map->pixels()) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << path;
+  EXPECT_EQ(load.map->pixels()[0], 0.0f);
+  EXPECT_EQ(load.map->pixels()[4], 0.0f);  // +Inf -> 0 (documented choice)
+  EXPECT_EQ(load.map->pixels()[8], 0.0f);
+  EXPECT_EQ(load.map->pixels()[9], 0.0f);
+  EXPECT_EQ(load.map->pixels()[1], 0.5f);
+  EXPECT_EQ(load.map->pixels()[10], 0.5f);
+  ASSERT_EQ(load.diagnostics.items.size(), 1u) << load.diagnostics.format();
+  EXPECT_EQ(load.diagnostics.items[0].severity, marionette::Severity::Warning);
+  EXPECT_EQ(load.diagnostics.items[0].file, path);
+  EXPECT_TRUE(mentions(load.diagnostics, "4 pixel values clamped to 0 (1 negative, 1 NaN, 2 infinite)"))
+      << load.diagnostics.format();
+}
+
+TEST(EnvironmentMap, OneAndFourChannelImagesBecomeRgb) {
+  const fs::path dir = tempDir("channels");
+  const std::string grey = (dir / "grey.exr").string(), rgba = (dir / "rgba.exr").string();
+  writeFloatImage(grey, 4, 2, 1, {1, 2, 3, 4, 5, 6, 7, 8});
+  std::vector<float> four(4 * 2 * 4);
+  for (int i = 0; i < 8; ++i) four[i * 4] = 1.0f, four[i * 4 + 1] = 2.0f, four[i * 4 + 2] = 3.0f, four[i * 4 + 3] = 0.25f;
+  writeFloatImage(rgba, 4, 2, 4, four);
+  auto g = loadEnvironmentMap(grey);
+  ASSERT_TRUE(g.map) << g.diagnostics.format();
+  EXPECT_EQ(g.map->texel(2, 1), glm::vec3(7.0f));
+  auto c = loadEnvironmentMap(rgba);
+  ASSERT_TRUE(c.map) << c.diagnostics.format();
+  EXPECT_EQ(c.map->pixels().size(), 4u * 2 * 3);
+  EXPECT_EQ(c.map->texel(3, 1), glm::vec3(1.0f, 2.0f, 3.0f));
+}
+
+TEST(EnvironmentMap, OtherAspectRatiosLoadWithAWarning) {
+  const fs::path dir = tempDir("aspect");
+  const std::string path = (dir / "square.exr").string();
+  writeFloatImage(path, 8, 8, 3, std::vector<float>(8 * 8 * 3, 1.0f));
+  auto load = loadEnvironmentMap(path);
+  ASSERT_TRUE(load.map);
+  ASSERT_TRUE(load.diagnostics.hasWarnings());
+  EXPECT_TRUE(mentions(load.diagnostics, "not 2:1")) << load.diagnostics.format();
+  EXPECT_TRUE(mentions(load.diagnostics, path));
+}
+
+TEST(EnvironmentMap, ErrorsNameTheFile) {
+  const fs::path dir = tempDir("errors");
+  const std::string missing = (dir / "no_such_map.hdr").string();
+  auto a = loadEnvironmentMap(missing);
+  EXPECT_FALSE(a.map);
+  EXPECT_FALSE(a.diagnostics.ok());
+  EXPECT_TRUE(mentions(a.diagnostics, missing)) << a.diagnostics.format();
+  EXPECT_TRUE(mentions(a.diagnostics, "not found"));
+
+  const std::string garbage = (dir / "garbage.exr").string();
+  { std::ofstream(garbage) << "this is not an EXR file at all"; }
+  auto b = loadEnvironmentMap(garbage);
+  EXPECT_FALSE(b.map);
+  EXPECT_TRUE(mentions(b.diagnostics, garbage)) << b.diagnostics.format();
+
+  // A truncated real file: header fine, pixels cut off.
+  const std::string source = mt::sharedAsset("envmaps/blender_studiolight_forest.exr");
+  MARIONETTE_REQUIRE_FILE(source);
+  const std::string truncated = (dir / "truncated.exr").string();
+  const std::string bytes = mt::readFile(source);
+  { std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 3); }
+  auto c = loadEnvironmentMap(truncated);
+  EXPECT_FALSE(c.map);
+  EXPECT_TRUE(mentions(c.diagnostics, truncated)) << c.diagnostics.format();
+}
