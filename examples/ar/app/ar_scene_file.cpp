@@ -119,10 +119,7 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
     r.number(c, "fovY", "camera", out.camera.fovYDegrees, 1.0f, 170.0f);
     r.number(c, "near", "camera", out.camera.nearPlane, 1e-4f, 1e3f);
     r.number(c, "far", "camera", out.camera.farPlane, 1e-3f, 1e7f);
-    const glm::vec3 look = out.camera.target - out.camera.position;
-    if (glm::length(look) < 1e-6f) r.error("camera.target", "equals the camera position (no view direction)");
-    else if (glm::length(glm::cross(glm::normalize(look), out.camera.up)) < 1e-4f)
-      r.error("camera.up", "is parallel to the view direction");
+    // The pose itself (look direction, up) is checked by StaticCameraPose (frame_inputs.cpp).
     if (!(out.camera.farPlane > out.camera.nearPlane)) r.error("camera.far", "must be greater than camera.near");
   }
   if (r.object(root, "background")) {

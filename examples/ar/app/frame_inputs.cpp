@@ -1,35 +1,114 @@
 #include "frame_inputs.hpp"
 
+#include <chrono>
+#include <cstdio>
+
 #include <glm/gtc/matrix_transform.hpp>
+
+#include "marionette_ar/background_source.hpp"
+#include "marionette_ar/camera_pose.hpp"
+#include "marionette_ar/environment_map.hpp"
+#include "marionette_ar/sh_lighting.hpp"
 
 namespace marionette::ar {
 
-struct FrameInputs::Sources {};
+struct FrameInputs::Sources {
+  std::unique_ptr<BackgroundSource> background;
+  std::optional<StaticCameraPose> camera;
+  Image8 frame;
+  std::int64_t frameIndex = -1;
+  Diagnostics frameDiagnostics;
+};
 
-FrameInputs::FrameInputs() = default;
+FrameInputs::FrameInputs() : sources_(std::make_unique<Sources>()) {}
 FrameInputs::~FrameInputs() = default;
 
-bool FrameInputs::load(const ArScene& scene, std::string& error) {
-  cameraSettings_ = scene.camera;
-  kind_ = scene.background.kind;
-  // Neutral sky until the environment module lands: constant radiance 0.8.
-  irradiance_.fill(glm::vec3(0.0f));
-  irradiance_[0] = glm::vec3(3.14159265f * 0.8f / 0.282095f);
-  if (kind_ == ArBackground::Kind::Environment) kind_ = ArBackground::Kind::Color;
-  if (kind_ == ArBackground::Kind::Image && !readImage(scene.background.file, still_, error)) return false;
+namespace {
+
+// A neutral grey sky (constant radiance) when the scene has no environment map:
+// E(n) = pi * L everywhere, i.e. the DC irradiance coefficient pi * L / Y00.
+constexpr float kNeutralRadiance = 0.8f;
+
+bool report(const Diagnostics& d, std::vector<std::string>& warnings, std::string& error) {
+  for (const Diagnostic& item : d.items) {
+    if (item.severity == Severity::Error) {
+      error = item.format();
+      return false;
+    }
+    warnings.push_back(item.format());
+  }
   return true;
 }
 
-const Image8* FrameInputs::backgroundFrame(double /*time*/, std::string& error) {
-  error.clear();
-  return still_.empty() ? nullptr : &still_;
+}  // namespace
+
+bool FrameInputs::load(const ArScene& scene, std::string& error) {
+  kind_ = scene.background.kind;
+  Diagnostics camera;
+  sources_->camera = StaticCameraPose::create(scene.camera.position, scene.camera.target, scene.camera.up,
+                                              scene.camera.fovYDegrees, camera, scene.path);
+  nearPlane_ = scene.camera.nearPlane;
+  farPlane_ = scene.camera.farPlane;
+  if (!report(camera, warnings_, error)) return false;
+
+  irradiance_.fill(glm::vec3(0.0f));
+  irradiance_[0] = glm::vec3(3.14159265f * kNeutralRadiance / 0.282095f);
+  if (!scene.environment.file.empty()) {
+    const auto start = std::chrono::steady_clock::now();
+    EnvironmentMapLoad loaded = loadEnvironmentMap(scene.environment.file);
+    if (!report(loaded.diagnostics, warnings_, error) || !loaded.map) {
+      if (error.empty()) error = scene.environment.file + ": cannot load the environment map";
+      return false;
+    }
+    // Rotating the environment rotates its SH coefficients; the map is projected once.
+    const ShCoefficients irradiance = irradianceCoefficients(
+        rotateAboutY(projectRadiance(*loaded.map), glm::radians(static_cast<double>(scene.environment.rotationDegrees))));
+    for (int i = 0; i < kShCount; ++i) irradiance_[static_cast<std::size_t>(i)] = glm::vec3(irradiance.c[static_cast<std::size_t>(i)]);
+    envWidth_ = loaded.map->width();
+    envHeight_ = loaded.map->height();
+    environment_ = std::move(loaded.map->pixels());
+    lightingMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+  if (kind_ == ArBackground::Kind::Environment && environment_.empty()) kind_ = ArBackground::Kind::Color;
+
+  if (kind_ == ArBackground::Kind::Image || kind_ == ArBackground::Kind::Sequence ||
+      kind_ == ArBackground::Kind::Video) {
+    const BackgroundKind kind = kind_ == ArBackground::Kind::Image      ? BackgroundKind::Still
+                                : kind_ == ArBackground::Kind::Sequence ? BackgroundKind::Sequence
+                                                                        : BackgroundKind::Video;
+    Diagnostics opened;
+    sources_->background = openBackground(kind, scene.background.file, scene.background.fps, opened);
+    if (!report(opened, warnings_, error)) return false;
+    if (!sources_->background) {
+      error = scene.background.file + ": cannot open the background";
+      return false;
+    }
+  }
+  return true;
 }
 
-CameraView FrameInputs::camera(double /*time*/, float aspect) const {
+const Image8* FrameInputs::backgroundFrame(double time, std::string& error) {
+  error.clear();
+  if (!sources_->background) return nullptr;
+  Sources& s = *sources_;
+  s.frameDiagnostics.items.clear();
+  const BackgroundFrame& f = s.background->frameAt(time, s.frameDiagnostics);
+  for (const Diagnostic& d : s.frameDiagnostics.items) std::fprintf(stderr, "%s\n", d.format().c_str());
+  if (f.index != s.frameIndex) {  // a new frame: convert once
+    s.frameIndex = f.index;
+    s.frame.width = f.width;
+    s.frame.height = f.height;
+    s.frame.channels = 3;
+    s.frame.pixels.assign(f.rgb.begin(), f.rgb.end());
+  }
+  return &s.frame;
+}
+
+CameraView FrameInputs::camera(double time, float aspect) const {
   CameraView v;
-  v.view = glm::lookAt(cameraSettings_.position, cameraSettings_.target, cameraSettings_.up);
-  v.projection = glm::perspective(glm::radians(cameraSettings_.fovYDegrees), aspect, cameraSettings_.nearPlane,
-                                  cameraSettings_.farPlane);
+  const CameraPose pose = sources_->camera->poseAt(time);
+  v.view = pose.view;
+  v.projection = glm::perspective(glm::radians(pose.fovYDegrees), aspect, nearPlane_, farPlane_);
   return v;
 }
 

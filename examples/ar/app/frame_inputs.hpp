@@ -32,6 +32,9 @@ class FrameInputs {
   [[nodiscard]] int environmentHeight() const noexcept { return envHeight_; }
   [[nodiscard]] const float* environmentPixels() const noexcept { return environment_.data(); }
 
+  // Wall time of loading and projecting the environment (ms).
+  [[nodiscard]] double lightingMilliseconds() const noexcept { return lightingMs_; }
+
   [[nodiscard]] ArBackground::Kind backgroundKind() const noexcept { return kind_; }
   // The camera frame for a scene time; the same pointer while the frame does not
   // change; nullptr with `error` set when the source fails.
@@ -46,8 +49,8 @@ class FrameInputs {
   std::vector<float> environment_;
   int envWidth_ = 0, envHeight_ = 0;
   ArBackground::Kind kind_ = ArBackground::Kind::Color;
-  ArCamera cameraSettings_;
-  Image8 still_;
+  float nearPlane_ = 0.05f, farPlane_ = 100.0f;
+  double lightingMs_ = 0.0;
 };
 
 }  // namespace marionette::ar

@@ -27,7 +27,7 @@ void main() {
     vec3 d = normalize(far.xyz / far.w - near.xyz / near.w);
     float c = cos(uEnvironmentRotation), s = sin(uEnvironmentRotation);
     d = vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);  // into the map's frame
-    // Map convention (environment_map.hpp): u = atan(x, -z) / 2pi + 0.5, v = acos(y) / pi.
+    // Map convention (marionette_ar/environment_map.hpp): u = atan(x, -z) / 2pi + 0.5, v = acos(y) / pi.
     vec2 uv = vec2(atan(d.x, -d.z) / 6.2831853 + 0.5, acos(clamp(d.y, -1.0, 1.0)) / 3.14159265);
     fragColor = vec4(toneMap(texture(uEnvironment, uv).rgb * uExposure), 1.0);
   } else {
