@@ -159,8 +159,10 @@ class VideoSource final : public BackgroundSource {
       diagnostics.error(path_, fs::exists(path_, ec) ? "background video is not a regular file" : "background video not found");
       return false;
     }
-    if (!capture_.open(path_, cv::CAP_ANY) || !capture_.isOpened()) {
-      diagnostics.error(path_, "OpenCV cannot open the background video (unknown container or codec)");
+    // FFmpeg backend only: the others (GStreamer, image-sequence, camera backends) would
+    // probe devices and log noise for a file FFmpeg rejects, and add nothing for files.
+    if (!capture_.open(path_, cv::CAP_FFMPEG) || !capture_.isOpened()) {
+      diagnostics.error(path_, "OpenCV (FFmpeg) cannot open the background video (unknown container or codec)");
       return false;
     }
     fps_ = capture_.get(cv::CAP_PROP_FPS);

@@ -61,7 +61,7 @@ enum class BackgroundKind {
   Still,     // one image, any format OpenImageIO reads
   Sequence,  // a printf-style pattern ("frames/%04d.png": the files that exist, by number)
              // or a directory (every image file in it, sorted by name)
-  Video,     // a video file OpenCV's VideoCapture opens (fps from the file)
+  Video,     // a video file OpenCV's VideoCapture opens with its FFmpeg backend (fps from the file)
 };
 
 // "still" / "image", "sequence", "video" (as a scene file names them); empty when unknown.
