@@ -111,6 +111,72 @@ TEST(ArScene, DefaultSceneLooksRight) {
   }
 }
 
+// Mean luminance over the pixels a mask marks.
+double meanLuminance(const ar::Image8& image, const std::vector<bool>& mask) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < mask.size(); ++p)
+    if (mask[p]) sum += luminance(image, p), ++n;
+  return n ? sum / double(n) : 0.0;
+}
+
+TEST(ArScene, ExposureScalesTheLight) {
+  const std::string scene = sourceFile("assets/scenes/ar_demo.json");
+  MARIONETTE_REQUIRE_FILE(scene);
+  const fs::path dir = fs::temp_directory_path() / "marionette_ar_exposure_test";
+  fs::remove_all(dir);
+  const std::string common = scene + " --headless --frames 60 --width 320 --height 180";
+  ASSERT_EQ(runAr(common + " --out " + (dir / "normal").string()).status, 0);
+  ASSERT_EQ(runAr(common + " --exposure 0.25 --out " + (dir / "dark").string()).status, 0);
+  ASSERT_EQ(runAr(common + " --hide-characters --out " + (dir / "plate").string()).status, 0);
+  const ar::Image8 normal = frame(dir / "normal", 59), dark = frame(dir / "dark", 59), plate = frame(dir / "plate", 59);
+  const std::vector<bool> mask = characterMask(normal, plate);
+  EXPECT_LT(meanLuminance(dark, mask), 0.75 * meanLuminance(normal, mask)) << "exposure does not darken the character";
+}
+
+TEST(ArScene, PhotoBackgroundCoversTheFrame) {
+  // A still photo (written here: a colour ramp) behind the scene, drawn without characters,
+  // fills the frame: same aspect ratio, so the picture is the photo itself.
+  const fs::path dir = fs::temp_directory_path() / "marionette_ar_photo_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ar::Image8 photo;
+  photo.width = 320, photo.height = 180, photo.channels = 3;
+  for (int y = 0; y < photo.height; ++y)
+    for (int x = 0; x < photo.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        photo.pixels.push_back(static_cast<std::uint8_t>(c == 0 ? x * 255 / 319 : c == 1 ? y * 255 / 179 : 128));
+  std::string error;
+  ASSERT_TRUE(ar::writeImage((dir / "photo.png").string(), photo, error)) << error;
+  std::ofstream(dir / "photo_scene.json") << R"({"scene": ")" << sourceFile("assets/scenes/ar_demo_walk.json")
+                                          << R"(", "background": {"kind": "image", "file": "photo.png"}})";
+  const CliRun r = runAr((dir / "photo_scene.json").string() +
+                         " --headless --frames 1 --width 320 --height 180 --hide-characters --out " + (dir / "out").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  const ar::Image8 shown = frame(dir / "out", 0);
+  ASSERT_EQ(shown.width * shown.height, photo.width * photo.height);
+  double diff = 0.0;  // readImage gives RGBA, the photo is RGB
+  for (std::size_t p = 0; p < std::size_t(photo.width * photo.height); ++p)
+    for (std::size_t c = 0; c < 3; ++c)
+      diff += std::abs(int(shown.pixels[p * std::size_t(shown.channels) + c]) - int(photo.pixels[p * 3 + c]));
+  EXPECT_LT(diff / double(photo.pixels.size()), 2.0) << "the photo is not drawn as it is (flipped, stretched, tinted)";
+}
+
+TEST(ArScene, WindowAndScreenshot) {
+  // Windowed mode (a real window on the X display) and --screenshot.
+  const std::string scene = sourceFile("assets/scenes/ar_demo.json");
+  MARIONETTE_REQUIRE_FILE(scene);
+  const fs::path shot = fs::temp_directory_path() / "marionette_ar_screenshot.png";
+  fs::remove(shot);
+  const CliRun r = runAr(scene + " --frames 10 --width 320 --height 180 --screenshot " + shot.string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  ar::Image8 image;
+  std::string error;
+  ASSERT_TRUE(ar::readImage(shot.string(), image, error)) << error;
+  EXPECT_EQ(image.width, 320);
+  EXPECT_EQ(image.height, 180);
+}
+
 TEST(ArScene, BadInputIsNamed) {
   const fs::path dir = fs::temp_directory_path() / "marionette_ar_bad_input";
   fs::create_directories(dir);

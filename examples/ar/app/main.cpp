@@ -3,7 +3,7 @@
 // skinned and lit by the environment, over a camera background.
 //
 //   marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]
-//                 [--exposure E] [--width W] [--height H] [--hide-characters]
+//                 [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]
 //
 // Headless renders offscreen into DIR/frame_0000.png ... (still needs an X
 // display: run it under xvfb-run; docs/ar-renderer.md).
@@ -37,7 +37,7 @@ using namespace marionette;
 using namespace marionette::ar;
 
 struct Args {
-  std::string scene, outDir, screenshot;
+  std::string scene, outDir, screenshot, audioDir;
   bool headless = false, hideCharacters = false;
   long frames = -1;  // headless default: 5 s of scene time
   float exposure = -1.0f;
@@ -47,7 +47,7 @@ struct Args {
 int usage() {
   std::fprintf(stderr,
                "usage: marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]\n"
-               "                     [--exposure E] [--width W] [--height H] [--hide-characters]\n");
+               "                     [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]\n");
   return 2;
 }
 
@@ -86,6 +86,10 @@ bool parseArgs(int argc, char** argv, Args& a) {
       const char* v = value("--screenshot");
       if (!v) return false;
       a.screenshot = v;
+    } else if (s == "--audio-dir") {
+      const char* v = value("--audio-dir");
+      if (!v) return false;
+      a.audioDir = v;
     } else if (s == "--exposure") {
       if (!number("--exposure", 0, 1e6, n)) return false;
       a.exposure = static_cast<float>(n);
@@ -156,6 +160,9 @@ int main(int argc, char** argv) {
   Scene scene;
   LogListener log;
   scene.addListener(&log);
+  // The renderer plays no sound; --audio-dir writes each spoken line as a WAV, named by
+  // the listener's onSpeech with its scene start time, for an engine or editor to play.
+  if (!args.audioDir.empty()) scene.speech().setAudioDirectory(args.audioDir);
   SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
   std::fputs(loaded.diagnostics.format().c_str(), stderr);
   if (!loaded.ok()) return 2;
