@@ -4,6 +4,8 @@
 // Also: every sub-mesh is drawn, textures show, morph targets move the mouth.
 #include <epoxy/gl.h>
 
+#include <cstdio>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gl_fixture.hpp"
@@ -123,6 +125,8 @@ TEST_P(GpuSkinning, MatchesCpuReference) {
     const int covered = coveredPixels(cpu, 0, 0, 0);
     EXPECT_GT(covered, 256 * 256 / 50) << "the character covers too little of the frame to compare";
     const ImageDifference d = compareImages(gpu, cpu, 24);
+    std::printf("%s mode %d: %d character pixels, %.4f %% differ by > 24/255, mean %.4f/255\n", path.c_str(), mode,
+                covered, 100.0 * d.fractionOver, d.meanAbs);
     // Float rounding moves a few edge pixels; a wrong matrix moves whole limbs.
     EXPECT_LT(d.fractionOver, 0.004) << path << " mode " << mode << ": mean " << d.meanAbs;
     EXPECT_LT(d.meanAbs, 0.5) << path << " mode " << mode;
