@@ -17,7 +17,8 @@
 // Irradiance. E(n) = sum_l A_l sum_m L_lm Y_lm(n), A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4
 // (the clamped-cosine kernel's bands; its odd bands above 1 vanish, band 4 is -pi/24, which
 // is what 9 coefficients leave out). irradianceCoefficients() folds A_l in, so a shader
-// evaluates E(n) = sum_i c_i Y_i(n) with the 9 polynomials above (kShIrradianceGlsl).
+// evaluates E(n) = sum_i c_i Y_i(n) with the 9 polynomials above (irradiance() in
+// examples/ar/shaders/lighting.glsl, the one GLSL copy).
 // No exposure here: scaling by an exposure is the renderer's job.
 #pragma once
 #include <glm/vec3.hpp>
@@ -75,16 +76,5 @@ struct ShCoefficients {
 [[nodiscard]] std::vector<glm::dvec3> bruteForceIrradiance(const EnvironmentMap& map,
                                                            const std::vector<glm::dvec3>& normals,
                                                            unsigned threads = 0);
-
-// GLSL (any version with arrays of vec3) evaluating the irradiance from the 9 irradiance
-// coefficients, in the basis above: vec3 marionetteShIrradiance(vec3 c[9], vec3 n).
-inline constexpr const char* kShIrradianceGlsl = R"(vec3 marionetteShIrradiance(vec3 c[9], vec3 n) {
-  return c[0] * 0.282095
-       + c[1] * (0.488603 * n.x) + c[2] * (0.488603 * n.y) + c[3] * (0.488603 * n.z)
-       + c[4] * (1.092548 * n.x * n.z) + c[5] * (1.092548 * n.x * n.y)
-       + c[6] * (0.315392 * (3.0 * n.y * n.y - 1.0))
-       + c[7] * (1.092548 * n.y * n.z) + c[8] * (0.546274 * (n.z * n.z - n.x * n.x));
-}
-)";
 
 }  // namespace marionette::ar
