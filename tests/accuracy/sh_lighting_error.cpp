@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "../ar/ar_test_util.hpp"
-#include "marionette_ar/environment_map.hpp"
-#include "marionette_ar/sh_lighting.hpp"
+#include "../prt/prt_test_util.hpp"
+#include "marionette/prt/environment_map.hpp"
+#include "marionette/prt/sh_lighting.hpp"
 #include "test_data.hpp"
 
-using namespace marionette::ar;
+using namespace marionette::prt;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -30,7 +30,7 @@ int main() {
   for (const char* n : {"city", "courtyard", "forest", "interior", "night", "studio", "sunrise", "sunset"})
     maps.emplace_back(std::string("studiolights/world/") + n + ".exr", marionette::test::blenderStudiolight(std::string(n) + ".exr"));
 
-  const auto normals = marionette::ar::test::fibonacciSphere(1000);
+  const auto normals = marionette::prt::test::fibonacciSphere(1000);
   std::printf("| map | projection (ms) | evaluation (ns / normal) | brute force (ms / 1000 normals) | mean rel. error | max rel. error | max error / mean E |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   int failures = 0;
@@ -63,7 +63,7 @@ int main() {
     const auto t0 = Clock::now();
     const auto reference = bruteForceIrradiance(map, normals, 1);
     const double brute = seconds(t0, Clock::now());
-    const auto stats = marionette::ar::test::errorStats(approx, reference);
+    const auto stats = marionette::prt::test::errorStats(approx, reference);
     // The error against the map's mean irradiance (the scale R&H report): small where the
     // relative error is large only because the irradiance there is small.
     glm::dvec3 meanE(0.0);

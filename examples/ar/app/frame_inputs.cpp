@@ -7,8 +7,8 @@
 
 #include "marionette_ar/background_source.hpp"
 #include "marionette_ar/camera_pose.hpp"
-#include "marionette_ar/environment_map.hpp"
-#include "marionette_ar/sh_lighting.hpp"
+#include "marionette/prt/environment_map.hpp"
+#include "marionette/prt/sh_lighting.hpp"
 
 namespace marionette::ar {
 
@@ -55,15 +55,15 @@ bool FrameInputs::load(const ArScene& scene, std::string& error) {
   irradiance_[0] = glm::vec3(3.14159265f * kNeutralRadiance / 0.282095f);
   if (!scene.environment.file.empty()) {
     const auto start = std::chrono::steady_clock::now();
-    EnvironmentMapLoad loaded = loadEnvironmentMap(scene.environment.file);
+    prt::EnvironmentMapLoad loaded = prt::loadEnvironmentMap(scene.environment.file);
     if (!report(loaded.diagnostics, warnings_, error) || !loaded.map) {
       if (error.empty()) error = scene.environment.file + ": cannot load the environment map";
       return false;
     }
     // Rotating the environment rotates its SH coefficients; the map is projected once.
-    const ShCoefficients irradiance = irradianceCoefficients(
-        rotateAboutY(projectRadiance(*loaded.map), glm::radians(static_cast<double>(scene.environment.rotationDegrees))));
-    for (int i = 0; i < kShCount; ++i) irradiance_[static_cast<std::size_t>(i)] = glm::vec3(irradiance.c[static_cast<std::size_t>(i)]);
+    const prt::ShCoefficients irradiance = prt::irradianceCoefficients(
+        prt::rotateAboutY(prt::projectRadiance(*loaded.map), glm::radians(static_cast<double>(scene.environment.rotationDegrees))));
+    for (int i = 0; i < prt::kShCount; ++i) irradiance_[static_cast<std::size_t>(i)] = glm::vec3(irradiance.c[static_cast<std::size_t>(i)]);
     envWidth_ = loaded.map->width();
     envHeight_ = loaded.map->height();
     environment_ = std::move(loaded.map->pixels());

@@ -27,7 +27,7 @@
 
 #include "marionette/core/diagnostic.hpp"
 
-namespace marionette::ar {
+namespace marionette::prt {
 
 class EnvironmentMap {
  public:
@@ -87,4 +87,4 @@ struct EnvironmentMapLoad {
 //     names the file.
 [[nodiscard]] EnvironmentMapLoad loadEnvironmentMap(const std::string& path);
 
-}  // namespace marionette::ar
+}  // namespace marionette::prt

@@ -26,9 +26,9 @@
 #include <array>
 #include <vector>
 
-#include "marionette_ar/environment_map.hpp"
+#include "marionette/prt/environment_map.hpp"
 
-namespace marionette::ar {
+namespace marionette::prt {
 
 inline constexpr int kShBands = 3;                       // l = 0, 1, 2
 inline constexpr int kShCount = kShBands * kShBands;     // 9
@@ -77,4 +77,4 @@ struct ShCoefficients {
                                                            const std::vector<glm::dvec3>& normals,
                                                            unsigned threads = 0);
 
-}  // namespace marionette::ar
+}  // namespace marionette::prt

@@ -1,4 +1,4 @@
-#include "marionette_ar/environment_map.hpp"
+#include "marionette/prt/environment_map.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -8,7 +8,7 @@
 #include <numbers>
 #include <utility>
 
-namespace marionette::ar {
+namespace marionette::prt {
 
 namespace {
 constexpr double kPi = std::numbers::pi;
@@ -135,4 +135,4 @@ EnvironmentMapLoad loadEnvironmentMap(const std::string& path) {
   return result;
 }
 
-}  // namespace marionette::ar
+}  // namespace marionette::prt

@@ -1,11 +1,11 @@
-#include "marionette_ar/sh_lighting.hpp"
+#include "marionette/prt/sh_lighting.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <thread>
 
-namespace marionette::ar {
+namespace marionette::prt {
 
 namespace {
 constexpr double kPi = std::numbers::pi;
@@ -169,4 +169,4 @@ std::vector<glm::dvec3> bruteForceIrradiance(const EnvironmentMap& map, const st
   return result;
 }
 
-}  // namespace marionette::ar
+}  // namespace marionette::prt

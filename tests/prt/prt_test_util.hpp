@@ -8,7 +8,7 @@
 #include <numbers>
 #include <vector>
 
-namespace marionette::ar::test {
+namespace marionette::prt::test {
 
 // n unit vectors spread evenly over the sphere (Fibonacci lattice).
 inline std::vector<glm::dvec3> fibonacciSphere(int n) {
@@ -45,4 +45,4 @@ inline ErrorStats errorStats(const std::vector<glm::dvec3>& approx, const std::v
   return s;
 }
 
-}  // namespace marionette::ar::test
+}  // namespace marionette::prt::test

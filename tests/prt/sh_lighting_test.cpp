@@ -8,14 +8,14 @@
 #include <string>
 #include <vector>
 
-#include "ar_test_util.hpp"
-#include "marionette_ar/environment_map.hpp"
-#include "marionette_ar/sh_lighting.hpp"
+#include "prt_test_util.hpp"
+#include "marionette/prt/environment_map.hpp"
+#include "marionette/prt/sh_lighting.hpp"
 #include "test_data.hpp"
 
-using namespace marionette::ar;
-using marionette::ar::test::errorStats;
-using marionette::ar::test::fibonacciSphere;
+using namespace marionette::prt;
+using marionette::prt::test::errorStats;
+using marionette::prt::test::fibonacciSphere;
 namespace mt = marionette::test;
 
 namespace {

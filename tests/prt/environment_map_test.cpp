@@ -13,10 +13,10 @@
 #include <glm/geometric.hpp>
 #include <fstream>
 
-#include "marionette_ar/environment_map.hpp"
+#include "marionette/prt/environment_map.hpp"
 #include "test_data.hpp"
 
-using namespace marionette::ar;
+using namespace marionette::prt;
 namespace mt = marionette::test;
 namespace fs = std::filesystem;
 
