@@ -8,21 +8,11 @@
 #include <numbers>
 #include <vector>
 
+#include "marionette/prt/sphere_sampling.hpp"
+
 namespace marionette::prt::test {
 
-// n unit vectors spread evenly over the sphere (Fibonacci lattice).
-inline std::vector<glm::dvec3> fibonacciSphere(int n) {
-  std::vector<glm::dvec3> out;
-  out.reserve(n);
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = 1.0 - (i + 0.5) * 2.0 / n;
-    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
-    const double a = golden * i;
-    out.push_back({r * std::cos(a), y, r * std::sin(a)});
-  }
-  return out;
-}
+using marionette::prt::fibonacciSphere;
 
 // Relative error of one normal: the largest over R, G, B of |approx - reference| / reference.
 inline double relativeError(const glm::dvec3& approx, const glm::dvec3& reference) {

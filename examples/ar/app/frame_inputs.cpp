@@ -62,8 +62,8 @@ bool FrameInputs::load(const ArScene& scene, std::string& error) {
     }
     // Rotating the environment rotates its SH coefficients; the map is projected once.
     const prt::ShCoefficients irradiance = prt::irradianceCoefficients(
-        prt::rotateAboutY(prt::projectRadiance(*loaded.map), glm::radians(static_cast<double>(scene.environment.rotationDegrees))));
-    for (int i = 0; i < prt::kShCount; ++i) irradiance_[static_cast<std::size_t>(i)] = glm::vec3(irradiance.c[static_cast<std::size_t>(i)]);
+        prt::rotateAboutY(prt::projectRadiance(*loaded.map, 3), glm::radians(static_cast<double>(scene.environment.rotationDegrees))));
+    for (int i = 0; i < 9; ++i) irradiance_[static_cast<std::size_t>(i)] = glm::vec3(irradiance.c[static_cast<std::size_t>(i)]);
     envWidth_ = loaded.map->width();
     envHeight_ = loaded.map->height();
     environment_ = std::move(loaded.map->pixels());

@@ -2,112 +2,122 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <thread>
+
+#include "marionette/prt/sphere_sampling.hpp"
 
 namespace marionette::prt {
 
 namespace {
 constexpr double kPi = std::numbers::pi;
-// Normalisation constants of the real SH basis, bands 0..2.
-const double kY0 = 0.5 * std::sqrt(1.0 / kPi);         // 0.282095
-const double kY1 = std::sqrt(3.0 / (4.0 * kPi));       // 0.488603
-const double kY2 = 0.5 * std::sqrt(15.0 / kPi);        // 1.092548 (m = +-1, -2)
-const double kY20 = 0.25 * std::sqrt(5.0 / kPi);       // 0.315392
-const double kY22 = 0.25 * std::sqrt(15.0 / kPi);      // 0.546274
+constexpr double kSqrt2 = std::numbers::sqrt2;
+constexpr int kRowNodes = 8;  // Gauss-Legendre points per row (in theta)
 
-constexpr int bandOf(int i) noexcept { return i == 0 ? 0 : (i < 4 ? 1 : 2); }
+int clampBands(int bands) noexcept { return std::clamp(bands, kMinShBands, kMaxShBands); }
+
+// Column integrals over the map's azimuth phi = 2 pi (u - 0.5) of cos(m psi) and sin(m psi),
+// psi = atan2(x, z) = pi - phi, so cos(m psi) = (-1)^m cos(m phi), sin(m psi) = -(-1)^m sin(m phi).
+struct ColumnFactors {
+  std::array<double, kMaxShBands> cosine{}, sine{};  // [m]; cosine[0] = the column's width in phi
+};
+ColumnFactors columnFactors(const EnvironmentMap& map, int column, int bands) noexcept {
+  ColumnFactors f;
+  const double p0 = 2.0 * kPi * (static_cast<double>(column) / map.width() - 0.5);
+  const double p1 = 2.0 * kPi * (static_cast<double>(column + 1) / map.width() - 0.5);
+  f.cosine[0] = p1 - p0;
+  for (int m = 1; m < bands; ++m) {
+    const double sign = m % 2 == 0 ? 1.0 : -1.0;
+    f.cosine[m] = sign * (std::sin(m * p1) - std::sin(m * p0)) / m;
+    f.sine[m] = -sign * (std::cos(m * p0) - std::cos(m * p1)) / m;
+  }
+  return f;
+}
+
+// Row integrals int Pbar_l^m(cos theta) sin(theta) dtheta over the row's theta range, [l][m].
+using RowFactors = std::array<std::array<double, kMaxShBands>, kMaxShBands>;
+RowFactors rowFactors(const EnvironmentMap& map, int row, int bands, const GaussLegendre& gl) noexcept {
+  RowFactors f{};
+  const double th0 = kPi * row / map.height(), th1 = kPi * (row + 1) / map.height();
+  const double mid = 0.5 * (th0 + th1), half = 0.5 * (th1 - th0);
+  for (std::size_t k = 0; k < gl.nodes.size(); ++k) {
+    const double theta = mid + half * gl.nodes[k];
+    const double w = half * gl.weights[k] * std::sin(theta), t = std::cos(theta);
+    for (int l = 0; l < bands; ++l)
+      for (int m = 0; m <= l; ++m) f[l][m] += w * normalizedLegendre(l, m, t);
+  }
+  return f;
+}
+
+// Adds row sums A_m = sum_col L C_m, B_m = sum_col L S_m times the row factors into `out`.
+void accumulateRow(const RowFactors& rf, const std::array<glm::dvec3, kMaxShBands>& a,
+                   const std::array<glm::dvec3, kMaxShBands>& b, int bands, ShBasis* basisOut,
+                   ShCoefficients* out) noexcept {
+  for (int l = 0; l < bands; ++l) {
+    if (out) out->c[shIndex(l, 0)] += rf[l][0] * a[0];
+    if (basisOut) (*basisOut)[shIndex(l, 0)] = rf[l][0] * a[0].x;
+    for (int m = 1; m <= l; ++m) {
+      if (out) {
+        out->c[shIndex(l, m)] += kSqrt2 * rf[l][m] * a[m];
+        out->c[shIndex(l, -m)] += kSqrt2 * rf[l][m] * b[m];
+      }
+      if (basisOut) {
+        (*basisOut)[shIndex(l, m)] = kSqrt2 * rf[l][m] * a[m].x;
+        (*basisOut)[shIndex(l, -m)] = kSqrt2 * rf[l][m] * b[m].x;
+      }
+    }
+  }
+}
 }  // namespace
 
-ShBasis shBasis(const glm::dvec3& d) noexcept {
-  const double x = d.x, y = d.y, z = d.z;
-  return {kY0,
-          kY1 * x, kY1 * y, kY1 * z,
-          kY2 * x * z, kY2 * x * y, kY20 * (3.0 * y * y - 1.0), kY2 * y * z, kY22 * (z * z - x * x)};
-}
-
-double cosineLobeBand(int l) noexcept {
-  if (l < 0) return 0.0;
-  if (l == 0) return kPi;
-  if (l == 1) return 2.0 * kPi / 3.0;
-  if (l % 2 == 1) return 0.0;
-  // Even l >= 2: 2 pi (-1)^(l/2 - 1) / ((l + 2)(l - 1)) * l! / (2^l ((l/2)!)^2).
-  // l! / (2^l ((l/2)!)^2) = prod_{k=1}^{l/2} (2k - 1) / (2k), evaluated without overflow.
-  double ratio = 1.0;
-  for (int k = 1; k <= l / 2; ++k) ratio *= (2.0 * k - 1.0) / (2.0 * k);
-  const double sign = (l / 2 - 1) % 2 == 0 ? 1.0 : -1.0;
-  return 2.0 * kPi * sign / ((l + 2.0) * (l - 1.0)) * ratio;
-}
-
 glm::dvec3 ShCoefficients::evaluate(const glm::dvec3& direction) const noexcept {
-  const ShBasis y = shBasis(direction);
+  ShBasis y{};
+  shBasis(bands, direction, y);
   glm::dvec3 sum(0.0);
-  for (int i = 0; i < kShCount; ++i) sum += c[i] * y[i];
+  for (int i = 0; i < count(); ++i) sum += c[i] * y[i];
   return sum;
 }
 
-namespace {
-// Integrals over t = cos(theta) in [t1, t0] of a pixel row: dt, s, t, s^2, s t, 3t^2 - 1.
-struct RowFactors {
-  double dt, S, T, Q, P, Z;
-};
-RowFactors rowFactors(const EnvironmentMap& map, int row) noexcept {
-  const double t0 = std::cos(kPi * row / map.height()), t1 = std::cos(kPi * (row + 1) / map.height());
-  auto F = [&](auto f) { return f(t0) - f(t1); };
-  return {t0 - t1,
-          F([](double t) { return 0.5 * (t * std::sqrt(std::max(0.0, 1.0 - t * t)) + std::asin(t)); }),
-          F([](double t) { return 0.5 * t * t; }),
-          F([](double t) { return t - t * t * t / 3.0; }),
-          F([](double t) { return -std::pow(std::max(0.0, 1.0 - t * t), 1.5) / 3.0; }),
-          F([](double t) { return t * t * t - t; })};
-}
-// Integrals over psi = 2 pi (u - 0.5) in [p0, p1] of a pixel column: 1, sin, cos, sin cos, cos 2psi.
-struct ColumnFactors {
-  double dp, Is, Ic, Isc, Ic2;
-};
-ColumnFactors columnFactors(const EnvironmentMap& map, int column) noexcept {
-  const double p0 = 2.0 * kPi * (static_cast<double>(column) / map.width() - 0.5);
-  const double p1 = 2.0 * kPi * (static_cast<double>(column + 1) / map.width() - 0.5);
-  return {p1 - p0, std::cos(p0) - std::cos(p1), std::sin(p1) - std::sin(p0),
-          0.5 * (std::sin(p1) * std::sin(p1) - std::sin(p0) * std::sin(p0)),
-          0.5 * (std::sin(2.0 * p1) - std::sin(2.0 * p0))};
-}
-// Pixel: x = s sin(psi), y = t, z = -s cos(psi) with s = sqrt(1 - t^2), dw = dt dpsi. Every
-// basis function is a product of a function of t and one of psi.
-ShBasis basisIntegrals(const RowFactors& r, const ColumnFactors& c) noexcept {
-  return {kY0 * r.dt * c.dp,
-          kY1 * r.S * c.Is, kY1 * r.T * c.dp, -kY1 * r.S * c.Ic,
-          -kY2 * r.Q * c.Isc, kY2 * r.P * c.Is, kY20 * r.Z * c.dp, -kY2 * r.P * c.Ic, kY22 * r.Q * c.Ic2};
-}
-}  // namespace
-
-ShBasis pixelBasisIntegrals(const EnvironmentMap& map, int column, int row) noexcept {
-  return basisIntegrals(rowFactors(map, row), columnFactors(map, column));
+ShBasis pixelBasisIntegrals(const EnvironmentMap& map, int column, int row, int bands) {
+  bands = clampBands(bands);
+  const GaussLegendre gl = gaussLegendre(kRowNodes);
+  const ColumnFactors cf = columnFactors(map, column, bands);
+  std::array<glm::dvec3, kMaxShBands> a{}, b{};
+  for (int m = 0; m < bands; ++m) a[m] = glm::dvec3(cf.cosine[m]), b[m] = glm::dvec3(cf.sine[m]);
+  ShBasis out{};
+  accumulateRow(rowFactors(map, row, bands, gl), a, b, bands, &out, nullptr);
+  return out;
 }
 
-ShCoefficients projectRadiance(const EnvironmentMap& map) {
+ShCoefficients projectRadiance(const EnvironmentMap& map, int bands) {
   ShCoefficients result;
+  result.bands = bands = clampBands(bands);
   const int w = map.width(), h = map.height();
+  if (w <= 0 || h <= 0) return result;
+  const GaussLegendre gl = gaussLegendre(kRowNodes);
+  // Column factors once, as [column][m] arrays.
+  std::vector<ColumnFactors> columns(static_cast<std::size_t>(w));
+  for (int col = 0; col < w; ++col) columns[static_cast<std::size_t>(col)] = columnFactors(map, col, bands);
   const float* px = map.pixels().data();
-  std::vector<ColumnFactors> columns(static_cast<std::size_t>(std::max(w, 0)));
-  for (int col = 0; col < w; ++col) columns[col] = columnFactors(map, col);
   for (int row = 0; row < h; ++row) {
-    const RowFactors rf = rowFactors(map, row);
-    std::array<glm::dvec3, kShCount> rowSum{};
-    for (int col = 0; col < w; ++col) {
-      const float* p = px + (static_cast<std::size_t>(row) * w + col) * 3;
+    std::array<glm::dvec3, kMaxShBands> a{}, b{};
+    const float* p = px + static_cast<std::size_t>(row) * w * 3;
+    for (int col = 0; col < w; ++col, p += 3) {
       const glm::dvec3 radiance(p[0], p[1], p[2]);
-      const ShBasis y = basisIntegrals(rf, columns[col]);
-      for (int i = 0; i < kShCount; ++i) rowSum[i] += radiance * y[i];
+      const ColumnFactors& cf = columns[static_cast<std::size_t>(col)];
+      a[0] += radiance * cf.cosine[0];
+      for (int m = 1; m < bands; ++m) a[m] += radiance * cf.cosine[m], b[m] += radiance * cf.sine[m];
     }
-    for (int i = 0; i < kShCount; ++i) result.c[i] += rowSum[i];
+    accumulateRow(rowFactors(map, row, bands, gl), a, b, bands, nullptr, &result);
   }
   return result;
 }
 
 ShCoefficients irradianceCoefficients(const ShCoefficients& radiance) noexcept {
   ShCoefficients out;
-  for (int i = 0; i < kShCount; ++i) out.c[i] = radiance.c[i] * cosineLobeBand(bandOf(i));
+  out.bands = radiance.bands;
+  for (int i = 0; i < radiance.count(); ++i) out.c[i] = radiance.c[i] * cosineLobeBand(shBandOf(i));
   return out;
 }
 
@@ -115,15 +125,45 @@ glm::dvec3 irradiance(const ShCoefficients& radiance, const glm::dvec3& normal) 
   return irradianceCoefficients(radiance).evaluate(normal);
 }
 
+ShCoefficients applyWindow(const ShCoefficients& in, const std::array<double, kMaxShBands>& weights) noexcept {
+  ShCoefficients out = in;
+  for (int i = 0; i < in.count(); ++i) out.c[i] = in.c[i] * weights[static_cast<std::size_t>(shBandOf(i))];
+  return out;
+}
+
+ShCoefficients windowRadiance(const ShCoefficients& radiance, ShWindow window, double* cutoff) {
+  if (cutoff) *cutoff = std::numeric_limits<double>::infinity();
+  if (window != ShWindow::Sinc4) return applyWindow(radiance, windowWeights(window, radiance.bands));
+  // Sinc4: the least blur that leaves no negative irradiance over a dense set of directions.
+  static const std::vector<glm::dvec3> directions = fibonacciSphere(2562);
+  auto nonNegative = [&](double h) {
+    const ShCoefficients e = irradianceCoefficients(applyWindow(radiance, windowWeights(ShWindow::Sinc4, radiance.bands, h)));
+    for (const auto& d : directions) {
+      const glm::dvec3 v = e.evaluate(d);
+      if (std::min({v.x, v.y, v.z}) < 0.0) return false;
+    }
+    return true;
+  };
+  double lo = 0.5, hi = 1000.0 * radiance.bands;  // lo: DC only (non-negative for a non-negative map)
+  if (nonNegative(std::numeric_limits<double>::infinity())) return radiance;
+  if (!nonNegative(lo)) return applyWindow(radiance, windowWeights(ShWindow::Sinc4, radiance.bands, lo));
+  for (int i = 0; i < 40; ++i) {  // bisection in log h: largest h that is still non-negative
+    const double mid = std::sqrt(lo * hi);
+    (nonNegative(mid) ? lo : hi) = mid;
+  }
+  if (cutoff) *cutoff = lo;
+  return applyWindow(radiance, windowWeights(ShWindow::Sinc4, radiance.bands, lo));
+}
+
 ShCoefficients rotateAboutY(const ShCoefficients& in, double radians) noexcept {
   ShCoefficients out = in;
-  // (cos index, sin index, m) pairs: band 1 (3, 1, 1); band 2 (7, 5, 1) and (8, 4, 2).
-  constexpr int pairs[3][3] = {{3, 1, 1}, {7, 5, 1}, {8, 4, 2}};
-  for (const auto& p : pairs) {
-    const double cm = std::cos(p[2] * radians), sm = std::sin(p[2] * radians);
-    const glm::dvec3 cc = in.c[p[0]], ss = in.c[p[1]];
-    out.c[p[0]] = cc * cm - ss * sm;
-    out.c[p[1]] = ss * cm + cc * sm;
+  for (int m = 1; m < in.bands; ++m) {
+    const double cm = std::cos(m * radians), sm = std::sin(m * radians);
+    for (int l = m; l < in.bands; ++l) {
+      const glm::dvec3 cc = in.c[shIndex(l, m)], ss = in.c[shIndex(l, -m)];
+      out.c[shIndex(l, m)] = cc * cm - ss * sm;
+      out.c[shIndex(l, -m)] = ss * cm + cc * sm;
+    }
   }
   return out;
 }
@@ -131,7 +171,7 @@ ShCoefficients rotateAboutY(const ShCoefficients& in, double radians) noexcept {
 std::vector<glm::dvec3> bruteForceIrradiance(const EnvironmentMap& map, const std::vector<glm::dvec3>& normals,
                                              unsigned threads) {
   const int w = map.width(), h = map.height();
-  const std::size_t n = static_cast<std::size_t>(w) * h;
+  const std::size_t n = static_cast<std::size_t>(std::max(w, 0)) * std::max(h, 0);
   // Structure of arrays: pixel directions and radiance times solid angle.
   std::vector<double> dx(n), dy(n), dz(n), lr(n), lg(n), lb(n);
   for (int row = 0; row < h; ++row) {
@@ -167,6 +207,33 @@ std::vector<glm::dvec3> bruteForceIrradiance(const EnvironmentMap& map, const st
   work(0, std::min(normals.size(), chunk));
   for (auto& th : pool) th.join();
   return result;
+}
+
+IrradianceError irradianceError(const std::vector<glm::dvec3>& approx, const std::vector<glm::dvec3>& reference) {
+  IrradianceError s;
+  const std::size_t n = std::min(approx.size(), reference.size());
+  if (n == 0) return s;
+  glm::dvec3 mean(0.0);
+  for (std::size_t i = 0; i < n; ++i) mean += reference[i] / static_cast<double>(n);
+  const double floorValue = std::max(1e-9 * std::max({mean.x, mean.y, mean.z}), std::numeric_limits<double>::min());
+  for (std::size_t i = 0; i < n; ++i) {
+    double e = 0.0;
+    for (int c = 0; c < 3; ++c)
+      e = std::max(e, std::abs(approx[i][c] - reference[i][c]) / std::max(reference[i][c], floorValue));
+    s.mean += e;
+    s.max = std::max(s.max, e);
+  }
+  s.mean /= static_cast<double>(n);
+  return s;
+}
+
+IrradianceError lightingError(const EnvironmentMap& map, int bands, ShWindow window, int normalCount) {
+  const std::vector<glm::dvec3> normals = fibonacciSphere(normalCount);
+  const ShCoefficients e = irradianceCoefficients(windowRadiance(projectRadiance(map, bands), window));
+  std::vector<glm::dvec3> approx;
+  approx.reserve(normals.size());
+  for (const auto& n : normals) approx.push_back(e.evaluate(n));
+  return irradianceError(approx, bruteForceIrradiance(map, normals));
 }
 
 }  // namespace marionette::prt

@@ -1,74 +1,65 @@
-// Diffuse environment lighting with 9 real spherical-harmonic coefficients (bands 0..2)
-// per colour channel (Ramamoorthi and Hanrahan 2001, "An Efficient Representation for
-// Irradiance Environment Maps").
+// Diffuse environment lighting in n spherical-harmonic bands (basis and conventions:
+// spherical_harmonics.hpp). n = 3 (9 coefficients) is Ramamoorthi and Hanrahan 2001, "An
+// Efficient Representation for Irradiance Environment Maps"; more bands follow the map's
+// small bright sources better (the error against n is in docs/accuracy.md).
 //
-// Basis. The usual real SH basis written with +Y as the polar axis (the renderer's up), so
-// that a rotation of the environment about +Y only mixes the two coefficients of each
-// (band, |m|) pair. Index i = l (l + 1) + m; for a unit direction (x, y, z):
-//   i=0 (l0,m 0)  0.282095                     i=4 (l2,m-2)  1.092548 x z
-//   i=1 (l1,m-1)  0.488603 x                   i=5 (l2,m-1)  1.092548 x y
-//   i=2 (l1,m 0)  0.488603 y                   i=6 (l2,m 0)  0.315392 (3 y^2 - 1)
-//   i=3 (l1,m 1)  0.488603 z                   i=7 (l2,m 1)  1.092548 y z
-//                                              i=8 (l2,m 2)  0.546274 (z^2 - x^2)
-// (the textbook z-up basis with (x, y, z) renamed (z, x, y), a cyclic, handedness-keeping
-// permutation). With phi = atan2(x, z), the m > 0 functions go as cos(m phi) and the m < 0
-// ones as sin(|m| phi).
-//
-// Irradiance. E(n) = sum_l A_l sum_m L_lm Y_lm(n), A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4
-// (the clamped-cosine kernel's bands; its odd bands above 1 vanish, band 4 is -pi/24, which
-// is what 9 coefficients leave out). irradianceCoefficients() folds A_l in, so a shader
-// evaluates E(n) = sum_i c_i Y_i(n) with the 9 polynomials above (irradiance() in
-// examples/ar/shaders/lighting.glsl, the one GLSL copy).
-// No exposure here: scaling by an exposure is the renderer's job.
+// Irradiance. E(n) = sum_l A_l sum_m L_lm Y_lm(n) with the clamped-cosine kernel's bands A_l
+// (cosineLobeBand). irradianceCoefficients() folds A_l in, so that a shader evaluates
+// E(n) = sum_i c_i Y_i(n). No exposure here: scaling by an exposure is the renderer's job.
 #pragma once
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
 #include <vector>
 
 #include "marionette/prt/environment_map.hpp"
+#include "marionette/prt/spherical_harmonics.hpp"
 
 namespace marionette::prt {
 
-inline constexpr int kShBands = 3;                       // l = 0, 1, 2
-inline constexpr int kShCount = kShBands * kShBands;     // 9
+inline constexpr int kDefaultLightingBands = 3;  // see docs/accuracy.md "Environment lighting"
 
-using ShBasis = std::array<double, kShCount>;
+using ShBasis = std::array<double, kMaxShCoefficients>;
 
-// The 9 basis functions at a unit direction.
-[[nodiscard]] ShBasis shBasis(const glm::dvec3& direction) noexcept;
-
-// The clamped-cosine kernel max(0, cos theta) in band l, as the factor A_l of the
-// convolution: A_l = sqrt(4 pi / (2l + 1)) * (its zonal coefficient). Exact for any l >= 0:
-// pi, 2pi/3, pi/4, 0, -pi/24, 0, pi/64, ...; zero for every odd l > 1.
-[[nodiscard]] double cosineLobeBand(int l) noexcept;
-
-// Nine RGB coefficients (double: they are sums over the whole map).
+// RGB coefficients of a function on the sphere (radiance or irradiance), bands 1..8, in a
+// fixed-size array so that copies and rotations allocate nothing. Coefficients past
+// bands * bands are zero.
 struct ShCoefficients {
-  std::array<glm::dvec3, kShCount> c{};
+  int bands = kDefaultLightingBands;
+  std::array<glm::dvec3, kMaxShCoefficients> c{};
 
-  // Radiance coefficients L_lm -> E(n) with the cosine kernel applied: evaluate directly.
+  [[nodiscard]] int count() const noexcept { return shCount(bands); }
+  // sum_i c_i Y_i(direction): for irradiance coefficients, the irradiance.
   [[nodiscard]] glm::dvec3 evaluate(const glm::dvec3& direction) const noexcept;
 };
 
-// Projection L_lm = sum over pixels L_pixel * (integral of Y_lm over the pixel), accumulated
-// in double: the exact projection of the map taken as constant over each pixel (for Y_00 the
-// integral is Y_00 times the pixel's exact solid angle, EnvironmentMap::texelSolidAngle; for
-// the others it is the closed form of a polynomial over a lat-long cell). Deterministic (no
-// random sampling), O(pixels). A constant map projects to the DC term alone, to rounding.
-[[nodiscard]] ShBasis pixelBasisIntegrals(const EnvironmentMap& map, int column, int row) noexcept;
-[[nodiscard]] ShCoefficients projectRadiance(const EnvironmentMap& map);
+// Projection L_lm = sum over pixels L_pixel * (integral of Y_lm over the pixel), in double:
+// the projection of the map taken as constant over each pixel. The azimuthal part of the
+// integral is exact (closed form per column); the polar part uses 8-point Gauss-Legendre in
+// theta per row, exact to rounding for these smooth functions. Deterministic (no random
+// sampling), O(pixels * (2n - 1)). A constant map projects to the DC term alone.
+[[nodiscard]] ShCoefficients projectRadiance(const EnvironmentMap& map, int bands = kDefaultLightingBands);
+// The integrals of the n*n basis functions over one pixel (the projection's weights).
+[[nodiscard]] ShBasis pixelBasisIntegrals(const EnvironmentMap& map, int column, int row,
+                                          int bands = kDefaultLightingBands);
 
 // The "irradiance coefficients" c_i = A_l(i) L_i, ready for a shader: E(n) = sum c_i Y_i(n).
 [[nodiscard]] ShCoefficients irradianceCoefficients(const ShCoefficients& radiance) noexcept;
-
 // Irradiance at unit normal n from radiance coefficients: sum A_l L_lm Y_lm(n).
 [[nodiscard]] glm::dvec3 irradiance(const ShCoefficients& radiance, const glm::dvec3& normal) noexcept;
 
+// Band l multiplied by weights[l].
+[[nodiscard]] ShCoefficients applyWindow(const ShCoefficients& coefficients,
+                                         const std::array<double, kMaxShBands>& weights) noexcept;
+// The window applied to radiance coefficients; for Sinc4 the cutoff is found from the map's
+// own irradiance (spherical_harmonics.hpp) and returned in `cutoff` (infinity: no window needed).
+[[nodiscard]] ShCoefficients windowRadiance(const ShCoefficients& radiance, ShWindow window, double* cutoff = nullptr);
+
 // The coefficients of the environment turned by `radians` about +Y (right-handed: a positive
-// angle turns +Z toward +X), L'(w) = L(R^-1 w), in closed form: band 0 and every m = 0 stay;
-// each (m, -m) pair turns by |m| * radians. Works on radiance or irradiance coefficients
-// alike (the convolution commutes with rotation). Equals re-projecting the rotated map.
+// angle turns +Z toward +X), L'(w) = L(R^-1 w), in closed form: every m = 0 stays; each
+// (m, -m) pair turns by |m| * radians. Works on radiance or irradiance coefficients alike
+// (the convolution commutes with rotation). For any other rotation: ShRotation.
 [[nodiscard]] ShCoefficients rotateAboutY(const ShCoefficients& coefficients, double radians) noexcept;
 
 // Reference irradiance by brute force: E(n) = sum over pixels L(w) max(0, n.w) dw, for each
@@ -76,5 +67,19 @@ struct ShCoefficients {
 [[nodiscard]] std::vector<glm::dvec3> bruteForceIrradiance(const EnvironmentMap& map,
                                                            const std::vector<glm::dvec3>& normals,
                                                            unsigned threads = 0);
+
+// Relative irradiance error over a set of normals: per normal, the largest over R, G, B of
+// |approx - reference| / reference; where a reference channel is below 1e-9 of the map's mean
+// irradiance (a black map, a normal facing away from the only light) the error is taken
+// against that floor instead, so it stays finite.
+struct IrradianceError {
+  double mean = 0.0, max = 0.0;
+};
+[[nodiscard]] IrradianceError irradianceError(const std::vector<glm::dvec3>& approx,
+                                              const std::vector<glm::dvec3>& reference);
+// `marionette prt lighting-error`: the n-band irradiance of `map` (with a window) against
+// brute force over `normalCount` Fibonacci normals.
+[[nodiscard]] IrradianceError lightingError(const EnvironmentMap& map, int bands, ShWindow window = ShWindow::None,
+                                            int normalCount = 1000);
 
 }  // namespace marionette::prt
