@@ -8,6 +8,8 @@
 #include <numbers>
 #include <utility>
 
+#include "rgb_image_reader.hpp"
+
 namespace marionette::prt {
 
 namespace {
@@ -65,35 +67,35 @@ glm::vec3 EnvironmentMap::sample(const glm::dvec3& dir) const noexcept {
   return glm::vec3(top * (1.0 - ay) + bottom * ay);
 }
 
-EnvironmentMapLoad loadEnvironmentMap(const std::string& path) {
-  EnvironmentMapLoad result;
-  Diagnostics& diag = result.diagnostics;
+namespace detail {
+
+std::optional<RgbImage> readRgbImage(const std::string& path, const std::string& noun, Diagnostics& diag) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
-    diag.error(path, "environment map not found (no such file)");
-    return result;
+    diag.error(path, noun + " not found (no such file)");
+    return std::nullopt;
   }
   if (std::filesystem::is_directory(path, ec)) {
-    diag.error(path, "environment map is a directory, expected an image file (.hdr, .exr)");
-    return result;
+    diag.error(path, noun + " is a directory, expected an image file (.hdr, .exr)");
+    return std::nullopt;
   }
   auto input = OIIO::ImageInput::open(path);
   if (!input) {
-    diag.error(path, "cannot read the environment map as an image: " + OIIO::geterror());
-    return result;
+    diag.error(path, "cannot read the " + noun + " as an image: " + OIIO::geterror());
+    return std::nullopt;
   }
   const OIIO::ImageSpec spec = input->spec();
   const int width = spec.width, height = spec.height, nch = spec.nchannels;
   if (width <= 0 || height <= 0 || nch <= 0) {
-    diag.error(path, "environment map has no pixels (" + std::to_string(width) + "x" + std::to_string(height) +
-                         ", " + std::to_string(nch) + " channels)");
-    return result;
+    diag.error(path, noun + " has no pixels (" + std::to_string(width) + "x" + std::to_string(height) + ", " +
+                         std::to_string(nch) + " channels)");
+    return std::nullopt;
   }
   std::vector<float> all(static_cast<std::size_t>(width) * height * nch);
   if (!input->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data())) {
     std::string why = input->geterror();
-    diag.error(path, "cannot decode the environment map's pixels" + (why.empty() ? std::string() : ": " + why));
-    return result;
+    diag.error(path, "cannot decode the " + noun + "'s pixels" + (why.empty() ? std::string() : ": " + why));
+    return std::nullopt;
   }
   input->close();
 
@@ -108,7 +110,8 @@ EnvironmentMapLoad loadEnvironmentMap(const std::string& path) {
     }
   }  // 1 or 2 channels: grey (and alpha): R = G = B = channel 0
 
-  std::vector<float> rgb(static_cast<std::size_t>(width) * height * 3);
+  RgbImage image{width, height, std::vector<float>(static_cast<std::size_t>(width) * height * 3)};
+  std::vector<float>& rgb = image.rgb;
   std::size_t clamped = 0, nans = 0, infs = 0, negatives = 0;
   const std::size_t count = static_cast<std::size_t>(width) * height;
   for (std::size_t i = 0; i < count; ++i) {
@@ -128,10 +131,23 @@ EnvironmentMapLoad loadEnvironmentMap(const std::string& path) {
   if (clamped > 0)
     diag.warning(path, std::to_string(clamped) + " pixel values clamped to 0 (" + std::to_string(negatives) +
                            " negative, " + std::to_string(nans) + " NaN, " + std::to_string(infs) + " infinite)");
+  return image;
+}
+
+void warnIfNotTwoToOne(const std::string& path, int width, int height, Diagnostics& diag) {
   if (width != 2 * height)
     diag.warning(path, "environment map is " + std::to_string(width) + "x" + std::to_string(height) +
                            ", not 2:1; read as lat-long anyway (is it another projection or a cropped panorama?)");
-  result.map.emplace(width, height, std::move(rgb));
+}
+
+}  // namespace detail
+
+EnvironmentMapLoad loadEnvironmentMap(const std::string& path) {
+  EnvironmentMapLoad result;
+  auto image = detail::readRgbImage(path, "environment map", result.diagnostics);
+  if (!image) return result;
+  detail::warnIfNotTwoToOne(path, image->width, image->height, result.diagnostics);
+  result.map.emplace(image->width, image->height, std::move(image->rgb));
   return result;
 }
 
