@@ -70,6 +70,10 @@ TEST(TransferMesh, RobotExpressiveBindPose) {
   Diagnostics d;
   const TransferMesh mesh = bindPoseMesh(asset, d);
   EXPECT_TRUE(d.ok()) << d.format();
+  // Its bind space is Z-up at 1/100 of model space: said, since transfer computed there is not
+  // in the frame the lighting is in.
+  std::printf("%s", d.format().c_str());
+  EXPECT_NE(d.format().find("bind space"), std::string::npos);
   std::size_t primitives = 0, skinned = 0;
   for (const Mesh& m : asset.meshes) {
     primitives += m.primitives.size();
@@ -101,8 +105,68 @@ TEST(TransferMesh, RobotExpressiveBindPose) {
     EXPECT_LE(mesh.primitiveVertexOffset[k - 1], mesh.primitiveVertexOffset[k]);
 
   const float offset = rayOriginOffset(mesh);
-  std::printf("RobotExpressive: ray origin offset %.3g (1e-4 of the box diagonal)\n", static_cast<double>(offset));
+  std::printf("RobotExpressive as stored: ray origin offset %.3g (1e-4 of the box diagonal)\n", static_cast<double>(offset));
   EXPECT_GT(offset, 0.0f);
+}
+
+// Skinned with the rest pose: the model space the runtime draws, Y-up and metres (the robot is
+// about 4.4 m tall in it: ASSETS.md's "scaled FBX2glTF space").
+TEST(TransferMesh, RobotExpressiveRestPose) {
+  const std::string path = marionette::test::sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(path);
+  ImportResult imported = importAsset(path);
+  ASSERT_TRUE(imported.ok()) << imported.diagnostics.format();
+  Diagnostics d;
+  const TransferMesh stored = bindPoseMesh(*imported.asset, d);
+  Diagnostics restDiagnostics;
+  const TransferMesh mesh = bindPoseMesh(*imported.asset, restDiagnostics, {.skinnedSpace = SkinnedSpace::RestPose});
+  EXPECT_TRUE(restDiagnostics.items.empty()) << restDiagnostics.format();
+  ASSERT_EQ(mesh.positions.size(), stored.positions.size());
+  EXPECT_EQ(mesh.indices, stored.indices);
+  EXPECT_EQ(mesh.primitiveVertexOffset, stored.primitiveVertexOffset);
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  std::printf("RobotExpressive rest pose: box (%.2f %.2f %.2f) - (%.2f %.2f %.2f)\n", static_cast<double>(lo.x), static_cast<double>(lo.y),
+              static_cast<double>(lo.z), static_cast<double>(hi.x), static_cast<double>(hi.y), static_cast<double>(hi.z));
+  EXPECT_NEAR(lo.y, 0.0f, 0.1f) << "feet on the ground";
+  EXPECT_NEAR(hi.y, 4.4f, 0.2f) << "head top";
+  for (const glm::vec3& n : mesh.normals) ASSERT_NEAR(glm::length(n), 1.0f, 1e-4f);
+}
+
+// Rest-pose skinning blends the palette by the weights; a vertex without weights stays put.
+TEST(TransferMesh, RestPoseSkinsWithTheWeights) {
+  Asset asset;
+  asset.sourcePath = "synthetic-skin";
+  Transform up, side;
+  up.translation = {0, 2, 0};
+  side.translation = {4, 0, 0};
+  asset.skeleton.addJoint("up", -1, up, glm::mat4(1.0f), true);
+  asset.skeleton.addJoint("side", -1, side, glm::mat4(1.0f), true);
+  Mesh m;
+  m.name = "skin";
+  m.skinned = true;
+  MeshPrimitive p = slantedTriangle();
+  p.joints = {{0, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}};
+  p.weights = {{1, 0, 0, 0}, {0.5f, 0.5f, 0, 0}, {0, 0, 0, 0}};
+  m.primitives.push_back(p);
+  asset.meshes.push_back(m);
+
+  Diagnostics stored;
+  const TransferMesh asStored = bindPoseMesh(asset, stored);
+  EXPECT_TRUE(stored.ok()) << stored.format();
+  EXPECT_NE(stored.format().find("bind space"), std::string::npos) << "identity inverse binds, moved joints";
+  expectNear(asStored.positions[0], p.positions[0], 0.0f, "as stored");
+
+  Diagnostics d;
+  const TransferMesh mesh = bindPoseMesh(asset, d, {.skinnedSpace = SkinnedSpace::RestPose});
+  EXPECT_TRUE(d.ok()) << d.format();
+  expectNear(mesh.positions[0], p.positions[0] + glm::vec3(0, 2, 0), 1e-6f, "one joint");
+  expectNear(mesh.positions[1], p.positions[1] + glm::vec3(2, 1, 0), 1e-6f, "half and half");
+  expectNear(mesh.positions[2], p.positions[2], 0.0f, "no weights: kept");
+  EXPECT_NE(d.format().find("without usable skin weights"), std::string::npos) << d.format();
 }
 
 // A rigid part on a joint goes through the joint's rest model matrix; normals through its

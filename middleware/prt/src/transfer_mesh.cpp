@@ -34,54 +34,110 @@ std::optional<glm::vec3> unit(const glm::vec3& v) noexcept {
 
 constexpr glm::vec3 kFallbackNormal{0.0f, 1.0f, 0.0f};
 
-// A rigid mesh's transform: positions by its joint's rest model matrix, normals by the
-// inverse transpose of its linear part.
-struct RigidTransform {
+// Where one vertex goes: positions by `position`, normals by the inverse transpose of its
+// linear part.
+struct Placement {
   glm::mat4 position{1.0f};
   glm::mat3 normal{1.0f};
 };
 
+std::optional<Placement> placementOf(const glm::mat4& m) noexcept {
+  const glm::mat3 linear(m);
+  const float det = glm::determinant(linear);
+  if (!finite(m) || !std::isfinite(det) || det == 0.0f) return std::nullopt;
+  return Placement{m, glm::transpose(glm::inverse(linear))};
+}
+
+// The rest-pose skinning matrix of vertex v (the weight-blended palette, as linear blend
+// skinning draws it), or nullopt without usable weights.
+std::optional<glm::mat4> restSkin(const MeshPrimitive& prim, std::size_t v, const std::vector<glm::mat4>& palette) noexcept {
+  if (v >= prim.joints.size() || v >= prim.weights.size()) return std::nullopt;
+  glm::mat4 sum(0.0f);
+  float total = 0.0f;
+  for (int k = 0; k < 4; ++k) {
+    const float w = prim.weights[v][k];
+    if (!(w > 0.0f)) continue;  // also skips NaN
+    const std::size_t j = prim.joints[v][k];
+    if (j >= palette.size()) return std::nullopt;
+    sum += w * palette[j];
+    total += w;
+  }
+  if (!(total > 0.0f) || !std::isfinite(total)) return std::nullopt;
+  return sum / total;
+}
+
+// How far a skinning palette entry is from the identity (largest element difference).
+float offIdentity(const glm::mat4& m) noexcept {
+  float d = 0.0f;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) d = std::max(d, std::abs(m[c][r] - (c == r ? 1.0f : 0.0f)));
+  return d;
+}
+
+// Says once per asset when stored skinned vertices are not where the rest pose draws them.
+void warnIfBindSpaceIsNotModelSpace(const Asset& asset, const std::vector<glm::mat4>& palette, Diagnostics& diagnostics) {
+  for (const Mesh& mesh : asset.meshes) {
+    if (!mesh.skinned) continue;
+    for (const MeshPrimitive& prim : mesh.primitives)
+      for (std::size_t v = 0; v < prim.joints.size() && v < prim.weights.size(); ++v)
+        for (int k = 0; k < 4; ++k) {
+          const std::size_t j = prim.joints[v][k];
+          if (!(prim.weights[v][k] > 0.0f) || j >= palette.size() || offIdentity(palette[j]) <= 1e-3f) continue;
+          const float scale = std::cbrt(std::abs(glm::determinant(glm::mat3(palette[j]))));
+          diagnostics.warning(asset.sourcePath,
+                              "mesh '" + mesh.name + "' is kept in its bind space, which is not the skeleton's model "
+                              "space at rest: rest model x inverse bind of joint '" + asset.skeleton.names[j] +
+                              "' is not the identity (scale " + std::to_string(scale) +
+                              "); SkinnedSpace::RestPose puts skinned meshes in model space");
+          return;
+        }
+  }
+}
+
 }  // namespace
 
-TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics) {
+TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics, const BindPoseOptions& options) {
   const std::string& file = asset.sourcePath;
   TransferMesh out;
+  const bool skinToRest = options.skinnedSpace == SkinnedSpace::RestPose;
 
-  // Rest matrices only when a rigid mesh needs them; restModelMatrices() trusts the skeleton.
-  std::vector<glm::mat4> rest;
-  bool restValid = false;
-  for (const Mesh& mesh : asset.meshes)
-    if (!mesh.skinned && mesh.joint >= 0) {
-      const std::string problem = asset.skeleton.validate();
-      if (problem.empty()) {
-        rest = asset.skeleton.restModelMatrices();
-        restValid = true;
-      } else {
-        diagnostics.error(file, "rigid meshes need the skeleton's rest pose, but the skeleton is invalid: " + problem);
-      }
-      break;
+  // The rest pose only when a mesh needs it; restModelMatrices() trusts the skeleton.
+  bool anyRigid = false, anySkinned = false;
+  for (const Mesh& mesh : asset.meshes) {
+    anyRigid = anyRigid || (!mesh.skinned && mesh.joint >= 0);
+    anySkinned = anySkinned || mesh.skinned;
+  }
+  std::vector<glm::mat4> rest, palette;  // palette[j] = rest[j] * inverseBind[j]
+  bool restKnown = false;                // false: the skeleton is invalid (reported once)
+  if (anyRigid || anySkinned) {
+    if (const std::string problem = asset.skeleton.validate(); problem.empty()) {
+      restKnown = true;
+      rest = asset.skeleton.restModelMatrices();
+      for (std::size_t j = 0; j < rest.size(); ++j) palette.push_back(rest[j] * asset.skeleton.inverseBind[j]);
+    } else if (anyRigid || skinToRest) {
+      diagnostics.error(file, "meshes need the skeleton's rest pose, but the skeleton is invalid: " + problem);
     }
+  }
+  if (anySkinned && !skinToRest) warnIfBindSpaceIsNotModelSpace(asset, palette, diagnostics);
 
   for (const Mesh& mesh : asset.meshes) {
     const std::string meshWhere = "mesh '" + mesh.name + "'";
-    std::optional<RigidTransform> rigid;
+    std::optional<Placement> rigid;
     bool skipMesh = false;
     if (!mesh.skinned && mesh.joint >= 0) {
       const auto j = static_cast<std::size_t>(mesh.joint);
-      if (!restValid || j >= rest.size()) {
-        if (restValid)
+      if (j >= rest.size()) {
+        if (restKnown)
           diagnostics.error(file, meshWhere + " is attached to joint " + std::to_string(mesh.joint) + " but the skeleton has " +
                                       std::to_string(rest.size()) + " joints; mesh skipped");
         skipMesh = true;
-      } else if (const glm::mat3 linear(rest[j]); !finite(rest[j]) || !std::isfinite(glm::determinant(linear)) ||
-                                                   glm::determinant(linear) == 0.0f) {
+      } else if (rigid = placementOf(rest[j]); !rigid) {
         diagnostics.error(file, meshWhere + " follows joint '" + asset.skeleton.names[j] +
                                     "', whose rest model matrix is singular or not finite; mesh skipped");
         skipMesh = true;
-      } else {
-        rigid = RigidTransform{rest[j], glm::transpose(glm::inverse(linear))};
       }
     }
+    const bool skinned = mesh.skinned && skinToRest && !palette.empty();
 
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
       const MeshPrimitive& prim = mesh.primitives[p];
@@ -95,10 +151,18 @@ TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics) {
         continue;
       }
 
-      std::vector<glm::vec3> positions(count);
-      std::size_t badPosition = count;
+      // Positions and the file's normals, placed in model space.
+      const bool haveNormals = prim.normals.size() == count;
+      std::vector<glm::vec3> positions(count), placedNormals(haveNormals ? count : 0);
+      std::size_t badPosition = count, unplaced = 0;
       for (std::size_t v = 0; v < count && badPosition == count; ++v) {
-        positions[v] = rigid ? glm::vec3(rigid->position * glm::vec4(prim.positions[v], 1.0f)) : prim.positions[v];
+        std::optional<Placement> place = rigid;
+        if (skinned) {
+          if (auto m = restSkin(prim, v, palette)) place = placementOf(*m);
+          if (!place) ++unplaced;
+        }
+        positions[v] = place ? glm::vec3(place->position * glm::vec4(prim.positions[v], 1.0f)) : prim.positions[v];
+        if (haveNormals) placedNormals[v] = place ? place->normal * prim.normals[v] : prim.normals[v];
         if (!finite(positions[v])) badPosition = v;
       }
       if (badPosition != count) {
@@ -106,6 +170,9 @@ TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics) {
                                     " has a non-finite position; primitive skipped");
         continue;
       }
+      if (unplaced > 0)
+        diagnostics.warning(file, where + ": " + std::to_string(unplaced) +
+                                      " vertex(es) without usable skin weights kept where stored");
 
       // Triangles: whole ones, with every index in range.
       std::vector<std::uint32_t> indices;
@@ -130,15 +197,13 @@ TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics) {
       // unnormalized cross product is twice the area times the unit normal).
       std::vector<glm::vec3> normals(count, glm::vec3(0.0f));
       std::vector<std::uint8_t> missing(count, 1);
-      const bool haveNormals = prim.normals.size() == count;
       if (!prim.normals.empty() && !haveNormals)
         diagnostics.warning(file, where + " has " + std::to_string(prim.normals.size()) + " normals for " +
                                       std::to_string(count) + " positions; normals computed from the faces");
       std::size_t unusable = 0;
       if (haveNormals)
         for (std::size_t v = 0; v < count; ++v) {
-          const glm::vec3 n = rigid ? rigid->normal * prim.normals[v] : prim.normals[v];
-          if (auto u = unit(n)) {
+          if (auto u = unit(placedNormals[v])) {
             normals[v] = *u;
             missing[v] = 0;
           } else {

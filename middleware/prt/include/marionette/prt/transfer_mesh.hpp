@@ -22,14 +22,34 @@ struct TransferMesh {
   std::vector<std::size_t> primitiveVertexOffset;
 };
 
-// Every primitive of every mesh of an asset, in bind pose: skinned meshes as stored (their
-// positions already are bind-pose model space); an unskinned mesh attached to a joint
+// Where bindPoseMesh puts skinned vertices.
+enum class SkinnedSpace {
+  // As stored: the skin's bind space. That is model space only when the skeleton's rest model
+  // matrix times the inverse bind matrix is the identity for every joint. Not so for
+  // RobotExpressive: its bind space is Z-up at 1/100 of model space (the root carries the x100
+  // and the Z-up to Y-up turn) and its rest pose bends the limbs away from the bind pose.
+  AsStored,
+  // Skinned with the rest pose, as the runtime draws the character before any clip plays:
+  // sum over weights of restModel[j] * inverseBind[j] * vertex, normals by the inverse
+  // transpose of the blended matrix. Model space, like the rigid meshes.
+  RestPose,
+};
+
+struct BindPoseOptions {
+  SkinnedSpace skinnedSpace = SkinnedSpace::AsStored;
+};
+
+// Every primitive of every mesh of an asset, in bind pose: skinned meshes as stored (see
+// SkinnedSpace: a warning says when stored is not the skeleton's model space); an unskinned mesh attached to a joint
 // (Mesh::joint >= 0, !skinned) transformed by that joint's rest model matrix
 // (Skeleton::restModelMatrices()), normals by its inverse transpose. Missing or unusable
 // normals are computed (area-weighted face normals). Problems go to `diagnostics` naming the
 // asset: a primitive with a non-finite position, or a mesh attached to a missing joint, is
 // skipped (error); a triangle with an out-of-range index is dropped (error).
-[[nodiscard]] TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics);
+// A skinned vertex that RestPose cannot place (no weights, a joint past the skeleton) keeps its
+// stored position (warning).
+[[nodiscard]] TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics,
+                                        const BindPoseOptions& options = {});
 
 // Geometric vertex normals: the angle-weighted mean of the adjacent faces' normals (unit; a
 // vertex with no non-degenerate face gets its shading normal, or +Y without one). For a convex
