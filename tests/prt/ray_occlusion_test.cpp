@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <string>
 #include <random>
 #include <thread>
 #include <utility>
@@ -153,14 +154,17 @@ TEST(RayOcclusion, EmbreeAgreesWithBvhOnRobotExpressive) {
   MARIONETTE_REQUIRE_FILE(path);
   ImportResult imported = importAsset(path);
   ASSERT_TRUE(imported.ok()) << imported.diagnostics.format();
-  Diagnostics d;
-  const TransferMesh mesh = bindPoseMesh(*imported.asset, d);
-  ASSERT_TRUE(d.ok()) << d.format();
-  const std::vector<glm::vec3> normals = geometricVertexNormals(mesh);
-  const float offset = rayOriginOffset(mesh);
-
-  for (bool robust : {false, true}) {
-    SCOPED_TRACE(robust ? "robust" : "default");
+  // As stored (bind space, 1/100 scale) and skinned to the rest pose (model space, limbs bent),
+  // each with and without Embree's robust flag.
+  for (auto [space, robust] : {std::pair{SkinnedSpace::AsStored, false}, std::pair{SkinnedSpace::AsStored, true},
+                               std::pair{SkinnedSpace::RestPose, false}, std::pair{SkinnedSpace::RestPose, true}}) {
+    const char* spaceName = space == SkinnedSpace::AsStored ? "as stored" : "rest pose";
+    SCOPED_TRACE(std::string(spaceName) + (robust ? ", robust" : ""));
+    Diagnostics d;
+    const TransferMesh mesh = bindPoseMesh(*imported.asset, d, {.skinnedSpace = space});
+    ASSERT_TRUE(d.ok()) << d.format();
+    const std::vector<glm::vec3> normals = geometricVertexNormals(mesh);
+    const float offset = rayOriginOffset(mesh);
     Tracers tracers(mesh, {.robust = robust});
     ASSERT_TRUE(tracers.embree) << tracers.embreeDiagnostics.format();
     ASSERT_TRUE(tracers.embreeDiagnostics.ok() && tracers.bvhDiagnostics.ok());
@@ -193,8 +197,8 @@ TEST(RayOcclusion, EmbreeAgreesWithBvhOnRobotExpressive) {
         unstable += flips ? 1 : 0;
       }
     }
-    std::printf("embree (%s) vs bvh: %zu rays, %zu occluded (%.1f %%), %zu disagree (%.4f %%), %zu of them on a knife edge\n",
-                robust ? "robust" : "default", total, occludedCount, 100.0 * static_cast<double>(occludedCount) / static_cast<double>(total),
+    std::printf("%s, embree (%s) vs bvh: %zu rays, %zu occluded (%.1f %%), %zu disagree (%.4f %%), %zu of them on a knife edge\n",
+                spaceName, robust ? "robust" : "default", total, occludedCount, 100.0 * static_cast<double>(occludedCount) / static_cast<double>(total),
                 disagree, 100.0 * static_cast<double>(disagree) / static_cast<double>(total), unstable);
     EXPECT_GE(total, 190000u);
     EXPECT_GT(occludedCount, total / 20) << "a character shadows itself: some rays must be occluded";

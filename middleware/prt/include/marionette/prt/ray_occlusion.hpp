@@ -39,13 +39,14 @@ enum class EmbreeRayMode {
   Packet16,          // rtcOccluded16, SoA packets of 16
   StreamCoherent,    // rtcOccluded1M, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
   StreamIncoherent,  // rtcOccluded1M, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
-  Best = Packet16,
+  Best = StreamIncoherent,
 };
 
 struct EmbreeOcclusionOptions {
   EmbreeRayMode mode = EmbreeRayMode::Best;
   // RTC_SCENE_FLAG_ROBUST: no arithmetic shortcuts that can let a ray slip through a shared
-  // edge. Off by default: measured slower, and edge leaks are rare enough for transfer.
+  // edge. Off by default: measured about 25 % slower, and on RobotExpressive neither setting
+  // disagrees with our BVH on any of 200k test rays.
   bool robust = false;
 };
 
