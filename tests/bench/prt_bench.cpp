@@ -1,10 +1,10 @@
-// marionette_bench: visibility rays for shadowed PRT on RobotExpressive (7,070 vertices),
+// marionette_bench: visibility rays for shadowed PRT on RobotExpressive (7,214 vertices),
 // bind pose, 1024 rays per vertex over the hemisphere of its geometric normal (from every
-// 7th vertex, 1,010 vertices), one thread. Counter items_per_second = rays per second.
+// 7th vertex, 1,031 vertices), one thread. Counter items_per_second = rays per second.
 //   Prt/EmbreeOcclusion            the default Embree tracer (the mode picked from below)
 //   Prt/EmbreeOcclusion/<mode>     each Embree ray mode, and robust scenes
 //   Prt/BvhOcclusion               our BVH (the test oracle), for scale
-// Target: shadowed precompute (7,070 x 1024 rays plus sampling and SH) in 2 s on 2 cores,
+// Target: shadowed precompute (7,214 x 1024 rays plus sampling and SH) in 2 s on 2 cores,
 // so well over 4 M rays/s per core for the rays alone.
 #include <benchmark/benchmark.h>
 

@@ -3,20 +3,21 @@
 // Ray modes measured on RobotExpressive (bind pose as stored, 3,237 triangles), 1024 uniform
 // hemisphere rays from every 7th of its 7,214 vertices (1.03 M rays, 51 % occluded), one thread:
 //   taskset -c 1 marionette_bench --benchmark_filter=Prt/ --benchmark_repetitions=3
-// rays/s, median of 3, CPU time (2-vCPU Xeon at 2.1 GHz with AVX-512, shared with a compile:
-// the range is over four runs):
-//   rtcOccluded1M, INCOHERENT     13.9 - 17.2 M/s   <- the default
-//   rtcOccluded16 (SoA packets)   11.6 - 13.2 M/s
-//   rtcOccluded8                   9.9 - 11.6 M/s
-//   rtcOccluded1 loop              9.0 -  9.5 M/s
-//   rtcOccluded1M, COHERENT        5.7 -  6.6 M/s   (frustum packets: a hemisphere is no frustum)
-//   RTC_SCENE_FLAG_ROBUST          about -25 %      (1M incoherent 10.9 M/s; rtcOccluded1 7.2 M/s)
+// rays/s, median of 3, CPU time; the 2-vCPU AMD EPYC VM at 2.1 GHz (Embree picks its AVX-512
+// kernels at run time), the other vCPU mostly busy with a compile. The quietest run, then the
+// range over five runs:
+//   rtcOccluded1M, INCOHERENT     17.5 M/s  (13.9 - 18.0)   <- the default
+//   rtcOccluded16 (SoA packets)   13.6 M/s  (11.6 - 13.6)
+//   rtcOccluded8                  11.9 M/s  ( 9.9 - 11.9)
+//   rtcOccluded1 loop              9.6 M/s  ( 9.0 -  9.6)
+//   rtcOccluded1M, COHERENT        7.1 M/s  ( 5.7 -  7.1)   (presumably: a hemisphere is no beam)
+//   RTC_SCENE_FLAG_ROBUST: 1M incoherent 13.9 M/s (10.9 - 13.9), rtcOccluded1 7.9 M/s: -20 %
 //   RTC_SCENE_FLAG_COMPACT         about -35 %      (1M incoherent 10.6 M/s)
-//   RTC_BUILD_QUALITY_MEDIUM       same as HIGH within noise (kept HIGH: the build is ~ms)
+//   RTC_BUILD_QUALITY_MEDIUM       same as HIGH within noise (HIGH kept)
 //   FTZ/DAZ set around the calls   no change (no denormals here); not done
 //   stream chunk of 64 / 256 / 1024 rays: no difference beyond noise; 256 (12 KB of stack)
-// The stream's incoherent path sorts the rays into packets by direction itself, which is why it
-// beats our in-order packets of 16. Our BVH does 3.2 - 4.0 M/s on the same rays.
+// Our BVH does 3.2 - 4.2 M/s on the same rays. At ~17 M/s per core, RobotExpressive's 7.4 M
+// rays (7,214 vertices x 1024) would take about 0.2 s on 2 cores (extrapolated, not measured).
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -117,14 +118,15 @@ class EmbreeOcclusion final : public OcclusionTracer {
     }
   }
 
-  // SoA packets on the stack (RTCRay8/16 carry their own alignment); untraceable rays are
-  // masked off.
+  // SoA packets on the stack; untraceable rays are masked off. Embree loads the packet and the
+  // valid mask with aligned vector loads: both must be aligned to the packet's width (RTCRay8/16
+  // carry their own alignment; the mask needs it said; unaligned, it crashed under ASan).
   template <class Packet, int Width>
   void packets(std::span<const OcclusionRay> rays, std::span<std::uint8_t> occluded) const noexcept {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     Packet packet{};  // masked-off lanes are still loaded: keep them defined
-    std::array<int, Width> valid;
+    alignas(sizeof(int) * Width) std::array<int, Width> valid;
     for (std::size_t begin = 0; begin < rays.size(); begin += Width) {
       for (int lane = 0; lane < Width; ++lane) {
         const std::size_t i = begin + static_cast<std::size_t>(lane);

@@ -21,8 +21,8 @@ std::vector<std::uint32_t> traceableTriangles(const TransferMesh& mesh, Diagnost
 inline bool finite(const glm::vec3& v) noexcept { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // A ray can be traced when its origin and (non-zero) direction are finite and
-// 0 <= tnear <= tfar (tfar may be +infinity). A negative tnear is taken as 0, as Embree
-// requires. Anything else is never occluded.
+// tnear <= tfar (tfar may be +infinity). A negative tnear is taken as 0 in both tracers (a
+// segment starts at its origin). Anything else is never occluded.
 inline bool traceable(const OcclusionRay& r, float& tnear) noexcept {
   tnear = r.tnear > 0.0f ? r.tnear : 0.0f;
   return finite(r.origin) && finite(r.direction) &&

@@ -25,7 +25,9 @@ class OcclusionTracer {
  public:
   virtual ~OcclusionTracer() = default;
   // occluded[i] = 1 when ray i hits any triangle at t in [tnear, tfar], else 0 (both sides of a
-  // triangle count). Handles min(rays.size(), occluded.size()) rays.
+  // triangle count). Handles min(rays.size(), occluded.size()) rays. A negative tnear counts as
+  // 0; a ray with a non-finite or zero direction, a non-finite origin, or tnear > tfar (or NaN)
+  // is never occluded.
   // Thread-safe: many threads may call it at once. No heap allocation per call.
   virtual void occluded(std::span<const OcclusionRay> rays, std::span<std::uint8_t> occluded) const noexcept = 0;
   [[nodiscard]] virtual const char* name() const noexcept = 0;

@@ -13,7 +13,7 @@
 namespace marionette::prt {
 
 struct TransferMesh {
-  std::vector<glm::vec3> positions;     // model space, metres
+  std::vector<glm::vec3> positions;     // model space, metres (but see SkinnedSpace::AsStored)
   std::vector<glm::vec3> normals;       // unit shading normals, one per position
   std::vector<std::uint32_t> indices;   // triangles
   // First vertex of each source primitive (mesh-major, primitive-minor order). Every primitive
@@ -39,15 +39,15 @@ struct BindPoseOptions {
   SkinnedSpace skinnedSpace = SkinnedSpace::AsStored;
 };
 
-// Every primitive of every mesh of an asset, in bind pose: skinned meshes as stored (see
-// SkinnedSpace: a warning says when stored is not the skeleton's model space); an unskinned mesh attached to a joint
-// (Mesh::joint >= 0, !skinned) transformed by that joint's rest model matrix
-// (Skeleton::restModelMatrices()), normals by its inverse transpose. Missing or unusable
-// normals are computed (area-weighted face normals). Problems go to `diagnostics` naming the
-// asset: a primitive with a non-finite position, or a mesh attached to a missing joint, is
-// skipped (error); a triangle with an out-of-range index is dropped (error).
-// A skinned vertex that RestPose cannot place (no weights, a joint past the skeleton) keeps its
-// stored position (warning).
+// Every primitive of every mesh of an asset, in bind pose: skinned meshes as `options` say
+// (default as stored, with a warning when that is not the skeleton's model space); an unskinned
+// mesh attached to a joint (Mesh::joint >= 0, !skinned) transformed by that joint's rest model
+// matrix (Skeleton::restModelMatrices()), normals by its inverse transpose; any other mesh as
+// stored. Missing or unusable normals are computed (area-weighted face normals).
+// Problems go to `diagnostics` naming the asset: a primitive with a non-finite position, or a
+// mesh attached to a missing joint, is skipped (error); a triangle with an out-of-range index
+// is dropped (error); a skinned vertex that RestPose cannot place (no weights, a joint past the
+// skeleton) keeps its stored position (warning).
 [[nodiscard]] TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics,
                                         const BindPoseOptions& options = {});
 
