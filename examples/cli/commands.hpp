@@ -11,6 +11,9 @@ int runCommand(const std::vector<std::string>& args);
 int speakCommand(const std::vector<std::string>& args);
 int lipsyncCommand(const std::vector<std::string>& args);
 int retargetCommand(const std::vector<std::string>& args);
+#ifdef MARIONETTE_CLI_HAS_PRT
+int prtCommand(const std::vector<std::string>& args);
+#endif
 #ifdef MARIONETTE_CLI_HAS_BML
 int bmlCheckCommand(const std::vector<std::string>& args);
 #endif

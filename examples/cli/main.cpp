@@ -21,6 +21,12 @@ void usage() {
       "           [--fps F] [--ik feet,hands|none] -o OUT.glb|OUT.gltf|OUT.bvh [--report] [--json]\n"
       "                           a motion played by another skeleton, written as glTF (the character\n"
       "                           with the animation) or BVH; --report: end-effector error, foot skating\n"
+#ifdef MARIONETTE_CLI_HAS_PRT
+      "  prt lighting-error --env MAP [--bands N] [--window none|hann|lanczos|sinc4] [--json]\n"
+      "                           n-band SH irradiance of a light probe against brute force\n"
+      "  prt precompute MESH [--bands N] [--rays R] [--shadowed] -o CACHE [--json]\n"
+      "                           per-vertex radiance transfer (shadowed: Embree rays), into a file\n"
+#endif
 #ifdef MARIONETTE_CLI_HAS_BML
       "  bml-check FILE.xml... [--json] [--character ASSET]\n"
       "                           parse and schedule BML blocks: predicted sync-point times and\n"
@@ -44,6 +50,9 @@ int main(int argc, char** argv) {
   if (command == "speak") return marionette::cli::speakCommand(args);
   if (command == "lipsync") return marionette::cli::lipsyncCommand(args);
   if (command == "retarget") return marionette::cli::retargetCommand(args);
+#ifdef MARIONETTE_CLI_HAS_PRT
+  if (command == "prt") return marionette::cli::prtCommand(args);
+#endif
 #ifdef MARIONETTE_CLI_HAS_BML
   if (command == "bml-check") return marionette::cli::bmlCheckCommand(args);
 #endif

@@ -161,7 +161,7 @@ TEST(RayOcclusion, EmbreeAgreesWithBvhOnRobotExpressive) {
     const char* spaceName = space == SkinnedSpace::AsStored ? "as stored" : "rest pose";
     SCOPED_TRACE(std::string(spaceName) + (robust ? ", robust" : ""));
     Diagnostics d;
-    const TransferMesh mesh = bindPoseMesh(*imported.asset, d, {.skinnedSpace = space});
+    const TransferMesh mesh = bindPoseMesh(*imported.asset, d, {.skinnedSpace = space, .poseModel = {}});
     ASSERT_TRUE(d.ok()) << d.format();
     const std::vector<glm::vec3> normals = geometricVertexNormals(mesh);
     const float offset = rayOriginOffset(mesh);

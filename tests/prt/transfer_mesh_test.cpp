@@ -68,7 +68,7 @@ TEST(TransferMesh, RobotExpressiveBindPose) {
   const Asset& asset = *imported.asset;
 
   Diagnostics d;
-  const TransferMesh mesh = bindPoseMesh(asset, d);
+  const TransferMesh mesh = bindPoseMesh(asset, d, {.skinnedSpace = SkinnedSpace::AsStored, .poseModel = {}});
   EXPECT_TRUE(d.ok()) << d.format();
   // Its bind space is Z-up at 1/100 of model space: said, since transfer computed there is not
   // in the frame the lighting is in.
@@ -117,9 +117,9 @@ TEST(TransferMesh, RobotExpressiveRestPose) {
   ImportResult imported = importAsset(path);
   ASSERT_TRUE(imported.ok()) << imported.diagnostics.format();
   Diagnostics d;
-  const TransferMesh stored = bindPoseMesh(*imported.asset, d);
+  const TransferMesh stored = bindPoseMesh(*imported.asset, d, {.skinnedSpace = SkinnedSpace::AsStored, .poseModel = {}});
   Diagnostics restDiagnostics;
-  const TransferMesh mesh = bindPoseMesh(*imported.asset, restDiagnostics, {.skinnedSpace = SkinnedSpace::RestPose});
+  const TransferMesh mesh = bindPoseMesh(*imported.asset, restDiagnostics, {.skinnedSpace = SkinnedSpace::RestPose, .poseModel = {}});
   EXPECT_TRUE(restDiagnostics.items.empty()) << restDiagnostics.format();
   ASSERT_EQ(mesh.positions.size(), stored.positions.size());
   EXPECT_EQ(mesh.indices, stored.indices);
@@ -155,13 +155,13 @@ TEST(TransferMesh, RestPoseSkinsWithTheWeights) {
   asset.meshes.push_back(m);
 
   Diagnostics stored;
-  const TransferMesh asStored = bindPoseMesh(asset, stored);
+  const TransferMesh asStored = bindPoseMesh(asset, stored, {.skinnedSpace = SkinnedSpace::AsStored, .poseModel = {}});
   EXPECT_TRUE(stored.ok()) << stored.format();
   EXPECT_NE(stored.format().find("bind space"), std::string::npos) << "identity inverse binds, moved joints";
   expectNear(asStored.positions[0], p.positions[0], 0.0f, "as stored");
 
   Diagnostics d;
-  const TransferMesh mesh = bindPoseMesh(asset, d, {.skinnedSpace = SkinnedSpace::RestPose});
+  const TransferMesh mesh = bindPoseMesh(asset, d, {.skinnedSpace = SkinnedSpace::RestPose, .poseModel = {}});
   EXPECT_TRUE(d.ok()) << d.format();
   expectNear(mesh.positions[0], p.positions[0] + glm::vec3(0, 2, 0), 1e-6f, "one joint");
   expectNear(mesh.positions[1], p.positions[1] + glm::vec3(2, 1, 0), 1e-6f, "half and half");

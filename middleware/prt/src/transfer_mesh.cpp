@@ -99,7 +99,8 @@ void warnIfBindSpaceIsNotModelSpace(const Asset& asset, const std::vector<glm::m
 TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics, const BindPoseOptions& options) {
   const std::string& file = asset.sourcePath;
   TransferMesh out;
-  const bool skinToRest = options.skinnedSpace == SkinnedSpace::RestPose;
+  const bool posed = options.skinnedSpace == SkinnedSpace::Posed;
+  const bool skinToRest = options.skinnedSpace == SkinnedSpace::RestPose || posed;
 
   // The rest pose only when a mesh needs it; restModelMatrices() trusts the skeleton.
   bool anyRigid = false, anySkinned = false;
@@ -113,6 +114,13 @@ TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics, const Bi
     if (const std::string problem = asset.skeleton.validate(); problem.empty()) {
       restKnown = true;
       rest = asset.skeleton.restModelMatrices();
+      if (posed && options.poseModel.size() == rest.size()) {
+        rest = options.poseModel;
+      } else if (posed) {
+        diagnostics.error(file, "the pose for the transfer mesh has " + std::to_string(options.poseModel.size()) +
+                                    " joint matrices but the skeleton has " + std::to_string(rest.size()) +
+                                    " joints; the rest pose is used");
+      }
       for (std::size_t j = 0; j < rest.size(); ++j) palette.push_back(rest[j] * asset.skeleton.inverseBind[j]);
     } else if (anyRigid || skinToRest) {
       diagnostics.error(file, "meshes need the skeleton's rest pose, but the skeleton is invalid: " + problem);

@@ -20,8 +20,6 @@ namespace marionette::prt {
 
 inline constexpr int kDefaultLightingBands = 3;  // see docs/accuracy.md "Environment lighting"
 
-using ShBasis = std::array<double, kMaxShCoefficients>;
-
 // RGB coefficients of a function on the sphere (radiance or irradiance), bands 1..8, in a
 // fixed-size array so that copies and rotations allocate nothing. Coefficients past
 // bands * bands are zero.

@@ -30,6 +30,8 @@ inline constexpr int kMinShBands = 1;
 inline constexpr int kMaxShBands = 8;  // lighting and transfer: n = 2 .. 8 (1 is the DC term alone)
 inline constexpr int kMaxShCoefficients = kMaxShBands * kMaxShBands;
 
+using ShBasis = std::array<double, kMaxShCoefficients>;
+
 [[nodiscard]] constexpr int shIndex(int l, int m) noexcept { return l * (l + 1) + m; }
 [[nodiscard]] constexpr int shCount(int bands) noexcept { return bands * bands; }
 [[nodiscard]] constexpr int shBandOf(int index) noexcept {

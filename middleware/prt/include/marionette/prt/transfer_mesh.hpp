@@ -1,6 +1,7 @@
 // The geometry shadowed transfer is computed on: every triangle of a character in bind
 // pose, in one vertex/index list, and the per-vertex data the visibility rays start from.
 #pragma once
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstddef>
@@ -33,10 +34,16 @@ enum class SkinnedSpace {
   // sum over weights of restModel[j] * inverseBind[j] * vertex, normals by the inverse
   // transpose of the blended matrix. Model space, like the rigid meshes.
   RestPose,
+  // Skinned (and rigid meshes placed) with the model matrices of a pose given in
+  // BindPoseOptions::poseModel, e.g. a clip's first frame: a character whose bind pose is a
+  // T-pose gets the shadows of its arms on its sides when posed with the arms down.
+  Posed,
 };
 
 struct BindPoseOptions {
-  SkinnedSpace skinnedSpace = SkinnedSpace::AsStored;
+  // RestPose by default: model space, the frame the renderer's lighting is turned into.
+  SkinnedSpace skinnedSpace = SkinnedSpace::RestPose;
+  std::vector<glm::mat4> poseModel;  // Posed: one model matrix per joint of the skeleton
 };
 
 // Every primitive of every mesh of an asset, in bind pose: skinned meshes as `options` say

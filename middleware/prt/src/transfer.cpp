@@ -1,0 +1,262 @@
+#include "marionette/prt/transfer.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <thread>
+
+#include <glm/geometric.hpp>
+
+namespace marionette::prt {
+
+namespace {
+constexpr float kPiF = std::numbers::pi_v<float>;
+using Clock = std::chrono::steady_clock;
+
+// SplitMix64: a vertex's own random stream from (seed, vertex), independent of threads.
+struct SplitMix {
+  std::uint64_t state;
+  std::uint64_t next() noexcept {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  float uniform() noexcept { return static_cast<float>(next() >> 40) * (1.0f / 16777216.0f); }  // [0, 1)
+};
+std::uint64_t vertexSeed(std::uint64_t seed, std::size_t vertex) noexcept {
+  SplitMix s{seed * 0x2545F4914F6CDD1Dull + vertex};
+  return s.next();
+}
+
+// An orthonormal basis around a unit normal (Duff et al. 2017, branchless).
+void tangentFrame(const glm::vec3& n, glm::vec3& t, glm::vec3& b) noexcept {
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float c = n.x * n.y * a;
+  t = {1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x};
+  b = {c, sign + n.y * n.y * a, -n.y};
+}
+
+bool usable(const glm::vec3& v) noexcept {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && glm::dot(v, v) > 1e-12f;
+}
+
+std::size_t vertexCountOf(const TransferMesh& mesh) noexcept { return mesh.positions.size(); }
+}  // namespace
+
+int stratifiedRayCount(int rays) noexcept {
+  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(std::max(rays, 1)))));
+  return k * k;
+}
+
+void stratifiedCosineDirections(const glm::vec3& normal, int rays, std::uint64_t seed, std::vector<glm::vec3>& out) {
+  const int k = static_cast<int>(std::lround(std::sqrt(static_cast<double>(stratifiedRayCount(rays)))));
+  out.resize(static_cast<std::size_t>(k) * k);
+  glm::vec3 t, b;
+  tangentFrame(normal, t, b);
+  SplitMix rng{seed};
+  const float inv = 1.0f / static_cast<float>(k);
+  std::size_t o = 0;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      // Malley: a point of the unit disc, uniform in area (r = sqrt(u1)), lifted to the
+      // hemisphere: cosine-weighted directions, pdf cos(theta) / pi.
+      const float u1 = (static_cast<float>(i) + rng.uniform()) * inv;
+      const float u2 = (static_cast<float>(j) + rng.uniform()) * inv;
+      const float r = std::sqrt(u1), phi = 2.0f * kPiF * u2;
+      const float x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(std::max(0.0f, 1.0f - u1));
+      out[o++] = x * t + y * b + z * normal;
+    }
+}
+
+void sampleTransfer(const glm::vec3& normal, int bands, int rays, std::uint64_t seed,
+                    const std::function<float(const glm::vec3&)>& visible, std::span<double> out) {
+  bands = std::clamp(bands, kMinShBands, kMaxShBands);
+  std::vector<glm::vec3> dirs;
+  stratifiedCosineDirections(glm::normalize(normal), rays, seed, dirs);
+  std::fill(out.begin(), out.begin() + shCount(bands), 0.0);
+  ShBasis y{};
+  for (const glm::vec3& d : dirs) {
+    const float v = visible(d);
+    if (v == 0.0f) continue;
+    shBasis(bands, glm::dvec3(d), y);
+    for (int i = 0; i < shCount(bands); ++i) out[static_cast<std::size_t>(i)] += v * y[i];
+  }
+  const double scale = std::numbers::pi / static_cast<double>(dirs.size());
+  for (int i = 0; i < shCount(bands); ++i) out[static_cast<std::size_t>(i)] *= scale;
+}
+
+void unshadowedTransfer(const glm::vec3& normal, int bands, std::span<float> out) noexcept {
+  bands = std::clamp(bands, kMinShBands, kMaxShBands);
+  std::array<float, kMaxShCoefficients> y{};
+  shBasis(bands, normal, y);
+  for (int i = 0; i < shCount(bands) && i < static_cast<int>(out.size()); ++i)
+    out[static_cast<std::size_t>(i)] = static_cast<float>(cosineLobeBand(shBandOf(i))) * y[i];
+}
+
+void coneTransfer(const glm::dvec3& normal, int bands, double halfAngle, std::span<double> out) {
+  bands = std::clamp(bands, kMinShBands, kMaxShBands);
+  static const GaussLegendre gl = gaussLegendre(16);  // degree <= 1 + 7: exact
+  const double lo = std::cos(std::clamp(halfAngle, 0.0, std::numbers::pi / 2));
+  ShBasis y{};
+  shBasis(bands, normal, y);
+  for (int l = 0; l < bands; ++l) {
+    double zonal = 0.0;
+    for (std::size_t k = 0; k < gl.nodes.size(); ++k) {
+      const double t = lo + (1.0 - lo) * 0.5 * (gl.nodes[k] + 1.0);
+      zonal += 0.5 * (1.0 - lo) * gl.weights[k] * t * normalizedLegendre(l, 0, t);
+    }
+    zonal *= 2.0 * std::numbers::pi * std::sqrt(4.0 * std::numbers::pi / (2.0 * l + 1.0));
+    for (int m = -l; m <= l; ++m) out[static_cast<std::size_t>(shIndex(l, m))] = zonal * y[shIndex(l, m)];
+  }
+}
+
+VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings& settings,
+                               const OcclusionTracer* tracer, Diagnostics& diagnostics,
+                               const TransferProgress& progress, TransferStats* stats) {
+  const auto start = Clock::now();
+  VertexTransfer result;
+  if (settings.bands < 2 || settings.bands > kMaxShBands) {
+    diagnostics.error("prt", "transfer bands must be 2.." + std::to_string(kMaxShBands) + ", got " +
+                      std::to_string(settings.bands));
+    return result;
+  }
+  if (settings.shadowed && settings.raysPerVertex < 1) {
+    diagnostics.error("prt", "rays per vertex must be at least 1, got " + std::to_string(settings.raysPerVertex));
+    return result;
+  }
+  if (settings.shadowed && !tracer) {
+    diagnostics.error("prt", "shadowed transfer needs a ray tracer for the mesh");
+    return result;
+  }
+  if (mesh.normals.size() != mesh.positions.size()) {
+    diagnostics.error("prt", "the mesh has " + std::to_string(mesh.positions.size()) + " positions but " +
+                      std::to_string(mesh.normals.size()) + " normals");
+    return result;
+  }
+  const std::size_t vertices = vertexCountOf(mesh);
+  const int count = shCount(settings.bands);
+  result.bands = settings.bands;
+  result.coefficients.assign(vertices * static_cast<std::size_t>(count), 0.0f);
+  result.occluded.assign(vertices, 0.0f);
+
+  // Shading normals for the cosine, geometric normals for the ray origins.
+  std::vector<glm::vec3> geometric = geometricVertexNormals(mesh);
+  std::size_t badNormals = 0;
+  std::vector<glm::vec3> shading(vertices);
+  for (std::size_t v = 0; v < vertices; ++v) {
+    const glm::vec3 n = mesh.normals[v];
+    shading[v] = usable(n) ? glm::normalize(n) : (usable(geometric[v]) ? glm::normalize(geometric[v]) : glm::vec3(0.0f));
+    if (!usable(shading[v]) || !usable(mesh.positions[v])) ++badNormals;
+    if (!usable(geometric[v])) geometric[v] = shading[v];
+  }
+  if (badNormals > 0)
+    diagnostics.warning("prt", std::to_string(badNormals) +
+                        " vertices have no usable normal or position; their transfer is zero");
+
+  unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
+  if (stats) *stats = {0.0, 0, threads};
+  if (!settings.shadowed) {  // closed form: nothing to sample
+    for (std::size_t v = 0; v < vertices; ++v)
+      if (usable(shading[v]) && usable(mesh.positions[v]))
+        unshadowedTransfer(shading[v], settings.bands,
+                           {result.coefficients.data() + v * static_cast<std::size_t>(count), static_cast<std::size_t>(count)});
+    if (progress) progress(vertices, vertices);
+    if (stats) stats->seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return result;
+  }
+
+  const float offset = rayOriginOffset(mesh, settings.originOffset);
+  const int rays = stratifiedRayCount(settings.raysPerVertex);
+  const float scale = kPiF / static_cast<float>(rays);
+  constexpr std::size_t kChunk = 32;
+  std::atomic<std::size_t> next{0}, done{0};
+  auto work = [&](bool report) {
+    std::vector<glm::vec3> dirs;
+    std::vector<OcclusionRay> batch(static_cast<std::size_t>(rays));
+    std::vector<std::uint8_t> hit(static_cast<std::size_t>(rays));
+    std::array<float, kMaxShCoefficients> y{}, sum{};
+    auto lastReport = Clock::now();
+    for (std::size_t begin; (begin = next.fetch_add(kChunk)) < vertices;) {
+      const std::size_t end = std::min(vertices, begin + kChunk);
+      for (std::size_t v = begin; v < end; ++v) {
+        if (!usable(shading[v]) || !usable(mesh.positions[v])) continue;
+        stratifiedCosineDirections(shading[v], rays, vertexSeed(settings.seed, v), dirs);
+        const glm::vec3 origin = mesh.positions[v] + offset * geometric[v];
+        for (std::size_t k = 0; k < dirs.size(); ++k)
+          batch[k] = {origin, 0.0f, dirs[k], std::numeric_limits<float>::infinity()};
+        tracer->occluded(batch, hit);
+        sum.fill(0.0f);
+        std::size_t blocked = 0;
+        for (std::size_t k = 0; k < dirs.size(); ++k) {
+          if (hit[k]) {
+            ++blocked;
+            continue;
+          }
+          shBasis(settings.bands, dirs[k], y);
+          for (int i = 0; i < count; ++i) sum[static_cast<std::size_t>(i)] += y[static_cast<std::size_t>(i)];
+        }
+        float* out = result.coefficients.data() + v * static_cast<std::size_t>(count);
+        for (int i = 0; i < count; ++i) out[i] = sum[static_cast<std::size_t>(i)] * scale;
+        result.occluded[v] = static_cast<float>(blocked) / static_cast<float>(rays);
+      }
+      const std::size_t finished = done.fetch_add(end - begin) + (end - begin);
+      if (report && progress && Clock::now() - lastReport > std::chrono::milliseconds(100)) {
+        lastReport = Clock::now();
+        progress(finished, vertices);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, false);
+  work(true);
+  for (auto& t : pool) t.join();
+  if (progress) progress(vertices, vertices);
+  if (stats) {
+    stats->seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stats->rays = static_cast<std::uint64_t>(vertices) * static_cast<std::uint64_t>(rays);
+  }
+  return result;
+}
+
+double rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& settings, const OcclusionTracer& tracer,
+                           std::size_t maxRays) {
+  const std::size_t vertices = vertexCountOf(mesh);
+  const int rays = stratifiedRayCount(settings.raysPerVertex);
+  if (vertices == 0 || mesh.normals.size() != vertices) return 0.0;
+  const std::size_t perVertex = static_cast<std::size_t>(rays);
+  const std::size_t used = std::max<std::size_t>(1, std::min(vertices, maxRays / perVertex));
+  // The same rays as computeTransfer: same normals, origins and seeds.
+  std::vector<glm::vec3> geometric = geometricVertexNormals(mesh);
+  const float offset = rayOriginOffset(mesh, settings.originOffset);
+  std::vector<OcclusionRay> all(used * perVertex);
+  std::vector<glm::vec3> dirs;
+  for (std::size_t v = 0; v < used; ++v) {
+    const glm::vec3 n = usable(mesh.normals[v]) ? glm::normalize(mesh.normals[v]) : glm::vec3(0, 1, 0);
+    const glm::vec3 g = usable(geometric[v]) ? geometric[v] : n;
+    stratifiedCosineDirections(n, rays, vertexSeed(settings.seed, v), dirs);
+    for (std::size_t k = 0; k < perVertex; ++k)
+      all[v * perVertex + k] = {mesh.positions[v] + offset * g, 0.0f, dirs[k], std::numeric_limits<float>::infinity()};
+  }
+  const unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    std::vector<std::uint8_t> hit(perVertex);
+    for (std::size_t v; (v = next.fetch_add(1)) < used;)
+      tracer.occluded(std::span<const OcclusionRay>(all.data() + v * perVertex, perVertex), hit);
+  };
+  const auto start = Clock::now();
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return seconds * static_cast<double>(vertices) / static_cast<double>(used);
+}
+
+}  // namespace marionette::prt
