@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 namespace marionette::prt {
 
@@ -38,15 +39,18 @@ struct BasisTables {
     }
   }
 };
+// A function-local static (not a namespace-scope one): safe to use from other static
+// initialisers; the guard is one well-predicted branch.
 const BasisTables& tables() noexcept {
   static const BasisTables t;
   return t;
 }
 
-template <class T>
-void basis(int bands, T x, T y, T z, T* out) noexcept {
+// Out(index, value) receives every basis function; `Bands` may be a compile-time constant
+// (the transfer's inner loop: fully unrolled) or a run-time int.
+template <class T, class BandsT, class Out>
+inline void basis(BandsT bands, T x, T y, T z, Out&& out) noexcept {
   const BasisTables& tb = tables();
-  bands = std::clamp(bands, kMinShBands, kMaxShBands);
   const T sqrt2 = static_cast<T>(std::numbers::sqrt2);
   T cm = 1, sm = 0;  // s^m cos(m psi), s^m sin(m psi): (z + i x)^m
   for (int m = 0; m < bands; ++m) {
@@ -59,10 +63,10 @@ void basis(int bands, T x, T y, T z, T* out) noexcept {
         q1 = q;
       }
       if (m == 0) {
-        out[shIndex(l, 0)] = q;
+        out(shIndex(l, 0), q);
       } else {
-        out[shIndex(l, m)] = sqrt2 * q * cm;
-        out[shIndex(l, -m)] = sqrt2 * q * sm;
+        out(shIndex(l, m), sqrt2 * q * cm);
+        out(shIndex(l, -m), sqrt2 * q * sm);
       }
     }
     const T c = cm * z - sm * x;
@@ -89,12 +93,35 @@ double normalizedLegendre(int l, int m, double t) noexcept {
 }
 
 void shBasis(int bands, const glm::dvec3& d, std::span<double> out) noexcept {
-  if (static_cast<int>(out.size()) < shCount(std::clamp(bands, kMinShBands, kMaxShBands))) return;
-  basis<double>(bands, d.x, d.y, d.z, out.data());
+  bands = std::clamp(bands, kMinShBands, kMaxShBands);
+  if (static_cast<int>(out.size()) < shCount(bands)) return;
+  basis<double>(bands, d.x, d.y, d.z, [p = out.data()](int i, double v) { p[i] = v; });
 }
 void shBasis(int bands, const glm::vec3& d, std::span<float> out) noexcept {
-  if (static_cast<int>(out.size()) < shCount(std::clamp(bands, kMinShBands, kMaxShBands))) return;
-  basis<float>(bands, d.x, d.y, d.z, out.data());
+  bands = std::clamp(bands, kMinShBands, kMaxShBands);
+  if (static_cast<int>(out.size()) < shCount(bands)) return;
+  basis<float>(bands, d.x, d.y, d.z, [p = out.data()](int i, float v) { p[i] = v; });
+}
+
+namespace {
+template <int Bands>
+void addBasis(const glm::vec3& d, float* sum) noexcept {
+  basis<float>(std::integral_constant<int, Bands>{}, d.x, d.y, d.z, [sum](int i, float v) { sum[i] += v; });
+}
+}  // namespace
+
+void addShBasis(int bands, const glm::vec3& d, float* sum) noexcept {
+  switch (bands) {
+    case 1: return addBasis<1>(d, sum);
+    case 2: return addBasis<2>(d, sum);
+    case 3: return addBasis<3>(d, sum);
+    case 4: return addBasis<4>(d, sum);
+    case 5: return addBasis<5>(d, sum);
+    case 6: return addBasis<6>(d, sum);
+    case 7: return addBasis<7>(d, sum);
+    case 8: return addBasis<8>(d, sum);
+    default: return;
+  }
 }
 
 double cosineLobeBand(int l) noexcept {

@@ -1,8 +1,10 @@
 #include "marionette/prt/transfer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -16,6 +18,18 @@ namespace marionette::prt {
 namespace {
 constexpr float kPiF = std::numbers::pi_v<float>;
 using Clock = std::chrono::steady_clock;
+
+double threadCpuSeconds() noexcept {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+// Sums the CPU time of worker threads (each adds its own once, when it ends).
+struct CpuTotal {
+  std::atomic<std::uint64_t> nanoseconds{0};
+  void add(double seconds) noexcept { nanoseconds += static_cast<std::uint64_t>(seconds * 1e9); }
+  [[nodiscard]] double seconds() const noexcept { return 1e-9 * static_cast<double>(nanoseconds.load()); }
+};
 
 // SplitMix64: a vertex's own random stream from (seed, vertex), independent of threads.
 struct SplitMix {
@@ -50,28 +64,55 @@ std::size_t vertexCountOf(const TransferMesh& mesh) noexcept { return mesh.posit
 }  // namespace
 
 int stratifiedRayCount(int rays) noexcept {
-  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(std::max(rays, 1)))));
+  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(std::clamp(rays, 1, 1 << 20)))));
   return k * k;
 }
 
-void stratifiedCosineDirections(const glm::vec3& normal, int rays, std::uint64_t seed, std::vector<glm::vec3>& out) {
+namespace {
+// Stratified cosine-weighted directions in a local frame (z = the normal), made once per
+// precompute. Malley's method: a point uniform in area on the unit disc (r = sqrt(u1),
+// phi = 2 pi u2), lifted to the hemisphere, has pdf cos(theta) / pi; cell (i, j) of the k x k
+// grid jitters u1 in [i, i+1) / k and u2 in [j, j+1) / k. Each vertex then turns the pattern
+// by its own random angle about its normal (Cranley-Patterson style, in azimuth): every vertex
+// gets a jittered stratified set, neighbours get different ones, and a direction costs nine
+// multiply-adds instead of random numbers, square roots and a sine and cosine.
+struct StratifiedPattern {
+  std::vector<glm::vec3> local;
+};
+StratifiedPattern makePattern(int rays, std::uint64_t seed) {
   const int k = static_cast<int>(std::lround(std::sqrt(static_cast<double>(stratifiedRayCount(rays)))));
-  out.resize(static_cast<std::size_t>(k) * k);
-  glm::vec3 t, b;
-  tangentFrame(normal, t, b);
-  SplitMix rng{seed};
+  StratifiedPattern p;
+  p.local.reserve(static_cast<std::size_t>(k) * k);
+  SplitMix rng{seed ^ 0xA5A5A5A5DEADBEEFull};
   const float inv = 1.0f / static_cast<float>(k);
-  std::size_t o = 0;
   for (int i = 0; i < k; ++i)
     for (int j = 0; j < k; ++j) {
-      // Malley: a point of the unit disc, uniform in area (r = sqrt(u1)), lifted to the
-      // hemisphere: cosine-weighted directions, pdf cos(theta) / pi.
       const float u1 = (static_cast<float>(i) + rng.uniform()) * inv;
       const float u2 = (static_cast<float>(j) + rng.uniform()) * inv;
       const float r = std::sqrt(u1), phi = 2.0f * kPiF * u2;
-      const float x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(std::max(0.0f, 1.0f - u1));
-      out[o++] = x * t + y * b + z * normal;
+      p.local.push_back({r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u1))});
     }
+  return p;
+}
+// The pattern about `normal`, turned by the vertex's own angle, handed to emit(k, direction).
+template <class Emit>
+void orientPattern(const StratifiedPattern& p, const glm::vec3& normal, std::uint64_t vertexSeed, Emit&& emit) noexcept {
+  glm::vec3 t, b;
+  tangentFrame(normal, t, b);
+  SplitMix rng{vertexSeed};
+  const float angle = 2.0f * kPiF * rng.uniform(), c = std::cos(angle), s = std::sin(angle);
+  const glm::vec3 tt = c * t + s * b, bb = c * b - s * t;
+  for (std::size_t k = 0; k < p.local.size(); ++k) {
+    const glm::vec3& l = p.local[k];
+    emit(k, l.x * tt + l.y * bb + l.z * normal);
+  }
+}
+}  // namespace
+
+void stratifiedCosineDirections(const glm::vec3& normal, int rays, std::uint64_t seed, std::vector<glm::vec3>& out) {
+  const StratifiedPattern pattern = makePattern(rays, seed);
+  out.resize(pattern.local.size());
+  orientPattern(pattern, normal, seed, [&](std::size_t i, const glm::vec3& d) { out[i] = d; });
 }
 
 void sampleTransfer(const glm::vec3& normal, int bands, int rays, std::uint64_t seed,
@@ -160,7 +201,7 @@ VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings&
                         " vertices have no usable normal or position; their transfer is zero");
 
   unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
-  if (stats) *stats = {0.0, 0, threads};
+  if (stats) *stats = TransferStats{.seconds = 0.0, .cpuSeconds = 0.0, .rays = 0, .threads = threads};
   if (!settings.shadowed) {  // closed form: nothing to sample
     for (std::size_t v = 0; v < vertices; ++v)
       if (usable(shading[v]) && usable(mesh.positions[v]))
@@ -174,32 +215,33 @@ VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings&
   const float offset = rayOriginOffset(mesh, settings.originOffset);
   const int rays = stratifiedRayCount(settings.raysPerVertex);
   const float scale = kPiF / static_cast<float>(rays);
+  const StratifiedPattern pattern = makePattern(rays, settings.seed);
   constexpr std::size_t kChunk = 32;
   std::atomic<std::size_t> next{0}, done{0};
+  CpuTotal cpu;
   auto work = [&](bool report) {
-    std::vector<glm::vec3> dirs;
+    const double cpuStart = threadCpuSeconds();
     std::vector<OcclusionRay> batch(static_cast<std::size_t>(rays));
     std::vector<std::uint8_t> hit(static_cast<std::size_t>(rays));
-    std::array<float, kMaxShCoefficients> y{}, sum{};
+    std::array<float, kMaxShCoefficients> sum{};
     auto lastReport = Clock::now();
     for (std::size_t begin; (begin = next.fetch_add(kChunk)) < vertices;) {
       const std::size_t end = std::min(vertices, begin + kChunk);
       for (std::size_t v = begin; v < end; ++v) {
         if (!usable(shading[v]) || !usable(mesh.positions[v])) continue;
-        stratifiedCosineDirections(shading[v], rays, vertexSeed(settings.seed, v), dirs);
         const glm::vec3 origin = mesh.positions[v] + offset * geometric[v];
-        for (std::size_t k = 0; k < dirs.size(); ++k)
-          batch[k] = {origin, 0.0f, dirs[k], std::numeric_limits<float>::infinity()};
+        orientPattern(pattern, shading[v], vertexSeed(settings.seed, v), [&](std::size_t k, const glm::vec3& d) {
+          batch[k] = {origin, 0.0f, d, std::numeric_limits<float>::infinity()};
+        });
         tracer->occluded(batch, hit);
         sum.fill(0.0f);
         std::size_t blocked = 0;
-        for (std::size_t k = 0; k < dirs.size(); ++k) {
+        for (std::size_t k = 0; k < batch.size(); ++k) {
           if (hit[k]) {
             ++blocked;
             continue;
           }
-          shBasis(settings.bands, dirs[k], y);
-          for (int i = 0; i < count; ++i) sum[static_cast<std::size_t>(i)] += y[static_cast<std::size_t>(i)];
+          addShBasis(settings.bands, batch[k].direction, sum.data());
         }
         float* out = result.coefficients.data() + v * static_cast<std::size_t>(count);
         for (int i = 0; i < count; ++i) out[i] = sum[static_cast<std::size_t>(i)] * scale;
@@ -211,6 +253,7 @@ VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings&
         progress(finished, vertices);
       }
     }
+    cpu.add(threadCpuSeconds() - cpuStart);
   };
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, false);
@@ -220,35 +263,39 @@ VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings&
   if (stats) {
     stats->seconds = std::chrono::duration<double>(Clock::now() - start).count();
     stats->rays = static_cast<std::uint64_t>(vertices) * static_cast<std::uint64_t>(rays);
+    stats->cpuSeconds = cpu.seconds();
   }
   return result;
 }
 
-double rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& settings, const OcclusionTracer& tracer,
-                           std::size_t maxRays) {
+RawOcclusionTime rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& settings,
+                                     const OcclusionTracer& tracer, std::size_t maxRays) {
   const std::size_t vertices = vertexCountOf(mesh);
   const int rays = stratifiedRayCount(settings.raysPerVertex);
-  if (vertices == 0 || mesh.normals.size() != vertices) return 0.0;
+  if (vertices == 0 || mesh.normals.size() != vertices) return {};
   const std::size_t perVertex = static_cast<std::size_t>(rays);
   const std::size_t used = std::max<std::size_t>(1, std::min(vertices, maxRays / perVertex));
   // The same rays as computeTransfer: same normals, origins and seeds.
   std::vector<glm::vec3> geometric = geometricVertexNormals(mesh);
   const float offset = rayOriginOffset(mesh, settings.originOffset);
   std::vector<OcclusionRay> all(used * perVertex);
-  std::vector<glm::vec3> dirs;
+  const StratifiedPattern pattern = makePattern(rays, settings.seed);
   for (std::size_t v = 0; v < used; ++v) {
     const glm::vec3 n = usable(mesh.normals[v]) ? glm::normalize(mesh.normals[v]) : glm::vec3(0, 1, 0);
-    const glm::vec3 g = usable(geometric[v]) ? geometric[v] : n;
-    stratifiedCosineDirections(n, rays, vertexSeed(settings.seed, v), dirs);
-    for (std::size_t k = 0; k < perVertex; ++k)
-      all[v * perVertex + k] = {mesh.positions[v] + offset * g, 0.0f, dirs[k], std::numeric_limits<float>::infinity()};
+    const glm::vec3 origin = mesh.positions[v] + offset * (usable(geometric[v]) ? geometric[v] : n);
+    orientPattern(pattern, n, vertexSeed(settings.seed, v), [&](std::size_t k, const glm::vec3& d) {
+      all[v * perVertex + k] = {origin, 0.0f, d, std::numeric_limits<float>::infinity()};
+    });
   }
   const unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
   std::atomic<std::size_t> next{0};
+  CpuTotal cpu;
   auto work = [&] {
+    const double cpuStart = threadCpuSeconds();
     std::vector<std::uint8_t> hit(perVertex);
     for (std::size_t v; (v = next.fetch_add(1)) < used;)
       tracer.occluded(std::span<const OcclusionRay>(all.data() + v * perVertex, perVertex), hit);
+    cpu.add(threadCpuSeconds() - cpuStart);
   };
   const auto start = Clock::now();
   std::vector<std::thread> pool;
@@ -256,7 +303,8 @@ double rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& set
   work();
   for (auto& t : pool) t.join();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  return seconds * static_cast<double>(vertices) / static_cast<double>(used);
+  const double scale = static_cast<double>(vertices) / static_cast<double>(used);
+  return {seconds * scale, cpu.seconds() * scale};
 }
 
 }  // namespace marionette::prt

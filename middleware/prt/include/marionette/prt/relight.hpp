@@ -1,8 +1,9 @@
 // Run-time relighting on the CPU: per vertex, E_v = sum_i L_i T_v,i for the RGB lighting
 // coefficients L (radiance SH of the environment, already turned into the character's model
 // frame) and the vertex's transfer T. The renderer multiplies by albedo / pi, the texture and
-// the exposure. The transfer is kept coefficient-major, padded to blocks of 8 vertices, so
-// that the inner loop runs over 8 vertices at once in vector registers.
+// the exposure. The transfer is kept in blocks of 8 vertices, coefficient-major inside a block
+// (each block's floats contiguous), so that the inner loop runs over 8 vertices at once in
+// vector registers and reads memory in order.
 #pragma once
 #include <glm/vec3.hpp>
 
@@ -30,7 +31,7 @@ class TransferRelighter {
  private:
   int bands_ = 0;
   std::size_t vertices_ = 0, stride_ = 0;
-  std::vector<float> transfer_;  // [coefficient][vertex], stride_ floats per coefficient
+  std::vector<float> transfer_;  // [vertex / 8][coefficient][vertex % 8]; stride_ = vertices padded to 8
 };
 
 }  // namespace marionette::prt

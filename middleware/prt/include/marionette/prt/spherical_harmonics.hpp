@@ -47,6 +47,9 @@ using ShBasis = std::array<double, kMaxShCoefficients>;
 // values; n in [1, kMaxShBands]. No allocation; noexcept.
 void shBasis(int bands, const glm::dvec3& direction, std::span<double> out) noexcept;
 void shBasis(int bands, const glm::vec3& direction, std::span<float> out) noexcept;
+// Adds the n*n basis functions at a unit direction into sum[0 .. n*n) (the transfer's inner
+// loop, unrolled per band count). Bands outside [1, kMaxShBands] add nothing.
+void addShBasis(int bands, const glm::vec3& direction, float* sum) noexcept;
 
 // The clamped-cosine kernel max(0, cos theta) in band l, as the factor A_l of the
 // convolution: A_l = sqrt(4 pi / (2l + 1)) * (its zonal coefficient). Exact for any l >= 0:

@@ -54,6 +54,7 @@ struct VertexTransfer {
 
 struct TransferStats {
   double seconds = 0.0;          // wall time of the whole precompute
+  double cpuSeconds = 0.0;       // CPU time of the worker threads (the per-vertex work), summed
   std::uint64_t rays = 0;        // rays cast (0 when unshadowed)
   unsigned threads = 0;
 };
@@ -88,9 +89,15 @@ void coneTransfer(const glm::dvec3& normal, int bands, double halfAngle, std::sp
 
 // Every ray of a shadowed precompute cast once more, with nothing else: the rays are made
 // first (not timed), then only tracer.occluded runs, on `threads` threads. At most
-// `maxRays` are cast (the time is scaled up to all of them; the rays of a big mesh would not
-// fit in memory). The seconds for `marionette prt precompute --json`'s raw_ray_seconds.
-[[nodiscard]] double rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& settings,
-                                         const OcclusionTracer& tracer, std::size_t maxRays = std::size_t{1} << 24);
+// `maxRays` are cast (the times are scaled up to all of them; the rays of a big mesh would not
+// fit in memory). For `marionette prt precompute --json`'s raw_ray_seconds. CPU seconds
+// (summed over the threads) compare fairly with TransferStats::cpuSeconds on a machine that
+// other work shares; wall seconds do not.
+struct RawOcclusionTime {
+  double seconds = 0.0, cpuSeconds = 0.0;
+};
+[[nodiscard]] RawOcclusionTime rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& settings,
+                                                   const OcclusionTracer& tracer,
+                                                   std::size_t maxRays = std::size_t{1} << 24);
 
 }  // namespace marionette::prt
