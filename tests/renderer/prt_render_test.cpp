@@ -217,7 +217,7 @@ TEST_F(PrtRender, BadPrtSettingsAreNamed) {
     EXPECT_NE(r.out.find("'" + c.key + "'"), std::string::npos) << r.out;
   }
   const std::string scene = writeScene("good.json", forestEnvironment());
-  for (const std::string& option : {"--prt soft", "--prt-bands 9", "--prt-rays 0", "--prt-bands 2.5"}) {
+  for (const std::string option : {"--prt soft", "--prt-bands 9", "--prt-rays 0", "--prt-bands 2.5"}) {
     const CliRun r = runAr(scene + " --headless --frames 1 --out " + (dir_ / "bad").string() + " " + option);
     EXPECT_EQ(r.status, 2) << option << ": " << r.out;
     EXPECT_NE(r.out.find(option.substr(0, option.find(' '))), std::string::npos) << r.out;

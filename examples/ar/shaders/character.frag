@@ -27,7 +27,9 @@ void main() {
   if (base.a < 0.5) discard;  // alpha-tested cut-outs (eyelashes, hair cards)
   if (uOutputMode == 1) { fragColor = vec4(base.rgb, 1.0); return; }
   if (uOutputMode == 2) { fragColor = vec4(0.5 * n + 0.5, 1.0); return; }
-  vec3 e = uPrt != 0 ? vPrtIrradiance : irradiance(n);
+  // A back face has no transfer of its own (the vertex's is its front's, facing away): it
+  // keeps the SH9 light of the side seen (thin parts; cracks between meshes show no bright seam).
+  vec3 e = uPrt != 0 && gl_FrontFacing ? vPrtIrradiance : irradiance(n);
   vec3 radiance = base.rgb / 3.14159265 * max(e, vec3(0.0));
   fragColor = vec4(toneMap(radiance * uExposure), 1.0);
 }
