@@ -48,6 +48,16 @@ class Reader {
     out = {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
   }
 
+  void integer(const Json& obj, const char* key, const std::string& where, int& out, int lo, int hi) {
+    if (!obj.contains(key)) return;
+    const Json& v = obj[key];
+    if (!v.is_number_integer() || v.get<long long>() < lo || v.get<long long>() > hi) {
+      error(where + "." + key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      return;
+    }
+    out = static_cast<int>(v.get<long long>());
+  }
+
   bool object(const Json& root, const char* key) {
     if (!root.contains(key)) return false;
     if (!root[key].is_object()) {
@@ -90,6 +100,24 @@ class Reader {
 };
 
 }  // namespace
+
+const char* prtModeName(PrtMode mode) noexcept {
+  switch (mode) {
+    case PrtMode::Shadowed: return "shadowed";
+    case PrtMode::Unshadowed: return "unshadowed";
+    case PrtMode::Off: break;
+  }
+  return "off";
+}
+
+bool parsePrtMode(const std::string& name, PrtMode& out) noexcept {
+  for (PrtMode m : {PrtMode::Shadowed, PrtMode::Unshadowed, PrtMode::Off})
+    if (name == prtModeName(m)) {
+      out = m;
+      return true;
+    }
+  return false;
+}
 
 Diagnostics readArScene(const std::string& path, ArScene& out) {
   Diagnostics d;
@@ -143,10 +171,40 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
   }
   if (r.object(root, "environment")) {
     const Json& e = root["environment"];
-    r.unknownKeys(e, "environment", {"file", "rotation", "exposure"});
+    r.unknownKeys(e, "environment", {"file", "rotation", "exposure", "probe", "prt"});
     out.environment.file = r.resolve(r.string(e, "file", "environment", true));
     r.number(e, "rotation", "environment", out.environment.rotationDegrees, -3600.0f, 3600.0f);
     r.number(e, "exposure", "environment", out.environment.exposure, 0.0f, 1e6f);
+    const std::string probe = r.string(e, "probe", "environment", false);
+    if (probe == "auto") out.environment.probe = prt::LightProbeKind::Auto;
+    else if (probe == "latlong") out.environment.probe = prt::LightProbeKind::LatLong;
+    else if (probe == "mirror-ball") out.environment.probe = prt::LightProbeKind::MirrorBall;
+    else if (!probe.empty()) r.error("environment.probe", "'" + probe + "' is none of auto, latlong, mirror-ball");
+    if (e.contains("prt")) {
+      if (!e["prt"].is_object()) {
+        r.error("environment.prt", "expected an object");
+      } else {
+        const Json& p = e["prt"];
+        ArPrt& prtOut = out.environment.prt;
+        r.unknownKeys(p, "environment.prt", {"mode", "bands", "rays", "cache", "pose"});
+        const std::string mode = r.string(p, "mode", "environment.prt", false);
+        if (!mode.empty() && !parsePrtMode(mode, prtOut.mode))
+          r.error("environment.prt.mode", "'" + mode + "' is none of shadowed, unshadowed, off");
+        r.integer(p, "bands", "environment.prt", prtOut.bands, 2, 8);
+        r.integer(p, "rays", "environment.prt", prtOut.rays, 1, 65536);
+        if (p.contains("cache")) prtOut.cache = r.resolve(r.string(p, "cache", "environment.prt", false));
+        if (p.contains("pose")) {
+          if (!p["pose"].is_object()) {
+            r.error("environment.prt.pose", "expected an object");
+          } else {
+            const Json& pose = p["pose"];
+            r.unknownKeys(pose, "environment.prt.pose", {"clip", "time"});
+            prtOut.poseClip = r.string(pose, "clip", "environment.prt.pose", true);
+            r.number(pose, "time", "environment.prt.pose", prtOut.poseTime, 0.0f, 1e6f);
+          }
+        }
+      }
+    }
   }
   if (out.background.kind == ArBackground::Kind::Environment && out.environment.file.empty() &&
       root.contains("background"))

@@ -6,12 +6,18 @@
 //               "fovY": 45, "near": 0.05, "far": 100 },
 //   "background": { "kind": "environment" },    // or "image" / "sequence" / "video" with "file"
 //                                               //   (and "fps" for a sequence), or "color" with "color": [r, g, b]
-//   "environment": { "file": "studio.exr", "rotation": 0, "exposure": 1.0 },  // optional: HDR lat-long
+//   "environment": { "file": "studio.exr", "rotation": 0, "exposure": 1.0,  // optional: HDR light probe
+//                    "probe": "auto",                         // or "latlong" / "mirror-ball"
+//                    "prt": { "mode": "shadowed", "bands": 4, "rays": 1024,   // or "unshadowed" / "off"
+//                             "cache": "dir",                 // optional: prt::defaultTransferCacheDirectory()
+//                             "pose": { "clip": "walk", "time": 0.0 } } },   // optional: transfer in that pose
 //   "render": { "width": 960, "height": 540, "fps": 30 }
 // }
 //
 // Paths are relative to the AR scene file, or absolute. Without "environment"
-// the characters get a neutral grey sky light. The camera is static for now:
+// the characters get a neutral grey sky light (and no PRT). With one, they are lit
+// by precomputed radiance transfer (docs/ar-renderer.md, "PRT lighting") unless
+// "prt.mode" is "off", then by the environment's 9 SH irradiance coefficients. The camera is static for now:
 // ScenePose implements the CameraPoseSource a tracker will implement later.
 #pragma once
 #include <string>
@@ -19,6 +25,8 @@
 #include <glm/glm.hpp>
 
 #include "marionette/core/diagnostic.hpp"
+#include "marionette/prt/mirror_ball.hpp"
+#include "marionette/prt/transfer.hpp"
 
 namespace marionette::ar {
 
@@ -37,10 +45,23 @@ struct ArBackground {
   glm::vec3 color{0.2f};
 };
 
+enum class PrtMode { Shadowed, Unshadowed, Off };
+
+struct ArPrt {
+  PrtMode mode = PrtMode::Shadowed;
+  int bands = prt::kDefaultTransferBands;  // 2..8
+  int rays = 1024;                         // 1..65536 (shadowed)
+  std::string cache;                       // empty: prt::defaultTransferCacheDirectory()
+  std::string poseClip;                    // empty: the rest pose
+  float poseTime = 0.0f;                   // clip-local seconds
+};
+
 struct ArEnvironment {
-  std::string file;  // empty: no map (neutral sky light)
+  std::string file;  // empty: no map (neutral sky light, no PRT)
   float rotationDegrees = 0.0f;
   float exposure = 1.0f;
+  prt::LightProbeKind probe = prt::LightProbeKind::Auto;
+  ArPrt prt;
 };
 
 struct ArScene {
@@ -55,5 +76,9 @@ struct ArScene {
 
 // Reads an AR scene file; every problem names the file and the key.
 [[nodiscard]] Diagnostics readArScene(const std::string& path, ArScene& out);
+
+[[nodiscard]] const char* prtModeName(PrtMode mode) noexcept;
+// "shadowed" / "unshadowed" / "off"; false for anything else.
+[[nodiscard]] bool parsePrtMode(const std::string& name, PrtMode& out) noexcept;
 
 }  // namespace marionette::ar

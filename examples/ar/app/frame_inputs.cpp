@@ -1,5 +1,6 @@
 #include "frame_inputs.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -8,6 +9,7 @@
 #include "marionette_ar/background_source.hpp"
 #include "marionette_ar/camera_pose.hpp"
 #include "marionette/prt/environment_map.hpp"
+#include "marionette/prt/mirror_ball.hpp"
 #include "marionette/prt/sh_lighting.hpp"
 
 namespace marionette::ar {
@@ -55,14 +57,20 @@ bool FrameInputs::load(const ArScene& scene, std::string& error) {
   irradiance_[0] = glm::vec3(3.14159265f * kNeutralRadiance / 0.282095f);
   if (!scene.environment.file.empty()) {
     const auto start = std::chrono::steady_clock::now();
-    prt::EnvironmentMapLoad loaded = prt::loadEnvironmentMap(scene.environment.file);
+    prt::EnvironmentMapLoad loaded = prt::loadLightProbe(scene.environment.file, scene.environment.probe);
     if (!report(loaded.diagnostics, warnings_, error) || !loaded.map) {
       if (error.empty()) error = scene.environment.file + ": cannot load the environment map";
       return false;
     }
-    // Rotating the environment rotates its SH coefficients; the map is projected once.
-    const prt::ShCoefficients irradiance = prt::irradianceCoefficients(
-        prt::rotateAboutY(prt::projectRadiance(*loaded.map, 3), glm::radians(static_cast<double>(scene.environment.rotationDegrees))));
+    // Rotating the environment rotates its SH coefficients; the map is projected once,
+    // in as many bands as the PRT uses (the first 3 are the SH9 per-fragment light's).
+    const int bands = std::max(3, scene.environment.prt.mode == PrtMode::Off ? 3 : scene.environment.prt.bands);
+    radiance_ = prt::rotateAboutY(prt::projectRadiance(*loaded.map, bands),
+                                  glm::radians(static_cast<double>(scene.environment.rotationDegrees)));
+    prt::ShCoefficients nine = radiance_;
+    nine.bands = 3;
+    for (std::size_t i = 9; i < nine.c.size(); ++i) nine.c[i] = glm::dvec3(0.0);
+    const prt::ShCoefficients irradiance = prt::irradianceCoefficients(nine);
     for (int i = 0; i < 9; ++i) irradiance_[static_cast<std::size_t>(i)] = glm::vec3(irradiance.c[static_cast<std::size_t>(i)]);
     envWidth_ = loaded.map->width();
     envHeight_ = loaded.map->height();

@@ -1,5 +1,5 @@
 // What the renderer reads besides the middleware scene: the environment's
-// lighting (9 SH irradiance coefficients) and texture, the camera pose, and the
+// lighting (9 SH irradiance coefficients, and its radiance in the PRT's bands) and texture, the camera pose, and the
 // background frames. None of it needs OpenGL, so it loads before the window.
 #pragma once
 #include <array>
@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "ar_scene_file.hpp"
+#include "marionette/prt/sh_lighting.hpp"
 #include "marionette_ar/render/image.hpp"
 
 namespace marionette::ar {
@@ -27,6 +28,9 @@ class FrameInputs {
   [[nodiscard]] const std::vector<std::string>& warnings() const noexcept { return warnings_; }
 
   [[nodiscard]] const std::array<glm::vec3, 9>& irradianceSH() const noexcept { return irradiance_; }
+  // The environment's radiance in the world frame ("rotation" applied), in
+  // max(3, prt.bands) bands; zero bands without an environment.
+  [[nodiscard]] const prt::ShCoefficients& radianceSH() const noexcept { return radiance_; }
   [[nodiscard]] bool hasEnvironment() const noexcept { return !environment_.empty(); }
   [[nodiscard]] int environmentWidth() const noexcept { return envWidth_; }
   [[nodiscard]] int environmentHeight() const noexcept { return envHeight_; }
@@ -46,6 +50,7 @@ class FrameInputs {
   std::unique_ptr<Sources> sources_;
   std::vector<std::string> warnings_;
   std::array<glm::vec3, 9> irradiance_{};
+  prt::ShCoefficients radiance_{.bands = 0, .c = {}};
   std::vector<float> environment_;
   int envWidth_ = 0, envHeight_ = 0;
   ArBackground::Kind kind_ = ArBackground::Kind::Color;

@@ -4,6 +4,7 @@
 //
 //   marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]
 //                 [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]
+//                 [--prt shadowed|unshadowed|off] [--prt-bands N] [--prt-rays R] [--prt-cache DIR]
 //
 // Headless renders offscreen into DIR/frame_0000.png ... (still needs an X
 // display: run it under xvfb-run; docs/ar-renderer.md).
@@ -11,6 +12,7 @@
 #include <GLFW/glfw3.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -23,6 +25,7 @@
 
 #include "ar_scene_file.hpp"
 #include "frame_inputs.hpp"
+#include "prt_lighting.hpp"
 #include "marionette/bml/realizer.hpp"
 #include "marionette/bml/timed_files.hpp"
 #include "marionette/scene/scene_file.hpp"
@@ -42,12 +45,22 @@ struct Args {
   long frames = -1;  // headless default: 5 s of scene time
   float exposure = -1.0f;
   int width = 0, height = 0;
+  std::string prtMode, prtCache;  // empty: as the scene file says
+  int prtBands = 0, prtRays = 0;  // 0: as the scene file says
 };
 
 int usage() {
   std::fprintf(stderr,
                "usage: marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]\n"
-               "                     [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]\n");
+               "                     [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]\n"
+               "                     [--prt shadowed|unshadowed|off] [--prt-bands N] [--prt-rays R] [--prt-cache DIR]\n"
+               "  --prt MODE       PRT lighting of the characters (default: the scene's environment.prt.mode,\n"
+               "                   shadowed); off: the environment's SH9 irradiance per fragment\n"
+               "  --prt-bands N    SH bands of the transfer, 2..8 (default 4)\n"
+               "  --prt-rays R     visibility rays per vertex when shadowed, 1..65536 (default 1024)\n"
+               "  --prt-cache DIR  where transfers are cached (default $MARIONETTE_PRT_CACHE,\n"
+               "                   else ~/.cache/marionette/prt)\n"
+               "  PRT needs an \"environment\" in the scene; without one the light is a neutral grey sky.\n");
   return 2;
 }
 
@@ -90,6 +103,33 @@ bool parseArgs(int argc, char** argv, Args& a) {
       const char* v = value("--audio-dir");
       if (!v) return false;
       a.audioDir = v;
+    } else if (s == "--prt") {
+      const char* v = value("--prt");
+      if (!v) return false;
+      PrtMode mode{};
+      if (!parsePrtMode(v, mode)) {
+        std::fprintf(stderr, "marionette-ar: --prt '%s' is none of shadowed, unshadowed, off\n", v);
+        return false;
+      }
+      a.prtMode = v;
+    } else if (s == "--prt-bands") {
+      if (!number("--prt-bands", 2, 8, n)) return false;
+      if (n != std::floor(n)) {
+        std::fprintf(stderr, "marionette-ar: --prt-bands needs a whole number\n");
+        return false;
+      }
+      a.prtBands = static_cast<int>(n);
+    } else if (s == "--prt-rays") {
+      if (!number("--prt-rays", 1, 65536, n)) return false;
+      if (n != std::floor(n)) {
+        std::fprintf(stderr, "marionette-ar: --prt-rays needs a whole number\n");
+        return false;
+      }
+      a.prtRays = static_cast<int>(n);
+    } else if (s == "--prt-cache") {
+      const char* v = value("--prt-cache");
+      if (!v) return false;
+      a.prtCache = v;
     } else if (s == "--exposure") {
       if (!number("--exposure", 0, 1e6, n)) return false;
       a.exposure = static_cast<float>(n);
@@ -139,6 +179,12 @@ int main(int argc, char** argv) {
   if (args.width) ar.width = args.width;
   if (args.height) ar.height = args.height;
   if (args.exposure >= 0.0f) ar.environment.exposure = args.exposure;
+  ArPrt& prtSettings = ar.environment.prt;
+  if (!args.prtMode.empty()) (void)parsePrtMode(args.prtMode, prtSettings.mode);
+  if (args.prtBands) prtSettings.bands = args.prtBands;
+  if (args.prtRays) prtSettings.rays = args.prtRays;
+  if (!args.prtCache.empty()) prtSettings.cache = args.prtCache;
+  const bool usePrt = !ar.environment.file.empty() && prtSettings.mode != PrtMode::Off;
 
   // Inputs that need no GL: the environment's lighting, the background source.
   FrameInputs inputs;
@@ -188,6 +234,40 @@ int main(int argc, char** argv) {
     poses.push_back(std::make_unique<CharacterPose>(c->skeleton()));
     drawn.push_back(model.get());
   }
+
+  // PRT: the transfer of each distinct asset (from the cache when it is there), then per
+  // character the CPU light and its GPU buffers, all sized here: the frame loop allocates nothing.
+  std::map<const Asset*, std::unique_ptr<PrtAsset>> prtAssets;
+  std::vector<std::unique_ptr<PrtCharacterLight>> prtLights(scene.characters().size());
+  std::vector<std::unique_ptr<PrtIrradiance>> prtBuffers(scene.characters().size());
+  if (!usePrt) {
+    std::printf("marionette-ar: prt off (%s): no precompute, SH9 light per fragment\n",
+                ar.environment.file.empty() ? "no environment, neutral sky light" : "environment.prt.mode off");
+  } else {
+    for (std::size_t i = 0; i < scene.characters().size(); ++i) {
+      if (!drawn[i]) continue;
+      const Character& c = *scene.characters()[i];
+      auto& prtAsset = prtAssets[&c.rig().asset()];
+      if (!prtAsset) {
+        Diagnostics d;
+        auto a = std::make_unique<PrtAsset>();
+        const bool ok = loadPrtAsset(c.rig(), prtSettings, ar.path, *a, d);
+        std::fputs(d.format().c_str(), stderr);
+        if (!ok) return 2;
+        std::printf("marionette-ar: %s\n", a->describe(std::filesystem::path(c.rig().asset().sourcePath).filename().string()).c_str());
+        std::fflush(stdout);
+        prtAsset = std::move(a);
+      }
+      prtLights[i] = std::make_unique<PrtCharacterLight>(*prtAsset);
+      prtBuffers[i] = std::make_unique<PrtIrradiance>(*drawn[i], prtAsset->primitiveVertexOffset, prtAsset->vertexCount);
+      if (prtBuffers[i]->mismatches() > 0)
+        std::fprintf(stderr, "marionette-ar: warning: character '%s': %zu primitives do not match the transfer mesh; "
+                     "they keep the SH9 light\n", c.name().c_str(), prtBuffers[i]->mismatches());
+    }
+  }
+  const prt::ShRotation shRotation(usePrt ? prtSettings.bands : 2);
+  double prtRelightMs = 0.0, prtUploadMs = 0.0;
+  long prtUpdates = 0;
 
   ShaderProgram characterProgram;
   BackgroundRenderer background;
@@ -255,8 +335,19 @@ int main(int argc, char** argv) {
         if (!drawn[i]) continue;
         const Character& c = *scene.characters()[i];
         poses[i]->update(c.transformBuffer());
-        drawCharacter(characterProgram, *drawn[i], *poses[i], c.transformBuffer().worldMatrix(),
-                      view.projection * view.view, lighting);
+        const glm::mat4 world = c.transformBuffer().worldMatrix();
+        if (prtLights[i]) {
+          const auto t0 = std::chrono::steady_clock::now();
+          prtLights[i]->relight(inputs.radianceSH(), world, shRotation);
+          const auto t1 = std::chrono::steady_clock::now();
+          prtBuffers[i]->upload(prtLights[i]->irradiance());
+          const auto t2 = std::chrono::steady_clock::now();
+          prtRelightMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
+          prtUploadMs += std::chrono::duration<double, std::milli>(t2 - t1).count();
+          ++prtUpdates;
+        }
+        drawCharacter(characterProgram, *drawn[i], *poses[i], world, view.projection * view.view, lighting,
+                      prtBuffers[i].get());
       }
     }
     if (args.headless) {
@@ -284,6 +375,9 @@ int main(int argc, char** argv) {
   }
   std::printf("marionette-ar: %ld frames of %dx%d, %.3f s of scene time, middleware %.3f ms per frame\n", frame,
               ar.width, ar.height, scene.time(), frame > 0 ? cpuMs / static_cast<double>(frame) : 0.0);
+  if (prtUpdates > 0)
+    std::printf("marionette-ar: prt per character per frame: relight %.3f ms, upload %.3f ms (%ld updates)\n",
+                prtRelightMs / static_cast<double>(prtUpdates), prtUploadMs / static_cast<double>(prtUpdates), prtUpdates);
   if (args.headless) std::printf("marionette-ar: frames in %s\n", args.outDir.c_str());
   return bmlErrors > 0 ? 1 : 0;
 }

@@ -1,8 +1,11 @@
-// Character fragment shader: diffuse irradiance from 9 SH coefficients of the
-// environment (Ramamoorthi & Hanrahan 2001), times the base colour and its
-// texture, times exposure, then tone mapping to display sRGB.
+// Character fragment shader: diffuse irradiance, either per vertex from PRT
+// (uPrt: the CPU relit each vertex's transfer, self-shadowing included) or per
+// fragment from 9 SH coefficients of the environment (Ramamoorthi & Hanrahan
+// 2001), times the base colour and its texture, times exposure, then tone mapping
+// to display sRGB.
 in vec3 vNormal;
 in vec2 vUv;
+in vec3 vPrtIrradiance;
 out vec4 fragColor;
 
 uniform vec3 uIrradianceSH[9];  // E(n) = sum_i c_i Y_i(n), linear RGB
@@ -10,6 +13,7 @@ uniform vec4 uBaseColor;
 uniform sampler2D uBaseColorTexture;
 uniform int uHasTexture;
 uniform float uExposure;
+uniform int uPrt;         // 1: vPrtIrradiance is the irradiance
 uniform int uOutputMode;  // 0: lit; 1: unlit base colour (tests); 2: normals (tests)
 
 vec3 irradiance(vec3 n);
@@ -23,6 +27,9 @@ void main() {
   if (base.a < 0.5) discard;  // alpha-tested cut-outs (eyelashes, hair cards)
   if (uOutputMode == 1) { fragColor = vec4(base.rgb, 1.0); return; }
   if (uOutputMode == 2) { fragColor = vec4(0.5 * n + 0.5, 1.0); return; }
-  vec3 radiance = base.rgb / 3.14159265 * max(irradiance(n), vec3(0.0));
+  // A back face has no transfer of its own (the vertex's is its front's, facing away): it
+  // keeps the SH9 light of the side seen (thin parts; cracks between meshes show no bright seam).
+  vec3 e = uPrt != 0 && gl_FrontFacing ? vPrtIrradiance : irradiance(n);
+  vec3 radiance = base.rgb / 3.14159265 * max(e, vec3(0.0));
   fragColor = vec4(toneMap(radiance * uExposure), 1.0);
 }

@@ -7,6 +7,7 @@ layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec2 aUv;
 layout(location = 3) in vec4 aJoints;   // joint indices as floats (exact below 2^24)
 layout(location = 4) in vec4 aWeights;
+layout(location = 5) in vec3 aPrtIrradiance;  // PRT: E_v relit on the CPU each frame (uPrt)
 
 // Three RGBA32F texels per joint (one row each of the 3x4 skinning matrix),
 // joint j on texture row j: a texture, not a uniform array, so that skeletons
@@ -30,6 +31,7 @@ uniform float uMorphWeight[kMaxActiveMorphs];
 
 out vec3 vNormal;
 out vec2 vUv;
+out vec3 vPrtIrradiance;
 
 ivec2 morphTexel(int morph) {
   int i = morph * uVertexCount + gl_VertexID;
@@ -65,5 +67,6 @@ void main() {
   // Inverse transpose for non-uniform scale; skinning matrices are near-rigid.
   vNormal = mat3(model) * normal;
   vUv = aUv;
+  vPrtIrradiance = aPrtIrradiance;
   gl_Position = uViewProjection * world;
 }

@@ -114,8 +114,10 @@ bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnin
     return slot;
   };
 
+  std::size_t assetPrimitive = 0;
   for (const Mesh& mesh : asset.meshes) {
     for (const MeshPrimitive& p : mesh.primitives) {
+      const std::size_t index = assetPrimitive++;
       const std::size_t n = p.positions.size();
       if (n == 0 || p.indices.empty()) continue;
       const bool skinned = mesh.skinned && p.joints.size() == n && p.weights.size() == n;
@@ -133,6 +135,7 @@ bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnin
         }
       }
       Primitive gp;
+      gp.assetPrimitive = index;
       gp.vertexCount = static_cast<int>(n);
       gp.indexCount = static_cast<int>(p.indices.size());
       gp.skinned = skinned;
@@ -216,8 +219,50 @@ void CharacterPose::upload() {
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 3, joints_, GL_RGBA, GL_FLOAT, palette_.data());
 }
 
+PrtIrradiance::PrtIrradiance(const CharacterModel& model, std::span<const std::size_t> primitiveVertexOffset,
+                             std::size_t vertexCount)
+    : slices_(model.primitives_.size()), vertices_(vertexCount) {
+  for (std::size_t i = 0; i < model.primitives_.size(); ++i) {
+    const CharacterModel::Primitive& p = model.primitives_[i];
+    const std::size_t k = p.assetPrimitive;
+    Slice& slice = slices_[i];
+    if (k >= primitiveVertexOffset.size()) {
+      ++mismatches_;
+      continue;
+    }
+    const std::size_t first = primitiveVertexOffset[k];
+    const std::size_t end = k + 1 < primitiveVertexOffset.size() ? primitiveVertexOffset[k + 1] : vertexCount;
+    if (end < first || end > vertexCount || end - first != static_cast<std::size_t>(p.vertexCount)) {
+      ++mismatches_;
+      continue;
+    }
+    slice.first = first;
+    slice.count = end - first;
+    glGenBuffers(1, &slice.buffer);
+    glBindBuffer(GL_ARRAY_BUFFER, slice.buffer);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(slice.count * sizeof(glm::vec3)), nullptr, GL_DYNAMIC_DRAW);
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+PrtIrradiance::~PrtIrradiance() {
+  for (Slice& s : slices_)
+    if (s.buffer) glDeleteBuffers(1, &s.buffer);
+}
+
+void PrtIrradiance::upload(std::span<const glm::vec3> irradiance) noexcept {
+  if (irradiance.size() != vertices_) return;
+  for (const Slice& s : slices_) {
+    if (!s.buffer) continue;
+    glBindBuffer(GL_ARRAY_BUFFER, s.buffer);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(s.count * sizeof(glm::vec3)), irradiance.data() + s.first);
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
 void drawCharacter(const ShaderProgram& program, const CharacterModel& model, const CharacterPose& pose,
-                   const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting) {
+                   const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting,
+                   const PrtIrradiance* prt) {
   program.use();
   program.set("uWorld", world);
   program.set("uViewProjection", viewProjection);
@@ -230,7 +275,9 @@ void drawCharacter(const ShaderProgram& program, const CharacterModel& model, co
   program.set("uBaseColorTexture", 1);
   program.set("uMorphPositions", 2);
   program.set("uMorphNormals", 3);
-  for (const CharacterModel::Primitive& p : model.primitives_) {
+  const bool usePrt = prt && prt->slices_.size() == model.primitives_.size();
+  for (std::size_t primitive = 0; primitive < model.primitives_.size(); ++primitive) {
+    const CharacterModel::Primitive& p = model.primitives_[primitive];
     program.set("uSkinned", p.skinned ? 1 : 0);
     const bool rigid = p.rigidJoint >= 0 && static_cast<std::size_t>(p.rigidJoint) < pose.model_.size();
     program.set("uRigid", rigid ? pose.model_[static_cast<std::size_t>(p.rigidJoint)] : glm::mat4(1.0f));
@@ -265,6 +312,17 @@ void drawCharacter(const ShaderProgram& program, const CharacterModel& model, co
     glActiveTexture(GL_TEXTURE3);
     glBindTexture(GL_TEXTURE_2D, p.morphNormals);
     glBindVertexArray(p.vao);
+    // Attribute 5 is this character's PRT irradiance (the VAO is shared by every character
+    // of the asset, so the buffer is attached per draw); off: the per-fragment SH9 light.
+    const unsigned prtBuffer = usePrt ? prt->slices_[primitive].buffer : 0u;
+    program.set("uPrt", prtBuffer ? 1 : 0);
+    if (prtBuffer) {
+      glBindBuffer(GL_ARRAY_BUFFER, prtBuffer);
+      glEnableVertexAttribArray(5);
+      glVertexAttribPointer(5, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    } else {
+      glDisableVertexAttribArray(5);
+    }
     glDrawElements(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT, nullptr);
   }
   glBindVertexArray(0);

@@ -4,10 +4,14 @@
 //
 // CharacterModel is the GPU copy of one asset (shared by every character made
 // from it); CharacterPose is one character's per-frame state (its palette
-// texture and morph weights), filled from its TransformBuffer.
+// texture and morph weights), filled from its TransformBuffer. PrtIrradiance is
+// one character's per-vertex PRT irradiance (one dynamic vertex buffer per primitive),
+// filled each frame from the CPU relighting (docs/ar-renderer.md, "PRT lighting").
 #pragma once
 #include <array>
+#include <cstddef>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -45,9 +49,11 @@ class CharacterModel {
 
  private:
   friend class CharacterPose;
+  friend class PrtIrradiance;
   friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const class CharacterPose&, const glm::mat4&,
-                            const glm::mat4&, const Lighting&);
+                            const glm::mat4&, const Lighting&, const class PrtIrradiance*);
   struct Primitive {
+    std::size_t assetPrimitive = 0;  // index over the asset's primitives, mesh-major, primitive-minor
     unsigned vao = 0, vertexBuffer = 0, indexBuffer = 0;
     int indexCount = 0, vertexCount = 0;
     bool skinned = true;
@@ -79,7 +85,7 @@ class CharacterPose {
 
  private:
   friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const CharacterPose&, const glm::mat4&,
-                            const glm::mat4&, const Lighting&);
+                            const glm::mat4&, const Lighting&, const PrtIrradiance*);
   void upload();
   bridge::PaletteBinding binding_;
   std::vector<float> palette_;        // joints x 12 floats
@@ -89,8 +95,42 @@ class CharacterPose {
   int joints_ = 0;
 };
 
-// Draws one character with `program` (character.vert + character.frag).
+// One character's PRT irradiance E_v (linear RGB, before albedo / pi and exposure) per
+// vertex of its model, as vertex attribute 5 (aPrtIrradiance): one GL_DYNAMIC_DRAW buffer
+// per drawn primitive, sized once here.
+class PrtIrradiance {
+ public:
+  // `primitiveVertexOffset`: the first vertex of each asset primitive in the per-vertex
+  // array upload() takes (prt::TransferMesh::primitiveVertexOffset, mesh-major, one entry per
+  // primitive, drawn or not), `vertexCount` the array's length. A drawn primitive whose
+  // slice does not have its vertex count keeps the SH9 per-fragment light (mismatches()).
+  PrtIrradiance(const CharacterModel& model, std::span<const std::size_t> primitiveVertexOffset,
+                std::size_t vertexCount);
+  ~PrtIrradiance();
+  PrtIrradiance(const PrtIrradiance&) = delete;
+  PrtIrradiance& operator=(const PrtIrradiance&) = delete;
+
+  // Copies each primitive's slice of `irradiance` (vertexCount() values) into its buffer.
+  // No allocation; does nothing when the size is wrong.
+  void upload(std::span<const glm::vec3> irradiance) noexcept;
+  [[nodiscard]] std::size_t vertexCount() const noexcept { return vertices_; }
+  [[nodiscard]] std::size_t mismatches() const noexcept { return mismatches_; }
+
+ private:
+  friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const CharacterPose&, const glm::mat4&,
+                            const glm::mat4&, const Lighting&, const PrtIrradiance*);
+  struct Slice {
+    unsigned buffer = 0;  // 0: this primitive is lit per fragment
+    std::size_t first = 0, count = 0;
+  };
+  std::vector<Slice> slices_;  // one per CharacterModel primitive, in its order
+  std::size_t vertices_ = 0, mismatches_ = 0;
+};
+
+// Draws one character with `program` (character.vert + character.frag): lit by
+// `prt` when given (per-vertex irradiance), else by lighting.irradianceSH per fragment.
 void drawCharacter(const ShaderProgram& program, const CharacterModel& model, const CharacterPose& pose,
-                   const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting);
+                   const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting,
+                   const PrtIrradiance* prt = nullptr);
 
 }  // namespace marionette::ar
