@@ -17,4 +17,6 @@ set xrange [1.8:8.2]
 set xtics 1
 set grid
 set key outside right noenhanced font "sans,9"
-plot for [m in maps] file skip 1 using (strcol(1) eq m ? $2 : NaN):4 with linespoints lw 2 pt 7 ps 0.7 title m
+# 8 colours, then the same colours dashed with other points
+plot for [i = 1:words(maps)] file skip 1 using (strcol(1) eq word(maps, i) ? $2 : NaN):4 \
+       with linespoints lw 2 lc i dt 1 + (i > 8) pt 7 - 3 * (i > 8) ps 0.8 title word(maps, i)
