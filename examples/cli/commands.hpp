@@ -13,6 +13,7 @@ int lipsyncCommand(const std::vector<std::string>& args);
 int retargetCommand(const std::vector<std::string>& args);
 #ifdef MARIONETTE_CLI_HAS_PRT
 int prtCommand(const std::vector<std::string>& args);
+int prtReportCommand(const std::vector<std::string>& args);  // `prt report` (prt_report.cpp)
 #endif
 #ifdef MARIONETTE_CLI_HAS_BML
 int bmlCheckCommand(const std::vector<std::string>& args);

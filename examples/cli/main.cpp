@@ -26,6 +26,8 @@ void usage() {
       "                           n-band SH irradiance of a light probe against brute force\n"
       "  prt precompute MESH [--bands N] [--rays R] [--shadowed] -o CACHE [--json]\n"
       "                           per-vertex radiance transfer (shadowed: Embree rays), into a file\n"
+      "  prt report [--docs DIR] [--quick]\n"
+      "                           the PRT accuracy report: DIR/prt-report.md, CSVs and plots (gnuplot)\n"
 #endif
 #ifdef MARIONETTE_CLI_HAS_BML
       "  bml-check FILE.xml... [--json] [--character ASSET]\n"

@@ -1,6 +1,7 @@
 // `marionette prt`: precomputed radiance transfer on the command line.
 //   lighting-error  the n-band SH irradiance of a light probe against brute force
 //   precompute      the transfer vectors of a character's mesh, into a cache file
+//   report          the PRT accuracy report (prt_report.cpp)
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -22,7 +23,9 @@ namespace {
 constexpr const char* kUsage =
     "usage: marionette prt lighting-error --env MAP [--bands N] [--window none|hann|lanczos|sinc4]\n"
     "                                     [--probe latlong|mirror-ball|auto] [--json]\n"
-    "       marionette prt precompute MESH [--bands N] [--rays R] [--shadowed] [--threads T] -o CACHE [--json]\n";
+    "       marionette prt precompute MESH [--bands N] [--rays R] [--shadowed] [--threads T] -o CACHE [--json]\n"
+    "       marionette prt report [--docs DIR] [--quick] [--assets DIR] [--studiolights DIR] [--scripts DIR]\n"
+    "                             [--threads T]\n";
 
 int fail(const std::string& message) {
   std::fprintf(stderr, "marionette prt: error: %s\n", message.c_str());
@@ -174,6 +177,7 @@ int precomputeCommand(const Options& o) {
 }  // namespace
 
 int prtCommand(const std::vector<std::string>& args) {
+  if (!args.empty() && args[0] == "report") return prtReportCommand({args.begin() + 1, args.end()});
   Options o;
   if (const int code = parse(args, o); code >= 0) return code;
   if (o.positional.empty()) {
