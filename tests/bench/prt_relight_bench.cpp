@@ -78,6 +78,6 @@ void rotation(benchmark::State& state) {
 }
 }  // namespace
 
-BENCHMARK(relight)->Name("Prt/Relight")->Arg(3)->Arg(4)->Arg(6)->Arg(8)->Unit(benchmark::kMicrosecond);
+BENCHMARK(relight)->Name("Prt/Relight")->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Arg(8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(relightMemcpy)->Name("Prt/RelightMemcpy")->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
-BENCHMARK(rotation)->Name("Prt/ShRotation")->Arg(3)->Arg(4)->Arg(8)->Unit(benchmark::kMicrosecond);
+BENCHMARK(rotation)->Name("Prt/ShRotation")->Arg(3)->Arg(4)->Arg(5)->Arg(8)->Unit(benchmark::kMicrosecond);

@@ -14,34 +14,20 @@
 #include <fstream>
 
 #include "marionette/prt/environment_map.hpp"
+#include "image_test_util.hpp"
 #include "test_data.hpp"
 
 using namespace marionette::prt;
 namespace mt = marionette::test;
 namespace fs = std::filesystem;
 
+using marionette::prt::test::mentions;
+using marionette::prt::test::tempDir;
+using marionette::prt::test::writeFloatImage;
+
 namespace {
 constexpr double kPi = std::numbers::pi;
 
-fs::path tempDir(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("marionette_ar_env_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-void writeFloatImage(const std::string& path, int w, int h, int nch, const std::vector<float>& data) {
-  auto out = OIIO::ImageOutput::create(path);
-  ASSERT_TRUE(out) << OIIO::geterror();
-  OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::FLOAT);
-  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, data.data())) << out->geterror();
-  out->close();
-}
-
-bool mentions(const marionette::Diagnostics& d, const std::string& text) {
-  return d.format().find(text) != std::string::npos;
-}
 }  // namespace
 
 TEST(EnvironmentMap, DirectionConventionAndInverse) {
@@ -125,7 +111,7 @@ TEST(EnvironmentMap, LoadsEveryBlenderStudiolightDwabExr) {
 
 TEST(EnvironmentMap, NanInfAndNegativeValuesAreClampedWithOneWarningNamingTheFile) {
   // A float EXR holds them all (Radiance RGBE cannot store NaN, Inf or negatives).
-  const fs::path dir = tempDir("clamp");
+  const fs::path dir = tempDir("env_clamp");
   const std::string path = (dir / "bad.exr").string();
   std::vector<float> px(16 * 8 * 3, 0.5f);
   px[0] = std::numeric_limits<float>::quiet_NaN();
@@ -150,7 +136,7 @@ TEST(EnvironmentMap, NanInfAndNegativeValuesAreClampedWithOneWarningNamingTheFil
 }
 
 TEST(EnvironmentMap, OneAndFourChannelImagesBecomeRgb) {
-  const fs::path dir = tempDir("channels");
+  const fs::path dir = tempDir("env_channels");
   const std::string grey = (dir / "grey.exr").string(), rgba = (dir / "rgba.exr").string();
   writeFloatImage(grey, 4, 2, 1, {1, 2, 3, 4, 5, 6, 7, 8});
   std::vector<float> four(4 * 2 * 4);
@@ -166,7 +152,7 @@ TEST(EnvironmentMap, OneAndFourChannelImagesBecomeRgb) {
 }
 
 TEST(EnvironmentMap, OtherAspectRatiosLoadWithAWarning) {
-  const fs::path dir = tempDir("aspect");
+  const fs::path dir = tempDir("env_aspect");
   const std::string path = (dir / "square.exr").string();
   writeFloatImage(path, 8, 8, 3, std::vector<float>(8 * 8 * 3, 1.0f));
   auto load = loadEnvironmentMap(path);
@@ -177,7 +163,7 @@ TEST(EnvironmentMap, OtherAspectRatiosLoadWithAWarning) {
 }
 
 TEST(EnvironmentMap, ErrorsNameTheFile) {
-  const fs::path dir = tempDir("errors");
+  const fs::path dir = tempDir("env_errors");
   const std::string missing = (dir / "no_such_map.hdr").string();
   auto a = loadEnvironmentMap(missing);
   EXPECT_FALSE(a.map);

@@ -20,35 +20,21 @@
 #include "marionette/prt/environment_map.hpp"
 #include "marionette/prt/mirror_ball.hpp"
 #include "prt_test_util.hpp"
+#include "image_test_util.hpp"
 #include "test_data.hpp"
 
 using namespace marionette::prt;
 namespace mt = marionette::test;
 namespace fs = std::filesystem;
 
+using marionette::prt::test::mentions;
+using marionette::prt::test::tempDir;
+using marionette::prt::test::writeFloatImage;
+
 namespace {
 constexpr double kPi = std::numbers::pi;
 const double kHalfSqrt2 = std::sqrt(0.5);
 
-fs::path tempDir(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("marionette_prt_ball_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-void writeFloatImage(const std::string& path, int w, int h, int nch, const std::vector<float>& data) {
-  auto out = OIIO::ImageOutput::create(path);
-  ASSERT_TRUE(out) << OIIO::geterror();
-  OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::FLOAT);
-  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, data.data())) << out->geterror();
-  out->close();
-}
-
-bool mentions(const marionette::Diagnostics& d, const std::string& text) {
-  return d.format().find(text) != std::string::npos;
-}
 
 bool near(const glm::dvec3& a, const glm::dvec3& b, double tolerance = 1e-12) {
   return glm::length(a - b) < tolerance;
@@ -249,7 +235,7 @@ TEST(MirrorBall, QuarryRoundTripThroughA512PixelBall) {
 }
 
 TEST(MirrorBall, LoadLightProbeDetectsTheProjectionFromTheAspect) {
-  const fs::path dir = tempDir("auto");
+  const fs::path dir = tempDir("ball_auto");
   const EnvironmentMap smooth = smoothMap(128);
   const std::string ballPath = (dir / "ball.exr").string();
   const std::vector<float> ball = renderMirrorBall(smooth, 64);
@@ -303,7 +289,7 @@ TEST(MirrorBall, LoadLightProbeDetectsTheProjectionFromTheAspect) {
 }
 
 TEST(MirrorBall, BadInputIsAnErrorNamingTheFile) {
-  const fs::path dir = tempDir("errors");
+  const fs::path dir = tempDir("ball_errors");
   const std::string missing = (dir / "no_such_probe.exr").string();
   const auto a = loadLightProbe(missing);
   EXPECT_FALSE(a.map);
@@ -346,7 +332,7 @@ TEST(MirrorBall, BadInputIsAnErrorNamingTheFile) {
 }
 
 TEST(MirrorBall, NanAndNegativeValuesInABallAreClampedWithAWarningNamingTheFile) {
-  const fs::path dir = tempDir("clamp");
+  const fs::path dir = tempDir("ball_clamp");
   const std::string path = (dir / "dirty_ball.exr").string();
   std::vector<float> px = renderMirrorBall(smoothMap(64), 32);
   const std::size_t centre = (16u * 32 + 16) * 3;

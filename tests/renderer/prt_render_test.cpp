@@ -140,7 +140,7 @@ TEST_F(PrtRender, ShadowedOnlyTakesLightAway) {
   ASSERT_GT(character.size(), std::size_t(kWidth * kHeight / 20));
   std::string log;
   const ar::Image8 shadowed = render(scene, "", "shadowed", &log);
-  EXPECT_NE(log.find("4 bands, shadowed"), std::string::npos) << log;
+  EXPECT_NE(log.find("5 bands, shadowed"), std::string::npos) << log;
   const ar::Image8 unshadowed = render(scene, "--prt unshadowed", "unshadowed");
   std::size_t darker = 0, brighter = 0;
   double worstBrighter = 0.0;

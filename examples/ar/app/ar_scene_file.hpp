@@ -8,7 +8,7 @@
 //                                               //   (and "fps" for a sequence), or "color" with "color": [r, g, b]
 //   "environment": { "file": "studio.exr", "rotation": 0, "exposure": 1.0,  // optional: HDR light probe
 //                    "probe": "auto",                         // or "latlong" / "mirror-ball"
-//                    "prt": { "mode": "shadowed", "bands": 4, "rays": 1024,   // or "unshadowed" / "off"
+//                    "prt": { "mode": "shadowed", "bands": 5, "rays": 1024,   // or "unshadowed" / "off"
 //                             "cache": "dir",                 // optional: prt::defaultTransferCacheDirectory()
 //                             "pose": { "clip": "walk", "time": 0.0 } } },   // optional: transfer in that pose
 //   "render": { "width": 960, "height": 540, "fps": 30 }

@@ -26,7 +26,7 @@
 
 namespace marionette::prt {
 
-inline constexpr int kDefaultTransferBands = 4;  // see docs/accuracy.md "PRT end to end"
+inline constexpr int kDefaultTransferBands = 5;  // from the work-precision table: docs/accuracy.md "PRT"
 
 struct TransferSettings {
   int bands = kDefaultTransferBands;   // 2..8
