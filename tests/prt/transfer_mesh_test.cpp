@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
@@ -167,6 +169,20 @@ TEST(TransferMesh, RestPoseSkinsWithTheWeights) {
   expectNear(mesh.positions[1], p.positions[1] + glm::vec3(2, 1, 0), 1e-6f, "half and half");
   expectNear(mesh.positions[2], p.positions[2], 0.0f, "no weights: kept");
   EXPECT_NE(d.format().find("without usable skin weights"), std::string::npos) << d.format();
+
+  // Posed: the given model matrices instead of the rest pose (joint "up" raised by 3 more).
+  std::vector<glm::mat4> pose = asset.skeleton.restModelMatrices();
+  pose[0] = glm::translate(glm::mat4(1.0f), glm::vec3(0, 5, 0));
+  Diagnostics posedDiagnostics;
+  const TransferMesh posed = bindPoseMesh(asset, posedDiagnostics, {.skinnedSpace = SkinnedSpace::Posed, .poseModel = pose});
+  expectNear(posed.positions[0], p.positions[0] + glm::vec3(0, 5, 0), 1e-6f, "posed, one joint");
+  expectNear(posed.positions[1], p.positions[1] + glm::vec3(2, 2.5f, 0), 1e-6f, "posed, half and half");
+  // A pose of the wrong size: an error naming the counts, and the rest pose instead.
+  Diagnostics wrong;
+  const TransferMesh fallback = bindPoseMesh(asset, wrong, {.skinnedSpace = SkinnedSpace::Posed, .poseModel = {pose[0]}});
+  EXPECT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.format().find("1 joint matrices but the skeleton has 2"), std::string::npos) << wrong.format();
+  expectNear(fallback.positions[0], mesh.positions[0], 0.0f, "rest pose instead");
 }
 
 // A rigid part on a joint goes through the joint's rest model matrix; normals through its

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <random>
@@ -236,6 +238,60 @@ TEST(TransferCache, RoundTripAndMismatchAndRelaunchSkipsThePrecompute) {
   EXPECT_FALSE(third.fromCache);
   EXPECT_NE(damaged.format().find(first.path), std::string::npos) << damaged.format();
   EXPECT_EQ(third.transfer.coefficients, first.transfer.coefficients);
+  fs::remove_all(dir);
+}
+
+// The cache is a binary format read back from disk: mutated files (flipped bytes, truncation,
+// junk appended, NaN patterns) are either rejected with a warning naming the file or load as a
+// well-formed, finite transfer. Never a crash (the sanitizer build runs this too).
+TEST(TransferCache, MutatedFilesAreRejectedOrLoadWellFormed) {
+  const fs::path dir = fs::temp_directory_path() / "marionette_prt_cache_fuzz";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const TransferMesh sphere = icosphere(1, 1.0f);
+  TransferSettings s;
+  s.bands = 3;
+  s.shadowed = false;
+  Diagnostics d;
+  const VertexTransfer t = computeTransfer(sphere, s, nullptr, d);
+  const std::uint64_t key = transferCacheKey(sphere, s);
+  const std::string good = (dir / "good.mprt").string();
+  ASSERT_TRUE(saveTransfer(good, key, s, t, d)) << d.format();
+  std::vector<char> bytes(fs::file_size(good));
+  std::ifstream(good, std::ios::binary).read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::mt19937 rng(9);
+  int rejected = 0, loaded = 0;
+  for (int iteration = 0; iteration < 1500; ++iteration) {
+    std::vector<char> m = bytes;
+    switch (iteration % 4) {
+      case 0:  // flip a few bytes anywhere (header included)
+        for (int k = 0; k < 1 + static_cast<int>(rng() % 8); ++k) m[rng() % m.size()] ^= static_cast<char>(1 + rng() % 255);
+        break;
+      case 1: m.resize(rng() % m.size()); break;  // truncated
+      case 2: m.insert(m.end(), 1 + rng() % 64, static_cast<char>(rng())); break;  // junk appended
+      default: {  // a NaN or an infinity in the payload
+        const std::size_t at = 40 + 4 * (rng() % ((m.size() - 40) / 4));
+        const float bad = iteration % 8 == 3 ? std::nanf("") : std::numeric_limits<float>::infinity();
+        std::memcpy(&m[at], &bad, sizeof bad);
+      }
+    }
+    const std::string path = (dir / "mutated.mprt").string();
+    std::ofstream(path, std::ios::binary | std::ios::trunc).write(m.data(), static_cast<std::streamsize>(m.size()));
+    Diagnostics load;
+    const auto back = loadTransfer(path, key, sphere.positions.size(), 3, load);
+    if (!back) {
+      ++rejected;
+      ASSERT_NE(load.format().find(path), std::string::npos) << "iteration " << iteration;
+      continue;
+    }
+    ++loaded;  // a flip that left a valid file (e.g. inside a coefficient): well formed, finite
+    ASSERT_EQ(back->coefficients.size(), t.coefficients.size());
+    for (float v : back->coefficients) ASSERT_TRUE(std::isfinite(v));
+    for (float v : back->occluded) ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
+    ASSERT_EQ(iteration % 4, 0) << "only a flip inside the payload can leave a valid file";
+  }
+  std::printf("  1500 mutated cache files: %d rejected, %d loaded well formed\n", rejected, loaded);
+  EXPECT_GT(rejected, 1000);
   fs::remove_all(dir);
 }
 

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -122,11 +123,12 @@ std::optional<VertexTransfer> loadTransfer(const std::string& path, std::uint64_
     diagnostics.warning(path, "PRT cache file is truncated; computing again");
     return std::nullopt;
   }
-  for (float v : t.coefficients)
-    if (!std::isfinite(v)) {
-      diagnostics.warning(path, "PRT cache file holds non-finite values; computing again");
-      return std::nullopt;
-    }
+  const bool finite = std::all_of(t.coefficients.begin(), t.coefficients.end(), [](float v) { return std::isfinite(v); });
+  const bool fractions = std::all_of(t.occluded.begin(), t.occluded.end(), [](float v) { return v >= 0.0f && v <= 1.0f; });
+  if (!finite || !fractions) {
+    diagnostics.warning(path, "PRT cache file holds non-finite values or occlusion outside 0..1; computing again");
+    return std::nullopt;
+  }
   return t;
 }
 
