@@ -11,6 +11,12 @@
 #include "marionette/bridge/morph_binding.hpp"
 #include "marionette/bridge/palette_binding.hpp"
 #endif
+#ifdef MARIONETTE_TEST_HAS_PRT
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "marionette/prt/relight.hpp"
+#include "marionette/prt/sh_rotation.hpp"
+#endif
 #include "synthetic_humanoid.hpp"
 #include "synthetic_rig.hpp"
 
@@ -195,5 +201,30 @@ TEST(Allocation, BridgeCopiesAllocateNothing) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(copied, 400);
+}
+#endif
+
+#ifdef MARIONETTE_TEST_HAS_PRT
+// PRT per frame: the environment's light turned into a character's frame, then relit.
+TEST(Allocation, PrtRotationAndRelightingAllocateNothing) {
+  using namespace marionette::prt;
+  VertexTransfer transfer;
+  transfer.bands = kDefaultTransferBands;
+  transfer.coefficients.assign(1003u * static_cast<std::size_t>(transfer.count()), 0.25f);
+  transfer.occluded.assign(1003u, 0.0f);
+  const TransferRelighter relighter(transfer);
+  const ShRotation rotation(kDefaultTransferBands);
+  ShCoefficients world, local;
+  world.bands = kDefaultTransferBands;
+  for (int i = 0; i < world.count(); ++i) world.c[i] = glm::dvec3(1.0 / (1 + i));
+  std::vector<glm::vec3> irradiance(1003);
+  const long before = g_allocations.load();
+  for (int f = 0; f < 100; ++f) {
+    const glm::dmat3 r(glm::rotate(glm::dmat4(1.0), 0.05 * f, glm::dvec3(0.2, 1.0, 0.1)));
+    rotation.rotate(r, world, local);
+    relighter.relight(local, irradiance);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GT(irradiance[500].x, 0.0f);  // it did run
 }
 #endif
