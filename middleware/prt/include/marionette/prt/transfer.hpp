@@ -7,8 +7,8 @@
 //     sqrt(N) x sqrt(N) grid, T_i = pi / N * sum_k V(w_k) Y_i(w_k). Ray origins are moved off
 //     the surface along the geometric normal by a distance scaled to the mesh, so that a
 //     convex mesh comes out 0 % occluded (no self-shadowing acne).
-// Deterministic: each vertex's jitter comes from (seed, vertex index), whatever the thread
-// count. Skinned characters: the transfer is computed in bind pose and then used in every pose,
+// Deterministic: the jittered pattern comes from the seed and each vertex turns it about its
+// normal by an angle drawn from (seed, vertex index), whatever the thread count. Skinned characters: the transfer is computed in bind pose and then used in every pose,
 // as the original system did (the shadows do not follow the limbs; docs/prt.md).
 #pragma once
 #include <cstddef>
