@@ -1,5 +1,7 @@
 #include "marionette/prt/transfer_cache.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <algorithm>
@@ -68,7 +70,7 @@ bool saveTransfer(const std::string& path, std::uint64_t key, const TransferSett
   std::error_code ec;
   const std::filesystem::path target(path);
   if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), ec);
-  const std::string temporary = path + ".tmp";
+  const std::string temporary = path + ".tmp" + std::to_string(getpid());  // two writers never share it
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     Header h{};
