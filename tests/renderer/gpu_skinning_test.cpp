@@ -5,6 +5,7 @@
 #include <epoxy/gl.h>
 
 #include <cstdio>
+#include <filesystem>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -142,7 +143,10 @@ TEST_P(GpuSkinning, MatchesCpuReference) {
 INSTANTIATE_TEST_SUITE_P(Characters, GpuSkinning,
                          ::testing::Values(MARIONETTE_ASSIMP_MODELS "/X/BCN_Epileptic.X",
                                            MARIONETTE_SHARED_DIR "/assets/characters/RobotExpressive.glb",
-                                           MARIONETTE_SHARED_DIR "/assets/characters/CesiumMan.glb"));
+                                           MARIONETTE_SHARED_DIR "/assets/characters/CesiumMan.glb"),
+                         [](const ::testing::TestParamInfo<const char*>& param_info) {  // the file's stem: no path in the name
+                           return std::filesystem::path(param_info.param).stem().string();
+                         });
 
 TEST_F(GlTest, TexturesShowOnGodette) {
   const std::string path = sharedAsset("characters/Godette_vrm_v4.vrm");
