@@ -60,12 +60,21 @@ class PrtRender : public ::testing::Test {
     return R"({"file": ")" + forest_ + R"(", "rotation": 40)" + (prt.empty() ? "" : R"(, "prt": )" + prt) + "}";
   }
 
+  // The transfer cache: the one ctest gives every GL test (MARIONETTE_PRT_CACHE, in the
+  // build tree), so a transfer is computed once per build; the tests of the cache itself
+  // (RelaunchReadsTheCache, NoEnvironment...) use a folder of their own.
+  fs::path sharedCache() const {
+    const char* shared = std::getenv("MARIONETTE_PRT_CACHE");
+    return shared && *shared ? fs::path(shared) : dir_ / "cache";
+  }
+
   // Renders one frame; returns it (and the program's output in `log`).
   ar::Image8 render(const std::string& scene, const std::string& options, const std::string& out,
-                    std::string* log = nullptr) const {
+                    std::string* log = nullptr, bool ownCache = false) const {
     const fs::path outDir = dir_ / out;
+    const fs::path cache = ownCache ? dir_ / "cache" : sharedCache();
     const CliRun r = runAr(scene + " --headless --frames 1 --width " + std::to_string(kWidth) + " --height " +
-                           std::to_string(kHeight) + " --prt-cache " + (dir_ / "cache").string() + " " + options +
+                           std::to_string(kHeight) + " --prt-cache " + cache.string() + " " + options +
                            " --out " + outDir.string());
     EXPECT_EQ(r.status, 0) << r.out;
     if (log) *log = r.out;
@@ -173,12 +182,13 @@ TEST_F(PrtRender, ExposureScalesThePrtLight) {
 
 TEST_F(PrtRender, NoEnvironmentNoPrecomputeAndUnshadowedCastsNoRays) {
   std::string log;
-  (void)render(writeScene("plain.json", ""), "", "plain", &log);
+  (void)render(writeScene("plain.json", ""), "", "plain", &log, /*ownCache=*/true);
   EXPECT_NE(log.find("prt off (no environment"), std::string::npos) << log;
   EXPECT_EQ(log.find("prt RobotExpressive"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(dir_ / "cache")) << "a scene without environment wrote a transfer";
 
-  (void)render(writeScene("unshadowed.json", forestEnvironment(R"({"mode": "unshadowed"})")), "", "unshadowed", &log);
+  (void)render(writeScene("unshadowed.json", forestEnvironment(R"({"mode": "unshadowed"})")), "", "unshadowed", &log,
+               /*ownCache=*/true);
   EXPECT_NE(log.find("prt RobotExpressive.glb: "), std::string::npos) << log;
   EXPECT_NE(log.find("unshadowed, "), std::string::npos) << log;
   EXPECT_NE(log.find(" s, 0 rays"), std::string::npos) << "an unshadowed transfer cast rays: " << log;
@@ -187,7 +197,7 @@ TEST_F(PrtRender, NoEnvironmentNoPrecomputeAndUnshadowedCastsNoRays) {
 TEST_F(PrtRender, RelaunchReadsTheCache) {
   const std::string scene = writeScene("scene.json", forestEnvironment(R"({"rays": 64})"));
   std::string first, second;
-  const ar::Image8 a = render(scene, "", "first", &first), b = render(scene, "", "second", &second);
+  const ar::Image8 a = render(scene, "", "first", &first, true), b = render(scene, "", "second", &second, true);
   EXPECT_EQ(first.find("from cache"), std::string::npos) << first;
   EXPECT_NE(first.find("shadowed, "), std::string::npos) << first;
   EXPECT_EQ(first.find(" 0 rays"), std::string::npos) << "a shadowed precompute cast no rays: " << first;
@@ -195,7 +205,7 @@ TEST_F(PrtRender, RelaunchReadsTheCache) {
   EXPECT_EQ(a.pixels, b.pixels) << "the cached transfer lights differently";
   // Other settings are another cache entry: computed again.
   std::string third;
-  (void)render(scene, "--prt-rays 16", "third", &third);
+  (void)render(scene, "--prt-rays 16", "third", &third, true);
   EXPECT_EQ(third.find("from cache"), std::string::npos) << third;
 }
 
