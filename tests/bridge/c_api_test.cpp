@@ -319,3 +319,45 @@ TEST(CApi, ScenesOnTwoThreadsAreIndependent) {
   EXPECT_EQ(threadError[0], "");
   EXPECT_NE(threadError[1].find("mn_scene_update"), std::string::npos);
 }
+
+// ../shared/repro/README.md: a dt finite as a double but not as a float (1e39) became an
+// infinite character clock, a NaN locomotion phase and a read past the key times.
+TEST(CApi, DtTooLargeForTheClockIsRejectedAndTheWalkGoesOn) {
+  SceneWithRobot s;
+  ASSERT_NE(s.robot, nullptr);
+#ifdef MARIONETTE_TEST_HAS_BML
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", R"(<bml id="walk"><locomotion id="l" target="2 2"/></bml>)"), MN_OK)
+      << mn_scene_last_error(s.scene);
+#endif
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  const double before = mn_scene_time(s.scene);
+  for (const double dt : {1e39, 3600.5, 1e300, static_cast<double>(INFINITY)}) {
+    EXPECT_EQ(mn_scene_update(s.scene, dt), MN_ERROR_INVALID_ARGUMENT) << dt;
+    EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("at most 3600"), std::string::npos)
+        << mn_scene_last_error(s.scene);
+    EXPECT_EQ(mn_scene_time(s.scene), before) << "a rejected dt moved the clock";
+  }
+  EXPECT_EQ(mn_scene_update(s.scene, 3600.0), MN_OK) << "the limit itself is allowed";  // long pause, then on
+  const std::size_t joints = mn_character_joint_count(s.robot);
+  std::vector<float> palette(joints * 16);
+  for (int i = 0; i < 30; ++i) {
+    ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+    ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, palette.data(), palette.size()), MN_OK);
+    for (float v : palette) ASSERT_TRUE(std::isfinite(v)) << "frame " << i;
+  }
+}
+
+// ../shared/repro/scene_number_overflow_uncaught_out_of_range.json through the C API: an
+// error naming the file and the number, not an internal error.
+TEST(CApi, SceneFileWithANumberTooLargeNamesTheFile) {
+  const std::string path = std::string(MARIONETTE_SHARED_DIR) + "/repro/scene_number_overflow_uncaught_out_of_range.json";
+  MARIONETTE_REQUIRE_FILE(path);
+  mn_scene* scene = nullptr;
+  ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+  const mn_status status = mn_scene_load_file(scene, path.c_str());
+  EXPECT_EQ(status, MN_ERROR_LOAD) << mn_status_name(status) << ": " << mn_scene_last_error(scene);
+  const std::string error = mn_scene_last_error(scene);
+  EXPECT_NE(error.find("scene_number_overflow_uncaught_out_of_range.json:1:"), std::string::npos) << error;
+  EXPECT_NE(error.find("1e999"), std::string::npos) << error;
+  mn_scene_destroy(scene);
+}

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <vector>
+
 #include "marionette/animation/sampling.hpp"
 #include "synthetic.hpp"
 
@@ -151,4 +154,27 @@ TEST(Sampling, MorphWeightsLinearStepCubic) {
   c.morphTracks[0].interpolation = Interpolation::Step;
   sampleMorphWeights(c, 0.9f, w);
   EXPECT_EQ(w[1], 0.0f);
+}
+
+// A time from an overflowed float (NaN, +-inf) must never become a key index: it holds the
+// first key (NaN, -inf) or the last (+inf). Under AddressSanitizer a read past the key
+// times fails this test (../shared/repro/README.md, the C API's dt of 1e39).
+TEST(Sampling, NanAndInfiniteTimesHoldAnEndKey) {
+  const std::vector<float> times = {0.0f, 0.5f, 1.0f, 2.0f};
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (std::uint32_t hint : {0u, 1u, 2u, 99u}) {
+    EXPECT_EQ(findKeyInterval(times, nan, hint), 0u) << hint;
+    EXPECT_EQ(findKeyInterval(times, -inf, hint), 0u) << hint;
+    EXPECT_EQ(findKeyInterval(times, inf, hint), 2u) << hint;
+  }
+  Clip c = oneTrackClip(rotationTrack(0, {0, 0.5f, 1, 2}, {0, 1, 2, 3}));
+  SamplingCursor cursor;
+  const glm::quat first = at(c, 0.0f), last = at(c, 2.0f);
+  for (int pass = 0; pass < 2; ++pass) {  // with and without a cursor
+    SamplingCursor* cur = pass ? &cursor : nullptr;
+    const glm::quat q = at(c, nan, 1, cur), hi = at(c, inf, 1, cur), lo = at(c, -inf, 1, cur);
+    EXPECT_EQ(q, first);
+    EXPECT_EQ(lo, first);
+    EXPECT_EQ(hi, last);
+  }
 }

@@ -89,8 +89,9 @@ MN_API mn_character* mn_scene_character_at(mn_scene* scene, size_t index); /* NU
  * block that fails as a whole returns MN_ERROR_BML with a message naming the block,
  * line:column and problem. MN_ERROR_UNSUPPORTED when built without BML. */
 MN_API mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* bml_text);
-/* Advances the clock by dt seconds (finite, >= 0) and updates every character and
- * the BML realizer; callbacks come from here. */
+/* Advances the clock by dt seconds (finite, >= 0, at most 3600: MN_ERROR_INVALID_ARGUMENT
+ * otherwise, and the clock stays) and updates every character and the BML realizer;
+ * callbacks come from here. */
 MN_API mn_status mn_scene_update(mn_scene* scene, double dt);
 MN_API double mn_scene_time(const mn_scene* scene); /* seconds; 0 for NULL */
 

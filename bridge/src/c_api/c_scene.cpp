@@ -282,8 +282,8 @@ mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* 
 
 mn_status mn_scene_update(mn_scene* scene, double dt) {
   if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_update: scene is NULL");
-  if (!std::isfinite(dt) || dt < 0.0)
-    return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_update: dt must be finite and >= 0 seconds");
+  if (!std::isfinite(dt) || dt < 0.0 || dt > marionette::Scene::kMaxUpdateSeconds)
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_update: dt must be finite, >= 0 and at most 3600 seconds");
   return guarded(scene, [&] {
 #ifdef MARIONETTE_C_HAS_BML
     if (scene->nextBml < scene->pendingBml.size()) sendDueBml(*scene, scene->scene.time() + dt);

@@ -235,7 +235,7 @@ void RootMotion::evaluate(float t, glm::vec3& outOffset, float& outYaw) const no
     outYaw = 0.0f;
     return;
   }
-  if (t <= times.front()) {
+  if (!(t > times.front())) {  // NaN included
     outOffset = offset.front();
     outYaw = yaw.front();
     return;

@@ -28,7 +28,7 @@ std::uint32_t findKeyInterval(std::span<const float> times, float t, std::uint32
   // Forward playback: the same interval or one of the next two.
   for (std::uint32_t i = hint, end = std::min(hint + 3, n - 1); i < end; ++i)
     if (times[i] <= t && t < times[i + 1]) return i;
-  if (t < times[0]) return 0;
+  if (!(t >= times[0])) return 0;  // before the first key, or NaN: never an index from a NaN compare
   if (t >= times[last + 1]) return last;
   auto it = std::upper_bound(times.begin(), times.end(), t);
   return static_cast<std::uint32_t>(it - times.begin()) - 1;
@@ -46,7 +46,8 @@ struct KeyPos {
 
 KeyPos locate(std::span<const float> times, float t, std::uint32_t* hint) noexcept {
   const auto n = static_cast<std::uint32_t>(times.size());
-  if (n == 1 || t <= times[0]) return {0, 0.0f, 0.0f, true};
+  // NaN (a time from an overflowed float) holds the first key; +-inf the first or last.
+  if (n <= 1 || !(t > times[0])) return {0, 0.0f, 0.0f, true};
   if (t >= times[n - 1]) return {n - 1, 0.0f, 0.0f, true};
   std::uint32_t i = findKeyInterval(times, t, hint ? *hint : 0);
   if (hint) *hint = i;

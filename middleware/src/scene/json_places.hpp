@@ -96,7 +96,9 @@ class JsonPlaces {
       } else if (c == '"') {
         readString();
       } else {
+        const std::size_t from = i;
         while (i < n && std::string_view(",]} \t\r\n").find(text[i]) == std::string_view::npos) ++i;
+        if (i == from) return;  // a closing bracket where a value starts: not the JSON nlohmann read
       }
     }
   }
@@ -121,6 +123,13 @@ class JsonPlaces {
 // Parses `text` (the contents of `path`) into `doc`; on a syntax error (or a number
 // out of range) adds an error naming the file and line:column and returns false.
 inline bool parseJsonText(const std::string& path, const std::string& text, Json& doc, Diagnostics& diags) {
+  // JSON has no raw NUL (RFC 8259), and nlohmann stops reading at one, so what follows
+  // would be ignored unchecked: the file is not JSON text (binary data, a wrong file).
+  if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
+    const auto [line, col] = lineColumnAt(text, static_cast<std::ptrdiff_t>(nul));
+    diags.error(path, "a NUL byte: not a JSON text file", line, col);
+    return false;
+  }
   try {  // load time: nlohmann reports the byte offset only through its exception
     doc = Json::parse(text);
     return true;

@@ -105,8 +105,9 @@ void Scene::log(LogLevel level, std::string_view message) const {
 }
 
 void Scene::update(double dt) noexcept {
-  if (!std::isfinite(dt) || dt < 0.0) {
-    log(LogLevel::Warning, "Scene::update: negative or non-finite dt rejected; the clock did not advance");
+  if (!std::isfinite(dt) || dt < 0.0 || dt > kMaxUpdateSeconds) {
+    log(LogLevel::Warning,
+        "Scene::update: dt must be finite, >= 0 and at most 3600 s (Scene::kMaxUpdateSeconds); the clock did not advance");
     return;
   }
   time_ += dt;

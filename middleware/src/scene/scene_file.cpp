@@ -385,16 +385,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
                               Scene& scene, const SceneLoadOptions& options) {
   SceneLoadResult result;
   Diagnostics& diags = result.diagnostics;
-  Json doc;
-  try {  // load time, not per frame: nlohmann reports the byte offset only through its exception
-    doc = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    auto [line, col] = lineColumnAt(text, e.byte > 0 ? static_cast<std::ptrdiff_t>(e.byte) - 1 : 0);
-    std::string msg = e.what();
-    auto pos = msg.find("syntax error");
-    diags.error(name, pos != std::string::npos ? msg.substr(pos) : msg, line, col);
-    return result;
-  }
+  Json doc;  // syntax errors, NUL bytes and numbers too large for a double are errors naming the place
+  if (!json_detail::parseJsonText(name, text, doc, diags)) return result;
   Reader r(diags, name, text);
   if (!doc.is_object() || !doc.contains("characters") || !doc["characters"].is_array()) {
     r.fail("/", "expected an object with a \"characters\" array");

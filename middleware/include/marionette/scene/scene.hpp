@@ -42,9 +42,14 @@ class Scene {
   void addListener(SceneListener* listener);
   void removeListener(SceneListener* listener);
 
-  // Advances the clock by dt seconds and updates every character. A negative or
-  // non-finite dt is rejected with a warning (the frame is not advanced); dt = 0
-  // re-evaluates poses without moving time.
+  // The longest step update() takes: an hour. Characters keep their clocks in float
+  // seconds, where a larger step loses the frame's precision and, past 3.4e38, becomes
+  // infinite (then NaN in every phase).
+  static constexpr double kMaxUpdateSeconds = 3600.0;
+
+  // Advances the clock by dt seconds and updates every character. A negative,
+  // non-finite or larger than kMaxUpdateSeconds dt is rejected with a warning (the
+  // frame is not advanced); dt = 0 re-evaluates poses without moving time.
   void update(double dt) noexcept;
   [[nodiscard]] double time() const noexcept { return time_; }
   [[nodiscard]] std::uint64_t frame() const noexcept { return frame_; }
