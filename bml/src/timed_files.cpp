@@ -1,3 +1,4 @@
+#include "marionette/core/text_file.hpp"
 #include "marionette/bml/timed_files.hpp"
 
 #include <algorithm>
@@ -14,14 +15,12 @@ TimedFiles::TimedFiles(Realizer& realizer, std::vector<TimedFile> files)
 void TimedFiles::sendDue(double now, const std::function<void(const Diagnostic&)>& report) {
   for (; next_ < files_.size() && files_[next_].time <= now + 1e-9; ++next_) {
     const TimedFile& f = files_[next_];
-    std::ifstream in(f.path, std::ios::binary);
-    if (!in) {
-      report(Diagnostic{Severity::Error, f.path, 0, 0, "cannot open the BML file"});
+    std::string text, why;
+    if (!readTextFile(f.path, text, why)) {
+      report(Diagnostic{Severity::Error, f.path, 0, 0, "cannot read the BML file: " + why});
       continue;
     }
-    std::stringstream text;
-    text << in.rdbuf();
-    const Schedule s = realizer_.perform(text.str(), f.character, {}, f.time);
+    const Schedule s = realizer_.perform(text, f.character, {}, f.time);
     for (const Warning& w : s.warnings)
       report(Diagnostic{w.fatal ? Severity::Error : Severity::Warning, f.path, w.line, w.column,
                         std::string(toString(w.type)) + ": " +

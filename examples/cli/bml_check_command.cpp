@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "marionette/bml/realizer.hpp"
 #include "marionette/core/diagnostic.hpp"
+#include "marionette/core/text_file.hpp"
 #include "marionette/io/import.hpp"
 
 namespace marionette::cli {
@@ -69,14 +70,12 @@ int bmlCheckCommand(const std::vector<std::string>& args) {
   int worst = 0;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const std::string& file : files) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) {
-      std::fprintf(stderr, "%s: error: cannot open the file\n", file.c_str());
+    std::string content, why;
+    if (!readTextFile(file, content, why)) {
+      std::fprintf(stderr, "%s: error: cannot read the file: %s\n", file.c_str(), why.c_str());
       worst = 2;
       continue;
     }
-    std::stringstream ss;
-    ss << in.rdbuf();
     // Each file is one block sent at time 0 to a fresh scene, so files do not
     // interact (many corpus files share the id "bml1").
     Scene scene;
@@ -84,7 +83,7 @@ int bmlCheckCommand(const std::vector<std::string>& args) {
     bml::Realizer realizer(scene);
     realizer.setForwardWarningsToScene(false);
     realizer.setReportUnrealized(!characterFile.empty());
-    const bml::Schedule s = realizer.perform(ss.str(), name);
+    const bml::Schedule s = realizer.perform(content, name);
     worst = std::max(worst, s.failed ? 2 : (s.warnings.empty() ? 0 : 1));
     if (json) {
       nlohmann::ordered_json block;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "handles.hpp"
+#include "marionette/core/text_file.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/scene/character_profile.hpp"
 
@@ -80,14 +81,12 @@ void sendFeedback(mn_scene& s, const marionette::bml::Feedback& f) {
 void sendDueBml(mn_scene& s, double until) {
   for (; s.nextBml < s.pendingBml.size() && s.pendingBml[s.nextBml].time <= until + 1e-9; ++s.nextBml) {
     const marionette::TimedFile& f = s.pendingBml[s.nextBml];
-    std::ifstream in(f.path, std::ios::binary);
-    if (!in) {
-      s.scene.log(marionette::LogLevel::Error, f.path + ": error: cannot open the BML file");
+    std::string text, why;
+    if (!marionette::readTextFile(f.path, text, why)) {
+      s.scene.log(marionette::LogLevel::Error, f.path + ": error: cannot read the BML file: " + why);
       continue;
     }
-    std::stringstream text;
-    text << in.rdbuf();
-    s.realizer->perform(text.str(), f.character, {}, f.time);  // problems arrive as warning feedback
+    s.realizer->perform(text, f.character, {}, f.time);  // problems arrive as warning feedback
   }
 }
 #endif

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "marionette/core/text_file.hpp"
+
 namespace marionette::ar {
 namespace {
 
@@ -122,14 +124,17 @@ bool parsePrtMode(const std::string& name, PrtMode& out) noexcept {
 Diagnostics readArScene(const std::string& path, ArScene& out) {
   Diagnostics d;
   out.path = path;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    d.items.push_back({Severity::Error, path, 0, 0, "cannot open the AR scene file"});
+  std::string text, why;
+  if (!readTextFile(path, text, why)) {
+    d.items.push_back({Severity::Error, path, 0, 0, "cannot read the AR scene file: " + why});
     return d;
   }
-  std::stringstream text;
-  text << in.rdbuf();
-  Json root = Json::parse(text.str(), nullptr, false);
+  if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {  // nlohmann would stop there
+    const auto [line, column] = lineColumnAt(text, static_cast<std::ptrdiff_t>(nul));
+    d.items.push_back({Severity::Error, path, line, column, "a NUL byte: not a JSON text file"});
+    return d;
+  }
+  Json root = Json::parse(text, nullptr, false);
   if (root.is_discarded() || !root.is_object()) {
     d.items.push_back({Severity::Error, path, 0, 0, "not a JSON object (syntax error)"});
     return d;

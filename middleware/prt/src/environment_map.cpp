@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "rgb_image_reader.hpp"
+#include "marionette/core/limits.hpp"
 
 namespace marionette::prt {
 
@@ -89,6 +90,10 @@ std::optional<RgbImage> readRgbImage(const std::string& path, const std::string&
   if (width <= 0 || height <= 0 || nch <= 0) {
     diag.error(path, noun + " has no pixels (" + std::to_string(width) + "x" + std::to_string(height) + ", " +
                          std::to_string(nch) + " channels)");
+    return std::nullopt;
+  }
+  if (const std::string problem = limits::imageSizeProblem(width, height); !problem.empty() || nch > 64) {
+    diag.error(path, noun + " " + (problem.empty() ? std::to_string(nch) + " channels is more than 64" : problem));
     return std::nullopt;
   }
   std::vector<float> all(static_cast<std::size_t>(width) * height * nch);

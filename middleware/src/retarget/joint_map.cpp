@@ -1,3 +1,4 @@
+#include "marionette/core/text_file.hpp"
 #include "marionette/retarget/joint_map.hpp"
 
 #include <algorithm>
@@ -581,14 +582,11 @@ class MapReader : JsonReaderBase {
 
 JointMapResult load(const std::string& path, const Asset& asset) {
   JointMapResult r;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    r.diagnostics.error(path, "cannot read the joint map '" + path + "' (missing or unreadable)");
+  std::string text, why;
+  if (!readTextFile(path, text, why)) {
+    r.diagnostics.error(path, "cannot read the joint map '" + path + "': " + why);
     return r;
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
   Json doc;
   if (!json_detail::parseJsonText(path, text, doc, r.diagnostics)) return r;
   if (!doc.is_object()) {

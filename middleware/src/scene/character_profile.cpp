@@ -1,3 +1,4 @@
+#include "marionette/core/text_file.hpp"
 #include "marionette/scene/character_profile.hpp"
 #include "marionette/speech/lipsync.hpp"
 
@@ -827,14 +828,11 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
     result.profile.notes.push_back("profile: " + path + " not used (error); everything guessed");
     return result;
   };
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    result.diagnostics.error(path, "cannot read the character profile '" + path + "' (missing or unreadable)");
+  std::string text, why;
+  if (!readTextFile(path, text, why)) {
+    result.diagnostics.error(path, "cannot read the character profile '" + path + "': " + why);
     return fallBack();
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
   Json doc;
   if (!parseJsonText(path, text, doc, result.diagnostics)) return fallBack();
   if (!doc.is_object()) {

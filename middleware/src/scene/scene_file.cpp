@@ -1,3 +1,4 @@
+#include "marionette/core/text_file.hpp"
 #include "marionette/scene/scene_file.hpp"
 
 #include <algorithm>
@@ -550,15 +551,13 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
 }
 
 SceneLoadResult loadSceneFile(const std::string& path, Scene& scene, const SceneLoadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::string text, why;
+  if (!readTextFile(path, text, why)) {
     SceneLoadResult r;
-    r.diagnostics.error(path, "cannot open the scene file");
+    r.diagnostics.error(path, "cannot read the scene file: " + why);
     return r;
   }
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return loadSceneText(ss.str(), path, fs::path(path).parent_path().string(), scene, options);
+  return loadSceneText(text, path, fs::path(path).parent_path().string(), scene, options);
 }
 
 }  // namespace marionette

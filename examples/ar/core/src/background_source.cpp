@@ -2,6 +2,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "marionette/core/limits.hpp"
+
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -55,6 +57,10 @@ bool readImageRgb8(const std::string& path, BackgroundFrame& frame, Diagnostics&
   const int w = spec.width, h = spec.height, nch = spec.nchannels;
   if (w <= 0 || h <= 0 || nch <= 0) {
     diagnostics.error(path, "background image has no pixels");
+    return false;
+  }
+  if (const std::string problem = limits::imageSizeProblem(w, h); !problem.empty() || nch > 64) {
+    diagnostics.error(path, "background image " + (problem.empty() ? std::to_string(nch) + " channels is more than 64" : problem));
     return false;
   }
   std::vector<std::uint8_t> all(static_cast<std::size_t>(w) * h * nch);

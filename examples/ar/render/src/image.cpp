@@ -5,8 +5,25 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include "marionette/core/limits.hpp"
+
 namespace marionette::ar {
 namespace {
+
+// Reads the header only and checks its size against the library's limits before any
+// pixel is decoded (a 50-byte header can declare 80000 x 40000 pixels).
+bool sizeWithinLimits(OIIO::ImageBuf& buf, const std::string& name, std::string& error) {
+  if (!buf.init_spec(buf.name(), 0, 0)) {
+    error = name + ": cannot read the image: " + buf.geterror();
+    return false;
+  }
+  const OIIO::ImageSpec& spec = buf.spec();
+  if (const std::string problem = limits::imageSizeProblem(spec.width, spec.height); !problem.empty()) {
+    error = name + ": the image " + problem;
+    return false;
+  }
+  return true;
+}
 
 bool toRgba8(OIIO::ImageBuf& buf, const std::string& name, Image8& out, std::string& error) {
   if (!buf.init_spec(buf.name(), 0, 0) && buf.has_error()) {
@@ -43,6 +60,7 @@ bool readImage(const std::string& path, Image8& out, std::string& error) {
     return false;
   }
   OIIO::ImageBuf buf(path);
+  if (!sizeWithinLimits(buf, path, error)) return false;
   if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
     error = path + ": cannot read the image: " + buf.geterror();
     return false;
@@ -63,6 +81,7 @@ bool readImage(std::span<const unsigned char> bytes, const std::string& name, Im
     return false;
   }
   OIIO::ImageBuf buf("in_memory." + format, 0, 0, nullptr, &config, &reader);
+  if (!sizeWithinLimits(buf, name, error)) return false;
   if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
     error = name + ": cannot decode the embedded image: " + buf.geterror();
     return false;

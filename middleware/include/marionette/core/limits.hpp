@@ -1,0 +1,31 @@
+// The largest inputs the library accepts (Filament's style: stated, not discovered).
+// Each is an error naming the file and the limit when exceeded, checked before
+// anything of that size is allocated or read.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace marionette::limits {
+
+// Text files a user names: scene files, character profiles, joint maps, BML files,
+// AR scene files. Only regular files are read (not a FIFO, a device, a folder).
+inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{16} << 20;  // 16 MiB
+
+// Images: environment maps and light probes (decoded to float RGB), backgrounds and
+// textures. 8192 x 4096 is an "8k" HDRI; a float RGB copy of it takes 384 MiB.
+inline constexpr int kMaxImageSide = 16384;
+inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{8192} * 4096;
+
+// "" when a width x height image is within the limits, else what is wrong (for an
+// error that also names the file). Check a header's size with it before decoding.
+[[nodiscard]] inline std::string imageSizeProblem(long long width, long long height) {
+  if (width <= 0 || height <= 0)
+    return "has no pixels (" + std::to_string(width) + "x" + std::to_string(height) + ")";
+  if (width > kMaxImageSide || height > kMaxImageSide || std::uint64_t(width) * std::uint64_t(height) > kMaxImagePixels)
+    return "is " + std::to_string(width) + "x" + std::to_string(height) + " pixels, more than the library reads (" +
+           std::to_string(kMaxImageSide) + " a side and " + std::to_string(kMaxImagePixels) +
+           " pixels in all: limits::kMaxImagePixels)";
+  return "";
+}
+
+}  // namespace marionette::limits
