@@ -228,6 +228,9 @@ class Parser {
       }
     }
     b.text = collapse(raw);
+    // A mark after the last word (a space may follow it) is the end of the text: the
+    // offset counted that space, which collapsing trims away.
+    for (WordMark& m : b.marks) m.characterOffset = std::min(m.characterOffset, b.text.size());
   }
 
   void readConstraint(const pugi::xml_node& n, bool required, Block& block) {

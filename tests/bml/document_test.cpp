@@ -69,6 +69,18 @@ TEST(BmlDocument, SmartBodyActWrapperAndBodyPosture) {
   EXPECT_EQ(r.block->behaviors[0].type, "posture");
 }
 
+TEST(BmlDocument, AMarkAfterTheLastWordAndItsSpaceIsAtTheEndOfTheText) {
+  // The offset counted the space after the mark, which collapsing the text trims away.
+  for (const char* text : {"Hello there <sync id='m'/> ", "Hello there <sync id='m'/>   \n ", "Hello there<sync id='m'/>"}) {
+    auto r = bml::parseBlock(std::string("<bml id='b'><speech id='s'><text>") + text + "</text></speech></bml>");
+    ASSERT_TRUE(r.block) << r.format("s");
+    const auto& speech = r.block->behaviors.at(0);
+    EXPECT_EQ(speech.text, "Hello there") << text;
+    ASSERT_EQ(speech.marks.size(), 1u) << text;
+    EXPECT_EQ(speech.marks[0].characterOffset, speech.text.size()) << text;
+  }
+}
+
 TEST(BmlDocument, ConstraintsRequiredAndSpeechMarks) {
   auto r = bml::parseBlock(
       "<bml id='b'><required><head id='h1' lexeme='NOD'/></required>"

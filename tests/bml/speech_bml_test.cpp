@@ -124,3 +124,25 @@ TEST(SpeechBml, EspeakTimingDrivesTheSchedule) {
 #endif
 
 }  // namespace
+
+// ../shared/repro/bml_speech_mark_after_trailing_space_dropped.xml: a <sync> after the last
+// word, a space after it. The mark was dropped with the nod that starts on it; it is the
+// end of the speech.
+TEST(SpeechBml, AMarkAfterTheLastWordIsTheEndOfTheSpeech) {
+  const std::string file = std::string(MARIONETTE_SHARED_DIR) + "/repro/bml_speech_mark_after_trailing_space_dropped.xml";
+  MARIONETTE_REQUIRE_FILE(file);
+  const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
+  MARIONETTE_REQUIRE_FILE(vrm);
+  Scene scene;
+  ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
+  Realizer realizer(scene);
+  const Schedule s = realizer.perform(test::readFile(file), "godette");
+  ASSERT_FALSE(s.failed);
+  for (const Warning& w : s.warnings) ADD_FAILURE() << toString(w.type) << ": " << w.message;
+  ASSERT_TRUE(s.time("s", "m")) << "the mark was dropped";
+  ASSERT_TRUE(s.time("s", "end"));
+  EXPECT_LE(*s.time("s", "m"), *s.time("s", "end") + 1e-9);
+  EXPECT_GT(*s.time("s", "m"), *s.time("s", "start")) << "the mark is after the words, not at the start";
+  ASSERT_TRUE(s.time("n", "start")) << "the nod that starts on the mark was dropped";
+  EXPECT_NEAR(*s.time("n", "start"), *s.time("s", "m"), 1e-9);
+}

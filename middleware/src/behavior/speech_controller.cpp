@@ -44,8 +44,11 @@ speech::SpeechRequest speechRequestOf(const BehaviorRequest& request, std::strin
     }
     if (ok && offset <= out.text.size())
       out.marks.push_back({item.substr(colon + 1), offset});
+    else if (ok)
+      note("speech mark '" + item.substr(colon + 1) + "' lies past the end of the text (character " +
+           std::to_string(offset) + " of " + std::to_string(out.text.size()) + "); dropped");
     else
-      note("speech mark '" + item + "' is not OFFSET:ID inside the text; dropped");
+      note("speech mark '" + item + "' in the \"markOffsets\" parameter is not CHARACTER:ID; dropped");
     i = j;
   }
   return out;
