@@ -361,3 +361,97 @@ TEST(CApi, SceneFileWithANumberTooLargeNamesTheFile) {
   EXPECT_NE(error.find("1e999"), std::string::npos) << error;
   mn_scene_destroy(scene);
 }
+
+// ../shared/repro/README.md: double destroy, use after destroy and a callback that
+// destroys its own scene were uses after free; out-of-range enum values were undefined
+// behaviour before the "unknown" branch (UBSan: invalid enum load). All are errors now.
+TEST(CApi, DestroyedHandlesAreRefusedNotUsed) {
+  mn_scene* scene = nullptr;
+  ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+  mn_character* robot = nullptr;
+  ASSERT_EQ(mn_scene_add_character(scene, "robot", kRobot.c_str(), nullptr, &robot), MN_OK) << mn_scene_last_error(scene);
+  mn_scene_destroy(scene);
+  // The scene and its character are stale: every call says so (AddressSanitizer would
+  // report a use after free if one of them read the freed scene).
+  EXPECT_EQ(mn_scene_update(scene, 0.1), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(nullptr)).find("mn_scene_update: scene is not a live handle"), std::string::npos)
+      << mn_scene_last_error(nullptr);
+  EXPECT_NE(std::string(mn_scene_last_error(scene)).find("not a live handle"), std::string::npos);
+  EXPECT_EQ(mn_scene_time(scene), 0.0);
+  EXPECT_EQ(mn_scene_character_count(scene), 0u);
+  EXPECT_EQ(mn_scene_character_at(scene, 0), nullptr);
+  mn_character* found = nullptr;
+  EXPECT_EQ(mn_scene_find_character(scene, "robot", &found), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_send_bml(scene, nullptr, "<bml id='b'/>"), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_load_file(scene, "x.json"), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_set_log_callback(scene, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  float out[16 * 64];
+  EXPECT_EQ(mn_character_palette(robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, out, 16 * 64), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(nullptr)).find("mn_character_palette: character is not a live handle"),
+            std::string::npos);
+  EXPECT_EQ(mn_character_world_matrix(robot, out), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_set_position(robot, 0, 0, 0), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_morph_weights(robot, out, 64), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_joint_count(robot), 0u);
+  EXPECT_EQ(mn_character_joint_name(robot, 0), nullptr);
+  EXPECT_EQ(mn_character_find_joint(robot, "Head"), -1);
+  EXPECT_STREQ(mn_character_name(robot), "");
+  // A second destroy is a no-op with an error, not a double free.
+  mn_scene_destroy(scene);
+  EXPECT_NE(std::string(mn_scene_last_error(nullptr)).find("mn_scene_destroy: scene is not a live handle"), std::string::npos);
+  // And a pointer that never was a scene.
+  int notAScene = 0;
+  EXPECT_EQ(mn_scene_update(reinterpret_cast<mn_scene*>(&notAScene), 0.1), MN_ERROR_INVALID_ARGUMENT);
+  // A new scene does not take the stale one's address while it is held back.
+  std::vector<mn_scene*> fresh(8, nullptr);
+  for (mn_scene*& s : fresh) {
+    ASSERT_EQ(mn_scene_create(&s), MN_OK);
+    EXPECT_NE(s, scene);
+  }
+  for (mn_scene* s : fresh) mn_scene_destroy(s);
+}
+
+#ifdef MARIONETTE_TEST_HAS_BML  // the callback is BML feedback
+namespace {
+struct DestroyInCallback {
+  mn_scene* scene = nullptr;
+  int calls = 0;
+  mn_status nestedUpdate = MN_OK;
+};
+void destroyOwnScene(void* user, const mn_feedback* /*feedback*/) {
+  auto* d = static_cast<DestroyInCallback*>(user);
+  if (d->calls++ == 0) {
+    d->nestedUpdate = mn_scene_update(d->scene, 0.1);  // refused: the scene is mid-call
+    mn_scene_destroy(d->scene);                        // deferred to the end of that call
+  }
+}
+}  // namespace
+
+TEST(CApi, ACallbackMayDestroyItsOwnScene) {
+  DestroyInCallback d;
+  ASSERT_EQ(mn_scene_create(&d.scene), MN_OK);
+  ASSERT_EQ(mn_scene_add_character(d.scene, "robot", kRobot.c_str(), kRobotProfile.c_str(), nullptr), MN_OK);
+  ASSERT_EQ(mn_scene_set_feedback_callback(d.scene, destroyOwnScene, &d), MN_OK);
+  // Feedback comes during send_bml (predictions) and update (progress): the first destroys.
+  (void)mn_scene_send_bml(d.scene, "robot", "<bml id='b1'><head id='h' lexeme='NOD'/></bml>");
+  for (int i = 0; i < 10 && d.calls == 0; ++i) (void)mn_scene_update(d.scene, 1.0 / 30.0);
+  ASSERT_GT(d.calls, 0) << "no feedback came: the test did not run its callback";
+  EXPECT_EQ(d.nestedUpdate, MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_update(d.scene, 0.1), MN_ERROR_INVALID_ARGUMENT) << "the scene outlived the call that destroyed it";
+}
+#endif
+
+TEST(CApi, OutOfRangeEnumValuesAreErrors) {
+  for (int value : {9, 999, -1, -2147483647 - 1, 2147483647})
+    EXPECT_STREQ(mn_status_name(static_cast<mn_status>(value)), "MN_ERROR_UNKNOWN_STATUS") << value;
+  SceneWithRobot s;
+  ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  std::vector<float> out(16 * mn_character_joint_count(s.robot));
+  for (int value : {3, 7, -1, 2147483647}) {
+    const auto layout = static_cast<mn_palette_layout>(value);
+    EXPECT_EQ(mn_palette_floats_per_joint(layout), 0u) << value;
+    EXPECT_EQ(mn_character_palette(s.robot, layout, 1, out.data(), out.size()), MN_ERROR_INVALID_ARGUMENT) << value;
+    EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("unknown layout " + std::to_string(value)), std::string::npos)
+        << mn_scene_last_error(s.scene);
+  }
+}

@@ -4,7 +4,12 @@
  *
  * Handles. mn_scene is created and destroyed by the caller. mn_character handles
  * belong to their scene: valid until the scene is destroyed; never freed by the
- * caller. Strings returned (names, errors) stay valid until the next call that
+ * caller. Every function checks its handles: a destroyed one (a second
+ * mn_scene_destroy, a character of a destroyed scene) is MN_ERROR_INVALID_ARGUMENT,
+ * never a use after free, as long as fewer than 256 other handles have been
+ * destroyed since (their memory is held back so that no new handle takes a stale
+ * one's address sooner). A callback may destroy its own scene: the scene goes when
+ * the call that ran the callback returns. Strings returned (names, errors) stay valid until the next call that
  * changes the same handle (for last errors: the next failing call on it).
  *
  * Errors. Every function that can fail returns an mn_status. The message of the
@@ -18,9 +23,9 @@
  * time (the caller serializes); different scenes may be used on different threads
  * at once, independently. Callbacks come on the thread that calls mn_scene_update or
  * mn_scene_send_bml, during that call; strings and structs passed to a callback are
- * valid only during the call. A callback must not call mn_scene_update,
- * mn_scene_send_bml, mn_scene_destroy or add characters on its own scene, and must
- * not throw (C++) or longjmp out.
+ * valid only during the call. A callback must not add characters to its own scene;
+ * mn_scene_update and mn_scene_send_bml on it from a callback are refused
+ * (MN_ERROR_INVALID_ARGUMENT). A callback must not throw (C++) or longjmp out.
  *
  * Per frame: mn_character_palette and mn_character_morph_weights allocate nothing;
  * mn_scene_update is the scene's update (no allocation once warm) plus the BML
@@ -54,7 +59,10 @@ typedef enum mn_status {
   MN_ERROR_BML = 5,              /* the BML block failed (malformed, no id, unschedulable) */
   MN_ERROR_UNSUPPORTED = 6,      /* the library was built without the feature (BML) */
   MN_ERROR_OUT_OF_MEMORY = 7,
-  MN_ERROR_INTERNAL = 8          /* an unexpected failure; the message says what */
+  MN_ERROR_INTERNAL = 8,         /* an unexpected failure; the message says what */
+  /* Not statuses: they make every int a valid mn_status value (an FFI may pass any). */
+  MN_STATUS_MIN_ENUM_ = -0x7FFFFFFF - 1,
+  MN_STATUS_MAX_ENUM_ = 0x7FFFFFFF
 } mn_status;
 
 /* A short name of a status ("MN_OK", "MN_ERROR_IO", ...); never NULL. */
@@ -110,7 +118,10 @@ MN_API mn_status mn_character_world_matrix(const mn_character* character, float*
 typedef enum mn_palette_layout {
   MN_PALETTE_MAT4_COLUMN_MAJOR = 0, /* 16 floats per joint, column after column (OpenGL) */
   MN_PALETTE_MAT4_ROW_MAJOR = 1,    /* 16 floats per joint, row after row (Direct3D row_major) */
-  MN_PALETTE_MAT3X4_ROW_MAJOR = 2   /* 12 floats per joint: rows 0..2 of the affine matrix */
+  MN_PALETTE_MAT3X4_ROW_MAJOR = 2,  /* 12 floats per joint: rows 0..2 of the affine matrix */
+  /* Not layouts: every int is a valid value to pass (unknown ones are errors). */
+  MN_PALETTE_MIN_ENUM_ = -0x7FFFFFFF - 1,
+  MN_PALETTE_MAX_ENUM_ = 0x7FFFFFFF
 } mn_palette_layout;
 
 MN_API size_t mn_palette_floats_per_joint(mn_palette_layout layout); /* 16, 16, 12; 0 if unknown */

@@ -10,7 +10,13 @@ using marionette::capi::fail;
 
 namespace {
 
+using marionette::capi::isLive;
+
 const mn_scene* ownerOf(const mn_character* c) { return c ? c->owner : nullptr; }
+
+const char* notLive(const void* handle) {
+  return handle ? " is not a live handle (its scene was destroyed?)" : " is NULL";
+}
 
 bool validLayout(mn_palette_layout layout) {
   return layout == MN_PALETTE_MAT4_COLUMN_MAJOR || layout == MN_PALETTE_MAT4_ROW_MAJOR ||
@@ -22,24 +28,24 @@ bool validLayout(mn_palette_layout layout) {
 extern "C" {
 
 const char* mn_character_name(const mn_character* character) {
-  return character ? character->character->name().c_str() : "";
+  return isLive(character) ? character->character->name().c_str() : "";
 }
 
 size_t mn_character_joint_count(const mn_character* character) {
-  return character ? character->character->skeleton().jointCount() : 0;
+  return isLive(character) ? character->character->skeleton().jointCount() : 0;
 }
 
 const char* mn_character_joint_name(const mn_character* character, size_t joint) {
-  if (!character || joint >= character->character->skeleton().jointCount()) return nullptr;
+  if (!isLive(character) || joint >= character->character->skeleton().jointCount()) return nullptr;
   return character->character->skeleton().names[joint].c_str();
 }
 
 int mn_character_find_joint(const mn_character* character, const char* name) {
-  return character && name ? character->character->skeleton().findJoint(name) : -1;
+  return isLive(character) && name ? character->character->skeleton().findJoint(name) : -1;
 }
 
 mn_status mn_character_set_position(mn_character* character, float x, float y, float z) {
-  if (!character) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_character_set_position: character is NULL");
+  if (!isLive(character)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_set_position: character") + notLive(character));
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
     return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_set_position: a coordinate is not finite");
   return marionette::capi::guarded(character->owner, [&] {  // listeners hear of the change
@@ -49,7 +55,7 @@ mn_status mn_character_set_position(mn_character* character, float x, float y, f
 }
 
 mn_status mn_character_set_heading(mn_character* character, float radians) {
-  if (!character) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_character_set_heading: character is NULL");
+  if (!isLive(character)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_set_heading: character") + notLive(character));
   if (!std::isfinite(radians))
     return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_set_heading: the heading is not finite");
   return marionette::capi::guarded(character->owner, [&] {
@@ -59,7 +65,7 @@ mn_status mn_character_set_heading(mn_character* character, float radians) {
 }
 
 mn_status mn_character_world_matrix(const mn_character* character, float* out16) {
-  if (!character) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_character_world_matrix: character is NULL");
+  if (!isLive(character)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_world_matrix: character") + notLive(character));
   if (!out16) return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_world_matrix: out16 is NULL");
   std::memcpy(out16, character->character->transformBuffer().world(), 16 * sizeof(float));
   return MN_OK;
@@ -72,7 +78,7 @@ size_t mn_palette_floats_per_joint(mn_palette_layout layout) {
 
 mn_status mn_character_palette(const mn_character* character, mn_palette_layout layout, int inverse_bind, float* out,
                                size_t out_floats) {
-  if (!character) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_character_palette: character is NULL");
+  if (!isLive(character)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_palette: character") + notLive(character));
   if (!validLayout(layout))
     return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_palette: unknown layout " + std::to_string(layout));
   if (!out) return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_palette: out is NULL");
@@ -90,17 +96,17 @@ mn_status mn_character_palette(const mn_character* character, mn_palette_layout 
 }
 
 size_t mn_character_morph_count(const mn_character* character) {
-  return character ? character->character->transformBuffer().morphCount() : 0;
+  return isLive(character) ? character->character->transformBuffer().morphCount() : 0;
 }
 
 const char* mn_character_morph_name(const mn_character* character, size_t morph) {
-  if (!character) return nullptr;
+  if (!isLive(character)) return nullptr;
   const std::vector<std::string>& names = character->character->rig().asset().morphTargets;
   return morph < names.size() ? names[morph].c_str() : nullptr;
 }
 
 mn_status mn_character_morph_weights(const mn_character* character, float* out, size_t out_floats) {
-  if (!character) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_character_morph_weights: character is NULL");
+  if (!isLive(character)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_morph_weights: character") + notLive(character));
   const std::span<const float> weights = character->character->transformBuffer().morphWeights();
   if (!out && !weights.empty())
     return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_morph_weights: out is NULL");

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
+#include <unordered_set>
 
 #include "handles.hpp"
 #include "marionette/core/text_file.hpp"
@@ -14,8 +17,83 @@
 
 using marionette::capi::fail;
 using marionette::capi::guarded;
+using marionette::capi::isLive;
+
+namespace marionette::capi {
+namespace {
+
+struct HandleRegistry {
+  std::mutex mutex;
+  std::unordered_set<const void*> live;
+  std::deque<void*> quarantine;  // destroyed handles' memory, freed kQuarantine destroys later
+};
+HandleRegistry& registry() {
+  static HandleRegistry* r = new HandleRegistry();  // never destroyed: handles may outlive static destructors
+  return *r;
+}
+
+}  // namespace
+
+void* allocateHandle(std::size_t bytes) {
+  void* handle = ::operator new(bytes);
+  HandleRegistry& r = registry();
+  try {
+    const std::lock_guard lock(r.mutex);
+    r.live.insert(handle);
+  } catch (...) {
+    ::operator delete(handle);
+    throw;
+  }
+  return handle;
+}
+
+void freeHandle(void* handle) noexcept {
+  if (!handle) return;
+  HandleRegistry& r = registry();
+  void* expired = nullptr;
+  {
+    const std::lock_guard lock(r.mutex);
+    r.live.erase(handle);
+    try {
+      r.quarantine.push_back(handle);
+    } catch (...) {  // no memory to hold it back: free it now
+      expired = handle;
+    }
+    if (!expired && r.quarantine.size() > kQuarantine) {
+      expired = r.quarantine.front();
+      r.quarantine.pop_front();
+    }
+  }
+  ::operator delete(expired);
+}
+
+bool isLive(const void* handle) noexcept {
+  if (!handle) return false;
+  HandleRegistry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  return r.live.count(handle) != 0;
+}
+
+}  // namespace marionette::capi
 
 namespace {
+
+// Why a handle was refused: " is NULL" or " is not a live handle (...)".
+const char* notLive(const void* handle) {
+  return handle ? " is not a live handle (destroyed, or not from this library)" : " is NULL";
+}
+
+// A call on `scene` that may reach its callbacks. From inside a callback of the same
+// scene the call is refused; a mn_scene_destroy from a callback waits for its end.
+template <class Body>
+mn_status inCall(mn_scene* scene, const char* what, Body&& body) {
+  if (scene->callDepth > 0)
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, std::string(what) + ": called from a callback of the same scene");
+  ++scene->callDepth;
+  const mn_status status = guarded(scene, body);
+  if (--scene->callDepth == 0 && scene->destroyRequested) delete scene;
+  return status;
+}
 
 thread_local std::string t_lastError;  // failures without a valid scene
 
@@ -154,6 +232,7 @@ const char* mn_status_name(mn_status status) {
     case MN_ERROR_UNSUPPORTED: return "MN_ERROR_UNSUPPORTED";
     case MN_ERROR_OUT_OF_MEMORY: return "MN_ERROR_OUT_OF_MEMORY";
     case MN_ERROR_INTERNAL: return "MN_ERROR_INTERNAL";
+    default: break;  // any other int (the enum holds every int value)
   }
   return "MN_ERROR_UNKNOWN_STATUS";
 }
@@ -167,14 +246,28 @@ mn_status mn_scene_create(mn_scene** out) {
   });
 }
 
-void mn_scene_destroy(mn_scene* scene) { delete scene; }
+void mn_scene_destroy(mn_scene* scene) {
+  if (!scene) return;
+  if (!isLive(scene)) {  // a second destroy, or not a scene: recorded, nothing freed
+    fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_destroy: scene is not a live handle (destroyed already?)");
+    return;
+  }
+  if (scene->callDepth > 0) {  // from one of its own callbacks: when that call returns
+    scene->destroyRequested = true;
+    return;
+  }
+  delete scene;
+}
 
-const char* mn_scene_last_error(const mn_scene* scene) { return scene ? scene->lastError.c_str() : t_lastError.c_str(); }
+const char* mn_scene_last_error(const mn_scene* scene) {
+  if (scene && !isLive(scene)) return "mn_scene_last_error: scene is not a live handle (destroyed, or not from mn_scene_create)";
+  return scene ? scene->lastError.c_str() : t_lastError.c_str();
+}
 
 mn_status mn_scene_load_file(mn_scene* scene, const char* path) {
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_load_file: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_load_file: scene") + notLive(scene));
   if (!path) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_load_file: path is NULL");
-  return guarded(scene, [&] {
+  return inCall(scene, "mn_scene_load_file", [&] {
     if (!readable(path)) return fail(scene, MN_ERROR_IO, std::string(path) + ": error: cannot open the scene file");
     marionette::SceneLoadResult r = marionette::loadSceneFile(path, scene->scene);
     if (!r.ok()) return fail(scene, MN_ERROR_LOAD, r.diagnostics.format());
@@ -197,10 +290,10 @@ mn_status mn_scene_load_file(mn_scene* scene, const char* path) {
 mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* asset_path, const char* profile_path,
                                  mn_character** out) {
   if (out) *out = nullptr;
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_character: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_add_character: scene") + notLive(scene));
   if (!name || !*name) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_character: name is NULL or empty");
   if (!asset_path) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_character: asset_path is NULL");
-  return guarded(scene, [&] {
+  return inCall(scene, "mn_scene_add_character", [&] {
     if (scene->scene.findCharacter(name))
       return fail(scene, MN_ERROR_INVALID_ARGUMENT,
                   std::string("mn_scene_add_character: a character named '") + name + "' exists already");
@@ -231,7 +324,7 @@ mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* 
 
 mn_status mn_scene_find_character(mn_scene* scene, const char* name, mn_character** out) {
   if (out) *out = nullptr;
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_find_character: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_find_character: scene") + notLive(scene));
   if (!name || !out) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_find_character: name or out is NULL");
   return guarded(scene, [&] {
     scene->syncHandles();
@@ -244,10 +337,10 @@ mn_status mn_scene_find_character(mn_scene* scene, const char* name, mn_characte
   });
 }
 
-size_t mn_scene_character_count(const mn_scene* scene) { return scene ? scene->scene.characters().size() : 0; }
+size_t mn_scene_character_count(const mn_scene* scene) { return isLive(scene) ? scene->scene.characters().size() : 0; }
 
 mn_character* mn_scene_character_at(mn_scene* scene, size_t index) {
-  if (!scene) return nullptr;
+  if (!isLive(scene)) return nullptr;
   try {
     scene->syncHandles();
   } catch (...) {
@@ -258,10 +351,10 @@ mn_character* mn_scene_character_at(mn_scene* scene, size_t index) {
 }
 
 mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* bml_text) {
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_send_bml: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_send_bml: scene") + notLive(scene));
   if (!bml_text) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_send_bml: bml_text is NULL");
 #ifdef MARIONETTE_C_HAS_BML
-  return guarded(scene, [&] {
+  return inCall(scene, "mn_scene_send_bml", [&] {
     if (character && !scene->scene.findCharacter(character))
       return fail(scene, MN_ERROR_NOT_FOUND, std::string("mn_scene_send_bml: no character named '") + character + "'");
     const marionette::bml::Schedule s = scene->realizer->perform(bml_text, character ? character : "");
@@ -280,10 +373,10 @@ mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* 
 }
 
 mn_status mn_scene_update(mn_scene* scene, double dt) {
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_update: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_update: scene") + notLive(scene));
   if (!std::isfinite(dt) || dt < 0.0 || dt > marionette::Scene::kMaxUpdateSeconds)
     return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_update: dt must be finite, >= 0 and at most 3600 seconds");
-  return guarded(scene, [&] {
+  return inCall(scene, "mn_scene_update", [&] {
 #ifdef MARIONETTE_C_HAS_BML
     if (scene->nextBml < scene->pendingBml.size()) sendDueBml(*scene, scene->scene.time() + dt);
 #endif
@@ -295,24 +388,24 @@ mn_status mn_scene_update(mn_scene* scene, double dt) {
   });
 }
 
-double mn_scene_time(const mn_scene* scene) { return scene ? scene->scene.time() : 0.0; }
+double mn_scene_time(const mn_scene* scene) { return isLive(scene) ? scene->scene.time() : 0.0; }
 
 mn_status mn_scene_set_feedback_callback(mn_scene* scene, mn_feedback_fn fn, void* user) {
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_feedback_callback: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_feedback_callback: scene") + notLive(scene));
   scene->feedbackFn = fn;
   scene->feedbackUser = user;
   return MN_OK;
 }
 
 mn_status mn_scene_set_viseme_callback(mn_scene* scene, mn_viseme_fn fn, void* user) {
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_viseme_callback: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_viseme_callback: scene") + notLive(scene));
   scene->visemeFn = fn;
   scene->visemeUser = user;
   return MN_OK;
 }
 
 mn_status mn_scene_set_log_callback(mn_scene* scene, mn_log_fn fn, void* user) {
-  if (!scene) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_log_callback: scene is NULL");
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_log_callback: scene") + notLive(scene));
   scene->logFn = fn;
   scene->logUser = user;
   return MN_OK;

@@ -16,7 +16,25 @@
 #include "marionette/bml/realizer.hpp"
 #endif
 
-struct mn_character {
+namespace marionette::capi {
+
+// Every live handle's address, so that each entry point can refuse a destroyed (or
+// foreign) one. The memory of a destroyed handle is held back (kQuarantine handles)
+// before it is freed, so that a new handle does not soon take a stale one's address.
+inline constexpr std::size_t kQuarantine = 256;
+void* allocateHandle(std::size_t bytes);  // registers it as live
+void freeHandle(void* handle) noexcept;   // no longer live; freed kQuarantine frees later
+[[nodiscard]] bool isLive(const void* handle) noexcept;
+
+// Handles are allocated through the registry.
+struct Registered {
+  static void* operator new(std::size_t bytes) { return allocateHandle(bytes); }
+  static void operator delete(void* handle) noexcept { freeHandle(handle); }
+};
+
+}  // namespace marionette::capi
+
+struct mn_character : marionette::capi::Registered {
   mn_scene* owner = nullptr;
   marionette::Character* character = nullptr;
   marionette::bridge::PaletteBinding palette;  // identity, bound once
@@ -34,9 +52,12 @@ class CallbackForwarder final : public marionette::SceneListener {
   std::string text_;  // NUL-terminated copies of string views, reused (no allocation once grown)
 };
 
-struct mn_scene {
+struct mn_scene : marionette::capi::Registered {
   mn_scene();
   ~mn_scene();
+
+  int callDepth = 0;              // > 0 while mn_scene_update or mn_scene_send_bml runs (callbacks may come)
+  bool destroyRequested = false;  // mn_scene_destroy from a callback: destroyed when that call returns
 
   marionette::Scene scene;
 #ifdef MARIONETTE_C_HAS_BML
