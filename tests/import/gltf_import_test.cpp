@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -959,4 +960,59 @@ TEST(GltfImport, HandWrittenBrokenFilesAreRejected) {
 }
 
 }  // namespace
+}  // namespace marionette
+
+namespace marionette {
+
+// A model file reads nothing outside its own folder unless the caller allows it, and
+// the error names the path without telling anything of the file (its size, its bytes).
+TEST(GltfImport, BuffersAndImagesOutsideTheModelFolderAreNotRead) {
+  const std::string cube = test::assimpModel("glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
+  MARIONETTE_REQUIRE_FILE(cube);
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("marionette_outside_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "model");
+  fs::copy_file(fs::path(cube).parent_path() / "AnimatedMorphCube.bin", dir / "AnimatedMorphCube.bin");
+  const std::string text = test::readFile(cube);
+  auto withUri = [&](const std::string& uri) {
+    std::string t = text;
+    t.replace(t.find("AnimatedMorphCube.bin"), std::strlen("AnimatedMorphCube.bin"), uri);
+    const fs::path path = dir / "model" / "cube.gltf";
+    std::ofstream(path) << t;
+    return path.string();
+  };
+  const fs::path before = fs::current_path();
+  for (const std::string& uri :
+       {std::string("../../../../../../../../etc/passwd"), std::string("/etc/passwd"), std::string("../AnimatedMorphCube.bin")}) {
+    SCOPED_TRACE(uri);
+    // By an absolute path, and by a path relative to the current folder (then tinygltf
+    // joins an absolute uri to nothing and asks for /etc/passwd itself).
+    for (const bool relative : {false, true}) {
+      const std::string path = withUri(uri);
+      fs::current_path(dir / "model");
+      const ImportResult r = importAsset(relative ? std::string("cube.gltf") : path);
+      fs::current_path(before);
+      EXPECT_FALSE(r.ok()) << relative;
+      const std::string d = r.diagnostics.format();
+      EXPECT_NE(d.find("cube.gltf"), std::string::npos) << d;
+      if (relative || uri[0] == '.') {  // an absolute uri under an absolute folder is looked for inside it
+        EXPECT_NE(d.find("is outside the model's folder"), std::string::npos) << d;
+      }
+      EXPECT_EQ(d.find("root:"), std::string::npos) << "the error shows the file's content: " << d;
+      EXPECT_EQ(d.find("size"), std::string::npos) << "the error tells the file's size: " << d;
+    }
+  }
+  // Allowed by the caller: the buffer beside the folder is read and the cube loads.
+  ImportOptions trusted;
+  trusted.allowFilesOutsideModelFolder = true;
+  const ImportResult r = importAsset(withUri("../AnimatedMorphCube.bin"), trusted);
+  EXPECT_TRUE(r.ok()) << r.diagnostics.format();
+  // And inside the folder (a subfolder too) nothing changes.
+  fs::create_directories(dir / "model" / "data");
+  fs::copy_file(dir / "AnimatedMorphCube.bin", dir / "model" / "data" / "cube.bin");
+  const ImportResult inside = importAsset(withUri("data/cube.bin"));
+  EXPECT_TRUE(inside.ok()) << inside.diagnostics.format();
+  fs::remove_all(dir);
+}
 }  // namespace marionette

@@ -174,15 +174,66 @@ void addLines(const std::string& path, const std::string& text, bool error, Diag
   }
 }
 
-bool loadModel(const std::string& path, const Source& src, tinygltf::Model& model, Diagnostics& diag) {
+// tinygltf's file access for external buffers and images, kept inside the model's
+// folder unless the caller allows more, and to regular files (a FIFO would block).
+struct FolderGuard {
+  std::filesystem::path root;  // canonical
+  bool allowOutside = false;
+  std::vector<std::string> refused, notRegular;
+
+  bool permits(const std::string& file) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!allowOutside) {
+      const fs::path resolved = fs::weakly_canonical(fs::path(file), ec);
+      const fs::path relative = ec ? fs::path("..") : resolved.lexically_relative(root);
+      if (relative.empty() || *relative.begin() == "..") {
+        // tinygltf also probes other folders (the current one); only a file that is there counts
+        if (fs::exists(file, ec)) refused.push_back(file);
+        return false;
+      }
+    }
+    if (fs::exists(file, ec) && !fs::is_regular_file(file, ec)) {
+      notRegular.push_back(file);
+      return false;
+    }
+    return true;
+  }
+  static bool exists(const std::string& file, void* self) {
+    return static_cast<FolderGuard*>(self)->permits(file) && tinygltf::FileExists(file, nullptr);
+  }
+  static bool read(std::vector<unsigned char>* out, std::string* err, const std::string& file, void* self) {
+    if (!static_cast<FolderGuard*>(self)->permits(file)) {
+      if (err) *err += "refused: " + file + "\n";
+      return false;
+    }
+    return tinygltf::ReadWholeFile(out, err, file, nullptr);
+  }
+  static std::string expand(const std::string& file, void*) { return file; }  // no ~ or $VAR expansion
+  static bool write(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+};
+
+bool loadModel(const std::string& path, const Source& src, const ImportOptions& options, tinygltf::Model& model,
+               Diagnostics& diag) {
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keepImageUndecoded, nullptr);
   std::string err, warn;
   const std::string baseDir = std::filesystem::path(path).parent_path().string();
+  FolderGuard guard;
+  std::error_code ec;
+  guard.root = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec).parent_path(), ec);
+  guard.allowOutside = options.allowFilesOutsideModelFolder;
+  loader.SetFsCallbacks({&FolderGuard::exists, &FolderGuard::expand, &FolderGuard::read, &FolderGuard::write, &guard});
   const bool ok = src.binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, src.bytes.data(),
                                                            static_cast<unsigned int>(src.glbLength), baseDir)
                              : loader.LoadASCIIFromString(&model, &err, &warn, src.jsonText.data(),
                                                           static_cast<unsigned int>(src.jsonText.size()), baseDir);
+  for (const std::string& file : guard.refused)
+    diag.error(path, "'" + file + "' is outside the model's folder '" + guard.root.string() +
+                         "': not read (ImportOptions::allowFilesOutsideModelFolder allows it)");
+  for (const std::string& file : guard.notRegular)
+    diag.error(path, "'" + file + "' is not a regular file (a device, FIFO or folder): not read");
+  if (!guard.refused.empty() || !guard.notRegular.empty()) return false;  // tinygltf's own lines add nothing
   addLines(path, warn, false, diag);
   // When tinygltf succeeds, what it still puts in `err` are properties it
   // skipped; our schema check has already rejected every such case we rely on.
@@ -397,7 +448,7 @@ void importInto(const std::string& path, const ImportOptions& options, ImportRes
   const std::optional<Json> doc = parseJson(path, src.jsonText, diag);
   if (!doc || !checkDocument(path, *doc, diag)) return;
   tinygltf::Model model;
-  if (!loadModel(path, src, model, diag)) return;
+  if (!loadModel(path, src, options, model, diag)) return;
   const Context ctx{model, *doc, path, options, diag};
   result.asset = buildAsset(ctx);
 }

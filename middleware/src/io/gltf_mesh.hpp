@@ -382,7 +382,14 @@ inline std::string textureReference(const Context& ctx, int textureIndex) {
   if (image.bufferView >= 0 || image.uri.empty() || image.uri.rfind("data:", 0) == 0)
     return "embedded:" + std::to_string(source);
   const std::filesystem::path dir = std::filesystem::path(ctx.file).parent_path();
-  return (dir / percentDecoded(image.uri)).lexically_normal().string();
+  const std::filesystem::path file = (dir / percentDecoded(image.uri)).lexically_normal();
+  const std::filesystem::path relative = file.lexically_relative(dir.lexically_normal());
+  if (!ctx.options.allowFilesOutsideModelFolder && (relative.empty() || *relative.begin() == "..")) {
+    ctx.warning("image " + std::to_string(source) + " '" + image.uri +
+                "' is outside the model's folder: no texture (ImportOptions::allowFilesOutsideModelFolder allows it)");
+    return {};
+  }
+  return file.string();
 }
 
 inline std::vector<Material> buildMaterials(const Context& ctx) {

@@ -24,6 +24,10 @@ struct ImportOptions {
   // Costs one extra parse of Assimp formats; turn off for trusted files, or in a
   // process where fork() is not allowed.
   bool isolateThirdPartyParsers = true;
+  // A glTF's external buffers and images are read only from the model's own folder
+  // (and below): a uri like "../../etc/passwd" or an absolute path is an error naming
+  // it, and nothing of that file is read. True allows any path (trusted files only).
+  bool allowFilesOutsideModelFolder = false;
   double parserTimeoutSeconds = 60.0;
   std::size_t parserMemoryLimitBytes = std::size_t{4} << 30;  // 4 GiB of address space
 };
