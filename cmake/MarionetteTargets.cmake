@@ -3,7 +3,7 @@
 function(marionette_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
     -Wno-sign-conversion -Wno-float-conversion
-    -Wno-restrict)  # GCC 12 false positive on std::string concatenation (GCC bug 105329)
+    $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>)  # GCC 12 false positive on std::string concatenation (GCC bug 105329)
 endfunction()
 
 # marionette_library(<short name> SOURCES ... ) creates marionette_<name> with

@@ -1,5 +1,5 @@
 // libFuzzer target: BML parser + scheduler + realizer on arbitrary bytes. Built
-// and run by scripts/fuzz-bml (clang). Any crash it finds is kept as a
+// and run by scripts/fuzz bml (clang). Any crash it finds is kept as a
 // regression test in tests/bml/.
 #include <cmath>
 #include <cstddef>
