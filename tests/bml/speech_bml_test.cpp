@@ -3,6 +3,7 @@
 // composition decides what happens to two utterances on one character.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -145,4 +146,46 @@ TEST(SpeechBml, AMarkAfterTheLastWordIsTheEndOfTheSpeech) {
   EXPECT_GT(*s.time("s", "m"), *s.time("s", "start")) << "the mark is after the words, not at the start";
   ASSERT_TRUE(s.time("n", "start")) << "the nod that starts on the mark was dropped";
   EXPECT_NEAR(*s.time("n", "start"), *s.time("s", "m"), 1e-9);
+}
+
+// ../shared/repro/README.md: 1 MB of speech text blocked a frame for about 400 s (100 KB:
+// 48 s) and 5000 <sync> marks took 65 s, with exit 0 and no warning. A line is at most
+// limits::kMaxSpeechCharacters characters with limits::kMaxSpeechMarks marks: past that
+// the speech is refused with a warning naming the behavior and the limit, at once.
+TEST(SpeechBml, TextAndMarksOverTheLimitsAreRefusedAtOnce) {
+  const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
+  MARIONETTE_REQUIRE_FILE(vrm);
+  Scene scene;
+  ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
+  Realizer realizer(scene);
+  std::string words;
+  while (words.size() < 100000) words += "lorem ipsum ";
+  std::string marks;
+  for (int i = 0; i < 300; ++i) marks += "w <sync id='m" + std::to_string(i) + "'/> ";  // 600 characters, 300 marks
+  std::string manyMarks;  // the reproducer's 5000 marks: over both limits
+  for (int i = 0; i < 5000; ++i) manyMarks += "w <sync id='m" + std::to_string(i) + "'/> ";
+  struct Case {
+    std::string text, expected;
+  };
+  int block = 0;
+  for (const Case& c : {Case{words, "more than the 2000 one line may have (limits::kMaxSpeechCharacters)"},
+                        Case{marks, "300 word marks, more than the 256 one line may have (limits::kMaxSpeechMarks)"},
+                        Case{manyMarks, "(limits::kMaxSpeechCharacters)"}, Case{"   ", "the text is empty"}}) {
+    const auto started = std::chrono::steady_clock::now();
+    const Schedule s = realizer.perform(
+        "<bml id='long" + std::to_string(block++) + "'><speech id='s'><text>" + c.text + "</text></speech></bml>", "godette");
+    for (int i = 0; i < 5; ++i) {
+      scene.update(1.0 / 60.0);
+      realizer.update();
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::string warnings;
+    for (const Warning& w : s.warnings) warnings += "'" + w.behaviorId + "': " + w.message + "\n";
+    SCOPED_TRACE(c.expected);
+    EXPECT_NE(warnings.find(c.expected), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("'s': "), std::string::npos) << "the warning does not name the behavior: " << warnings;
+    // Refusing is checking a length: far under the 48 s that 100 KB of text took (a
+    // bound for a machine under ASan and load, not a speed goal).
+    EXPECT_LT(seconds, 20.0);
+  }
 }

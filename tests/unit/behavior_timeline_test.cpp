@@ -199,10 +199,16 @@ TEST(BehaviorTimeline, CharacterRejectsUnknownClipsAndReportsUnrealizedKinds) {
   EXPECT_NE(missing.message.find("no clip named 'dance' (it has 'walk', 'wave')"), std::string::npos) << missing.message;
   EXPECT_EQ(log.last, missing.message);
   scene.speech().useDefaultSynthesizer(false);  // no backend: as a build without TTS
-  BehaviorResult speak = c->addBehavior(request("speak", {{"start", 0}, {"end", 1}}, BehaviorKind::Speech));
+  BehaviorRequest words = request("speak", {{"start", 0}, {"end", 1}}, BehaviorKind::Speech);
+  words.parameters.emplace_back("text", "Hello there.");
+  BehaviorResult speak = c->addBehavior(words);
   EXPECT_TRUE(speak.added);
   EXPECT_FALSE(speak.realized);
   EXPECT_NE(speak.message.find("speech cannot be said: no speech backend"), std::string::npos) << speak.message;
+  // Nothing to say is said as much, before any backend is asked.
+  BehaviorResult empty = c->addBehavior(request("silent", {{"start", 0}, {"end", 1}}, BehaviorKind::Speech));
+  EXPECT_FALSE(empty.realized);
+  EXPECT_NE(empty.message.find("speech cannot be said: the text is empty"), std::string::npos) << empty.message;
   // A locomotion without a target is not added at all, and says what is missing.
   BehaviorResult walk = c->addBehavior(request("walk", {{"start", 0}, {"end", 1}}, BehaviorKind::Locomotion));
   EXPECT_FALSE(walk.added);

@@ -1,5 +1,7 @@
 #include "marionette/speech/speech_service.hpp"
 
+#include "marionette/core/limits.hpp"
+
 #include <cstdio>
 #include <system_error>
 
@@ -60,6 +62,16 @@ void SpeechService::setLipSyncSettings(const LipSyncSettings& settings) {
 }
 
 SpeechService::Result SpeechService::speak(const SpeechRequest& request) {
+  // Limits first: synthesis time grows with the text (and faster with the marks).
+  if (request.text.size() > limits::kMaxSpeechCharacters)
+    return {nullptr, "the text has " + std::to_string(request.text.size()) + " characters, more than the " +
+                         std::to_string(limits::kMaxSpeechCharacters) +
+                         " one line may have (limits::kMaxSpeechCharacters): split it into several lines"};
+  if (request.marks.size() > limits::kMaxSpeechMarks)
+    return {nullptr, "the text has " + std::to_string(request.marks.size()) + " word marks, more than the " +
+                         std::to_string(limits::kMaxSpeechMarks) + " one line may have (limits::kMaxSpeechMarks)"};
+  if (request.text.find_first_not_of(" \t\r\n") == std::string::npos)
+    return {nullptr, "the text is empty: nothing to say"};
   std::lock_guard lock(mutex_);
   const std::string key = cacheKey(request);
   for (const Cached& c : cache_)

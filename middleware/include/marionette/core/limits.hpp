@@ -2,6 +2,7 @@
 // Each is an error naming the file and the limit when exceeded, checked before
 // anything of that size is allocated or read.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -15,6 +16,12 @@ inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{16} << 20;  /
 // textures. 8192 x 4096 is an "8k" HDRI; a float RGB copy of it takes 384 MiB.
 inline constexpr int kMaxImageSide = 16384;
 inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{8192} * 4096;
+
+// One spoken line (a <speech> behavior, a SpeechRequest): synthesis is command-time
+// work that blocks the caller, about 0.5 ms a character with espeak-ng, so a line is
+// at most 2000 characters (some two minutes of speech) with at most 256 word marks.
+inline constexpr std::size_t kMaxSpeechCharacters = 2000;
+inline constexpr std::size_t kMaxSpeechMarks = 256;
 
 // "" when a width x height image is within the limits, else what is wrong (for an
 // error that also names the file). Check a header's size with it before decoding.
