@@ -11,12 +11,9 @@ using marionette::capi::fail;
 namespace {
 
 using marionette::capi::isLive;
+using marionette::capi::notLive;
 
 const mn_scene* ownerOf(const mn_character* c) { return c ? c->owner : nullptr; }
-
-const char* notLive(const void* handle) {
-  return handle ? " is not a live handle (its scene was destroyed?)" : " is NULL";
-}
 
 bool validLayout(mn_palette_layout layout) {
   return layout == MN_PALETTE_MAT4_COLUMN_MAJOR || layout == MN_PALETTE_MAT4_ROW_MAJOR ||

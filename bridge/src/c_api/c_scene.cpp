@@ -3,12 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <deque>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <sstream>
-#include <unordered_set>
 
 #include "handles.hpp"
 #include "marionette/core/text_file.hpp"
@@ -18,70 +15,10 @@
 using marionette::capi::fail;
 using marionette::capi::guarded;
 using marionette::capi::isLive;
+using marionette::capi::notLive;
 
-namespace marionette::capi {
-namespace {
-
-struct HandleRegistry {
-  std::mutex mutex;
-  std::unordered_set<const void*> live;
-  std::deque<void*> quarantine;  // destroyed handles' memory, freed kQuarantine destroys later
-};
-HandleRegistry& registry() {
-  static HandleRegistry* r = new HandleRegistry();  // never destroyed: handles may outlive static destructors
-  return *r;
-}
-
-}  // namespace
-
-void* allocateHandle(std::size_t bytes) {
-  void* handle = ::operator new(bytes);
-  HandleRegistry& r = registry();
-  try {
-    const std::lock_guard lock(r.mutex);
-    r.live.insert(handle);
-  } catch (...) {
-    ::operator delete(handle);
-    throw;
-  }
-  return handle;
-}
-
-void freeHandle(void* handle) noexcept {
-  if (!handle) return;
-  HandleRegistry& r = registry();
-  void* expired = nullptr;
-  {
-    const std::lock_guard lock(r.mutex);
-    r.live.erase(handle);
-    try {
-      r.quarantine.push_back(handle);
-    } catch (...) {  // no memory to hold it back: free it now
-      expired = handle;
-    }
-    if (!expired && r.quarantine.size() > kQuarantine) {
-      expired = r.quarantine.front();
-      r.quarantine.pop_front();
-    }
-  }
-  ::operator delete(expired);
-}
-
-bool isLive(const void* handle) noexcept {
-  if (!handle) return false;
-  HandleRegistry& r = registry();
-  const std::lock_guard lock(r.mutex);
-  return r.live.count(handle) != 0;
-}
-
-}  // namespace marionette::capi
 
 namespace {
-
-// Why a handle was refused: " is NULL" or " is not a live handle (...)".
-const char* notLive(const void* handle) {
-  return handle ? " is not a live handle (destroyed, or not from this library)" : " is NULL";
-}
 
 // A call on `scene` that may reach its callbacks. From inside a callback of the same
 // scene the call is refused; a mn_scene_destroy from a callback waits for its end.

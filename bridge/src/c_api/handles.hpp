@@ -25,6 +25,8 @@ inline constexpr std::size_t kQuarantine = 256;
 void* allocateHandle(std::size_t bytes);  // registers it as live
 void freeHandle(void* handle) noexcept;   // no longer live; freed kQuarantine frees later
 [[nodiscard]] bool isLive(const void* handle) noexcept;
+// Why a handle was refused, for a message "FUNCTION: NAME" + notLive(handle).
+[[nodiscard]] const char* notLive(const void* handle) noexcept;
 
 // Handles are allocated through the registry.
 struct Registered {

@@ -92,8 +92,8 @@ std::optional<RgbImage> readRgbImage(const std::string& path, const std::string&
                          std::to_string(nch) + " channels)");
     return std::nullopt;
   }
-  if (const std::string problem = limits::imageSizeProblem(width, height); !problem.empty() || nch > 64) {
-    diag.error(path, noun + " " + (problem.empty() ? std::to_string(nch) + " channels is more than 64" : problem));
+  if (const std::string problem = limits::imageSizeProblem(width, height, nch); !problem.empty()) {
+    diag.error(path, noun + " " + problem);
     return std::nullopt;
   }
   std::vector<float> all(static_cast<std::size_t>(width) * height * nch);

@@ -5,6 +5,7 @@
 #pragma once
 #include <tiny_gltf.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,13 @@
 #include "marionette/io/import.hpp"
 
 namespace marionette::gltf_detail {
+
+// True when `file` lies in `folder` or below it (compared lexically, after normalizing):
+// where a model's external buffers and images may come from (ImportOptions).
+inline bool insideFolder(const std::filesystem::path& file, const std::filesystem::path& folder) {
+  const std::filesystem::path relative = file.lexically_normal().lexically_relative(folder.lexically_normal());
+  return !relative.empty() && *relative.begin() != "..";
+}
 
 struct Context {
   const tinygltf::Model& model;

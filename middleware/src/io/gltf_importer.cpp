@@ -186,8 +186,7 @@ struct FolderGuard {
     std::error_code ec;
     if (!allowOutside) {
       const fs::path resolved = fs::weakly_canonical(fs::path(file), ec);
-      const fs::path relative = ec ? fs::path("..") : resolved.lexically_relative(root);
-      if (relative.empty() || *relative.begin() == "..") {
+      if (ec || !insideFolder(resolved, root)) {
         // tinygltf also probes other folders (the current one); only a file that is there counts
         if (fs::exists(file, ec)) refused.push_back(file);
         return false;

@@ -383,8 +383,7 @@ inline std::string textureReference(const Context& ctx, int textureIndex) {
     return "embedded:" + std::to_string(source);
   const std::filesystem::path dir = std::filesystem::path(ctx.file).parent_path();
   const std::filesystem::path file = (dir / percentDecoded(image.uri)).lexically_normal();
-  const std::filesystem::path relative = file.lexically_relative(dir.lexically_normal());
-  if (!ctx.options.allowFilesOutsideModelFolder && (relative.empty() || *relative.begin() == "..")) {
+  if (!ctx.options.allowFilesOutsideModelFolder && !insideFolder(file, dir)) {
     ctx.warning("image " + std::to_string(source) + " '" + image.uri +
                 "' is outside the model's folder: no texture (ImportOptions::allowFilesOutsideModelFolder allows it)");
     return {};

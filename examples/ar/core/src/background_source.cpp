@@ -59,8 +59,8 @@ bool readImageRgb8(const std::string& path, BackgroundFrame& frame, Diagnostics&
     diagnostics.error(path, "background image has no pixels");
     return false;
   }
-  if (const std::string problem = limits::imageSizeProblem(w, h); !problem.empty() || nch > 64) {
-    diagnostics.error(path, "background image " + (problem.empty() ? std::to_string(nch) + " channels is more than 64" : problem));
+  if (const std::string problem = limits::imageSizeProblem(w, h, nch); !problem.empty()) {
+    diagnostics.error(path, "background image " + problem);
     return false;
   }
   std::vector<std::uint8_t> all(static_cast<std::size_t>(w) * h * nch);

@@ -18,7 +18,7 @@ bool sizeWithinLimits(OIIO::ImageBuf& buf, const std::string& name, std::string&
     return false;
   }
   const OIIO::ImageSpec& spec = buf.spec();
-  if (const std::string problem = limits::imageSizeProblem(spec.width, spec.height); !problem.empty()) {
+  if (const std::string problem = limits::imageSizeProblem(spec.width, spec.height, spec.nchannels); !problem.empty()) {
     error = name + ": the image " + problem;
     return false;
   }

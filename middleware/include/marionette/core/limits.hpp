@@ -23,15 +23,20 @@ inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{8192} * 4096;
 inline constexpr std::size_t kMaxSpeechCharacters = 2000;
 inline constexpr std::size_t kMaxSpeechMarks = 256;
 
-// "" when a width x height image is within the limits, else what is wrong (for an
-// error that also names the file). Check a header's size with it before decoding.
-[[nodiscard]] inline std::string imageSizeProblem(long long width, long long height) {
+inline constexpr int kMaxImageChannels = 64;
+
+// "" when a width x height image of `channels` channels is within the limits, else
+// what is wrong (for an error that also names the file). Check a header with it
+// before decoding.
+[[nodiscard]] inline std::string imageSizeProblem(long long width, long long height, long long channels = 1) {
   if (width <= 0 || height <= 0)
     return "has no pixels (" + std::to_string(width) + "x" + std::to_string(height) + ")";
   if (width > kMaxImageSide || height > kMaxImageSide || std::uint64_t(width) * std::uint64_t(height) > kMaxImagePixels)
     return "is " + std::to_string(width) + "x" + std::to_string(height) + " pixels, more than the library reads (" +
            std::to_string(kMaxImageSide) + " a side and " + std::to_string(kMaxImagePixels) +
            " pixels in all: limits::kMaxImagePixels)";
+  if (channels > kMaxImageChannels)
+    return "has " + std::to_string(channels) + " channels, more than " + std::to_string(kMaxImageChannels);
   return "";
 }
 
