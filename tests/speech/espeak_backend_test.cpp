@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "marionette/speech/espeak_backend.hpp"
@@ -392,6 +394,44 @@ TEST(EspeakBackend, SameRequestTwiceGivesIdenticalResults) {
     EXPECT_EQ(a.utterance->marks[1].time, b.utterance->marks[1].time);
     EXPECT_EQ(a.utterance->warnings, b.utterance->warnings);
   }
+}
+
+// espeak-ng has one engine per process. A long line is said in pieces with the
+// engine handed on between them (first come, first served), so a short line asked
+// from another thread while it is being said is done long before it: it waits one
+// piece, not the whole line. Said in one call, the short line would finish last.
+TEST(EspeakBackend, AShortLineDoesNotWaitBehindALongOneOnAnotherThread) {
+  std::string longText;
+  while (longText.size() + 45 <= 2000) longText += "The quick brown fox jumps over the lazy dog. ";
+  const auto t0 = std::chrono::steady_clock::now();
+  std::atomic<bool> longStarted{false};
+  double longDone = 0.0, shortDone = 0.0, shortAsked = 0.0;
+  SpeechResult longResult, shortResult;
+  std::thread longThread([&] {
+    auto backend = makeEspeakBackend();
+    SpeechRequest r;
+    r.text = longText + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());  // never cached
+    longStarted = true;
+    longResult = backend->synthesize(r);
+    longDone = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  });
+  while (!longStarted) std::this_thread::yield();
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the long line holds the engine now
+  {
+    auto backend = makeEspeakBackend();
+    SpeechRequest r;
+    r.text = "Over here!";
+    r.wordsPerMinute = 181;  // not said before in this process
+    shortAsked = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    shortResult = backend->synthesize(r);
+    shortDone = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  longThread.join();
+  ASSERT_TRUE(longResult.error.empty() && shortResult.error.empty()) << longResult.error << shortResult.error;
+  EXPECT_LT(shortDone, longDone) << "the short line waited for the whole long one";
+  expectNormal(*longResult.utterance, "the long line, said in pieces");
+  std::printf("[ measured ] %zu-character line: %.3f s; a short line asked at %.3f s was done %.3f s later\n",
+              longText.size(), longDone, shortAsked, shortDone - shortAsked);
 }
 
 // A data directory without espeak-ng's files: an error naming the directory,

@@ -20,12 +20,14 @@
 #include "marionette/speech/espeak_backend.hpp"
 
 #include "marionette/core/text.hpp"
+#include "marionette/speech/text_pieces.hpp"
 
 #include <espeak-ng/speak_lib.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <condition_variable>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -78,9 +80,33 @@ int onSynth(short* wav, int count, espeak_EVENT* events) {
   return 0;  // go on
 }
 
+// A first-come first-served lock: the engine goes to callers in the order they
+// asked. std::mutex makes no such promise, and a long line said in pieces would
+// take it back between its pieces before a waiting caller woke.
+class FairLock {
+ public:
+  void lock() {
+    std::unique_lock guard(mutex_);
+    const std::uint64_t ticket = next_++;
+    turn_.wait(guard, [&] { return serving_ == ticket; });
+  }
+  void unlock() {
+    {
+      std::lock_guard guard(mutex_);
+      ++serving_;
+    }
+    turn_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable turn_;
+  std::uint64_t next_ = 0, serving_ = 0;
+};
+
 // espeak-ng keeps global state: one engine for the process, one synthesis at a time.
 struct Engine {
-  std::mutex mutex;
+  FairLock mutex;
   bool started = false;
   int sampleRate = 0;
   std::string startError;  // set once if the engine could not start; repeated to every caller
@@ -164,6 +190,29 @@ void fitNonDecreasing(std::vector<double>& x, double end) {
   }
 }
 
+// One piece of the text, [from, to), as SSML with a <mark/> at each of marks[first, last)
+// (offsets into the whole text). markPositions gets where each mark starts as espeak-ng
+// counts: 1-based code points of the SSML. The engine sees "m<index>", not the caller's
+// id: any id works (espeak-ng truncates long mark names), and a mark it reports is matched exactly.
+std::string pieceSsml(std::string_view text, std::size_t from, std::size_t to, const std::vector<TextMark>& marks,
+                      std::size_t first, std::size_t last, std::vector<int>& markPositions) {
+  std::string ssml = "<speak>";
+  std::size_t at = from, counted = 0;
+  int ssmlCodePoints = 0;
+  for (std::size_t i = first; i < last; ++i) {
+    const std::size_t offset = std::clamp(marks[i].characterOffset, from, to);
+    appendXmlEscaped(ssml, text.substr(at, offset - at));
+    at = offset;
+    ssmlCodePoints += codePoints(std::string_view(ssml).substr(counted));
+    counted = ssml.size();
+    markPositions.push_back(ssmlCodePoints + 1);
+    ssml += "<mark name=\"m" + std::to_string(i) + "\"/>";
+  }
+  appendXmlEscaped(ssml, text.substr(at, to - at));
+  ssml += "</speak>";
+  return ssml;
+}
+
 // A voice file name ("en-us", "gmw/en-US") or, failing that, a language
 // ("en-gb" names no file: its voice is "gmw/en"). Under the engine's lock.
 bool selectVoice(const std::string& voice) {
@@ -192,34 +241,16 @@ class EspeakBackend final : public SpeechBackend {
       rate = clamped;
     }
 
-    // The text as SSML, a <mark/> at each mark's offset (stable: marks at one offset keep their order).
+    // Marks in text order (stable: marks at one offset keep their order).
     std::vector<TextMark> marks = request.marks;
     for (TextMark& m : marks) m.characterOffset = utf8Boundary(request.text, m.characterOffset);
     std::stable_sort(marks.begin(), marks.end(),
                      [](const TextMark& a, const TextMark& b) { return a.characterOffset < b.characterOffset; });
-    std::string ssml = "<speak>";
-    std::size_t at = 0, counted = 0;
-    int ssmlCodePoints = 0;
-    std::vector<int> markPositions;  // where each <mark/> starts, as espeak-ng counts: 1-based code points
-    for (const TextMark& m : marks) {
-      appendXmlEscaped(ssml, std::string_view(request.text).substr(at, m.characterOffset - at));
-      at = m.characterOffset;
-      ssmlCodePoints += codePoints(std::string_view(ssml).substr(counted));
-      counted = ssml.size();
-      markPositions.push_back(ssmlCodePoints + 1);
-      // The engine sees "m<index>", not the caller's id: any id works (espeak-ng
-      // truncates long mark names), and a mark it reports is matched exactly.
-      ssml += "<mark name=\"m" + std::to_string(markPositions.size() - 1) + "\"/>";
-    }
-    appendXmlEscaped(ssml, std::string_view(request.text).substr(at));
-    ssml += "</speak>";
-
-    std::string key = voice + '\n' + std::to_string(rate) + '\n' + ssml;
-    for (const TextMark& m : marks) key += '\n' + m.id;
-    Capture capture;
+    std::string key = voice + '\n' + std::to_string(rate) + '\n' + request.text;
+    for (const TextMark& m : marks) key += '\n' + std::to_string(m.characterOffset) + ':' + m.id;
+    Engine& e = engine();
     int sampleRate = 0;
     {
-      Engine& e = engine();
       std::lock_guard lock(e.mutex);
       startEngine(e);
       if (!e.startError.empty()) {
@@ -232,21 +263,62 @@ class EspeakBackend final : public SpeechBackend {
           return result;
         }
       sampleRate = e.sampleRate;
-      if (!selectVoice(voice)) {
-        result.error = "espeak-ng has no voice '" + voice +
-                       "' (neither a voice name such as 'en-us' nor a language such as 'en-gb'; voices are listed by "
-                       "`espeak-ng --voices`; data in '" + dataPath() + "')";
-        return result;
+    }
+
+    // Said in pieces (text_pieces.hpp): between two pieces the engine goes to whoever
+    // asked for it meanwhile, so another scene's short line waits one piece, not this line.
+    Capture capture;                                  // the whole line, samples from its start
+    std::vector<std::int64_t> markSamples(marks.size(), -1);
+    std::size_t recovered = 0, pieceStart = 0, nextMark = 0;
+    for (const std::size_t pieceEnd : textPieceEnds(request.text)) {
+      const bool lastPiece = pieceEnd == request.text.size();
+      std::size_t markEnd = nextMark;
+      while (markEnd < marks.size() && (lastPiece || marks[markEnd].characterOffset < pieceEnd)) ++markEnd;
+      std::vector<int> markPositions;
+      const std::string ssml = pieceSsml(request.text, pieceStart, pieceEnd, marks, nextMark, markEnd, markPositions);
+      Capture piece;
+      {
+        std::lock_guard lock(e.mutex);
+        // Set for every piece: another caller may have changed them in between.
+        if (!selectVoice(voice)) {
+          result.error = "espeak-ng has no voice '" + voice +
+                         "' (neither a voice name such as 'en-us' nor a language such as 'en-gb'; voices are listed by "
+                         "`espeak-ng --voices`; data in '" + dataPath() + "')";
+          return result;
+        }
+        espeak_SetParameter(espeakRATE, rate, 0);
+        const espeak_ERROR status = espeak_Synth(ssml.c_str(), ssml.size() + 1, 0, POS_CHARACTER, 0,
+                                                 espeakSSML | espeakCHARS_UTF8, nullptr, &piece);
+        if (status != EE_OK) {
+          result.error = "espeak-ng could not synthesize \"" + request.text.substr(0, 60) +
+                         (request.text.size() > 60 ? "...\"" : "\"") + " with voice '" + voice + "' (error " +
+                         std::to_string(status) + ")";
+          return result;
+        }
       }
-      espeak_SetParameter(espeakRATE, rate, 0);
-      const espeak_ERROR status = espeak_Synth(ssml.c_str(), ssml.size() + 1, 0, POS_CHARACTER, 0,
-                                               espeakSSML | espeakCHARS_UTF8, nullptr, &capture);
-      if (status != EE_OK) {
-        result.error = "espeak-ng could not synthesize \"" + request.text.substr(0, 60) +
-                       (request.text.size() > 60 ? "...\"" : "\"") + " with voice '" + voice + "' (error " +
-                       std::to_string(status) + ")";
-        return result;
+      const auto offset = static_cast<std::int64_t>(capture.audio.size());
+      const auto pieceEndSample = offset + static_cast<std::int64_t>(piece.audio.size());
+      capture.audio.insert(capture.audio.end(), piece.audio.begin(), piece.audio.end());
+      for (Capture::Raw& p : piece.phonemes) capture.phonemes.push_back({std::move(p.name), p.sample + offset});
+      for (const auto& [name, sample] : piece.marks) {
+        const std::size_t index = name.size() > 1 ? std::strtoul(name.c_str() + 1, nullptr, 10) : marks.size();
+        if (index >= nextMark && index < markEnd && markSamples[index] < 0) markSamples[index] = sample + offset;
       }
+      // espeak-ng 1.51 drops a mark that follows a full stop ("dog. <mark/>The"):
+      // such a mark gets the start of the next word after it (where espeak-ng puts
+      // the marks it does report), or the piece's end when no word follows.
+      for (std::size_t i = nextMark; i < markEnd; ++i) {
+        if (markSamples[i] >= 0) continue;
+        ++recovered;
+        markSamples[i] = pieceEndSample;
+        for (const auto& [position, sample] : piece.words)
+          if (position > markPositions[i - nextMark]) {
+            markSamples[i] = sample + offset;
+            break;
+          }
+      }
+      pieceStart = pieceEnd;
+      nextMark = markEnd;
     }
 
     u->audio = std::move(capture.audio);
@@ -301,29 +373,8 @@ class EspeakBackend final : public SpeechBackend {
       u->phonemes.push_back(std::move(p));
     }
 
-    // Marks in text order. espeak-ng 1.51 drops a mark that follows a full
-    // stop ("dog. <mark/>The"): such a mark gets the start of the next word
-    // after it (where espeak-ng puts the marks it does report), or the end
-    // when no word follows.
-    std::vector<double> reported(marks.size(), -1.0);
-    for (const auto& [name, sample] : capture.marks) {
-      const std::size_t index = name.size() > 1 ? std::strtoul(name.c_str() + 1, nullptr, 10) : marks.size();
-      if (index < marks.size() && reported[index] < 0.0) reported[index] = static_cast<double>(sample) / sampleRate;
-    }
-    std::size_t recovered = 0;
-    for (std::size_t i = 0; i < marks.size(); ++i) {
-      Mark out{marks[i].id, reported[i]};
-      if (out.time < 0.0) {
-        ++recovered;
-        out.time = duration;
-        for (const auto& [position, sample] : capture.words)
-          if (position > markPositions[i]) {
-            out.time = static_cast<double>(sample) / sampleRate;
-            break;
-          }
-      }
-      u->marks.push_back(std::move(out));
-    }
+    for (std::size_t i = 0; i < marks.size(); ++i)
+      u->marks.push_back({marks[i].id, static_cast<double>(markSamples[i]) / sampleRate});
     if (recovered > 0)
       u->warnings.push_back("espeak-ng reported no event for " + std::to_string(recovered) +
                             " mark(s) (1.51 drops marks that follow a full stop); timed at the next word's start");
@@ -331,7 +382,6 @@ class EspeakBackend final : public SpeechBackend {
     normalizeTiming(*u);
     result.utterance = std::move(u);
     {
-      Engine& e = engine();
       std::lock_guard lock(e.mutex);
       // Another thread may have said the same meanwhile: keep the first, so repeats stay identical.
       for (const auto& [k, done] : e.recent)
