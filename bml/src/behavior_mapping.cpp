@@ -91,17 +91,28 @@ void addSpeechParameters(const Behavior& b, BehaviorRequest& r) {
   if (!marks.empty()) r.parameters.emplace_back("markOffsets", std::move(marks));
 }
 
-}  // namespace
-
-std::optional<SpeechTiming> speechTiming(const Behavior& b, const Character& character) {
-  if (b.type != "speech") return std::nullopt;
+// What the speech service is asked for a <speech> (the same text and marks as toRequest gives).
+BehaviorRequest speechRequest(const Behavior& b) {
   BehaviorRequest r;
   r.id = b.id;
   r.kind = BehaviorKind::Speech;
   for (const Attribute& a : b.attributes) r.parameters.emplace_back(a.name, a.value);
   addSpeechParameters(b, r);
+  return r;
+}
+
+}  // namespace
+
+std::shared_ptr<const speech::SpeechService::Preparation> prepareSpeechTiming(const Behavior& b,
+                                                                            const Character& character) {
+  if (b.type != "speech") return nullptr;
+  return character.prepareSpeechInBackground(speechRequest(b));
+}
+
+std::optional<SpeechTiming> speechTiming(const Behavior& b, const Character& character) {
+  if (b.type != "speech") return std::nullopt;
   std::string error;
-  const auto line = character.prepareSpeech(r, error);
+  const auto line = character.prepareSpeech(speechRequest(b), error);
   if (!line) return std::nullopt;
   SpeechTiming t;
   t.duration = line->utterance->duration;

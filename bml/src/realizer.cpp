@@ -93,13 +93,64 @@ SchedulerOptions::ExternalSync Realizer::resolveExternal(const SyncRef& ref, dou
                             (ref.repetition > 1 ? ":" + std::to_string(ref.repetition) : "") + "'"};
 }
 
-Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
-                           std::optional<double> at) {
-  const ParseResult parsed = parseBlock(bmlText);
+std::pair<std::string, Character*> Realizer::performer(const ParseResult& parsed, std::string_view character) const {
   std::string who(character);
   if (who.empty() && parsed.block) who = parsed.block->characterId;
   if (who.empty() && !scene_.characters().empty()) who = scene_.characters().front()->name();
   Character* target = scene_.findCharacter(who);
+  return {std::move(who), target};
+}
+
+bool Realizer::Held::ready() const noexcept {
+  return std::all_of(lines.begin(), lines.end(), [](const auto& line) { return line->ready(); });
+}
+
+Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
+                           std::optional<double> at) {
+  if (speechSynthesis_ == SpeechSynthesis::Background)
+    if (std::optional<Schedule> held = holdForSpeech(bmlText, character, options)) return std::move(*held);
+  return realize(bmlText, character, options, at);
+}
+
+std::optional<Schedule> Realizer::holdForSpeech(std::string_view bmlText, std::string_view character,
+                                                const SchedulerOptions& options) {
+  // A block without speech, with none held before it, goes straight on (and is not parsed twice).
+  if (held_.empty() && bmlText.find("speech") == std::string_view::npos) return std::nullopt;
+  const ParseResult parsed = parseBlock(bmlText);
+  const auto [who, target] = performer(parsed, character);
+  if (!parsed.block || !target) return std::nullopt;  // fails now, with its reason
+  Held h{std::string(bmlText), who, parsed.block->id, options, {}};
+  if (!options.speechTiming)  // a caller's own speech timing needs no synthesis first
+    for (const Behavior& b : parsed.block->behaviors)
+      if (auto line = prepareSpeechTiming(b, *target)) h.lines.push_back(std::move(line));
+  if (held_.empty() && h.ready()) return std::nullopt;  // said already (cached): realize now
+  Schedule s;
+  s.blockId = h.blockId;
+  s.heldForSpeech = true;
+  held_.push_back(std::move(h));
+  return s;
+}
+
+void Realizer::realizeHeld() {
+  // In order; realize() may call listeners that perform() again: nothing is kept across it.
+  while (!held_.empty() && held_.front().ready()) {
+    Held h = std::move(held_.front());
+    held_.pop_front();
+    (void)realize(h.text, h.character, h.options, scene_.time());
+  }
+}
+
+void Realizer::waitForSpeech() {
+  while (!held_.empty()) {
+    scene_.speech().waitUntilPrepared();
+    realizeHeld();
+  }
+}
+
+Schedule Realizer::realize(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
+                           std::optional<double> at) {
+  const ParseResult parsed = parseBlock(bmlText);
+  const auto [who, target] = performer(parsed, character);
   const double now = at && std::isfinite(*at) ? *at : scene_.time();
 
   // Composition decides the start first: references to other blocks are relative to it.
@@ -292,6 +343,7 @@ bool Realizer::arrived(Active& b, Event& e, double now) {
 }
 
 void Realizer::update() {
+  if (!held_.empty()) realizeHeld();
   const double now = scene_.time();
   for (Active& b : blocks_) {
     if (!b.started && now >= b.start) {
@@ -320,6 +372,11 @@ void Realizer::update() {
 }
 
 bool Realizer::interrupt(std::string_view blockId) {
+  const auto held = std::find_if(held_.begin(), held_.end(), [&](const Held& h) { return h.blockId == blockId; });
+  if (held != held_.end()) {
+    held_.erase(held);
+    return true;
+  }
   auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == blockId; });
   if (it == blocks_.end()) return false;
   finish(*it, scene_.time());

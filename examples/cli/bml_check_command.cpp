@@ -83,6 +83,7 @@ int bmlCheckCommand(const std::vector<std::string>& args) {
     bml::Realizer realizer(scene);
     realizer.setForwardWarningsToScene(false);
     realizer.setReportUnrealized(!characterFile.empty());
+    realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // the schedule is the answer
     const bml::Schedule s = realizer.perform(content, name);
     worst = std::max(worst, s.failed ? 2 : (s.warnings.empty() ? 0 : 1));
     if (json) {

@@ -172,6 +172,7 @@ int runCommand(const std::vector<std::string>& args) {
   // BML: files from the scene (at their times) and from --bml (at 0), sent as the clock reaches them.
   bml::Realizer realizer(scene);
   realizer.setForwardWarningsToScene(false);  // the run loop prints them with their file:line:col
+  realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // a fixed clock: the same output every run
   std::vector<TimedFile> sends = loaded.bml;
   for (const std::string& f : r.bml) sends.push_back({f, 0.0, {}});
   const std::size_t bmlFileCount = sends.size();

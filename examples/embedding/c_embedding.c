@@ -94,6 +94,10 @@ int main(int argc, char** argv) {
     fprintf(stderr, "%s: %s\n", mn_status_name(status), mn_scene_last_error(scene));
     return 2;
   }
+  /* The block's speech is said on the scene's speech thread (a game's frames go on
+   * meanwhile); this program compares its frames with the C++ API's, so its block
+   * starts on the first frame, as a loading screen would do it. */
+  if (mn_scene_wait_for_speech(scene) != MN_OK) return 2;
   for (frame = 0; frame < C_EMBEDDING_FRAMES; ++frame) {
     if (mn_scene_update(scene, 1.0 / 60.0) != MN_OK ||
         mn_character_palette(robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, palette, floats) != MN_OK ||

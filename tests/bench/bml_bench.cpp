@@ -39,6 +39,7 @@ static void BmlPerform(benchmark::State& state) {
   marionette::Scene scene;
   scene.addCharacter("robot", marionette::test::makeSyntheticRig());
   marionette::bml::Realizer realizer(scene);
+  realizer.setSpeechSynthesis(marionette::bml::Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
   realizer.setForwardWarningsToScene(false);
   std::size_t behaviors = 0;
   for (auto _ : state) {

@@ -39,6 +39,7 @@ struct RealizerWithRobot : ::testing::Test {
   Realizer r{scene};
   Recorder rec;
   RealizerWithRobot() {
+    r.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
     scene.addCharacter("robot", test::makeSyntheticRig());
     r.addFeedbackListener([this](const Feedback& f) { rec.all.push_back(f); });
   }

@@ -3,6 +3,7 @@
 // composition decides what happens to two utterances on one character.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "marionette/bml/realizer.hpp"
 #include "marionette/speech/espeak_backend.hpp"
 #include "marionette/speech/recorded_speech.hpp"
+#include "gated_speech_backend.hpp"
 #include "real_rig.hpp"
 #include "test_data.hpp"
 
@@ -32,6 +34,7 @@ struct GodetteRealizer : ::testing::Test {
   std::vector<Feedback> feedback;
   std::shared_ptr<speech::RecordedSpeech> recorded = std::make_shared<speech::RecordedSpeech>();
   void SetUp() override {
+    realizer.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
     const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
     MARIONETTE_REQUIRE_FILE(vrm);
     ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
@@ -76,6 +79,71 @@ TEST_F(GodetteRealizer, WordMarksAreSyncPointsAtTheTimesTheVoiceSaysThem) {
   EXPECT_TRUE(seen);
 }
 
+// Speech off the frame path (the default, SpeechSynthesis::Background): a block whose
+// line is not said yet is held, frames go on, blocks sent after it wait behind it (an
+// APPEND still starts after it), and it starts at the update after its line is said.
+// A line said before starts at once; a held block can be interrupted; a block that
+// does not parse fails at once.
+TEST_F(GodetteRealizer, InTheBackgroundABlockWaitsForItsSpeechAndNoFrameDoes) {
+  Scene s2;
+  ASSERT_TRUE(s2.addCharacter("godette", std::make_shared<const Rig>(scene.findCharacter("godette")->rig())));
+  s2.speech().useDefaultSynthesizer(false);
+  auto gate = std::make_shared<test::GatedSpeechBackend>(recorded);
+  s2.speech().addBackend(gate);
+  const test::GateOpener opener{*gate};
+  Realizer r(s2);
+  ASSERT_EQ(r.speechSynthesis(), Realizer::SpeechSynthesis::Background);
+  std::vector<Feedback> heard;
+  r.addFeedbackListener([&](const Feedback& f) { heard.push_back(f); });
+
+  const Schedule held = r.perform(speechBlock("b1"), "godette");
+  EXPECT_FALSE(held.failed);
+  EXPECT_TRUE(held.heldForSpeech);
+  EXPECT_EQ(held.blockId, "b1");
+  const Schedule behind = r.perform("<bml id='b2' composition='APPEND'><head id='n' lexeme='NOD'/></bml>", "godette");
+  EXPECT_TRUE(behind.heldForSpeech) << "a block sent after a held one waits behind it";
+  EXPECT_EQ(r.heldBlocks(), 2u);
+  EXPECT_TRUE(r.perform("<bml id='broken'><speech", "godette").failed) << "a block that does not parse fails at once";
+  for (int i = 0; i < 30; ++i) {  // half a second of frames while the synthesizer works
+    s2.update(1.0 / 60.0);
+    r.update();
+  }
+  EXPECT_EQ(r.heldBlocks(), 2u);
+  EXPECT_EQ(s2.findCharacter("godette")->behaviors().find("b1:s1"), nullptr);
+  for (const Feedback& f : heard) EXPECT_NE(f.kind, Feedback::Kind::Prediction) << f.xml();
+
+  gate->setOpen(true);
+  r.waitForSpeech();
+  EXPECT_EQ(r.heldBlocks(), 0u);
+  const double first = 49520.0 / 16000.0;
+  ASSERT_TRUE(r.blockStart("b1") && r.blockStart("b2"));
+  EXPECT_NEAR(*r.blockStart("b1"), 0.5, 1e-9) << "starts when its line is ready";
+  EXPECT_NEAR(*r.blockStart("b2"), 0.5 + first, 1e-6) << "APPEND after the held block, as sent";
+  EXPECT_TRUE(std::any_of(heard.begin(), heard.end(), [](const Feedback& f) {
+    return f.kind == Feedback::Kind::Prediction && f.blockId == "b1";
+  }));
+
+  // Said before: at once, the synthesizer not asked again.
+  const int calls = gate->calls;
+  const Schedule again = r.perform(speechBlock("b3", "REPLACE"), "godette");
+  EXPECT_FALSE(again.heldForSpeech);
+  EXPECT_FALSE(again.behaviors.empty());
+  EXPECT_EQ(gate->calls, calls);
+
+  // Held, then interrupted: dropped, never performed.
+  gate->setOpen(false);
+  const Schedule dropped = r.perform(
+      "<bml id='b4'><speech id='s'><text>A line nobody recorded.</text></speech></bml>", "godette");
+  EXPECT_TRUE(dropped.heldForSpeech);
+  EXPECT_TRUE(r.interrupt("b4"));
+  EXPECT_EQ(r.heldBlocks(), 0u);
+  gate->setOpen(true);
+  s2.speech().waitUntilPrepared();
+  s2.update(1.0 / 60.0);
+  r.update();
+  EXPECT_EQ(s2.findCharacter("godette")->behaviors().find("b4:s"), nullptr);
+}
+
 TEST_F(GodetteRealizer, AppendQueuesTheSecondUtteranceAndReplaceInterruptsTheFirst) {
   ASSERT_FALSE(realizer.perform(speechBlock("b1"), "godette").failed);
   ASSERT_FALSE(realizer.perform(speechBlock("b2", "APPEND"), "godette").failed);
@@ -97,6 +165,7 @@ TEST_F(GodetteRealizer, AppendQueuesTheSecondUtteranceAndReplaceInterruptsTheFir
 TEST(SpeechBml, EspeakTimingDrivesTheSchedule) {
   Scene scene;
   Realizer realizer(scene);
+  realizer.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
   const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
   MARIONETTE_REQUIRE_FILE(vrm);
   ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
@@ -137,6 +206,7 @@ TEST(SpeechBml, AMarkAfterTheLastWordIsTheEndOfTheSpeech) {
   Scene scene;
   ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
   Realizer realizer(scene);
+  realizer.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
   const Schedule s = realizer.perform(test::readFile(file), "godette");
   ASSERT_FALSE(s.failed);
   for (const Warning& w : s.warnings) ADD_FAILURE() << toString(w.type) << ": " << w.message;
@@ -158,6 +228,7 @@ TEST(SpeechBml, TextAndMarksOverTheLimitsAreRefusedAtOnce) {
   Scene scene;
   ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
   Realizer realizer(scene);
+  realizer.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
   std::string words;
   while (words.size() < 100000) words += "lorem ipsum ";
   std::string marks;

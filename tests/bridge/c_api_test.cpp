@@ -3,6 +3,7 @@
 // scene files, and scenes on two threads.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -240,9 +241,13 @@ TEST(CApi, CallbacksReportFeedbackVisemesAndWarnings) {
                               "<bml id='b1'>\n<head id='nod' lexeme='NOD'/>\n<speech id='say'><text>Hello there.</text></speech>\n"
                               "<dance id='d' start='0' end='1'/>\n</bml>"),
             MN_OK) << mn_scene_last_error(s.scene);
+  // The line is said in the background: the block, and its warning, come when it is said
+  // (these frames run faster than real time: wait for it).
+  EXPECT_EQ(heard.warnings, 0);
+  ASSERT_EQ(mn_scene_wait_for_speech(s.scene), MN_OK);
+  for (int f = 0; f < 240; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
   EXPECT_GE(heard.warnings, 1);
   EXPECT_NE(heard.lastWarning.find("bml block 'b1':4:"), std::string::npos) << heard.lastWarning;
-  for (int f = 0; f < 240; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
   EXPECT_EQ(heard.blockEnds, 1);
   EXPECT_EQ(heard.character, "robot");
 #ifdef MARIONETTE_HAS_TTS
@@ -255,6 +260,44 @@ TEST(CApi, CallbacksReportFeedbackVisemesAndWarnings) {
   ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='b2'><head id='n' lexeme='NOD'/></bml>"), MN_OK);
   for (int f = 0; f < 90; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
   EXPECT_EQ(heard.feedback, before);
+}
+
+// Speech off the frame path: in the background a block with a line not said yet
+// waits (send returns at once, no feedback), and starts with the update after it is
+// said; inline, or after mn_scene_wait_for_speech, it is there at once. A mode that is
+// not one is refused, naming the value.
+TEST(CApi, SpeechIsSaidInTheBackgroundOrInlineAsAsked) {
+  SceneWithRobot s;
+  int predictions = 0;
+  ASSERT_EQ(mn_scene_set_feedback_callback(s.scene, [](void* user, const mn_feedback* f) {
+    if (f->kind == MN_FEEDBACK_PREDICTION) ++*static_cast<int*>(user);
+  }, &predictions), MN_OK);
+  EXPECT_EQ(mn_scene_set_speech_synthesis(s.scene, static_cast<mn_speech_synthesis>(7)), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("mode 7"), std::string::npos) << mn_scene_last_error(s.scene);
+  EXPECT_EQ(mn_scene_set_speech_synthesis(nullptr, MN_SPEECH_INLINE), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_wait_for_speech(nullptr), MN_ERROR_INVALID_ARGUMENT);
+#ifdef MARIONETTE_TEST_HAS_BML
+  // Background (the default): held until said.
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='bg'><speech id='s'><text>Said in the background.</text></speech></bml>"),
+            MN_OK) << mn_scene_last_error(s.scene);
+  EXPECT_EQ(predictions, 0) << "a block waiting for its speech predicts nothing yet";
+  for (int f = 0; f < 600 && predictions == 0; ++f) {
+    ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+    if (predictions == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  EXPECT_GT(predictions, 0) << "the block never started";
+  // Inline: at once.
+  predictions = 0;
+  ASSERT_EQ(mn_scene_set_speech_synthesis(s.scene, MN_SPEECH_INLINE), MN_OK);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='in'><speech id='s'><text>Said inline.</text></speech></bml>"), MN_OK);
+  EXPECT_GT(predictions, 0);
+  // Background again, then waited for: at once too.
+  predictions = 0;
+  ASSERT_EQ(mn_scene_set_speech_synthesis(s.scene, MN_SPEECH_BACKGROUND), MN_OK);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='w'><speech id='s'><text>Waited for.</text></speech></bml>"), MN_OK);
+  ASSERT_EQ(mn_scene_wait_for_speech(s.scene), MN_OK);
+  EXPECT_GT(predictions, 0);
+#endif
 }
 
 TEST(CApi, SceneFileCharactersAndTheirBmlAtItsTime) {

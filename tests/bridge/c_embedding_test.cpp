@@ -74,6 +74,7 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
   Scene scene;
   Character* c = scene.addCharacter("robot", rig);
   bml::Realizer realizer(scene);
+  realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // the example waits for its speech too
   ASSERT_FALSE(realizer.perform(C_EMBEDDING_BML, "robot").failed);
   for (int f = 0; f < C_EMBEDDING_FRAMES; ++f) {
     scene.update(1.0 / 60.0);

@@ -236,6 +236,7 @@ TEST_F(SceneClipsTest, ArDemoSceneWalksLooksNodsAndSpeaks) {
   EXPECT_TRUE(loaded.diagnostics.items.empty()) << loaded.diagnostics.format();
   ASSERT_EQ(loaded.bml.size(), 1u);
   bml::Realizer realizer(scene);
+  realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
   std::map<std::string, double> sync;  // "behavior:sync" -> scene time
   bool blockEnded = false;
   realizer.addFeedbackListener([&](const bml::Feedback& f) {

@@ -97,6 +97,21 @@ MN_API mn_character* mn_scene_character_at(mn_scene* scene, size_t index); /* NU
  * block that fails as a whole returns MN_ERROR_BML with a message naming the block,
  * line:column and problem. MN_ERROR_UNSUPPORTED when built without BML. */
 MN_API mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* bml_text);
+/* How a block's <speech> is said. BACKGROUND (the default): on the scene's speech
+ * thread; mn_scene_send_bml returns at once and the block waits (with every block sent
+ * after it) until its lines are said, then starts at that update: no frame waits for the
+ * synthesizer. Problems of a waiting block arrive as MN_FEEDBACK_WARNING feedback.
+ * INLINE: mn_scene_send_bml says the lines itself (up to ~0.1 s for a long line) and
+ * the block starts at once: deterministic, for offline tools and tests. */
+typedef enum mn_speech_synthesis {
+  MN_SPEECH_BACKGROUND = 0,
+  MN_SPEECH_INLINE = 1,
+  MN_SPEECH_MIN_ENUM_ = -0x7FFFFFFF - 1, /* not modes (unknown ones are errors) */
+  MN_SPEECH_MAX_ENUM_ = 0x7FFFFFFF
+} mn_speech_synthesis;
+MN_API mn_status mn_scene_set_speech_synthesis(mn_scene* scene, mn_speech_synthesis mode);
+/* Waits until the speech of the blocks that wait for it is said and starts them now. */
+MN_API mn_status mn_scene_wait_for_speech(mn_scene* scene);
 /* Advances the clock by dt seconds (finite, >= 0, at most 3600: MN_ERROR_INVALID_ARGUMENT
  * otherwise, and the clock stays) and updates every character and the BML realizer;
  * callbacks come from here. */

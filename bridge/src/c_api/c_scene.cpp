@@ -309,6 +309,34 @@ mn_status mn_scene_send_bml(mn_scene* scene, const char* character, const char* 
 #endif
 }
 
+mn_status mn_scene_set_speech_synthesis(mn_scene* scene, mn_speech_synthesis mode) {
+  if (!isLive(scene))
+    return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_speech_synthesis: scene") + notLive(scene));
+  const int value = static_cast<int>(mode);  // any int may arrive from C: checked before it is an enum of C++
+  if (value != MN_SPEECH_BACKGROUND && value != MN_SPEECH_INLINE)
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT,
+                "mn_scene_set_speech_synthesis: mode " + std::to_string(value) +
+                    " is neither MN_SPEECH_BACKGROUND (0) nor MN_SPEECH_INLINE (1)");
+#ifdef MARIONETTE_C_HAS_BML
+  scene->realizer->setSpeechSynthesis(value == MN_SPEECH_INLINE ? marionette::bml::Realizer::SpeechSynthesis::Inline
+                                                                : marionette::bml::Realizer::SpeechSynthesis::Background);
+#endif
+  return MN_OK;
+}
+
+mn_status mn_scene_wait_for_speech(mn_scene* scene) {
+  if (!isLive(scene))
+    return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_wait_for_speech: scene") + notLive(scene));
+#ifdef MARIONETTE_C_HAS_BML
+  return inCall(scene, "mn_scene_wait_for_speech", [&] {
+    scene->realizer->waitForSpeech();
+    return MN_OK;
+  });
+#else
+  return MN_OK;
+#endif
+}
+
 mn_status mn_scene_update(mn_scene* scene, double dt) {
   if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_update: scene") + notLive(scene));
   if (!std::isfinite(dt) || dt < 0.0 || dt > marionette::Scene::kMaxUpdateSeconds)

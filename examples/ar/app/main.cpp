@@ -214,6 +214,9 @@ int main(int argc, char** argv) {
   if (!loaded.ok()) return 2;
   bml::Realizer realizer(scene);
   realizer.setForwardWarningsToScene(false);
+  // A window keeps its frame rate (speech is said off the frame path); frames
+  // written headless step a fixed clock and must come out the same every run.
+  if (args.headless) realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);
   bml::TimedFiles bmlFiles(realizer, loaded.bml);
   int bmlErrors = 0;
 

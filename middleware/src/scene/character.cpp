@@ -248,6 +248,13 @@ std::shared_ptr<const speech::SpokenLine> Character::prepareSpeech(const Behavio
   return said.line;
 }
 
+std::shared_ptr<const speech::SpeechService::Preparation> Character::prepareSpeechInBackground(
+    const BehaviorRequest& request) const {
+  if (!scene_) return nullptr;
+  std::string warning;  // reported when the behavior is added
+  return scene_->speech().prepare(speechRequestOf(request, warning));
+}
+
 std::string Character::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   if (!scene_) return "a character outside a scene has no speech service";
   speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(e.request, warning));

@@ -2,6 +2,7 @@
 
 #include "marionette/core/limits.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <system_error>
 
@@ -25,18 +26,48 @@ std::string cacheKey(const SpeechRequest& r) {
   return key;
 }
 
+// Limits first: synthesis time grows with the text (and faster with the marks).
+std::string limitProblem(const SpeechRequest& request) {
+  if (request.text.size() > limits::kMaxSpeechCharacters)
+    return "the text has " + std::to_string(request.text.size()) + " characters, more than the " +
+           std::to_string(limits::kMaxSpeechCharacters) +
+           " one line may have (limits::kMaxSpeechCharacters): split it into several lines";
+  if (request.marks.size() > limits::kMaxSpeechMarks)
+    return "the text has " + std::to_string(request.marks.size()) + " word marks, more than the " +
+           std::to_string(limits::kMaxSpeechMarks) + " one line may have (limits::kMaxSpeechMarks)";
+  if (request.text.find_first_not_of(" \t\r\n") == std::string::npos) return "the text is empty: nothing to say";
+  return {};
+}
+
 }  // namespace
+
+SpeechService::~SpeechService() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    for (const auto& job : queue_) {  // never to be said: ready, with the reason
+      job->result_ = {nullptr, "the speech service was destroyed before the line was said"};
+      job->ready_.store(true, std::memory_order_release);
+    }
+    queue_.clear();
+  }
+  work_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
 
 void SpeechService::addBackend(std::shared_ptr<SpeechBackend> backend) {
   if (!backend) return;
   std::lock_guard lock(mutex_);
   backends_.push_back(std::move(backend));
   cache_.clear();  // an added backend may say a text differently
+  ++generation_;
 }
 
 void SpeechService::useDefaultSynthesizer(bool use) {
   std::lock_guard lock(mutex_);
   defaultSynthesizer_ = use;
+  cache_.clear();
+  ++generation_;
 }
 
 std::size_t SpeechService::backendCount() const {
@@ -48,6 +79,7 @@ void SpeechService::setAudioDirectory(std::filesystem::path directory) {
   std::lock_guard lock(mutex_);
   audioDirectory_ = std::move(directory);
   cache_.clear();  // lines said before have no file there
+  ++generation_;
 }
 
 std::filesystem::path SpeechService::audioDirectory() const {
@@ -59,60 +91,142 @@ void SpeechService::setLipSyncSettings(const LipSyncSettings& settings) {
   std::lock_guard lock(mutex_);
   lipSync_ = settings;
   cache_.clear();
+  ++generation_;
+}
+
+std::shared_ptr<SpeechService::Preparation> SpeechService::findOrStart(const SpeechRequest& request, bool& fresh) {
+  fresh = false;
+  auto job = std::make_shared<Preparation>();
+  job->key_ = cacheKey(request);
+  for (const Cached& c : cache_)
+    if (c.key == job->key_) {
+      job->result_ = c.result;
+      job->ready_.store(true, std::memory_order_release);
+      return job;
+    }
+  for (const auto& other : saying_)
+    if (other->key_ == job->key_) return other;
+  job->request_ = request;
+  saying_.push_back(job);
+  fresh = true;
+  return job;
 }
 
 SpeechService::Result SpeechService::speak(const SpeechRequest& request) {
-  // Limits first: synthesis time grows with the text (and faster with the marks).
-  if (request.text.size() > limits::kMaxSpeechCharacters)
-    return {nullptr, "the text has " + std::to_string(request.text.size()) + " characters, more than the " +
-                         std::to_string(limits::kMaxSpeechCharacters) +
-                         " one line may have (limits::kMaxSpeechCharacters): split it into several lines"};
-  if (request.marks.size() > limits::kMaxSpeechMarks)
-    return {nullptr, "the text has " + std::to_string(request.marks.size()) + " word marks, more than the " +
-                         std::to_string(limits::kMaxSpeechMarks) + " one line may have (limits::kMaxSpeechMarks)"};
-  if (request.text.find_first_not_of(" \t\r\n") == std::string::npos)
-    return {nullptr, "the text is empty: nothing to say"};
-  std::lock_guard lock(mutex_);
-  const std::string key = cacheKey(request);
-  for (const Cached& c : cache_)
-    if (c.key == key) return {c.line, {}};
-  std::vector<SpeechBackend*> order;
-  for (const auto& b : backends_) order.push_back(b.get());
-  if (defaultSynthesizer_) {
-    if (!defaultTried_) {
-      defaultTried_ = true;
-      synthesizer_ = makeEspeakBackend(&defaultMissing_);
-    }
-    if (synthesizer_) order.push_back(synthesizer_.get());
+  if (std::string why = limitProblem(request); !why.empty()) return {nullptr, std::move(why)};
+  std::unique_lock lock(mutex_);
+  bool fresh = false;
+  const std::shared_ptr<Preparation> job = findOrStart(request, fresh);
+  if (fresh) {
+    lock.unlock();
+    say(*job);
+  } else {
+    finished_.wait(lock, [&] { return job->ready(); });
   }
-  if (order.empty())
-    return {nullptr, "no speech backend: " + (defaultMissing_.empty() ? std::string("none was added") : defaultMissing_)};
-  std::string errors;
-  for (SpeechBackend* backend : order) {
-    SpeechResult said = backend->synthesize(request);
+  return job->result_;
+}
+
+std::shared_ptr<const SpeechService::Preparation> SpeechService::prepare(const SpeechRequest& request) {
+  if (std::string why = limitProblem(request); !why.empty()) {
+    auto refused = std::make_shared<Preparation>();
+    refused->result_ = {nullptr, std::move(why)};
+    refused->ready_.store(true, std::memory_order_release);
+    return refused;
+  }
+  std::lock_guard lock(mutex_);
+  bool fresh = false;
+  std::shared_ptr<Preparation> job = findOrStart(request, fresh);
+  if (fresh) {
+    queue_.push_back(job);
+    if (!worker_.joinable()) worker_ = std::thread([this] { workerLoop(); });
+    work_.notify_one();
+  }
+  return job;
+}
+
+void SpeechService::waitUntilPrepared() {
+  std::unique_lock lock(mutex_);
+  finished_.wait(lock, [&] { return saying_.empty(); });
+}
+
+std::size_t SpeechService::preparing() const {
+  std::lock_guard lock(mutex_);
+  return saying_.size();
+}
+
+void SpeechService::workerLoop() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    work_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+    if (stopping_) return;
+    const std::shared_ptr<Preparation> job = queue_.front();
+    queue_.pop_front();
+    lock.unlock();
+    say(*job);
+    lock.lock();
+  }
+}
+
+void SpeechService::say(Preparation& job) {
+  // The settings as they are now; the backends run without the lock, so that
+  // polling, preparing and other lines are never held up by a synthesis.
+  std::vector<std::shared_ptr<SpeechBackend>> order;
+  std::filesystem::path audioDirectory;
+  LipSyncSettings lipSync;
+  std::uint64_t generation = 0;
+  std::string missing;
+  {
+    std::lock_guard lock(mutex_);
+    order = backends_;
+    if (defaultSynthesizer_) {
+      if (!defaultTried_) {
+        defaultTried_ = true;
+        synthesizer_ = makeEspeakBackend(&defaultMissing_);
+      }
+      if (synthesizer_) order.push_back(synthesizer_);
+    }
+    audioDirectory = audioDirectory_;
+    lipSync = lipSync_;
+    generation = generation_;
+    missing = defaultMissing_;
+  }
+  Result result;
+  if (order.empty()) result.error = "no speech backend: " + (missing.empty() ? std::string("none was added") : missing);
+  for (const auto& backend : order) {
+    SpeechResult said = backend->synthesize(job.request_);
     if (!said.utterance) {
-      errors += (errors.empty() ? "" : "; ") + std::string(backend->name()) + ": " + said.error;
+      result.error += (result.error.empty() ? "" : "; ") + std::string(backend->name()) + ": " + said.error;
       continue;
     }
     auto line = std::make_shared<SpokenLine>();
     line->utterance = said.utterance;
     line->backend = std::string(backend->name());
-    line->curves = buildVisemeCurves(said.utterance->phonemes, said.utterance->duration, lipSync_);
+    line->curves = buildVisemeCurves(said.utterance->phonemes, said.utterance->duration, lipSync);
     // Every line's audio goes to the one directory, recordings too: the engine plays from one place.
-    if (!audioDirectory_.empty() && !said.utterance->audio.empty()) {
+    if (!audioDirectory.empty() && !said.utterance->audio.empty()) {
       char name[40];
-      std::snprintf(name, sizeof name, "utterance-%016llx.wav", static_cast<unsigned long long>(fnv1a(key)));
+      std::snprintf(name, sizeof name, "utterance-%016llx.wav", static_cast<unsigned long long>(fnv1a(job.key_)));
       std::error_code ec;
-      std::filesystem::create_directories(audioDirectory_, ec);
-      const std::filesystem::path file = audioDirectory_ / name;
+      std::filesystem::create_directories(audioDirectory, ec);
+      const std::filesystem::path file = audioDirectory / name;
       line->audioError = writeWav(file, said.utterance->audio, said.utterance->sampleRate);
       if (line->audioError.empty()) line->audioFile = file;
     }
-    if (cache_.size() >= kCacheSize) cache_.erase(cache_.begin());
-    cache_.push_back({key, line});
-    return {std::move(line), {}};
+    result = {std::move(line), {}};
+    break;
   }
-  return {nullptr, errors};
+  {
+    std::lock_guard lock(mutex_);
+    if (generation == generation_) {  // said with the settings in force: keep it
+      if (cache_.size() >= kCacheSize) cache_.erase(cache_.begin());
+      cache_.push_back({job.key_, result});
+    }
+    saying_.erase(std::remove_if(saying_.begin(), saying_.end(), [&](const auto& j) { return j.get() == &job; }),
+                  saying_.end());
+    job.result_ = std::move(result);
+    job.ready_.store(true, std::memory_order_release);
+  }
+  finished_.notify_all();
 }
 
 }  // namespace marionette::speech

@@ -40,6 +40,10 @@ namespace marionette::bml {
 // once, cached for the realization), for SchedulerOptions::speechTiming; nullopt
 // when it cannot be said (the request then fails with the reason when realized).
 [[nodiscard]] std::optional<SpeechTiming> speechTiming(const Behavior& behavior, const Character& character);
+// Starts saying a <speech> on the character's speech service's thread (what the
+// realizer does before it schedules a block); null for another behavior or outside a scene.
+[[nodiscard]] std::shared_ptr<const speech::SpeechService::Preparation> prepareSpeechTiming(const Behavior& behavior,
+                                                                                          const Character& character);
 
 // The request for one scheduled behavior of a block that starts at `blockStart`
 // (scene seconds). Its id is "blockId:behaviorId".

@@ -5,6 +5,10 @@
 //   realizer.perform(text, "robot");   // parse, schedule, compose, predict
 //   scene.update(dt); realizer.update();  // after each scene update: progress feedback
 //
+// Speech is said off the frame path (setSpeechSynthesis): a block with a <speech>
+// that is not said yet waits for it, on the speech service's thread, and starts
+// when it is ready.
+//
 // Composition: MERGE runs the block in parallel with those in progress; APPEND
 // starts it when every earlier block of the character has ended; REPLACE ends
 // the character's earlier blocks now, blending their behaviors out over
@@ -26,6 +30,8 @@
 #include <cmath>
 #include <functional>
 #include <cstdint>
+#include <deque>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <string>
@@ -82,10 +88,30 @@ class Realizer {
   Schedule perform(std::string_view bmlText, std::string_view character = {}, const SchedulerOptions& options = {},
                    std::optional<double> at = std::nullopt);
 
-  // Emits progress for what the scene clock has passed since the last call.
+  // Emits progress for what the scene clock has passed since the last call, after
+  // realizing the held blocks whose speech is ready (SpeechSynthesis::Background).
   void update();
 
-  // Ends a block now (blockProgress end is sent). False if no such block is queued.
+  // How a block's <speech> is said. Background (the default): perform() starts its
+  // lines on the scene speech service's thread and, unless they are ready already
+  // (cached), holds the block; update() realizes it, at the scene time of that call,
+  // once they are. No frame waits for a synthesizer; the block starts a frame or two
+  // late instead. Blocks performed while one is held are held behind it, so that
+  // composition (APPEND, REPLACE) and references to other blocks keep the order of
+  // perform(). A held block that fails to schedule reports it as warning feedback
+  // when realized; a block that does not parse, or names no character, fails at once.
+  // Inline: perform() says the lines itself (deterministic: offline tools and tests;
+  // a long line blocks that call for up to about 0.1 s).
+  enum class SpeechSynthesis { Background, Inline };
+  void setSpeechSynthesis(SpeechSynthesis mode) noexcept { speechSynthesis_ = mode; }
+  [[nodiscard]] SpeechSynthesis speechSynthesis() const noexcept { return speechSynthesis_; }
+  // Blocks performed and held until their speech is said.
+  [[nodiscard]] std::size_t heldBlocks() const noexcept { return held_.size(); }
+  // Waits until the held blocks' speech is said and realizes them now (offline, tests).
+  void waitForSpeech();
+
+  // Ends a block now (blockProgress end is sent; a held block is dropped, unsent).
+  // False if no such block is queued or held.
   bool interrupt(std::string_view blockId);
 
   [[nodiscard]] std::size_t activeBlocks() const noexcept { return blocks_.size(); }
@@ -114,6 +140,18 @@ class Realizer {
     std::size_t next = 0;
     bool started = false;
   };
+  struct Held {  // performed, waiting for its speech
+    std::string text, character, blockId;
+    SchedulerOptions options;
+    std::vector<std::shared_ptr<const speech::SpeechService::Preparation>> lines;
+    [[nodiscard]] bool ready() const noexcept;
+  };
+  [[nodiscard]] std::optional<Schedule> holdForSpeech(std::string_view bmlText, std::string_view character,
+                                                      const SchedulerOptions& options);
+  void realizeHeld();
+  Schedule realize(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
+                   std::optional<double> at);
+  [[nodiscard]] std::pair<std::string, Character*> performer(const ParseResult& parsed, std::string_view character) const;
   void emit(const Feedback& f);
   bool arrived(Active& block, Event& event, double now);
   static Feedback syncFeedback(Feedback::Kind kind, const Active& block, const Event& event);
@@ -127,6 +165,8 @@ class Realizer {
   Scene& scene_;
   std::vector<FeedbackListener> listeners_;
   std::vector<Active> blocks_;
+  std::deque<Held> held_;
+  SpeechSynthesis speechSynthesis_ = SpeechSynthesis::Background;
   bool forwardWarnings_ = true;
   bool reportUnrealized_ = true;
   double replaceBlend_ = 0.3;

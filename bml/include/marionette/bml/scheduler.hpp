@@ -84,6 +84,9 @@ struct Schedule {
   std::vector<ScheduledBehavior> behaviors;  // removed behaviors are not here
   std::vector<Warning> warnings;             // parse warnings first, then scheduling ones
   bool failed = false;                       // the block failed as a whole
+  // The realizer holds the block until its speech is said (Realizer::SpeechSynthesis):
+  // `behaviors` is empty; predictions, warnings and progress come as feedback.
+  bool heldForSpeech = false;
 
   [[nodiscard]] const ScheduledBehavior* find(std::string_view id) const noexcept;
   [[nodiscard]] std::optional<double> time(std::string_view behavior, std::string_view sync) const;

@@ -16,6 +16,7 @@
 #include "marionette/scene/listener.hpp"
 #include "marionette/scene/rig.hpp"
 #include "marionette/scene/transform_buffer.hpp"
+#include "marionette/speech/speech_service.hpp"
 
 namespace marionette {
 
@@ -104,7 +105,8 @@ class Character {
   // the request's envelope. Head requests (NOD, SHAKE, TILT) and face requests
   // (lexemes, FACS units, through the rig's profile) are procedural. Gaze,
   // pointing and locomotion have their controllers; speech is said by the scene's
-  // speech service (time it with prepareSpeech). BehaviorResult::realized says
+  // speech service (time it with prepareSpeech; a line not prepared before is said
+  // inline, see prepareSpeechInBackground). BehaviorResult::realized says
   // whether a controller moves the body; `message` says why not, or notes a
   // replaced bad parameter.
   // Command time: may allocate.
@@ -134,6 +136,11 @@ class Character {
   // it. Null when it cannot be said (`error` says why). Command time.
   [[nodiscard]] std::shared_ptr<const speech::SpokenLine> prepareSpeech(const BehaviorRequest& request,
                                                                         std::string& error) const;
+  // The same, said on the speech service's worker thread: returns at once (null outside
+  // a scene). Once it is ready, prepareSpeech and a speech request added with
+  // addBehavior take the line from the cache without waiting. Command time.
+  [[nodiscard]] std::shared_ptr<const speech::SpeechService::Preparation> prepareSpeechInBackground(
+      const BehaviorRequest& request) const;
   // Gaze tracking and limits (time constant, speed limits, per-joint limits).
   void setGazeSettings(const GazeSettings& settings) noexcept { gazeSettings_ = settings; }
   [[nodiscard]] const GazeSettings& gazeSettings() const noexcept { return gazeSettings_; }

@@ -2,13 +2,23 @@
 // text says it), a cache so that scheduling a BML <speech> and realizing it
 // synthesize once, the lip-sync curves of each utterance, and where its audio
 // is written as WAV for the engine to play. Nothing starts until the first
-// speak(): a scene without speech never loads a synthesizer. Command time only.
+// speak() or prepare(): a scene without speech never loads a synthesizer nor
+// starts a thread. Command time only.
+//
+// speak() says a line in the caller's thread (it may take a tenth of a second for
+// a long line). prepare() says it on the service's own worker thread and returns at
+// once, so that no frame waits for a synthesizer: the BML realizer prepares a
+// block's speech and realizes the block when its lines are ready.
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <atomic>
+#include <condition_variable>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "marionette/speech/lipsync.hpp"
@@ -27,6 +37,11 @@ struct SpokenLine {
 
 class SpeechService {
  public:
+  SpeechService() = default;
+  SpeechService(const SpeechService&) = delete;
+  SpeechService& operator=(const SpeechService&) = delete;
+  ~SpeechService();  // waits for the line being said in the background, drops the queued ones
+
   // Backends are asked in the order added, then espeak-ng when the build has it
   // (started on the first speech it is asked for; useDefaultSynthesizer(false) leaves it out).
   void addBackend(std::shared_ptr<SpeechBackend> backend);
@@ -42,16 +57,50 @@ class SpeechService {
     std::shared_ptr<const SpokenLine> line;  // null on failure
     std::string error;  // why no backend could say it
   };
-  // The same request gives the same line (cached; at most kCacheSize kept).
+  // The same request gives the same result (cached, failures too; at most kCacheSize
+  // kept). A request being prepared in the background is waited for, not said twice.
   Result speak(const SpeechRequest& request);
   static constexpr std::size_t kCacheSize = 256;
+
+  // A line asked for with prepare(). ready() may be polled every frame (an atomic
+  // load); result() is valid once ready() is true.
+  class Preparation {
+   public:
+    [[nodiscard]] bool ready() const noexcept { return ready_.load(std::memory_order_acquire); }
+    [[nodiscard]] const Result& result() const noexcept { return result_; }
+
+   private:
+    friend class SpeechService;
+    SpeechRequest request_;
+    std::string key_;
+    Result result_;
+    std::atomic<bool> ready_{false};
+  };
+  // Starts saying `request` on the service's worker thread and returns at once
+  // (ready at once when it is cached, or breaks a limit). Lines are said in the order asked.
+  [[nodiscard]] std::shared_ptr<const Preparation> prepare(const SpeechRequest& request);
+  // Blocks until every prepared line is ready (offline tools, tests).
+  void waitUntilPrepared();
+  // Lines asked for with prepare() and not ready yet.
+  [[nodiscard]] std::size_t preparing() const;
 
  private:
   struct Cached {
     std::string key;
-    std::shared_ptr<const SpokenLine> line;
+    Result result;
   };
+  // A ready preparation for a cached result, the one being said, or a new one to say (`fresh`).
+  std::shared_ptr<Preparation> findOrStart(const SpeechRequest& request, bool& fresh);  // under the lock
+  void say(Preparation& job);  // the backends, without the lock held
+  void workerLoop();
   mutable std::mutex mutex_;
+  std::condition_variable finished_;              // a line became ready
+  std::condition_variable work_;                  // the worker has something to do
+  std::vector<std::shared_ptr<Preparation>> saying_;  // being said, in the background or by speak()
+  std::deque<std::shared_ptr<Preparation>> queue_;    // waiting for the worker
+  std::thread worker_;                            // started by the first prepare()
+  bool stopping_ = false;
+  std::uint64_t generation_ = 0;  // settings changed: results of older settings are not cached
   std::vector<std::shared_ptr<SpeechBackend>> backends_;
   bool defaultSynthesizer_ = true;
   bool defaultTried_ = false;
