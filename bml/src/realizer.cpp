@@ -150,7 +150,10 @@ void Realizer::waitForSpeech() {
 Schedule Realizer::realize(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
                            std::optional<double> at) {
   const ParseResult parsed = parseBlock(bmlText);
-  const auto [who, target] = performer(parsed, character);
+  // Plain variables, not a structured binding: lambdas below capture them (clang 14 cannot capture bindings).
+  const std::pair<std::string, Character*> performed = performer(parsed, character);
+  const std::string& who = performed.first;
+  Character* const target = performed.second;
   const double now = at && std::isfinite(*at) ? *at : scene_.time();
 
   // Composition decides the start first: references to other blocks are relative to it.

@@ -52,3 +52,41 @@ static void BmlPerform(benchmark::State& state) {
   if (behaviors != 10) state.SkipWithError("the typical block did not schedule all 10 behaviors");
 }
 BENCHMARK(BmlPerform)->Name("BML/Perform/typical10")->Unit(benchmark::kMicrosecond);
+
+#ifdef MARIONETTE_HAS_TTS
+// BML/PerformNewLine/{inline,background}: what perform() costs the calling (frame)
+// thread for a block whose line has not been said: 1000 characters for espeak-ng, a new
+// text each time. Inline says it in the call; Background hands it to the speech
+// service's thread and returns (the block starts at a later update). The synthesis
+// is drained outside the timed part.
+static void BmlPerformNewLine(benchmark::State& state) {
+  marionette::Scene scene;
+  scene.addCharacter("robot", marionette::test::makeSyntheticRig());
+  marionette::bml::Realizer realizer(scene);
+  realizer.setForwardWarningsToScene(false);
+  const bool background = state.range(0) != 0;
+  realizer.setSpeechSynthesis(background ? marionette::bml::Realizer::SpeechSynthesis::Background
+                                         : marionette::bml::Realizer::SpeechSynthesis::Inline);
+  std::string words;
+  while (words.size() < 980) words += "We keep talking about the weather, and nobody minds. ";
+  static long line = 0;  // across repetitions too: espeak-ng keeps its last results process-wide
+  for (auto _ : state) {
+    const std::string block = "<bml id='b'><speech id='s'><text>Line " + std::to_string(++line) + ". " + words +
+                              "</text></speech></bml>";
+    marionette::bml::Schedule s = realizer.perform(block, "robot");
+    benchmark::DoNotOptimize(s);
+    state.PauseTiming();
+    realizer.waitForSpeech();
+    const auto* entry = scene.findCharacter("robot")->behaviors().find("b:s");
+    if (s.failed || !entry || !entry->isSpeech || entry->request.end() - entry->request.start() < 30.0) {
+      state.SkipWithError("the line was not said (a failed block, or no espeak-ng)");
+      break;
+    }
+    realizer.interrupt("b");
+    scene.update(0.0);
+    state.ResumeTiming();
+  }
+}
+// A fixed count: the untimed synthesis would otherwise run for thousands of iterations.
+BENCHMARK(BmlPerformNewLine)->Name("BML/PerformNewLine")->ArgName("background")->Arg(0)->Arg(1)->Iterations(30)->Unit(benchmark::kMillisecond);
+#endif
