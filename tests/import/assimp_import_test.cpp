@@ -3,12 +3,14 @@
 #ifdef MARIONETTE_HAS_ASSIMP
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -596,6 +598,43 @@ TEST(AssimpImport, StaticModelUsesItsNodeTreeAndResolvesTextures) {
   ASSERT_EQ(a.materials.size(), 1u);
   EXPECT_EQ(fs::path(a.materials[0].baseColorTexture), fs::path(assimpModel("Collada/duckCM.tga")));
   EXPECT_TRUE(fs::exists(a.materials[0].baseColorTexture));
+}
+
+// A texture path that leaves the model's folder ("../../etc/passwd", an absolute
+// path) is not followed unless the caller allows it: a warning naming it, no texture.
+// One beside the model, or below its folder, is kept.
+TEST(AssimpImport, TexturesOutsideTheModelFolderAreNotFollowed) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("marionette_assimp_outside_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "maps");
+  std::ofstream(dir / "maps" / "ok.png") << "not read here";
+  std::ofstream(dir / "quad.mtl") << "newmtl up\nmap_Kd ../../../../etc/passwd\n"
+                                  << "newmtl abs\nmap_Kd /etc/passwd\n"
+                                  << "newmtl fine\nmap_Kd maps/ok.png\n";
+  std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                  << "usemtl up\nf 1 2 3\nusemtl abs\nf 1 3 4\nusemtl fine\nf 2 3 4\n";
+  const std::string path = (dir / "quad.obj").string();
+  for (const bool allow : {false, true}) {
+    SCOPED_TRACE(allow ? "allowed" : "refused");
+    ImportOptions options;
+    options.allowFilesOutsideModelFolder = allow;
+    const ImportResult r = importWithAssimp(path, options);
+    ASSERT_TRUE(r.asset) << r.diagnostics.format();
+    std::map<std::string, std::string> texture;
+    for (const Material& m : r.asset->materials) texture[m.name] = m.baseColorTexture;
+    EXPECT_EQ(fs::path(texture["fine"]), dir / "maps" / "ok.png");
+    const std::string all = r.diagnostics.format();
+    if (allow) {
+      EXPECT_EQ(fs::path(texture["abs"]), fs::path("/etc/passwd"));
+      EXPECT_EQ(fs::path(texture["up"]).lexically_normal(), fs::path("/etc/passwd"));
+    } else {
+      EXPECT_EQ(texture["up"], "");
+      EXPECT_EQ(texture["abs"], "");
+      EXPECT_NE(all.find("texture '../../../../etc/passwd' is outside the model's folder"), std::string::npos) << all;
+      EXPECT_NE(all.find("texture '/etc/passwd' is outside the model's folder"), std::string::npos) << all;
+      EXPECT_EQ(all.find("root:"), std::string::npos) << "foreign content echoed: " << all;
+    }
+  }
+  fs::remove_all(dir);
 }
 
 TEST(AssimpImport, EmbeddedFbxTextureIsReferencedByIndex) {

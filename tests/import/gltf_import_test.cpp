@@ -939,6 +939,9 @@ TEST(GltfImport, HandWrittenBrokenFilesAreRejected) {
        },
        "accessor 6 (mesh 'tri' primitive 0 morph target 0 POSITION) has no buffer view and an implausible count"},
       {"sparse_index_out_of_range", [](Synthetic& s) { makeSparseDelta(s, 5); }, "sparse index 0 (5"},
+      {"count_over_the_limit", [](Synthetic& s) { s.doc["accessors"][2]["count"] = (1 << 26) + 1; },
+       "accessor 2 (animation 'Synthetic' channel 1 output) has 67108865 elements, more than the 67108864 one array "
+       "may have (limits::kMaxArrayElements)"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

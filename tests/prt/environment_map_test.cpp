@@ -187,3 +187,38 @@ TEST(EnvironmentMap, ErrorsNameTheFile) {
   EXPECT_FALSE(c.map);
   EXPECT_TRUE(mentions(c.diagnostics, truncated)) << c.diagnostics.format();
 }
+
+// Found by fuzz_environment_map: OpenEXR allocates a header attribute at its declared size
+// before reading it, so 60 bytes asked for 1.7 GB; a name over 31 characters (without the
+// long-names flag) is cut short and its rest read as the size; a channel list runs past its
+// declared size (OpenEXR reads it to its end), putting the next size anywhere. The header is
+// checked first.
+TEST(EnvironmentMap, ExrAttributeLargerThanTheFileIsAnErrorBeforeDecoding) {
+  const fs::path dir = tempDir("env_exr_attribute");
+  const std::string path = (dir / "huge_attribute.exr").string();
+  std::string bytes("\x76\x2f\x31\x01\x02\x00\x00\x00", 8);
+  bytes += std::string("capDate\0string\0", 15) + std::string("\x00\x00\xe3\x66", 4) + "2026:12:01 19:32:12";
+  { std::ofstream(path, std::ios::binary) << bytes; }
+  const auto r = loadEnvironmentMap(path);
+  EXPECT_FALSE(r.map);
+  EXPECT_TRUE(mentions(r.diagnostics, path)) << r.diagnostics.format();
+  EXPECT_TRUE(mentions(r.diagnostics, "attribute 'capDate' (string) declares 1726152704 bytes")) << r.diagnostics.format();
+
+  const std::string longName = (dir / "long_name.exr").string();
+  bytes = std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) + "cha" + std::string(60, 'x') + "nnels" +
+          std::string("\0chlist\0\x13\0\0\0", 12) + std::string(19, '\0') + std::string(1, '\0');
+  { std::ofstream(longName, std::ios::binary) << bytes; }
+  const auto l = loadEnvironmentMap(longName);
+  EXPECT_FALSE(l.map);
+  EXPECT_TRUE(mentions(l.diagnostics, longName)) << l.diagnostics.format();
+  EXPECT_TRUE(mentions(l.diagnostics, "longer than 31 characters")) << l.diagnostics.format();
+
+  const std::string longList = (dir / "long_channel_list.exr").string();
+  bytes = std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) + std::string("channels\0chlist\0\x13\0\0\0", 20) +
+          "Y" + std::string(18, '\x01') + std::string("\0\0\0\0", 4) + std::string(40, '\xe9');
+  { std::ofstream(longList, std::ios::binary) << bytes; }
+  const auto c = loadEnvironmentMap(longList);
+  EXPECT_FALSE(c.map);
+  EXPECT_TRUE(mentions(c.diagnostics, longList)) << c.diagnostics.format();
+  EXPECT_TRUE(mentions(c.diagnostics, "attribute 'channels' (chlist) declares 19 bytes but holds")) << c.diagnostics.format();
+}

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <utility>
 
+#include "exr_header_check.hpp"
+
 #include "rgb_image_reader.hpp"
 #include "marionette/core/limits.hpp"
 
@@ -78,6 +80,10 @@ std::optional<RgbImage> readRgbImage(const std::string& path, const std::string&
   }
   if (std::filesystem::is_directory(path, ec)) {
     diag.error(path, noun + " is a directory, expected an image file (.hdr, .exr)");
+    return std::nullopt;
+  }
+  if (const std::string problem = exrHeaderProblem(path); !problem.empty()) {
+    diag.error(path, noun + " " + problem);
     return std::nullopt;
   }
   auto input = OIIO::ImageInput::open(path);

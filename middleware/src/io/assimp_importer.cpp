@@ -35,23 +35,22 @@
 
 #include "file_extension.hpp"
 #include "isolated_call.hpp"
+#include "marionette/core/limits.hpp"
 #include "marionette/core/text.hpp"
 #include "marionette/io/import.hpp"
+#include "model_folder.hpp"
 
 namespace marionette {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t{512} << 20;
 // Nodes Assimp's FBX reader inserts for pivots and geometric offsets. With
 // AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS off they should not appear; if some do,
 // they are folded into the real node below them instead of becoming joints.
 constexpr std::string_view kFbxHelperTag = "_$AssimpFbx$_";
 // What Assimp's own tools assume when a file gives no tick rate.
 constexpr double kDefaultTicksPerSecond = 25.0;
-// MeshPrimitive::joints stores joint indices as 16 bits.
-constexpr std::size_t kMaxSkinJoints = 65535;
 
 // ---------------------------------------------------------------- small helpers
 
@@ -145,8 +144,9 @@ bool checkFile(const std::string& path, Diagnostics& diag) {
     diag.error(path, "cannot read the file: " + ec.message());
     return false;
   }
-  if (size > kMaxFileBytes) {
-    diag.error(path, "file is " + std::to_string(size >> 20) + " MiB; files over 512 MiB are refused");
+  if (size > limits::kMaxModelFileBytes) {
+    diag.error(path, "file is " + std::to_string(size >> 20) +
+                         " MiB; model files over 512 MiB are refused (limits::kMaxModelFileBytes)");
     return false;
   }
   if (lowerExtension(path) == ".off") return checkOffCounts(path, size, diag);
@@ -595,11 +595,22 @@ std::string texturePath(Importing& im, const std::string& raw) {
   // which is not absolute here; the texture then usually sits beside the asset.
   const bool windowsAbsolute = portable.size() > 2 && std::isalpha(static_cast<unsigned char>(portable[0])) &&
                                portable[1] == ':' && portable[2] == '/';
-  if (!written.is_absolute() && !windowsAbsolute) return (folder / written).lexically_normal().string();
+  const bool anywhere = im.options.allowFilesOutsideModelFolder;
+  auto outside = [&] {
+    im.warning("texture '" + raw +
+               "' is outside the model's folder: no texture (ImportOptions::allowFilesOutsideModelFolder allows it)");
+    return std::string();
+  };
+  if (!written.is_absolute() && !windowsAbsolute) {
+    const fs::path file = (folder / written).lexically_normal();
+    return anywhere || io_detail::insideFolder(file, folder) ? file.string() : outside();
+  }
   std::error_code ec;
-  if (!windowsAbsolute && fs::exists(written, ec)) return written.string();
+  const bool allowed = anywhere || io_detail::insideFolder(written, folder);
+  if (allowed && !windowsAbsolute && fs::exists(written, ec)) return written.string();
   const fs::path beside = folder / written.filename();
-  return fs::exists(beside, ec) ? beside.string() : written.string();
+  if (fs::exists(beside, ec)) return beside.string();
+  return allowed ? written.string() : outside();
 }
 
 void convertMaterials(Importing& im) {
@@ -829,9 +840,9 @@ bool convertMeshTree(Importing& im, const aiNode& node) {
 void convertMeshes(Importing& im) {
   const bool anySkin = std::any_of(im.scene.mMeshes, im.scene.mMeshes + im.scene.mNumMeshes,
                                    [](const aiMesh* m) { return m->HasBones(); });
-  if (anySkin && im.asset.skeleton.jointCount() > kMaxSkinJoints) {
+  if (anySkin && im.asset.skeleton.jointCount() > limits::kMaxSkinJoints) {
     im.error("skeleton has " + std::to_string(im.asset.skeleton.jointCount()) +
-             " joints; skinned meshes support at most 65535");
+             " joints; skinned meshes support at most 65535 (limits::kMaxSkinJoints)");
     return;
   }
   convertMaterials(im);

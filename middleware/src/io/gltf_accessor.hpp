@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "gltf_context.hpp"
+#include "marionette/core/limits.hpp"
 
 namespace marionette::gltf_detail {
 
@@ -84,8 +85,7 @@ class AccessorReader {
   }
 
  private:
-  // Far above any real character; keeps a hostile `count` from allocating gigabytes.
-  static constexpr std::size_t kMaxElements = std::size_t{1} << 26;
+  static constexpr std::size_t kMaxElements = limits::kMaxArrayElements;
   // An accessor without a buffer view is zeros we must allocate; cap it lower.
   static constexpr std::size_t kMaxZeroComponents = std::size_t{1} << 24;
 
@@ -251,7 +251,8 @@ class AccessorReader {
       return false;
     }
     if (a.count > kMaxElements) {
-      ctx_.error(where + " has an implausible count of " + std::to_string(a.count) + " elements");
+      ctx_.error(where + " has " + std::to_string(a.count) + " elements, more than the " +
+                 std::to_string(kMaxElements) + " one array may have (limits::kMaxArrayElements)");
       return false;
     }
     return true;

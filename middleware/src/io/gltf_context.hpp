@@ -13,15 +13,11 @@
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/core/transform.hpp"
 #include "marionette/io/import.hpp"
+#include "model_folder.hpp"
 
 namespace marionette::gltf_detail {
 
-// True when `file` lies in `folder` or below it (compared lexically, after normalizing):
-// where a model's external buffers and images may come from (ImportOptions).
-inline bool insideFolder(const std::filesystem::path& file, const std::filesystem::path& folder) {
-  const std::filesystem::path relative = file.lexically_normal().lexically_relative(folder.lexically_normal());
-  return !relative.empty() && *relative.begin() != "..";
-}
+using io_detail::insideFolder;
 
 struct Context {
   const tinygltf::Model& model;

@@ -16,6 +16,7 @@
 #include "gltf_animation.hpp"
 #include "gltf_mesh.hpp"
 #include "gltf_vrm.hpp"
+#include "marionette/core/limits.hpp"
 #include "marionette/io/import.hpp"
 
 namespace marionette {
@@ -51,8 +52,10 @@ bool readFile(const std::string& path, Source& src, Diagnostics& diag) {
     return false;
   }
   const auto size = std::filesystem::file_size(path, ec);
-  if (ec || size > 0xFFFFFFF0ull) {  // tinygltf takes 32-bit lengths
-    diag.error(path, ec ? "cannot determine the file size: " + ec.message() : "file is larger than 4 GB");
+  if (ec || size > limits::kMaxModelFileBytes) {
+    diag.error(path, ec ? "cannot determine the file size: " + ec.message()
+                        : "file is " + std::to_string(size >> 20) +
+                              " MiB; model files over 512 MiB are refused (limits::kMaxModelFileBytes)");
     return false;
   }
   std::ifstream in(path, std::ios::binary);

@@ -17,9 +17,21 @@ inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{16} << 20;  /
 inline constexpr int kMaxImageSide = 16384;
 inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{8192} * 4096;
 
-// One spoken line (a <speech> behavior, a SpeechRequest): synthesis is command-time
-// work that blocks the caller, about 0.5 ms a character with espeak-ng, so a line is
-// at most 2000 characters (some two minutes of speech) with at most 256 word marks.
+// Model files (glTF, GLB, VRM, VRMA, FBX, BVH, ...), read whole before parsing.
+inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{512} << 20;  // 512 MiB
+// Elements of one array of a model file: a mesh's vertices or indices, a clip
+// track's keys, a skin's matrices. 2^26 (67 M) is far above any real character;
+// a hostile count stops here before it allocates gigabytes.
+inline constexpr std::size_t kMaxArrayElements = std::size_t{1} << 26;
+// Joints of a skinned skeleton (vertex joint indices are 16 bits).
+inline constexpr std::size_t kMaxSkinJoints = 65535;
+
+// One spoken line (a <speech> behavior, a SpeechRequest): synthesis takes about
+// 0.05 ms a character with espeak-ng at this size (and grows faster beyond it: 100 KB
+// took 48 s), so a line is at most 2000 characters (some two minutes of speech) with
+// at most 256 word marks. It is said off the frame path (SpeechService::prepare).
+// BML's own limits (behaviors, sync points, repetitions per block) are in
+// bml/document.hpp and bml/scheduler.hpp.
 inline constexpr std::size_t kMaxSpeechCharacters = 2000;
 inline constexpr std::size_t kMaxSpeechMarks = 256;
 
