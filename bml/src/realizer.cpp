@@ -107,22 +107,25 @@ bool Realizer::Held::ready() const noexcept {
 
 Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
                            std::optional<double> at) {
-  if (speechSynthesis_ == SpeechSynthesis::Background)
-    if (std::optional<Schedule> held = holdForSpeech(bmlText, character, options)) return std::move(*held);
+  if (speechSynthesis_ == SpeechSynthesis::Background) {
+    if (std::optional<Schedule> held = holdForSpeech(bmlText, character, options, at)) return std::move(*held);
+  } else if (!held_.empty()) {
+    waitForSpeech();  // held before the switch to Inline: they go first, in order
+  }
   return realize(bmlText, character, options, at);
 }
 
 std::optional<Schedule> Realizer::holdForSpeech(std::string_view bmlText, std::string_view character,
-                                                const SchedulerOptions& options) {
+                                                const SchedulerOptions& options, std::optional<double> at) {
   // A block without speech, with none held before it, goes straight on (and is not parsed twice).
   if (held_.empty() && bmlText.find("speech") == std::string_view::npos) return std::nullopt;
   const ParseResult parsed = parseBlock(bmlText);
   const auto [who, target] = performer(parsed, character);
   if (!parsed.block || !target) return std::nullopt;  // fails now, with its reason
-  Held h{std::string(bmlText), who, parsed.block->id, options, {}};
-  if (!options.speechTiming)  // a caller's own speech timing needs no synthesis first
-    for (const Behavior& b : parsed.block->behaviors)
-      if (auto line = prepareSpeechTiming(b, *target)) h.lines.push_back(std::move(line));
+  Held h{std::string(bmlText), who, parsed.block->id, options, at, {}};
+  // Even with the caller's own speech timing: the speech behavior says its line when realized.
+  for (const Behavior& b : parsed.block->behaviors)
+    if (auto line = prepareSpeechTiming(b, *target)) h.lines.push_back(std::move(line));
   if (held_.empty() && h.ready()) return std::nullopt;  // said already (cached): realize now
   Schedule s;
   s.blockId = h.blockId;
@@ -136,7 +139,15 @@ void Realizer::realizeHeld() {
   while (!held_.empty() && held_.front().ready()) {
     Held h = std::move(held_.front());
     held_.pop_front();
-    (void)realize(h.text, h.character, h.options, scene_.time());
+    // Not before the time it was sent for (a scene file's block at 5 s), nor in the past.
+    const double now = scene_.time();
+    struct Pinned {  // the lines as said in the background, whatever the cache did meanwhile
+      speech::SpeechService& service;
+      const std::vector<std::shared_ptr<const speech::SpeechService::Preparation>>& lines;
+      ~Pinned() { service.unpin(lines); }
+    } pinned{scene_.speech(), h.lines};
+    scene_.speech().pin(h.lines);
+    (void)realize(h.text, h.character, h.options, h.at && std::isfinite(*h.at) ? std::max(*h.at, now) : now);
   }
 }
 
@@ -375,13 +386,13 @@ void Realizer::update() {
 }
 
 bool Realizer::interrupt(std::string_view blockId) {
-  const auto held = std::find_if(held_.begin(), held_.end(), [&](const Held& h) { return h.blockId == blockId; });
-  if (held != held_.end()) {
+  auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == blockId; });
+  if (it == blocks_.end()) {  // not running: perhaps held, never started (no feedback was sent for it)
+    const auto held = std::find_if(held_.begin(), held_.end(), [&](const Held& h) { return h.blockId == blockId; });
+    if (held == held_.end()) return false;
     held_.erase(held);
     return true;
   }
-  auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == blockId; });
-  if (it == blocks_.end()) return false;
   finish(*it, scene_.time());
   if (Character* c = scene_.findCharacter(it->character)) c->cancelBehaviors(it->blockId + ":", replaceBlend_);
   blocks_.erase(it);

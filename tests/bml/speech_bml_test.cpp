@@ -130,6 +130,22 @@ TEST_F(GodetteRealizer, InTheBackgroundABlockWaitsForItsSpeechAndNoFrameDoes) {
   EXPECT_FALSE(again.behaviors.empty());
   EXPECT_EQ(gate->calls, calls);
 
+  // A block sent for a later time waits for that time, not only for its line; a setting
+  // changed while the line is said does not make the realizer say it again on the frame.
+  gate->setOpen(false);
+  const int before = gate->calls;
+  const double sentFor = s2.time() + 5.0;
+  EXPECT_TRUE(r.perform("<bml id='later'><speech id='s'><text>" + std::string(kArcticText) + " Again.</text></speech></bml>",
+                        "godette", {}, sentFor)
+                  .heldForSpeech);
+  s2.speech().setLipSyncSettings({});  // the cache forgets; the held block keeps its line
+  gate->setOpen(true);
+  r.waitForSpeech();
+  ASSERT_TRUE(r.blockStart("later"));
+  EXPECT_NEAR(*r.blockStart("later"), sentFor, 1e-9);
+  EXPECT_EQ(gate->calls, before + 1) << "the line was said once, in the background";
+  r.interrupt("later");
+
   // Held, then interrupted: dropped, never performed.
   gate->setOpen(false);
   const Schedule dropped = r.perform(
@@ -142,6 +158,17 @@ TEST_F(GodetteRealizer, InTheBackgroundABlockWaitsForItsSpeechAndNoFrameDoes) {
   s2.update(1.0 / 60.0);
   r.update();
   EXPECT_EQ(s2.findCharacter("godette")->behaviors().find("b4:s"), nullptr);
+
+  // Switched to Inline with a block held: the held one is realized first, in order.
+  gate->setOpen(false);
+  EXPECT_TRUE(r.perform("<bml id='b5'><speech id='s'><text>Held, then inline.</text></speech></bml>", "godette")
+                  .heldForSpeech);
+  r.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);
+  gate->setOpen(true);
+  EXPECT_FALSE(r.perform("<bml id='b6'><head id='n' lexeme='NOD'/></bml>", "godette").heldForSpeech);
+  EXPECT_EQ(r.heldBlocks(), 0u);
+  ASSERT_TRUE(r.blockStart("b5")) << "the held block was realized before the inline one";
+  ASSERT_TRUE(r.blockStart("b6"));
 }
 
 TEST_F(GodetteRealizer, AppendQueuesTheSecondUtteranceAndReplaceInterruptsTheFirst) {

@@ -3,8 +3,10 @@
 // the limits is ready at once, and destroying the service leaves nothing waiting.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -109,6 +111,61 @@ TEST(SpeechBackground, DestroyingTheServiceFinishesTheLineBeingSaidAndDropsTheQu
   EXPECT_EQ(queued->result().line, nullptr);
   EXPECT_NE(queued->result().error.find("destroyed"), std::string::npos) << queued->result().error;
   EXPECT_EQ(gate->calls, 1);
+}
+
+// A backend that throws, or fails until it learns a line: the service neither hangs nor
+// remembers a failure (a line a backend learns later is said when asked again).
+class MoodyBackend final : public speech::SpeechBackend {
+ public:
+  std::string_view name() const noexcept override { return "moody"; }
+  speech::SpeechResult synthesize(const speech::SpeechRequest& request) override {
+    ++calls;
+    if (request.text == "throw") throw std::runtime_error("the synthesizer fell over");
+    if (!knows) return {nullptr, "no such line yet"};
+    auto u = std::make_shared<speech::Utterance>();
+    u->text = request.text;
+    u->duration = 0.5;
+    return {u, {}};
+  }
+  std::atomic<int> calls{0};
+  std::atomic<bool> knows{false};
+};
+
+TEST(SpeechBackground, ABackendThatThrowsFailsTheLineAndNothingWaitsForever) {
+  auto moody = std::make_shared<MoodyBackend>();
+  speech::SpeechService service;
+  service.useDefaultSynthesizer(false);
+  service.addBackend(moody);
+  const auto thrown = service.prepare(line("throw"));
+  service.waitUntilPrepared();  // returns: the line is ready, with the reason
+  ASSERT_TRUE(thrown->ready());
+  EXPECT_EQ(thrown->result().line, nullptr);
+  EXPECT_NE(thrown->result().error.find("the synthesizer fell over"), std::string::npos) << thrown->result().error;
+  const speech::SpeechService::Result inline_ = service.speak(line("throw"));  // in the caller's thread: no throw
+  EXPECT_NE(inline_.error.find("fell over"), std::string::npos) << inline_.error;
+  EXPECT_EQ(service.preparing(), 0u);
+}
+
+TEST(SpeechBackground, AFailureIsNotRememberedButAPinnedLineIsAnsweredAsSaid) {
+  auto moody = std::make_shared<MoodyBackend>();
+  speech::SpeechService service;
+  service.useDefaultSynthesizer(false);
+  service.addBackend(moody);
+  const auto failed = service.prepare(line("Hi"));
+  service.waitUntilPrepared();
+  EXPECT_EQ(failed->result().line, nullptr);
+  // Pinned (a held block being realized): answered as it was said, the backend not asked.
+  service.pin({failed});
+  EXPECT_EQ(service.speak(line("Hi")).error, failed->result().error);
+  EXPECT_EQ(moody->calls, 1);
+  service.unpin({failed});
+  // Not pinned: a failure is asked again; once the backend learned the line, it is said.
+  EXPECT_EQ(service.speak(line("Hi")).line, nullptr);
+  EXPECT_EQ(moody->calls, 2);
+  moody->knows = true;  // as RecordedSpeech::addLine would
+  const speech::SpeechService::Result said = service.speak(line("Hi"));
+  EXPECT_NE(said.line, nullptr) << said.error;
+  EXPECT_EQ(moody->calls, 3);
 }
 
 }  // namespace marionette

@@ -106,7 +106,7 @@ class FairLock {
 
 // espeak-ng keeps global state: one engine for the process, one synthesis at a time.
 struct Engine {
-  FairLock mutex;
+  FairLock turn;  // whose turn it is to use the engine
   bool started = false;
   int sampleRate = 0;
   std::string startError;  // set once if the engine could not start; repeated to every caller
@@ -119,8 +119,9 @@ struct Engine {
 constexpr std::size_t kRecentResults = 32;
 
 Engine& engine() {
-  static Engine instance;
-  return instance;
+  // Never destroyed: a static Scene's speech thread may still use it while statics go.
+  static Engine* instance = new Engine();
+  return *instance;
 }
 
 std::string dataPath() {
@@ -251,7 +252,7 @@ class EspeakBackend final : public SpeechBackend {
     Engine& e = engine();
     int sampleRate = 0;
     {
-      std::lock_guard lock(e.mutex);
+      std::lock_guard lock(e.turn);
       startEngine(e);
       if (!e.startError.empty()) {
         result.error = e.startError;
@@ -278,7 +279,7 @@ class EspeakBackend final : public SpeechBackend {
       const std::string ssml = pieceSsml(request.text, pieceStart, pieceEnd, marks, nextMark, markEnd, markPositions);
       Capture piece;
       {
-        std::lock_guard lock(e.mutex);
+        std::lock_guard lock(e.turn);
         // Set for every piece: another caller may have changed them in between.
         if (!selectVoice(voice)) {
           result.error = "espeak-ng has no voice '" + voice +
@@ -382,7 +383,7 @@ class EspeakBackend final : public SpeechBackend {
     normalizeTiming(*u);
     result.utterance = std::move(u);
     {
-      std::lock_guard lock(e.mutex);
+      std::lock_guard lock(e.turn);
       // Another thread may have said the same meanwhile: keep the first, so repeats stay identical.
       for (const auto& [k, done] : e.recent)
         if (k == key) {

@@ -106,6 +106,10 @@ std::shared_ptr<SpeechService::Preparation> SpeechService::findOrStart(const Spe
     }
   for (const auto& other : saying_)
     if (other->key_ == job->key_) return other;
+  // A pinned line (a held block being realized): its result, even when the cache let it
+  // go or never kept it (a failure, or a line said before a setting changed).
+  for (const auto& held : pinned_)
+    if (held->key_ == job->key_) return std::const_pointer_cast<Preparation>(held);
   job->request_ = request;
   saying_.push_back(job);
   fresh = true;
@@ -133,15 +137,34 @@ std::shared_ptr<const SpeechService::Preparation> SpeechService::prepare(const S
     refused->ready_.store(true, std::memory_order_release);
     return refused;
   }
-  std::lock_guard lock(mutex_);
+  std::unique_lock lock(mutex_);
   bool fresh = false;
   std::shared_ptr<Preparation> job = findOrStart(request, fresh);
-  if (fresh) {
-    queue_.push_back(job);
+  if (!fresh) return job;
+  try {
     if (!worker_.joinable()) worker_ = std::thread([this] { workerLoop(); });
-    work_.notify_one();
+  } catch (const std::exception&) {  // no thread: said here, as speak() would
+    lock.unlock();
+    say(*job);
+    return job;
   }
+  queue_.push_back(job);
+  work_.notify_one();
   return job;
+}
+
+void SpeechService::pin(const std::vector<std::shared_ptr<const Preparation>>& lines) {
+  std::lock_guard lock(mutex_);
+  for (const auto& line : lines)
+    if (line && line->ready()) pinned_.push_back(line);
+}
+
+void SpeechService::unpin(const std::vector<std::shared_ptr<const Preparation>>& lines) {
+  std::lock_guard lock(mutex_);
+  for (const auto& line : lines) {
+    const auto it = std::find(pinned_.begin(), pinned_.end(), line);
+    if (it != pinned_.end()) pinned_.erase(it);
+  }
 }
 
 void SpeechService::waitUntilPrepared() {
@@ -191,6 +214,36 @@ void SpeechService::say(Preparation& job) {
     missing = defaultMissing_;
   }
   Result result;
+  bool keep = true;
+  try {
+    result = sayWith(order, job, audioDirectory, lipSync, missing);
+  } catch (const std::exception& e) {  // a backend's, or no memory: this line fails, nothing waits forever
+    result = {nullptr, std::string("the speech backend failed: ") + e.what()};
+    keep = false;
+  } catch (...) {
+    result = {nullptr, "the speech backend failed with an unknown exception"};
+    keep = false;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    // Said with the settings in force: kept. Failures are not: a line a backend learns
+    // later (RecordedSpeech::addLine), or a transient error, is tried again next time.
+    if (keep && result.line && generation == generation_) {
+      if (cache_.size() >= kCacheSize) cache_.erase(cache_.begin());
+      cache_.push_back({job.key_, result});
+    }
+    saying_.erase(std::remove_if(saying_.begin(), saying_.end(), [&](const auto& j) { return j.get() == &job; }),
+                  saying_.end());
+    job.result_ = std::move(result);
+    job.ready_.store(true, std::memory_order_release);
+  }
+  finished_.notify_all();
+}
+
+SpeechService::Result SpeechService::sayWith(const std::vector<std::shared_ptr<SpeechBackend>>& order,
+                                             const Preparation& job, const std::filesystem::path& audioDirectory,
+                                             const LipSyncSettings& lipSync, const std::string& missing) {
+  Result result;
   if (order.empty()) result.error = "no speech backend: " + (missing.empty() ? std::string("none was added") : missing);
   for (const auto& backend : order) {
     SpeechResult said = backend->synthesize(job.request_);
@@ -212,21 +265,9 @@ void SpeechService::say(Preparation& job) {
       line->audioError = writeWav(file, said.utterance->audio, said.utterance->sampleRate);
       if (line->audioError.empty()) line->audioFile = file;
     }
-    result = {std::move(line), {}};
-    break;
+    return {std::move(line), {}};
   }
-  {
-    std::lock_guard lock(mutex_);
-    if (generation == generation_) {  // said with the settings in force: keep it
-      if (cache_.size() >= kCacheSize) cache_.erase(cache_.begin());
-      cache_.push_back({job.key_, result});
-    }
-    saying_.erase(std::remove_if(saying_.begin(), saying_.end(), [&](const auto& j) { return j.get() == &job; }),
-                  saying_.end());
-    job.result_ = std::move(result);
-    job.ready_.store(true, std::memory_order_release);
-  }
-  finished_.notify_all();
+  return result;
 }
 
 }  // namespace marionette::speech

@@ -98,10 +98,14 @@ class Realizer {
   // once they are. No frame waits for a synthesizer; the block starts a frame or two
   // late instead. Blocks performed while one is held are held behind it, so that
   // composition (APPEND, REPLACE) and references to other blocks keep the order of
-  // perform(). A held block that fails to schedule reports it as warning feedback
-  // when realized; a block that does not parse, or names no character, fails at once.
-  // Inline: perform() says the lines itself (deterministic: offline tools and tests;
-  // a long line blocks that call for up to about 0.1 s).
+  // perform(). A held block starts at the update after its lines are said, or at the
+  // `at` it was sent for when that is later; its SchedulerOptions (and what their
+  // functions capture) must live until then. A held block that fails to schedule
+  // reports it as warning feedback when realized; a block that does not parse, or names
+  // no character, fails at once. interrupt() drops a held block without feedback.
+  // Inline: perform() says the lines itself (deterministic: offline tools and tests; a
+  // new 1000-character line blocks that call for about 50 ms); blocks still held from
+  // Background are waited for and realized first, in order.
   enum class SpeechSynthesis { Background, Inline };
   void setSpeechSynthesis(SpeechSynthesis mode) noexcept { speechSynthesis_ = mode; }
   [[nodiscard]] SpeechSynthesis speechSynthesis() const noexcept { return speechSynthesis_; }
@@ -143,11 +147,12 @@ class Realizer {
   struct Held {  // performed, waiting for its speech
     std::string text, character, blockId;
     SchedulerOptions options;
+    std::optional<double> at;
     std::vector<std::shared_ptr<const speech::SpeechService::Preparation>> lines;
     [[nodiscard]] bool ready() const noexcept;
   };
   [[nodiscard]] std::optional<Schedule> holdForSpeech(std::string_view bmlText, std::string_view character,
-                                                      const SchedulerOptions& options);
+                                                      const SchedulerOptions& options, std::optional<double> at);
   void realizeHeld();
   Schedule realize(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
                    std::optional<double> at);

@@ -5,7 +5,7 @@
 // keeps global state, so every backend shares one engine behind a first-come
 // first-served lock, and a line longer than kSpeechPieceBytes is said in pieces
 // (text_pieces.hpp), handing the engine on between them: a short line asked from
-// another scene or thread waits for one piece (about 0.1 s), not for the whole long
+// another scene or thread waits for one piece (about 11 ms), not for the whole long
 // line. It is started on the first synthesize(), not before (a scene without speech pays nothing).
 // It keeps its last 32 results process-wide: espeak-ng's wave generator carries
 // state between calls, so only a repeat from that store is sample-identical. (A

@@ -3,7 +3,7 @@
 // synthesize once, the lip-sync curves of each utterance, and where its audio
 // is written as WAV for the engine to play. Nothing starts until the first
 // speak() or prepare(): a scene without speech never loads a synthesizer nor
-// starts a thread. Command time only.
+// starts a thread. Command time: not to be called from a scene update.
 //
 // speak() says a line in the caller's thread (it may take a tenth of a second for
 // a long line). prepare() says it on the service's own worker thread and returns at
@@ -57,8 +57,9 @@ class SpeechService {
     std::shared_ptr<const SpokenLine> line;  // null on failure
     std::string error;  // why no backend could say it
   };
-  // The same request gives the same result (cached, failures too; at most kCacheSize
-  // kept). A request being prepared in the background is waited for, not said twice.
+  // The same request gives the same line (cached; at most kCacheSize kept). A failure is
+  // not cached: asked again, the backends are asked again. A request being prepared is
+  // waited for, not said twice; a pinned one gives its result (below).
   Result speak(const SpeechRequest& request);
   static constexpr std::size_t kCacheSize = 256;
 
@@ -81,7 +82,12 @@ class SpeechService {
   [[nodiscard]] std::shared_ptr<const Preparation> prepare(const SpeechRequest& request);
   // Blocks until every prepared line is ready (offline tools, tests).
   void waitUntilPrepared();
-  // Lines asked for with prepare() and not ready yet.
+  // While pinned, speak() answers these ready lines' requests with their results, failures
+  // too, with the settings they were said with, however the cache changed: the realizer
+  // pins a held block's lines while it realizes it, so that no line is said again then.
+  void pin(const std::vector<std::shared_ptr<const Preparation>>& lines);
+  void unpin(const std::vector<std::shared_ptr<const Preparation>>& lines);
+  // Lines being said (by prepare() or a speak() in progress).
   [[nodiscard]] std::size_t preparing() const;
 
  private:
@@ -91,13 +97,17 @@ class SpeechService {
   };
   // A ready preparation for a cached result, the one being said, or a new one to say (`fresh`).
   std::shared_ptr<Preparation> findOrStart(const SpeechRequest& request, bool& fresh);  // under the lock
-  void say(Preparation& job);  // the backends, without the lock held
+  void say(Preparation& job);  // the backends, without the lock held; never throws
+  static Result sayWith(const std::vector<std::shared_ptr<SpeechBackend>>& order, const Preparation& job,
+                        const std::filesystem::path& audioDirectory, const LipSyncSettings& lipSync,
+                        const std::string& missing);
   void workerLoop();
   mutable std::mutex mutex_;
   std::condition_variable finished_;              // a line became ready
   std::condition_variable work_;                  // the worker has something to do
   std::vector<std::shared_ptr<Preparation>> saying_;  // being said, in the background or by speak()
   std::deque<std::shared_ptr<Preparation>> queue_;    // waiting for the worker
+  std::vector<std::shared_ptr<const Preparation>> pinned_;  // pin(): answers speak() before the backends
   std::thread worker_;                            // started by the first prepare()
   bool stopping_ = false;
   std::uint64_t generation_ = 0;  // settings changed: results of older settings are not cached
