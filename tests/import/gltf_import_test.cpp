@@ -942,6 +942,11 @@ TEST(GltfImport, HandWrittenBrokenFilesAreRejected) {
       {"count_over_the_limit", [](Synthetic& s) { s.doc["accessors"][2]["count"] = (1 << 26) + 1; },
        "accessor 2 (animation 'Synthetic' channel 1 output) has 67108865 elements, more than the 67108864 one array "
        "may have (limits::kMaxArrayElements)"},
+      {"nodes_over_the_limit",
+       [](Synthetic& s) {
+         while (s.doc["nodes"].size() <= 65535) s.doc["nodes"].push_back(nlohmann::json::object());
+       },
+       "the file has 65536 nodes, more than the 65535 a skeleton may have (limits::kMaxJoints)"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

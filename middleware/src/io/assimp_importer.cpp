@@ -838,11 +838,9 @@ bool convertMeshTree(Importing& im, const aiNode& node) {
 }
 
 void convertMeshes(Importing& im) {
-  const bool anySkin = std::any_of(im.scene.mMeshes, im.scene.mMeshes + im.scene.mNumMeshes,
-                                   [](const aiMesh* m) { return m->HasBones(); });
-  if (anySkin && im.asset.skeleton.jointCount() > limits::kMaxSkinJoints) {
+  if (im.asset.skeleton.jointCount() > limits::kMaxJoints) {
     im.error("skeleton has " + std::to_string(im.asset.skeleton.jointCount()) +
-             " joints; skinned meshes support at most 65535 (limits::kMaxSkinJoints)");
+             " joints, more than the 65535 a skeleton may have (limits::kMaxJoints)");
     return;
   }
   convertMaterials(im);

@@ -114,6 +114,11 @@ inline bool findParents(const Context& ctx, std::vector<int>& parent) {
 
 inline bool buildNodeGraph(const Context& ctx, NodeGraph& g) {
   const std::size_t count = ctx.model.nodes.size();
+  if (count > limits::kMaxJoints) {  // every node may become a joint
+    ctx.error("the file has " + std::to_string(count) + " nodes, more than the " + std::to_string(limits::kMaxJoints) +
+              " a skeleton may have (limits::kMaxJoints)");
+    return false;
+  }
   if (!findParents(ctx, g.parent)) return false;
   g.local.assign(count, Transform{});
   g.localMatrix.assign(count, glm::mat4(1.0f));

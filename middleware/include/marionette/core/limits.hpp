@@ -23,8 +23,8 @@ inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{512} << 20; 
 // track's keys, a skin's matrices. 2^26 (67 M) is far above any real character;
 // a hostile count stops here before it allocates gigabytes.
 inline constexpr std::size_t kMaxArrayElements = std::size_t{1} << 26;
-// Joints of a skinned skeleton (vertex joint indices are 16 bits).
-inline constexpr std::size_t kMaxSkinJoints = 65535;
+// Joints of a skeleton (every node of a glTF; vertex joint indices are 16 bits).
+inline constexpr std::size_t kMaxJoints = 65535;
 
 // One spoken line (a <speech> behavior, a SpeechRequest): synthesis takes about
 // 0.05 ms a character with espeak-ng at this size (and grows faster beyond it: 100 KB
