@@ -222,3 +222,35 @@ TEST(EnvironmentMap, ExrAttributeLargerThanTheFileIsAnErrorBeforeDecoding) {
   EXPECT_TRUE(mentions(c.diagnostics, longList)) << c.diagnostics.format();
   EXPECT_TRUE(mentions(c.diagnostics, "attribute 'channels' (chlist) declares 19 bytes but holds")) << c.diagnostics.format();
 }
+
+// fuzz_environment_map, long run: a 900-byte EXR whose data window OpenEXR sized a 1.3 GB
+// chunk table from when OpenImageIO opened it, before the size could be checked. The data
+// window, and tiles too small to be real, are checked from the header first.
+TEST(EnvironmentMap, ExrDataWindowOverTheLimitIsAnErrorBeforeDecoding) {
+  const fs::path dir = tempDir("env_exr_window");
+  auto le32 = [](std::int32_t v) {
+    std::string s(4, '\0');
+    for (int i = 0; i < 4; ++i) s[static_cast<std::size_t>(i)] = static_cast<char>((static_cast<std::uint32_t>(v) >> (8 * i)) & 0xFF);
+    return s;
+  };
+  const std::string magic("\x76\x2f\x31\x01\x02\x00\x00\x00", 8);
+  const std::string window = (dir / "huge_window.exr").string();
+  {
+    std::ofstream(window, std::ios::binary) << magic << std::string("dataWindow\0box2i\0", 17) << le32(16) << le32(0)
+                                            << le32(0) << le32(15) << le32(200000000) << std::string(1, '\0');
+  }
+  const auto w = loadEnvironmentMap(window);
+  EXPECT_FALSE(w.map);
+  EXPECT_TRUE(mentions(w.diagnostics, window)) << w.diagnostics.format();
+  EXPECT_TRUE(mentions(w.diagnostics, "data window that is 16x200000001 pixels, more than the library reads"))
+      << w.diagnostics.format();
+
+  const std::string tiles = (dir / "tiny_tiles.exr").string();
+  {
+    std::ofstream(tiles, std::ios::binary) << magic << std::string("tiles\0tiledesc\0", 15) << le32(9) << le32(1)
+                                           << le32(1) << std::string(1, '\0') << std::string(1, '\0');
+  }
+  const auto t = loadEnvironmentMap(tiles);
+  EXPECT_FALSE(t.map);
+  EXPECT_TRUE(mentions(t.diagnostics, "OpenEXR tiles of 1x1 pixels, fewer than 8 a side")) << t.diagnostics.format();
+}

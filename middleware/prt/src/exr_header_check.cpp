@@ -1,8 +1,11 @@
 #include "exr_header_check.hpp"
 
+#include "marionette/core/limits.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <istream>
 #include <utility>
 
 namespace marionette::prt {
@@ -21,6 +24,17 @@ int exrFixedSize(const std::string& type) {
     if (type == name) return size;
   return -1;
 }
+
+// Four bytes, little-endian, as OpenEXR stores them.
+std::int32_t readLe32(std::istream& in) {
+  unsigned char b[4] = {0, 0, 0, 0};
+  in.read(reinterpret_cast<char*>(b), 4);
+  return static_cast<std::int32_t>(std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 |
+                                   std::uint32_t(b[3]) << 24);
+}
+
+// Real files use tiles of 32 to 256 pixels; at 8 a side an 8192 x 4096 image has 524288.
+constexpr std::int32_t kMinTileSide = 8;
 
 }  // namespace
 
@@ -82,6 +96,22 @@ std::string exrHeaderProblem(const std::string& path) {
       if (!in || content != bytes)
         return damaged + "declares " + std::to_string(bytes) + " bytes but holds " +
                (in ? std::to_string(content) : std::string("more than the file has"));
+      // OpenEXR allocates a chunk table for the data window when it opens the file, before
+      // anyone reads the size: a 900-byte file asked for 1.3 GB (fuzz_environment_map).
+      if (type == "box2i" && name == "dataWindow") {
+        in.seekg(at);
+        std::int32_t box[4];
+        for (std::int32_t& v : box) v = readLe32(in);
+        const long long width = static_cast<long long>(box[2]) - box[0] + 1, height = static_cast<long long>(box[3]) - box[1] + 1;
+        if (std::string why = limits::imageSizeProblem(width, height); !why.empty())
+          return "has an OpenEXR data window that " + why;
+      } else if (type == "tiledesc") {  // tiles this small would make millions of chunks
+        in.seekg(at);
+        const std::int32_t x = readLe32(in), y = readLe32(in);
+        if (x < kMinTileSide || y < kMinTileSide)
+          return "has OpenEXR tiles of " + std::to_string(x) + "x" + std::to_string(y) + " pixels, fewer than " +
+                 std::to_string(kMinTileSide) + " a side";
+      }
       in.seekg(at + bytes);
     }
     if (!multiPart || in.peek() == 0 || in.peek() == EOF) return "";
