@@ -34,6 +34,14 @@ speech::SpeechRequest line(const std::string& text) {
   return r;
 }
 
+// A service that asks only `backend` (no espeak-ng).
+std::unique_ptr<speech::SpeechService> serviceWith(std::shared_ptr<speech::SpeechBackend> backend) {
+  auto service = std::make_unique<speech::SpeechService>();
+  service->useDefaultSynthesizer(false);
+  service->addBackend(std::move(backend));
+  return service;
+}
+
 void waitForCalls(const test::GatedSpeechBackend& gate, int calls) {
   while (gate.calls < calls) std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }
@@ -43,9 +51,8 @@ void waitForCalls(const test::GatedSpeechBackend& gate, int calls) {
 TEST(SpeechBackground, PrepareReturnsAtOnceAndALineIsSaidOnce) {
   MARIONETTE_REQUIRE_FILE(test::sharedAsset("speech/arctic_a0009.wav"));
   auto gate = gatedArcticLine();
-  speech::SpeechService service;
-  service.useDefaultSynthesizer(false);
-  service.addBackend(gate);
+  const auto owned = serviceWith(gate);
+  speech::SpeechService& service = *owned;
   const test::GateOpener opener{*gate};
 
   const auto prepared = service.prepare(line(kArcticText));
@@ -81,9 +88,8 @@ TEST(SpeechBackground, ALineThatFailsIsReadyWithTheReason) {
   MARIONETTE_REQUIRE_FILE(test::sharedAsset("speech/arctic_a0009.wav"));
   auto gate = gatedArcticLine();
   gate->setOpen(true);
-  speech::SpeechService service;
-  service.useDefaultSynthesizer(false);
-  service.addBackend(gate);
+  const auto owned = serviceWith(gate);
+  speech::SpeechService& service = *owned;
   const auto prepared = service.prepare(line("Nobody recorded this."));
   service.waitUntilPrepared();
   ASSERT_TRUE(prepared->ready());
@@ -94,9 +100,7 @@ TEST(SpeechBackground, ALineThatFailsIsReadyWithTheReason) {
 TEST(SpeechBackground, DestroyingTheServiceFinishesTheLineBeingSaidAndDropsTheQueued) {
   MARIONETTE_REQUIRE_FILE(test::sharedAsset("speech/arctic_a0009.wav"));
   auto gate = gatedArcticLine();
-  auto service = std::make_unique<speech::SpeechService>();
-  service->useDefaultSynthesizer(false);
-  service->addBackend(gate);
+  auto service = serviceWith(gate);
   const auto first = service->prepare(line(kArcticText));
   waitForCalls(*gate, 1);  // the service's thread is saying it
   const auto queued = service->prepare(line("Queued behind it."));
@@ -133,9 +137,8 @@ class MoodyBackend final : public speech::SpeechBackend {
 
 TEST(SpeechBackground, ABackendThatThrowsFailsTheLineAndNothingWaitsForever) {
   auto moody = std::make_shared<MoodyBackend>();
-  speech::SpeechService service;
-  service.useDefaultSynthesizer(false);
-  service.addBackend(moody);
+  const auto owned = serviceWith(moody);
+  speech::SpeechService& service = *owned;
   const auto thrown = service.prepare(line("throw"));
   service.waitUntilPrepared();  // returns: the line is ready, with the reason
   ASSERT_TRUE(thrown->ready());
@@ -148,9 +151,8 @@ TEST(SpeechBackground, ABackendThatThrowsFailsTheLineAndNothingWaitsForever) {
 
 TEST(SpeechBackground, AFailureIsNotRememberedButAPinnedLineIsAnsweredAsSaid) {
   auto moody = std::make_shared<MoodyBackend>();
-  speech::SpeechService service;
-  service.useDefaultSynthesizer(false);
-  service.addBackend(moody);
+  const auto owned = serviceWith(moody);
+  speech::SpeechService& service = *owned;
   const auto failed = service.prepare(line("Hi"));
   service.waitUntilPrepared();
   EXPECT_EQ(failed->result().line, nullptr);

@@ -69,10 +69,9 @@ std::string exrHeaderProblem(const std::string& path) {
       if (name.empty()) break;        // the end of this header
       const Text t = text(type);
       if (t == Text::TooLong) return tooLong;
-      unsigned char size[4];
-      if (t == Text::End || !in.read(reinterpret_cast<char*>(size), 4)) return "";
-      const std::int32_t bytes = static_cast<std::int32_t>(std::uint32_t(size[0]) | std::uint32_t(size[1]) << 8 |
-                                                           std::uint32_t(size[2]) << 16 | std::uint32_t(size[3]) << 24);
+      if (t == Text::End) return "";
+      const std::int32_t bytes = readLe32(in);
+      if (!in) return "";
       const std::int64_t at = static_cast<std::int64_t>(in.tellg()), remaining = fileSize - at;
       const std::string damaged = "has a damaged OpenEXR header: attribute '" + name + "' (" + type + ") ";
       if (bytes < 0 || bytes > remaining)
@@ -88,10 +87,9 @@ std::string exrHeaderProblem(const std::string& path) {
         }
         content = static_cast<std::int64_t>(in.tellg()) - at;
       } else if (type == "preview") {  // width, height, then RGBA bytes
-        unsigned char wh[8];
-        if (!in.read(reinterpret_cast<char*>(wh), 8)) return "";
-        auto u32 = [&](int k) { return std::uint64_t(wh[k]) | std::uint64_t(wh[k + 1]) << 8 | std::uint64_t(wh[k + 2]) << 16 | std::uint64_t(wh[k + 3]) << 24; };
-        content = static_cast<std::int64_t>(8 + u32(0) * u32(4) * 4);
+        const auto width = static_cast<std::uint32_t>(readLe32(in)), height = static_cast<std::uint32_t>(readLe32(in));
+        if (!in) return "";
+        content = static_cast<std::int64_t>(8 + std::uint64_t(width) * height * 4);
       }
       if (!in || content != bytes)
         return damaged + "declares " + std::to_string(bytes) + " bytes but holds " +
