@@ -18,6 +18,12 @@ inline std::string assimpModel(const std::string& relative) {
 inline std::string blenderStudiolight(const std::string& relative) {
   return std::string(MARIONETTE_BLENDER_STUDIOLIGHTS) + "/" + relative;
 }
+inline std::string vispImage(const std::string& relative) {  // Debian visp-images-data
+  return std::string(MARIONETTE_VISP_IMAGES) + "/" + relative;
+}
+inline std::string opencvData(const std::string& relative) {  // Debian opencv-doc
+  return std::string(MARIONETTE_OPENCV_DATA) + "/" + relative;
+}
 inline std::string sourceFile(const std::string& relative) {
   return std::string(MARIONETTE_SOURCE_DIR) + "/" + relative;
 }

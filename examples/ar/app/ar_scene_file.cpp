@@ -145,7 +145,7 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
 
   if (r.object(root, "camera")) {
     const Json& c = root["camera"];
-    r.unknownKeys(c, "camera", {"position", "target", "up", "fovY", "near", "far"});
+    r.unknownKeys(c, "camera", {"position", "target", "up", "fovY", "near", "far", "tracker"});
     r.vec3(c, "position", "camera", out.camera.position);
     r.vec3(c, "target", "camera", out.camera.target);
     r.vec3(c, "up", "camera", out.camera.up);
@@ -154,6 +154,41 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
     r.number(c, "far", "camera", out.camera.farPlane, 1e-3f, 1e7f);
     // The pose itself (look direction, up) is checked by StaticCameraPose (frame_inputs.cpp).
     if (!(out.camera.farPlane > out.camera.nearPlane)) r.error("camera.far", "must be greater than camera.near");
+    if (c.contains("tracker")) {
+      if (!c["tracker"].is_object()) {
+        r.error("camera.tracker", "expected an object");
+      } else {
+        const Json& t = c["tracker"];
+        ArTracker& tr = out.camera.tracker;
+        r.unknownKeys(t, "camera.tracker", {"kind", "camera", "target", "width", "map", "tagSize", "holdSeconds",
+                                            "hideWhenLost"});
+        const std::string kind = r.string(t, "kind", "camera.tracker", true);
+        if (kind == "markerless") tr.kind = ArTracker::Kind::Markerless;
+        else if (kind == "apriltag") tr.kind = ArTracker::Kind::AprilTag;
+        else if (!kind.empty()) r.error("camera.tracker.kind", "'" + kind + "' is neither markerless nor apriltag");
+        tr.camera = r.resolve(r.string(t, "camera", "camera.tracker", true));
+        float width = 0, tagSize = 0, hold = static_cast<float>(tr.holdSeconds);
+        if (tr.kind == ArTracker::Kind::Markerless) {
+          if (t.contains("map")) tr.map = r.resolve(r.string(t, "map", "camera.tracker", true));
+          else {
+            tr.target = r.resolve(r.string(t, "target", "camera.tracker", true));
+            if (!t.contains("width")) r.error("camera.tracker.width", "missing: the target's width in metres");
+          }
+          r.number(t, "width", "camera.tracker", width, 1e-4f, 1e4f);
+        } else if (tr.kind == ArTracker::Kind::AprilTag) {
+          if (!t.contains("tagSize")) r.error("camera.tracker.tagSize", "missing: the tag's side in metres");
+          r.number(t, "tagSize", "camera.tracker", tagSize, 1e-4f, 1e3f);
+        }
+        r.number(t, "holdSeconds", "camera.tracker", hold, 0.0f, 3600.0f);
+        tr.width = width;
+        tr.tagSize = tagSize;
+        tr.holdSeconds = hold;
+        if (t.contains("hideWhenLost")) {
+          if (!t["hideWhenLost"].is_boolean()) r.error("camera.tracker.hideWhenLost", "expected true or false");
+          else tr.hideWhenLost = t["hideWhenLost"].get<bool>();
+        }
+      }
+    }
   }
   if (r.object(root, "background")) {
     const Json& b = root["background"];
@@ -214,6 +249,9 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
   if (out.background.kind == ArBackground::Kind::Environment && out.environment.file.empty() &&
       root.contains("background"))
     r.error("background.kind", "'environment' needs an \"environment\" map");
+  if (out.camera.tracker.kind != ArTracker::Kind::None && out.background.kind != ArBackground::Kind::Sequence &&
+      out.background.kind != ArBackground::Kind::Video)
+    r.error("camera.tracker", "a tracker needs camera frames: a \"sequence\" or \"video\" background");
   if (r.object(root, "render")) {
     const Json& rd = root["render"];
     r.unknownKeys(rd, "render", {"width", "height", "fps"});

@@ -3,7 +3,14 @@
 // {
 //   "scene": "walk.json",                       // required: the middleware scene (scene/scene_file.hpp)
 //   "camera": { "position": [0, 1.5, 4.5], "target": [0, 0.9, 0], "up": [0, 1, 0],
-//               "fovY": 45, "near": 0.05, "far": 100 },
+//               "fovY": 45, "near": 0.05, "far": 100,
+//               "tracker": { "kind": "markerless",            // optional: or "apriltag" (docs/tracking.md)
+//                            "camera": "camera.yml",          // required: OpenCV calibration YAML
+//                            "target": "floor.png", "width": 0.3,  // markerless: reference image, metres
+//                            "map": "floor.map",              // markerless: a saved map instead of target
+//                            "tagSize": 0.1,                  // apriltag: the black square's side, metres
+//                            "holdSeconds": 1.0,              // when LOST keep the last pose this long,
+//                            "hideWhenLost": true } },        //   then hide the characters (or keep them)
 //   "background": { "kind": "environment" },    // or "image" / "sequence" / "video" with "file"
 //                                               //   (and "fps" for a sequence), or "color" with "color": [r, g, b]
 //   "environment": { "file": "studio.exr", "rotation": 0, "exposure": 1.0,  // optional: HDR light probe
@@ -17,8 +24,10 @@
 // Paths are relative to the AR scene file, or absolute. Without "environment"
 // the characters get a neutral grey sky light (and no PRT). With one, they are lit
 // by precomputed radiance transfer (docs/ar-renderer.md, "PRT lighting") unless
-// "prt.mode" is "off", then by the environment's 9 SH irradiance coefficients. The camera is static for now:
-// ScenePose implements the CameraPoseSource a tracker will implement later.
+// "prt.mode" is "off", then by the environment's 9 SH irradiance coefficients. The camera is the
+// static pose (position, target, up, fovY) unless "tracker" is given: then the background's
+// frames (image sequence or video) feed it, the pose and the projection come from it, and the
+// characters stand in the tracked world (the target's plane, metric).
 #pragma once
 #include <string>
 
@@ -30,12 +39,24 @@
 
 namespace marionette::ar {
 
+struct ArTracker {
+  enum class Kind { None, Markerless, AprilTag } kind = Kind::None;
+  std::string camera;  // calibration YAML, resolved
+  std::string target;  // markerless: reference image, resolved
+  double width = 0;    // markerless: the target's width, metres
+  std::string map;     // markerless: a saved map, resolved
+  double tagSize = 0;  // apriltag: metres
+  double holdSeconds = 1.0;
+  bool hideWhenLost = true;
+};
+
 struct ArCamera {
   glm::vec3 position{0.0f, 1.5f, 4.0f};
   glm::vec3 target{0.0f, 1.0f, 0.0f};
   glm::vec3 up{0.0f, 1.0f, 0.0f};
   float fovYDegrees = 45.0f;
   float nearPlane = 0.05f, farPlane = 100.0f;
+  ArTracker tracker;
 };
 
 struct ArBackground {

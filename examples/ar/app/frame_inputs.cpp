@@ -8,6 +8,9 @@
 
 #include "marionette_ar/background_source.hpp"
 #include "marionette_ar/camera_pose.hpp"
+#if MARIONETTE_AR_HAS_TRACKING
+#include "tracked_camera.hpp"
+#endif
 #include "marionette/prt/environment_map.hpp"
 #include "marionette/prt/mirror_ball.hpp"
 #include "marionette/prt/sh_lighting.hpp"
@@ -16,6 +19,11 @@ namespace marionette::ar {
 
 struct FrameInputs::Sources {
   std::unique_ptr<BackgroundSource> background;
+#if MARIONETTE_AR_HAS_TRACKING
+  std::unique_ptr<TrackedCamera> tracked;
+  TrackingState previousState = TrackingState::Lost;
+  bool stateChanged = false;
+#endif
   std::optional<StaticCameraPose> camera;
   Image8 frame;
   std::int64_t frameIndex = -1;
@@ -92,6 +100,20 @@ bool FrameInputs::load(const ArScene& scene, std::string& error) {
       return false;
     }
   }
+  if (scene.camera.tracker.kind != ArTracker::Kind::None) {
+#if MARIONETTE_AR_HAS_TRACKING
+    if (!sources_->background) {
+      error = scene.path + ": 'camera.tracker' needs a sequence or video background";
+      return false;
+    }
+    sources_->tracked = TrackedCamera::create(scene.camera.tracker, sources_->background->width(),
+                                              sources_->background->height(), error);
+    if (!sources_->tracked) return false;
+#else
+    error = scene.path + ": 'camera.tracker' needs a build with MARIONETTE_WITH_TRACKING";
+    return false;
+#endif
+  }
   return true;
 }
 
@@ -108,16 +130,60 @@ const Image8* FrameInputs::backgroundFrame(double time, std::string& error) {
     s.frame.height = f.height;
     s.frame.channels = 3;
     s.frame.pixels.assign(f.rgb.begin(), f.rgb.end());
+#if MARIONETTE_AR_HAS_TRACKING
+    if (s.tracked) {
+      s.tracked->update({f.rgb.data(), f.width, f.height, 3, 0}, time);
+      s.stateChanged = s.tracked->state() != s.previousState;
+      s.previousState = s.tracked->state();
+    }
+#endif
   }
   return &s.frame;
 }
 
-CameraView FrameInputs::camera(double time, float aspect) const {
+CameraView FrameInputs::camera(double time, int width, int height) const {
   CameraView v;
+#if MARIONETTE_AR_HAS_TRACKING
+  if (const TrackedCamera* t = sources_->tracked.get()) {
+    if (t->hasPose(time)) v.view = t->view();
+    v.projection = t->projection(width, height, nearPlane_, farPlane_);
+    return v;
+  }
+#endif
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
   const CameraPose pose = sources_->camera->poseAt(time);
   v.view = pose.view;
   v.projection = glm::perspective(glm::radians(pose.fovYDegrees), aspect, nearPlane_, farPlane_);
   return v;
+}
+
+bool FrameInputs::charactersVisible(double time) const noexcept {
+#if MARIONETTE_AR_HAS_TRACKING
+  if (const TrackedCamera* t = sources_->tracked.get()) return t->charactersVisible(time);
+#endif
+  (void)time;
+  return true;
+}
+
+bool FrameInputs::trackingState(TrackingStateReport& out) const noexcept {
+#if MARIONETTE_AR_HAS_TRACKING
+  if (const TrackedCamera* t = sources_->tracked.get()) {
+    out.state = trackingStateName(t->state()).data();
+    out.changed = sources_->stateChanged;
+    out.frames = t->framesSeen();
+    out.posed = t->framesTracked();
+    return true;
+  }
+#endif
+  (void)out;
+  return false;
+}
+
+double FrameInputs::trackingMedianMs() const {
+#if MARIONETTE_AR_HAS_TRACKING
+  if (const TrackedCamera* t = sources_->tracked.get()) return t->medianMilliseconds();
+#endif
+  return 0;
 }
 
 }  // namespace marionette::ar

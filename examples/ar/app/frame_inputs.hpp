@@ -15,6 +15,12 @@
 
 namespace marionette::ar {
 
+struct TrackingStateReport {
+  const char* state = "LOST";  // TRACKING, LIMITED or LOST
+  bool changed = false;        // with the last frame
+  long frames = 0, posed = 0;  // frames fed, frames with a pose
+};
+
 struct CameraView {
   glm::mat4 view{1.0f}, projection{1.0f};
 };
@@ -43,7 +49,16 @@ class FrameInputs {
   // The camera frame for a scene time; the same pointer while the frame does not
   // change; nullptr with `error` set when the source fails.
   [[nodiscard]] const Image8* backgroundFrame(double time, std::string& error);
-  [[nodiscard]] CameraView camera(double time, float aspect) const;
+  // The camera for a viewport of width x height pixels: the scene file's static pose, or
+  // the tracker's (fed by backgroundFrame(), so call that first in a frame).
+  [[nodiscard]] CameraView camera(double time, int width, int height) const;
+  // False while a tracked camera has no pose to draw the characters with (LOST past
+  // "holdSeconds", unless "hideWhenLost" is false).
+  [[nodiscard]] bool charactersVisible(double time) const noexcept;
+  // The tracker's state, and whether it changed with the last frame; false without a tracker.
+  [[nodiscard]] bool trackingState(TrackingStateReport& out) const noexcept;
+  // The tracker's median time per frame so far, ms (0 without one).
+  [[nodiscard]] double trackingMedianMs() const;
 
  private:
   struct Sources;

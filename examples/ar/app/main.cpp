@@ -5,6 +5,7 @@
 //   marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]
 //                 [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]
 //                 [--prt shadowed|unshadowed|off] [--prt-bands N] [--prt-rays R] [--prt-cache DIR]
+//   marionette-ar calibrate ... | track ...   (camera tracking: tracking_commands.hpp)
 //
 // Headless renders offscreen into DIR/frame_0000.png ... (still needs an X
 // display: run it under xvfb-run; docs/ar-renderer.md).
@@ -26,6 +27,9 @@
 #include "ar_scene_file.hpp"
 #include "frame_inputs.hpp"
 #include "prt_lighting.hpp"
+#if MARIONETTE_AR_HAS_TRACKING
+#include "tracking_commands.hpp"
+#endif
 #include "marionette/bml/realizer.hpp"
 #include "marionette/bml/timed_files.hpp"
 #include "marionette/scene/scene_file.hpp"
@@ -170,6 +174,9 @@ struct LogListener : SceneListener {
 }  // namespace
 
 int main(int argc, char** argv) {
+#if MARIONETTE_AR_HAS_TRACKING
+  if (const int code = runTrackingCommand(argc, argv); code >= 0) return code;
+#endif
   Args args;
   if (!parseArgs(argc, argv, args)) return usage();
   ArScene ar;
@@ -312,7 +319,21 @@ int main(int argc, char** argv) {
     realizer.update();
     cpuMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
 
-    const CameraView view = inputs.camera(scene.time(), aspect);
+    // The background frame first: a tracked camera's pose comes from it.
+    const bool imageBackground = inputs.backgroundKind() != ArBackground::Kind::Environment &&
+                                 inputs.backgroundKind() != ArBackground::Kind::Color;
+    if (imageBackground) {
+      if (const Image8* image = inputs.backgroundFrame(scene.time(), error)) background.setImage(*image);
+      else if (!error.empty()) {
+        std::fprintf(stderr, "%s\n", error.c_str());
+        return 2;
+      }
+    }
+    TrackingStateReport tracking;
+    const bool tracked = inputs.trackingState(tracking);
+    if (tracked && (tracking.changed || frame == 0))
+      std::printf("marionette-ar: tracking %s at %.3f s (frame %ld)\n", tracking.state, scene.time(), frame);
+    const CameraView view = inputs.camera(scene.time(), ar.width, ar.height);
     target.bind();
     glClearColor(0, 0, 0, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -325,14 +346,9 @@ int main(int argc, char** argv) {
         background.drawFlat(ar.background.color);
         break;
       default:
-        if (const Image8* image = inputs.backgroundFrame(scene.time(), error)) background.setImage(*image);
-        else if (!error.empty()) {
-          std::fprintf(stderr, "%s\n", error.c_str());
-          return 2;
-        }
         background.drawImage(aspect);
     }
-    if (!args.hideCharacters) {
+    if (!args.hideCharacters && inputs.charactersVisible(scene.time())) {
       glEnable(GL_DEPTH_TEST);
       for (std::size_t i = 0; i < scene.characters().size(); ++i) {
         if (!drawn[i]) continue;
@@ -352,6 +368,16 @@ int main(int argc, char** argv) {
         drawCharacter(characterProgram, *drawn[i], *poses[i], world, view.projection * view.view, lighting,
                       prtBuffers[i].get());
       }
+    }
+    if (tracked) {  // the tracking state in the top-left corner: green, amber, red
+      const glm::vec3 badge = tracking.state[0] == 'T' ? glm::vec3(0.1f, 0.8f, 0.2f)
+                              : tracking.state[1] == 'I' ? glm::vec3(0.95f, 0.7f, 0.1f)
+                                                         : glm::vec3(0.9f, 0.1f, 0.1f);
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(8, ar.height - 24, 16, 16);
+      glClearColor(badge.r, badge.g, badge.b, 1.0f);
+      glClear(GL_COLOR_BUFFER_BIT);
+      glDisable(GL_SCISSOR_TEST);
     }
     if (args.headless) {
       target.read(frameImage);
@@ -381,6 +407,10 @@ int main(int argc, char** argv) {
   if (prtUpdates > 0)
     std::printf("marionette-ar: prt per character per frame: relight %.3f ms, upload %.3f ms (%ld updates)\n",
                 prtRelightMs / static_cast<double>(prtUpdates), prtUploadMs / static_cast<double>(prtUpdates), prtUpdates);
+  TrackingStateReport tracking;
+  if (inputs.trackingState(tracking))
+    std::printf("marionette-ar: tracking: %ld of %ld camera frames with a pose, tracker %.2f ms per frame median\n",
+                tracking.posed, tracking.frames, inputs.trackingMedianMs());
   if (args.headless) std::printf("marionette-ar: frames in %s\n", args.outDir.c_str());
   return bmlErrors > 0 ? 1 : 0;
 }

@@ -1,0 +1,50 @@
+// The AR camera when the scene names a tracker: the background's frames feed it, and the
+// view and projection come from its pose and the calibrated intrinsics (scaled and cropped
+// the way the background image covers the viewport). When LOST, the last pose is held for
+// `holdSeconds`, then the characters are hidden unless `hideWhenLost` is false.
+#pragma once
+#include <memory>
+#include <string>
+
+#include <glm/mat4x4.hpp>
+
+#include "ar_scene_file.hpp"
+#include "marionette_ar/tracking/tracker.hpp"
+
+namespace marionette::ar {
+
+class TrackedCamera {
+ public:
+  // Errors name the file (calibration, target, map) or the scene key.
+  [[nodiscard]] static std::unique_ptr<TrackedCamera> create(const ArTracker& settings, int frameWidth,
+                                                             int frameHeight, std::string& error);
+  ~TrackedCamera();
+
+  // A new background frame (RGB8, rows top to bottom) shown from scene time `seconds`.
+  void update(const ImageView& frame, double seconds) noexcept;
+
+  [[nodiscard]] TrackingState state() const noexcept { return last_.state; }
+  // A pose to draw with: tracked now, or held after a loss for at most holdSeconds.
+  [[nodiscard]] bool hasPose(double seconds) const noexcept;
+  [[nodiscard]] bool charactersVisible(double seconds) const noexcept;
+  [[nodiscard]] glm::mat4 view() const noexcept;
+  // OpenGL projection of the calibrated camera for a viewport the frame covers (scaled to
+  // fill it, the longer side cropped, as BackgroundRenderer::drawImage draws it).
+  [[nodiscard]] glm::mat4 projection(int viewportWidth, int viewportHeight, float nearZ, float farZ) const noexcept;
+  // The tracker's frame time, median so far (ms; for the renderer's summary line).
+  [[nodiscard]] double medianMilliseconds() const;
+  [[nodiscard]] long framesTracked() const noexcept { return tracked_; }
+  [[nodiscard]] long framesSeen() const noexcept { return frames_; }
+
+ private:
+  TrackedCamera() = default;
+  ArTracker settings_;
+  std::unique_ptr<Tracker> tracker_;
+  TrackedPose last_, held_;
+  bool everPosed_ = false;
+  double lastPoseTime_ = -1e300;
+  long frames_ = 0, tracked_ = 0;
+  std::vector<double> ms_;
+};
+
+}  // namespace marionette::ar

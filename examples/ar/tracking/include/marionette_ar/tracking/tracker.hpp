@@ -1,0 +1,58 @@
+// One interface for every camera tracker: frames in, the camera's pose in the world out.
+//
+// World and camera conventions (the renderer's): the world is metric, +Y up. For a planar
+// target (markerless image or AprilTag) the world is the target's plane: its centre at the
+// origin, +Y out of its printed face, the target image's right along +X and its down along
+// +Z. The pose is camera-to-world with the camera's axes as OpenGL's: looking along -Z, +Y
+// up, +X right (OpenCV's camera has Y down and Z forward: flip Y and Z).
+//
+// Per-frame contract: update() never throws, is deterministic for the same frames and
+// settings, and runs on the calling thread (OpenCV's own parallel loops follow
+// cv::setNumThreads; marionette-ar sets 1).
+#pragma once
+#include <cstdint>
+#include <string_view>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "marionette_ar/tracking/camera_model.hpp"
+#include "marionette_ar/tracking/image_view.hpp"
+
+namespace marionette::ar {
+
+enum class TrackingState : std::uint8_t {
+  Lost,      // no pose
+  Limited,   // a pose from few features, unverified, or extrapolated: usable, not trusted
+  Tracking,  // a verified pose
+};
+[[nodiscard]] std::string_view trackingStateName(TrackingState state) noexcept;  // "TRACKING", "LIMITED", "LOST"
+
+struct TrackedPose {
+  TrackingState state = TrackingState::Lost;
+  glm::dmat4 cameraToWorld{1.0};  // valid unless Lost
+  int inliers = 0;                 // correspondences that support the pose
+  double reprojectionErrorPx = 0;  // rms over the inliers
+
+  [[nodiscard]] glm::dvec3 position() const noexcept { return glm::dvec3(cameraToWorld[3]); }
+  [[nodiscard]] glm::dquat orientation() const noexcept;  // camera-to-world rotation
+};
+
+class Tracker {
+ public:
+  virtual ~Tracker() = default;
+  // The pose of the camera that took `frame` at `seconds` (non-decreasing). A frame that is
+  // not valid(), or not of camera().width x camera().height, gives Lost (and no throw).
+  [[nodiscard]] virtual TrackedPose update(const ImageView& frame, double seconds) noexcept = 0;
+  // Forget the motion history (the next frame relocalizes from scratch).
+  virtual void reset() noexcept = 0;
+  [[nodiscard]] virtual const CameraModel& camera() const noexcept = 0;
+};
+
+// Conversions between an OpenCV pose (rvec/tvec: world -> OpenCV camera) and camera-to-world
+// in the renderer's camera axes.
+[[nodiscard]] glm::dmat4 cameraToWorldFromOpenCv(const glm::dmat3& worldToCvCameraRotation,
+                                                 const glm::dvec3& worldToCvCameraTranslation) noexcept;
+
+}  // namespace marionette::ar

@@ -1,0 +1,528 @@
+#include "marionette_ar/tracking/markerless_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "grey_frame.hpp"
+#include "planar_geometry.hpp"
+#include "pose_filter.hpp"
+
+namespace marionette::ar {
+
+namespace {
+
+constexpr int kMaxReferenceSide = 1024;  // larger references are scaled down (KLT works at camera scale)
+constexpr int kCornersPerKeyframe = 500;
+constexpr int kReferenceLevels = 4;  // the reference at 1, 1/2, 1/4, 1/8: warp from the nearest scale
+constexpr int kMinRelocalizationInliers = 15;
+
+// What the map keeps per keyframe for the per-frame path, prepared once.
+struct KeyframeData {
+  std::vector<cv::Mat> levels;  // grey image pyramid (level 0 views the map's bytes)
+  cv::Matx33d planeToImage, imageToPlane;
+  std::vector<cv::Point2f> corners;       // level-0 pixels
+  std::vector<cv::Point2f> cornerPlane;   // (X, Z) metres
+  cv::Mat descriptors;                    // ORB, one row per feature
+  std::vector<cv::Point2f> featurePixels;
+  glm::dvec3 cameraPosition{0.0};  // the camera that took it (keyframe 0: none)
+  double meanGrey = 128;
+  bool reference = false;
+};
+
+}  // namespace
+
+struct MarkerlessTracker::Impl {
+  CameraModel camera;
+  MarkerlessSettings settings;
+  PlanarMap map;
+  std::vector<KeyframeData> keyframes;
+  cv::Matx33d K;
+  cv::Ptr<cv::ORB> orb;
+  cv::BFMatcher matcher{cv::NORM_HAMMING};
+  GreyFrame grey;
+  PoseFilter filter;
+  FrameStats stats;
+
+  // Pose history (world -> OpenCV camera).
+  bool havePose = false, havePrevious = false;
+  PlanarPose pose, previous;
+  double poseTime = 0, previousTime = 0, lastSeen = -1e300;
+  TrackingState lastState = TrackingState::Lost;
+
+  // Buffers reused every frame.
+  cv::Mat warped, adjusted;
+  std::vector<cv::Point2f> levelPoints;
+  std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage;
+  std::vector<int> cornerIndex;
+  std::vector<unsigned char> status, mask;
+  std::vector<float> kltError;
+  std::vector<cv::KeyPoint> frameKeypoints;
+  cv::Mat frameDescriptors;
+  std::vector<std::vector<cv::DMatch>> knn;
+  cv::Matx33d homography;
+
+  Impl(const CameraModel& c, const MarkerlessSettings& s)
+      : camera(c), settings(s), filter(s.smoothingMinCutoffHz, s.smoothingBeta) {
+    K = cv::Matx33d(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
+    orb = cv::ORB::create(s.relocalizationFeatures, 1.2f, 8, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
+    grey.configure(c);
+  }
+
+  void prepareKeyframe(std::size_t i);
+  PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage);
+  bool track(const PlanarPose& prediction, int keyframe, PlanarPose& out, double& rms, int& inliers);
+  int chooseKeyframe(const PlanarPose& prediction);
+  bool relocalize(PlanarPose& out);
+  void maybeExtendMap(const PlanarPose& p);
+  // Enough of the corners tried agree, closely: a verified pose. Blur, occlusion or a wrong
+  // prediction leave fewer, looser inliers (LIMITED at best).
+  [[nodiscard]] bool isStrong(int inliers, double rms) const noexcept {
+    return inliers >= settings.minTrackingInliers && 2 * inliers >= stats.corners && rms <= settings.maxTrackingRmsPx;
+  }
+  TrackedPose update(const ImageView& frame, double seconds);
+};
+
+PlanarKeyframe MarkerlessTracker::Impl::makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage) {
+  PlanarKeyframe k;
+  k.width = image.cols;
+  k.height = image.rows;
+  k.grey.assign(image.datastart, image.datastart + image.total());
+  if (!image.isContinuous()) {
+    k.grey.clear();
+    for (int r = 0; r < image.rows; ++r) k.grey.insert(k.grey.end(), image.ptr(r), image.ptr(r) + image.cols);
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) k.planeToImage[static_cast<std::size_t>(r * 3 + c)] = planeToImage(r, c);
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(image, corners, kCornersPerKeyframe, 0.01, 8, cv::noArray(), 5);
+  for (const auto& c : corners) k.corners.push_back({c.x, c.y});
+  // 12 levels (a 7.4x range of scales): a keyframe is matched from close up and from afar.
+  auto detector = cv::ORB::create(settings.referenceFeatures, 1.2f, 12, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
+  std::vector<cv::KeyPoint> kps;
+  cv::Mat desc;
+  detector->detectAndCompute(image, cv::noArray(), kps, desc);
+  for (std::size_t i = 0; i < kps.size(); ++i) {
+    PlanarFeature f;
+    f.x = kps[i].pt.x;
+    f.y = kps[i].pt.y;
+    f.size = kps[i].size;
+    f.angle = kps[i].angle;
+    f.response = kps[i].response;
+    f.octave = kps[i].octave;
+    std::copy_n(desc.ptr<std::uint8_t>(static_cast<int>(i)), 32, f.descriptor.begin());
+    k.features.push_back(f);
+  }
+  return k;
+}
+
+void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
+  PlanarKeyframe& k = map.keyframes[i];
+  KeyframeData d;
+  d.reference = i == 0;
+  d.levels.push_back(cv::Mat(k.height, k.width, CV_8UC1, k.grey.data()));
+  const int levels = d.reference ? kReferenceLevels : 1;
+  for (int l = 1; l < levels && d.levels.back().cols >= 32 && d.levels.back().rows >= 32; ++l) {
+    cv::Mat down;
+    cv::pyrDown(d.levels.back(), down);
+    d.levels.push_back(down);
+  }
+  d.meanGrey = cv::mean(d.levels[0])[0];
+  d.planeToImage = cv::Matx33d(k.planeToImage.data());
+  d.imageToPlane = d.planeToImage.inv();
+  for (const auto& c : k.corners) {
+    d.corners.emplace_back(c[0], c[1]);
+    d.cornerPlane.push_back(applyHomography(d.imageToPlane, d.corners.back()));
+  }
+  d.descriptors.create(static_cast<int>(k.features.size()), 32, CV_8UC1);
+  for (std::size_t f = 0; f < k.features.size(); ++f) {
+    std::copy_n(k.features[f].descriptor.begin(), 32, d.descriptors.ptr<std::uint8_t>(static_cast<int>(f)));
+    d.featurePixels.emplace_back(k.features[f].x, k.features[f].y);
+  }
+  if (!d.reference) {
+    // The camera centre from the plane-to-image homography K [r1 r3 t].
+    PlanarPose p;
+    if (poseFromPlaneHomography(K, d.planeToImage, p)) d.cameraPosition = cameraPosition(p);
+  }
+  if (i < keyframes.size()) keyframes[i] = std::move(d);
+  else keyframes.push_back(std::move(d));
+}
+
+int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
+  const cv::Matx33d G = planeToImageHomography(K, prediction);
+  int best = 0, bestCount = -1;
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    int count = 0;
+    for (const cv::Point2f& p : keyframes[k].cornerPlane) {
+      const cv::Vec3d h = G * cv::Vec3d(p.x, p.y, 1.0);
+      if (h[2] <= 1e-9) continue;
+      const double u = h[0] / h[2], v = h[1] / h[2];
+      count += u >= 0 && v >= 0 && u < camera.width && v < camera.height;
+    }
+    // The reference is sharper and exact: a camera keyframe must see clearly more.
+    const int score = keyframes[k].reference ? count + count / 4 : count;
+    if (score > bestCount) {
+      bestCount = score;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, PlanarPose& out, double& rms,
+                                    int& inliers) {
+  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  const cv::Mat& frame = grey.pinhole();
+  PlanarPose current = prediction;
+  inliers = 0;
+  rms = 0;
+  for (int pass = 0; pass <= settings.refinements; ++pass) {
+    const cv::Matx33d G = planeToImageHomography(K, current);
+    const cv::Matx33d W0 = G * kf.imageToPlane;  // keyframe level-0 pixel -> frame pixel
+    // The pyramid level whose scale is nearest the view's (a 1 px step in the level image
+    // moves about 1 px in the frame): warping from it does not alias.
+    const double scale = homographyScaleAt(W0, cv::Point2f(static_cast<float>(kf.levels[0].cols) * 0.5f,
+                                                           static_cast<float>(kf.levels[0].rows) * 0.5f));
+    int level = 0;
+    while (level + 1 < static_cast<int>(kf.levels.size()) && scale < 0.7 / (1 << level)) ++level;
+    const double f = 1.0 / (1 << level);
+    // Level pixel (centre convention) -> level-0 pixel: x0 = (x + 0.5) / f - 0.5.
+    const cv::Matx33d levelToBase(1 / f, 0, 0.5 / f - 0.5, 0, 1 / f, 0.5 / f - 0.5, 0, 0, 1);
+
+    predicted.clear();
+    planePoints.clear();
+    levelPoints.clear();
+    const float margin = static_cast<float>(settings.kltWindow);
+    for (std::size_t c = 0; c < kf.corners.size() && static_cast<int>(predicted.size()) < settings.trackedCorners; ++c) {
+      const cv::Vec3d h = W0 * cv::Vec3d(kf.corners[c].x, kf.corners[c].y, 1.0);
+      if (h[2] <= 1e-9) continue;
+      const float u = static_cast<float>(h[0] / h[2]), v = static_cast<float>(h[1] / h[2]);
+      if (u < margin || v < margin || u >= static_cast<float>(frame.cols) - margin ||
+          v >= static_cast<float>(frame.rows) - margin)
+        continue;
+      predicted.emplace_back(u, v);
+      planePoints.push_back(kf.cornerPlane[c]);
+      levelPoints.emplace_back(static_cast<float>((kf.corners[c].x + 0.5) * f - 0.5),
+                               static_cast<float>((kf.corners[c].y + 0.5) * f - 0.5));
+    }
+    if (predicted.size() < static_cast<std::size_t>(std::max(settings.minLimitedInliers, 6))) return false;
+    // Around the keyframe the template is flat at the frame's mean: no false edge where the
+    // keyframe ends for KLT's coarse levels, and no texture KLT could match at zero motion (a
+    // copy of the frame there would confirm any prediction).
+    const cv::Mat& level0 = kf.levels[static_cast<std::size_t>(level)];
+    const cv::Mat* source = &level0;
+    double gain = 1, bias = 0;
+    if (matchGain(level0, levelPoints, frame, predicted, settings.kltWindow, gain, bias) &&
+        (std::abs(gain - 1) > 0.03 || std::abs(bias) > 3)) {
+      level0.convertTo(adjusted, -1, gain, bias);
+      source = &adjusted;
+    }
+    cv::warpPerspective(*source, warped, W0 * levelToBase, frame.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                        cv::Scalar(kf.meanGrey * gain + bias));
+    found = predicted;
+    const int levels = pass == 0 ? settings.pyramidLevels : std::min(settings.pyramidLevels, 1);
+    cv::calcOpticalFlowPyrLK(warped, frame, predicted, found, status, kltError,
+                             cv::Size(settings.kltWindow, settings.kltWindow), levels,
+                             cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    inlierPlane.clear();
+    inlierImage.clear();
+    for (std::size_t i = 0; i < found.size(); ++i)
+      if (status[i]) {
+        inlierPlane.push_back(planePoints[i]);
+        inlierImage.push_back(found[i]);
+      }
+    PlanarPose estimate;
+    if (!robustPlanarPose(K, inlierPlane, inlierImage, 2.0, current, mask, estimate, rms, inliers, &homography))
+      return false;
+    current = estimate;
+    if (inliers < settings.minLimitedInliers) return false;
+  }
+  stats.corners = static_cast<int>(predicted.size());
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) stats.planeToImage[static_cast<std::size_t>(r * 3 + c)] = homography(r, c);
+  out = current;
+  return true;
+}
+
+bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
+  stats.relocalized = true;
+  const cv::Mat& frame = grey.pinhole();
+  orb->detectAndCompute(frame, cv::noArray(), frameKeypoints, frameDescriptors);
+  if (frameKeypoints.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) return false;
+  int bestInliers = 0;
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    const KeyframeData& kf = keyframes[k];
+    if (kf.descriptors.rows < 2) continue;
+    matcher.knnMatch(frameDescriptors, kf.descriptors, knn, 2);
+    inlierPlane.clear();
+    inlierImage.clear();
+    for (const auto& m : knn)
+      if (m.size() == 2 && m[0].distance < 0.8f * m[1].distance && m[0].distance < 64) {
+        inlierPlane.push_back(applyHomography(kf.imageToPlane, kf.featurePixels[static_cast<std::size_t>(m[0].trainIdx)]));
+        inlierImage.push_back(frameKeypoints[static_cast<std::size_t>(m[0].queryIdx)].pt);
+      }
+    if (inlierPlane.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) continue;
+    PlanarPose candidate;
+    double rms = 0;
+    int inliers = 0;
+    if (!robustPlanarPose(K, inlierPlane, inlierImage, 4.0, std::nullopt, mask, candidate, rms, inliers)) continue;
+    if (inliers < kMinRelocalizationInliers || inliers <= bestInliers) continue;
+    bestInliers = inliers;
+    out = candidate;
+  }
+  return bestInliers > 0;
+}
+
+void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p) {
+  if (static_cast<int>(map.keyframes.size()) >= PlanarMap::kMaxKeyframes) return;
+  if (visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) >= settings.extendBelowVisible) return;
+  const glm::dvec3 c = cameraPosition(p);
+  const double distance = std::max(0.05, c.y);
+  for (const KeyframeData& k : keyframes)
+    if (!k.reference && glm::length(k.cameraPosition - c) < 0.3 * distance) return;  // one near enough
+  map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p)));
+  prepareKeyframe(map.keyframes.size() - 1);
+  stats.keyframeAdded = true;
+}
+
+TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double seconds) {
+  stats = FrameStats{};
+  TrackedPose result;
+  if (!grey.load(frame)) return result;
+
+  // Constant-velocity prediction from the last two poses.
+  PlanarPose prediction = pose;
+  if (havePose && havePrevious && poseTime > previousTime)
+    prediction = extrapolate(previous, previousTime, pose, poseTime, seconds);
+
+  PlanarPose estimate;
+  double rms = 0;
+  int inliers = 0;
+  bool tracked = false, verified = false;
+  if (havePose && seconds - lastSeen <= settings.holdLimitedSeconds + 1e-9) {
+    stats.keyframe = chooseKeyframe(prediction);
+    tracked = track(prediction, stats.keyframe, estimate, rms, inliers);
+    verified = tracked && lastState == TrackingState::Tracking;
+  }
+  if (!tracked) {
+    // Relocalize; the pose counts only when tracking from it (an independent, photometric
+    // check against the keyframe) agrees.
+    PlanarPose candidate;
+    if (relocalize(candidate)) {
+      stats.keyframe = chooseKeyframe(candidate);
+      PlanarPose checked;
+      if (track(candidate, stats.keyframe, checked, rms, inliers) && isStrong(inliers, rms) &&
+          posesAgree(candidate, checked, 0.05)) {
+        estimate = checked;
+        tracked = verified = true;
+        filter.reset();
+        havePrevious = false;
+      }
+    }
+  }
+  stats.inliers = inliers;
+  stats.rmsPx = rms;
+  if (tracked) {
+    previous = pose;
+    previousTime = poseTime;
+    havePrevious = havePose;
+    pose = estimate;
+    poseTime = seconds;
+    havePose = true;
+    lastSeen = seconds;
+    const bool strong = isStrong(inliers, rms);
+    result.state = strong && verified ? TrackingState::Tracking : TrackingState::Limited;
+    // A pose first seen strong after LIMITED frames is still from tracking: promote it.
+    if (strong && !verified && lastState != TrackingState::Lost) result.state = TrackingState::Tracking;
+    result.inliers = inliers;
+    result.reprojectionErrorPx = rms;
+    if (result.state == TrackingState::Tracking) maybeExtendMap(pose);
+  } else if (havePose && seconds - lastSeen <= settings.holdLimitedSeconds) {
+    // Features lost for a moment (a fast turn, a hand over the target): extrapolate briefly.
+    pose = prediction;
+    result.state = TrackingState::Limited;
+  } else {
+    havePose = havePrevious = false;
+    filter.reset();
+  }
+  lastState = result.state;
+  if (result.state == TrackingState::Lost) return result;
+  const glm::dmat4 raw = cameraToWorld(pose);
+  const double distance = std::max(0.05, glm::length(glm::dvec3(raw[3])));
+  result.cameraToWorld = settings.smoothing ? filter.filter(raw, seconds, distance) : raw;
+  return result;
+}
+
+MarkerlessTracker::MarkerlessTracker(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+MarkerlessTracker::~MarkerlessTracker() = default;
+
+TrackedPose MarkerlessTracker::update(const ImageView& frame, double seconds) noexcept {
+  try {
+    return impl_->update(frame, seconds);
+  } catch (const cv::Exception&) {
+    impl_->havePose = impl_->havePrevious = false;  // OpenCV refused something: LOST, never a throw
+    impl_->lastState = TrackingState::Lost;
+    return {};
+  } catch (const std::bad_alloc&) {
+    impl_->havePose = impl_->havePrevious = false;
+    impl_->lastState = TrackingState::Lost;
+    return {};
+  }
+}
+
+void MarkerlessTracker::reset() noexcept {
+  impl_->havePose = impl_->havePrevious = false;
+  impl_->lastState = TrackingState::Lost;
+  impl_->lastSeen = -1e300;
+  impl_->filter.reset();
+}
+
+const CameraModel& MarkerlessTracker::camera() const noexcept { return impl_->camera; }
+const PlanarMap& MarkerlessTracker::map() const noexcept { return impl_->map; }
+const MarkerlessTracker::FrameStats& MarkerlessTracker::lastFrame() const noexcept { return impl_->stats; }
+
+namespace {
+
+std::string checkSettings(const MarkerlessSettings& s) {
+  if (s.trackedCorners < 8 || s.trackedCorners > 2000) return "trackedCorners must be 8..2000";
+  if (s.pyramidLevels < 0 || s.pyramidLevels > 6) return "pyramidLevels must be 0..6";
+  if (s.kltWindow < 5 || s.kltWindow > 61) return "kltWindow must be 5..61";
+  if (s.refinements < 0 || s.refinements > 5) return "refinements must be 0..5";
+  if (s.relocalizationFeatures < 50 || s.relocalizationFeatures > 20000) return "relocalizationFeatures must be 50..20000";
+  if (s.referenceFeatures < 50 || s.referenceFeatures > PlanarMap::kMaxPointsPerKeyframe)
+    return "referenceFeatures must be 50..20000";
+  if (s.minLimitedInliers < 6 || s.minTrackingInliers < s.minLimitedInliers)
+    return "need 6 <= minLimitedInliers <= minTrackingInliers";
+  if (!(s.maxTrackingRmsPx > 0) || !std::isfinite(s.maxTrackingRmsPx)) return "maxTrackingRmsPx must be positive";
+  if (!(s.smoothingMinCutoffHz > 0) || !std::isfinite(s.smoothingMinCutoffHz) || !(s.smoothingBeta >= 0) ||
+      !std::isfinite(s.smoothingBeta))
+    return "smoothing cut-off must be positive and beta non-negative";
+  if (!(s.holdLimitedSeconds >= 0) || !std::isfinite(s.holdLimitedSeconds)) return "holdLimitedSeconds must be >= 0";
+  return {};
+}
+
+}  // namespace
+
+std::unique_ptr<MarkerlessTracker> MarkerlessTracker::fromTargetPixels(const CameraModel& camera,
+                                                                       const ImageView& target, double targetWidth,
+                                                                       const MarkerlessSettings& settings,
+                                                                       Diagnostics& diagnostics) {
+  if (const std::string p = camera.problem(); !p.empty()) {
+    diagnostics.error("camera", p);
+    return nullptr;
+  }
+  if (const std::string p = checkSettings(settings); !p.empty()) {
+    diagnostics.error("tracker settings", p);
+    return nullptr;
+  }
+  if (!std::isfinite(targetWidth) || !(targetWidth > 0) || targetWidth > 1e4) {
+    diagnostics.error("--target-width", "the target's width must be a positive number of metres");
+    return nullptr;
+  }
+  if (!target.valid() || target.channels != 1 || target.width < 32 || target.height < 32) {
+    diagnostics.error("target", "the reference image must be grey and at least 32x32 pixels");
+    return nullptr;
+  }
+  try {
+    cv::Mat image(target.height, target.width, CV_8UC1, const_cast<std::uint8_t*>(target.pixels),
+                  static_cast<std::size_t>(target.rowBytes()));
+    cv::Mat scaled;
+    const int side = std::max(image.cols, image.rows);
+    if (side > kMaxReferenceSide) {
+      const double f = static_cast<double>(kMaxReferenceSide) / side;
+      cv::resize(image, scaled, cv::Size(), f, f, cv::INTER_AREA);
+    } else {
+      scaled = image.clone();
+    }
+    auto impl = std::make_unique<Impl>(camera, settings);
+    impl->map.camera = camera;
+    impl->map.keyframes.reserve(PlanarMap::kMaxKeyframes);  // the images stay where the pyramids view them
+    impl->map.targetWidth = targetWidth;
+    impl->map.targetHeight = targetWidth * scaled.rows / scaled.cols;
+    const double metresPerPixel = targetWidth / scaled.cols;
+    // (X, Z) -> pixel: u = X / s + w / 2 - 0.5 (pixel centres at integers, the target's
+    // edges at +-width / 2).
+    const cv::Matx33d planeToImage(1 / metresPerPixel, 0, scaled.cols * 0.5 - 0.5, 0, 1 / metresPerPixel,
+                                   scaled.rows * 0.5 - 0.5, 0, 0, 1);
+    impl->map.keyframes.push_back(impl->makeKeyframe(scaled, planeToImage));
+    if (impl->map.keyframes[0].features.size() < 30 || impl->map.keyframes[0].corners.size() < 30) {
+      diagnostics.error("target", "the reference image has too little texture to track (" +
+                                      std::to_string(impl->map.keyframes[0].corners.size()) + " corners, " +
+                                      std::to_string(impl->map.keyframes[0].features.size()) +
+                                      " ORB features; at least 30 of each)");
+      return nullptr;
+    }
+    impl->prepareKeyframe(0);
+    return std::unique_ptr<MarkerlessTracker>(new MarkerlessTracker(std::move(impl)));
+  } catch (const cv::Exception& e) {
+    diagnostics.error("target", std::string("OpenCV failed: ") + e.what());
+    return nullptr;
+  }
+}
+
+std::unique_ptr<MarkerlessTracker> MarkerlessTracker::fromTarget(const CameraModel& camera,
+                                                                 const std::string& targetImage, double targetWidth,
+                                                                 const MarkerlessSettings& settings,
+                                                                 Diagnostics& diagnostics) {
+  cv::Mat image;
+  try {
+    image = cv::imread(targetImage, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception& e) {
+    diagnostics.error(targetImage, std::string("cannot be read: ") + e.what());
+    return nullptr;
+  }
+  if (image.empty()) {
+    diagnostics.error(targetImage, "cannot be read as an image");
+    return nullptr;
+  }
+  Diagnostics local;
+  auto t = fromTargetPixels(camera, {image.data, image.cols, image.rows, 1, static_cast<std::ptrdiff_t>(image.step)},
+                            targetWidth, settings, local);
+  for (Diagnostic d : local.items) {
+    if (d.file == "target") d.file = targetImage;
+    diagnostics.items.push_back(std::move(d));
+  }
+  return t;
+}
+
+std::unique_ptr<MarkerlessTracker> MarkerlessTracker::fromMap(const CameraModel& camera, PlanarMap map,
+                                                              const std::string& mapName,
+                                                              const MarkerlessSettings& settings,
+                                                              Diagnostics& diagnostics) {
+  if (const std::string p = checkSettings(settings); !p.empty()) {
+    diagnostics.error("tracker settings", p);
+    return nullptr;
+  }
+  if (const std::string p = camera.problem(); !p.empty()) {
+    diagnostics.error("camera", p);
+    return nullptr;
+  }
+  const CameraModel& m = map.camera;
+  auto close = [](double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b)); };
+  if (m.width != camera.width || m.height != camera.height || !close(m.fx, camera.fx) || !close(m.fy, camera.fy) ||
+      !close(m.cx, camera.cx) || !close(m.cy, camera.cy)) {
+    diagnostics.error(mapName, "the map was made with a " + std::to_string(m.width) + "x" + std::to_string(m.height) +
+                                   " camera (fx " + std::to_string(m.fx) + "), not this " +
+                                   std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                                   " one (fx " + std::to_string(camera.fx) + "): make the map again with this camera");
+    return nullptr;
+  }
+  try {
+    auto impl = std::make_unique<Impl>(camera, settings);
+    impl->map = std::move(map);
+    impl->map.keyframes.reserve(PlanarMap::kMaxKeyframes);  // the images stay where the pyramids view them
+    for (std::size_t i = 0; i < impl->map.keyframes.size(); ++i) impl->prepareKeyframe(i);
+    return std::unique_ptr<MarkerlessTracker>(new MarkerlessTracker(std::move(impl)));
+  } catch (const cv::Exception& e) {
+    diagnostics.error(mapName, std::string("OpenCV failed on the map: ") + e.what());
+    return nullptr;
+  }
+}
+
+}  // namespace marionette::ar

@@ -1,0 +1,188 @@
+#include "planar_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+
+#include "marionette_ar/tracking/tracker.hpp"
+
+namespace marionette::ar {
+
+namespace {
+
+cv::Matx33d rotation(const cv::Vec3d& rvec) {
+  cv::Matx33d r;
+  cv::Rodrigues(rvec, r);
+  return r;
+}
+
+}  // namespace
+
+cv::Point2f applyHomography(const cv::Matx33d& h, const cv::Point2f& p) noexcept {
+  const cv::Vec3d q = h * cv::Vec3d(p.x, p.y, 1.0);
+  return {static_cast<float>(q[0] / q[2]), static_cast<float>(q[1] / q[2])};
+}
+
+cv::Matx33d planeToImageHomography(const cv::Matx33d& k, const PlanarPose& pose) {
+  const cv::Matx33d r = rotation(pose.rvec);
+  const cv::Matx33d m(r(0, 0), r(0, 2), pose.tvec[0], r(1, 0), r(1, 2), pose.tvec[1], r(2, 0), r(2, 2), pose.tvec[2]);
+  return k * m;
+}
+
+bool poseFromPlaneHomography(const cv::Matx33d& k, const cv::Matx33d& h, PlanarPose& pose) {
+  cv::Matx33d m = k.inv() * h;
+  const double s = 1.0 / std::sqrt(cv::norm(cv::Vec3d(m(0, 0), m(1, 0), m(2, 0))) *
+                                    cv::norm(cv::Vec3d(m(0, 1), m(1, 1), m(2, 1))));
+  m *= (m(2, 2) < 0 ? -s : s);  // the plane in front of the camera
+  const cv::Vec3d r1(m(0, 0), m(1, 0), m(2, 0)), r3(m(0, 1), m(1, 1), m(2, 1));
+  const cv::Vec3d r2 = r3.cross(r1);  // r1 x r2 = r3 for a right-handed rotation
+  cv::Matx33d r(r1[0], r2[0], r3[0], r1[1], r2[1], r3[1], r1[2], r2[2], r3[2]);
+  cv::Mat w, u, vt;  // nearest rotation
+  cv::SVD::compute(cv::Mat(r), w, u, vt);
+  const cv::Mat rr = u * vt;
+  if (cv::determinant(rr) <= 0) return false;
+  cv::Vec3d rvec;
+  cv::Rodrigues(rr, rvec);
+  pose.rvec = rvec;
+  pose.tvec = cv::Vec3d(m(0, 2), m(1, 2), m(2, 2));
+  return std::isfinite(rvec[0]) && std::isfinite(pose.tvec[2]);
+}
+
+glm::dvec3 cameraPosition(const PlanarPose& pose) {
+  const cv::Matx33d r = rotation(pose.rvec);
+  const cv::Vec3d c = -(r.t() * pose.tvec);
+  return {c[0], c[1], c[2]};
+}
+
+glm::dmat4 cameraToWorld(const PlanarPose& pose) {
+  const cv::Matx33d r = rotation(pose.rvec);
+  glm::dmat3 g;
+  for (int c = 0; c < 3; ++c)
+    for (int row = 0; row < 3; ++row) g[c][row] = r(row, c);
+  return cameraToWorldFromOpenCv(g, glm::dvec3(pose.tvec[0], pose.tvec[1], pose.tvec[2]));
+}
+
+double homographyScaleAt(const cv::Matx33d& h, const cv::Point2f& p) noexcept {
+  const cv::Point2f a = applyHomography(h, p), bx = applyHomography(h, p + cv::Point2f(1, 0)),
+                    by = applyHomography(h, p + cv::Point2f(0, 1));
+  const double j00 = bx.x - a.x, j10 = bx.y - a.y, j01 = by.x - a.x, j11 = by.y - a.y;
+  return std::sqrt(std::abs(j00 * j11 - j01 * j10));
+}
+
+namespace {
+
+// Mean and variance of the pixels within `half` of p (clipped to the image), accumulated.
+void accumulatePatch(const cv::Mat& image, const cv::Point2f& p, int half, double& sum, double& sumSq, double& n) {
+  const int x0 = static_cast<int>(p.x), y0 = static_cast<int>(p.y);
+  for (int y = std::max(0, y0 - half); y <= std::min(image.rows - 1, y0 + half); ++y) {
+    const std::uint8_t* row = image.ptr<std::uint8_t>(y);
+    for (int x = std::max(0, x0 - half); x <= std::min(image.cols - 1, x0 + half); ++x) {
+      sum += row[x];
+      sumSq += double(row[x]) * row[x];
+      n += 1;
+    }
+  }
+}
+
+}  // namespace
+
+bool matchGain(const cv::Mat& source, const std::vector<cv::Point2f>& sourcePoints, const cv::Mat& frame,
+               const std::vector<cv::Point2f>& framePoints, int window, double& gain, double& bias) {
+  gain = 1;
+  bias = 0;
+  double ss = 0, sss = 0, ns = 0, sf = 0, sff = 0, nf = 0;
+  const int half = std::max(2, window / 4);
+  const std::size_t step = std::max<std::size_t>(1, framePoints.size() / 40);
+  for (std::size_t i = 0; i < framePoints.size() && i < sourcePoints.size(); i += step) {
+    accumulatePatch(source, sourcePoints[i], half, ss, sss, ns);
+    accumulatePatch(frame, framePoints[i], half, sf, sff, nf);
+  }
+  if (ns < 25 || nf < 25) return false;
+  const double ms = ss / ns, mf = sf / nf;
+  const double ds = std::sqrt(std::max(1e-6, sss / ns - ms * ms)), df = std::sqrt(std::max(1e-6, sff / nf - mf * mf));
+  gain = std::clamp(df / ds, 0.25, 4.0);
+  bias = mf - gain * ms;
+  return true;
+}
+
+bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plane,
+                      const std::vector<cv::Point2f>& image, double thresholdPx,
+                      const std::optional<PlanarPose>& prior, std::vector<unsigned char>& mask, PlanarPose& out,
+                      double& rmsPx, int& inliers, cv::Matx33d* homography) {
+  inliers = 0;
+  if (plane.size() < 6 || plane.size() != image.size()) return false;
+  const cv::Mat h = cv::findHomography(plane, image, cv::RANSAC, thresholdPx, mask, 500, 0.995);
+  if (h.empty()) return false;
+  if (homography) *homography = cv::Matx33d(h);
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> pixels;
+  for (std::size_t i = 0; i < plane.size(); ++i)
+    if (mask[i]) {
+      object.emplace_back(plane[i].x, 0.0f, plane[i].y);
+      pixels.push_back(image[i]);
+    }
+  if (object.size() < 6) return false;
+  cv::Vec3d rvec, tvec;
+  if (prior) {
+    rvec = prior->rvec;
+    tvec = prior->tvec;
+  }
+  if (!cv::solvePnP(object, pixels, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE)) return false;
+  cv::solvePnPRefineLM(object, pixels, k, cv::noArray(), rvec, tvec,
+                       cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 20, 1e-9));
+  PlanarPose pose{rvec, tvec};
+  if (!(cameraPosition(pose).y > 1e-3)) return false;  // the printed face is seen from above
+  std::vector<cv::Point2f> projected;
+  cv::projectPoints(object, rvec, tvec, k, cv::noArray(), projected);
+  double sum = 0;
+  for (std::size_t i = 0; i < projected.size(); ++i) {
+    const cv::Point2f d = projected[i] - pixels[i];
+    sum += d.dot(d);
+  }
+  rmsPx = std::sqrt(sum / static_cast<double>(projected.size()));
+  if (!std::isfinite(rmsPx)) return false;
+  out = pose;
+  inliers = static_cast<int>(object.size());
+  return true;
+}
+
+double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width,
+                             double height) {
+  const cv::Matx33d g = planeToImageHomography(k, pose);
+  constexpr int kGrid = 10;
+  int inside = 0;
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j) {
+      const double x = ((i + 0.5) / kGrid - 0.5) * width, z = ((j + 0.5) / kGrid - 0.5) * height;
+      const cv::Vec3d q = g * cv::Vec3d(x, z, 1.0);
+      if (q[2] <= 0) continue;
+      const double u = q[0] / q[2], v = q[1] / q[2];
+      inside += u >= 0 && v >= 0 && u < camera.width && v < camera.height;
+    }
+  return inside / double(kGrid * kGrid);
+}
+
+PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, double tb, double t) {
+  const double ratio = std::clamp((t - tb) / (tb - ta), 0.0, 3.0);
+  const cv::Matx33d ra = rotation(a.rvec), rb = rotation(b.rvec);
+  const cv::Matx33d delta = rb * ra.t();  // x_b = delta x_a + (tb - delta ta)
+  cv::Vec3d deltaRvec;
+  cv::Rodrigues(delta, deltaRvec);
+  const cv::Vec3d deltaT = b.tvec - delta * a.tvec;
+  const cv::Matx33d step = rotation(deltaRvec * ratio);
+  PlanarPose out;
+  cv::Rodrigues(step * rb, out.rvec);
+  out.tvec = step * b.tvec + deltaT * ratio;
+  return out;
+}
+
+bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction) {
+  const glm::dvec3 ca = cameraPosition(a), cb = cameraPosition(b);
+  if (glm::length(ca - cb) > fraction * std::max(0.05, glm::length(cb))) return false;
+  const cv::Matx33d d = rotation(a.rvec) * rotation(b.rvec).t();
+  const double c = std::clamp((d(0, 0) + d(1, 1) + d(2, 2) - 1) * 0.5, -1.0, 1.0);
+  return std::acos(c) < 3.0 * 3.14159265358979323846 / 180.0;
+}
+
+}  // namespace marionette::ar

@@ -1,0 +1,47 @@
+// Geometry of a camera over the world's ground plane Y = 0 (plane coordinates (X, Z)),
+// shared by the markerless tracker's tracking and relocalization.
+#pragma once
+#include <optional>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <opencv2/core.hpp>
+
+#include "marionette_ar/tracking/camera_model.hpp"
+
+namespace marionette::ar {
+
+// World -> OpenCV camera, as solvePnP gives it.
+struct PlanarPose {
+  cv::Vec3d rvec{0, 0, 0}, tvec{0, 0, 1};
+};
+
+[[nodiscard]] cv::Point2f applyHomography(const cv::Matx33d& h, const cv::Point2f& p) noexcept;
+// K [r1 r3 t]: plane (X, Z, 1) -> pixel.
+[[nodiscard]] cv::Matx33d planeToImageHomography(const cv::Matx33d& k, const PlanarPose& pose);
+// The inverse, for a homography known to be K [r1 r3 t] up to scale (a keyframe's).
+[[nodiscard]] bool poseFromPlaneHomography(const cv::Matx33d& k, const cv::Matx33d& h, PlanarPose& pose);
+[[nodiscard]] glm::dvec3 cameraPosition(const PlanarPose& pose);
+[[nodiscard]] glm::dmat4 cameraToWorld(const PlanarPose& pose);
+// sqrt(|det J|) of the homography at p: how much it scales lengths there.
+[[nodiscard]] double homographyScaleAt(const cv::Matx33d& h, const cv::Point2f& p) noexcept;
+// The gain and bias that give the patches of `source` around `sourcePoints` the frame's mean
+// and contrast around `framePoints`: KLT assumes constant brightness, a camera's exposure
+// does not keep it. False when there is too little to measure (gain 1, bias 0).
+bool matchGain(const cv::Mat& source, const std::vector<cv::Point2f>& sourcePoints, const cv::Mat& frame,
+               const std::vector<cv::Point2f>& framePoints, int window, double& gain, double& bias);
+// RANSAC homography plane -> image, then IPPE and Levenberg-Marquardt on the inliers.
+// False when too few points agree or the camera would be under the plane.
+[[nodiscard]] bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plane,
+                                    const std::vector<cv::Point2f>& image, double thresholdPx,
+                                    const std::optional<PlanarPose>& prior, std::vector<unsigned char>& mask,
+                                    PlanarPose& out, double& rmsPx, int& inliers, cv::Matx33d* homography = nullptr);
+// The share of the target rectangle (width x height metres, centred) inside the image.
+[[nodiscard]] double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose,
+                                           double width, double height);
+// Constant velocity: the motion from a to b continued to time t.
+[[nodiscard]] PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, double tb, double t);
+// Camera centres within `fraction` of the distance to the origin and rotations within 3 degrees.
+[[nodiscard]] bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction);
+
+}  // namespace marionette::ar

@@ -1,0 +1,100 @@
+// marionette_tracking_eval: the markerless tracker over the standard scenarios (exact ground
+// truth; tests/support/tracking), one thread, as docs/tracking.md reports it.
+//
+//   marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]
+//
+// Without --sweep: one row per scenario with the default settings. With --sweep: the
+// work-precision grid (corners x pyramid levels x refinements) over orbit, blur and occluder,
+// ATE against ms per frame.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <opencv2/core/utility.hpp>
+
+#include "tracking/scenario_run.hpp"
+
+using namespace marionette::ar;
+using namespace marionette::ar::synthetic;
+
+namespace {
+
+void row(const std::string& name, const ScenarioRun& r) {
+  const TrajectoryReport& t = r.report;
+  const double share = t.visibleFrames > 0 ? 100.0 * t.within2cm / t.visibleFrames : std::nan("");
+  std::printf("| %s | %d | %d | %d | %.0f %% | %.2f | %.2f | %.2f | %d | %.3f | %s | %.2f | %.2f | %d |\n", name.c_str(),
+              t.frames, t.visibleFrames, t.verifiedFrames, share, t.ateRmsM * 100, t.ateMaxM * 100, t.rotationMeanDeg,
+              t.falsePoses, t.jitterMm, t.framesToRelocalize < 0 ? "-" : std::to_string(t.framesToRelocalize).c_str(),
+              r.medianMs, r.p95Ms, r.keyframes);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int frames = 150;
+  bool sweep = false, smoothing = true;
+  std::vector<std::string> names;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--scenario") && i + 1 < argc) names.emplace_back(argv[++i]);
+    else if (!std::strcmp(argv[i], "--sweep")) sweep = true;
+    else if (!std::strcmp(argv[i], "--no-smoothing")) smoothing = false;
+    else {
+      std::fprintf(stderr, "usage: marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]\n");
+      return 2;
+    }
+  }
+  cv::setNumThreads(1);
+  const SequenceRenderer renderer = standardRenderer();
+  if (sweep && names.empty()) names = {"orbit", "blur", "occluder"};
+  const auto scenarios = renderScenarios(renderer, frames, names);
+  if (!sweep) {
+    MarkerlessSettings settings;
+    settings.smoothing = smoothing;
+    if (const char* v = std::getenv("MN_RELOC")) settings.relocalizationFeatures = std::atoi(v);
+    if (const char* v = std::getenv("MN_REF")) settings.referenceFeatures = std::atoi(v);
+    std::printf("| scenario | frames | visible | TRACKING | visible within 2 cm | ATE rms cm | ATE max cm | rot mean deg "
+                "| false poses | jitter mm | frames to relocalize | ms median | ms p95 | keyframes |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    std::vector<double> all;
+    for (const RenderedScenario& s : scenarios) {
+      const ScenarioRun r = runMarkerless(s, renderer.camera(), settings);
+      row(s.scenario.name, r);
+      all.insert(all.end(), r.ms.begin(), r.ms.end());
+    }
+    std::printf("\nall frames: %.2f ms median, %.2f ms p95\n", percentile(all, 0.5), percentile(all, 0.95));
+    return 0;
+  }
+  std::printf("| corners | levels | refinements | ATE rms cm (orbit, blur, occluder) | visible within 2 cm | ms median | ms p95 |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  for (int corners : {60, 120, 200})
+    for (int levels : {2, 3, 4})
+      for (int refinements : {0, 1, 2}) {
+        MarkerlessSettings s;
+        s.trackedCorners = corners;
+        s.pyramidLevels = levels;
+        s.refinements = refinements;
+        s.smoothing = smoothing;
+        std::vector<double> ms;
+        double sumSq = 0;
+        int n = 0, within = 0, visible = 0;
+        for (const RenderedScenario& sc : scenarios) {
+          const ScenarioRun r = runMarkerless(sc, renderer.camera(), s);
+          ms.insert(ms.end(), r.ms.begin(), r.ms.end());
+          if (r.report.trackedFrames > 0) {
+            sumSq += r.report.ateRmsM * r.report.ateRmsM * r.report.trackedFrames;
+            n += r.report.trackedFrames;
+          }
+          within += r.report.within2cm;
+          visible += r.report.visibleFrames;
+        }
+        std::printf("| %d | %d | %d | %.3f | %.1f %% | %.2f | %.2f |\n", corners, levels, refinements,
+                    n ? std::sqrt(sumSq / n) * 100 : std::nan(""), visible ? 100.0 * within / visible : 0.0,
+                    percentile(ms, 0.5), percentile(ms, 0.95));
+        std::fflush(stdout);
+      }
+  return 0;
+}

@@ -1,0 +1,94 @@
+#include "tracking/scenario_run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace marionette::ar::synthetic {
+
+namespace {
+
+cv::Mat readRgb(const std::string& file) {
+  cv::Mat bgr = cv::imread(file, cv::IMREAD_COLOR);
+  if (bgr.empty()) throw std::runtime_error(file + ": test data missing (Debian opencv-doc)");
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return rgb;
+}
+
+}  // namespace
+
+std::string standardTargetImage() { return std::string(MARIONETTE_OPENCV_DATA) + "/graf1.png"; }
+
+SequenceRenderer standardRenderer() {
+  PlanarScene scene;
+  scene.target = readRgb(standardTargetImage());
+  scene.targetWidth = kStandardTargetWidth;
+  scene.floor = readRgb(std::string(MARIONETTE_OPENCV_DATA) + "/baboon.jpg");
+  scene.floorMetresPerPixel = 0.002;
+  const CameraModel camera{.width = 640, .height = 480, .fx = 600, .fy = 600, .cx = 319.5, .cy = 239.5};
+  return SequenceRenderer(scene, camera);
+}
+
+std::vector<RenderedScenario> renderScenarios(const SequenceRenderer& renderer, int framesPerScenario,
+                                              const std::vector<std::string>& names) {
+  std::vector<RenderedScenario> out;
+  for (Scenario& s : standardScenarios(renderer, framesPerScenario)) {
+    if (!names.empty() && std::find(names.begin(), names.end(), s.name) == names.end()) continue;
+    RenderedScenario r;
+    r.frames.resize(s.cameraToWorld.size());
+    for (std::size_t i = 0; i < s.cameraToWorld.size(); ++i) renderer.render(s.cameraToWorld[i], s.effects[i], r.frames[i]);
+    r.scenario = std::move(s);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const double pos = p * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(v.size() - 1, lo + 1);
+  return v[lo] + (v[hi] - v[lo]) * (pos - static_cast<double>(lo));
+}
+
+ScenarioRun runMarkerless(const RenderedScenario& rendered, const CameraModel& camera,
+                          const MarkerlessSettings& settings) {
+  Diagnostics d;
+  auto tracker = MarkerlessTracker::fromTarget(camera, standardTargetImage(), kStandardTargetWidth, settings, d);
+  if (!tracker) throw std::runtime_error(d.format());
+  ScenarioRun run;
+  for (std::size_t i = 0; i < rendered.frames.size(); ++i) {
+    const cv::Mat& f = rendered.frames[i];
+    const ImageView view{f.data, f.cols, f.rows, 3, static_cast<std::ptrdiff_t>(f.step)};
+    const auto t0 = std::chrono::steady_clock::now();
+    run.poses.push_back(tracker->update(view, static_cast<double>(i) / rendered.scenario.fps));
+    run.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    run.relocalizations += tracker->lastFrame().relocalized;
+    if (std::getenv("MN_FRAMES")) {
+      const TrackedPose& p = run.poses.back();
+      const auto& st = tracker->lastFrame();
+      std::fprintf(stderr, "%s %zu: %s vis %.2f err %.1f mm inl %d rms %.2f corners %d reloc %d kf %d added %d\n",
+                   rendered.scenario.name.c_str(), i, std::string(trackingStateName(p.state)).c_str(),
+                   rendered.scenario.visibleFraction[i],
+                   p.state == TrackingState::Lost ? -1.0
+                                                  : 1000 * glm::length(p.position() - glm::dvec3(rendered.scenario.cameraToWorld[i][3])),
+                   st.inliers, st.rmsPx, st.corners, st.relocalized, st.keyframe, st.keyframeAdded);
+      if (std::getenv("MN_POS") && p.state != TrackingState::Lost) std::fprintf(stderr, "   est (%.3f %.3f %.3f) true (%.3f %.3f %.3f)\n", p.position().x, p.position().y, p.position().z, rendered.scenario.cameraToWorld[i][3].x, rendered.scenario.cameraToWorld[i][3].y, rendered.scenario.cameraToWorld[i][3].z);
+    }
+  }
+  run.keyframes = static_cast<int>(tracker->map().keyframes.size());
+  run.medianMs = percentile(run.ms, 0.5);
+  run.p95Ms = percentile(run.ms, 0.95);
+  run.report = compareTrajectory(run.poses, rendered.scenario.cameraToWorld, rendered.scenario.visibleFraction, camera);
+  return run;
+}
+
+}  // namespace marionette::ar::synthetic

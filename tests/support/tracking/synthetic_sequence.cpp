@@ -1,0 +1,385 @@
+#include "tracking/synthetic_sequence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <glm/mat3x3.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace marionette::ar::synthetic {
+
+namespace {
+
+constexpr int kSupersample = 2;
+constexpr int kFloorLevels = 6;  // floor pyramid levels; beyond them the floor's mean colour
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+cv::Mat toRgbFloat(const cv::Mat& image, const char* what) {
+  if (image.empty() || image.depth() != CV_8U || !(image.channels() == 1 || image.channels() == 3))
+    throw std::invalid_argument(std::string(what) + " must be a non-empty 8-bit grey or RGB image");
+  cv::Mat rgb;
+  if (image.channels() == 1) cv::cvtColor(image, rgb, cv::COLOR_GRAY2RGB);
+  else rgb = image;
+  cv::Mat f;
+  rgb.convertTo(f, CV_32FC3);
+  return f;
+}
+
+// OpenCV's radial-tangential model on normalized coordinates, and its Jacobian.
+struct Lens {
+  double k1, k2, p1, p2, k3;
+  explicit Lens(const CameraModel& c)
+      : k1(c.distortion[0]), k2(c.distortion[1]), p1(c.distortion[2]), p2(c.distortion[3]), k3(c.distortion[4]) {}
+  void distort(double x, double y, double& xd, double& yd, double j[4]) const {
+    const double r2 = x * x + y * y;
+    const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+    const double dRadial = k1 + r2 * (2 * k2 + 3 * k3 * r2);  // d radial / d r2
+    xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+    yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+    j[0] = radial + 2 * x * x * dRadial + 2 * p1 * y + 6 * p2 * x;
+    j[1] = 2 * x * y * dRadial + 2 * p1 * x + 2 * p2 * y;
+    j[2] = j[1];
+    j[3] = radial + 2 * y * y * dRadial + 6 * p1 * y + 2 * p2 * x;
+  }
+  // Newton from the distorted point; false when it does not converge or leaves the
+  // physical (monotonic) branch of the radial model.
+  bool undistort(double xd, double yd, double maxRadius, double& x, double& y) const {
+    x = xd;
+    y = yd;
+    for (int it = 0; it < 60; ++it) {
+      double fx, fy, j[4];
+      distort(x, y, fx, fy, j);
+      const double ex = fx - xd, ey = fy - yd;
+      const double det = j[0] * j[3] - j[1] * j[2];
+      if (!(det > 1e-9)) return false;
+      const double dx = (j[3] * ex - j[1] * ey) / det, dy = (j[0] * ey - j[2] * ex) / det;
+      x -= dx;
+      y -= dy;
+      if (!(x * x + y * y <= 4 * maxRadius * maxRadius)) return false;
+      if (std::abs(dx) + std::abs(dy) < 1e-15) break;
+    }
+    double fx, fy, j[4];
+    distort(x, y, fx, fy, j);
+    return std::hypot(fx - xd, fy - yd) < 1e-11 && x * x + y * y <= maxRadius * maxRadius &&
+           j[0] * j[3] - j[1] * j[2] > 0;
+  }
+};
+
+// Bilinear fetch at (x, y) (pixel centres at integers), edges replicated or wrapped.
+cv::Vec3f fetch(const cv::Mat& img, double x, double y, bool wrap) {
+  const int w = img.cols, h = img.rows;
+  if (wrap) {
+    x = std::fmod(x, w);
+    if (x < 0) x += w;
+    y = std::fmod(y, h);
+    if (y < 0) y += h;
+  } else {
+    x = std::clamp(x, 0.0, w - 1.0);
+    y = std::clamp(y, 0.0, h - 1.0);
+  }
+  int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const float ax = static_cast<float>(x - x0), ay = static_cast<float>(y - y0);
+  int x1 = x0 + 1, y1 = y0 + 1;
+  if (wrap) {
+    x0 %= w, x1 %= w, y0 %= h, y1 %= h;
+  } else {
+    x1 = std::min(x1, w - 1);
+    y1 = std::min(y1, h - 1);
+  }
+  const auto* r0 = img.ptr<cv::Vec3f>(y0);
+  const auto* r1 = img.ptr<cv::Vec3f>(y1);
+  return (r0[x0] * (1 - ax) + r0[x1] * ax) * (1 - ay) + (r1[x0] * (1 - ax) + r1[x1] * ax) * ay;
+}
+
+// Trilinear: level log2(footprint) between the two nearest pyramid levels (level l holds
+// pixel 2^l x of level 0 at x, as pyrDown decimates the even pixels).
+cv::Vec3f fetchFiltered(const std::vector<cv::Mat>& levels, const cv::Vec3f& mean, double x, double y,
+                        double footprintTexels, bool wrap, int fadeLevels) {
+  const double lod = footprintTexels > 1 ? std::log2(footprintTexels) : 0.0;
+  const int last = static_cast<int>(levels.size()) - 1;
+  if (lod >= last + fadeLevels) return mean;
+  const int l0 = std::min(static_cast<int>(lod), last);
+  const int l1 = std::min(l0 + 1, last);
+  const float a = static_cast<float>(std::clamp(lod - l0, 0.0, 1.0));
+  const double s0 = std::ldexp(1.0, -l0), s1 = std::ldexp(1.0, -l1);
+  cv::Vec3f c = fetch(levels[l0], x * s0, y * s0, wrap) * (1 - a);
+  if (a > 0) c += fetch(levels[l1], x * s1, y * s1, wrap) * a;
+  if (fadeLevels > 0 && lod > last) {  // past the coarsest level: fade into the mean
+    const float m = static_cast<float>((lod - last) / fadeLevels);
+    c = c * (1 - m) + mean * m;
+  }
+  return c;
+}
+
+cv::Vec3f toVec3f(const cv::Vec3b& c) { return {float(c[0]), float(c[1]), float(c[2])}; }
+
+cv::Mat lineKernel(double length, double angleDeg) {
+  const int half = static_cast<int>(std::ceil(length / 2));
+  const int size = 2 * half + 1;
+  cv::Mat k = cv::Mat::zeros(size, size, CV_32F);
+  const double a = angleDeg * CV_PI / 180.0, ca = std::cos(a), sa = std::sin(a);
+  const int n = static_cast<int>(std::ceil(length * 16));
+  for (int i = 0; i < n; ++i) {  // splat points spaced evenly along the segment
+    const double t = ((i + 0.5) / n - 0.5) * length;
+    const double x = half + t * ca, y = half + t * sa;
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const double fx = x - x0, fy = y - y0;
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const int xx = x0 + dx, yy = y0 + dy;
+        if (xx < 0 || yy < 0 || xx >= size || yy >= size) continue;
+        k.at<float>(yy, xx) += static_cast<float>((dx ? fx : 1 - fx) * (dy ? fy : 1 - fy));
+      }
+  }
+  return k / cv::sum(k)[0];
+}
+
+}  // namespace
+
+SequenceRenderer::SequenceRenderer(PlanarScene scene, CameraModel camera)
+    : scene_(std::move(scene)), camera_(camera) {
+  if (const std::string p = camera_.problem(); !p.empty()) throw std::invalid_argument("camera: " + p);
+  if (!(scene_.targetWidth > 0) || !std::isfinite(scene_.targetWidth))
+    throw std::invalid_argument("target width must be positive");
+  target_.levels.push_back(toRgbFloat(scene_.target, "target"));
+  while (std::min(target_.levels.back().cols, target_.levels.back().rows) >= 8) {
+    cv::Mat down;
+    cv::pyrDown(target_.levels.back(), down);
+    target_.levels.push_back(down);
+  }
+  const cv::Scalar tm = cv::mean(target_.levels[0]);
+  target_.mean = cv::Vec3f(float(tm[0]), float(tm[1]), float(tm[2]));
+
+  if (scene_.floor.empty()) {
+    floor_.levels.push_back(cv::Mat(1, 1, CV_32FC3, cv::Scalar::all(128)));
+    floor_.mean = cv::Vec3f(128, 128, 128);
+    floorPeriodX_ = floorPeriodZ_ = 1;
+  } else {
+    if (!(scene_.floorMetresPerPixel > 0)) throw std::invalid_argument("floor metres per pixel must be positive");
+    cv::Mat f = toRgbFloat(scene_.floor, "floor");
+    floorPeriodX_ = f.cols * scene_.floorMetresPerPixel;
+    floorPeriodZ_ = f.rows * scene_.floorMetresPerPixel;
+    // Sides a multiple of 2^levels so that every level tiles exactly.
+    constexpr int m = 1 << (kFloorLevels - 1);
+    const int w = std::max(m, (f.cols + m / 2) / m * m), h = std::max(m, (f.rows + m / 2) / m * m);
+    if (w != f.cols || h != f.rows) cv::resize(f, f, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    floor_.levels.push_back(f);
+    for (int l = 1; l < kFloorLevels; ++l) {
+      const cv::Mat& prev = floor_.levels.back();
+      cv::Mat tiled, down;
+      cv::repeat(prev, 3, 3, tiled);  // periodic borders for the Gaussian
+      cv::pyrDown(tiled, down);
+      floor_.levels.push_back(down(cv::Rect(prev.cols / 2, prev.rows / 2, prev.cols / 2, prev.rows / 2)).clone());
+    }
+    const cv::Scalar fm = cv::mean(f);
+    floor_.mean = cv::Vec3f(float(fm[0]), float(fm[1]), float(fm[2]));
+  }
+
+  // Where the radial model stops growing with the radius; beyond it no ray reaches the image.
+  const Lens lens(camera_);
+  maxUndistortedRadius_ = 1e3;
+  for (double r = 0; r < 1e3; r += 1e-3) {
+    const double r2 = r * r;
+    if (1 + r2 * (3 * lens.k1 + r2 * (5 * lens.k2 + r2 * 7 * lens.k3)) <= 0) {
+      maxUndistortedRadius_ = r;
+      break;
+    }
+  }
+  const int sw = camera_.width * kSupersample, sh = camera_.height * kSupersample;
+  rays_.resize(static_cast<std::size_t>(sw) * sh);
+  const bool distorted = camera_.hasDistortion();
+  for (int y = 0; y < sh; ++y)
+    for (int x = 0; x < sw; ++x) {
+      const double px = (x + 0.5) / kSupersample - 0.5, py = (y + 0.5) / kSupersample - 0.5;
+      const double xd = (px - camera_.cx) / camera_.fx, yd = (py - camera_.cy) / camera_.fy;
+      cv::Vec2d& ray = rays_[static_cast<std::size_t>(y) * sw + x];
+      if (!distorted) {
+        ray = {xd, yd};
+      } else {
+        double xu, yu;
+        ray = lens.undistort(xd, yd, maxUndistortedRadius_, xu, yu) ? cv::Vec2d(xu, yu) : cv::Vec2d(kNaN, kNaN);
+      }
+    }
+}
+
+double SequenceRenderer::targetDepth() const noexcept {
+  return scene_.targetWidth * scene_.target.rows / scene_.target.cols;
+}
+
+glm::dvec3 SequenceRenderer::targetPixelToWorld(double u, double v) const noexcept {
+  const double s = scene_.targetWidth / scene_.target.cols;
+  return {(u + 0.5 - 0.5 * scene_.target.cols) * s, 0.0, (v + 0.5 - 0.5 * scene_.target.rows) * s};
+}
+
+void SequenceRenderer::shade(const glm::dmat4& cameraToWorld, const FrameEffects& fx, cv::Mat& out) const {
+  glm::dmat3 r;
+  glm::dvec3 t;
+  worldToOpenCvCamera(cameraToWorld, r, t);
+  // Plane point (X, Z) -> OpenCV camera: X r1 + Z r3 + t (the homography without K, whose
+  // inverse is applied to the undistorted ray); w = 1 / depth, so w > 0 is in front.
+  const glm::dmat3 toGround = glm::inverse(glm::dmat3(r[0], r[2], t));
+  const glm::dmat3 toOccluder = glm::inverse(glm::dmat3(r[0], r[2], t + kOccluderHeight * r[1]));
+  const bool groundOk = std::abs(glm::determinant(glm::dmat3(r[0], r[2], t))) > 1e-12;
+
+  const int sw = camera_.width * kSupersample, sh = camera_.height * kSupersample;
+  const double tw = scene_.targetWidth, td = targetDepth();
+  const double texel = tw / scene_.target.cols;
+  const double floorTexel = std::min(floorPeriodX_ / floor_.levels[0].cols, floorPeriodZ_ / floor_.levels[0].rows);
+  const double occW = std::clamp(fx.occluderFraction, 0.0, 1.0) * tw;
+  const double occX0 = -0.5 * tw + std::clamp(fx.occluderPhase, 0.0, 1.0) * (tw - occW);
+  const cv::Vec3f sky = toVec3f(kSkyRgb), occluder = toVec3f(kOccluderRgb), invalid = toVec3f(kInvalidLensRgb);
+  const bool flatFloor = scene_.floor.empty();
+
+  auto hit = [&](const glm::dmat3& h, int x, int y, glm::dvec2& p) {
+    const cv::Vec2d& ray = rays_[static_cast<std::size_t>(y) * sw + x];
+    if (std::isnan(ray[0])) return false;
+    const glm::dvec3 q = h * glm::dvec3(ray[0], ray[1], 1.0);
+    if (!(q.z > 0)) return false;
+    p = {q.x / q.z, q.y / q.z};
+    return true;
+  };
+
+  out.create(sh, sw, CV_32FC3);
+  cv::parallel_for_(cv::Range(0, sh), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      auto* row = out.ptr<cv::Vec3f>(y);
+      for (int x = 0; x < sw; ++x) {
+        if (std::isnan(rays_[static_cast<std::size_t>(y) * sw + x][0])) {
+          row[x] = invalid;
+          continue;
+        }
+        glm::dvec2 p, o;
+        if (occW > 0 && hit(toOccluder, x, y, o) && o.x >= occX0 && o.x < occX0 + occW && std::abs(o.y) < 0.5 * td) {
+          row[x] = occluder;
+          continue;
+        }
+        if (!groundOk || !hit(toGround, x, y, p)) {
+          row[x] = sky;
+          continue;
+        }
+        // The sample's footprint on the plane from its steps to the next sample across and
+        // down (the previous one at the last column or row). Filtering for the longer step
+        // alone would blur grazing views across too; the 2x2 supersampling covers half of it.
+        double major = 0, minor = std::numeric_limits<double>::infinity();
+        for (int axis = 0; axis < 2 && !std::isinf(major); ++axis) {
+          const int nx = axis == 0 ? (x + 1 < sw ? x + 1 : x - 1) : x;
+          const int ny = axis == 1 ? (y + 1 < sh ? y + 1 : y - 1) : y;
+          glm::dvec2 pn;
+          const double step = hit(toGround, nx, ny, pn) ? glm::length(pn - p) : std::numeric_limits<double>::infinity();
+          major = std::max(major, step);
+          minor = std::min(minor, step);
+        }
+        const double footprint = std::max(minor, 0.5 * major);
+        const bool onTarget = std::abs(p.x) < 0.5 * tw && std::abs(p.y) < 0.5 * td;
+        if (onTarget) {
+          const double u = p.x / texel + 0.5 * scene_.target.cols - 0.5;
+          const double v = p.y / texel + 0.5 * scene_.target.rows - 0.5;
+          row[x] = fetchFiltered(target_.levels, target_.mean, u, v, footprint / texel, false, 0);
+        } else if (flatFloor) {
+          row[x] = floor_.mean;
+        } else {
+          const double a = p.x / floorPeriodX_ * floor_.levels[0].cols;
+          const double b = p.y / floorPeriodZ_ * floor_.levels[0].rows;
+          row[x] = fetchFiltered(floor_.levels, floor_.mean, a, b, footprint / floorTexel, true, 2);
+        }
+      }
+    }
+  });
+}
+
+void SequenceRenderer::render(const glm::dmat4& cameraToWorld, const FrameEffects& fx, cv::Mat& outRgb) const {
+  cv::Mat super, image;
+  shade(cameraToWorld, fx, super);
+  cv::resize(super, image, cv::Size(camera_.width, camera_.height), 0, 0, cv::INTER_AREA);
+  if (fx.motionBlurPx > 1) cv::filter2D(image, image, -1, lineKernel(fx.motionBlurPx, fx.motionBlurAngleDeg));
+  if (fx.gainEv != 0) image *= std::exp2(fx.gainEv);
+  if (fx.noiseSigma > 0) {
+    cv::Mat noise(image.size(), CV_32FC3);
+    cv::RNG rng(fx.noiseSeed);
+    rng.fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(fx.noiseSigma));
+    image += noise;
+  }
+  image.convertTo(outRgb, CV_8UC3);  // rounds and saturates
+  if (fx.jpegQuality > 0) {
+    cv::Mat bgr;
+    cv::cvtColor(outRgb, bgr, cv::COLOR_RGB2BGR);  // JPEG's colour transform expects BGR
+    std::vector<unsigned char> bytes;
+    cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, std::clamp(fx.jpegQuality, 1, 100)});
+    cv::cvtColor(cv::imdecode(bytes, cv::IMREAD_COLOR), outRgb, cv::COLOR_BGR2RGB);
+  }
+}
+
+double SequenceRenderer::visibleTargetFraction(const glm::dmat4& cameraToWorld) const {
+  constexpr int kAcross = 96;
+  const int down = std::max(1, static_cast<int>(std::lround(kAcross * targetDepth() / scene_.targetWidth)));
+  glm::dmat3 r;
+  glm::dvec3 t;
+  worldToOpenCvCamera(cameraToWorld, r, t);
+  std::vector<cv::Point3d> inFront;
+  for (int j = 0; j < down; ++j)
+    for (int i = 0; i < kAcross; ++i) {
+      const glm::dvec3 p(((i + 0.5) / kAcross - 0.5) * scene_.targetWidth, 0.0, ((j + 0.5) / down - 0.5) * targetDepth());
+      const glm::dvec3 c = r * p + t;
+      // Behind the camera, or beyond the radius where the lens model folds back (where
+      // projectPoints would put it in the image although no ray reaches it).
+      if (!(c.z > 1e-9)) continue;
+      const double x = c.x / c.z, y = c.y / c.z;
+      if (x * x + y * y > maxUndistortedRadius_ * maxUndistortedRadius_) continue;
+      inFront.emplace_back(p.x, p.y, p.z);
+    }
+  if (inFront.empty()) return 0.0;
+  std::vector<cv::Point2d> pixels;
+  const cv::Matx33d k(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+  const cv::Matx33d rcv(r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], r[0][2], r[1][2], r[2][2]);
+  cv::Vec3d rvec;
+  cv::Rodrigues(rcv, rvec);
+  cv::projectPoints(inFront, rvec, cv::Vec3d(t.x, t.y, t.z), k, std::vector<double>(camera_.distortion.begin(), camera_.distortion.end()),
+                    pixels);
+  int inside = 0;
+  for (const cv::Point2d& q : pixels)
+    if (q.x >= -0.5 && q.y >= -0.5 && q.x < camera_.width - 0.5 && q.y < camera_.height - 0.5) ++inside;
+  return static_cast<double>(inside) / (static_cast<double>(kAcross) * down);
+}
+
+glm::dmat4 lookAtCameraToWorld(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up) {
+  const glm::dvec3 f = glm::normalize(target - eye);
+  glm::dvec3 x = glm::cross(f, up);
+  if (glm::length(x) < 1e-9 * glm::length(up)) x = glm::cross(f, glm::dvec3(0, 0, -1));
+  if (glm::length(x) < 1e-9) x = glm::cross(f, glm::dvec3(1, 0, 0));
+  x = glm::normalize(x);
+  const glm::dvec3 y = glm::cross(x, f);
+  glm::dmat4 m(1.0);
+  m[0] = glm::dvec4(x, 0);
+  m[1] = glm::dvec4(y, 0);
+  m[2] = glm::dvec4(-f, 0);
+  m[3] = glm::dvec4(eye, 1);
+  return m;
+}
+
+void worldToOpenCvCamera(const glm::dmat4& cameraToWorld, glm::dmat3& rotation, glm::dvec3& translation) {
+  // The OpenCV camera's axes in the world are the GL camera's with Y and Z negated.
+  const glm::dmat3 cvToWorld{glm::dvec3(cameraToWorld[0]), -glm::dvec3(cameraToWorld[1]),
+                             -glm::dvec3(cameraToWorld[2])};
+  rotation = glm::transpose(cvToWorld);
+  translation = -(rotation * glm::dvec3(cameraToWorld[3]));
+}
+
+glm::dvec2 projectWorldPoint(const CameraModel& camera, const glm::dmat4& cameraToWorld, glm::dvec3 p) {
+  glm::dmat3 r;
+  glm::dvec3 t;
+  worldToOpenCvCamera(cameraToWorld, r, t);
+  const cv::Matx33d rcv(r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], r[0][2], r[1][2], r[2][2]);
+  cv::Vec3d rvec;
+  cv::Rodrigues(rcv, rvec);
+  const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  std::vector<cv::Point2d> out;
+  cv::projectPoints(std::vector<cv::Point3d>{{p.x, p.y, p.z}}, rvec, cv::Vec3d(t.x, t.y, t.z), k,
+                    std::vector<double>(camera.distortion.begin(), camera.distortion.end()), out);
+  return {out[0].x, out[0].y};
+}
+
+}  // namespace marionette::ar::synthetic
