@@ -524,14 +524,19 @@ TEST(SyntheticSequenceMetrics, TruthAgainstItselfAndOffsets) {
   EXPECT_NEAR(rot.ateMaxM, 0, 1e-15);
 }
 
-TEST(SyntheticSequenceMetrics, FalsePosesWhenTheTargetIsOutOfView) {
+TEST(SyntheticSequenceMetrics, TrackingOutOfViewIsCountedApartAndFalseOnlyWhenOff) {
   const std::vector<glm::dmat4> truth = path(10);
   std::vector<double> visible(10, 0.8);
   visible[3] = visible[4] = visible[5] = 0;
   std::vector<TrackedPose> est = asTracked(truth);
   est[5].state = TrackingState::Limited;
-  const TrajectoryReport r = compareTrajectory(est, truth, visible, camera640());
-  EXPECT_EQ(r.falsePoses, 2);
+  TrajectoryReport r = compareTrajectory(est, truth, visible, camera640());
+  EXPECT_EQ(r.falsePoses, 0);
+  EXPECT_EQ(r.trackedOutOfView, 2);
+  est[4].cameraToWorld[3].x += 0.06;  // out of view and 6 cm off: false
+  EXPECT_EQ(compareTrajectory(est, truth, visible, camera640()).falsePoses, 1);
+  est[4] = asTracked(truth)[4];
+  r = compareTrajectory(est, truth, visible, camera640());
   EXPECT_EQ(r.visibleFrames, 7);
   EXPECT_EQ(r.within2cm, 7);
   EXPECT_EQ(r.framesToRelocalize, 0);

@@ -55,7 +55,8 @@ TrajectoryReport compareTrajectory(const std::vector<TrackedPose>& estimated, co
     if (visible && err <= 0.02) ++r.within2cm;
     if (e.state == TrackingState::Tracking) {
       ++r.verifiedFrames;
-      if (err > 0.05 || !visible) ++r.falsePoses;
+      if (err > 0.05) ++r.falsePoses;
+      if (!visible) ++r.trackedOutOfView;
       positions.push_back(e.position());
       origins.push_back(projectWorldPoint(camera, e.cameraToWorld, glm::dvec3(0)));
     }

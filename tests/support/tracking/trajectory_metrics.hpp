@@ -24,7 +24,11 @@ struct TrajectoryReport {
   double ateMaxM = 0;
   double rotationMeanDeg = 0;  // angle of R_est^T R_true over the same frames
   double rotationMaxDeg = 0;
-  int falsePoses = 0;  // TRACKING more than 5 cm off, or TRACKING while visibleFraction == 0
+  int falsePoses = 0;  // TRACKING more than 5 cm off
+  // TRACKING while visibleFraction == 0: right when the map reaches past the target (the
+  // markerless tracker's keyframes of the floor around it), counted apart. Sequences with no
+  // target at all (MarkerlessTracker.NoPoseInVideosWithoutTheTarget) must have no pose at all.
+  int trackedOutOfView = 0;
   double jitterMm = 0;  // rms deviation of the TRACKING positions from their mean, mm
   double jitterPx = 0;  // the same of the world origin's projection through those poses, pixels
   // After the target becomes visible again following a stretch of frames where it is not

@@ -1,8 +1,11 @@
 #include "marionette_ar/tracking/camera_model.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
@@ -21,6 +24,44 @@ std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+// Whether an !!opencv-matrix node has whole-number rows and cols in 1..maxSide. Checked
+// before OpenCV reads the matrix: cv::read(FileNode, Mat) allocates rows x cols before it
+// counts the data (a rows or cols that is not a number reads as INT_MAX: 8 GB asked for by
+// one line of text), and without 'rows' copies 'sizes' into a 32-entry array on the stack
+// whatever its length.
+bool smallMatrix(const cv::FileNode& n, int maxSide) {
+  for (const char* key : {"rows", "cols"}) {
+    const cv::FileNode v = n[key];
+    if (!(v.isInt() || v.isReal())) return false;
+    const double d = v.real();
+    if (!(d >= 1 && d <= maxSide) || d != std::floor(d)) return false;
+  }
+  return true;
+}
+
+// What makes `text` unfit for OpenCV's FileStorage parsers, empty when nothing does. They
+// stop at the first NUL byte and crash on some text after one (a NULL pointer read in the
+// XML parser), and recurse once per nesting level with no limit: 50,000 levels of [, { or
+// <tag> (100 KB of text) overflow an 8 MiB stack. A calibration nests three levels; the
+// count here takes every bracket and tag, in strings too, so it can only overstate.
+constexpr int kMaxNesting = 64;
+std::string textProblem(const std::string& text) {
+  if (const std::size_t nul = text.find('\0'); nul != std::string::npos)
+    return "a NUL byte at byte " + std::to_string(nul) + ": not a YAML, XML or JSON text file";
+  int depth = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i], next = i + 1 < text.size() ? text[i + 1] : '\0';
+    if (ch == '[' || ch == '{' || (ch == '<' && next != '/' && next != '?' && next != '!')) {
+      if (++depth > kMaxNesting)
+        return "nested deeper than " + std::to_string(kMaxNesting) + " levels at byte " + std::to_string(i) +
+               ": not a calibration (OpenCV's parser would run out of stack)";
+    } else if (ch == ']' || ch == '}' || (ch == '<' && next == '/') || (ch == '/' && next == '>')) {
+      depth = std::max(depth - 1, 0);
+    }
+  }
+  return {};
 }
 
 }  // namespace
@@ -88,9 +129,24 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
     diagnostics.error(file, "camera file is larger than 1 MiB: not a calibration");
     return std::nullopt;
   }
+  // Read once, checked, and parsed from memory: OpenCV given the path would also gunzip a
+  // ".gz" past the size limit and read bytes other than the ones checked.
+  std::string text;
+  {
+    std::ifstream in(file, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (in.bad() || text.size() != size) {
+      diagnostics.error(file, "camera file cannot be read");
+      return std::nullopt;
+    }
+  }
+  if (const std::string why = textProblem(text); !why.empty()) {
+    diagnostics.error(file, why);
+    return std::nullopt;
+  }
   CameraModel c;
   try {
-    cv::FileStorage fs(file, cv::FileStorage::READ | cv::FileStorage::FORMAT_AUTO);
+    cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_AUTO);
     if (!fs.isOpened()) {
       diagnostics.error(file, "OpenCV cannot read it as calibration YAML or XML");
       return std::nullopt;
@@ -116,6 +172,10 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
       diagnostics.error(file, "'camera_matrix' is missing or not an !!opencv-matrix");
       return std::nullopt;
     }
+    if (!smallMatrix(kn, 3)) {
+      diagnostics.error(file, "'camera_matrix' has no whole-number rows and cols of 1 to 3: not a 3x3 !!opencv-matrix");
+      return std::nullopt;
+    }
     kn >> k;
     if (k.rows != 3 || k.cols != 3 || k.channels() != 1) {
       diagnostics.error(file, "'camera_matrix' is " + std::to_string(k.rows) + "x" + std::to_string(k.cols) +
@@ -135,6 +195,11 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
     if (!dn.empty()) {
       if (!dn.isMap()) {
         diagnostics.error(file, "'distortion_coefficients' is not an !!opencv-matrix");
+        return std::nullopt;
+      }
+      if (!smallMatrix(dn, 14)) {  // 14 x 14 doubles at most: then the count below
+        diagnostics.error(file, "'distortion_coefficients' has no whole-number rows and cols of 1 to 14: not the "
+                                "1xN or Nx1 !!opencv-matrix of OpenCV's models (4, 5, 8, 12 or 14 values)");
         return std::nullopt;
       }
       dn >> d;
@@ -157,6 +222,11 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
     }
   } catch (const cv::Exception& e) {
     diagnostics.error(file, std::string("OpenCV cannot parse it: ") + e.what());
+    return std::nullopt;
+  } catch (const std::exception& e) {
+    // OpenCV's parsers let the standard library's exceptions out too: a YAML key with no name
+    // (": [ 1 ]") gives std::length_error from basic_string, which would end the program.
+    diagnostics.error(file, std::string("OpenCV cannot parse it (") + e.what() + ")");
     return std::nullopt;
   }
   if (const std::string p = c.problem(); !p.empty()) {

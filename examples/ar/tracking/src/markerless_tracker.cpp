@@ -54,6 +54,7 @@ struct MarkerlessTracker::Impl {
   PlanarPose pose, previous;
   double poseTime = 0, previousTime = 0, lastSeen = -1e300;
   TrackingState lastState = TrackingState::Lost;
+  bool lastMeasured = false;  // the last frame's pose came from features, not extrapolation
 
   // Buffers reused every frame.
   cv::Mat warped, adjusted;
@@ -80,10 +81,12 @@ struct MarkerlessTracker::Impl {
   int chooseKeyframe(const PlanarPose& prediction);
   bool relocalize(PlanarPose& out);
   void maybeExtendMap(const PlanarPose& p);
+  // Past this the target is a few pixels wide and any homography fits it: not a pose.
+  [[nodiscard]] double maxDistance() const noexcept { return 40.0 * std::max(map.targetWidth, map.targetHeight); }
   // Enough of the corners tried agree, closely: a verified pose. Blur, occlusion or a wrong
   // prediction leave fewer, looser inliers (LIMITED at best).
   [[nodiscard]] bool isStrong(int inliers, double rms) const noexcept {
-    return inliers >= settings.minTrackingInliers && 2 * inliers >= stats.corners && rms <= settings.maxTrackingRmsPx;
+    return inliers >= settings.minTrackingInliers && 3 * inliers >= stats.corners && rms <= settings.maxTrackingRmsPx;
   }
   TrackedPose update(const ImageView& frame, double seconds);
 };
@@ -135,8 +138,20 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
   d.meanGrey = cv::mean(d.levels[0])[0];
   d.planeToImage = cv::Matx33d(k.planeToImage.data());
   d.imageToPlane = d.planeToImage.inv();
-  for (const auto& c : k.corners) {
-    d.corners.emplace_back(c[0], c[1]);
+  // Corners interleaved over an 8x8 grid (the strongest of each cell, then the second...),
+  // so that the first N in view spread over all of it: an occluder or the image border then
+  // takes its share of the points, not all of the strongest ones.
+  constexpr int kCells = 8;
+  std::vector<int> perCell(kCells * kCells, 0);
+  std::vector<std::pair<int, std::size_t>> order;
+  for (std::size_t c = 0; c < k.corners.size(); ++c) {
+    const int cx = std::clamp(static_cast<int>(k.corners[c][0] * kCells / static_cast<float>(k.width)), 0, kCells - 1);
+    const int cy = std::clamp(static_cast<int>(k.corners[c][1] * kCells / static_cast<float>(k.height)), 0, kCells - 1);
+    order.emplace_back(perCell[static_cast<std::size_t>(cy * kCells + cx)]++, c);
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [rank, c] : order) {
+    d.corners.emplace_back(k.corners[c][0], k.corners[c][1]);
     d.cornerPlane.push_back(applyHomography(d.imageToPlane, d.corners.back()));
   }
   d.descriptors.create(static_cast<int>(k.features.size()), 32, CV_8UC1);
@@ -238,7 +253,7 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
         inlierImage.push_back(found[i]);
       }
     PlanarPose estimate;
-    if (!robustPlanarPose(K, inlierPlane, inlierImage, 2.0, current, mask, estimate, rms, inliers, &homography))
+    if (!robustPlanarPose(K, inlierPlane, inlierImage, 2.0, maxDistance(), mask, estimate, rms, inliers, &homography))
       return false;
     current = estimate;
     if (inliers < settings.minLimitedInliers) return false;
@@ -259,6 +274,7 @@ bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
   for (std::size_t k = 0; k < keyframes.size(); ++k) {
     const KeyframeData& kf = keyframes[k];
     if (kf.descriptors.rows < 2) continue;
+    knn.clear();  // knnMatch appends
     matcher.knnMatch(frameDescriptors, kf.descriptors, knn, 2);
     inlierPlane.clear();
     inlierImage.clear();
@@ -271,8 +287,15 @@ bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
     PlanarPose candidate;
     double rms = 0;
     int inliers = 0;
-    if (!robustPlanarPose(K, inlierPlane, inlierImage, 4.0, std::nullopt, mask, candidate, rms, inliers)) continue;
+    if (!robustPlanarPose(K, inlierPlane, inlierImage, 4.0, maxDistance(), mask, candidate, rms, inliers)) continue;
     if (inliers < kMinRelocalizationInliers || inliers <= bestInliers) continue;
+    // The floor around a target may repeat (tiles, carpet): a keyframe of it can match the
+    // wrong repeat. Only the reference is unique; a floor keyframe relocalizes only near the
+    // last measured pose.
+    if (!kf.reference &&
+        !(havePose && glm::length(cameraPosition(candidate) - cameraPosition(pose)) <
+                          0.3 * std::max(0.05, glm::length(cameraPosition(pose)))))
+      continue;
     bestInliers = inliers;
     out = candidate;
   }
@@ -308,7 +331,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   if (havePose && seconds - lastSeen <= settings.holdLimitedSeconds + 1e-9) {
     stats.keyframe = chooseKeyframe(prediction);
     tracked = track(prediction, stats.keyframe, estimate, rms, inliers);
-    verified = tracked && lastState == TrackingState::Tracking;
+    verified = tracked && lastState == TrackingState::Tracking && lastMeasured;
   }
   if (!tracked) {
     // Relocalize; the pose counts only when tracking from it (an independent, photometric
@@ -328,6 +351,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   }
   stats.inliers = inliers;
   stats.rmsPx = rms;
+  PlanarPose shown = estimate;
   if (tracked) {
     previous = pose;
     previousTime = poseTime;
@@ -336,24 +360,27 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     poseTime = seconds;
     havePose = true;
     lastSeen = seconds;
-    const bool strong = isStrong(inliers, rms);
-    result.state = strong && verified ? TrackingState::Tracking : TrackingState::Limited;
-    // A pose first seen strong after LIMITED frames is still from tracking: promote it.
-    if (strong && !verified && lastState != TrackingState::Lost) result.state = TrackingState::Tracking;
+    // TRACKING: a strong pose that continues a measured one (this frame's features followed
+    // from the last frame's pose) or a relocalization the photometric check confirmed.
+    result.state = isStrong(inliers, rms) && (verified || lastMeasured) ? TrackingState::Tracking
+                                                                       : TrackingState::Limited;
+    lastMeasured = true;
     result.inliers = inliers;
     result.reprojectionErrorPx = rms;
     if (result.state == TrackingState::Tracking) maybeExtendMap(pose);
   } else if (havePose && seconds - lastSeen <= settings.holdLimitedSeconds) {
-    // Features lost for a moment (a fast turn, a hand over the target): extrapolate briefly.
-    pose = prediction;
+    // Features lost for a moment (a fast turn, a hand over the target): extrapolate briefly
+    // from the last two measured poses (never from an extrapolation: that would compound).
+    shown = prediction;
     result.state = TrackingState::Limited;
+    lastMeasured = false;
   } else {
-    havePose = havePrevious = false;
+    havePose = havePrevious = lastMeasured = false;
     filter.reset();
   }
   lastState = result.state;
   if (result.state == TrackingState::Lost) return result;
-  const glm::dmat4 raw = cameraToWorld(pose);
+  const glm::dmat4 raw = cameraToWorld(shown);
   const double distance = std::max(0.05, glm::length(glm::dvec3(raw[3])));
   result.cameraToWorld = settings.smoothing ? filter.filter(raw, seconds, distance) : raw;
   return result;
@@ -377,7 +404,7 @@ TrackedPose MarkerlessTracker::update(const ImageView& frame, double seconds) no
 }
 
 void MarkerlessTracker::reset() noexcept {
-  impl_->havePose = impl_->havePrevious = false;
+  impl_->havePose = impl_->havePrevious = impl_->lastMeasured = false;
   impl_->lastState = TrackingState::Lost;
   impl_->lastSeen = -1e300;
   impl_->filter.reset();

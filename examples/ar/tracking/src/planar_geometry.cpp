@@ -107,9 +107,9 @@ bool matchGain(const cv::Mat& source, const std::vector<cv::Point2f>& sourcePoin
 }
 
 bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plane,
-                      const std::vector<cv::Point2f>& image, double thresholdPx,
-                      const std::optional<PlanarPose>& prior, std::vector<unsigned char>& mask, PlanarPose& out,
-                      double& rmsPx, int& inliers, cv::Matx33d* homography) {
+                      const std::vector<cv::Point2f>& image, double thresholdPx, double maxDistance,
+                      std::vector<unsigned char>& mask, PlanarPose& out, double& rmsPx, int& inliers,
+                      cv::Matx33d* homography) {
   inliers = 0;
   if (plane.size() < 6 || plane.size() != image.size()) return false;
   const cv::Mat h = cv::findHomography(plane, image, cv::RANSAC, thresholdPx, mask, 500, 0.995);
@@ -123,16 +123,33 @@ bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plan
       pixels.push_back(image[i]);
     }
   if (object.size() < 6) return false;
-  cv::Vec3d rvec, tvec;
-  if (prior) {
-    rvec = prior->rvec;
-    tvec = prior->tvec;
+  // The spread of the inliers: the smaller eigenvalue of their covariance.
+  double mx = 0, my = 0;
+  for (const cv::Point2f& p : pixels) {
+    mx += p.x;
+    my += p.y;
   }
+  const double n = static_cast<double>(pixels.size());
+  mx /= n;
+  my /= n;
+  double sxx = 0, syy = 0, sxy = 0;
+  for (const cv::Point2f& p : pixels) {
+    sxx += (p.x - mx) * (p.x - mx);
+    syy += (p.y - my) * (p.y - my);
+    sxy += (p.x - mx) * (p.y - my);
+  }
+  sxx /= n;
+  syy /= n;
+  sxy /= n;
+  const double smallest = 0.5 * (sxx + syy) - std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+  if (!(smallest >= 64.0)) return false;
+  cv::Vec3d rvec, tvec;
   if (!cv::solvePnP(object, pixels, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE)) return false;
   cv::solvePnPRefineLM(object, pixels, k, cv::noArray(), rvec, tvec,
                        cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 20, 1e-9));
   PlanarPose pose{rvec, tvec};
-  if (!(cameraPosition(pose).y > 1e-3)) return false;  // the printed face is seen from above
+  const glm::dvec3 centre = cameraPosition(pose);
+  if (!(centre.y > 1e-3) || !(glm::length(centre) <= maxDistance)) return false;  // seen from above, near enough
   std::vector<cv::Point2f> projected;
   cv::projectPoints(object, rvec, tvec, k, cv::noArray(), projected);
   double sum = 0;

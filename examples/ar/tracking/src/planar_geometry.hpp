@@ -1,7 +1,6 @@
 // Geometry of a camera over the world's ground plane Y = 0 (plane coordinates (X, Z)),
 // shared by the markerless tracker's tracking and relocalization.
 #pragma once
-#include <optional>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -30,12 +29,14 @@ struct PlanarPose {
 // does not keep it. False when there is too little to measure (gain 1, bias 0).
 bool matchGain(const cv::Mat& source, const std::vector<cv::Point2f>& sourcePoints, const cv::Mat& frame,
                const std::vector<cv::Point2f>& framePoints, int window, double& gain, double& bias);
-// RANSAC homography plane -> image, then IPPE and Levenberg-Marquardt on the inliers.
-// False when too few points agree or the camera would be under the plane.
+// RANSAC homography plane -> image, then IPPE and Levenberg-Marquardt on the inliers. False
+// when fewer than 6 points agree, when they bunch up (less than 8 px of spread across their
+// narrowest direction: any homography fits a cluster), when the camera would be under the
+// plane or farther than `maxDistance` from the origin.
 [[nodiscard]] bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plane,
-                                    const std::vector<cv::Point2f>& image, double thresholdPx,
-                                    const std::optional<PlanarPose>& prior, std::vector<unsigned char>& mask,
-                                    PlanarPose& out, double& rmsPx, int& inliers, cv::Matx33d* homography = nullptr);
+                                    const std::vector<cv::Point2f>& image, double thresholdPx, double maxDistance,
+                                    std::vector<unsigned char>& mask, PlanarPose& out, double& rmsPx, int& inliers,
+                                    cv::Matx33d* homography = nullptr);
 // The share of the target rectangle (width x height metres, centred) inside the image.
 [[nodiscard]] double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose,
                                            double width, double height);

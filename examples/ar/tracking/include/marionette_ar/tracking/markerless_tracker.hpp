@@ -33,7 +33,7 @@ struct MarkerlessSettings {
   int referenceFeatures = 1200;  // ORB features per keyframe
   int minTrackingInliers = 30;   // TRACKING needs this many inliers and rms < maxTrackingRmsPx
   int minLimitedInliers = 12;    // LIMITED needs this many
-  double maxTrackingRmsPx = 1.5;
+  double maxTrackingRmsPx = 1.0;
   double extendBelowVisible = 0.6;  // add a keyframe when less of the target is in view
   bool smoothing = true;
   double smoothingMinCutoffHz = 1.0;  // one-euro filter: cut-off at rest
