@@ -72,7 +72,7 @@ int countNear(const cv::Mat& rgb, cv::Vec3b c) {
 
 TEST(SyntheticSequenceCamera, DataFileIsTheUndistortedVga) {
   marionette::Diagnostics d;
-  const auto c = readCameraModel(marionette::test::sourceFile("tests/ar/tracking/data/camera_640x480.yml"), d);
+  const auto c = readCameraModel(marionette::test::sourceFile("assets/cameras/synthetic_640x480.yml"), d);
   ASSERT_TRUE(c) << d.format();
   EXPECT_EQ(c->width, 640);
   EXPECT_EQ(c->height, 480);

@@ -35,7 +35,7 @@ int usage(const char* why) {
                "usage: marionette_write_sequence --target IMAGE --target-width M --camera CAMERA.yml\n"
                "         --scenario NAME [--frames N] [--floor IMAGE [--floor-mpp M]] --out DIR\n"
                "e.g.   marionette_write_sequence --target /usr/share/doc/opencv-doc/examples/data/graf1.png\n"
-               "         --target-width 0.3 --camera tests/ar/tracking/data/camera_640x480.yml --scenario orbit\n"
+               "         --target-width 0.3 --camera assets/cameras/synthetic_640x480.yml --scenario orbit\n"
                "         --frames 30 --out /tmp/orbit\n",
                why);
   return 2;
