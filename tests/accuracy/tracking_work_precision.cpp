@@ -4,7 +4,7 @@
 //   marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]
 //
 // Without --sweep: one row per scenario with the default settings. With --sweep: the
-// work-precision grid (corners x pyramid levels x refinements) over orbit, blur and occluder,
+// work-precision grid (corners x pyramid levels x refinements) over orbit, occluder and partial,
 // ATE against ms per frame.
 #include <cmath>
 #include <cstdio>
@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
   }
   cv::setNumThreads(1);
   const SequenceRenderer renderer = standardRenderer();
-  if (sweep && names.empty()) names = {"orbit", "blur", "occluder"};
+  if (sweep && names.empty()) names = {"orbit", "occluder", "partial"};
   const auto scenarios = renderScenarios(renderer, frames, names);
   if (!sweep) {
     MarkerlessSettings settings;
@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     std::printf("\nall frames: %.2f ms median, %.2f ms p95\n", percentile(all, 0.5), percentile(all, 0.95));
     return 0;
   }
-  std::printf("| corners | levels | refinements | ATE rms cm (orbit, blur, occluder) | visible within 2 cm | ms median | ms p95 |\n");
+  std::printf("| corners | levels | refinements | ATE rms cm (orbit, occluder, partial) | visible within 2 cm | ms median | ms p95 |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (int corners : {60, 120, 200})
     for (int levels : {2, 3, 4})

@@ -237,8 +237,18 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
       level0.convertTo(adjusted, -1, gain, bias);
       source = &adjusted;
     }
-    cv::warpPerspective(*source, warped, W0 * levelToBase, frame.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-                        cv::Scalar(kf.meanGrey * gain + bias));
+    // Only the region KLT reads is warped (the points' box, grown by the window at the
+    // coarsest level): the warp was half of a frame's time over the whole image.
+    const cv::Scalar background(kf.meanGrey * gain + bias);
+    warped.create(frame.size(), CV_8UC1);
+    warped.setTo(background);
+    const cv::Rect roi = cv::boundingRect(predicted);
+    const int grow = settings.kltWindow * (1 << (pass == 0 ? settings.pyramidLevels : 1));
+    const cv::Rect region = (roi + cv::Size(2 * grow, 2 * grow) - cv::Point(grow, grow)) & cv::Rect(0, 0, frame.cols, frame.rows);
+    const cv::Matx33d shift(1, 0, -region.x, 0, 1, -region.y, 0, 0, 1);
+    cv::Mat target = warped(region);
+    cv::warpPerspective(*source, target, shift * W0 * levelToBase, region.size(), cv::INTER_LINEAR,
+                        cv::BORDER_CONSTANT, background);
     found = predicted;
     const int levels = pass == 0 ? settings.pyramidLevels : std::min(settings.pyramidLevels, 1);
     cv::calcOpticalFlowPyrLK(warped, frame, predicted, found, status, kltError,

@@ -115,8 +115,11 @@ bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plan
   const cv::Mat h = cv::findHomography(plane, image, cv::RANSAC, thresholdPx, mask, 500, 0.995);
   if (h.empty()) return false;
   if (homography) *homography = cv::Matx33d(h);
-  std::vector<cv::Point3f> object;
-  std::vector<cv::Point2f> pixels;
+  // Reused across calls (and frames): no allocation once they have grown.
+  thread_local std::vector<cv::Point3f> object;
+  thread_local std::vector<cv::Point2f> pixels, projected;
+  object.clear();
+  pixels.clear();
   for (std::size_t i = 0; i < plane.size(); ++i)
     if (mask[i]) {
       object.emplace_back(plane[i].x, 0.0f, plane[i].y);
@@ -150,7 +153,6 @@ bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plan
   PlanarPose pose{rvec, tvec};
   const glm::dvec3 centre = cameraPosition(pose);
   if (!(centre.y > 1e-3) || !(glm::length(centre) <= maxDistance)) return false;  // seen from above, near enough
-  std::vector<cv::Point2f> projected;
   cv::projectPoints(object, rvec, tvec, k, cv::noArray(), projected);
   double sum = 0;
   for (std::size_t i = 0; i < projected.size(); ++i) {
