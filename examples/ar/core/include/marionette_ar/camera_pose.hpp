@@ -1,5 +1,6 @@
-// Where the AR camera is, over scene time. A later tracking issue implements
-// CameraPoseSource from a tracker; StaticCameraPose is a fixed camera from the scene file.
+// Where the AR camera is, over scene time: StaticCameraPose is a fixed camera from the scene
+// file. A tracked camera (app/tracked_camera.hpp, examples/ar/tracking) takes its pose from
+// the background's frames instead, so it is not a CameraPoseSource.
 // Convention: +Y up, right-handed; the view matrix maps world to camera space, the camera
 // looking along its -Z (OpenGL).
 #pragma once

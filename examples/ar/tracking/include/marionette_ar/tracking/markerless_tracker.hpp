@@ -25,10 +25,10 @@
 namespace marionette::ar {
 
 struct MarkerlessSettings {
-  int trackedCorners = 120;      // KLT points per frame
+  int trackedCorners = 200;      // KLT points per frame
   int pyramidLevels = 3;         // KLT pyramid levels above the full image
   int kltWindow = 15;            // KLT window side, pixels
-  int refinements = 1;           // extra warp + KLT passes from the new pose
+  int refinements = 0;           // extra warp + KLT passes from the new pose (the work-precision table: no gain)
   int relocalizationFeatures = 600;  // ORB features per frame when LOST
   int referenceFeatures = 1200;  // ORB features per keyframe
   int minTrackingInliers = 30;   // TRACKING needs this many inliers and rms < maxTrackingRmsPx
