@@ -30,9 +30,11 @@
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
 #include "tracking/scenario_run.hpp"
+#include "tracking/visp_benchmark.hpp"
 
 using namespace marionette;
 using namespace marionette::ar;
+using namespace marionette::ar::synthetic;
 
 namespace {
 
@@ -87,15 +89,19 @@ struct PingPong {
   }
 };
 
-void markerlessFrame(benchmark::State& state) {
+// A tracker for the orbit frames, or nullptr with the benchmark skipped with the reason.
+std::unique_ptr<MarkerlessTracker> orbitTracker(benchmark::State& state, const Orbit& o) {
   cv::setNumThreads(1);
-  const Orbit& o = orbit();
   std::string error = o.error;
   auto tracker = error.empty() ? markerless(o, error) : nullptr;
-  if (!tracker) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
+  if (!tracker) state.SkipWithError(error.c_str());
+  return tracker;
+}
+
+void markerlessFrame(benchmark::State& state) {
+  const Orbit& o = orbit();
+  auto tracker = orbitTracker(state, o);
+  if (!tracker) return;
   PingPong frames{kOrbitFrames, 0, o.fps};
   TrackedPose last;
   for (int i = 0; i < 2 * (kOrbitFrames - 1); ++i)  // warm-up: one pass there and back
@@ -121,14 +127,9 @@ void markerlessFrame(benchmark::State& state) {
 }
 
 void markerlessRelocalize(benchmark::State& state) {
-  cv::setNumThreads(1);
   const Orbit& o = orbit();
-  std::string error = o.error;
-  auto tracker = error.empty() ? markerless(o, error) : nullptr;
-  if (!tracker) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
+  auto tracker = orbitTracker(state, o);
+  if (!tracker) return;
   PingPong frames{kOrbitFrames, 0, o.fps};
   for (int i = 0; i < kOrbitFrames; ++i) {  // warm-up: OpenCV's first calls, the map's keyframes if any
     tracker->reset();
@@ -160,12 +161,8 @@ void aprilTagFrame(benchmark::State& state) {
     return;
   }
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  const CameraModel camera{.width = 640, .height = 480, .fx = 700, .fy = 700, .cx = 319.5, .cy = 239.5};
-  AprilTagSettings settings;
-  settings.tagSize = 0.2;
-  settings.decimate = 2.0f;
   Diagnostics d;
-  auto tracker = AprilTagTracker::create(camera, settings, d);
+  auto tracker = AprilTagTracker::create(vispBenchmarkCamera(), vispBenchmarkTagSettings(), d);
   if (!tracker) {
     state.SkipWithError(d.format().c_str());
     return;

@@ -10,24 +10,13 @@
 #include <sstream>
 
 #include "marionette_ar/render/image.hpp"
-#include "cli_run.hpp"
+#include "ar_run.hpp"
 #include "test_data.hpp"
 
 namespace marionette::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-CliRun runAr(const std::string& args) { return runCommand(std::string(MARIONETTE_AR) + " " + args); }
-
-ar::Image8 frame(const fs::path& dir, int index) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%04d.png", index);
-  ar::Image8 image;
-  std::string error;
-  EXPECT_TRUE(ar::readImage((dir / name).string(), image, error)) << error;
-  return image;
-}
 
 double luminance(const ar::Image8& im, std::size_t pixel) {
   const std::size_t i = pixel * std::size_t(im.channels);

@@ -13,7 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "cli_run.hpp"
+#include "ar_run.hpp"
 #include "marionette_ar/render/image.hpp"
 #include "test_data.hpp"
 #include "tracking/scenario_run.hpp"
@@ -22,17 +22,6 @@ namespace marionette::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-CliRun runAr(const std::string& args) { return runCommand(std::string(MARIONETTE_AR) + " " + args); }
-
-ar::Image8 frame(const fs::path& dir, int index) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%04d.png", index);
-  ar::Image8 image;
-  std::string error;
-  EXPECT_TRUE(ar::readImage((dir / name).string(), image, error)) << error;
-  return image;
-}
 
 // The lowest row where `with` differs from `without` (the character's feet), and the mean
 // column of the differing pixels in the 6 rows above it; -1 when nothing differs.

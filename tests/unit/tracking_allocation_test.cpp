@@ -46,6 +46,7 @@
 #include "marionette_ar/tracking/markerless_tracker.hpp"
 #include "test_data.hpp"
 #include "tracking/scenario_run.hpp"
+#include "tracking/visp_benchmark.hpp"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define MN_UNDER_SANITIZER 1
@@ -174,6 +175,7 @@ namespace {
 
 using namespace marionette;
 using namespace marionette::ar;
+using namespace marionette::ar::synthetic;
 
 ImageView view(const cv::Mat& m) { return {m.data, m.cols, m.rows, m.channels(), static_cast<std::ptrdiff_t>(m.step)}; }
 
@@ -278,17 +280,13 @@ TEST(TrackingAllocation, MarkerlessPerFrameCountIsBoundedAndFlat) {
 
 TEST(TrackingAllocation, AprilTagPerFrameCountIsBoundedAndConstant) {
   cv::setNumThreads(1);
-  const std::string file = test::vispImage("AprilTag/benchmark/640x480/tag36_11_640x480.png");
+  const std::string file = vispBenchmarkImage();
   MARIONETTE_REQUIRE_FILE(file);
   cv::Mat rgb = cv::imread(file, cv::IMREAD_COLOR);
   ASSERT_FALSE(rgb.empty()) << file;
   cv::cvtColor(rgb, rgb, cv::COLOR_BGR2RGB);
-  const CameraModel camera{.width = 640, .height = 480, .fx = 700, .fy = 700, .cx = 319.5, .cy = 239.5};
-  AprilTagSettings settings;
-  settings.tagSize = 0.2;
-  settings.decimate = 2.0f;
   Diagnostics d;
-  auto tracker = AprilTagTracker::create(camera, settings, d);
+  auto tracker = AprilTagTracker::create(vispBenchmarkCamera(), vispBenchmarkTagSettings(), d);
   ASSERT_TRUE(tracker) << d.format();
   const ImageView frame = view(rgb);
   for (int i = 0; i < 5; ++i) (void)tracker->update(frame, i / 30.0);
