@@ -1,0 +1,123 @@
+// marionette-ar's tracking commands as a user runs them: calibrate on opencv-doc's
+// chessboards, track an AprilTag on ViSP's benchmark image, and the errors a wrong camera,
+// a damaged map or a missing option give.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "cli_run.hpp"
+#include "test_data.hpp"
+
+namespace marionette::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+CliRun runAr(const std::string& args) { return runCommand(std::string(MARIONETTE_AR) + " " + args); }
+
+double jsonNumber(const std::string& text, const std::string& key) {
+  const std::size_t at = text.find("\"" + key + "\": ");
+  return at == std::string::npos ? std::nan("") : std::atof(text.c_str() + at + key.size() + 4);
+}
+
+TEST(TrackingCli, CalibrateWritesACameraWithinTenPercentOfTheReference) {
+  std::string images;
+  for (int i : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14}) {
+    char name[32];
+    std::snprintf(name, sizeof name, "left%02d.jpg", i);
+    MARIONETTE_REQUIRE_FILE(opencvData(name));
+    images += " " + opencvData(name);
+  }
+  const fs::path out = fs::temp_directory_path() / "marionette_cli_camera.yml";
+  fs::remove(out);
+  const CliRun r = runAr("calibrate --board 9x6 --square 0.025" + images + " -o " + out.string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "views"), 13) << r.out;
+  EXPECT_NEAR(jsonNumber(r.out, "rms_px"), 0.3926, 0.1 * 0.3926) << r.out;
+  ASSERT_TRUE(fs::exists(out));
+  // The file is OpenCV calibration YAML the tracker reads back.
+  const CliRun again = runAr("track --camera " + out.string() + " --images /nonexistent --target " +
+                             opencvData("graf1.png") + " --target-width 0.3 --poses /dev/null");
+  EXPECT_EQ(again.status, 2);
+  EXPECT_EQ(again.out.find(out.string()), std::string::npos) << "the camera file was accepted: " << again.out;
+  EXPECT_NE(again.out.find("/nonexistent"), std::string::npos) << again.out;
+}
+
+TEST(TrackingCli, TracksAnAprilTagAndWritesTheCsv) {
+  const std::string image = vispImage("AprilTag/benchmark/640x480/tag36_11_640x480.png");
+  MARIONETTE_REQUIRE_FILE(image);
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_apriltag";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "frames");
+  const cv::Mat frame = cv::imread(image, cv::IMREAD_COLOR);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(cv::imwrite((dir / "frames" / ("f" + std::to_string(i) + ".png")).string(), frame));
+  std::ofstream(dir / "camera.yml") << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                                       "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                                       "   data: [ 700., 0., 319.5, 0., 700., 239.5, 0., 0., 1. ]\n";
+  const CliRun r = runAr("track --camera " + (dir / "camera.yml").string() + " --images " + (dir / "frames").string() +
+                         " --tracker apriltag --tag-size 0.2 --poses " + (dir / "poses.csv").string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "frames"), 3) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "tracked"), 3) << r.out;
+  EXPECT_GT(jsonNumber(r.out, "ms_per_frame_median"), 0) << r.out;
+  std::ifstream csv(dir / "poses.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "frame,time,state,px,py,pz,qx,qy,qz,qw");
+  ASSERT_TRUE(std::getline(csv, line));
+  std::istringstream fields(line);
+  std::vector<std::string> f;
+  for (std::string v; std::getline(fields, v, ',');) f.push_back(v);
+  ASSERT_EQ(f.size(), 10u) << line;
+  EXPECT_EQ(f[2], "TRACKING");
+  // Tag 0 (the lowest id) is 2.013 m from the camera in ViSP's ground truth (cMo_0.txt).
+  const double distance = std::hypot(std::atof(f[3].c_str()), std::atof(f[4].c_str()), std::atof(f[5].c_str()));
+  EXPECT_NEAR(distance, 2.0134, 0.02 * 2.0134) << line;
+  const double qn = std::hypot(std::hypot(std::atof(f[6].c_str()), std::atof(f[7].c_str())),
+                               std::hypot(std::atof(f[8].c_str()), std::atof(f[9].c_str())));
+  EXPECT_NEAR(qn, 1.0, 1e-6);
+}
+
+TEST(TrackingCli, BadInputIsNamed) {
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_tracking_bad";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "frames");
+  ASSERT_TRUE(cv::imwrite((dir / "frames" / "a.png").string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(9, 9, 9))));
+  std::ofstream(dir / "camera.yml") << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                                       "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                                       "   data: [ 600., 0., 319.5, 0., 600., 239.5, 0., 0., 1. ]\n";
+  const std::string camera = (dir / "camera.yml").string(), frames = (dir / "frames").string();
+  // Frames of another size than the calibration.
+  CliRun r = runAr("track --camera " + camera + " --images " + frames + " --target " + opencvData("graf1.png") +
+                   " --target-width 0.3 --poses " + (dir / "p.csv").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("320x240"), std::string::npos) << r.out;
+  // A damaged map.
+  std::ofstream(dir / "bad.map") << "MNPLANAR and then nothing useful";
+  r = runAr("track --camera " + camera + " --images " + frames + " --map " + (dir / "bad.map").string() +
+            " --poses " + (dir / "p.csv").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find((dir / "bad.map").string()), std::string::npos) << r.out;
+  // The markerless tracker without a target or a map; a target without its width.
+  r = runAr("track --camera " + camera + " --images " + frames + " --poses " + (dir / "p.csv").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("--target"), std::string::npos) << r.out;
+  r = runAr("track --camera " + camera + " --images " + frames + " --target " + opencvData("graf1.png") + " --poses " +
+            (dir / "p.csv").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("--target-width"), std::string::npos) << r.out;
+  r = runAr("track --camera " + camera + " --images " + frames + " --tracker sonar --poses x.csv");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("sonar"), std::string::npos) << r.out;
+  r = runAr("calibrate --board 9 -o x.yml a.jpg");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("COLSxROWS"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace marionette::test
