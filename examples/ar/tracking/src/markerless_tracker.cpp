@@ -71,7 +71,7 @@ struct MarkerlessTracker::Impl {
   Impl(const CameraModel& c, const MarkerlessSettings& s)
       : camera(c), settings(s), filter(s.smoothingMinCutoffHz, s.smoothingBeta) {
     K = cv::Matx33d(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
-    orb = cv::ORB::create(s.relocalizationFeatures, 1.2f, 8, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
+    orb = cv::ORB::create(s.relocalizationFeatures, 1.2f, 6, 19, 0, 2, cv::ORB::FAST_SCORE, 19, 15);
     grey.configure(c);
   }
 
@@ -284,6 +284,7 @@ bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
   for (std::size_t k = 0; k < keyframes.size(); ++k) {
     const KeyframeData& kf = keyframes[k];
     if (kf.descriptors.rows < 2) continue;
+    if (!kf.reference && !havePose) continue;  // floor keyframes relocalize only near the last pose (below)
     knn.clear();  // knnMatch appends
     matcher.knnMatch(frameDescriptors, kf.descriptors, knn, 2);
     inlierPlane.clear();
