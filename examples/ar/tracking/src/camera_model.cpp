@@ -1,11 +1,13 @@
 #include "marionette_ar/tracking/camera_model.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string_view>
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
@@ -41,15 +43,65 @@ bool smallMatrix(const cv::FileNode& n, int maxSide) {
   return true;
 }
 
-// What makes `text` unfit for OpenCV's FileStorage parsers, empty when nothing does. They
-// stop at the first NUL byte and crash on some text after one (a NULL pointer read in the
-// XML parser), and recurse once per nesting level with no limit: 50,000 levels of [, { or
-// <tag> (100 KB of text) overflow an 8 MiB stack. A calibration nests three levels; the
-// count here takes every bracket and tag, in strings too, so it can only overstate.
+// OpenCV's YAML parser (4.6) loops forever, or reads stale bytes of its line buffer, when
+// text follows the end of the first document: a "..." line then a line starting with '-',
+// or a root collection that does not start at column 0 ("-----0" then a shorter line). A
+// calibration is one document whose root is a map at column 0: anything else is refused
+// before OpenCV sees it. "" when the YAML has that shape.
+std::string yamlShapeProblem(const std::string& text) {
+  bool directives = true, root = false;  // before the root's first line; inside the root
+  int line = 0;
+  for (std::size_t at = 0; at < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view l(text.data() + at, end - at);
+    at = end + 1;
+    const std::size_t content = l.find_first_not_of(" \r");
+    if (content == std::string_view::npos || l[content] == '#') continue;  // blank or a comment
+    auto where = [&] { return " (line " + std::to_string(line + 1) + ")"; };
+    const bool marker = l.substr(0, 3) == "---" || l.substr(0, 3) == "...";
+    if (!root) {
+      if (l[0] == '%') continue;  // %YAML:1.0 and other directives
+      if (directives && l.substr(0, 3) == "---") {
+        directives = false;
+        const std::size_t rest = l.find_first_not_of(" \r", 3);
+        if (rest != std::string_view::npos && l[rest] != '#')
+          return "the YAML has text after '---' on its line" + where() + ": a calibration's keys start on the next";
+        continue;
+      }
+      if (marker) return "an empty YAML document" + where() + ": a calibration has one, with its keys";
+      if (!(std::isalnum(static_cast<unsigned char>(l[0])) || l[0] == '_'))
+        return "the YAML's first key" + where() + " is not at the start of its line: not a calibration's map";
+      root = true;
+    } else if (marker) {
+      return "a second YAML document" + where() + ": a calibration has one";
+    }
+  }
+  return {};
+}
+
+// What makes `text` unfit for OpenCV's FileStorage parsers (4.6), empty when nothing does.
+// They read up to the first NUL byte, and the XML parser reads through a NULL pointer when
+// the text ends inside a tag after an '=' ("<?xml v3=") or a NUL byte cuts it there. They
+// recurse once per nesting level with no limit: 50,000 levels of [, { or <tag> (100 KB of
+// text) overflow an 8 MiB stack. A calibration nests three levels; the count here takes
+// every bracket and tag, in strings too, so it can only overstate.
 constexpr int kMaxNesting = 64;
 std::string textProblem(const std::string& text) {
   if (const std::size_t nul = text.find('\0'); nul != std::string::npos)
     return "a NUL byte at byte " + std::to_string(nul) + ": not a YAML, XML or JSON text file";
+  // Base64 blocks (YAML "!!binary", JSON "$base64$", XML type_id="binary"): OpenCV writes
+  // them only when asked to (FileStorage::BASE64), and loops forever on a row of 60 'A's.
+  for (const char* base64 : {"!!binary", "$base64$", "\"binary\"", "'binary'"})
+    if (const std::size_t at = text.find(base64); at != std::string::npos)
+      return std::string("base64 data (") + base64 + " at byte " + std::to_string(at) +
+             "): write the calibration as text numbers";
+  const std::size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;  // OpenCV skips one, then looks
+  if (text.compare(bom, 5, "%YAML") == 0) {
+    if (std::string why = yamlShapeProblem(text.substr(bom)); !why.empty()) return why;
+  } else if (text.compare(bom, 5, "<?xml") == 0) {
+    if (text[text.find_last_not_of(" \t\r\n")] != '>')
+      return "the XML ends inside a tag or before its last tag closes: truncated";
+  }
   int depth = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char ch = text[i], next = i + 1 < text.size() ? text[i + 1] : '\0';
