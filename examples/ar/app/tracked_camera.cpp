@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <opencv2/core/utility.hpp>
+
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
 
@@ -34,6 +36,9 @@ std::unique_ptr<TrackedCamera> TrackedCamera::create(const ArTracker& settings, 
     }
     *camera = camera->scaledTo(frameWidth, frameHeight);
   }
+  // One thread, as the figures in docs/tracking.md are measured, and deterministic: the
+  // renderer's frame loop is the only thread that tracks.
+  cv::setNumThreads(1);
   std::unique_ptr<TrackedCamera> t(new TrackedCamera());
   t->settings_ = settings;
   if (settings.kind == ArTracker::Kind::AprilTag) {

@@ -16,62 +16,46 @@ namespace {
 using namespace marionette::ar;
 using namespace marionette::ar::synthetic;
 
-const std::map<std::string, ScenarioRun>& runs() {
-  static const std::map<std::string, ScenarioRun> all = [] {
-    cv::setNumThreads(1);
-    const SequenceRenderer renderer = standardRenderer();
-    std::map<std::string, ScenarioRun> out;
-    for (const RenderedScenario& s : renderScenarios(renderer, 60))
-      out.emplace(s.scenario.name, runMarkerless(s, renderer.camera(), MarkerlessSettings{}));
-    return out;
-  }();
-  return all;
-}
-
 double shareWithin2cm(const TrajectoryReport& r) { return double(r.within2cm) / r.visibleFrames; }
 
-TEST(TrackingAccuracy, NoFalsePoseInAnyScenario) {
-  for (const auto& [name, run] : runs()) {
+// One test, not one per goal: ctest runs each GoogleTest test in a process of its own, and the
+// scenarios take 40 s to render and track.
+TEST(TrackingAccuracy, StandardScenariosMeetTheGoals) {
+  cv::setNumThreads(1);
+  const SequenceRenderer renderer = standardRenderer();
+  std::map<std::string, ScenarioRun> runs;
+  for (const RenderedScenario& s : renderScenarios(renderer, 60))
+    runs.emplace(s.scenario.name, runMarkerless(s, renderer.camera(), MarkerlessSettings{}));
+  ASSERT_EQ(runs.size(), 10u);
+
+  // No false pose anywhere.
+  for (const auto& [name, run] : runs) {
     std::printf("%-14s %s\n", name.c_str(), formatReport(run.report).c_str());
     EXPECT_EQ(run.report.falsePoses, 0) << name;
   }
-}
-
-TEST(TrackingAccuracy, OrbitWithinAMillimetresAndATenthOfADegree) {
-  const TrajectoryReport& r = runs().at("orbit").report;
-  EXPECT_EQ(r.verifiedFrames, r.frames);
-  EXPECT_LT(r.ateRmsM, 0.005);  // goal 0.5 cm
-  EXPECT_LT(r.rotationMeanDeg, 0.5);
-}
-
-TEST(TrackingAccuracy, StaticCameraDoesNotJitter) {
-  const TrajectoryReport& r = runs().at("static").report;
-  EXPECT_EQ(r.verifiedFrames, r.frames);
-  EXPECT_LT(r.jitterMm, 0.5);
-}
-
-TEST(TrackingAccuracy, HardViewsStayWithinTwoCentimetres) {
+  // The orbit within half a centimetre (the stretch goal) and half a degree.
+  const TrajectoryReport& orbit = runs.at("orbit").report;
+  EXPECT_EQ(orbit.verifiedFrames, orbit.frames);
+  EXPECT_LT(orbit.ateRmsM, 0.005);
+  EXPECT_LT(orbit.rotationMeanDeg, 0.5);
+  // A still camera does not jitter.
+  const TrajectoryReport& still = runs.at("static").report;
+  EXPECT_EQ(still.verifiedFrames, still.frames);
+  EXPECT_LT(still.jitterMm, 0.5);
   // Noise and JPEG 30, +-1 EV gain, an occluder over 20..60 %, 50..80 % of the target out of
   // view, grazing views to 70 degrees, fast turns: at least 95 % of the visible frames.
   for (const char* name : {"noise_jpeg", "gain", "occluder", "partial", "grazing", "fast_turn", "lost_regained"}) {
-    const TrajectoryReport& r = runs().at(name).report;
+    const TrajectoryReport& r = runs.at(name).report;
     EXPECT_GE(shareWithin2cm(r), 0.95) << name << ": " << formatReport(r);
   }
-}
-
-TEST(TrackingAccuracy, RelocalizesWithinTenFramesOfTheTargetReturning) {
-  const TrajectoryReport& r = runs().at("lost_regained").report;
-  ASSERT_GE(r.framesToRelocalize, 0) << formatReport(r);
-  EXPECT_LE(r.framesToRelocalize, 10);
-}
-
-// Motion blur of 9..25 px is where the tracker falls short of its goal (docs/tracking.md):
-// poses go LIMITED, never TRACKING off by more than 5 cm. Asserted as it is, so that a change
-// that makes it worse (or better) shows.
-TEST(TrackingAccuracy, MotionBlurDegradesToLimitedNotToFalsePoses) {
-  const TrajectoryReport& r = runs().at("blur").report;
-  EXPECT_EQ(r.falsePoses, 0);
-  EXPECT_GE(shareWithin2cm(r), 0.2) << formatReport(r);
+  // Relocalized within ten frames of the target coming back.
+  const TrajectoryReport& lost = runs.at("lost_regained").report;
+  EXPECT_GE(lost.framesToRelocalize, 0) << formatReport(lost);
+  EXPECT_LE(lost.framesToRelocalize, 10);
+  // Motion blur of 9..25 px is where the tracker falls short of its goal (docs/tracking.md):
+  // poses go LIMITED, never TRACKING off by more than 5 cm (checked above). Asserted as it is,
+  // so that a change that makes it worse shows.
+  EXPECT_GE(shareWithin2cm(runs.at("blur").report), 0.2) << formatReport(runs.at("blur").report);
 }
 
 }  // namespace
