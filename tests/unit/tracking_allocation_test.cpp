@@ -267,14 +267,19 @@ TEST(TrackingAllocation, MarkerlessPerFrameCountIsBoundedAndFlat) {
               perFrame(second.ownNews, 20), most.ownNews, perFrame(first.mallocs, 20), perFrame(second.mallocs, 20),
               most.mallocs, MN_COUNT_MALLOC ? "" : " (not counted in this build)");
   EXPECT_GT(first.news, 0);  // OpenCV's KLT pyramids at least: the counter is live
-  EXPECT_LE(most.ownNews, kMarkerlessMaxOwnNewPerFrame);
   EXPECT_LE(most.news, kMarkerlessMaxNewPerFrame);
-  // Our code allocates nothing once warm. OpenCV's share follows the warped region's size
-  // (the target's size in the image), so it is bounded, not flat.
-  EXPECT_EQ(first.ownNews + second.ownNews, 0);
+  // OpenCV's share follows the warped region's size (the target's size in the image), so it
+  // is bounded, not flat.
 #if MN_COUNT_MALLOC
+  // Our code allocates nothing once warm. Only asserted where "our code" means ours: the
+  // sanitizer build (-Og) instantiates OpenCV's inline helpers in our text, and 8 calls a
+  // frame of theirs are attributed to us there.
+  EXPECT_LE(most.ownNews, kMarkerlessMaxOwnNewPerFrame);
+  EXPECT_EQ(first.ownNews + second.ownNews, 0);
   EXPECT_GT(first.mallocs, 0);
   EXPECT_LE(most.mallocs, kMarkerlessMaxMallocPerFrame);
+#else
+  EXPECT_LE(most.ownNews, 16);
 #endif
 }
 
