@@ -206,7 +206,6 @@ int track(int argc, char** argv) {
   if (!tracker) return 2;
   if (!a.saveMap.empty() && !markerless) return fail("track", "--save-map is for the markerless tracker");
 
-  std::error_code ec;
   const BackgroundKind kind = isVideo(a.images) ? BackgroundKind::Video : BackgroundKind::Sequence;
   Diagnostics sd;
   auto source = openBackground(kind, a.images, a.fps, sd, Playback::Hold);
