@@ -9,55 +9,18 @@
 // writes it back byte for byte, and readPlanarMap reads that file to the same map. With
 // MARIONETTE_FUZZ_WRITE_SEED=folder the program writes two small valid maps there with
 // writePlanarMap and exits (scripts/fuzz seeds the corpus so). Built by scripts/fuzz.
-#include <zlib.h>
-
 #include <cmath>
 #include <cstring>
 #include <iterator>
 
 #include "fuzz_support.hpp"
 #include "marionette_ar/tracking/planar_map.hpp"
+#include "tracking_seeds.hpp"
 
 using namespace marionette;
 using fuzz::require;
 
 namespace {
-
-ar::PlanarKeyframe keyframe(int width, int height, int points) {
-  ar::PlanarKeyframe k;
-  k.width = width;
-  k.height = height;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) k.grey.push_back(static_cast<std::uint8_t>((x * 16 + y * 5) & 0xff));
-  k.planeToImage = {80, 0, 8, 0, 80, 8, 0, 0, 1};  // a 0.2 m target over 16 pixels, centred
-  for (int i = 0; i < points; ++i) {
-    k.corners.push_back({2.5f + 4.0f * static_cast<float>(i), 3.0f + 3.5f * static_cast<float>(i)});
-    ar::PlanarFeature f;
-    f.x = 4.0f + 3.0f * static_cast<float>(i);
-    f.y = 5.0f + 2.0f * static_cast<float>(i);
-    f.size = 31;
-    f.angle = 45.0f * static_cast<float>(i);
-    f.response = 0.001f;
-    f.octave = i;
-    for (std::size_t b = 0; b < f.descriptor.size(); ++b) f.descriptor[b] = static_cast<std::uint8_t>(b * 7 + i);
-    k.features.push_back(f);
-  }
-  return k;
-}
-
-ar::PlanarMap seedMap(int keyframes) {
-  ar::PlanarMap m;
-  m.camera.width = 64;
-  m.camera.height = 48;
-  m.camera.fx = m.camera.fy = 50;
-  m.camera.cx = 31.5;
-  m.camera.cy = 23.5;
-  m.camera.distortion = {-0.1, 0.01, 0, 0, 0};
-  m.targetWidth = m.targetHeight = 0.2;
-  m.keyframes.push_back(keyframe(16, 16, 2));
-  if (keyframes > 1) m.keyframes.push_back(keyframe(20, 16, 0));
-  return m;
-}
 
 std::vector<std::uint8_t> readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -141,7 +104,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
       const std::string path = std::string(dir) + "/keyframes" + std::to_string(keyframes) + ".map";
       std::string error;
       Diagnostics d;
-      if (!ar::writePlanarMap(path, seedMap(keyframes), error) || !ar::readPlanarMap(path, d)) {
+      if (!ar::writePlanarMap(path, fuzz::seedPlanarMap(keyframes), error) || !ar::readPlanarMap(path, d)) {
         std::fprintf(stderr, "cannot write the seed %s: %s%s\n", path.c_str(), error.c_str(), d.format().c_str());
         ok = false;
       }
@@ -155,8 +118,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   check(data, size, "in.map");
   if (size >= 4) {  // the same bytes with a checksum that matches them
     std::vector<std::uint8_t> patched(data, data + size);
-    const std::uint32_t sum = static_cast<std::uint32_t>(crc32(0L, patched.data(), static_cast<uInt>(size - 4)));
-    std::memcpy(patched.data() + size - 4, &sum, 4);  // little-endian, as the format (x86-64, AArch64)
+    fuzz::patchMapChecksum(patched.data(), size);
     check(patched.data(), size, "in-crc.map");
   }
   return 0;

@@ -24,6 +24,7 @@
 #ifdef MARIONETTE_HAS_TRACKING
 #include "marionette_ar/tracking/camera_model.hpp"
 #include "marionette_ar/tracking/planar_map.hpp"
+#include "tracking_seeds.hpp"  // tests/fuzz: the fuzz targets' seeds
 #endif
 
 using namespace marionette;
@@ -215,46 +216,6 @@ TEST(Fuzz, BmlBlocks) {
 #endif
 
 #ifdef MARIONETTE_HAS_TRACKING
-namespace {
-// CRC-32 (zlib's polynomial, reflected), written out here: the map's checksum as its header describes it.
-std::uint32_t crc32Of(const std::string& bytes, std::size_t count) {
-  std::uint32_t c = 0xFFFFFFFFu;
-  for (std::size_t i = 0; i < count; ++i) {
-    c ^= static_cast<std::uint8_t>(bytes[i]);
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
-  }
-  return ~c;
-}
-
-ar::PlanarMap smallMap() {  // 1 keyframe of 16x16, two corners and two features (as fuzz_planar_map's seed)
-  ar::PlanarMap m;
-  m.camera.width = 64;
-  m.camera.height = 48;
-  m.camera.fx = m.camera.fy = 50;
-  m.camera.cx = 31.5;
-  m.camera.cy = 23.5;
-  m.camera.distortion = {-0.1, 0.01, 0, 0, 0};
-  m.targetWidth = m.targetHeight = 0.2;
-  ar::PlanarKeyframe k;
-  k.width = k.height = 16;
-  for (int i = 0; i < 256; ++i) k.grey.push_back(static_cast<std::uint8_t>(i * 7));
-  k.planeToImage = {80, 0, 8, 0, 80, 8, 0, 0, 1};
-  k.corners = {{2.5f, 3.0f}, {6.5f, 6.5f}};
-  for (int i = 0; i < 2; ++i) {
-    ar::PlanarFeature f;
-    f.x = 4.0f + 3.0f * static_cast<float>(i);
-    f.y = 5.0f;
-    f.size = 31;
-    f.response = 0.001f;
-    f.octave = i;
-    f.descriptor.fill(static_cast<std::uint8_t>(0x5a + i));
-    k.features.push_back(f);
-  }
-  m.keyframes.push_back(k);
-  return m;
-}
-}  // namespace
-
 // Each mutation is parsed twice: as it is, and with its trailing CRC-32 made right again,
 // since the reader checks the checksum first and would refuse nearly every mutation there.
 // A map that parses writes back to the same bytes.
@@ -262,7 +223,7 @@ TEST(Fuzz, PlanarMaps) {
   const std::string dir = ::testing::TempDir() + "marionette_fuzz/";
   std::filesystem::create_directories(dir);
   std::string error;
-  ASSERT_TRUE(ar::writePlanarMap(dir + "seed.map", smallMap(), error)) << error;
+  ASSERT_TRUE(ar::writePlanarMap(dir + "seed.map", fuzz::seedPlanarMap(1), error)) << error;
   const std::string original = readFile(dir + "seed.map");
   std::mt19937 rng(10);
   int rejected = 0, accepted = 0;
@@ -272,8 +233,7 @@ TEST(Fuzz, PlanarMaps) {
     for (int patched = 0; patched < 2; ++patched) {
       if (patched) {
         if (bytes.size() < 4) break;
-        const std::uint32_t sum = crc32Of(bytes, bytes.size() - 4);
-        std::memcpy(bytes.data() + bytes.size() - 4, &sum, 4);
+        fuzz::patchMapChecksum(reinterpret_cast<std::uint8_t*>(bytes.data()), bytes.size());
       }
       Diagnostics d;
       const auto map = ar::parsePlanarMap(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), "fuzz.map", d);
@@ -296,37 +256,8 @@ TEST(Fuzz, PlanarMaps) {
 }
 
 TEST(Fuzz, CameraModels) {
-  const std::string yaml = R"(%YAML:1.0
----
-image_width: 640
-image_height: 480
-camera_matrix: !!opencv-matrix
-   rows: 3
-   cols: 3
-   dt: d
-   data: [ 600., 0., 319.5, 0., 610., 239.5, 0., 0., 1. ]
-distortion_coefficients: !!opencv-matrix
-   rows: 5
-   cols: 1
-   dt: d
-   data: [ -0.2, 0.05, 0.001, -0.002, 0.01 ]
-)";
-  const std::string xml = R"(<?xml version="1.0"?>
-<opencv_storage>
-<image_width>320</image_width>
-<image_height>240</image_height>
-<camera_matrix type_id="opencv-matrix">
-  <rows>3</rows>
-  <cols>3</cols>
-  <dt>f</dt>
-  <data>300. 0. 159.5 0. 300. 119.5 0. 0. 1.</data></camera_matrix>
-<distortion_coefficients type_id="opencv-matrix">
-  <rows>1</rows>
-  <cols>4</cols>
-  <dt>f</dt>
-  <data>-0.1 0.02 0. 0.</data></distortion_coefficients>
-</opencv_storage>
-)";
+  // The fuzz targets' YAML and XML seeds (the JSON one is the third).
+  const std::string yaml = fuzz::kSeedCalibrations[0][1], xml = fuzz::kSeedCalibrations[1][1];
   const std::string path = ::testing::TempDir() + "marionette_fuzz_camera.yml";
   std::mt19937 rng(11);
   int rejected = 0, accepted = 0;
