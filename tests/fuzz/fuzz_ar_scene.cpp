@@ -31,6 +31,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   require(scene.width > 0 && scene.height > 0 && std::isfinite(scene.fps) && scene.fps > 0.0, "render size or fps");
   require(std::isfinite(scene.background.fps) && scene.background.fps > 0.0, "background fps");
   require(finite3(scene.background.color), "background colour");
+  const ar::ArBackground& b = scene.background;
+  require(std::isfinite(b.timeoutSeconds) && b.timeoutSeconds > 0 && b.deviceIndex >= -1 && b.captureWidth >= 0 &&
+              b.captureHeight >= 0, "camera background settings");
+  require(std::isfinite(c.replay.holdSeconds) && c.replay.holdSeconds >= 0, "replay hold time");
+  require(c.replay.poses.empty() || c.tracker.kind == ar::ArTracker::Kind::None, "a tracker and poses at once");
   const ar::ArEnvironment& e = scene.environment;
   require(std::isfinite(e.rotationDegrees) && std::isfinite(e.exposure), "environment numbers");
   require(e.prt.bands >= 2 && e.prt.bands <= 8 && e.prt.rays >= 1 && e.prt.rays <= 65536, "PRT settings");

@@ -1,6 +1,6 @@
 // Deterministic mutation fuzzing of everything that parses input: the
 // importers (GLB, glTF, FBX, BVH, X), scene files, BML blocks and the AR
-// tracking's planar maps and camera calibrations. Each seed file
+// tracking's planar maps, camera calibrations and recorded pose CSVs. Each seed file
 // is corrupted many times (bit flips, byte runs, truncation, splices, number
 // edits) with a fixed seed, so a failure reproduces. The assertion is the
 // contract: no crash, no hang, and either an error or finite data.
@@ -16,6 +16,8 @@
 #include <random>
 
 #include "marionette/io/import.hpp"
+#include "marionette_ar/pose_track.hpp"
+#include "pose_track_seed.hpp"  // tests/fuzz: the fuzz target's seed
 #include "marionette/scene/scene_file.hpp"
 #include "test_data.hpp"
 #ifdef MARIONETTE_HAS_BML
@@ -282,3 +284,40 @@ TEST(Fuzz, CameraModels) {
   EXPECT_GT(accepted, 2);
 }
 #endif
+
+// The CSV `marionette-ar track` writes, read back by a replayed camera ("camera": {"poses"}).
+TEST(Fuzz, PoseTracks) {
+  const std::string original = fuzz::kSeedPoseTrack;
+  std::mt19937 rng(12);
+  int rejected = 0, accepted = 0;
+  const int count = iterations(300);
+  for (int i = 0; i < count; ++i) {  // case 0: the seed itself, which reads
+    const std::string text = i == 0 ? original : mutate(original, rng);
+    Diagnostics d;
+    const auto track = ar::parsePoseTrack(text, "fuzz.csv", d);
+    if (!track) {
+      ASSERT_NE(i, 0) << "the seed does not read: " << d.format();
+      ++rejected;
+      ASSERT_FALSE(d.ok()) << "case " << i << ": rejected without an error";
+      ASSERT_EQ(d.format().rfind("fuzz.csv", 0), 0u) << "case " << i << ": the error lacks the file: " << d.format();
+      continue;
+    }
+    ++accepted;
+    ASSERT_FALSE(track->rows().empty());
+    for (std::size_t r = 0; r < track->rows().size(); ++r) {
+      const ar::RecordedPose& row = track->rows()[r];
+      ASSERT_TRUE(std::isfinite(row.time) && row.time >= 0) << "case " << i;
+      if (r > 0) {
+        ASSERT_GT(row.frame, track->rows()[r - 1].frame) << "case " << i;
+      }
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(row.cameraToWorld[c][k])) << "case " << i;
+      const glm::dmat3 rot(row.cameraToWorld);  // a rotation: orthonormal
+      ASSERT_NEAR(glm::determinant(rot), 1.0, 1e-9) << "case " << i;
+      ASSERT_EQ(track->atFrame(row.frame), &row) << "case " << i;
+    }
+  }
+  std::printf("pose tracks: %d mutations, %d rejected, %d accepted\n", count - 1, rejected, accepted);
+  EXPECT_GT(rejected, 0);
+  EXPECT_GT(accepted, 2) << "no mutation got past the checks";
+}

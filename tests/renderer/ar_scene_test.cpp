@@ -191,5 +191,51 @@ TEST(ArScene, BadInputIsNamed) {
   EXPECT_NE(r.out.find("nowhere.json"), std::string::npos) << r.out;
 }
 
+// A live camera background, end to end. No camera here: opencv-doc's tree.avi (68 frames)
+// opened as a stream URL (file://, FFmpeg) stands in for one, so this covers the renderer's
+// side (the source opened headless, its frames drawn, the stream's end reported once while the
+// last frame stays) but not V4L2 capture. FFmpeg decodes the file faster than a camera gives
+// frames, so which frames the 12 written ones show depends on timing: not asserted here
+// (LiveCamera.* checks the hand-over). Missing devices are named.
+TEST(ArScene, LiveCameraBackground) {
+  const std::string video = "/usr/share/doc/opencv-doc/examples/data/tree.avi";  // Debian opencv-doc
+  MARIONETTE_REQUIRE_FILE(video);
+  const fs::path dir = fs::temp_directory_path() / "marionette_ar_live_camera_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "empty.json") << R"({ "characters": [] })";
+  auto scene = [&](const std::string& name, const std::string& device) {
+    std::ofstream(dir / name) << R"({ "scene": "empty.json", "background": { "kind": "camera", "device": )" << device
+                              << R"(, "timeoutSeconds": 2 }, "render": { "width": 320, "height": 240, "fps": 30 } })";
+    return (dir / name).string();
+  };
+  const CliRun live = runAr(scene("live.json", "\"file://" + video + "\"") + " --headless --frames 12 --out " +
+                            (dir / "frames").string());
+  ASSERT_EQ(live.status, 0) << live.out;
+  for (int i : {0, 11}) {
+    const ar::Image8 image = frame(dir / "frames", i);
+    ASSERT_EQ(image.width, 320);
+    double bright = 0;
+    for (std::uint8_t v : image.pixels) bright += v;
+    EXPECT_GT(bright / double(image.pixels.size()), 20.0) << "frame " << i << ": the camera frame is not drawn";
+  }
+  const std::string ended = "file://" + video + ": error: stopped delivering frames after 68 (grab failed); the last frame stays";
+  const std::size_t at = live.out.find(ended);
+  EXPECT_NE(at, std::string::npos) << live.out;
+  EXPECT_EQ(live.out.find(ended, at + 1), std::string::npos) << "reported twice: " << live.out;
+
+  const CliRun missing = runAr(scene("missing.json", "\"/dev/video99\"") + " --headless --frames 2 --out " +
+                               (dir / "m").string());
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.out.find("/dev/video99: error: no such device"), std::string::npos) << missing.out;
+  const CliRun index = runAr(scene("index.json", "7") + " --headless --frames 2 --out " + (dir / "i").string());
+  EXPECT_EQ(index.status, 2);
+  EXPECT_NE(index.out.find("camera 7 (/dev/video7): error: no such device"), std::string::npos) << index.out;
+  const CliRun bad = runAr(scene("bad.json", "\"camera.mp4\"") + " --headless --frames 2 --out " + (dir / "b").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("'background.device': 'camera.mp4' is neither a /dev/ path nor a stream URL"),
+            std::string::npos) << bad.out;
+}
+
 }  // namespace
 }  // namespace marionette::test

@@ -163,5 +163,60 @@ TEST(TrackedScene, CharactersHideWhenTheTargetIsGone) {
   EXPECT_NE(still.out.find("camera.tracker"), std::string::npos) << still.out;
 }
 
+// A replayed trajectory ("camera": {"poses"}) over a colour background (rows by scene time):
+// LOST rows act as the tracker's LOST (held for holdSeconds, then hidden, or kept with
+// "hideWhenLost": false), and a bad CSV or a tracker beside the poses is named.
+TEST(TrackedScene, ReplayedPosesHoldHideAndNameBadRows) {
+  MARIONETTE_REQUIRE_FILE(assimpModel("X/BCN_Epileptic.X"));
+  const fs::path dir = fs::temp_directory_path() / "marionette_replayed_poses_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  {
+    std::ofstream csv(dir / "poses.csv");  // 1.2 m in front of the character, looking along -Z
+    csv << "frame,time,state,px,py,pz,qx,qy,qz,qw\n";
+    for (int k = 0; k < 12; ++k)
+      csv << k << "," << k / 30.0 << (k < 5 ? ",TRACKING,0,0.2,1.2,0,0,0,1\n" : ",LOST,,,,,,,\n");
+  }
+  std::ofstream(dir / "middleware.json") << R"({ "characters": [ { "name": "bcn",
+      "asset": "/usr/share/assimp/models/X/BCN_Epileptic.X", "position": [0, 0.2475, 0], "scale": 0.25, "play": [] } ] })";
+  auto scene = [&](const std::string& name, const std::string& camera) {
+    std::ofstream(dir / name) << R"({ "scene": "middleware.json", "camera": { "poses": "poses.csv", "camera": ")"
+                              << sourceFile("assets/cameras/synthetic_640x480.yml") << "\", " << camera
+                              << R"( }, "background": { "kind": "color", "color": [0.2, 0.3, 0.4] },
+        "render": { "width": 320, "height": 240, "fps": 30 } })";
+    return (dir / name).string() + " --headless --frames 12";
+  };
+  const std::string hide = scene("hide.json", R"("holdSeconds": 0.1)");
+  const CliRun with = runAr(hide + " --out " + (dir / "with").string());
+  ASSERT_EQ(with.status, 0) << with.out;
+  EXPECT_NE(with.out.find("replayed pose LOST at 0.167 s (frame 5)"), std::string::npos) << with.out;
+  EXPECT_NE(with.out.find("replayed poses: 5 of 12 frames with a pose"), std::string::npos) << with.out;
+  ASSERT_EQ(runAr(hide + " --hide-characters --out " + (dir / "without").string()).status, 0);
+  const CliRun keep = runAr(scene("keep.json", R"("holdSeconds": 0.1, "hideWhenLost": false)") + " --out " +
+                            (dir / "keep").string());
+  ASSERT_EQ(keep.status, 0) << keep.out;
+  auto drawn = [&](const std::string& run, int i) {
+    double u = 0, v = 0;
+    int pixels = 0;
+    return feet(frame(dir / run, i), frame(dir / "without", i), u, v, pixels) && pixels > 200;
+  };
+  EXPECT_TRUE(drawn("with", 2));    // TRACKING
+  EXPECT_TRUE(drawn("with", 6));    // LOST, within the 0.1 s hold
+  EXPECT_FALSE(drawn("with", 11));  // LOST for 0.23 s: hidden
+  EXPECT_TRUE(drawn("keep", 11));   // ... unless hideWhenLost is false
+  EXPECT_EQ(frame(dir / "with", 2).pixels, frame(dir / "with", 6).pixels) << "the held pose is the last one";
+
+  std::ofstream(dir / "poses.csv", std::ios::app) << "12,0.4,TRACKING,0,0.2,1.2,0,0,nan,1\n";
+  const CliRun bad = runAr(hide + " --out " + (dir / "bad").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find((dir / "poses.csv").string() + ":14: error: 'qz': not a finite number"), std::string::npos)
+      << bad.out;
+  const CliRun both = runAr(scene("both.json", R"("tracker": { "kind": "apriltag", "camera": "c.yml", "tagSize": 0.1 })") +
+                            " --out " + (dir / "both").string());
+  EXPECT_EQ(both.status, 2);
+  EXPECT_NE(both.out.find("'camera.poses': a camera either tracks or replays poses, not both"), std::string::npos)
+      << both.out;
+}
+
 }  // namespace
 }  // namespace marionette::test

@@ -145,7 +145,8 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
 
   if (r.object(root, "camera")) {
     const Json& c = root["camera"];
-    r.unknownKeys(c, "camera", {"position", "target", "up", "fovY", "near", "far", "tracker"});
+    r.unknownKeys(c, "camera", {"position", "target", "up", "fovY", "near", "far", "tracker", "poses", "camera",
+                                "holdSeconds", "hideWhenLost"});
     r.vec3(c, "position", "camera", out.camera.position);
     r.vec3(c, "target", "camera", out.camera.target);
     r.vec3(c, "up", "camera", out.camera.up);
@@ -189,10 +190,26 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
         }
       }
     }
+    ArPoseReplay& replay = out.camera.replay;
+    if (c.contains("poses")) {
+      replay.poses = r.resolve(r.string(c, "poses", "camera", true));
+      replay.camera = r.resolve(r.string(c, "camera", "camera", true));
+      if (c.contains("tracker")) r.error("camera.poses", "a camera either tracks or replays poses, not both");
+    } else {
+      for (const char* key : {"camera", "holdSeconds", "hideWhenLost"})
+        if (c.contains(key)) r.error(std::string("camera.") + key, "only with \"poses\" (a replayed trajectory)");
+    }
+    float hold = static_cast<float>(replay.holdSeconds);
+    r.number(c, "holdSeconds", "camera", hold, 0.0f, 3600.0f);
+    replay.holdSeconds = hold;
+    if (c.contains("hideWhenLost")) {
+      if (!c["hideWhenLost"].is_boolean()) r.error("camera.hideWhenLost", "expected true or false");
+      else replay.hideWhenLost = c["hideWhenLost"].get<bool>();
+    }
   }
   if (r.object(root, "background")) {
     const Json& b = root["background"];
-    r.unknownKeys(b, "background", {"kind", "file", "fps", "color"});
+    r.unknownKeys(b, "background", {"kind", "file", "fps", "color", "device", "width", "height", "timeoutSeconds"});
     const std::string kind = r.string(b, "kind", "background", true);
     using K = ArBackground::Kind;
     if (kind == "environment") out.background.kind = K::Environment;
@@ -200,7 +217,9 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
     else if (kind == "sequence") out.background.kind = K::Sequence;
     else if (kind == "video") out.background.kind = K::Video;
     else if (kind == "color") out.background.kind = K::Color;
-    else if (!kind.empty()) r.error("background.kind", "'" + kind + "' is none of environment, image, sequence, video, color");
+    else if (kind == "camera") out.background.kind = K::Camera;
+    else if (!kind.empty())
+      r.error("background.kind", "'" + kind + "' is none of environment, image, sequence, video, color, camera");
     const bool needsFile = out.background.kind == K::Image || out.background.kind == K::Sequence ||
                            out.background.kind == K::Video;
     out.background.file = r.resolve(r.string(b, "file", "background", needsFile));
@@ -208,6 +227,30 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
     r.number(b, "fps", "background", fps, 0.1f, 1000.0f);
     out.background.fps = fps;
     r.vec3(b, "color", "background", out.background.color);
+    if (out.background.kind == K::Camera) {
+      ArBackground& bg = out.background;
+      if (!b.contains("device")) {
+        r.error("background.device", "missing: a V4L2 index (0), a device (\"/dev/video0\") or a stream URL");
+      } else if (b["device"].is_number_integer()) {
+        r.integer(b, "device", "background", bg.deviceIndex, 0, 255);
+      } else if (b["device"].is_string()) {
+        bg.device = b["device"].get<std::string>();
+        if (bg.device.rfind("/dev/", 0) != 0 && bg.device.find("://") == std::string::npos)
+          r.error("background.device", "'" + bg.device + "' is neither a /dev/ path nor a stream URL (scheme://...)");
+      } else {
+        r.error("background.device", "expected an index, a /dev/ path or a stream URL");
+      }
+      r.integer(b, "width", "background", bg.captureWidth, 16, 8192);
+      r.integer(b, "height", "background", bg.captureHeight, 16, 8192);
+      if ((bg.captureWidth > 0) != (bg.captureHeight > 0))
+        r.error("background.width", "give both width and height, or neither");
+      float timeout = static_cast<float>(bg.timeoutSeconds);
+      r.number(b, "timeoutSeconds", "background", timeout, 0.01f, 3600.0f);
+      bg.timeoutSeconds = timeout;
+    } else {
+      for (const char* key : {"device", "width", "height", "timeoutSeconds"})
+        if (b.contains(key)) r.error(std::string("background.") + key, "only for a \"camera\" background");
+    }
   }
   if (r.object(root, "environment")) {
     const Json& e = root["environment"];
@@ -250,8 +293,10 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
       root.contains("background"))
     r.error("background.kind", "'environment' needs an \"environment\" map");
   if (out.camera.tracker.kind != ArTracker::Kind::None && out.background.kind != ArBackground::Kind::Sequence &&
-      out.background.kind != ArBackground::Kind::Video)
-    r.error("camera.tracker", "a tracker needs camera frames: a \"sequence\" or \"video\" background");
+      out.background.kind != ArBackground::Kind::Video && out.background.kind != ArBackground::Kind::Camera)
+    r.error("camera.tracker", "a tracker needs camera frames: a \"sequence\", \"video\" or \"camera\" background");
+  if (!out.camera.replay.poses.empty() && out.background.kind == ArBackground::Kind::Camera)
+    r.error("camera.poses", "replays a recording: a live \"camera\" background has no time axis to follow");
   if (r.object(root, "render")) {
     const Json& rd = root["render"];
     r.unknownKeys(rd, "render", {"width", "height", "fps"});

@@ -11,8 +11,12 @@
 //                            "tagSize": 0.1,                  // apriltag: the black square's side, metres
 //                            "holdSeconds": 1.0,              // when LOST keep the last pose this long,
 //                            "hideWhenLost": true } },        //   then hide the characters (or keep them)
+//   // or a replayed trajectory instead of a tracker: "camera": { "poses": "poses.csv",  // marionette-ar track's CSV
+//   //   "camera": "camera.yml", "holdSeconds": 1.0, "hideWhenLost": true, "near": ..., "far": ... }
 //   "background": { "kind": "environment" },    // or "image" / "sequence" / "video" with "file"
-//                                               //   (and "fps" for a sequence), or "color" with "color": [r, g, b]
+//                                               //   (and "fps" for a sequence), or "color" with "color": [r, g, b],
+//                                               //   or "camera" with "device": 0 | "/dev/video0" | "rtsp://..."
+//                                               //   (optional "width", "height", "timeoutSeconds": 5)
 //   "environment": { "file": "studio.exr", "rotation": 0, "exposure": 1.0,  // optional: HDR light probe
 //                    "probe": "auto",                         // or "latlong" / "mirror-ball"
 //                    "prt": { "mode": "shadowed", "bands": 5, "rays": 1024,   // or "unshadowed" / "off"
@@ -50,6 +54,15 @@ struct ArTracker {
   bool hideWhenLost = true;
 };
 
+// "camera": {"poses": ...}: the view from a recorded trajectory (marionette_ar/pose_track.hpp),
+// the projection from the calibration, LOST rows held and hidden like a tracker's LOST.
+struct ArPoseReplay {
+  std::string poses;   // the CSV, resolved; empty: no replay
+  std::string camera;  // calibration YAML, resolved
+  double holdSeconds = 1.0;
+  bool hideWhenLost = true;
+};
+
 struct ArCamera {
   glm::vec3 position{0.0f, 1.5f, 4.0f};
   glm::vec3 target{0.0f, 1.0f, 0.0f};
@@ -57,13 +70,20 @@ struct ArCamera {
   float fovYDegrees = 45.0f;
   float nearPlane = 0.05f, farPlane = 100.0f;
   ArTracker tracker;
+  ArPoseReplay replay;
 };
 
 struct ArBackground {
-  enum class Kind { Environment, Image, Sequence, Video, Color } kind = Kind::Environment;
+  enum class Kind { Environment, Image, Sequence, Video, Color, Camera } kind = Kind::Environment;
   std::string file;
   double fps = 30.0;
   glm::vec3 color{0.2f};
+  // Camera: a V4L2 index (>= 0), else `device` (a /dev/ path or a stream URL), read live
+  // (marionette_ar/live_camera.hpp); a capture size to ask for (0: the device's), the timeout.
+  int deviceIndex = -1;
+  std::string device;
+  int captureWidth = 0, captureHeight = 0;
+  double timeoutSeconds = 5.0;
 };
 
 enum class PrtMode { Shadowed, Unshadowed, Off };

@@ -8,7 +8,9 @@
 
 #include "marionette_ar/background_source.hpp"
 #include "marionette_ar/camera_pose.hpp"
+#include "marionette_ar/live_camera.hpp"
 #if MARIONETTE_AR_HAS_TRACKING
+#include "replayed_camera.hpp"
 #include "tracked_camera.hpp"
 #endif
 #include "marionette/prt/environment_map.hpp"
@@ -22,6 +24,9 @@ struct FrameInputs::Sources {
 #if MARIONETTE_AR_HAS_TRACKING
   std::unique_ptr<TrackedCamera> tracked;
   TrackingState previousState = TrackingState::Lost;
+  std::unique_ptr<ReplayedCamera> replayed;
+  bool replayByFrame = false;  // a sequence or video: the row of the frame shown
+  RecordedState previousRecorded = RecordedState::Lost;
   bool stateChanged = false;
 #endif
   std::optional<StaticCameraPose> camera;
@@ -52,7 +57,7 @@ bool report(const Diagnostics& d, std::vector<std::string>& warnings, std::strin
 
 }  // namespace
 
-bool FrameInputs::load(const ArScene& scene, std::string& error) {
+bool FrameInputs::load(const ArScene& scene, std::string& error, bool offline) {
   kind_ = scene.background.kind;
   Diagnostics camera;
   sources_->camera = StaticCameraPose::create(scene.camera.position, scene.camera.target, scene.camera.up,
@@ -99,6 +104,21 @@ bool FrameInputs::load(const ArScene& scene, std::string& error) {
       error = scene.background.file + ": cannot open the background";
       return false;
     }
+  } else if (kind_ == ArBackground::Kind::Camera) {
+    LiveCameraSettings live;
+    live.index = scene.background.deviceIndex;
+    live.device = scene.background.device;
+    live.width = scene.background.captureWidth;
+    live.height = scene.background.captureHeight;
+    live.timeoutSeconds = scene.background.timeoutSeconds;
+    live.waitForNewFrame = offline;
+    Diagnostics opened;
+    sources_->background = openLiveCamera(live, opened);
+    if (!report(opened, warnings_, error)) return false;
+    if (!sources_->background) {
+      error = liveCameraName(live) + ": cannot open the camera";
+      return false;
+    }
   }
   if (scene.camera.tracker.kind != ArTracker::Kind::None) {
 #if MARIONETTE_AR_HAS_TRACKING
@@ -111,6 +131,19 @@ bool FrameInputs::load(const ArScene& scene, std::string& error) {
     if (!sources_->tracked) return false;
 #else
     error = scene.path + ": 'camera.tracker' needs a build with MARIONETTE_WITH_TRACKING";
+    return false;
+#endif
+  }
+  if (!scene.camera.replay.poses.empty()) {
+#if MARIONETTE_AR_HAS_TRACKING
+    const bool frames = kind_ == ArBackground::Kind::Sequence || kind_ == ArBackground::Kind::Video;
+    const bool sized = frames || kind_ == ArBackground::Kind::Image;
+    sources_->replayed = ReplayedCamera::create(scene.camera.replay, sized ? sources_->background->width() : 0,
+                                                sized ? sources_->background->height() : 0, error);
+    if (!sources_->replayed) return false;
+    sources_->replayByFrame = frames;
+#else
+    error = scene.path + ": 'camera.poses' needs a build with MARIONETTE_WITH_TRACKING (the calibration reader)";
     return false;
 #endif
   }
@@ -136,17 +169,32 @@ const Image8* FrameInputs::backgroundFrame(double time, std::string& error) {
       s.stateChanged = s.tracked->state() != s.previousState;
       s.previousState = s.tracked->state();
     }
+    if (s.replayed && s.replayByFrame) {
+      s.replayed->update(f.index, time);
+      s.stateChanged = s.replayed->state() != s.previousRecorded;
+      s.previousRecorded = s.replayed->state();
+    }
 #endif
   }
   return &s.frame;
 }
 
-CameraView FrameInputs::camera(double time, int width, int height) const {
+CameraView FrameInputs::camera(double time, int width, int height) {
   CameraView v;
 #if MARIONETTE_AR_HAS_TRACKING
   if (const TrackedCamera* t = sources_->tracked.get()) {
     if (t->hasPose(time)) v.view = t->view();
     v.projection = t->projection(width, height, nearPlane_, farPlane_);
+    return v;
+  }
+  if (ReplayedCamera* r = sources_->replayed.get()) {
+    if (!sources_->replayByFrame) {  // no camera frames: the row of the scene time
+      r->update(-1, time);
+      sources_->stateChanged = r->state() != sources_->previousRecorded;
+      sources_->previousRecorded = r->state();
+    }
+    if (r->hasPose(time)) v.view = r->view();
+    v.projection = r->projection(width, height, nearPlane_, farPlane_);
     return v;
   }
 #endif
@@ -160,6 +208,7 @@ CameraView FrameInputs::camera(double time, int width, int height) const {
 bool FrameInputs::charactersVisible(double time) const noexcept {
 #if MARIONETTE_AR_HAS_TRACKING
   if (const TrackedCamera* t = sources_->tracked.get()) return t->charactersVisible(time);
+  if (const ReplayedCamera* r = sources_->replayed.get()) return r->charactersVisible(time);
 #endif
   (void)time;
   return true;
@@ -172,6 +221,14 @@ bool FrameInputs::trackingState(TrackingStateReport& out) const noexcept {
     out.changed = sources_->stateChanged;
     out.frames = t->framesSeen();
     out.posed = t->framesTracked();
+    return true;
+  }
+  if (const ReplayedCamera* r = sources_->replayed.get()) {
+    out.state = recordedStateName(r->state());
+    out.changed = sources_->stateChanged;
+    out.frames = r->framesSeen();
+    out.posed = r->framesPosed();
+    out.replayed = true;
     return true;
   }
 #endif

@@ -19,6 +19,7 @@ struct TrackingStateReport {
   const char* state = "LOST";  // TRACKING, LIMITED or LOST
   bool changed = false;        // with the last frame
   long frames = 0, posed = 0;  // frames fed, frames with a pose
+  bool replayed = false;       // a recorded trajectory (no badge), not a live tracker
 };
 
 struct CameraView {
@@ -29,8 +30,9 @@ class FrameInputs {
  public:
   FrameInputs();
   ~FrameInputs();
-  // Loads the environment map and opens the background; errors name the file.
-  bool load(const ArScene& scene, std::string& error);
+  // Loads the environment map and opens the background; errors name the file. `offline`
+  // (headless): a live camera background waits for a new frame at each rendered frame.
+  bool load(const ArScene& scene, std::string& error, bool offline = false);
   [[nodiscard]] const std::vector<std::string>& warnings() const noexcept { return warnings_; }
 
   [[nodiscard]] const std::array<glm::vec3, 9>& irradianceSH() const noexcept { return irradiance_; }
@@ -49,13 +51,15 @@ class FrameInputs {
   // The camera frame for a scene time; the same pointer while the frame does not
   // change; nullptr with `error` set when the source fails.
   [[nodiscard]] const Image8* backgroundFrame(double time, std::string& error);
-  // The camera for a viewport of width x height pixels: the scene file's static pose, or
-  // the tracker's (fed by backgroundFrame(), so call that first in a frame).
-  [[nodiscard]] CameraView camera(double time, int width, int height) const;
+  // The camera for a viewport of width x height pixels: the scene file's static pose, the
+  // tracker's (fed by backgroundFrame(), so call that first in a frame), or the replayed
+  // trajectory's (by the background frame shown, or by `time` without camera frames).
+  [[nodiscard]] CameraView camera(double time, int width, int height);
   // False while a tracked camera has no pose to draw the characters with (LOST past
   // "holdSeconds", unless "hideWhenLost" is false).
   [[nodiscard]] bool charactersVisible(double time) const noexcept;
-  // The tracker's state, and whether it changed with the last frame; false without a tracker.
+  // The tracker's (or replayed trajectory's) state, and whether it changed with the last
+  // frame; false with neither.
   [[nodiscard]] bool trackingState(TrackingStateReport& out) const noexcept;
   // The tracker's median time per frame so far, ms (0 without one).
   [[nodiscard]] double trackingMedianMs() const;

@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
   // Inputs that need no GL: the environment's lighting, the background source.
   FrameInputs inputs;
   std::string error;
-  if (!inputs.load(ar, error)) {
+  if (!inputs.load(ar, error, args.headless)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 2;
   }
@@ -329,11 +329,12 @@ int main(int argc, char** argv) {
         return 2;
       }
     }
+    const CameraView view = inputs.camera(scene.time(), ar.width, ar.height);
     TrackingStateReport tracking;
     const bool tracked = inputs.trackingState(tracking);
     if (tracked && (tracking.changed || frame == 0))
-      std::printf("marionette-ar: tracking %s at %.3f s (frame %ld)\n", tracking.state, scene.time(), frame);
-    const CameraView view = inputs.camera(scene.time(), ar.width, ar.height);
+      std::printf("marionette-ar: %s %s at %.3f s (frame %ld)\n", tracking.replayed ? "replayed pose" : "tracking",
+                  tracking.state, scene.time(), frame);
     target.bind();
     glClearColor(0, 0, 0, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -369,7 +370,7 @@ int main(int argc, char** argv) {
                       prtBuffers[i].get());
       }
     }
-    if (tracked) {  // the tracking state in the top-left corner: green, amber, red
+    if (tracked && !tracking.replayed) {  // the tracking state in the top-left corner: green, amber, red
       const glm::vec3 badge = tracking.state[0] == 'T' ? glm::vec3(0.1f, 0.8f, 0.2f)
                               : tracking.state[1] == 'I' ? glm::vec3(0.95f, 0.7f, 0.1f)
                                                          : glm::vec3(0.9f, 0.1f, 0.1f);
@@ -408,7 +409,9 @@ int main(int argc, char** argv) {
     std::printf("marionette-ar: prt per character per frame: relight %.3f ms, upload %.3f ms (%ld updates)\n",
                 prtRelightMs / static_cast<double>(prtUpdates), prtUploadMs / static_cast<double>(prtUpdates), prtUpdates);
   TrackingStateReport tracking;
-  if (inputs.trackingState(tracking))
+  if (inputs.trackingState(tracking) && tracking.replayed)
+    std::printf("marionette-ar: replayed poses: %ld of %ld frames with a pose\n", tracking.posed, tracking.frames);
+  else if (inputs.trackingState(tracking))
     std::printf("marionette-ar: tracking: %ld of %ld camera frames with a pose, tracker %.2f ms per frame median\n",
                 tracking.posed, tracking.frames, inputs.trackingMedianMs());
   if (args.headless) std::printf("marionette-ar: frames in %s\n", args.outDir.c_str());

@@ -9,6 +9,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "ar_scene_file.hpp"
+#include "calibrated_view.hpp"
 #include "marionette_ar/tracking/tracker.hpp"
 
 namespace marionette::ar {
@@ -25,24 +26,23 @@ class TrackedCamera {
 
   [[nodiscard]] TrackingState state() const noexcept { return last_.state; }
   // A pose to draw with: tracked now, or held after a loss for at most holdSeconds.
-  [[nodiscard]] bool hasPose(double seconds) const noexcept;
-  [[nodiscard]] bool charactersVisible(double seconds) const noexcept;
-  [[nodiscard]] glm::mat4 view() const noexcept;
-  // OpenGL projection of the calibrated camera for a viewport the frame covers (scaled to
-  // fill it, the longer side cropped, as BackgroundRenderer::drawImage draws it).
-  [[nodiscard]] glm::mat4 projection(int viewportWidth, int viewportHeight, float nearZ, float farZ) const noexcept;
+  [[nodiscard]] bool hasPose(double seconds) const noexcept { return hold_.hasPose(seconds); }
+  [[nodiscard]] bool charactersVisible(double seconds) const noexcept { return hold_.charactersVisible(seconds); }
+  [[nodiscard]] glm::mat4 view() const noexcept { return hold_.view(); }
+  // OpenGL projection of the calibrated camera for a viewport the frame covers (viewportProjection).
+  [[nodiscard]] glm::mat4 projection(int viewportWidth, int viewportHeight, float nearZ, float farZ) const noexcept {
+    return viewportProjection(tracker_->camera(), viewportWidth, viewportHeight, nearZ, farZ);
+  }
   // The tracker's frame time, median so far (ms; for the renderer's summary line).
   [[nodiscard]] double medianMilliseconds() const;
   [[nodiscard]] long framesTracked() const noexcept { return tracked_; }
   [[nodiscard]] long framesSeen() const noexcept { return frames_; }
 
  private:
-  TrackedCamera() = default;
-  ArTracker settings_;
+  explicit TrackedCamera(const ArTracker& settings) : hold_(settings.holdSeconds, settings.hideWhenLost) {}
   std::unique_ptr<Tracker> tracker_;
-  TrackedPose last_, held_;
-  bool everPosed_ = false;
-  double lastPoseTime_ = -1e300;
+  TrackedPose last_;
+  PoseHold hold_;
   long frames_ = 0, tracked_ = 0;
   std::vector<double> ms_;
 };

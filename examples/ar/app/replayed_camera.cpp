@@ -1,0 +1,48 @@
+#include "replayed_camera.hpp"
+
+namespace marionette::ar {
+
+std::unique_ptr<ReplayedCamera> ReplayedCamera::create(const ArPoseReplay& settings, int frameWidth, int frameHeight,
+                                                       std::string& error) {
+  Diagnostics d;
+  auto track = readPoseTrack(settings.poses, d);
+  if (!track) {
+    error = settings.poses + ": cannot read the poses";
+    for (const Diagnostic& item : d.items)
+      if (item.severity == Severity::Error) {
+        error = item.format();
+        break;
+      }
+    return nullptr;
+  }
+  std::optional<CameraModel> camera;
+  if (frameWidth > 0 && frameHeight > 0) {
+    camera = calibrationForFrames(settings.camera, frameWidth, frameHeight, error);
+  } else {  // no camera frames: the calibration's own image is what covers the viewport
+    Diagnostics cd;
+    camera = readCameraModel(settings.camera, cd);
+    if (!camera) error = cd.items.empty() ? settings.camera + ": cannot read the calibration" : cd.items[0].format();
+  }
+  if (!camera) return nullptr;
+  return std::unique_ptr<ReplayedCamera>(new ReplayedCamera(std::move(*track), *camera, settings));
+}
+
+void ReplayedCamera::update(std::int64_t frame, double seconds) noexcept {
+  const RecordedPose* row = frame >= 0 ? track_.atFrame(frame) : &track_.atTime(seconds);
+  state_ = row ? row->state : RecordedState::Lost;
+  ++frames_;
+  const bool posed = state_ != RecordedState::Lost;
+  posed_ += posed ? 1 : 0;
+  hold_.update(posed, posed ? row->cameraToWorld : glm::dmat4(1.0), seconds);
+}
+
+const char* recordedStateName(RecordedState state) noexcept {
+  switch (state) {
+    case RecordedState::Tracking: return "TRACKING";
+    case RecordedState::Limited: return "LIMITED";
+    case RecordedState::Lost: break;
+  }
+  return "LOST";
+}
+
+}  // namespace marionette::ar
