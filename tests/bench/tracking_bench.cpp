@@ -14,8 +14,22 @@
 //   Tracking/AprilTagFrame         AprilTagTracker::update on ViSP's tag36_11_640x480.png
 //                                  (fx = fy = 700, tag 0.2 m, decimate 2). Counters: tags, inliers.
 //   Tracking/Memcpy640x480         a memcpy of one 640x480 RGB frame: the floor for a ratio.
+//   Tracking/{Warp,Klt,Ransac,Pose}{Own,OpenCv}
+//                                  the markerless tracker's per-frame primitives (src/
+//                                  perspective_warp, lucas_kanade, homography_ransac,
+//                                  planar_pose) against the OpenCV calls they replace, on the
+//                                  same data in the same run: graf1 (level 1 of the reference)
+//                                  warped into orbit frame 10 from frame 9's exact pose (the
+//                                  target's box grown by 120 px); KLT of 200 of its corners from
+//                                  that template into frame 10, window 15, 3 levels (Own builds
+//                                  both pyramids in full, KltOwnRegion the template's over the
+//                                  warped region only); RANSAC (2 px) on 200 pairs with 30 %
+//                                  outliers and 0.5 px noise; the pose from 140 inliers
+//                                  (IPPE + LM + projectPoints against ours). Time per call.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
@@ -27,8 +41,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <opencv2/calib3d.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "homography_ransac.hpp"
+#include "lucas_kanade.hpp"
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
+#include "perspective_warp.hpp"
+#include "planar_pose.hpp"
 #include "tracking/scenario_run.hpp"
 #include "tracking/visp_benchmark.hpp"
 
@@ -196,9 +217,219 @@ void memcpy640x480(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(kBytes));
 }
 
+// The primitives' data (see the header comment), made once.
+struct PrimitivesData {
+  cv::Mat source, frame, templ;  // reference level 1, frame 10 (grey), the template
+  cv::Matx33d warp;               // source pixel -> frame pixel
+  cv::Rect region;
+  std::uint8_t background = 128;
+  std::vector<cv::Point2f> from;  // 200 template points (the guesses too)
+  std::vector<cv::Point2f> plane, image;  // RANSAC pairs
+  std::vector<cv::Point2f> inlierPlane, inlierImage;
+  cv::Matx33d k{600, 0, 319.5, 0, 600, 239.5, 0, 0, 1};
+  std::string error;
+};
+
+const PrimitivesData& primitives() {
+  static const PrimitivesData d = [] {
+    PrimitivesData r;
+    const Orbit& o = orbit();
+    if (!o.error.empty()) {
+      r.error = o.error;
+      return r;
+    }
+    const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+    const auto scenarios = synthetic::standardScenarios(renderer, kOrbitFrames);
+    const auto poseOf = [&](std::size_t i) {
+      glm::dmat3 m;
+      glm::dvec3 t;
+      synthetic::worldToOpenCvCamera(scenarios[0].cameraToWorld[i], m, t);
+      const cv::Matx33d rm(m[0][0], m[1][0], m[2][0], m[0][1], m[1][1], m[2][1], m[0][2], m[1][2], m[2][2]);
+      return PlanarPose{rodriguesFromRotation(rm), cv::Vec3d(t.x, t.y, t.z)};
+    };
+    const cv::Mat reference = cv::imread(synthetic::standardTargetImage(), cv::IMREAD_GRAYSCALE);
+    cv::pyrDown(reference, r.source);
+    r.background = static_cast<std::uint8_t>(cv::mean(reference)[0]);
+    cv::cvtColor(o.frames[10], r.frame, cv::COLOR_RGB2GRAY);
+    const double mpp = synthetic::kStandardTargetWidth / reference.cols;
+    const cv::Matx33d planeToRef(1 / mpp, 0, reference.cols * 0.5 - 0.5, 0, 1 / mpp, reference.rows * 0.5 - 0.5, 0, 0, 1);
+    const cv::Matx33d levelToBase(2, 0, 0.5, 0, 2, 0.5, 0, 0, 1);
+    const cv::Matx33d w0 = planeToImage(r.k, poseOf(9)) * planeToRef.inv();
+    r.warp = w0 * levelToBase;
+    std::vector<cv::Point2f> corners;
+    cv::goodFeaturesToTrack(reference, corners, 500, 0.01, 8, cv::noArray(), 5);
+    for (const cv::Point2f& c : corners) {
+      const cv::Point2f p = applyHomography(w0, c);
+      if (p.x >= 15 && p.y >= 15 && p.x < 625 && p.y < 465 && r.from.size() < 200) r.from.push_back(p);
+    }
+    r.region = (cv::boundingRect(r.from) + cv::Size(240, 240) - cv::Point(120, 120)) & cv::Rect(0, 0, 640, 480);
+    r.templ = cv::Mat(480, 640, CV_8UC1, cv::Scalar(r.background));
+    warpPerspectiveRegion(r.source, r.warp, r.templ, r.region, r.background);
+    cv::RNG rng(1);
+    const PlanarPose truth = poseOf(10);
+    for (int i = 0; i < 200; ++i) r.plane.emplace_back(rng.uniform(-0.15f, 0.15f), rng.uniform(-0.12f, 0.12f));
+    r.image.resize(r.plane.size());
+    projectPlanePoints(r.k, truth, r.plane, r.image);
+    for (std::size_t i = 0; i < r.image.size(); ++i) {
+      const cv::Point2f noise(static_cast<float>(rng.gaussian(0.5)), static_cast<float>(rng.gaussian(0.5)));
+      if (i < 60) r.image[i] += cv::Point2f(rng.uniform(-100.f, 100.f), rng.uniform(-100.f, 100.f));
+      else r.image[i] += noise, r.inlierPlane.push_back(r.plane[i]), r.inlierImage.push_back(r.image[i]);
+    }
+    return r;
+  }();
+  return d;
+}
+
+#define MN_PRIMITIVES_DATA(d)                 \
+  cv::setNumThreads(1);                       \
+  const PrimitivesData& d = primitives();     \
+  if (!d.error.empty()) {                     \
+    state.SkipWithError(d.error.c_str());     \
+    return;                                   \
+  }
+
+void warpOwn(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  cv::Mat out(480, 640, CV_8UC1, cv::Scalar(d.background));
+  for (auto _ : state) {
+    warpPerspectiveRegion(d.source, d.warp, out, d.region, d.background);
+    benchmark::DoNotOptimize(out.data);
+  }
+  state.counters["pixels"] = d.region.area();
+}
+
+void warpOpenCv(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  cv::Mat out(480, 640, CV_8UC1, cv::Scalar(d.background));
+  const cv::Matx33d shift(1, 0, -d.region.x, 0, 1, -d.region.y, 0, 0, 1);
+  for (auto _ : state) {
+    cv::Mat target = out(d.region);
+    cv::warpPerspective(d.source, target, shift * d.warp, d.region.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                        cv::Scalar(d.background));
+    benchmark::DoNotOptimize(out.data);
+  }
+  state.counters["pixels"] = d.region.area();
+}
+
+void kltOwn(benchmark::State& state, bool regionOnly) {
+  MN_PRIMITIVES_DATA(d)
+  ImagePyramid t, f;
+  t.configure(640, 480, 3);
+  f.configure(640, 480, 3);
+  LucasKanade lk;
+  std::vector<cv::Point2f> to(d.from.size());
+  std::vector<std::uint8_t> status(d.from.size());
+  int found = 0;
+  for (auto _ : state) {
+    if (regionOnly) t.buildRegion(d.templ, d.region, d.background);
+    else t.build(d.templ);
+    f.build(d.frame);
+    std::copy(d.from.begin(), d.from.end(), to.begin());
+    found = lk.track(t, f, d.from, to, status, LucasKanadeParams{});
+    benchmark::DoNotOptimize(to.data());
+  }
+  state.counters["points"] = static_cast<double>(d.from.size());
+  state.counters["found"] = found;
+}
+
+void kltOpenCv(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  std::vector<cv::Point2f> to;
+  std::vector<unsigned char> status;
+  std::vector<float> error;
+  for (auto _ : state) {
+    to = d.from;
+    cv::calcOpticalFlowPyrLK(d.templ, d.frame, d.from, to, status, error, cv::Size(15, 15), 3,
+                             cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    benchmark::DoNotOptimize(to.data());
+  }
+  state.counters["points"] = static_cast<double>(d.from.size());
+  state.counters["found"] = static_cast<double>(std::count(status.begin(), status.end(), 1));
+}
+
+void ransacOwn(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  HomographyRansac ransac;
+  ransac.reserve(d.plane.size());
+  std::vector<std::uint8_t> mask(d.plane.size());
+  cv::Matx33d h;
+  int inliers = 0;
+  HomographyRansacParams params;
+  params.thresholdPx = 2.0;
+  for (auto _ : state) {
+    ransac.estimate(d.plane, d.image, params, h, mask, inliers);
+    benchmark::DoNotOptimize(h.val);
+  }
+  state.counters["inliers"] = inliers;
+}
+
+void ransacOpenCv(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  std::vector<unsigned char> mask;
+  cv::Mat h;
+  for (auto _ : state) {
+    h = cv::findHomography(d.plane, d.image, cv::RANSAC, 2.0, mask, 500, 0.995);
+    benchmark::DoNotOptimize(h.data);
+  }
+  state.counters["inliers"] = cv::countNonZero(mask);
+}
+
+void poseOwn(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  HomographyRansac fit;
+  fit.reserve(d.inlierPlane.size());
+  cv::Matx33d h;
+  if (!fit.fit(d.inlierPlane, d.inlierImage, {}, 10, h)) {
+    state.SkipWithError("no homography");
+    return;
+  }
+  PlanarPose pose;
+  double rms = 0;
+  for (auto _ : state) {
+    planarPoseFromHomography(d.k, h, d.inlierPlane, d.inlierImage, {}, PoseRefineParams{}, pose, rms);
+    rms = reprojectionRms(d.k, pose, d.inlierPlane, d.inlierImage, {});
+    benchmark::DoNotOptimize(rms);
+  }
+  state.counters["rms"] = rms;
+}
+
+void poseOpenCv(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  std::vector<cv::Point3f> object;
+  for (const cv::Point2f& p : d.inlierPlane) object.emplace_back(p.x, 0.f, p.y);
+  std::vector<cv::Point2f> projected;
+  double rms = 0;
+  for (auto _ : state) {
+    cv::Vec3d rvec, tvec;
+    cv::solvePnP(object, d.inlierImage, d.k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE);
+    cv::solvePnPRefineLM(object, d.inlierImage, d.k, cv::noArray(), rvec, tvec,
+                         cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 20, 1e-9));
+    cv::projectPoints(object, rvec, tvec, d.k, cv::noArray(), projected);
+    double sum = 0;
+    for (std::size_t i = 0; i < projected.size(); ++i) {
+      const cv::Point2f e = projected[i] - d.inlierImage[i];
+      sum += e.dot(e);
+    }
+    rms = std::sqrt(sum / static_cast<double>(projected.size()));
+    benchmark::DoNotOptimize(rms);
+  }
+  state.counters["rms"] = rms;
+}
+
 }  // namespace
+
 
 BENCHMARK(markerlessFrame)->Name("Tracking/MarkerlessFrame")->Unit(benchmark::kMillisecond);
 BENCHMARK(markerlessRelocalize)->Name("Tracking/MarkerlessRelocalize")->Unit(benchmark::kMillisecond);
 BENCHMARK(aprilTagFrame)->Name("Tracking/AprilTagFrame")->Unit(benchmark::kMillisecond);
 BENCHMARK(memcpy640x480)->Name("Tracking/Memcpy640x480")->Unit(benchmark::kMicrosecond);
+BENCHMARK(warpOwn)->Name("Tracking/WarpOwn")->Unit(benchmark::kMicrosecond);
+BENCHMARK(warpOpenCv)->Name("Tracking/WarpOpenCv")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kltOwn, full, false)->Name("Tracking/KltOwn")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kltOwn, region, true)->Name("Tracking/KltOwnRegion")->Unit(benchmark::kMicrosecond);
+BENCHMARK(kltOpenCv)->Name("Tracking/KltOpenCv")->Unit(benchmark::kMicrosecond);
+BENCHMARK(ransacOwn)->Name("Tracking/RansacOwn")->Unit(benchmark::kMicrosecond);
+BENCHMARK(ransacOpenCv)->Name("Tracking/RansacOpenCv")->Unit(benchmark::kMicrosecond);
+BENCHMARK(poseOwn)->Name("Tracking/PoseOwn")->Unit(benchmark::kMicrosecond);
+BENCHMARK(poseOpenCv)->Name("Tracking/PoseOpenCv")->Unit(benchmark::kMicrosecond);

@@ -34,8 +34,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <new>
+#include <span>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
@@ -43,7 +46,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
+#include "homography_ransac.hpp"
+#include "lucas_kanade.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
+#include "perspective_warp.hpp"
+#include "planar_pose.hpp"
 #include "test_data.hpp"
 #include "tracking/scenario_run.hpp"
 #include "tracking/visp_benchmark.hpp"
@@ -321,6 +328,136 @@ TEST(TrackingAllocation, AprilTagPerFrameCountIsBoundedAndConstant) {
   EXPECT_GT(counts[0].mallocs, 0);  // libapriltag's working images at least
   EXPECT_LE(counts[0].mallocs, kAprilTagMaxMallocPerFrame);
 #endif
+}
+
+// The markerless tracker's own primitives (perspective_warp, lucas_kanade, homography_ransac,
+// planar_pose), run as its per-frame path does: the reference warped into the frame from the
+// last pose (only the region KLT reads), both pyramids, KLT on 200 corners, RANSAC, the pose
+// from the homography and its rms. Every buffer is sized before the loop; after two warm-up
+// frames, not one allocation (operator new or malloc) per frame.
+struct PrimitivesPipeline {
+  static constexpr std::size_t kCorners = 200;
+  cv::Matx33d k{600, 0, 319.5, 0, 600, 239.5, 0, 0, 1};
+  std::vector<cv::Mat> levels;  // the reference and its pyrDown levels
+  cv::Matx33d planeToReference, referenceToPlane;
+  std::vector<cv::Point2f> corners, cornerPlane;
+  std::uint8_t background = 128;
+  cv::Mat templ = cv::Mat(480, 640, CV_8UC1);  // (not braces: cv::Mat{a, b, c} is a 3x1 matrix)
+  ImagePyramid templatePyramid, framePyramid;
+  LucasKanade klt;
+  HomographyRansac ransac;
+  std::vector<cv::Point2f> from, to, plane, inlierPlane, inlierImage;
+  std::vector<std::uint8_t> status, mask;
+
+  explicit PrimitivesPipeline(const cv::Mat& reference) {
+    levels.push_back(reference);
+    for (int l = 1; l < 4; ++l) {
+      cv::Mat down;
+      cv::pyrDown(levels.back(), down);
+      levels.push_back(down);
+    }
+    const double mpp = synthetic::kStandardTargetWidth / reference.cols;
+    planeToReference = cv::Matx33d(1 / mpp, 0, reference.cols * 0.5 - 0.5, 0, 1 / mpp, reference.rows * 0.5 - 0.5, 0, 0, 1);
+    referenceToPlane = planeToReference.inv();
+    cv::goodFeaturesToTrack(reference, corners, 500, 0.01, 8, cv::noArray(), 5);
+    for (const cv::Point2f& c : corners) cornerPlane.push_back(applyHomography(referenceToPlane, c));
+    background = static_cast<std::uint8_t>(cv::mean(reference)[0]);
+    templatePyramid.configure(640, 480, 3);
+    framePyramid.configure(640, 480, 3);
+    ransac.reserve(kCorners);
+    for (auto* v : {&from, &to, &plane, &inlierPlane, &inlierImage}) v->resize(kCorners);
+    status.resize(kCorners);
+    mask.resize(kCorners);
+  }
+
+  // One frame from the pose before; false when it does not hold (the loop's check, not ours).
+  bool step(const cv::Mat& frame, PlanarPose& pose, int& inliers) noexcept {
+    const cv::Matx33d w0 = planeToImage(k, pose) * referenceToPlane;
+    const double scale = homographyScaleAt(w0, cv::Point2f(400, 320));
+    int level = 0;
+    while (level + 1 < static_cast<int>(levels.size()) && scale < 0.7 / (1 << level)) ++level;
+    const double f = 1.0 / (1 << level);
+    const cv::Matx33d levelToBase(1 / f, 0, 0.5 / f - 0.5, 0, 1 / f, 0.5 / f - 0.5, 0, 0, 1);
+    std::size_t n = 0;
+    float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
+    for (std::size_t c = 0; c < corners.size() && n < kCorners; ++c) {
+      const cv::Point2f p = applyHomography(w0, corners[c]);
+      if (!(p.x >= 15 && p.y >= 15 && p.x < 625 && p.y < 465)) continue;
+      from[n] = to[n] = p;
+      plane[n++] = cornerPlane[c];
+      x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+    }
+    if (n < 30) return false;
+    const int grow = 15 * 8;
+    const cv::Rect region = cv::Rect(static_cast<int>(x0) - grow, static_cast<int>(y0) - grow,
+                                     static_cast<int>(x1 - x0) + 2 * grow, static_cast<int>(y1 - y0) + 2 * grow) &
+                            cv::Rect(0, 0, 640, 480);
+    std::memset(templ.data, background, templ.total());
+    if (!warpPerspectiveRegion(levels[static_cast<std::size_t>(level)], w0 * levelToBase, templ, region, background))
+      return false;
+    if (!templatePyramid.buildRegion(templ, region, background) || !framePyramid.build(frame)) return false;
+    const std::span<cv::Point2f> found(to.data(), n);
+    klt.track(templatePyramid, framePyramid, std::span<const cv::Point2f>(from.data(), n), found,
+              std::span<std::uint8_t>(status.data(), n), LucasKanadeParams{});
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (status[i]) inlierPlane[m] = plane[i], inlierImage[m++] = to[i];
+    const std::span<const cv::Point2f> pl(inlierPlane.data(), m), im(inlierImage.data(), m);
+    cv::Matx33d h;
+    HomographyRansacParams params;
+    params.thresholdPx = 2.0;
+    if (!ransac.estimate(pl, im, params, h, std::span<std::uint8_t>(mask.data(), m), inliers)) return false;
+    double rms = 0;
+    const std::span<const std::uint8_t> used(mask.data(), m);
+    if (!planarPoseFromHomography(k, h, pl, im, used, PoseRefineParams{}, pose, rms)) return false;
+    return std::isfinite(reprojectionRms(k, pose, pl, im, used));
+  }
+};
+
+TEST(TrackingAllocation, PrimitivesAllocateNothingPerFrame) {
+  cv::setNumThreads(1);
+  const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+  const auto rendered = synthetic::renderScenarios(renderer, 30, {"orbit"});
+  ASSERT_EQ(rendered.size(), 1u);
+  const cv::Mat reference = cv::imread(synthetic::standardTargetImage(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(reference.empty());
+  std::vector<cv::Mat> grey(rendered[0].frames.size());
+  for (std::size_t i = 0; i < grey.size(); ++i) cv::cvtColor(rendered[0].frames[i], grey[i], cv::COLOR_RGB2GRAY);
+  PrimitivesPipeline pipeline(reference);
+  glm::dmat3 r;
+  glm::dvec3 t;
+  synthetic::worldToOpenCvCamera(rendered[0].scenario.cameraToWorld[0], r, t);
+  const cv::Matx33d m(r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], r[0][2], r[1][2], r[2][2]);
+  PlanarPose pose{rodriguesFromRotation(m), cv::Vec3d(t.x, t.y, t.z)};  // the first frame's, exact
+  int inliers = 0;
+  for (std::size_t i = 1; i < 3; ++i) ASSERT_TRUE(pipeline.step(grey[i], pose, inliers)) << "warm-up frame " << i;
+
+  std::array<Counts, 27> counts{};
+  std::array<int, 27> frameInliers{};
+  std::array<bool, 27> held{};
+  for (std::size_t i = 3; i < grey.size(); ++i) {
+    const Counts c0 = now();
+    held[i - 3] = pipeline.step(grey[i], pose, frameInliers[i - 3]);
+    counts[i - 3] = since(c0);
+  }
+  long news = 0, mallocs = 0;
+  for (std::size_t k = 0; k < counts.size(); ++k) {
+    EXPECT_TRUE(held[k]) << "frame " << k + 3;
+    EXPECT_GE(frameInliers[k], 100) << "frame " << k + 3;
+    EXPECT_EQ(counts[k].news, 0) << "frame " << k + 3;
+#if MN_COUNT_MALLOC
+    EXPECT_EQ(counts[k].mallocs, 0) << "frame " << k + 3;
+#endif
+    news += counts[k].news;
+    mallocs += counts[k].mallocs;
+  }
+  // The pose at the end is the last frame's (no drift: every frame is matched to the reference).
+  synthetic::worldToOpenCvCamera(rendered[0].scenario.cameraToWorld.back(), r, t);
+  EXPECT_LT(cv::norm(pose.tvec - cv::Vec3d(t.x, t.y, t.z)), 0.01);
+  std::printf("[ primitives ] warp + pyramids + KLT + RANSAC + pose per frame, frames 3..29: %.1f operator new, "
+              "%.1f malloc family%s\n",
+              perFrame(news, counts.size()), perFrame(mallocs, counts.size()),
+              MN_COUNT_MALLOC ? "" : " (not counted in this build)");
 }
 
 }  // namespace

@@ -42,9 +42,10 @@ TEST(TrackingAccuracy, StandardScenariosMeetTheGoals) {
   const TrajectoryReport& still = runs.at("static").report;
   EXPECT_EQ(still.verifiedFrames, still.frames);
   EXPECT_LT(still.jitterMm, 0.5);
-  // Noise and JPEG 30, +-1 EV gain, an occluder over 20..60 %, 50..80 % of the target out of
-  // view, grazing views to 70 degrees, fast turns: at least 95 % of the visible frames.
-  for (const char* name : {"noise_jpeg", "gain", "occluder", "partial", "grazing", "fast_turn", "lost_regained"}) {
+  // Motion blur of 9..25 px, noise and JPEG 30, +-1 EV gain, an occluder over 20..60 %, 50..80 %
+  // of the target out of view, grazing views to 70 degrees, fast turns: at least 95 % of the
+  // visible frames.
+  for (const char* name : {"blur", "noise_jpeg", "gain", "occluder", "partial", "grazing", "fast_turn", "lost_regained"}) {
     const TrajectoryReport& r = runs.at(name).report;
     EXPECT_GE(shareWithin2cm(r), 0.95) << name << ": " << formatReport(r);
   }
@@ -52,10 +53,9 @@ TEST(TrackingAccuracy, StandardScenariosMeetTheGoals) {
   const TrajectoryReport& lost = runs.at("lost_regained").report;
   EXPECT_GE(lost.framesToRelocalize, 0) << formatReport(lost);
   EXPECT_LE(lost.framesToRelocalize, 10);
-  // Motion blur of 9..25 px is where the tracker falls short of its goal (docs/tracking.md):
-  // poses go LIMITED, never TRACKING off by more than 5 cm (checked above). Asserted as it is,
-  // so that a change that makes it worse shows.
-  EXPECT_GE(shareWithin2cm(runs.at("blur").report), 0.2) << formatReport(runs.at("blur").report);
+  // Under blur the template is smeared as the frame is, so most blurred frames stay TRACKING.
+  const TrajectoryReport& blur = runs.at("blur").report;
+  EXPECT_GE(blur.verifiedFrames, blur.frames / 2) << formatReport(blur);
 }
 
 }  // namespace

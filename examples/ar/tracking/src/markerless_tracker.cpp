@@ -10,6 +10,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "grey_frame.hpp"
+#include "motion_blur.hpp"
 #include "planar_geometry.hpp"
 #include "pose_filter.hpp"
 
@@ -21,6 +22,7 @@ constexpr int kMaxReferenceSide = 1024;  // larger references are scaled down (K
 constexpr int kCornersPerKeyframe = 500;
 constexpr int kReferenceLevels = 4;  // the reference at 1, 1/2, 1/4, 1/8: warp from the nearest scale
 constexpr int kMinRelocalizationInliers = 15;
+constexpr double kMaxBlurFraction = 0.1;  // longest motion blur modelled, of the frame's width
 
 // What the map keeps per keyframe for the per-frame path, prepared once.
 struct KeyframeData {
@@ -57,9 +59,11 @@ struct MarkerlessTracker::Impl {
   bool lastMeasured = false;  // the last frame's pose came from features, not extrapolation
 
   // Buffers reused every frame.
-  cv::Mat warped, adjusted;
+  cv::Mat warped, adjusted, blurred;
+  MotionBlur blur;
+  MotionBlurScratch blurScratch;
   std::vector<cv::Point2f> levelPoints;
-  std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage;
+  std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage, inlierFrom, blurFrom, blurTo;
   std::vector<int> cornerIndex;
   std::vector<unsigned char> status, mask;
   std::vector<float> kltError;
@@ -73,6 +77,7 @@ struct MarkerlessTracker::Impl {
     K = cv::Matx33d(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
     orb = cv::ORB::create(s.relocalizationFeatures, 1.2f, 6, 19, 0, 2, cv::ORB::FAST_SCORE, 19, 15);
     grey.configure(c);
+    blurScratch.reserve(c.width, c.height);
   }
 
   void prepareKeyframe(std::size_t i);
@@ -249,22 +254,65 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
     cv::Mat target = warped(region);
     cv::warpPerspective(*source, target, shift * W0 * levelToBase, region.size(), cv::INTER_LINEAR,
                         cv::BORDER_CONSTANT, background);
-    found = predicted;
-    const int levels = pass == 0 ? settings.pyramidLevels : std::min(settings.pyramidLevels, 1);
-    cv::calcOpticalFlowPyrLK(warped, frame, predicted, found, status, kltError,
-                             cv::Size(settings.kltWindow, settings.kltWindow), levels,
-                             cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
-    inlierPlane.clear();
-    inlierImage.clear();
-    for (std::size_t i = 0; i < found.size(); ++i)
-      if (status[i]) {
-        inlierPlane.push_back(planePoints[i]);
-        inlierImage.push_back(found[i]);
-      }
+    // Motion blur: the template is smeared as the frame is (motion_blur.hpp). The blur found
+    // last frame is used first; without one, the frame's statistics may propose one, which
+    // the aligned search then confirms (or not) after KLT.
+    MotionBlur proposal;
+    if (pass == 0 && !blur.any())
+      proposal = estimateMotionBlur(warped, frame, predicted, kMaxBlurFraction * frame.cols, blurScratch);
     PlanarPose estimate;
-    if (!robustPlanarPose(K, inlierPlane, inlierImage, 2.0, maxDistance(), mask, estimate, rms, inliers, &homography))
-      return false;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      const cv::Mat* templ = &warped;
+      if (blur.any()) {
+        blurred.create(frame.size(), CV_8UC1);
+        blurred.setTo(background);
+        applyMotionBlur(warped, blur, region, blurred, blurScratch);
+        templ = &blurred;
+      }
+      found = predicted;
+      const int levels = pass == 0 ? settings.pyramidLevels : std::min(settings.pyramidLevels, 1);
+      // A smear longer than the window leaves it little texture along the smear: the window
+      // grows to the smear's length (1.25 times, up to 31 px: docs/tracking.md).
+      const int window = blur.any() ? std::max(settings.kltWindow, std::min(31, static_cast<int>(blur.lengthPx * 1.25) | 1))
+                                    : settings.kltWindow;
+      cv::calcOpticalFlowPyrLK(*templ, frame, predicted, found, status, kltError,
+                               cv::Size(window, window), levels,
+                               cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
+                               cv::OPTFLOW_USE_INITIAL_FLOW);
+      inlierPlane.clear();
+      inlierImage.clear();
+      inlierFrom.clear();
+      for (std::size_t i = 0; i < found.size(); ++i)
+        if (status[i]) {
+          inlierPlane.push_back(planePoints[i]);
+          inlierImage.push_back(found[i]);
+          inlierFrom.push_back(predicted[i]);
+        }
+      if (!robustPlanarPose(K, inlierPlane, inlierImage, 2.0, maxDistance(), mask, estimate, rms, inliers, &homography)) {
+        if (attempt == 0 && !blur.any() && proposal.any()) {
+          blur = proposal;  // the sharp template found nothing in a smeared frame: try the proposal
+          continue;
+        }
+        return false;
+      }
+      if (pass > 0 || (!blur.any() && !proposal.any())) break;
+      // Misaligned patches look blurred: the search needs a pose TRACKING would accept.
+      if (inliers < settings.minTrackingInliers || rms > 2 * settings.maxTrackingRmsPx) break;
+      // The blur from patches KLT aligned (the RANSAC inliers): for the next frame, and for
+      // this one when it changed clearly (the onset or the end of a smear).
+      blurFrom.clear();
+      blurTo.clear();
+      for (std::size_t i = 0; i < inlierFrom.size(); ++i)
+        if (mask[i]) {
+          blurFrom.push_back(inlierFrom[i]);
+          blurTo.push_back(inlierImage[i]);
+        }
+      const MotionBlur used = blur;
+      blur = refineMotionBlur(warped, frame, blurFrom, blurTo, used.any() ? used : proposal, kMaxBlurFraction * frame.cols,
+                              blurScratch);
+      proposal = {};
+      if (used.any() == blur.any() && std::abs(used.lengthPx - blur.lengthPx) <= 0.2 * std::max(used.lengthPx, 5.0)) break;
+    }
     current = estimate;
     if (inliers < settings.minLimitedInliers) return false;
   }
@@ -387,6 +435,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     lastMeasured = false;
   } else {
     havePose = havePrevious = lastMeasured = false;
+    blur = {};
     filter.reset();
   }
   lastState = result.state;

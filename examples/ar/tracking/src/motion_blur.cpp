@@ -1,0 +1,273 @@
+#include "motion_blur.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace marionette::ar {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kPatchHalf = 8;    // 17x17 patches
+constexpr int kMaxPatches = 64;  // spread: the points come interleaved over the target's grid
+constexpr int kMaxTaps = MotionBlurScratch::kMaxLineTaps;
+
+// A normalized line kernel of `length` along (cos a, sin a), with taps at whole steps along its
+// dominant (major) axis, each on the nearest row or column across it. The taps' weights are the
+// overlap of [k - 0.5, k + 0.5] with the kernel's extent along the axis: the outer two share
+// `end`, the rest weigh one, all over `extent`.
+struct LineGeometry {
+  bool alongX = true;
+  double slope = 0;
+  int half = 0;
+  float end = 1, scale = 1;
+
+  explicit LineGeometry(const MotionBlur& b) noexcept {
+    const double c = std::cos(b.angleRad), s = std::sin(b.angleRad);
+    alongX = std::abs(c) >= std::abs(s);
+    const double major = alongX ? c : s, minor = alongX ? s : c;
+    slope = minor / major;
+    const double extent = std::clamp(b.lengthPx * std::abs(major), 1.0, double(kMaxTaps - 1));
+    half = std::max(0, static_cast<int>(std::ceil(extent * 0.5 - 0.5)));
+    end = static_cast<float>(extent * 0.5 - (half - 0.5));  // in (0, 1]
+    scale = static_cast<float>(1.0 / extent);
+  }
+  [[nodiscard]] int shift(int major) const noexcept { return static_cast<int>(std::lround(major * slope)); }
+};
+
+inline float pixel(const cv::Mat& m, int x, int y) noexcept {
+  x = std::clamp(x, 0, m.cols - 1);
+  y = std::clamp(y, 0, m.rows - 1);
+  return m.ptr<std::uint8_t>(y)[x];
+}
+
+// The line blur over `r`, each value handed to sink(x, y, v). Rows are taken along the digital
+// line (row b holds pixel (major, b + shift(major))), box-filtered by running sums, then read
+// back at b = minor - shift(major). False when the scratch was not reserved for `r`.
+template <class Sink>
+bool lineBlur(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, MotionBlurScratch& scratch, Sink&& sink) noexcept {
+  const int majorBegin = g.alongX ? r.x : r.y, n = g.alongX ? r.width : r.height;
+  const int minorBegin = g.alongX ? r.y : r.x, minorEnd = minorBegin + (g.alongX ? r.height : r.width);
+  if (n <= 0 || minorEnd <= minorBegin) return true;
+  const int s0 = g.shift(majorBegin), s1 = g.shift(majorBegin + n - 1);
+  const int bBegin = minorBegin - std::max(s0, s1), bEnd = minorEnd - std::min(s0, s1);
+  const int K = g.half, lineLength = n + 2 * K;
+  const std::size_t rowsNeeded = static_cast<std::size_t>(bEnd - bBegin) * static_cast<std::size_t>(n);
+  if (rowsNeeded > scratch.rows.capacity() || static_cast<std::size_t>(2 * lineLength + 1) > scratch.line.capacity())
+    return false;
+  if (static_cast<std::size_t>(lineLength) > scratch.shifts.capacity()) return false;
+  scratch.rows.resize(rowsNeeded);  // within capacity: no allocation
+  scratch.line.resize(static_cast<std::size_t>(2 * lineLength + 1));
+  scratch.shifts.resize(static_cast<std::size_t>(lineLength));
+  float* line = scratch.line.data();
+  float* prefix = line + lineLength;  // prefix[j] = sum of line[0 .. j-1]
+  int* shift = scratch.shifts.data();  // shift[j] = g.shift(majorBegin + j - K)
+  for (int j = 0; j < lineLength; ++j) shift[j] = g.shift(majorBegin + j - K);
+  const int rows = image.rows, cols = image.cols;
+  for (int b = bBegin; b < bEnd; ++b) {
+    prefix[0] = 0;
+    for (int j = 0; j < lineLength; ++j) {
+      const int major = majorBegin + j - K, minor = b + shift[j];
+      const int x = std::clamp(g.alongX ? major : minor, 0, cols - 1), y = std::clamp(g.alongX ? minor : major, 0, rows - 1);
+      line[j] = image.ptr<std::uint8_t>(y)[x];
+      prefix[j + 1] = prefix[j] + line[j];
+    }
+    float* out = scratch.rows.data() + static_cast<std::size_t>(b - bBegin) * static_cast<std::size_t>(n);
+    for (int i = 0; i < n; ++i) {
+      const int c = i + K;  // the output's index in line
+      out[i] = K == 0 ? line[c]
+                      : g.scale * (prefix[c + K] - prefix[c - K + 1] + g.end * (line[c - K] + line[c + K]));
+    }
+  }
+  for (int minor = minorBegin; minor < minorEnd; ++minor)
+    for (int i = 0; i < n; ++i) {
+      const int major = majorBegin + i, b = minor - shift[i + K];
+      const float v = scratch.rows[static_cast<std::size_t>(b - bBegin) * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)];
+      if (g.alongX) sink(major, minor, v);
+      else sink(minor, major, v);
+    }
+  return true;
+}
+
+// The structure tensor of a patch (gxx, gxy, gyy), normalized by its trace.
+struct Tensor {
+  double xx = 0, xy = 0, yy = 0;
+  void normalize() noexcept {
+    const double t = xx + yy;
+    if (t > 0) xx /= t, xy /= t, yy /= t;
+  }
+  [[nodiscard]] double along(double c, double s) const noexcept { return c * c * xx + 2 * c * s * xy + s * s * yy; }
+};
+
+// Sum over the patches of the tensors of `image` (or its blur by `taps`), each patch weighted
+// equally after normalizing: a strongly textured patch must not decide alone.
+Tensor patchTensor(const cv::Mat& image, const std::vector<cv::Point2f>& points, int count, const LineGeometry* line,
+                   MotionBlurScratch& scratch) noexcept {
+  constexpr int kSide = 2 * kPatchHalf + 3;  // one pixel more each side for the differences
+  std::array<float, kSide * kSide> v{};
+  Tensor total;
+  for (int p = 0; p < count; ++p) {
+    const int x0 = static_cast<int>(std::lround(points[static_cast<std::size_t>(p)].x)) - kPatchHalf - 1;
+    const int y0 = static_cast<int>(std::lround(points[static_cast<std::size_t>(p)].y)) - kPatchHalf - 1;
+    if (line) {
+      if (!lineBlur(image, *line, cv::Rect(x0, y0, kSide, kSide), scratch,
+                    [&](int x, int y, float value) { v[static_cast<std::size_t>((y - y0) * kSide + x - x0)] = value; }))
+        return {};
+    } else {
+      for (int j = 0; j < kSide; ++j)
+        for (int i = 0; i < kSide; ++i) v[static_cast<std::size_t>(j * kSide + i)] = pixel(image, x0 + i, y0 + j);
+    }
+    Tensor t;
+    for (int j = 1; j < kSide - 1; ++j)
+      for (int i = 1; i < kSide - 1; ++i) {
+        const double gx = 0.5 * (v[static_cast<std::size_t>(j * kSide + i + 1)] - v[static_cast<std::size_t>(j * kSide + i - 1)]);
+        const double gy = 0.5 * (v[static_cast<std::size_t>((j + 1) * kSide + i)] - v[static_cast<std::size_t>((j - 1) * kSide + i)]);
+        t.xx += gx * gx;
+        t.xy += gx * gy;
+        t.yy += gy * gy;
+      }
+    t.normalize();
+    total.xx += t.xx;
+    total.xy += t.xy;
+    total.yy += t.yy;
+  }
+  total.normalize();
+  return total;
+}
+
+constexpr int kRefineSide = 2 * kPatchHalf + 1;
+constexpr int kRefinePatches = 32;
+
+// The frame around each matched point, sampled bilinearly at the offsets of the template's
+// whole pixels around round(from): fixed while the blur is searched, so taken once.
+void sampleFramePatches(const cv::Mat& frame, const std::vector<cv::Point2f>& from, const std::vector<cv::Point2f>& to,
+                        int count, float* out) noexcept {
+  for (int p = 0; p < count; ++p) {
+    const cv::Point2f a = from[static_cast<std::size_t>(p)], b = to[static_cast<std::size_t>(p)];
+    const int x0 = static_cast<int>(std::lround(a.x)) - kPatchHalf, y0 = static_cast<int>(std::lround(a.y)) - kPatchHalf;
+    float* patch = out + static_cast<std::ptrdiff_t>(p) * kRefineSide * kRefineSide;
+    for (int j = 0; j < kRefineSide; ++j)
+      for (int i = 0; i < kRefineSide; ++i) {
+        const double fx = b.x + (x0 + i - double(a.x)), fy = b.y + (y0 + j - double(a.y));
+        const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
+        const double wx = fx - ix, wy = fy - iy;
+        patch[j * kRefineSide + i] = static_cast<float>(
+            (1 - wy) * ((1 - wx) * pixel(frame, ix, iy) + wx * pixel(frame, ix + 1, iy)) +
+            wy * ((1 - wx) * pixel(frame, ix, iy + 1) + wx * pixel(frame, ix + 1, iy + 1)));
+      }
+  }
+}
+
+// How badly the template blurred by `line` explains the frame's patches: the sum of 1 - NCC
+// (gain and bias per patch cancel).
+double mismatch(const cv::Mat& sharp, const std::vector<cv::Point2f>& from, const float* framePatches, int count,
+                const LineGeometry& line, MotionBlurScratch& scratch) noexcept {
+  std::array<float, kRefineSide * kRefineSide> t{};
+  double total = 0;
+  for (int p = 0; p < count; ++p) {
+    const cv::Point2f a = from[static_cast<std::size_t>(p)];
+    const int x0 = static_cast<int>(std::lround(a.x)) - kPatchHalf, y0 = static_cast<int>(std::lround(a.y)) - kPatchHalf;
+    if (!lineBlur(sharp, line, cv::Rect(x0, y0, kRefineSide, kRefineSide), scratch,
+                  [&](int x, int y, float value) { t[static_cast<std::size_t>((y - y0) * kRefineSide + x - x0)] = value; }))
+      return 1e30;
+    const float* f = framePatches + static_cast<std::ptrdiff_t>(p) * kRefineSide * kRefineSide;
+    double st = 0, sf = 0, stt = 0, sff = 0, stf = 0;
+    for (int k = 0; k < kRefineSide * kRefineSide; ++k) {
+      const double v = t[static_cast<std::size_t>(k)], w = f[k];
+      st += v;
+      sf += w;
+      stt += v * v;
+      sff += w * w;
+      stf += v * w;
+    }
+    const double n = kRefineSide * kRefineSide;
+    const double vt = stt - st * st / n, vf = sff - sf * sf / n, c = stf - st * sf / n;
+    total += vt > 1 && vf > 1 ? 1 - c / std::sqrt(vt * vf) : 1;
+  }
+  return total;
+}
+
+}  // namespace
+
+MotionBlur estimateMotionBlur(const cv::Mat& sharp, const cv::Mat& frame, const std::vector<cv::Point2f>& points,
+                              double maxLengthPx, MotionBlurScratch& scratch) noexcept {
+  MotionBlur none;
+  const int count = std::min(static_cast<int>(points.size()), kMaxPatches);
+  if (count < 6 || sharp.size() != frame.size() || sharp.type() != CV_8UC1 || frame.type() != CV_8UC1) return none;
+  const Tensor t = patchTensor(sharp, points, count, nullptr, scratch), f = patchTensor(frame, points, count, nullptr, scratch);
+  // The energy lost in the frame: the largest eigenvalue of T - F and its direction.
+  const double a = t.xx - f.xx, b = t.xy - f.xy, d = t.yy - f.yy;
+  const double mean = 0.5 * (a + d), radius = std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+  const double loss = mean + radius;
+  // Below this the two agree up to noise and the texture's own anisotropy. Occluders reach
+  // 0.1 on sharp frames, a 9 px smear of some textures less: this only proposes a blur, which
+  // refineMotionBlur confirms on aligned patches (a false proposal costs that search, no KLT).
+  constexpr double kMinLoss = 0.04;
+  if (!(loss > kMinLoss)) return none;
+  const double angle = 0.5 * std::atan2(2 * b, a - d);  // eigenvector of the largest eigenvalue
+  const double c = std::cos(angle), s = std::sin(angle);
+  const double goal = f.along(c, s);
+  // Bisection on the length: the share of energy along the smear falls as it grows.
+  double lo = 0, hi = std::clamp(maxLengthPx, 2.0, double(kMaxTaps - 1));
+  for (int it = 0; it < 7; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const LineGeometry line(MotionBlur{mid, angle});
+    if (patchTensor(sharp, points, count, &line, scratch).along(c, s) > goal) lo = mid;
+    else hi = mid;
+  }
+  MotionBlur out{0.5 * (lo + hi), angle};
+  if (!out.any()) return none;
+  return out;
+}
+
+MotionBlur refineMotionBlur(const cv::Mat& sharp, const cv::Mat& frame, const std::vector<cv::Point2f>& from,
+                            const std::vector<cv::Point2f>& to, const MotionBlur& start, double maxLengthPx,
+                            MotionBlurScratch& scratch) noexcept {
+  const int count = std::min({static_cast<int>(from.size()), static_cast<int>(to.size()), kRefinePatches});
+  if (count < 6 || sharp.size() != frame.size() || sharp.type() != CV_8UC1 || frame.type() != CV_8UC1) return start;
+  if (scratch.patches.capacity() < static_cast<std::size_t>(kRefinePatches * kRefineSide * kRefineSide)) return start;
+  scratch.patches.resize(static_cast<std::size_t>(count * kRefineSide * kRefineSide));  // within capacity
+  sampleFramePatches(frame, from, to, count, scratch.patches.data());
+  const double maxLength = std::clamp(maxLengthPx, 2.0, double(kMaxTaps - 1));
+  auto cost = [&](double length, double angle) {
+    return mismatch(sharp, from, scratch.patches.data(), count, LineGeometry(MotionBlur{std::max(1.0, length), angle}), scratch);
+  };
+  // Golden-section search on the length around the start (the blur changes little from one
+  // frame to the next), then the direction within +-6 degrees.
+  double angle = start.angleRad;
+  double lo = std::max(0.0, 0.5 * start.lengthPx - 2), hi = std::min(maxLength, 1.6 * start.lengthPx + 4);
+  constexpr double kGolden = 0.6180339887498949;
+  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
+  double f1 = cost(x1, angle), f2 = cost(x2, angle);
+  for (int it = 0; it < 8; ++it) {
+    if (f1 < f2) {
+      hi = x2, x2 = x1, f2 = f1;
+      x1 = hi - kGolden * (hi - lo);
+      f1 = cost(x1, angle);
+    } else {
+      lo = x1, x1 = x2, f1 = f2;
+      x2 = lo + kGolden * (hi - lo);
+      f2 = cost(x2, angle);
+    }
+  }
+  const double length = 0.5 * (lo + hi);
+  double best = cost(length, angle);
+  constexpr double kStep = 3.0 * kPi / 180.0;
+  for (double d : {-2 * kStep, -kStep, kStep, 2 * kStep})
+    if (const double c = cost(length, start.angleRad + d); c < best) best = c, angle = start.angleRad + d;
+  // Sharp explains it as well: no blur.
+  if (length < 2 || cost(1.0, angle) <= best * 1.02) return {};
+  return {length, angle};
+}
+
+void applyMotionBlur(const cv::Mat& image, const MotionBlur& blur, const cv::Rect& region, cv::Mat& out,
+                     MotionBlurScratch& scratch) noexcept {
+  if (!blur.any() || image.type() != CV_8UC1 || out.size() != image.size() || out.type() != CV_8UC1) return;
+  const cv::Rect r = region & cv::Rect(0, 0, image.cols, image.rows);
+  (void)lineBlur(image, LineGeometry(blur), r, scratch, [&](int x, int y, float v) {
+    out.ptr<std::uint8_t>(y)[x] = static_cast<std::uint8_t>(std::clamp(v + 0.5f, 0.0f, 255.0f));
+  });
+}
+
+}  // namespace marionette::ar

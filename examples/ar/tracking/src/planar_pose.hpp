@@ -1,0 +1,58 @@
+// The camera pose over the ground plane from a plane homography and matched points,
+// replacing cv::solvePnP(SOLVEPNP_IPPE) + cv::solvePnPRefineLM + cv::projectPoints (and
+// cv::Rodrigues) in the markerless tracker's per frame path: no allocation, no exception.
+// World points are (X, 0, Z) for plane points (X, Z); poses are PlanarPose's (world ->
+// OpenCV camera). K is a pinhole (undistorted frames).
+#pragma once
+#include <cstdint>
+#include <span>
+
+#include <opencv2/core.hpp>
+
+#include "planar_geometry.hpp"
+
+namespace marionette::ar {
+
+// Rotation vector (axis times angle, radians) <-> matrix. Exact at and near 0 (series) and
+// near pi (through the quaternion, whose largest component is taken: no division by sin).
+[[nodiscard]] cv::Matx33d rotationFromRodrigues(const cv::Vec3d& rvec) noexcept;
+[[nodiscard]] cv::Vec3d rodriguesFromRotation(const cv::Matx33d& r) noexcept;
+// The rotation nearest (Frobenius) to m, det +1 (the quaternion that maximizes trace(R^T m)).
+[[nodiscard]] cv::Matx33d nearestRotation(const cv::Matx33d& m) noexcept;
+
+// K [r1 r3 t]: plane (X, Z, 1) -> pixel, as planeToImageHomography (whose cv::Rodrigues
+// allocates) without allocating.
+[[nodiscard]] cv::Matx33d planeToImage(const cv::Matx33d& k, const PlanarPose& pose) noexcept;
+
+// The two poses a plane-to-image homography allows (IPPE's ambiguity): the decomposition
+// K^-1 H = s [r1 r3 t], then its mirror about the ray to plane point `centre`, which images
+// the plane alike to first order there. Returns how many (0 when H or K is unusable).
+int planarPoseCandidates(const cv::Matx33d& k, const cv::Matx33d& planeToImage, cv::Point2f centre,
+                         PlanarPose out[2]) noexcept;
+
+struct PoseRefineParams {
+  int maxIterations = 20;   // Levenberg-Marquardt steps
+  double epsilon = 1e-10;   // stop when a step is shorter than this (radians + metres)
+};
+
+// Levenberg-Marquardt on the 6-DOF reprojection error of the pairs with mask[i] != 0 (all
+// when mask is empty) from `pose`. False (pose untouched) for fewer than 4 pairs, non-finite
+// input, or a pose that puts a point behind the camera at the start.
+bool refinePlanarPose(const cv::Matx33d& k, std::span<const cv::Point2f> plane, std::span<const cv::Point2f> image,
+                      std::span<const std::uint8_t> mask, const PoseRefineParams& params, PlanarPose& pose) noexcept;
+
+// Both candidates refined, the one with the smaller reprojection error kept (its rms in
+// pixels): what solvePnP(IPPE) + solvePnPRefineLM give.
+bool planarPoseFromHomography(const cv::Matx33d& k, const cv::Matx33d& planeToImage, std::span<const cv::Point2f> plane,
+                              std::span<const cv::Point2f> image, std::span<const std::uint8_t> mask,
+                              const PoseRefineParams& params, PlanarPose& out, double& rmsPx) noexcept;
+
+// Pixels of plane points (X, Z) under the pose; a point on or behind the camera plane gives NaN.
+void projectPlanePoints(const cv::Matx33d& k, const PlanarPose& pose, std::span<const cv::Point2f> plane,
+                        std::span<cv::Point2f> out) noexcept;
+// Root-mean-square distance (pixels) between the projections and `image` over the used pairs;
+// NaN when there is none or a point is behind the camera.
+[[nodiscard]] double reprojectionRms(const cv::Matx33d& k, const PlanarPose& pose, std::span<const cv::Point2f> plane,
+                                     std::span<const cv::Point2f> image, std::span<const std::uint8_t> mask) noexcept;
+
+}  // namespace marionette::ar
