@@ -244,14 +244,15 @@ int LucasKanade::track(const ImagePyramid& templ, const ImagePyramid& frame, std
   const std::size_t count = std::min({from.size(), to.size(), status.size()});
   for (std::size_t i = 0; i < status.size(); ++i) status[i] = 0;
   const int n = params.window;
-  if (n < 3 || n > kMaxWindow || n % 2 == 0 || params.maxIterations < 1 || !(params.epsilon >= 0) ||
-      !(params.minEigThreshold >= 0))
+  const int coarse = params.coarseWindow > 0 ? params.coarseWindow : n;
+  if (n < 3 || n > kMaxWindow || n % 2 == 0 || coarse < 3 || coarse > kMaxWindow || coarse % 2 == 0 ||
+      params.maxIterations < 1 || !(params.epsilon >= 0) || !(params.minEigThreshold >= 0))
     return 0;
   const GreyLevel& t0 = templ.level(0);
   const GreyLevel& f0 = frame.level(0);
   if (!t0.data || !f0.data || t0.width != f0.width || t0.height != f0.height) return 0;
   int top = std::min({params.levels, templ.levels(), frame.levels()});
-  while (top > 0 && (templ.level(top).width <= n || templ.level(top).height <= n)) --top;
+  while (top > 0 && (templ.level(top).width <= coarse || templ.level(top).height <= coarse)) --top;
   if (top < 0) top = 0;
   int found = 0;
   for (std::size_t i = 0; i < count; ++i) {
@@ -263,7 +264,7 @@ int LucasKanade::track(const ImagePyramid& templ, const ImagePyramid& frame, std
       const float scale = 1.f / static_cast<float>(1 << level);
       next = level == top ? to[i] * scale : next * 2.f;
       // A coarse level without a result leaves the guess as it was; level 0 decides.
-      ok = trackOne(templ.level(level), frame.level(level), from[i] * scale, next, n, params);
+      ok = trackOne(templ.level(level), frame.level(level), from[i] * scale, next, level == 0 ? n : coarse, params);
     }
     to[i] = next;
     if (ok && std::isfinite(next.x) && std::isfinite(next.y)) {

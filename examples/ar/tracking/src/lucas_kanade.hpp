@@ -60,6 +60,7 @@ enum class LkGradient { Scharr, Central };
 
 struct LucasKanadeParams {
   int window = 15;              // side in pixels, odd, 3..LucasKanade::kMaxWindow
+  int coarseWindow = 0;         // the side above level 0 (0: `window`); a smear shrinks there
   int levels = 3;               // pyramid levels above full resolution
   int maxIterations = 20;       // per level
   double epsilon = 0.01;        // stop when a step is shorter than this (pixels)

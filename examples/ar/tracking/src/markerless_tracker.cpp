@@ -2,15 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 
 #include "grey_frame.hpp"
+#include "hamming_matcher.hpp"
+#include "lucas_kanade.hpp"
 #include "motion_blur.hpp"
+#include "perspective_warp.hpp"
 #include "planar_geometry.hpp"
 #include "pose_filter.hpp"
 
@@ -23,6 +26,11 @@ constexpr int kCornersPerKeyframe = 500;
 constexpr int kReferenceLevels = 4;  // the reference at 1, 1/2, 1/4, 1/8: warp from the nearest scale
 constexpr int kMinRelocalizationInliers = 15;
 constexpr double kMaxBlurFraction = 0.1;  // longest motion blur modelled, of the frame's width
+
+// cv::Mat::setTo allocates a scratch buffer on every call.
+void fill(cv::Mat& image, std::uint8_t value) noexcept {
+  for (int y = 0; y < image.rows; ++y) std::memset(image.ptr<std::uint8_t>(y), value, static_cast<std::size_t>(image.cols));
+}
 
 // What the map keeps per keyframe for the per-frame path, prepared once.
 struct KeyframeData {
@@ -46,7 +54,6 @@ struct MarkerlessTracker::Impl {
   std::vector<KeyframeData> keyframes;
   cv::Matx33d K;
   cv::Ptr<cv::ORB> orb;
-  cv::BFMatcher matcher{cv::NORM_HAMMING};
   GreyFrame grey;
   PoseFilter filter;
   FrameStats stats;
@@ -59,17 +66,19 @@ struct MarkerlessTracker::Impl {
   bool lastMeasured = false;  // the last frame's pose came from features, not extrapolation
 
   // Buffers reused every frame.
-  cv::Mat warped, adjusted, blurred;
+  cv::Mat warped, blurred;
+  ImagePyramid framePyramid, templatePyramid;
+  LucasKanade lk;
+  PlanarPoseSolver solver;
   MotionBlur blur;
   MotionBlurScratch blurScratch;
   std::vector<cv::Point2f> levelPoints;
   std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage, inlierFrom, blurFrom, blurTo;
   std::vector<int> cornerIndex;
   std::vector<unsigned char> status, mask;
-  std::vector<float> kltError;
   std::vector<cv::KeyPoint> frameKeypoints;
   cv::Mat frameDescriptors;
-  std::vector<std::vector<cv::DMatch>> knn;
+  std::vector<HammingMatch> matches;
   cv::Matx33d homography;
 
   Impl(const CameraModel& c, const MarkerlessSettings& s)
@@ -78,6 +87,16 @@ struct MarkerlessTracker::Impl {
     orb = cv::ORB::create(s.relocalizationFeatures, 1.2f, 6, 19, 0, 2, cv::ORB::FAST_SCORE, 19, 15);
     grey.configure(c);
     blurScratch.reserve(c.width, c.height);
+    // Sized once: the per-frame path allocates nothing (tracking_allocation_test).
+    framePyramid.configure(c.width, c.height, s.pyramidLevels);
+    templatePyramid.configure(c.width, c.height, s.pyramidLevels);
+    const std::size_t points = static_cast<std::size_t>(std::max(s.trackedCorners, s.relocalizationFeatures) + 64);
+    solver.reserve(points);
+    matches.reserve(static_cast<std::size_t>(s.relocalizationFeatures) + 64);
+    mask.reserve(points);
+    status.reserve(points);
+    for (auto* v : {&predicted, &found, &planePoints, &inlierPlane, &inlierImage, &inlierFrom, &blurFrom, &blurTo, &levelPoints})
+      v->reserve(points);
   }
 
   void prepareKeyframe(std::size_t i);
@@ -235,25 +254,32 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
     // keyframe ends for KLT's coarse levels, and no texture KLT could match at zero motion (a
     // copy of the frame there would confirm any prediction).
     const cv::Mat& level0 = kf.levels[static_cast<std::size_t>(level)];
-    const cv::Mat* source = &level0;
     double gain = 1, bias = 0;
-    if (matchGain(level0, levelPoints, frame, predicted, settings.kltWindow, gain, bias) &&
-        (std::abs(gain - 1) > 0.03 || std::abs(bias) > 3)) {
-      level0.convertTo(adjusted, -1, gain, bias);
-      source = &adjusted;
-    }
+    const bool adjust = matchGain(level0, levelPoints, frame, predicted, settings.kltWindow, gain, bias) &&
+                        (std::abs(gain - 1) > 0.03 || std::abs(bias) > 3);
     // Only the region KLT reads is warped (the points' box, grown by the window at the
     // coarsest level): the warp was half of a frame's time over the whole image.
-    const cv::Scalar background(kf.meanGrey * gain + bias);
+    const auto background = static_cast<std::uint8_t>(std::clamp(kf.meanGrey * gain + bias + 0.5, 0.0, 255.0));
     warped.create(frame.size(), CV_8UC1);
-    warped.setTo(background);
-    const cv::Rect roi = cv::boundingRect(predicted);
+    fill(warped, background);
+    float x0 = predicted[0].x, y0 = predicted[0].y, x1 = x0, y1 = y0;
+    for (const cv::Point2f& p : predicted) {
+      x0 = std::min(x0, p.x), y0 = std::min(y0, p.y);
+      x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+    }
     const int grow = settings.kltWindow * (1 << (pass == 0 ? settings.pyramidLevels : 1));
-    const cv::Rect region = (roi + cv::Size(2 * grow, 2 * grow) - cv::Point(grow, grow)) & cv::Rect(0, 0, frame.cols, frame.rows);
-    const cv::Matx33d shift(1, 0, -region.x, 0, 1, -region.y, 0, 0, 1);
-    cv::Mat target = warped(region);
-    cv::warpPerspective(*source, target, shift * W0 * levelToBase, region.size(), cv::INTER_LINEAR,
-                        cv::BORDER_CONSTANT, background);
+    const cv::Rect region = cv::Rect(static_cast<int>(x0) - grow, static_cast<int>(y0) - grow,
+                                     static_cast<int>(x1 - x0) + 2 * grow + 1, static_cast<int>(y1 - y0) + 2 * grow + 1) &
+                            cv::Rect(0, 0, frame.cols, frame.rows);
+    const auto meanGrey = static_cast<std::uint8_t>(std::clamp(kf.meanGrey + 0.5, 0.0, 255.0));
+    if (!warpPerspectiveRegion(level0, W0 * levelToBase, warped, region, meanGrey)) return false;
+    // The exposure after the warp (the same up to rounding, and only over the region).
+    if (adjust)
+      for (int y = region.y; y < region.y + region.height; ++y) {
+        std::uint8_t* row = warped.ptr<std::uint8_t>(y);
+        for (int x = region.x; x < region.x + region.width; ++x)
+          row[x] = static_cast<std::uint8_t>(std::clamp(row[x] * gain + bias + 0.5, 0.0, 255.0));
+      }
     // Motion blur: the template is smeared as the frame is (motion_blur.hpp). The blur found
     // last frame is used first; without one, the frame's statistics may propose one, which
     // the aligned search then confirms (or not) after KLT.
@@ -265,20 +291,21 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
       const cv::Mat* templ = &warped;
       if (blur.any()) {
         blurred.create(frame.size(), CV_8UC1);
-        blurred.setTo(background);
+        fill(blurred, background);
         applyMotionBlur(warped, blur, region, blurred, blurScratch);
         templ = &blurred;
       }
       found = predicted;
-      const int levels = pass == 0 ? settings.pyramidLevels : std::min(settings.pyramidLevels, 1);
       // A smear longer than the window leaves it little texture along the smear: the window
-      // grows to the smear's length (1.25 times, up to 31 px: docs/tracking.md).
-      const int window = blur.any() ? std::max(settings.kltWindow, std::min(31, static_cast<int>(blur.lengthPx * 1.25) | 1))
-                                    : settings.kltWindow;
-      cv::calcOpticalFlowPyrLK(*templ, frame, predicted, found, status, kltError,
-                               cv::Size(window, window), levels,
-                               cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
-                               cv::OPTFLOW_USE_INITIAL_FLOW);
+      // grows with the smear (1.25 times, up to 31 px: docs/tracking.md).
+      LucasKanadeParams lkParams;
+      lkParams.window = blur.any() ? std::max(settings.kltWindow, std::min(25, static_cast<int>(blur.lengthPx) | 1))
+                                   : settings.kltWindow;
+      lkParams.coarseWindow = settings.kltWindow;  // the smear halves with each level
+      lkParams.levels = pass == 0 ? settings.pyramidLevels : std::min(settings.pyramidLevels, 1);
+      status.resize(predicted.size());
+      if (!templatePyramid.buildRegion(*templ, region, background)) return false;
+      lk.track(templatePyramid, framePyramid, predicted, found, status, lkParams);
       inlierPlane.clear();
       inlierImage.clear();
       inlierFrom.clear();
@@ -288,7 +315,7 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
           inlierImage.push_back(found[i]);
           inlierFrom.push_back(predicted[i]);
         }
-      if (!robustPlanarPose(K, inlierPlane, inlierImage, 2.0, maxDistance(), mask, estimate, rms, inliers, &homography)) {
+      if (!robustPlanarPose(K, inlierPlane, inlierImage, 2.0, maxDistance(), solver, mask, estimate, rms, inliers, &homography)) {
         if (attempt == 0 && !blur.any() && proposal.any()) {
           blur = proposal;  // the sharp template found nothing in a smeared frame: try the proposal
           continue;
@@ -333,20 +360,19 @@ bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
     const KeyframeData& kf = keyframes[k];
     if (kf.descriptors.rows < 2) continue;
     if (!kf.reference && !havePose) continue;  // floor keyframes relocalize only near the last pose (below)
-    knn.clear();  // knnMatch appends
-    matcher.knnMatch(frameDescriptors, kf.descriptors, knn, 2);
+    matchNearestTwo(frameDescriptors, kf.descriptors, matches);
     inlierPlane.clear();
     inlierImage.clear();
-    for (const auto& m : knn)
-      if (m.size() == 2 && m[0].distance < 0.8f * m[1].distance && m[0].distance < 64) {
-        inlierPlane.push_back(applyHomography(kf.imageToPlane, kf.featurePixels[static_cast<std::size_t>(m[0].trainIdx)]));
-        inlierImage.push_back(frameKeypoints[static_cast<std::size_t>(m[0].queryIdx)].pt);
+    for (const HammingMatch& m : matches)
+      if (m.distance < 0.8 * m.second && m.distance < 64) {
+        inlierPlane.push_back(applyHomography(kf.imageToPlane, kf.featurePixels[static_cast<std::size_t>(m.train)]));
+        inlierImage.push_back(frameKeypoints[static_cast<std::size_t>(m.query)].pt);
       }
     if (inlierPlane.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) continue;
     PlanarPose candidate;
     double rms = 0;
     int inliers = 0;
-    if (!robustPlanarPose(K, inlierPlane, inlierImage, 4.0, maxDistance(), mask, candidate, rms, inliers)) continue;
+    if (!robustPlanarPose(K, inlierPlane, inlierImage, 4.0, maxDistance(), solver, mask, candidate, rms, inliers)) continue;
     if (inliers < kMinRelocalizationInliers || inliers <= bestInliers) continue;
     // The floor around a target may repeat (tiles, carpet): a keyframe of it can match the
     // wrong repeat. Only the reference is unique; a floor keyframe relocalizes only near the
@@ -376,7 +402,7 @@ void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p) {
 TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double seconds) {
   stats = FrameStats{};
   TrackedPose result;
-  if (!grey.load(frame)) return result;
+  if (!grey.load(frame) || !framePyramid.build(grey.pinhole())) return result;
 
   // Constant-velocity prediction from the last two poses.
   PlanarPose prediction = pose;

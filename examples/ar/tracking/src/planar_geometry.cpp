@@ -3,19 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/calib3d.hpp>
-
 #include "marionette_ar/tracking/tracker.hpp"
+#include "planar_pose.hpp"
 
 namespace marionette::ar {
 
 namespace {
 
-cv::Matx33d rotation(const cv::Vec3d& rvec) {
-  cv::Matx33d r;
-  cv::Rodrigues(rvec, r);
-  return r;
-}
+// planar_pose's conversions: cv::Rodrigues allocates.
+cv::Matx33d rotation(const cv::Vec3d& rvec) { return rotationFromRodrigues(rvec); }
 
 }  // namespace
 
@@ -24,11 +20,7 @@ cv::Point2f applyHomography(const cv::Matx33d& h, const cv::Point2f& p) noexcept
   return {static_cast<float>(q[0] / q[2]), static_cast<float>(q[1] / q[2])};
 }
 
-cv::Matx33d planeToImageHomography(const cv::Matx33d& k, const PlanarPose& pose) {
-  const cv::Matx33d r = rotation(pose.rvec);
-  const cv::Matx33d m(r(0, 0), r(0, 2), pose.tvec[0], r(1, 0), r(1, 2), pose.tvec[1], r(2, 0), r(2, 2), pose.tvec[2]);
-  return k * m;
-}
+cv::Matx33d planeToImageHomography(const cv::Matx33d& k, const PlanarPose& pose) { return planeToImage(k, pose); }
 
 bool poseFromPlaneHomography(const cv::Matx33d& k, const cv::Matx33d& h, PlanarPose& pose) {
   cv::Matx33d m = k.inv() * h;
@@ -37,13 +29,8 @@ bool poseFromPlaneHomography(const cv::Matx33d& k, const cv::Matx33d& h, PlanarP
   m *= (m(2, 2) < 0 ? -s : s);  // the plane in front of the camera
   const cv::Vec3d r1(m(0, 0), m(1, 0), m(2, 0)), r3(m(0, 1), m(1, 1), m(2, 1));
   const cv::Vec3d r2 = r3.cross(r1);  // r1 x r2 = r3 for a right-handed rotation
-  cv::Matx33d r(r1[0], r2[0], r3[0], r1[1], r2[1], r3[1], r1[2], r2[2], r3[2]);
-  cv::Mat w, u, vt;  // nearest rotation
-  cv::SVD::compute(cv::Mat(r), w, u, vt);
-  const cv::Mat rr = u * vt;
-  if (cv::determinant(rr) <= 0) return false;
-  cv::Vec3d rvec;
-  cv::Rodrigues(rr, rvec);
+  const cv::Matx33d r(r1[0], r2[0], r3[0], r1[1], r2[1], r3[1], r1[2], r2[2], r3[2]);
+  const cv::Vec3d rvec = rodriguesFromRotation(nearestRotation(r));
   pose.rvec = rvec;
   pose.tvec = cv::Vec3d(m(0, 2), m(1, 2), m(2, 2));
   return std::isfinite(rvec[0]) && std::isfinite(pose.tvec[2]);
@@ -106,26 +93,36 @@ bool matchGain(const cv::Mat& source, const std::vector<cv::Point2f>& sourcePoin
   return true;
 }
 
+void PlanarPoseSolver::reserve(std::size_t maxPoints) {
+  ransac.reserve(maxPoints);
+  plane.reserve(maxPoints);
+  image.reserve(maxPoints);
+}
+
 bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plane,
                       const std::vector<cv::Point2f>& image, double thresholdPx, double maxDistance,
-                      std::vector<unsigned char>& mask, PlanarPose& out, double& rmsPx, int& inliers,
-                      cv::Matx33d* homography) {
+                      PlanarPoseSolver& solver, std::vector<unsigned char>& mask, PlanarPose& out, double& rmsPx,
+                      int& inliers, cv::Matx33d* homography) noexcept {
   inliers = 0;
-  if (plane.size() < 6 || plane.size() != image.size()) return false;
-  const cv::Mat h = cv::findHomography(plane, image, cv::RANSAC, thresholdPx, mask, 500, 0.995);
-  if (h.empty()) return false;
-  if (homography) *homography = cv::Matx33d(h);
-  // Reused across calls (and frames): no allocation once they have grown.
-  thread_local std::vector<cv::Point3f> object;
-  thread_local std::vector<cv::Point2f> pixels, projected;
-  object.clear();
-  pixels.clear();
+  if (plane.size() < 6 || plane.size() != image.size() || plane.size() > solver.ransac.capacity() ||
+      plane.size() > mask.capacity())
+    return false;
+  mask.resize(plane.size());  // within capacity: no allocation
+  HomographyRansacParams params;
+  params.thresholdPx = thresholdPx;
+  cv::Matx33d h;
+  int found = 0;
+  if (!solver.ransac.estimate(plane, image, params, h, mask, found)) return false;
+  if (homography) *homography = h;
+  solver.plane.clear();
+  solver.image.clear();
   for (std::size_t i = 0; i < plane.size(); ++i)
     if (mask[i]) {
-      object.emplace_back(plane[i].x, 0.0f, plane[i].y);
-      pixels.push_back(image[i]);
+      solver.plane.push_back(plane[i]);
+      solver.image.push_back(image[i]);
     }
-  if (object.size() < 6) return false;
+  const std::vector<cv::Point2f>& pixels = solver.image;
+  if (pixels.size() < 6) return false;
   // The spread of the inliers: the smaller eigenvalue of their covariance.
   double mx = 0, my = 0;
   for (const cv::Point2f& p : pixels) {
@@ -146,23 +143,16 @@ bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plan
   sxy /= n;
   const double smallest = 0.5 * (sxx + syy) - std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
   if (!(smallest >= 64.0)) return false;
-  cv::Vec3d rvec, tvec;
-  if (!cv::solvePnP(object, pixels, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE)) return false;
-  cv::solvePnPRefineLM(object, pixels, k, cv::noArray(), rvec, tvec,
-                       cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 20, 1e-9));
-  PlanarPose pose{rvec, tvec};
+  // IPPE's two candidates refined by Levenberg-Marquardt, the better kept (planar_pose.hpp).
+  PlanarPose pose;
+  double rms = 0;
+  if (!planarPoseFromHomography(k, h, solver.plane, pixels, {}, PoseRefineParams{}, pose, rms)) return false;
   const glm::dvec3 centre = cameraPosition(pose);
   if (!(centre.y > 1e-3) || !(glm::length(centre) <= maxDistance)) return false;  // seen from above, near enough
-  cv::projectPoints(object, rvec, tvec, k, cv::noArray(), projected);
-  double sum = 0;
-  for (std::size_t i = 0; i < projected.size(); ++i) {
-    const cv::Point2f d = projected[i] - pixels[i];
-    sum += d.dot(d);
-  }
-  rmsPx = std::sqrt(sum / static_cast<double>(projected.size()));
-  if (!std::isfinite(rmsPx)) return false;
+  if (!std::isfinite(rms)) return false;
+  rmsPx = rms;
   out = pose;
-  inliers = static_cast<int>(object.size());
+  inliers = static_cast<int>(pixels.size());
   return true;
 }
 
@@ -186,12 +176,11 @@ PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, doub
   const double ratio = std::clamp((t - tb) / (tb - ta), 0.0, 3.0);
   const cv::Matx33d ra = rotation(a.rvec), rb = rotation(b.rvec);
   const cv::Matx33d delta = rb * ra.t();  // x_b = delta x_a + (tb - delta ta)
-  cv::Vec3d deltaRvec;
-  cv::Rodrigues(delta, deltaRvec);
+  const cv::Vec3d deltaRvec = rodriguesFromRotation(delta);
   const cv::Vec3d deltaT = b.tvec - delta * a.tvec;
   const cv::Matx33d step = rotation(deltaRvec * ratio);
   PlanarPose out;
-  cv::Rodrigues(step * rb, out.rvec);
+  out.rvec = rodriguesFromRotation(step * rb);
   out.tvec = step * b.tvec + deltaT * ratio;
   return out;
 }

@@ -6,6 +6,7 @@
 #include <glm/mat4x4.hpp>
 #include <opencv2/core.hpp>
 
+#include "homography_ransac.hpp"
 #include "marionette_ar/tracking/camera_model.hpp"
 
 namespace marionette::ar {
@@ -29,14 +30,23 @@ struct PlanarPose {
 // does not keep it. False when there is too little to measure (gain 1, bias 0).
 bool matchGain(const cv::Mat& source, const std::vector<cv::Point2f>& sourcePoints, const cv::Mat& frame,
                const std::vector<cv::Point2f>& framePoints, int window, double& gain, double& bias);
-// RANSAC homography plane -> image, then IPPE and Levenberg-Marquardt on the inliers. False
-// when fewer than 6 points agree, when they bunch up (less than 8 px of spread across their
-// narrowest direction: any homography fits a cluster), when the camera would be under the
-// plane or farther than `maxDistance` from the origin.
+// robustPlanarPose's buffers, sized once (reserve) for the most points it is given.
+struct PlanarPoseSolver {
+  HomographyRansac ransac;
+  std::vector<cv::Point2f> plane, image;  // the inliers
+  void reserve(std::size_t maxPoints);
+};
+
+// RANSAC homography plane -> image, then IPPE's two poses refined by Levenberg-Marquardt on the
+// inliers (homography_ransac.hpp, planar_pose.hpp). False when fewer than 6 points agree, when
+// they bunch up (less than 8 px of spread across their narrowest direction: any homography fits
+// a cluster), when the camera would be under the plane or farther than `maxDistance` from the
+// origin, or when there are more points than `solver` and `mask` were reserved for. `mask`
+// gets the inliers. Allocates nothing.
 [[nodiscard]] bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plane,
                                     const std::vector<cv::Point2f>& image, double thresholdPx, double maxDistance,
-                                    std::vector<unsigned char>& mask, PlanarPose& out, double& rmsPx, int& inliers,
-                                    cv::Matx33d* homography = nullptr);
+                                    PlanarPoseSolver& solver, std::vector<unsigned char>& mask, PlanarPose& out,
+                                    double& rmsPx, int& inliers, cv::Matx33d* homography = nullptr) noexcept;
 // The share of the target rectangle (width x height metres, centred) inside the image.
 [[nodiscard]] double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose,
                                            double width, double height);
