@@ -1,5 +1,7 @@
 #include "marionette/prt/transfer.hpp"
 
+#include "marionette/core/split_mix.hpp"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -31,17 +33,8 @@ struct CpuTotal {
   [[nodiscard]] double seconds() const noexcept { return 1e-9 * static_cast<double>(nanoseconds.load()); }
 };
 
-// SplitMix64: a vertex's own random stream from (seed, vertex), independent of threads.
-struct SplitMix {
-  std::uint64_t state;
-  std::uint64_t next() noexcept {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  float uniform() noexcept { return static_cast<float>(next() >> 40) * (1.0f / 16777216.0f); }  // [0, 1)
-};
+// A vertex's own random stream from (seed, vertex), independent of threads.
+using SplitMix = SplitMix64;
 std::uint64_t vertexSeed(std::uint64_t seed, std::size_t vertex) noexcept {
   SplitMix s{seed * 0x2545F4914F6CDD1Dull + vertex};
   return s.next();

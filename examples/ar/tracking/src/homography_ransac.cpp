@@ -1,5 +1,7 @@
 #include "homography_ransac.hpp"
 
+#include "marionette/core/split_mix.hpp"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -90,16 +92,7 @@ bool solveLinear(int n, double* a, double* b, double tiny) noexcept {
 
 namespace {
 
-// splitmix64 (Steele, Lea and Flood 2014): tiny, fast, and the same sequence on every platform.
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() noexcept {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
-};
+using marionette::SplitMix64;  // the same sequence on every platform
 
 double cross(const cv::Point2d& o, const cv::Point2d& a, const cv::Point2d& b) noexcept {
   return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);

@@ -322,6 +322,10 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
         }
         return false;
       }
+      // Inliers within 2 px of the homography but not of the pose: a degenerate pose (seen with
+      // 12 inliers and 10 px after a fast turn), not a measurement. (A target that is no
+      // pinhole view at all, as the graffiti pair, needs maxTrackingRmsPx raised.)
+      if (rms > std::max(2.0, settings.maxTrackingRmsPx)) return false;
       if (pass > 0 || (!blur.any() && !proposal.any())) break;
       // Misaligned patches look blurred: the search needs a pose TRACKING would accept.
       if (inliers < settings.minTrackingInliers || rms > 2 * settings.maxTrackingRmsPx) break;
