@@ -16,6 +16,7 @@
 #include <random>
 
 #include "marionette/io/import.hpp"
+#include "marionette_ar/authoring/augmentation.hpp"
 #include "marionette_ar/pose_track.hpp"
 #include "pose_track_seed.hpp"  // tests/fuzz: the fuzz target's seed
 #include "marionette/scene/scene_file.hpp"
@@ -286,6 +287,53 @@ TEST(Fuzz, CameraModels) {
 #endif
 
 // The CSV `marionette-ar track` writes, read back by a replayed camera ("camera": {"poses"}).
+TEST(Fuzz, Augmentations) {
+  ar::Augmentation seed;
+  seed.tracker.camera = "camera.yml";
+  seed.tracker.map = "poster.map";
+  seed.tracker.mapCrc32 = "0a1b2c3d";
+  seed.environment = "forest.exr";
+  for (int i = 0; i < 2; ++i) {
+    ar::PlacedCharacter c;
+    c.name = "c" + std::to_string(i);
+    c.asset = "BCN.x";
+    c.bml = "wave.xml";
+    const float k = static_cast<float>(i);
+    c.placement.position = {0.1f * k, 0.0f, -0.2f};
+    c.placement.rotation = ar::ga::rotation(ar::ga::kPlaneY<float>, 0.3f + k);
+    c.placement.scale = 0.5f;
+    seed.characters.push_back(c);
+  }
+  const std::string original = ar::formatAugmentation(seed);
+  std::mt19937 rng(13);
+  int rejected = 0, accepted = 0;
+  const int count = iterations(300);
+  for (int i = 0; i < count; ++i) {  // case 0: the seed itself, which reads
+    const std::string text = i == 0 ? original : mutate(original, rng);
+    Diagnostics d;
+    const auto a = ar::parseAugmentation(text, "fuzz.json", d);
+    if (!a) {
+      ASSERT_NE(i, 0) << "the seed does not read: " << d.format();
+      ++rejected;
+      ASSERT_FALSE(d.ok()) << "case " << i << ": rejected without an error";
+      ASSERT_EQ(d.format().rfind("fuzz.json", 0), 0u) << "case " << i << ": the error lacks the file: " << d.format();
+      continue;
+    }
+    ++accepted;
+    for (const ar::PlacedCharacter& c : a->characters) {
+      const ar::Placement& p = c.placement;
+      ASSERT_TRUE(std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.position.z)) << i;
+      ASSERT_NEAR(p.rotation.norm(), 1.0f, 1e-4f) << "case " << i;
+      ASSERT_TRUE(p.scale > 0 && std::isfinite(p.scale)) << "case " << i;
+      ASSERT_FALSE(c.name.empty());
+      ASSERT_FALSE(c.asset.empty());
+    }
+  }
+  std::printf("augmentations: %d mutations, %d rejected, %d accepted\n", count - 1, rejected, accepted);
+  EXPECT_GT(rejected, 0);
+  EXPECT_GT(accepted, 2) << "no mutation got past the checks";
+}
+
 TEST(Fuzz, PoseTracks) {
   const std::string original = fuzz::kSeedPoseTrack;
   std::mt19937 rng(12);
