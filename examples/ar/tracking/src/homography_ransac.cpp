@@ -59,6 +59,17 @@ bool symmetricEigen(int n, const double* a, double* values, double* vectors) noe
   return true;
 }
 
+bool dampedStep(int n, const double* jtj, const double* jtr, double lambda, double tiny, double* step) noexcept {
+  if (n < 1 || n > 9) return false;
+  double a[81];
+  for (int k = 0; k < n * n; ++k) a[k] = jtj[k];
+  for (int p = 0; p < n; ++p) {
+    a[p * n + p] += lambda * std::max(jtj[p * n + p], 1e-12);
+    step[p] = -jtr[p];
+  }
+  return solveLinear(n, a, step, tiny);
+}
+
 bool solveLinear(int n, double* a, double* b, double tiny) noexcept {
   if (n < 1 || n > 9) return false;
   for (int c = 0; c < n; ++c) {
@@ -260,13 +271,8 @@ void levenbergMarquardt(const cv::Point2d* src, const cv::Point2d* dst, const st
       for (int q = 0; q < p; ++q) jtj[p * 8 + q] = jtj[q * 8 + p];
     bool improved = false;
     while (!improved && lambda < 1e10) {
-      double a[64], step[8];
-      for (int k = 0; k < 64; ++k) a[k] = jtj[k];
-      for (int p = 0; p < 8; ++p) {
-        a[p * 8 + p] += lambda * std::max(jtj[p * 8 + p], 1e-12);
-        step[p] = -jtr[p];
-      }
-      if (!solveLinear(8, a, step, 1e-14)) {
+      double step[8];
+      if (!dampedStep(8, jtj, jtr, lambda, 1e-14, step)) {
         lambda *= 10;
         continue;
       }

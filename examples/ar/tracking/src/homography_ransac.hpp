@@ -19,6 +19,9 @@ bool symmetricEigen(int n, const double* a, double* values, double* vectors) noe
 // Solves the n x n system a x = b in place (a destroyed, x in b), partial pivoting, n <= 9.
 // False when a pivot is below `tiny` times the largest entry of its column.
 bool solveLinear(int n, double* a, double* b, double tiny = 1e-12) noexcept;
+// A Levenberg-Marquardt step: solves (JtJ + lambda diag(JtJ)) step = -Jtr for `step`, n <= 9,
+// `jtj` row-major and symmetric (left as it is). False when the damped system is singular.
+bool dampedStep(int n, const double* jtj, const double* jtr, double lambda, double tiny, double* step) noexcept;
 
 struct HomographyRansacParams {
   double thresholdPx = 3;       // a pair is an inlier when the homography puts src within this of dst

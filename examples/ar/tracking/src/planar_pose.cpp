@@ -193,13 +193,8 @@ bool refinePlanarPose(const cv::Matx33d& k, std::span<const cv::Point2f> plane, 
     bool improved = false;
     double stepLength = 0;
     while (!improved && lambda < 1e12) {
-      double m[36], step[6];
-      for (int e = 0; e < 36; ++e) m[e] = jtj[e];
-      for (int a = 0; a < 6; ++a) {
-        m[a * 6 + a] += lambda * std::max(jtj[a * 6 + a], 1e-12);
-        step[a] = -jtr[a];
-      }
-      if (!solveLinear(6, m, step, 1e-15)) {
+      double step[6];
+      if (!dampedStep(6, jtj, jtr, lambda, 1e-15, step)) {
         lambda *= 10;
         continue;
       }
