@@ -18,6 +18,7 @@
 
 #include "marionette/io/import.hpp"
 #include "marionette_ar/authoring/augmentation.hpp"
+#include "marionette_ar/authoring/authoring_actions.hpp"
 #include "marionette_ar/pose_track.hpp"
 #include "pose_track_seed.hpp"  // tests/fuzz: the fuzz target's seed
 #include "marionette/scene/scene_file.hpp"
@@ -287,7 +288,20 @@ TEST(Fuzz, CameraModels) {
 }
 #endif
 
-// The CSV `marionette-ar track` writes, read back by a replayed camera ("camera": {"poses"}).
+// Case 0: the text itself; odd cases: bytes mutated (mostly no JSON any more); even ones: one
+// digit changed, which keeps the JSON and reaches the value checks (a rotor off unit, version 7...).
+std::string mutateBytesOrDigit(const std::string& original, int i, std::mt19937& rng) {
+  if (i == 0) return original;
+  if (i % 2 == 1) return mutate(original, rng);
+  std::vector<std::size_t> digits;
+  for (std::size_t k = 0; k < original.size(); ++k)
+    if (original[k] >= '0' && original[k] <= '9') digits.push_back(k);
+  std::string text = original;
+  text[digits[rng() % digits.size()]] = static_cast<char>('0' + rng() % 10);
+  return text;
+}
+
+// The authoring's augmentation files (marionette_ar/authoring/augmentation.hpp).
 TEST(Fuzz, Augmentations) {
   ar::Augmentation seed;
   seed.tracker.camera = "camera.yml";
@@ -310,17 +324,7 @@ TEST(Fuzz, Augmentations) {
   int rejected = 0, accepted = 0;
   const int count = iterations(300);
   for (int i = 0; i < count; ++i) {  // case 0: the seed itself, which reads
-    // Odd cases: bytes mutated (mostly no JSON any more); even ones: one digit changed, which
-    // keeps the JSON and reaches the value checks (a rotor off unit, a scale of 0, version 7...).
-    std::string text = original;
-    if (i % 2 == 1) {
-      text = mutate(original, rng);
-    } else if (i > 0) {
-      std::vector<std::size_t> digits;
-      for (std::size_t k = 0; k < original.size(); ++k)
-        if (original[k] >= '0' && original[k] <= '9') digits.push_back(k);
-      text[digits[rng() % digits.size()]] = static_cast<char>('0' + rng() % 10);
-    }
+    const std::string text = mutateBytesOrDigit(original, i, rng);
     Diagnostics d;
     const auto a = ar::parseAugmentation(text, "fuzz.json", d);
     if (!a) {
@@ -341,6 +345,44 @@ TEST(Fuzz, Augmentations) {
     }
   }
   std::printf("augmentations: %d mutations, %d rejected, %d accepted\n", count - 1, rejected, accepted);
+  EXPECT_GT(rejected, 0);
+  EXPECT_GT(accepted, 2) << "no mutation got past the checks";
+}
+
+// The authoring's action files (marionette_ar/authoring/authoring_actions.hpp).
+TEST(Fuzz, ActionFiles) {
+  const std::string original = R"({"format": "marionette-actions", "version": 1, "actions": [
+    {"do": "pick-character", "name": "bcn"}, {"do": "pick-bml", "file": "wave.xml"},
+    {"do": "place", "pixel": [330, 410]}, {"do": "drag", "from": [330, 410], "to": [300, 380], "frame": 90},
+    {"do": "rotate", "axes": "local", "plane": "e31", "degrees": 30}, {"do": "height", "metres": 1.75},
+    {"do": "exposure", "ev": -0.5}, {"do": "undo"}, {"do": "save"}]})";
+  std::mt19937 rng(14);
+  int rejected = 0, accepted = 0;
+  const int count = iterations(300);
+  for (int i = 0; i < count; ++i) {
+    const std::string text = mutateBytesOrDigit(original, i, rng);
+    Diagnostics d;
+    const auto actions = ar::parseActions(text, "fuzz.json", d);
+    if (!actions) {
+      ASSERT_NE(i, 0) << "the seed does not read: " << d.format();
+      ++rejected;
+      ASSERT_FALSE(d.ok()) << "case " << i << ": rejected without an error";
+      ASSERT_EQ(d.format().rfind("fuzz.json", 0), 0u) << "case " << i << ": the error lacks the file: " << d.format();
+      continue;
+    }
+    ++accepted;
+    for (const ar::Action& a : *actions) {
+      ASSERT_TRUE(std::isfinite(a.value) && std::isfinite(a.pixel.x) && std::isfinite(a.to.y)) << "case " << i;
+      ASSERT_TRUE(std::isfinite(ar::modelledSeconds(a, nullptr)) && ar::modelledSeconds(a, nullptr) > 0) << i;
+      // What reads writes back to the same actions.
+      Diagnostics again;
+      const auto back = ar::parseActions(ar::formatActions({a}), "fuzz.json", again);
+      ASSERT_TRUE(back && back->size() == 1) << "case " << i << ": " << again.format();
+      ASSERT_EQ((*back)[0].value, a.value);
+      ASSERT_EQ((*back)[0].pixel, a.pixel);
+    }
+  }
+  std::printf("action files: %d mutations, %d rejected, %d accepted\n", count - 1, rejected, accepted);
   EXPECT_GT(rejected, 0);
   EXPECT_GT(accepted, 2) << "no mutation got past the checks";
 }

@@ -140,7 +140,7 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
     return d;
   }
   Reader r(path, d);
-  r.unknownKeys(root, "", {"comment", "scene", "camera", "background", "environment", "render"});
+  r.unknownKeys(root, "", {"comment", "scene", "camera", "background", "environment", "render", "authoring"});
   out.scene = r.resolve(r.string(root, "scene", "", true));
 
   if (r.object(root, "camera")) {
@@ -297,6 +297,21 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
     r.error("camera.tracker", "a tracker needs camera frames: a \"sequence\", \"video\" or \"camera\" background");
   if (!out.camera.replay.poses.empty() && out.background.kind == ArBackground::Kind::Camera)
     r.error("camera.poses", "replays a recording: a live \"camera\" background has no time axis to follow");
+  if (r.object(root, "authoring")) {
+    const Json& a = root["authoring"];
+    r.unknownKeys(a, "authoring", {"bml"});
+    if (a.contains("bml")) {
+      const Json& list = a["bml"];
+      if (!list.is_array()) r.error("authoring.bml", "expected an array of BML files");
+      for (std::size_t i = 0; list.is_array() && i < list.size(); ++i) {
+        if (!list[i].is_string() || list[i].get<std::string>().empty()) {
+          r.error("authoring.bml[" + std::to_string(i) + "]", "expected a file name");
+          continue;
+        }
+        out.authoringBml.push_back(r.resolve(list[i].get<std::string>()));
+      }
+    }
+  }
   if (r.object(root, "render")) {
     const Json& rd = root["render"];
     r.unknownKeys(rd, "render", {"width", "height", "fps"});

@@ -22,7 +22,8 @@
 //                    "prt": { "mode": "shadowed", "bands": 5, "rays": 1024,   // or "unshadowed" / "off"
 //                             "cache": "dir",                 // optional: prt::defaultTransferCacheDirectory()
 //                             "pose": { "clip": "walk", "time": 0.0 } } },   // optional: transfer in that pose
-//   "render": { "width": 960, "height": 540, "fps": 30 }
+//   "render": { "width": 960, "height": 540, "fps": 30 },
+//   "authoring": { "bml": ["wave.xml", "nod.xml"] }   // optional: the BML the authoring UI offers
 // }
 //
 // Paths are relative to the AR scene file, or absolute. Without "environment"
@@ -34,6 +35,7 @@
 // characters stand in the tracked world (the target's plane, metric).
 #pragma once
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -113,6 +115,7 @@ struct ArScene {
   ArEnvironment environment;
   int width = 960, height = 540;
   double fps = 30.0;
+  std::vector<std::string> authoringBml;  // resolved
 };
 
 // Reads an AR scene file; every problem names the file and the key.

@@ -5,7 +5,9 @@
 //   marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]
 //                 [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]
 //                 [--prt shadowed|unshadowed|off] [--prt-bands N] [--prt-rays R] [--prt-cache DIR]
+//                 [--restore AUGMENTATION.json [--truth CSV]] [--json]
 //   marionette-ar calibrate ... | track ...   (camera tracking: tracking_commands.hpp)
+//   marionette-ar author SCENE.json --actions ACTIONS.json -o AUGMENTATION.json  (author_command.hpp)
 //
 // Headless renders offscreen into DIR/frame_0000.png ... (still needs an X
 // display: run it under xvfb-run; docs/ar-renderer.md).
@@ -16,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -25,9 +28,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "ar_scene_file.hpp"
+#include "augmentation_restore.hpp"
+#include "augmentation_scene.hpp"
+#include "authoring_window.hpp"
+#include "scene_catalogue.hpp"
 #include "frame_inputs.hpp"
 #include "prt_lighting.hpp"
 #if MARIONETTE_AR_HAS_TRACKING
+#include "author_command.hpp"
 #include "tracking_commands.hpp"
 #endif
 #include "marionette/bml/realizer.hpp"
@@ -44,8 +52,8 @@ using namespace marionette;
 using namespace marionette::ar;
 
 struct Args {
-  std::string scene, outDir, screenshot, audioDir;
-  bool headless = false, hideCharacters = false;
+  std::string scene, outDir, screenshot, audioDir, restore, truth, author, inputScript;
+  bool headless = false, hideCharacters = false, json = false;
   long frames = -1;  // headless default: 5 s of scene time
   float exposure = -1.0f;
   int width = 0, height = 0;
@@ -58,6 +66,19 @@ int usage() {
                "usage: marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]\n"
                "                     [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]\n"
                "                     [--prt shadowed|unshadowed|off] [--prt-bands N] [--prt-rays R] [--prt-cache DIR]\n"
+               "                     [--restore AUGMENTATION.json [--truth CSV]] [--json]\n"
+               "                     [--author OUT.json [--input-script EVENTS.json]]\n"
+               "       marionette-ar author SCENE.json --actions ACTIONS.json -o AUGMENTATION.json [--json]\n"
+               "       marionette-ar calibrate ... | track ...   (docs/tracking.md)\n"
+               "  --restore FILE   put an authored augmentation back (docs/authoring.md): its map, tracker,\n"
+               "                   exposure, environment, characters' placements and BML\n"
+               "  --author OUT     the authoring window (docs/authoring.md): place, move, turn, size the scene's\n"
+               "                   characters on the tracked floor; Save writes OUT and OUT's .actions.json\n"
+               "  --input-script F synthetic mouse and key events for the authoring window (tests)\n"
+               "  --truth CSV      exact camera poses of the frames, to measure the restored placement's error\n"
+               "                   (default: truth.csv in a sequence folder, when it is there)\n"
+               "  --json           print a JSON report (with --restore: first_registered_frame,\n"
+               "                   launch_to_registered_seconds, placement_error_m, placement_error_deg)\n"
                "  --prt MODE       PRT lighting of the characters (default: the scene's environment.prt.mode,\n"
                "                   shadowed); off: the environment's SH9 irradiance per fragment\n"
                "  --prt-bands N    SH bands of the transfer, 2..8 (default 4)\n"
@@ -91,6 +112,12 @@ bool parseArgs(int argc, char** argv, Args& a) {
     };
     double n = 0;
     if (s == "--headless") a.headless = true;
+    else if (s == "--json") a.json = true;
+    else if (s == "--restore" || s == "--truth" || s == "--author" || s == "--input-script") {
+      const char* v = value(s.c_str());
+      if (!v) return false;
+      (s == "--restore" ? a.restore : s == "--truth" ? a.truth : s == "--author" ? a.author : a.inputScript) = v;
+    }
     else if (s == "--hide-characters") a.hideCharacters = true;
     else if (s == "--frames") {
       if (!number("--frames", 1, 1e6, n)) return false;
@@ -153,11 +180,39 @@ bool parseArgs(int argc, char** argv, Args& a) {
     }
   }
   if (a.scene.empty()) return false;
+  if (!a.author.empty() && (a.headless || !a.restore.empty())) {
+    std::fprintf(stderr, "marionette-ar: --author opens the authoring window: not with --headless or --restore\n");
+    return false;
+  }
+  if (!a.inputScript.empty() && a.author.empty()) {
+    std::fprintf(stderr, "marionette-ar: --input-script drives the --author window\n");
+    return false;
+  }
+  if (!a.truth.empty() && a.restore.empty()) {
+    std::fprintf(stderr, "marionette-ar: --truth measures a --restore\n");
+    return false;
+  }
   if (a.headless && a.outDir.empty()) {
     std::fprintf(stderr, "marionette-ar: --headless needs --out DIR\n");
     return false;
   }
   return true;
+}
+
+// The window's back buffer as an image (rows top to bottom), after the panel is drawn.
+void readWindow(int width, int height, Image8& out) {
+  out.width = width;
+  out.height = height;
+  out.channels = 3;
+  out.pixels.resize(static_cast<std::size_t>(width) * height * 3);
+  std::vector<std::uint8_t> rows(out.pixels.size());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+  const std::size_t row = static_cast<std::size_t>(width) * 3;
+  for (int y = 0; y < height; ++y)
+    std::copy_n(rows.data() + static_cast<std::size_t>(height - 1 - y) * row, row, out.pixels.data() + y * row);
 }
 
 // Logs the runtime's warnings to stderr.
@@ -174,15 +229,27 @@ struct LogListener : SceneListener {
 }  // namespace
 
 int main(int argc, char** argv) {
+  (void)secondsSinceProcessStart();  // starts its clock
 #if MARIONETTE_AR_HAS_TRACKING
   if (const int code = runTrackingCommand(argc, argv); code >= 0) return code;
+  if (argc > 1 && std::strcmp(argv[1], "author") == 0) return runAuthorCommand(argc, argv);
 #endif
   Args args;
   if (!parseArgs(argc, argv, args)) return usage();
+  std::FILE* info = args.json ? stderr : stdout;  // with --json, stdout holds the report alone
   ArScene ar;
   const Diagnostics arDiag = readArScene(args.scene, ar);
   std::fputs(arDiag.format().c_str(), stderr);
   if (!arDiag.ok()) return 2;
+  AugmentationRestore restore;
+  if (!args.restore.empty()) {
+    std::string truth = args.truth;
+    if (truth.empty() && ar.background.kind == ArBackground::Kind::Sequence &&
+        std::filesystem::is_regular_file(std::filesystem::path(ar.background.file) / "truth.csv"))
+      truth = (std::filesystem::path(ar.background.file) / "truth.csv").string();
+    (void)restore.load(args.restore, ar, truth);
+  }
+  restore.mark("main_and_augmentation");
   if (args.width) ar.width = args.width;
   if (args.height) ar.height = args.height;
   if (args.exposure >= 0.0f) ar.environment.exposure = args.exposure;
@@ -201,6 +268,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   for (const std::string& w : inputs.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
+  restore.mark("environment_and_background");
 
   std::string glError;
   auto gl = GlContext::create({ar.width, ar.height, !args.headless, "marionette-ar: " + args.scene}, glError);
@@ -208,7 +276,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "marionette-ar: %s\n", glError.c_str());
     return 3;
   }
-  std::printf("marionette-ar: %s\n", gl->rendererName().c_str());
+  std::fprintf(info, "marionette-ar: %s\n", gl->rendererName().c_str());
+  restore.mark("gl_context");
 
   Scene scene;
   LogListener log;
@@ -219,11 +288,13 @@ int main(int argc, char** argv) {
   SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
   std::fputs(loaded.diagnostics.format().c_str(), stderr);
   if (!loaded.ok()) return 2;
+  restore.mark("scene_and_characters");
   bml::Realizer realizer(scene);
   realizer.setForwardWarningsToScene(false);
   // A window keeps its frame rate (speech is said off the frame path); frames
   // written headless step a fixed clock and must come out the same every run.
   if (args.headless) realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);
+  restore.bind(scene, loaded.bml);
   bml::TimedFiles bmlFiles(realizer, loaded.bml);
   int bmlErrors = 0;
 
@@ -251,7 +322,7 @@ int main(int argc, char** argv) {
   std::vector<std::unique_ptr<PrtCharacterLight>> prtLights(scene.characters().size());
   std::vector<std::unique_ptr<PrtIrradiance>> prtBuffers(scene.characters().size());
   if (!usePrt) {
-    std::printf("marionette-ar: prt off (%s): no precompute, SH9 light per fragment\n",
+    std::fprintf(info, "marionette-ar: prt off (%s): no precompute, SH9 light per fragment\n",
                 ar.environment.file.empty() ? "no environment, neutral sky light" : "environment.prt.mode off");
   } else {
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
@@ -264,8 +335,8 @@ int main(int argc, char** argv) {
         const bool ok = loadPrtAsset(c.rig(), prtSettings, ar.path, *a, d);
         std::fputs(d.format().c_str(), stderr);
         if (!ok) return 2;
-        std::printf("marionette-ar: %s\n", a->describe(std::filesystem::path(c.rig().asset().sourcePath).filename().string()).c_str());
-        std::fflush(stdout);
+        std::fprintf(info, "marionette-ar: %s\n", a->describe(std::filesystem::path(c.rig().asset().sourcePath).filename().string()).c_str());
+        std::fflush(info);
         prtAsset = std::move(a);
       }
       prtLights[i] = std::make_unique<PrtCharacterLight>(*prtAsset);
@@ -276,6 +347,7 @@ int main(int argc, char** argv) {
     }
   }
   const prt::ShRotation shRotation(usePrt ? prtSettings.bands : 2);
+  restore.mark("gpu_models_and_prt");
   double prtRelightMs = 0.0, prtUploadMs = 0.0;
   long prtUpdates = 0;
 
@@ -289,7 +361,30 @@ int main(int argc, char** argv) {
   }
   if (inputs.hasEnvironment())
     background.setEnvironment(inputs.environmentWidth(), inputs.environmentHeight(), inputs.environmentPixels());
+  restore.mark("shaders_and_targets");
 
+  // The authoring window: a session on the scene's tracker, its characters measured at rest.
+  std::unique_ptr<AuthoringWindow> authoring;
+  if (!args.author.empty()) {
+    Augmentation base;
+    if (ar.camera.tracker.kind == ArTracker::Kind::None || !trackerReference(ar.camera.tracker, base.tracker, error)) {
+      std::fprintf(stderr, "marionette-ar: --author: %s\n",
+                   error.empty() ? "the scene needs a tracked camera (camera.tracker with a saved map)" : error.c_str());
+      return 2;
+    }
+    base.environment = ar.environment.file;
+    base.exposureEv = ar.environment.exposure > 0 ? std::log2(ar.environment.exposure) : 0.0f;
+    Diagnostics measured;
+    std::vector<CatalogueEntry> catalogue = sceneCatalogue(scene, measured);
+    std::fputs(measured.format().c_str(), stderr);
+    authoring = std::make_unique<AuthoringWindow>(AuthoringSession(std::move(base), std::move(catalogue)),
+                                                  ar.authoringBml, args.author);
+    if (!authoring->init(gl->window(), error) ||
+        (!args.inputScript.empty() && !authoring->loadInputScript(args.inputScript, error))) {
+      std::fprintf(stderr, "marionette-ar: %s\n", error.c_str());
+      return 2;
+    }
+  }
   if (!args.outDir.empty()) std::filesystem::create_directories(args.outDir);
   const double dt = 1.0 / ar.fps;
   const long frames = args.frames > 0 ? args.frames : (args.headless ? static_cast<long>(5.0 * ar.fps) : -1);
@@ -303,9 +398,10 @@ int main(int argc, char** argv) {
   long frame = 0;
   for (; frames < 0 || frame < frames; ++frame) {
     if (!args.headless && gl->shouldClose()) break;
-    // Headless steps at the scene's fps exactly; a window follows the wall clock (at most 0.1 s a frame).
+    // Headless steps at the scene's fps exactly; a window follows the wall clock (at most 0.1 s a
+    // frame), unless a script drives it: then frame N shows camera frame N, as a replay does.
     double step = dt;
-    if (!args.headless) {
+    if (!args.headless && args.inputScript.empty()) {
       const auto now = std::chrono::steady_clock::now();
       step = std::min(0.1, std::chrono::duration<double>(now - last).count());
       last = now;
@@ -333,7 +429,7 @@ int main(int argc, char** argv) {
     TrackingStateReport tracking;
     const bool tracked = inputs.trackingState(tracking);
     if (tracked && (tracking.changed || frame == 0))
-      std::printf("marionette-ar: %s %s at %.3f s (frame %ld)\n", tracking.replayed ? "replayed pose" : "tracking",
+      std::fprintf(info, "marionette-ar: %s %s at %.3f s (frame %ld)\n", tracking.replayed ? "replayed pose" : "tracking",
                   tracking.state, scene.time(), frame);
     target.bind();
     glClearColor(0, 0, 0, 1);
@@ -352,10 +448,12 @@ int main(int argc, char** argv) {
     if (!args.hideCharacters && inputs.charactersVisible(scene.time())) {
       glEnable(GL_DEPTH_TEST);
       for (std::size_t i = 0; i < scene.characters().size(); ++i) {
-        if (!drawn[i]) continue;
+        if (!drawn[i] || !restore.drawn(i)) continue;
         const Character& c = *scene.characters()[i];
+        glm::mat4 anchor = restore.anchor(i);
+        if (authoring && !authoring->placement(c.name(), anchor)) continue;  // not placed yet
         poses[i]->update(c.transformBuffer());
-        const glm::mat4 world = c.transformBuffer().worldMatrix();
+        const glm::mat4 world = anchor * c.transformBuffer().worldMatrix();
         if (prtLights[i]) {
           const auto t0 = std::chrono::steady_clock::now();
           prtLights[i]->relight(inputs.radianceSH(), world, shRotation);
@@ -380,6 +478,12 @@ int main(int argc, char** argv) {
       glClear(GL_COLOR_BUFFER_BIT);
       glDisable(GL_SCISSOR_TEST);
     }
+    if (restore.active()) {  // a verified pose, the restored characters drawn with it
+      const bool verified = tracked && std::strcmp(tracking.state, "TRACKING") == 0 && !args.hideCharacters &&
+                            inputs.charactersVisible(scene.time());
+      if (verified && restore.firstRegisteredFrame() < 0) glFinish();  // drawn, not only queued
+      restore.frameDrawn(frame, scene.time(), verified, view.view);
+    }
     if (args.headless) {
       target.read(frameImage);
       char name[32];
@@ -392,28 +496,56 @@ int main(int argc, char** argv) {
       int w = 0, h = 0;
       gl->framebufferSize(w, h);
       target.present(w, h);
+      if (authoring) {
+        lighting.exposure = std::exp2(authoring->session().augmentation().exposureEv);
+        const AuthoringView av{view.view, view.projection, ar.width, ar.height,
+                               tracked && std::strcmp(tracking.state, "LOST") != 0};
+        authoring->frame(frame, av, tracked ? tracking.state : "not tracked", w, h);
+        if (!args.screenshot.empty() && (authoring->quitRequested() || frame + 1 == frames)) {
+          readWindow(w, h, frameImage);  // the window, with the panel
+          if (!writeImage(args.screenshot, frameImage, error)) {
+            std::fprintf(stderr, "marionette-ar: %s\n", error.c_str());
+            return 2;
+          }
+          std::fprintf(info, "marionette-ar: screenshot %s\n", args.screenshot.c_str());
+        }
+      }
       gl->swapAndPoll();
+      if (authoring && authoring->quitRequested()) {
+        ++frame;
+        break;
+      }
     }
   }
-  if (!args.screenshot.empty()) {
+  if (!args.screenshot.empty() && !authoring) {
     target.read(frameImage);
     if (!writeImage(args.screenshot, frameImage, error)) {
       std::fprintf(stderr, "marionette-ar: %s\n", error.c_str());
       return 2;
     }
-    std::printf("marionette-ar: screenshot %s\n", args.screenshot.c_str());
+    std::fprintf(info, "marionette-ar: screenshot %s\n", args.screenshot.c_str());
   }
-  std::printf("marionette-ar: %ld frames of %dx%d, %.3f s of scene time, middleware %.3f ms per frame\n", frame,
+  std::fprintf(info, "marionette-ar: %ld frames of %dx%d, %.3f s of scene time, middleware %.3f ms per frame\n", frame,
               ar.width, ar.height, scene.time(), frame > 0 ? cpuMs / static_cast<double>(frame) : 0.0);
   if (prtUpdates > 0)
-    std::printf("marionette-ar: prt per character per frame: relight %.3f ms, upload %.3f ms (%ld updates)\n",
+    std::fprintf(info, "marionette-ar: prt per character per frame: relight %.3f ms, upload %.3f ms (%ld updates)\n",
                 prtRelightMs / static_cast<double>(prtUpdates), prtUploadMs / static_cast<double>(prtUpdates), prtUpdates);
   TrackingStateReport tracking;
   if (inputs.trackingState(tracking) && tracking.replayed)
-    std::printf("marionette-ar: replayed poses: %ld of %ld frames with a pose\n", tracking.posed, tracking.frames);
+    std::fprintf(info, "marionette-ar: replayed poses: %ld of %ld frames with a pose\n", tracking.posed, tracking.frames);
   else if (inputs.trackingState(tracking))
-    std::printf("marionette-ar: tracking: %ld of %ld camera frames with a pose, tracker %.2f ms per frame median\n",
+    std::fprintf(info, "marionette-ar: tracking: %ld of %ld camera frames with a pose, tracker %.2f ms per frame median\n",
                 tracking.posed, tracking.frames, inputs.trackingMedianMs());
-  if (args.headless) std::printf("marionette-ar: frames in %s\n", args.outDir.c_str());
+  if (args.headless) std::fprintf(info, "marionette-ar: frames in %s\n", args.outDir.c_str());
+  if (!args.restore.empty()) {
+    if (restore.active())
+      std::fprintf(info, "marionette-ar: restored %s: first registered frame %ld at %.3f s after launch\n",
+                   args.restore.c_str(), restore.firstRegisteredFrame(), restore.firstRegisteredSeconds());
+    if (args.json) std::printf("%s\n", restore.json(frame).c_str());
+    if (!restore.error().empty()) return 1;
+  } else if (args.json) {
+    std::printf("{\"frames\": %ld, \"scene_seconds\": %.6f, \"middleware_ms_per_frame\": %.6f}\n", frame, scene.time(),
+                frame > 0 ? cpuMs / static_cast<double>(frame) : 0.0);
+  }
   return bmlErrors > 0 ? 1 : 0;
 }

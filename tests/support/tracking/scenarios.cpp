@@ -7,6 +7,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "marionette/core/split_mix.hpp"
+
 namespace marionette::ar::synthetic {
 
 namespace {
@@ -187,6 +189,54 @@ std::vector<Scenario> standardScenarios(const SequenceRenderer& renderer, int fr
         pose[3] = base[3];
       });
 
+  return out;
+}
+
+Scenario authoringSweep(const SequenceRenderer& renderer, int frames) {
+  if (frames < 2) throw std::invalid_argument("authoringSweep: at least 2 frames");
+  const glm::dvec3 look(0.15, 0.5, -0.4);
+  Scenario sc;
+  sc.name = "authoring_sweep";
+  sc.description = "a user 3 m from a 2 m floor target and the open floor behind it, sweeping -15..15 deg around it";
+  sc.fps = kFps;
+  for (int i = 0; i < frames; ++i) {
+    const double t = i / kFps, s = static_cast<double>(i) / (frames - 1);
+    const double az = radians(-15 + 30 * s);
+    const glm::dvec3 bob(0.01 * std::sin(kTwoPi * 0.8 * t), 0.012 * std::sin(kTwoPi * 1.1 * t + 0.5), 0);
+    const glm::dvec3 eye = glm::dvec3(look.x + 3.4 * std::sin(az), 1.7, look.z + 3.4 * std::cos(az)) + bob;
+    const glm::dmat4 pose = withRoll(lookAtCameraToWorld(eye, look, glm::dvec3(0, 1, 0)), 1.5 * std::sin(kTwoPi * t / 4));
+    FrameEffects fx;
+    fx.noiseSeed = seedOf(100, i);
+    sc.cameraToWorld.push_back(pose);
+    sc.effects.push_back(fx);
+    sc.visibleFraction.push_back(renderer.visibleTargetFraction(pose));
+  }
+  return sc;
+}
+
+std::vector<RelaunchPose> relaunchPoses(const SequenceRenderer& renderer, const glm::dmat4& authored, int count) {
+  const glm::dvec3 eye(authored[3]), forward = -glm::dvec3(authored[2]);
+  std::vector<RelaunchPose> out;
+  SplitMix64 random{0x5eed2026};
+  auto uniform = [&random](double lo, double hi) {
+    return lo + (hi - lo) * static_cast<double>(random.next() >> 11) / 9007199254740992.0;
+  };
+  for (int tries = 0; static_cast<int>(out.size()) < count && tries < 100000; ++tries) {
+    // Out to 1.2 m across the floor and up to 0.3 m up or down, then a point near the target to look at.
+    const double heading = uniform(0, kTwoPi), reach = uniform(0.4, 1.2);
+    const glm::dvec3 moved = eye + glm::dvec3(reach * std::sin(heading), uniform(-0.3, 0.3), reach * std::cos(heading));
+    const glm::dvec3 look(uniform(-0.5, 0.5), uniform(0, 0.8), uniform(-0.8, 0.4));
+    RelaunchPose p;
+    p.cameraToWorld = withRoll(lookAtCameraToWorld(moved, look, glm::dvec3(0, 1, 0)), uniform(-5, 5));
+    p.moved = glm::length(moved - eye);
+    p.turnedDeg = glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(look - moved), forward), -1.0, 1.0)));
+    // Within the ranges, spread over them (a turn from 0..10, 10..20, 20..30 deg in turn), and the
+    // target at least half in view: a relaunch is pointed at the scene.
+    const double band = 10.0 * static_cast<double>(out.size() % 3);
+    if (p.moved < 0.4 || p.moved > 1.2 || p.turnedDeg < band || p.turnedDeg > band + 10.0) continue;
+    if (renderer.visibleTargetFraction(p.cameraToWorld) < 0.5) continue;
+    out.push_back(p);
+  }
   return out;
 }
 

@@ -42,6 +42,24 @@ struct Scenario {
 
 [[nodiscard]] std::vector<std::string> standardScenarioNames();
 
+// The AR authoring demo's camera (docs/authoring.md), not one of the standard scenarios: a user
+// standing 3 m from the centre of a target lying on the floor (the demo's 2 m mat), the phone at
+// 1.7 m, sweeping from -15 to +15 deg around the spot behind the mat where a life-size character
+// goes, so that both the whole mat and a 1.7 m character fit in the view. Absolute metres: made
+// for a target about 2 m wide.
+[[nodiscard]] Scenario authoringSweep(const SequenceRenderer& renderer, int frames = 150);
+
+// `count` camera poses a relaunch starts from around `authored` (camera-to-world): the camera
+// moved 0.4..1.2 m from it and its view turned 0..30 deg from the authored view, still looking
+// at the target (a user back at the spot points the phone at the scene). Deterministic.
+struct RelaunchPose {
+  glm::dmat4 cameraToWorld{1.0};
+  double moved = 0;        // metres from the authored camera
+  double turnedDeg = 0;    // angle between the two viewing directions
+};
+[[nodiscard]] std::vector<RelaunchPose> relaunchPoses(const SequenceRenderer& renderer, const glm::dmat4& authored,
+                                                      int count = 10);
+
 // Orbit helpers, exposed for the tests and the tools. Azimuth 0 puts the camera on +Z,
 // elevation is above the plane, distance in metres, roll about the view axis.
 [[nodiscard]] glm::dmat4 orbitPose(double azimuthDeg, double elevationDeg, double distance, double rollDeg = 0,

@@ -1,4 +1,4 @@
-// marionette_write_sequence: one standard scenario rendered to PNG frames with its exact
+// marionette_write_sequence: one standard scenario (or the AR authoring demo's authoring_sweep) rendered to PNG frames with its exact
 // trajectory, for looking at the frames and for running other tools on them.
 //
 //   marionette_write_sequence --target IMAGE --target-width M --camera CAMERA.yml
@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
   if (target.empty() || camera.empty() || scenario.empty() || out.empty() || width <= 0)
     return usage("--target, --target-width, --camera, --scenario and --out are required");
 
-  const auto names = synthetic::standardScenarioNames();
+  auto names = synthetic::standardScenarioNames();
+  names.push_back("authoring_sweep");  // the AR authoring demo's (docs/authoring.md)
   if (std::find(names.begin(), names.end(), scenario) == names.end()) {
     std::fprintf(stderr, "marionette_write_sequence: unknown scenario '%s'; known:", scenario.c_str());
     for (const std::string& n : names) std::fprintf(stderr, " %s", n.c_str());
@@ -114,7 +115,9 @@ int main(int argc, char** argv) {
   const synthetic::SequenceRenderer renderer(scene, *model);
   // Only the wanted scenario's poses matter; building all of them costs a few milliseconds.
   synthetic::Scenario chosen;
-  for (synthetic::Scenario& s : synthetic::standardScenarios(renderer, frames))
+  if (scenario == "authoring_sweep") chosen = synthetic::authoringSweep(renderer, frames);
+  for (synthetic::Scenario& s : chosen.cameraToWorld.empty() ? synthetic::standardScenarios(renderer, frames)
+                                                             : std::vector<synthetic::Scenario>{})
     if (s.name == scenario) chosen = std::move(s);
 
   const std::string csvPath = out + "/truth.csv";

@@ -8,109 +8,28 @@
 #include <nlohmann/json.hpp>
 
 #include "marionette/core/text_file.hpp"
+#include "json_reader.hpp"
 
 namespace marionette::ar {
 
 namespace {
 
-namespace fs = std::filesystem;
-using Json = nlohmann::json;
+using detail::Json;
+using detail::Reader;
 
 constexpr const char* kFormat = "marionette-augmentation";
-constexpr double kMaxCoordinate = 1e4;  // metres: past this a placement is a typo, not a scene
-
-class Reader {
- public:
-  Reader(const std::string& path, Diagnostics& d) : path_(path), d_(d) {}
-  void error(const std::string& key, const std::string& message) { d_.error(path_, "'" + key + "': " + message); }
-  void warning(const std::string& key, const std::string& message) { d_.warning(path_, "'" + key + "': " + message); }
-  [[nodiscard]] std::string resolve(const std::string& p) const {
-    if (p.empty() || fs::path(p).is_absolute()) return p;
-    return (fs::path(path_).parent_path() / p).lexically_normal().string();
-  }
-
-  // Unknown keys are said, never dropped silently (a misspelt "scael" would otherwise vanish).
-  void onlyKeys(const Json& obj, const std::string& where, std::initializer_list<const char*> keys) {
-    for (auto it = obj.begin(); it != obj.end(); ++it) {
-      bool known = false;
-      for (const char* k : keys) known = known || it.key() == k;
-      if (!known) warning(where.empty() ? it.key() : where + "." + it.key(), "unknown key, ignored");
-    }
-  }
-
-  bool string(const Json& obj, const char* key, const std::string& where, bool required, std::string& out) {
-    const std::string name = where.empty() ? key : where + "." + key;
-    if (!obj.contains(key)) {
-      if (required) error(name, "missing");
-      return !required;
-    }
-    if (!obj[key].is_string() || obj[key].get<std::string>().empty()) {
-      error(name, "expected a non-empty string");
-      return false;
-    }
-    out = obj[key].get<std::string>();
-    return true;
-  }
-
-  bool number(const Json& obj, const char* key, const std::string& where, bool required, double lo, double hi,
-              double& out) {
-    const std::string name = where.empty() ? key : where + "." + key;
-    if (!obj.contains(key)) {
-      if (required) error(name, "missing");
-      return !required;
-    }
-    const Json& v = obj[key];
-    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo || v.get<double>() > hi) {
-      error(name, "expected a number in [" + trim(lo) + ", " + trim(hi) + "]");
-      return false;
-    }
-    out = v.get<double>();
-    return true;
-  }
-
-  // n finite numbers, each stored as a float: the writer wrote floats, so this is exact.
-  bool floats(const Json& obj, const char* key, const std::string& where, std::size_t n, float* out) {
-    const std::string name = where + "." + key;
-    if (!obj.contains(key)) {
-      error(name, "missing");
-      return false;
-    }
-    const Json& v = obj[key];
-    bool ok = v.is_array() && v.size() == n;
-    for (std::size_t i = 0; ok && i < n; ++i)
-      ok = v[i].is_number() && std::isfinite(v[i].get<double>()) && std::abs(v[i].get<double>()) <= kMaxCoordinate;
-    if (!ok) {
-      error(name, "expected " + std::to_string(n) + " finite numbers (at most " + trim(kMaxCoordinate) + " in size)");
-      return false;
-    }
-    for (std::size_t i = 0; i < n; ++i) out[i] = v[i].get<float>();
-    return true;
-  }
-
- private:
-  static std::string trim(double v) {
-    std::string s = std::to_string(v);
-    while (s.find('.') != std::string::npos && (s.back() == '0' || s.back() == '.')) {
-      const bool dot = s.back() == '.';
-      s.pop_back();
-      if (dot) break;
-    }
-    return s;
-  }
-  std::string path_;
-  Diagnostics& d_;
-};
 
 bool readCharacter(Reader& r, const Json& c, const std::string& where, PlacedCharacter& out) {
   if (!c.is_object()) {
     r.error(where, "expected an object");
     return false;
   }
-  r.onlyKeys(c, where, {"name", "asset", "bml", "position", "rotor", "scale"});
+  r.onlyKeys(c, where, {"name", "asset", "bml", "position", "rotor", "scale", "pivot"});
   bool ok = r.string(c, "name", where, true, out.name);
   ok = r.string(c, "asset", where, true, out.asset) && ok;
   ok = r.string(c, "bml", where, false, out.bml) && ok;
   ok = r.floats(c, "position", where, 3, &out.placement.position.x) && ok;
+  ok = r.floats(c, "pivot", where, 3, &out.placement.pivot.x, false) && ok;
   float q[4] = {1, 0, 0, 0};
   if (r.floats(c, "rotor", where, 4, q)) {
     out.placement.rotation = {q[0], q[1], q[2], q[3]};
@@ -132,6 +51,13 @@ bool readCharacter(Reader& r, const Json& c, const std::string& where, PlacedCha
 }
 
 }  // namespace
+
+glm::mat4 placementMatrix(const Placement& p) noexcept {
+  const glm::mat3 rs = ga::toMatrix3(p.rotation.normalized()) * p.scale;
+  glm::mat4 m(rs);
+  m[3] = glm::vec4(p.position - rs * p.pivot, 1.0f);
+  return m;
+}
 
 std::optional<Augmentation> parseAugmentation(const std::string& text, const std::string& path,
                                               Diagnostics& diagnostics) {
@@ -257,6 +183,7 @@ std::string formatAugmentation(const Augmentation& a) {
     j["position"] = {double(p.position.x), double(p.position.y), double(p.position.z)};
     j["rotor"] = {double(p.rotation.s), double(p.rotation.b23), double(p.rotation.b31), double(p.rotation.b12)};
     j["scale"] = double(p.scale);
+    if (p.pivot != glm::vec3(0.0f)) j["pivot"] = {double(p.pivot.x), double(p.pivot.y), double(p.pivot.z)};
     list.push_back(j);
   }
   root["characters"] = list;

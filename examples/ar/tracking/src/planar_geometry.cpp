@@ -185,12 +185,12 @@ PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, doub
   return out;
 }
 
-bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction) {
+bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction, double degrees) {
   const glm::dvec3 ca = cameraPosition(a), cb = cameraPosition(b);
   if (glm::length(ca - cb) > fraction * std::max(0.05, glm::length(cb))) return false;
   const cv::Matx33d d = rotation(a.rvec) * rotation(b.rvec).t();
   const double c = std::clamp((d(0, 0) + d(1, 1) + d(2, 2) - 1) * 0.5, -1.0, 1.0);
-  return std::acos(c) < 3.0 * 3.14159265358979323846 / 180.0;
+  return std::acos(c) < degrees * 3.14159265358979323846 / 180.0;
 }
 
 }  // namespace marionette::ar

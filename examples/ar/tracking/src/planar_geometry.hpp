@@ -52,7 +52,7 @@ struct PlanarPoseSolver {
                                            double width, double height);
 // Constant velocity: the motion from a to b continued to time t.
 [[nodiscard]] PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, double tb, double t);
-// Camera centres within `fraction` of the distance to the origin and rotations within 3 degrees.
-[[nodiscard]] bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction);
+// Camera centres within `fraction` of the distance to the origin and rotations within `degrees`.
+[[nodiscard]] bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction, double degrees = 3.0);
 
 }  // namespace marionette::ar

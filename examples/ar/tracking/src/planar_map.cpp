@@ -127,6 +127,7 @@ std::optional<PlanarMap> parsePlanarMap(const std::uint8_t* data, std::size_t si
     return fail(std::string("truncated in ") + where + " at byte " + std::to_string(sizeof kMagic + r.pos()));
   };
   PlanarMap map;
+  map.checksum = stored;
   std::uint32_t w = 0, h = 0, count = 0;
   if (!r.get(w) || !r.get(h)) return truncated("the camera size");
   map.camera.width = static_cast<int>(std::min<std::uint32_t>(w, 1u << 30));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include "marionette/core/diagnostic.hpp"
@@ -15,11 +16,17 @@
 
 namespace marionette::ar {
 
+// The character's frame in the tracked world: placementMatrix() = T(position) R S T(-pivot), so the
+// asset's point `pivot` (the middle of its feet) stands at `position` and the turns pivot there.
 struct Placement {
   glm::vec3 position{0.0f};         // metres, in the tracked world (the target's plane is y = 0)
   ga::Rotor rotation;               // unit
-  float scale = 1.0f;               // uniform, on the asset's own units
+  float scale = 1.0f;               // uniform, on the asset's size in metres (1: its own size)
+  glm::vec3 pivot{0.0f};            // metres, in the asset's model space at scale 1
 };
+
+// T(position) R S T(-pivot): what the renderer multiplies a character's own world matrix by.
+[[nodiscard]] glm::mat4 placementMatrix(const Placement& placement) noexcept;
 
 struct PlacedCharacter {
   std::string name;                 // unique in the file

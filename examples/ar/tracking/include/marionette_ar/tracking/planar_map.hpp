@@ -51,6 +51,9 @@ struct PlanarMap {
   CameraModel camera;  // the camera the map was built for (a reference keyframe needs none)
   double targetWidth = 0, targetHeight = 0;  // metres
   std::vector<PlanarKeyframe> keyframes;
+  // The file's own CRC-32 (its last 4 bytes) when read: what an augmentation names the map by
+  // (docs/authoring.md). Not written: the writer computes it.
+  std::uint32_t checksum = 0;
 };
 
 // Writes `map` to `file`; false with an error naming the file if it cannot.

@@ -1,0 +1,25 @@
+// Between an AR scene file and an augmentation: what authoring records of the scene's tracker,
+// paths written relative to the augmentation, and what a restore puts back into the scene.
+#pragma once
+#include <string>
+
+#include "ar_scene_file.hpp"
+#include "marionette_ar/authoring/augmentation.hpp"
+
+namespace marionette::ar {
+
+// The scene's tracker as an augmentation names it; markerless: the map's checksum read from the
+// map file (an error names the file when it is not a readable map).
+[[nodiscard]] bool trackerReference(const ArTracker& tracker, TrackerReference& out, std::string& error);
+
+// A copy with every path relative to the folder of `file` (where it will be written), so that a
+// folder holding the scene, the map and the augmentation can move.
+[[nodiscard]] Augmentation relativeTo(const Augmentation& augmentation, const std::string& file);
+
+// The scene's tracker replaced by the augmentation's (the map it was authored on, checked by its
+// checksum), the environment and the exposure by its own. False with `error` naming the file and
+// what differs; then `scene` is unchanged.
+[[nodiscard]] bool restoreInto(const Augmentation& augmentation, const std::string& augmentationPath, ArScene& scene,
+                               std::string& error);
+
+}  // namespace marionette::ar

@@ -1,0 +1,42 @@
+#include "scene_catalogue.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "marionette/prt/transfer_mesh.hpp"
+
+namespace marionette::ar {
+
+std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, Diagnostics& diagnostics) {
+  std::vector<CatalogueEntry> out;
+  for (const auto& c : scene.characters()) {
+    const Asset& asset = c->rig().asset();
+    Diagnostics meshDiagnostics;  // the renderer reports the mesh's problems when it draws it
+    std::vector<glm::vec3> points = prt::bindPoseMesh(asset, meshDiagnostics).positions;
+    if (points.empty()) {
+      diagnostics.warning(asset.sourcePath, "character '" + c->name() + "' has no mesh: measured by its joints");
+      for (const glm::mat4& m : asset.skeleton.restModelMatrices()) points.emplace_back(m[3]);
+    }
+    const glm::mat4 world = c->worldMatrix();
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const glm::vec3& p : points) {
+      const glm::vec3 w(world * glm::vec4(p, 1.0f));
+      if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z)) continue;
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+    CatalogueEntry e;
+    e.name = c->name();
+    e.asset = asset.sourcePath;
+    if (hi.y > lo.y) {
+      e.heightMetres = hi.y - lo.y;
+      e.pivot = glm::vec3(0.5f * (lo.x + hi.x), lo.y, 0.5f * (lo.z + hi.z));
+    } else {
+      diagnostics.warning(asset.sourcePath, "character '" + c->name() + "' has no height: taken as 1 m");
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+}  // namespace marionette::ar

@@ -1,0 +1,16 @@
+// The characters an authoring session can place: the scene's, each measured in its rest pose in
+// the scene's frame (height and the middle of its feet), and the BML the scene file offers.
+#pragma once
+#include <vector>
+
+#include "marionette/core/diagnostic.hpp"
+#include "marionette/scene/scene.hpp"
+#include "marionette_ar/authoring/authoring_session.hpp"
+
+namespace marionette::ar {
+
+// One entry per character, in the scene's order. Needs the meshes (SceneLoadOptions::loadMeshes);
+// a character without a finite vertex is measured by its skeleton's joints, with a warning.
+[[nodiscard]] std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, Diagnostics& diagnostics);
+
+}  // namespace marionette::ar
