@@ -7,6 +7,8 @@
 //                                  relocalizes). Counters: inliers (mean), relocalized and lost
 //                                  (shares of the timed frames: 0 when tracking holds),
 //                                  keyframes (the map's size at the end).
+//   Tracking/MarkerlessRelocalizeNoTarget/tiltedViewFeatures:N  a frame without the target: every
+//                                  keyframe and tilted view matched in vain (N 0: no tilted views)
 //   Tracking/MarkerlessRelocalize  reset() before every update() on the same frames: each
 //                                  frame relocalizes from scratch (ORB + matching + RANSAC,
 //                                  then the tracking check), the LOST path's cost. Counter
@@ -89,10 +91,11 @@ const Orbit& orbit() {
   return o;
 }
 
-std::unique_ptr<MarkerlessTracker> markerless(const Orbit& o, std::string& error) {
+std::unique_ptr<MarkerlessTracker> markerless(const Orbit& o, std::string& error,
+                                              const MarkerlessSettings& settings = {}) {
   Diagnostics d;
   auto t = MarkerlessTracker::fromTarget(o.camera, synthetic::standardTargetImage(), synthetic::kStandardTargetWidth,
-                                         MarkerlessSettings{}, d);
+                                         settings, d);
   if (!t) error = d.format();
   return t;
 }
@@ -170,6 +173,36 @@ void markerlessRelocalize(benchmark::State& state) {
   state.counters["inliers"] = static_cast<double>(inliers) / n;
   state.counters["tracking"] = static_cast<double>(tracking) / n;
   state.counters["relocalized"] = static_cast<double>(relocalized) / n;  // 1: every frame took the LOST path
+}
+
+// The LOST path's worst case: a frame without the target (blurred noise), so that the keyframes
+// and then the five tilted views are all matched and fail. range(0): the tilted views' features
+// (0: none), so that their cost is read as a ratio in one run.
+void markerlessRelocalizeNoTarget(benchmark::State& state) {
+  const Orbit& o = orbit();
+  cv::setNumThreads(1);
+  MarkerlessSettings settings;
+  settings.tiltedViewFeatures = static_cast<int>(state.range(0));
+  std::string error = o.error;
+  auto tracker = error.empty() ? markerless(o, error, settings) : nullptr;
+  if (!tracker) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  cv::Mat noise(o.camera.height, o.camera.width, CV_8UC3);
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.5);
+  const ImageView frame{noise.data, noise.cols, noise.rows, 3, static_cast<std::ptrdiff_t>(noise.step)};
+  double seconds = 0;
+  for (int i = 0; i < 3; ++i) benchmark::DoNotOptimize(tracker->update(frame, seconds += 1.0 / 30));
+  long posed = 0;
+  for (auto _ : state) {
+    const TrackedPose p = tracker->update(frame, seconds += 1.0 / 30);
+    benchmark::DoNotOptimize(p);
+    posed += p.state != TrackingState::Lost;
+  }
+  state.counters["posed"] = static_cast<double>(posed) / static_cast<double>(state.iterations());  // 0: no false pose
 }
 
 void aprilTagFrame(benchmark::State& state) {
@@ -422,6 +455,12 @@ void poseOpenCv(benchmark::State& state) {
 
 BENCHMARK(markerlessFrame)->Name("Tracking/MarkerlessFrame")->Unit(benchmark::kMillisecond);
 BENCHMARK(markerlessRelocalize)->Name("Tracking/MarkerlessRelocalize")->Unit(benchmark::kMillisecond);
+BENCHMARK(markerlessRelocalizeNoTarget)
+    ->Name("Tracking/MarkerlessRelocalizeNoTarget")
+    ->ArgName("tiltedViewFeatures")
+    ->Arg(400)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(aprilTagFrame)->Name("Tracking/AprilTagFrame")->Unit(benchmark::kMillisecond);
 BENCHMARK(memcpy640x480)->Name("Tracking/Memcpy640x480")->Unit(benchmark::kMicrosecond);
 BENCHMARK(warpOwn)->Name("Tracking/WarpOwn")->Unit(benchmark::kMicrosecond);

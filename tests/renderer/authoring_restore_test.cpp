@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
@@ -333,6 +334,91 @@ TEST(AuthoringRestore, BadAugmentationsAndMapsAreNamedAndTheSceneStillRuns) {
       EXPECT_NE(run.err.find("the scene runs without it"), std::string::npos) << run.err;
     }
   }
+}
+
+TEST(AuthoringReplay, BadScenesAndActionsAreNamed) {
+  const Sweep& s = sweep();
+  const fs::path dir = root() / "bad_replay";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path scene = writeScene(dir / "scene.json", s.frames, s.map);
+  auto actions = [&](const char* name, const std::string& list) {
+    std::ofstream(dir / name) << R"({"format": "marionette-actions", "version": 1, "actions": [)" << list << "]}";
+    return (dir / name).string();
+  };
+  const std::string out = " -o " + (dir / "out.json").string();
+  // A click in the sky: the action, its frame and the tracking state are named; exit 2.
+  CliRun r = runAr("author " + scene.string() + " --actions " +
+                   actions("sky.json", R"({"do": "pick-character", "name": "bcn"}, {"do": "place", "pixel": [320, 5]})") + out);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("sky.json: actions[1] (place) at frame"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the click does not meet the tracked floor"), std::string::npos) << r.out;
+  // A character the scene does not have; a frame before the one reached.
+  r = runAr("author " + scene.string() + " --actions " + actions("who.json", R"({"do": "pick-character", "name": "robot"})") + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("no character \"robot\" in the scene (it has: bcn)"), std::string::npos) << r.out;
+  r = runAr("author " + scene.string() + " --actions " +
+            actions("back.json", R"({"do": "exposure", "ev": 1, "frame": 40}, {"do": "save", "frame": 10})") + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("back.json: actions[1] (save): frame 10 is before frame 40"), std::string::npos) << r.out;
+  // A bad action file is named before anything runs.
+  r = runAr("author " + scene.string() + " --actions " + actions("typo.json", R"({"do": "plaec"})") + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("typo.json: error: 'actions[0].do': \"plaec\" is not an action"), std::string::npos) << r.out;
+  // Scenes it cannot author in: no tracker, no saved map, no recorded frames.
+  Json j = Json::parse(readFile(scene.string()));
+  Json noTracker = j, noMap = j, still = j;
+  noTracker["camera"].erase("tracker");
+  noMap["camera"]["tracker"].erase("map");
+  noMap["camera"]["tracker"]["target"] = opencvData("graf1.png");
+  noMap["camera"]["tracker"]["width"] = 2.0;
+  still["background"] = {{"kind", "image"}, {"file", (s.frames / "frame_0000.png").string()}};
+  const std::string ok = actions("ok.json", R"({"do": "save"})");
+  for (const auto& [name, scene2, says] : {std::tuple{"no_tracker.json", noTracker, "'camera.tracker' is needed"},
+                                            std::tuple{"no_map.json", noMap, "'camera.tracker.map' is needed"},
+                                            std::tuple{"still.json", still, "a tracker needs camera frames"}}) {
+    SCOPED_TRACE(name);
+    std::ofstream(dir / name) << scene2.dump();
+    r = runAr("author " + (dir / name).string() + " --actions " + ok + out);
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find(says), std::string::npos) << r.out;
+  }
+  // Usage: the three arguments are needed.
+  r = runAr("author " + scene.string() + " --actions " + ok);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("usage: marionette-ar author"), std::string::npos) << r.out;
+}
+
+TEST(AuthoringWindow, BadInputScriptsAreNamed) {
+  const Sweep& s = sweep();
+  const fs::path dir = root() / "bad_window";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path scene = writeScene(dir / "scene.json", s.frames, s.map);
+  const struct {
+    const char* name;
+    const char* text;
+    const char* says;
+  } cases[] = {
+      {"notjson.json", "{", "notjson.json: not JSON"},
+      {"noevents.json", "{}", "'events': expected an array"},
+      {"noframe.json", R"({"events": [{"quit": true}]})", "'events[0]': expected an object with a whole \"frame\""},
+      {"badclick.json", R"({"events": [{"frame": 1, "clickImage": [1]}]})", "expected \"clickImage\": [x, y]"},
+      {"badkey.json", R"({"events": [{"frame": 1, "key": "!"}]})", "\"key\" must be a letter or a digit"},
+      {"nothing.json", R"({"events": [{"frame": 1, "dance": true}]})", "expected one of clickImage"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    std::ofstream(dir / c.name) << c.text;
+    const CliRun r = runAr(scene.string() + " --author " + (dir / "out.json").string() + " --input-script " +
+                           (dir / c.name).string() + " --frames 5");
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find(c.says), std::string::npos) << r.out;
+  }
+  // --author opens a window: not with --headless.
+  const CliRun r = runAr(scene.string() + " --author " + (dir / "out.json").string() + " --headless --out " + dir.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("--author opens the authoring window"), std::string::npos) << r.out;
 }
 
 TEST(AuthoringWindow, SyntheticInputPlacesTurnsAndSavesWhatTheReplayMakesBitForBit) {

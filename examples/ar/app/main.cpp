@@ -414,6 +414,7 @@ int main(int argc, char** argv) {
     scene.update(frame == 0 ? 0.0 : step);
     realizer.update();
     cpuMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+    if (frame == 0) restore.mark("frame0_bml_and_scene");
 
     // The background frame first: a tracked camera's pose comes from it.
     const bool imageBackground = inputs.backgroundKind() != ArBackground::Kind::Environment &&
@@ -425,6 +426,7 @@ int main(int argc, char** argv) {
         return 2;
       }
     }
+    if (frame == 0) restore.mark("frame0_background_and_tracking");
     const CameraView view = inputs.camera(scene.time(), ar.width, ar.height);
     TrackingStateReport tracking;
     const bool tracked = inputs.trackingState(tracking);

@@ -114,7 +114,7 @@ struct MarkerlessTracker::Impl {
   }
 
   void prepareKeyframe(std::size_t i);
-  void prepareTiltedViews(const cv::Mat& reference);
+  void prepareTiltedViews(const cv::Mat& reference, int referenceWidth);
   // Matches this frame's ORB features to a feature set; the pose from the best match so far goes
   // to `out` when it has more inliers than `bestInliers`.
   void matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels, const cv::Matx33d& imageToPlane,
@@ -207,14 +207,17 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
     PlanarPose p;
     if (poseFromPlaneHomography(K, d.planeToImage, p)) d.cameraPosition = cameraPosition(p);
   }
-  if (d.reference) prepareTiltedViews(d.levels[0]);
+  // From the half-size level: the views serve a target seen small (a frontal or near one is the
+  // reference's), and they cost a quarter (130 ms at launch from the full size, on this machine class).
+  if (d.reference) prepareTiltedViews(d.levels[std::min<std::size_t>(1, d.levels.size() - 1)], d.levels[0].cols);
   if (i < keyframes.size()) keyframes[i] = std::move(d);
   else keyframes.push_back(std::move(d));
 }
 
-void MarkerlessTracker::Impl::prepareTiltedViews(const cv::Mat& reference) {
+void MarkerlessTracker::Impl::prepareTiltedViews(const cv::Mat& reference, int referenceWidth) {
   tiltedViews.clear();
-  auto detector = cv::ORB::create(settings.referenceFeatures, 1.2f, 8, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
+  if (settings.tiltedViewFeatures <= 0) return;
+  auto detector = cv::ORB::create(settings.tiltedViewFeatures, 1.2f, 8, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
   const cv::Mat full(reference.size(), CV_8UC1, cv::Scalar(255));
   for (int k = 0; k < kViewDirections; ++k) {
     // Reference pixel -> view pixel: turn by phi into a canvas that holds the whole image, then
@@ -241,13 +244,14 @@ void MarkerlessTracker::Impl::prepareTiltedViews(const cv::Mat& reference) {
     TiltedView v;
     detector->detectAndCompute(view, viewMask, kps, v.descriptors);
     if (kps.size() < 2) continue;
-    // Back: unsqueeze (pixel centres), then undo the turn.
+    // Back: unsqueeze (pixel centres), undo the turn, then the level's scale to level-0 pixels.
     const double sy = static_cast<double>(canvas.height) / squeezed.height;
+    const double level = static_cast<double>(referenceWidth) / reference.cols;
     const cv::Matx33d toView(turn(0, 0), turn(0, 1), turn(0, 2), turn(1, 0), turn(1, 1), turn(1, 2), 0, 0, 1);
     const cv::Matx33d back = toView.inv();
     for (const cv::KeyPoint& kp : kps) {
       const cv::Vec3d r = back * cv::Vec3d(kp.pt.x, (kp.pt.y + 0.5) * sy - 0.5, 1.0);
-      v.featurePixels.emplace_back(static_cast<float>(r[0]), static_cast<float>(r[1]));
+      v.featurePixels.emplace_back(static_cast<float>((r[0] + 0.5) * level - 0.5), static_cast<float>((r[1] + 0.5) * level - 0.5));
     }
     tiltedViews.push_back(std::move(v));
   }
@@ -425,8 +429,10 @@ bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
     if (!kf.reference && !havePose) continue;  // floor keyframes relocalize only near the last pose (below)
     matchFeatures(kf.descriptors, kf.featurePixels, kf.imageToPlane, kf.reference, out, bestInliers);
   }
-  for (const TiltedView& v : tiltedViews)
-    matchFeatures(v.descriptors, v.featurePixels, keyframes[0].imageToPlane, true, out, bestInliers);
+  // The tilted views only when the keyframes found nothing: a frontal view does without their cost.
+  if (bestInliers == 0)
+    for (const TiltedView& v : tiltedViews)
+      matchFeatures(v.descriptors, v.featurePixels, keyframes[0].imageToPlane, true, out, bestInliers);
   return bestInliers > 0;
 }
 
@@ -584,6 +590,8 @@ std::string checkSettings(const MarkerlessSettings& s) {
   if (s.kltWindow < 5 || s.kltWindow > 61) return "kltWindow must be 5..61";
   if (s.refinements < 0 || s.refinements > 5) return "refinements must be 0..5";
   if (s.relocalizationFeatures < 50 || s.relocalizationFeatures > 20000) return "relocalizationFeatures must be 50..20000";
+  if (s.tiltedViewFeatures < 0 || s.tiltedViewFeatures > PlanarMap::kMaxPointsPerKeyframe)
+    return "tiltedViewFeatures must be 0..20000";
   if (s.referenceFeatures < 50 || s.referenceFeatures > PlanarMap::kMaxPointsPerKeyframe)
     return "referenceFeatures must be 50..20000";
   if (s.minLimitedInliers < 6 || s.minTrackingInliers < s.minLimitedInliers)

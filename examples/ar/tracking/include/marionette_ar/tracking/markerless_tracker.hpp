@@ -31,6 +31,9 @@ struct MarkerlessSettings {
   int refinements = 0;           // extra warp + KLT passes from the new pose (the work-precision table: no gain)
   int relocalizationFeatures = 600;  // ORB features per frame when LOST
   int referenceFeatures = 1200;  // ORB features per keyframe
+  // ORB features of each of the reference's five simulated tilted views (docs/tracking.md,
+  // "Relocalization"); matched only when the keyframes give no pose. 0: no tilted views.
+  int tiltedViewFeatures = 400;
   int minTrackingInliers = 30;   // TRACKING needs this many inliers and rms < maxTrackingRmsPx
   int minLimitedInliers = 12;    // LIMITED needs this many
   double maxTrackingRmsPx = 1.0;
