@@ -62,31 +62,9 @@ glm::mat4 placementMatrix(const Placement& p) noexcept {
 std::optional<Augmentation> parseAugmentation(const std::string& text, const std::string& path,
                                               Diagnostics& diagnostics) {
   Reader r(path, diagnostics);
-  Json root;
-  try {
-    root = Json::parse(text);
-  } catch (const Json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
-    diagnostics.error(path, std::string("not JSON: ") + e.what());
-    return std::nullopt;
-  }
-  if (!root.is_object()) {
-    diagnostics.error(path, "an augmentation is a JSON object");
-    return std::nullopt;
-  }
-  std::string format;
-  if (!r.string(root, "format", "", true, format)) return std::nullopt;
-  if (format != kFormat) {
-    r.error("format", "expected \"" + std::string(kFormat) + "\", not \"" + format + "\"");
-    return std::nullopt;
-  }
-  double version = 0;
-  if (!r.number(root, "version", "", true, 1, 1e6, version)) return std::nullopt;
-  if (version != Augmentation::kVersion) {
-    r.error("version", "version " + std::to_string(static_cast<long long>(version)) +
-                           " was written by a newer marionette; this one reads version " +
-                           std::to_string(Augmentation::kVersion));
-    return std::nullopt;
-  }
+  const std::optional<Json> parsed = r.document(text, "an augmentation", kFormat, Augmentation::kVersion);
+  if (!parsed) return std::nullopt;
+  const Json& root = *parsed;
   r.onlyKeys(root, "", {"format", "version", "tracker", "exposure", "environment", "characters"});
   Augmentation a;
   bool ok = true;

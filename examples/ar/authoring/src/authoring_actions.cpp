@@ -192,30 +192,9 @@ double modelledSeconds(const Action& a, const Action* previous) noexcept {
 std::optional<std::vector<Action>> parseActions(const std::string& text, const std::string& path,
                                                 Diagnostics& diagnostics) {
   Reader r(path, diagnostics);
-  Json root;
-  try {
-    root = Json::parse(text);
-  } catch (const Json::exception& e) {
-    diagnostics.error(path, std::string("not JSON: ") + e.what());
-    return std::nullopt;
-  }
-  if (!root.is_object()) {
-    diagnostics.error(path, "an action file is a JSON object");
-    return std::nullopt;
-  }
-  std::string format;
-  if (!r.string(root, "format", "", true, format)) return std::nullopt;
-  if (format != kFormat) {
-    r.error("format", "expected \"" + std::string(kFormat) + "\", not \"" + format + "\"");
-    return std::nullopt;
-  }
-  double version = 0;
-  if (!r.number(root, "version", "", true, 1, 1e6, version)) return std::nullopt;
-  if (version != kVersion) {
-    r.error("version", "version " + std::to_string(static_cast<long long>(version)) +
-                           " was written by a newer marionette; this one reads version " + std::to_string(kVersion));
-    return std::nullopt;
-  }
+  const std::optional<Json> parsed = r.document(text, "an action file", kFormat, kVersion);
+  if (!parsed) return std::nullopt;
+  const Json& root = *parsed;
   r.onlyKeys(root, "", {"format", "version", "comment", "actions"});
   if (!root.contains("actions") || !root["actions"].is_array()) {
     r.error("actions", root.contains("actions") ? "expected an array" : "missing");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -84,6 +85,37 @@ class Reader {
     }
     for (std::size_t i = 0; i < n; ++i) out[i] = v[i].get<float>();
     return true;
+  }
+
+  // The text as a JSON object with "format" and "version" as expected: what both file kinds start
+  // with. nullopt after an error naming the file (not JSON, not an object, another format, a
+  // newer version); `what` says what the file should be ("an augmentation").
+  std::optional<Json> document(const std::string& text, const char* what, const char* format, int version) {
+    Json root;
+    try {
+      root = Json::parse(text);
+    } catch (const Json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
+      d_.error(path_, std::string("not JSON: ") + e.what());
+      return std::nullopt;
+    }
+    if (!root.is_object()) {
+      d_.error(path_, std::string(what) + " is a JSON object");
+      return std::nullopt;
+    }
+    std::string f;
+    if (!string(root, "format", "", true, f)) return std::nullopt;
+    if (f != format) {
+      error("format", "expected \"" + std::string(format) + "\", not \"" + f + "\"");
+      return std::nullopt;
+    }
+    double v = 0;
+    if (!number(root, "version", "", true, 1, 1e6, v)) return std::nullopt;
+    if (v != version) {
+      error("version", "version " + std::to_string(static_cast<long long>(v)) +
+                           " was written by a newer marionette; this one reads version " + std::to_string(version));
+      return std::nullopt;
+    }
+    return root;
   }
 
  private:
