@@ -301,6 +301,34 @@ std::string mutateBytesOrDigit(const std::string& original, int i, std::mt19937&
   return text;
 }
 
+// Mutates a JSON file's text `iterations(300)` times (mutateBytesOrDigit) and parses each with
+// `parse(text, diagnostics)`: a refusal must be an error naming the file, what reads must pass
+// `check(result, case)`; some of both must happen.
+template <class Parse, class Check>
+void mutateAndParse(const char* what, const std::string& original, unsigned seed, Parse parse, Check check) {
+  std::mt19937 rng(seed);
+  int rejected = 0, accepted = 0;
+  const int count = iterations(300);
+  for (int i = 0; i < count; ++i) {  // case 0: the seed itself, which reads
+    const std::string text = mutateBytesOrDigit(original, i, rng);
+    Diagnostics d;
+    const auto result = parse(text, d);
+    if (!result) {
+      ASSERT_NE(i, 0) << "the seed does not read: " << d.format();
+      ++rejected;
+      ASSERT_FALSE(d.ok()) << "case " << i << ": rejected without an error";
+      ASSERT_EQ(d.format().rfind("fuzz.json", 0), 0u) << "case " << i << ": the error lacks the file: " << d.format();
+      continue;
+    }
+    ++accepted;
+    check(*result, i);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  std::printf("%s: %d mutations, %d rejected, %d accepted\n", what, count - 1, rejected, accepted);
+  EXPECT_GT(rejected, 0);
+  EXPECT_GT(accepted, 2) << "no mutation got past the checks";
+}
+
 // The authoring's augmentation files (marionette_ar/authoring/augmentation.hpp).
 TEST(Fuzz, Augmentations) {
   ar::Augmentation seed;
@@ -319,34 +347,19 @@ TEST(Fuzz, Augmentations) {
     c.placement.scale = 0.5f;
     seed.characters.push_back(c);
   }
-  const std::string original = ar::formatAugmentation(seed);
-  std::mt19937 rng(13);
-  int rejected = 0, accepted = 0;
-  const int count = iterations(300);
-  for (int i = 0; i < count; ++i) {  // case 0: the seed itself, which reads
-    const std::string text = mutateBytesOrDigit(original, i, rng);
-    Diagnostics d;
-    const auto a = ar::parseAugmentation(text, "fuzz.json", d);
-    if (!a) {
-      ASSERT_NE(i, 0) << "the seed does not read: " << d.format();
-      ++rejected;
-      ASSERT_FALSE(d.ok()) << "case " << i << ": rejected without an error";
-      ASSERT_EQ(d.format().rfind("fuzz.json", 0), 0u) << "case " << i << ": the error lacks the file: " << d.format();
-      continue;
-    }
-    ++accepted;
-    for (const ar::PlacedCharacter& c : a->characters) {
-      const ar::Placement& p = c.placement;
-      ASSERT_TRUE(std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.position.z)) << i;
-      ASSERT_NEAR(p.rotation.norm(), 1.0f, 1e-4f) << "case " << i;
-      ASSERT_TRUE(p.scale > 0 && std::isfinite(p.scale)) << "case " << i;
-      ASSERT_FALSE(c.name.empty());
-      ASSERT_FALSE(c.asset.empty());
-    }
-  }
-  std::printf("augmentations: %d mutations, %d rejected, %d accepted\n", count - 1, rejected, accepted);
-  EXPECT_GT(rejected, 0);
-  EXPECT_GT(accepted, 2) << "no mutation got past the checks";
+  mutateAndParse("augmentations", ar::formatAugmentation(seed), 13,
+                 [](const std::string& text, Diagnostics& d) { return ar::parseAugmentation(text, "fuzz.json", d); },
+                 [](const ar::Augmentation& a, int i) {
+                   for (const ar::PlacedCharacter& c : a.characters) {
+                     const ar::Placement& p = c.placement;
+                     ASSERT_TRUE(std::isfinite(p.position.x) && std::isfinite(p.position.y) &&
+                                 std::isfinite(p.position.z)) << i;
+                     ASSERT_NEAR(p.rotation.norm(), 1.0f, 1e-4f) << "case " << i;
+                     ASSERT_TRUE(p.scale > 0 && std::isfinite(p.scale)) << "case " << i;
+                     ASSERT_FALSE(c.name.empty());
+                     ASSERT_FALSE(c.asset.empty());
+                   }
+                 });
 }
 
 // The authoring's action files (marionette_ar/authoring/authoring_actions.hpp).
@@ -356,35 +369,20 @@ TEST(Fuzz, ActionFiles) {
     {"do": "place", "pixel": [330, 410]}, {"do": "drag", "from": [330, 410], "to": [300, 380], "frame": 90},
     {"do": "rotate", "axes": "local", "plane": "e31", "degrees": 30}, {"do": "height", "metres": 1.75},
     {"do": "exposure", "ev": -0.5}, {"do": "undo"}, {"do": "save"}]})";
-  std::mt19937 rng(14);
-  int rejected = 0, accepted = 0;
-  const int count = iterations(300);
-  for (int i = 0; i < count; ++i) {
-    const std::string text = mutateBytesOrDigit(original, i, rng);
-    Diagnostics d;
-    const auto actions = ar::parseActions(text, "fuzz.json", d);
-    if (!actions) {
-      ASSERT_NE(i, 0) << "the seed does not read: " << d.format();
-      ++rejected;
-      ASSERT_FALSE(d.ok()) << "case " << i << ": rejected without an error";
-      ASSERT_EQ(d.format().rfind("fuzz.json", 0), 0u) << "case " << i << ": the error lacks the file: " << d.format();
-      continue;
-    }
-    ++accepted;
-    for (const ar::Action& a : *actions) {
-      ASSERT_TRUE(std::isfinite(a.value) && std::isfinite(a.pixel.x) && std::isfinite(a.to.y)) << "case " << i;
-      ASSERT_TRUE(std::isfinite(ar::modelledSeconds(a, nullptr)) && ar::modelledSeconds(a, nullptr) > 0) << i;
-      // What reads writes back to the same actions.
-      Diagnostics again;
-      const auto back = ar::parseActions(ar::formatActions({a}), "fuzz.json", again);
-      ASSERT_TRUE(back && back->size() == 1) << "case " << i << ": " << again.format();
-      ASSERT_EQ((*back)[0].value, a.value);
-      ASSERT_EQ((*back)[0].pixel, a.pixel);
-    }
-  }
-  std::printf("action files: %d mutations, %d rejected, %d accepted\n", count - 1, rejected, accepted);
-  EXPECT_GT(rejected, 0);
-  EXPECT_GT(accepted, 2) << "no mutation got past the checks";
+  mutateAndParse("action files", original, 14,
+                 [](const std::string& text, Diagnostics& d) { return ar::parseActions(text, "fuzz.json", d); },
+                 [](const std::vector<ar::Action>& actions, int i) {
+                   for (const ar::Action& a : actions) {
+                     ASSERT_TRUE(std::isfinite(a.value) && std::isfinite(a.pixel.x) && std::isfinite(a.to.y)) << "case " << i;
+                     ASSERT_TRUE(std::isfinite(ar::modelledSeconds(a, nullptr)) && ar::modelledSeconds(a, nullptr) > 0) << i;
+                     // What reads writes back to the same actions.
+                     Diagnostics again;
+                     const auto back = ar::parseActions(ar::formatActions({a}), "fuzz.json", again);
+                     ASSERT_TRUE(back && back->size() == 1) << "case " << i << ": " << again.format();
+                     ASSERT_EQ((*back)[0].value, a.value);
+                     ASSERT_EQ((*back)[0].pixel, a.pixel);
+                   }
+                 });
 }
 
 TEST(Fuzz, PoseTracks) {

@@ -1,5 +1,7 @@
 #include "augmentation_scene.hpp"
 
+#include "scene_catalogue.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -67,6 +69,27 @@ bool trackerReference(const ArTracker& t, TrackerReference& out, std::string& er
   if (!mapChecksum(t.map, crc, error)) return false;
   out.mapCrc32 = hex(crc);
   return true;
+}
+
+std::optional<AuthoringSession> startAuthoring(const ArScene& scene, const Scene& characters, std::string& error) {
+  const ArTracker& t = scene.camera.tracker;
+  if (t.kind == ArTracker::Kind::None) {
+    error = scene.path + ": 'camera.tracker' is needed: placements are made on the tracked floor";
+    return std::nullopt;
+  }
+  if (t.kind == ArTracker::Kind::Markerless && t.map.empty()) {
+    error = scene.path + ": 'camera.tracker.map' is needed: an augmentation belongs to a saved map "
+            "(make one with marionette-ar track --save-map)";
+    return std::nullopt;
+  }
+  Augmentation base;
+  if (!trackerReference(t, base.tracker, error)) return std::nullopt;
+  base.environment = scene.environment.file;
+  base.exposureEv = scene.environment.exposure > 0 ? std::log2(scene.environment.exposure) : 0.0f;
+  Diagnostics measured;
+  std::vector<CatalogueEntry> catalogue = sceneCatalogue(characters, measured);
+  std::fputs(measured.format().c_str(), stderr);
+  return AuthoringSession(std::move(base), std::move(catalogue));
 }
 
 Augmentation relativeTo(const Augmentation& a, const std::string& file) {

@@ -1,16 +1,26 @@
 // Between an AR scene file and an augmentation: what authoring records of the scene's tracker,
 // paths written relative to the augmentation, and what a restore puts back into the scene.
 #pragma once
+#include <optional>
 #include <string>
 
 #include "ar_scene_file.hpp"
+#include "marionette/scene/scene.hpp"
 #include "marionette_ar/authoring/augmentation.hpp"
+#include "marionette_ar/authoring/authoring_session.hpp"
 
 namespace marionette::ar {
 
 // The scene's tracker as an augmentation names it; markerless: the map's checksum read from the
 // map file (an error names the file when it is not a readable map).
 [[nodiscard]] bool trackerReference(const ArTracker& tracker, TrackerReference& out, std::string& error);
+
+// A new authoring session on `scene` (the AR scene) and `characters` (its middleware scene, loaded
+// with meshes): the scene's tracker and saved map (both needed: an augmentation belongs to a map),
+// its environment and exposure, the characters measured at rest (warnings to stderr). nullopt with
+// `error` naming the scene file and the key otherwise.
+[[nodiscard]] std::optional<AuthoringSession> startAuthoring(const ArScene& scene, const Scene& characters,
+                                                             std::string& error);
 
 // A copy with every path relative to the folder of `file` (where it will be written), so that a
 // folder holding the scene, the map and the augmentation can move.

@@ -14,7 +14,6 @@
 #include "marionette/scene/scene_file.hpp"
 #include "marionette_ar/authoring/authoring_session.hpp"
 #include "marionette_ar/background_source.hpp"
-#include "scene_catalogue.hpp"
 #include "tracked_camera.hpp"
 
 namespace marionette::ar {
@@ -67,11 +66,15 @@ int runAuthorCommand(int argc, char** argv) {
   const Diagnostics sceneDiagnostics = readArScene(scenePath, ar);
   std::fputs(sceneDiagnostics.format().c_str(), stderr);
   if (!actions || !sceneDiagnostics.ok()) return 2;
-  if (ar.camera.tracker.kind == ArTracker::Kind::None)
-    return fail(scenePath + ": 'camera.tracker' is needed: placements are made on the tracked floor");
-  if (ar.camera.tracker.kind == ArTracker::Kind::Markerless && ar.camera.tracker.map.empty())
-    return fail(scenePath + ": 'camera.tracker.map' is needed: an augmentation belongs to a saved map "
-                "(make one with marionette-ar track --save-map)");
+  Scene scene;
+  SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
+  std::fputs(loaded.diagnostics.format().c_str(), stderr);
+  if (!loaded.ok()) return 2;
+  std::string error;
+  std::optional<AuthoringSession> started = startAuthoring(ar, scene, error);
+  if (!started) return fail(error);
+  AuthoringSession& session = *started;
+
   std::optional<BackgroundKind> kind;
   if (ar.background.kind == ArBackground::Kind::Sequence) kind = BackgroundKind::Sequence;
   else if (ar.background.kind == ArBackground::Kind::Video) kind = BackgroundKind::Video;
@@ -83,23 +86,8 @@ int runAuthorCommand(int argc, char** argv) {
     std::fputs(open.format().c_str(), stderr);
     return 2;
   }
-  std::string error;
   auto camera = TrackedCamera::create(ar.camera.tracker, source->width(), source->height(), error);
   if (!camera) return fail(error);
-
-  Scene scene;
-  SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
-  std::fputs(loaded.diagnostics.format().c_str(), stderr);
-  if (!loaded.ok()) return 2;
-  Diagnostics measured;
-  std::vector<CatalogueEntry> catalogue = sceneCatalogue(scene, measured);
-  std::fputs(measured.format().c_str(), stderr);
-
-  Augmentation base;
-  if (!trackerReference(ar.camera.tracker, base.tracker, error)) return fail(error);
-  base.environment = ar.environment.file;
-  base.exposureEv = ar.environment.exposure > 0 ? std::log2(ar.environment.exposure) : 0.0f;
-  AuthoringSession session(std::move(base), std::move(catalogue));
 
   // Frames are fed to the tracker in the order a user would see them, at the sequence's rate, up
   // to the frame each action happens at; a video plays once and holds its last frame.

@@ -31,7 +31,6 @@
 #include "augmentation_restore.hpp"
 #include "augmentation_scene.hpp"
 #include "authoring_window.hpp"
-#include "scene_catalogue.hpp"
 #include "frame_inputs.hpp"
 #include "prt_lighting.hpp"
 #if MARIONETTE_AR_HAS_TRACKING
@@ -366,19 +365,12 @@ int main(int argc, char** argv) {
   // The authoring window: a session on the scene's tracker, its characters measured at rest.
   std::unique_ptr<AuthoringWindow> authoring;
   if (!args.author.empty()) {
-    Augmentation base;
-    if (ar.camera.tracker.kind == ArTracker::Kind::None || !trackerReference(ar.camera.tracker, base.tracker, error)) {
-      std::fprintf(stderr, "marionette-ar: --author: %s\n",
-                   error.empty() ? "the scene needs a tracked camera (camera.tracker with a saved map)" : error.c_str());
+    std::optional<AuthoringSession> started = startAuthoring(ar, scene, error);
+    if (!started) {
+      std::fprintf(stderr, "marionette-ar: --author: %s\n", error.c_str());
       return 2;
     }
-    base.environment = ar.environment.file;
-    base.exposureEv = ar.environment.exposure > 0 ? std::log2(ar.environment.exposure) : 0.0f;
-    Diagnostics measured;
-    std::vector<CatalogueEntry> catalogue = sceneCatalogue(scene, measured);
-    std::fputs(measured.format().c_str(), stderr);
-    authoring = std::make_unique<AuthoringWindow>(AuthoringSession(std::move(base), std::move(catalogue)),
-                                                  ar.authoringBml, args.author);
+    authoring = std::make_unique<AuthoringWindow>(std::move(*started), ar.authoringBml, args.author);
     if (!authoring->init(gl->window(), error) ||
         (!args.inputScript.empty() && !authoring->loadInputScript(args.inputScript, error))) {
       std::fprintf(stderr, "marionette-ar: %s\n", error.c_str());
