@@ -11,6 +11,7 @@
 
 #include "grey_frame.hpp"
 #include "hamming_matcher.hpp"
+#include "tilted_views.hpp"
 #include "lucas_kanade.hpp"
 #include "motion_blur.hpp"
 #include "perspective_warp.hpp"
@@ -45,18 +46,6 @@ struct KeyframeData {
   bool reference = false;
 };
 
-// ORB features of the reference seen squeezed, as a camera low over the floor sees the target
-// (docs/tracking.md "Relocalization"): only relocalization matches them.
-struct TiltedView {
-  cv::Mat descriptors;
-  std::vector<cv::Point2f> featurePixels;  // mapped back to the reference's level-0 pixels
-};
-
-// The simulated views, in the spirit of ASIFT (Morel and Yu 2009): tilt 2 (the target 30 deg above
-// the floor's horizon) at five in-plane directions, 36 deg apart (ASIFT's 72 deg / tilt). ORB is not
-// invariant to that squeeze: without them a 2 m mat seen from 3.4 m relocalized in 2 of 10 starts.
-constexpr double kViewTilt = 2.0;
-constexpr int kViewDirections = 5;
 
 }  // namespace
 
@@ -114,7 +103,6 @@ struct MarkerlessTracker::Impl {
   }
 
   void prepareKeyframe(std::size_t i);
-  void prepareTiltedViews(const cv::Mat& reference, int referenceWidth);
   // Matches this frame's ORB features to a feature set; the pose from the best match so far goes
   // to `out` when it has more inliers than `bestInliers`.
   void matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels, const cv::Matx33d& imageToPlane,
@@ -209,53 +197,13 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
   }
   // From the half-size level: the views serve a target seen small (a frontal or near one is the
   // reference's), and they cost a quarter (130 ms at launch from the full size, on this machine class).
-  if (d.reference) prepareTiltedViews(d.levels[std::min<std::size_t>(1, d.levels.size() - 1)], d.levels[0].cols);
+  if (d.reference)
+    tiltedViews = makeTiltedViews(d.levels[std::min<std::size_t>(1, d.levels.size() - 1)], d.levels[0].cols,
+                                  settings.tiltedViewFeatures);
   if (i < keyframes.size()) keyframes[i] = std::move(d);
   else keyframes.push_back(std::move(d));
 }
 
-void MarkerlessTracker::Impl::prepareTiltedViews(const cv::Mat& reference, int referenceWidth) {
-  tiltedViews.clear();
-  if (settings.tiltedViewFeatures <= 0) return;
-  auto detector = cv::ORB::create(settings.tiltedViewFeatures, 1.2f, 8, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
-  const cv::Mat full(reference.size(), CV_8UC1, cv::Scalar(255));
-  for (int k = 0; k < kViewDirections; ++k) {
-    // Reference pixel -> view pixel: turn by phi into a canvas that holds the whole image, then
-    // squeeze the rows by the tilt (area interpolation: no aliasing).
-    const double phi = 180.0 * k / kViewDirections;
-    cv::Matx23d turn = cv::getRotationMatrix2D(cv::Point2f(0, 0), phi, 1.0);
-    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
-    for (const cv::Point2d c : {cv::Point2d(0, 0), cv::Point2d(reference.cols, 0), cv::Point2d(0, reference.rows),
-                                cv::Point2d(reference.cols, reference.rows)}) {
-      const cv::Vec2d q = turn * cv::Vec3d(c.x, c.y, 1.0);
-      x0 = std::min(x0, q[0]), y0 = std::min(y0, q[1]), x1 = std::max(x1, q[0]), y1 = std::max(y1, q[1]);
-    }
-    turn(0, 2) -= x0;
-    turn(1, 2) -= y0;
-    const cv::Size canvas(static_cast<int>(std::ceil(x1 - x0)), static_cast<int>(std::ceil(y1 - y0)));
-    cv::Mat turned, turnedMask, view, viewMask;
-    cv::warpAffine(reference, turned, turn, canvas, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(0));
-    cv::warpAffine(full, turnedMask, turn, canvas, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
-    const cv::Size squeezed(canvas.width, std::max(1, static_cast<int>(std::lround(canvas.height / kViewTilt))));
-    cv::resize(turned, view, squeezed, 0, 0, cv::INTER_AREA);
-    cv::resize(turnedMask, viewMask, squeezed, 0, 0, cv::INTER_NEAREST);
-    cv::erode(viewMask, viewMask, cv::Mat(), cv::Point(-1, -1), 4);  // no corners on the canvas's edge
-    std::vector<cv::KeyPoint> kps;
-    TiltedView v;
-    detector->detectAndCompute(view, viewMask, kps, v.descriptors);
-    if (kps.size() < 2) continue;
-    // Back: unsqueeze (pixel centres), undo the turn, then the level's scale to level-0 pixels.
-    const double sy = static_cast<double>(canvas.height) / squeezed.height;
-    const double level = static_cast<double>(referenceWidth) / reference.cols;
-    const cv::Matx33d toView(turn(0, 0), turn(0, 1), turn(0, 2), turn(1, 0), turn(1, 1), turn(1, 2), 0, 0, 1);
-    const cv::Matx33d back = toView.inv();
-    for (const cv::KeyPoint& kp : kps) {
-      const cv::Vec3d r = back * cv::Vec3d(kp.pt.x, (kp.pt.y + 0.5) * sy - 0.5, 1.0);
-      v.featurePixels.emplace_back(static_cast<float>((r[0] + 0.5) * level - 0.5), static_cast<float>((r[1] + 0.5) * level - 0.5));
-    }
-    tiltedViews.push_back(std::move(v));
-  }
-}
 
 int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
   const cv::Matx33d G = planeToImageHomography(K, prediction);
