@@ -43,8 +43,6 @@ std::uint32_t channelsOf(const Behavior& b) {
   return defaultChannels(*kind);
 }
 
-std::string bodyChannel(const Behavior& b) { return channelNames(channelsOf(b)); }
-
 std::shared_ptr<const AnimationClip> clipFor(const Behavior& b, const Rig& rig) {
   const std::string name = clipName(b);
   if (name.empty()) return nullptr;

@@ -16,7 +16,7 @@
 #include "cli_run.hpp"
 #include "marionette/bml/realizer.hpp"
 #include "marionette/io/import.hpp"
-#include "marionette/scene/character_profile.hpp"
+#include "marionette/rig/character_profile.hpp"
 #include "marionette/scene/scene.hpp"
 #include "test_data.hpp"
 

@@ -1,4 +1,4 @@
-// libFuzzer target: joint maps (JSON, retarget/joint_map.hpp), read by loadJointMap from a
+// libFuzzer target: joint maps (JSON, rig/joint_map.hpp), read by loadJointMap from a
 // temporary file for each of the real glTF characters. Contract: no crash; every
 // diagnostic names the file; the map holds joint indices of the skeleton only, no joint
 // twice; and it survives jointMapJson: written out and read again, it is the same map.
@@ -6,7 +6,7 @@
 #include <set>
 
 #include "fuzz_support.hpp"
-#include "marionette/retarget/joint_map.hpp"
+#include "marionette/rig/joint_map.hpp"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "fuzz_support.hpp"
-#include "marionette/scene/character_profile.hpp"
+#include "marionette/rig/character_profile.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <thread>
 
-#include "io/isolated_call.hpp"
+#include "isolated_call.hpp"
 #include "marionette/io/import.hpp"
 #include "test_data.hpp"
 

@@ -16,7 +16,7 @@
 #include "marionette/behavior/locomotion.hpp"
 #include "marionette/scene/character.hpp"
 #include "marionette/scene/listener.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 #include "marionette/scene/scene.hpp"
 #include "marionette/scene/scene_file.hpp"
 #include "test_data.hpp"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "marionette/io/import.hpp"
-#include "marionette/scene/character_profile.hpp"
+#include "marionette/rig/character_profile.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;

@@ -12,7 +12,7 @@
 #include "marionette/animation/foot_contacts.hpp"
 #include "marionette/behavior/two_bone_ik.hpp"
 #include "marionette/io/import.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 #include "real_rig.hpp"
 #include "test_data.hpp"
 

@@ -1,4 +1,4 @@
-// Joint maps (retarget/joint_map.hpp): the guess on every real skeleton we read,
+// Joint maps (rig/joint_map.hpp): the guess on every real skeleton we read,
 // checked joint by joint against the hierarchies printed and verified by hand;
 // loadJointMap's diagnostics; the JSON round trip; the name conventions and a
 // skeleton whose names lie about its topology; and every shipped map
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "marionette/io/import.hpp"
-#include "marionette/retarget/joint_map.hpp"
+#include "marionette/rig/joint_map.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;

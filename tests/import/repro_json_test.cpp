@@ -9,11 +9,11 @@
 #include <string>
 
 #include "marionette/io/import.hpp"
-#include "marionette/retarget/joint_map.hpp"
-#include "marionette/scene/character_profile.hpp"
+#include "marionette/rig/joint_map.hpp"
+#include "marionette/rig/character_profile.hpp"
 #include "marionette/scene/scene.hpp"
 #include "marionette/scene/scene_file.hpp"
-#include "scene/json_places.hpp"
+#include "marionette/rig/detail/json_places.hpp"
 #include "test_data.hpp"
 
 namespace marionette::test {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "marionette/io/import.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 #include "test_data.hpp"
 
 namespace marionette::test {

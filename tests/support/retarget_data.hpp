@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "marionette/io/import.hpp"
-#include "marionette/retarget/joint_map.hpp"
+#include "marionette/rig/joint_map.hpp"
 #include "test_data.hpp"
 
 namespace marionette::test {

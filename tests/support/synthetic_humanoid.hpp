@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "marionette/retarget/joint_map.hpp"
+#include "marionette/rig/joint_map.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 
 namespace marionette::test {

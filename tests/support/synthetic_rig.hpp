@@ -3,7 +3,7 @@
 #pragma once
 #include <memory>
 
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 #include "synthetic.hpp"
 
 namespace marionette::test {

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "marionette/io/asset.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 
 namespace marionette::test {
 

@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "marionette/scene/character_profile.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/character_profile.hpp"
+#include "marionette/rig/rig.hpp"
 
 using namespace marionette;
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "marionette/animation/foot_contacts.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 #include "synthetic_walk.hpp"
 
 using namespace marionette;

@@ -12,7 +12,7 @@
 #include "marionette/animation/clip_optimizer.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/sampling.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 
 using namespace marionette;
 

@@ -68,7 +68,8 @@ Retargeted retargetPose(const TestHumanoid& src, const TestHumanoid& dst, const 
                  const RetargetOptions& options = {}) {
   Retargeted run{Retargeter::bind(src.skeleton, src.map, dst.skeleton, dst.map, options), {}};
   run.target.resize(dst.skeleton.jointCount());
-  run.r.apply(pose, run.target);
+  RetargetScratch scratch = run.r.makeScratch();
+  run.r.apply(pose, run.target, scratch);
   return run;
 }
 
@@ -253,14 +254,15 @@ TEST(Retargeter, BadInputGivesRestPoseNeverNaN) {
   pose[3].rotation = glm::quat(NAN, 0, 0, 0);
   pose[5].rotation = glm::quat(0, 0, 0, 0);
   pose[0].translation.x = INFINITY;
-  r.apply(pose, target);
+  RetargetScratch scratch = r.makeScratch();
+  r.apply(pose, target, scratch);
   for (const Transform& t : target) {
     ASSERT_TRUE(std::isfinite(t.rotation.w + t.rotation.x + t.rotation.y + t.rotation.z));
     ASSERT_TRUE(std::isfinite(t.translation.x + t.translation.y + t.translation.z));
   }
   // A short source span: rest.
   std::vector<Transform> tooShort(3);
-  r.apply(tooShort, target);
+  r.apply(tooShort, target, scratch);
   for (std::size_t j = 0; j < target.size(); ++j)
     EXPECT_EQ(target[j].rotation, dst.skeleton.restPose[j].rotation);
   // A map naming joints outside the skeleton: an invalid binding with a note.
@@ -270,7 +272,8 @@ TEST(Retargeter, BadInputGivesRestPoseNeverNaN) {
   EXPECT_FALSE(bad.valid());
   ASSERT_FALSE(bad.notes().empty());
   EXPECT_NE(bad.notes().front().find("outside its skeleton"), std::string::npos);
-  bad.apply(randomPose(src.skeleton, 2), target);
+  RetargetScratch badScratch = bad.makeScratch();
+  bad.apply(randomPose(src.skeleton, 2), target, badScratch);
   for (std::size_t j = 0; j < target.size(); ++j) EXPECT_EQ(target[j].rotation, dst.skeleton.restPose[j].rotation);
 }
 
@@ -299,9 +302,10 @@ TEST(Retargeter, WholeClipEqualsPerFrame) {
   ASSERT_TRUE(out.validate(dst.skeleton.jointCount()).empty()) << out.validate(dst.skeleton.jointCount());
   EXPECT_FLOAT_EQ(out.duration, clip.duration);
   std::vector<Transform> s(src.skeleton.jointCount()), a(dst.skeleton.jointCount()), b(dst.skeleton.jointCount());
+  RetargetScratch scratch = r.makeScratch();
   for (float time : {0.0f, 0.3f, 0.7f, 1.0f}) {
     sampleClip(clip, time, src.skeleton.restPose, s);
-    r.apply(s, a);
+    r.apply(s, a, scratch);
     sampleClip(out, time, dst.skeleton.restPose, b);
     const std::vector<glm::vec3> pa = positions(dst.skeleton, a), pb = positions(dst.skeleton, b);
     for (std::size_t j = 0; j < pa.size(); ++j) EXPECT_LT(glm::length(pa[j] - pb[j]), 1e-5f) << "t " << time << " joint " << j;
@@ -353,9 +357,9 @@ TEST(RetargeterIk, HeldFootDoesNotSlideWhereProportionsDiffer) {
   std::vector<glm::mat4> ma(ta.size()), mb(tb.size());
   glm::vec3 startA{0.0f}, startB{0.0f}, previousA{0.0f}, previousB{0.0f};
   float slideA = 0.0f, slideB = 0.0f, worstStepA = 0.0f, worstStepB = 0.0f, worstTurn = 0.0f;
-  RetargetScratch scratch = b.makeScratch();
+  RetargetScratch scratch = b.makeScratch(), scratchA = a.makeScratch();
   for (std::size_t f = 0; f < motion.size(); ++f) {
-    a.apply(motion[f], ta);
+    a.apply(motion[f], ta, scratchA);
     b.apply(motion[f], tb, scratch, f == 0 ? 0.0f : dt);
     localToModel(dst.skeleton, ta, ma);
     localToModel(dst.skeleton, tb, mb);

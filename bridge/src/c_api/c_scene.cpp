@@ -10,7 +10,7 @@
 #include "handles.hpp"
 #include "marionette/core/text_file.hpp"
 #include "marionette/io/import.hpp"
-#include "marionette/scene/character_profile.hpp"
+#include "marionette/rig/character_profile.hpp"
 
 using marionette::capi::fail;
 using marionette::capi::guarded;

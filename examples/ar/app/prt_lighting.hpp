@@ -15,7 +15,7 @@
 #include "marionette/prt/relight.hpp"
 #include "marionette/prt/sh_lighting.hpp"
 #include "marionette/prt/sh_rotation.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 
 namespace marionette::ar {
 

@@ -209,7 +209,7 @@ std::unique_ptr<OcclusionTracer> makeEmbreeOcclusion(const TransferMesh& mesh, D
         geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), indices.size() / 3));
     if (vertices && triangles) {
       for (std::size_t v = 0; v < vertexCount; ++v) {
-        const glm::vec3 p = detail::finite(mesh.positions[v]) ? mesh.positions[v] : glm::vec3(0.0f);
+        const glm::vec3 p = isFinite(mesh.positions[v]) ? mesh.positions[v] : glm::vec3(0.0f);
         vertices[v * 3] = p.x;
         vertices[v * 3 + 1] = p.y;
         vertices[v * 3 + 2] = p.z;

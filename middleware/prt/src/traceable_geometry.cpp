@@ -16,7 +16,7 @@ std::vector<std::uint32_t> traceableTriangles(const TransferMesh& mesh, Diagnost
       ++outOfRange;
       continue;
     }
-    if (!finite(mesh.positions[i[0]]) || !finite(mesh.positions[i[1]]) || !finite(mesh.positions[i[2]])) {
+    if (!isFinite(mesh.positions[i[0]]) || !isFinite(mesh.positions[i[1]]) || !isFinite(mesh.positions[i[2]])) {
       ++nonFinite;
       continue;
     }

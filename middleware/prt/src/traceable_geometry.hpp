@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "marionette/core/finite.hpp"
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/prt/ray_occlusion.hpp"
 #include "marionette/prt/transfer_mesh.hpp"
@@ -18,14 +19,13 @@ namespace marionette::prt::detail {
 // names the caller in the messages. `diagnostics` may be null (then nothing is reported).
 std::vector<std::uint32_t> traceableTriangles(const TransferMesh& mesh, Diagnostics* diagnostics, const char* tracer);
 
-inline bool finite(const glm::vec3& v) noexcept { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // A ray can be traced when its origin and (non-zero) direction are finite and
 // tnear <= tfar (tfar may be +infinity). A negative tnear is taken as 0 in both tracers (a
 // segment starts at its origin). Anything else is never occluded.
 inline bool traceable(const OcclusionRay& r, float& tnear) noexcept {
   tnear = r.tnear > 0.0f ? r.tnear : 0.0f;
-  return finite(r.origin) && finite(r.direction) &&
+  return isFinite(r.origin) && isFinite(r.direction) &&
          (r.direction.x != 0.0f || r.direction.y != 0.0f || r.direction.z != 0.0f) && std::isfinite(tnear) &&
          tnear <= r.tfar;  // false for a NaN tfar
 }

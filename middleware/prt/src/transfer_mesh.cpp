@@ -1,3 +1,4 @@
+#include "marionette/core/finite.hpp"
 #include "marionette/prt/transfer_mesh.hpp"
 
 #include <glm/geometric.hpp>
@@ -16,14 +17,6 @@ namespace marionette::prt {
 
 namespace {
 
-bool finite(const glm::vec3& v) noexcept { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-bool finite(const glm::mat4& m) noexcept {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
 
 // Unit vector along v, or nullopt when v is zero or not finite.
 std::optional<glm::vec3> unit(const glm::vec3& v) noexcept {
@@ -44,7 +37,7 @@ struct Placement {
 std::optional<Placement> placementOf(const glm::mat4& m) noexcept {
   const glm::mat3 linear(m);
   const float det = glm::determinant(linear);
-  if (!finite(m) || !std::isfinite(det) || det == 0.0f) return std::nullopt;
+  if (!isFinite(m) || !std::isfinite(det) || det == 0.0f) return std::nullopt;
   return Placement{m, glm::transpose(glm::inverse(linear))};
 }
 
@@ -171,7 +164,7 @@ TransferMesh bindPoseMesh(const Asset& asset, Diagnostics& diagnostics, const Bi
         }
         positions[v] = place ? glm::vec3(place->position * glm::vec4(prim.positions[v], 1.0f)) : prim.positions[v];
         if (haveNormals) placedNormals[v] = place ? place->normal * prim.normals[v] : prim.normals[v];
-        if (!finite(positions[v])) badPosition = v;
+        if (!isFinite(positions[v])) badPosition = v;
       }
       if (badPosition != count) {
         diagnostics.error(file, where + " vertex " + std::to_string(badPosition) +
@@ -315,7 +308,7 @@ float rayOriginOffset(const TransferMesh& mesh, float fraction) {
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
   bool any = false;
   for (const glm::vec3& p : mesh.positions)
-    if (finite(p)) {
+    if (isFinite(p)) {
       lo = glm::min(lo, p);
       hi = glm::max(hi, p);
       any = true;

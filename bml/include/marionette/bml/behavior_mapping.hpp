@@ -10,16 +10,13 @@
 #include "marionette/behavior/behavior_request.hpp"
 #include "marionette/bml/scheduler.hpp"
 #include "marionette/scene/character.hpp"
-#include "marionette/scene/rig.hpp"
+#include "marionette/rig/rig.hpp"
 
 namespace marionette::bml {
 
 // Body channels a behavior drives (gesture/pointing mode LEFT_HAND / RIGHT_HAND
 // take one hand, otherwise both). Face behaviors and wait: none.
 [[nodiscard]] std::uint32_t channelsOf(const Behavior& behavior);
-// The same as names: "head", "gaze", "leftHand", "rightHand", "hands", "voice",
-// "posture", "locomotion"; empty for behaviors that combine freely.
-[[nodiscard]] std::string bodyChannel(const Behavior& behavior);
 
 // The rig clip that realizes a behavior: for gesture and pointing the clip the
 // character profile's gesture library gives the lexeme, else the clip named by

@@ -1,7 +1,7 @@
 // PaletteBinding: copies a character's TransformBuffer into an engine's bone
 // palette, in the engine's order and layout. Which joint feeds which engine bone
 // is resolved once, at bind time: by exact name, then through joint maps
-// (retarget/joint_map.hpp) where the two skeletons name joints differently. Each
+// (rig/joint_map.hpp) where the two skeletons name joints differently. Each
 // frame copies only the bound joints, straight into the caller's array (no
 // intermediate copy); runs of consecutive joints going to consecutive slots were
 // found at bind time and copy as one block.
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "marionette/retarget/joint_map.hpp"
+#include "marionette/rig/joint_map.hpp"
 #include "marionette/scene/transform_buffer.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 

@@ -4,11 +4,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include "marionette/core/finite.hpp"
 
 namespace marionette::ar {
 
 namespace {
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 std::string str(const glm::vec3& v) {
   return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
 }
@@ -18,9 +18,9 @@ std::optional<StaticCameraPose> StaticCameraPose::create(const glm::vec3& positi
                                                          const glm::vec3& up, float fovYDegrees,
                                                          Diagnostics& diagnostics, const std::string& file) {
   const std::size_t errorsBefore = diagnostics.items.size();
-  if (!finite(position)) diagnostics.error(file, "camera position " + str(position) + " is not finite");
-  if (!finite(target)) diagnostics.error(file, "camera target " + str(target) + " is not finite");
-  if (!finite(up)) diagnostics.error(file, "camera up " + str(up) + " is not finite");
+  if (!isFinite(position)) diagnostics.error(file, "camera position " + str(position) + " is not finite");
+  if (!isFinite(target)) diagnostics.error(file, "camera target " + str(target) + " is not finite");
+  if (!isFinite(up)) diagnostics.error(file, "camera up " + str(up) + " is not finite");
   if (!std::isfinite(fovYDegrees) || !(fovYDegrees > 0.0f && fovYDegrees < 180.0f))
     diagnostics.error(file, "camera vertical field of view " + std::to_string(fovYDegrees) +
                                 " degrees is outside (0, 180)");

@@ -1,0 +1,43 @@
+// From a local pose to model-space matrices and the skinning palette.
+// Matrices are glm::mat4, column-major, 16 contiguous floats each.
+//
+// Span contract (all of animation/: pose, sampling, blending): the per-frame functions
+// clamp, they do not validate. Spans should have the skeleton's joint count. When they
+// differ, the output is written for the joints its required inputs also have (the
+// shortest of them) and left untouched past that; an optional input that is shorter (a
+// blend layer's pose, a joint mask) contributes nothing to the joints it lacks (a
+// non-empty mask counts as weight 0 there; an empty one as 1 everywhere). Nothing reads or
+// writes past a span, fails or allocates: per-frame code has no error channel, and a
+// caller that wants a check compares the sizes once when it binds, as Character does.
+// tests/unit/span_contract_test.cpp holds each function to this.
+#pragma once
+#include <span>
+
+#include "marionette/skeleton/skeleton.hpp"
+
+namespace marionette {
+
+// model[i] = model[parent(i)] * local[i]; roots use skeleton.rootTransform.
+// Joints 0 .. min(joints, local, model) - 1 (the span contract above).
+void localToModel(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept;
+
+// Model-space matrix of one joint, walking up its ancestors (no allocation): for
+// controllers that need a few joints mid-frame, before the full localToModel.
+[[nodiscard]] glm::mat4 modelMatrixOf(const Skeleton& skeleton, std::span<const Transform> local, int joint) noexcept;
+
+// palette[i] = model[i] * inverseBind[i], for i below the shortest span's length.
+void skinningPalette(std::span<const glm::mat4> model, std::span<const glm::mat4> inverseBind,
+                     std::span<glm::mat4> palette) noexcept;
+
+// Affine product of two matrices whose last row is (0,0,0,1): 36 multiplies
+// instead of 64, in 4-wide column operations the compiler vectorizes. Exact for
+// the matrices the runtime makes. Inline: it runs twice per joint per frame.
+[[nodiscard]] inline glm::mat4 affineMultiply(const glm::mat4& a, const glm::mat4& b) noexcept {
+  glm::mat4 r;
+  for (int c = 0; c < 3; ++c) r[c] = a[0] * b[c][0] + a[1] * b[c][1] + a[2] * b[c][2];
+  r[3] = a[0] * b[3][0] + a[1] * b[3][1] + a[2] * b[3][2] + a[3];
+  // a's columns 0..2 end in 0 and column 3 in 1, so the last row is (0,0,0,1) already.
+  return r;
+}
+
+}  // namespace marionette

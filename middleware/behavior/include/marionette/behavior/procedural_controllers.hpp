@@ -1,0 +1,31 @@
+// The procedural controllers that need no clip: head movements (NOD, SHAKE,
+// TILT, additive on neck and head) and face expressions (lexemes and FACS
+// units to morph weights through the rig's profile). Stateless: a character
+// that has no such request pays nothing. bind*() runs at command time (may
+// allocate) and says why a request cannot be realized; apply*() is per-frame.
+#pragma once
+#include <functional>
+#include <span>
+#include <string_view>
+#include <string>
+
+#include "marionette/behavior/behavior_timeline.hpp"
+#include "marionette/rig/rig.hpp"
+
+namespace marionette {
+
+// Empty when the rig can perform the head request (its data is stored in the
+// entry), else why not. `warning` gets a note on a bad parameter that was replaced.
+[[nodiscard]] std::string bindHead(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
+[[nodiscard]] std::string bindFace(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
+// Gaze targets: "x y z" (world metres), "name" (a character's head) or "name:joint".
+// `findJoint` answers the joint index of a named character (-2: no such character).
+[[nodiscard]] std::string bindGaze(BehaviorTimeline::Entry& entry, const Rig& rig,
+                                   const TargetJointFinder& findJoint,
+                                   std::string& warning);
+
+void applyHead(const BehaviorTimeline::Entry& entry, float weight, double t, const Rig& rig,
+               std::span<Transform> pose) noexcept;
+void applyFace(const BehaviorTimeline::Entry& entry, float weight, std::span<float> morphWeights) noexcept;
+
+}  // namespace marionette

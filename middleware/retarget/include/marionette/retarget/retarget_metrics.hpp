@@ -1,0 +1,59 @@
+// How good a retargeted motion is, measured against its source (offline, for
+// reports and tests; allocates):
+//  - end-effector error: hands, feet and head relative to the hips, each side
+//    divided by its character's height, the source turned by the facing
+//    alignment; mean and max over effectors and frames, as a fraction of height;
+//  - foot skating: how fast each side's feet slide during the source's foot
+//    contacts, in its own leg lengths per second; the target's over the source's.
+#pragma once
+#include <optional>
+
+#include "marionette/animation/clip.hpp"
+#include "marionette/rig/joint_map.hpp"
+#include "marionette/skeleton/skeleton.hpp"
+
+namespace marionette::retarget {
+
+// Rest height: the head joint above the lowest foot or toe joint (model +Y); 0
+// when the map lacks them.
+[[nodiscard]] float characterHeight(const Skeleton& skeleton, const JointMap& map);
+// Rest leg length (hip to knee to ankle, mean of both sides); 0 without legs.
+[[nodiscard]] float restLegLength(const Skeleton& skeleton, const JointMap& map);
+
+// RetargetOptions::sourceHipsReference for a clip: the source's rest hips moved
+// up or down so that its rest feet stand on the clip's ground (the lowest foot
+// or toe joint height over the clip), when the target's rest feet stand on y = 0
+// (within a quarter of its hip height), as characters do. BVH files keep the rest
+// hips at the origin while the motion stands on y = 0; without this the target
+// would sink by the source's hip height. Unset (rest maps to rest) when the
+// target's rest floats too (a BVH target), or a map lacks hips or feet.
+[[nodiscard]] std::optional<glm::vec3> standingHipsReference(const Skeleton& source, const JointMap& sourceMap,
+                                                             const Clip& clip, const Skeleton& target,
+                                                             const JointMap& targetMap);
+
+struct EffectorError {
+  double mean = 0.0, max = 0.0;  // fraction of character height
+  int samples = 0;
+};
+// Sampled at `rate` frames per second over the shorter clip. `facing`: the
+// retargeter's facingAlignment(), applied to the source.
+[[nodiscard]] EffectorError endEffectorError(const Skeleton& source, const JointMap& sourceMap, const Clip& sourceClip,
+                                             const Skeleton& target, const JointMap& targetMap, const Clip& targetClip,
+                                             const glm::quat& facing, float rate = 60.0f);
+
+// Foot skating over the source's contacts: frames where a source foot is down
+// (at most contactHeight leg lengths above its lowest point in the clip) and
+// slow (at most contactSpeed leg lengths per second horizontally). Over those
+// frames, the mean horizontal foot speed of each side in its own leg lengths
+// per second; ratio = target / source (below 1: the output slides less than
+// the source, e.g. with feet IK holding contacts; 0 when the source never slides).
+struct SkatingComparison {
+  double source = 0.0, target = 0.0, ratio = 0.0;
+  double contactFraction = 0.0;  // of foot-frames
+};
+[[nodiscard]] SkatingComparison compareSkating(const Skeleton& source, const JointMap& sourceMap,
+                                               const Clip& sourceClip, const Skeleton& target,
+                                               const JointMap& targetMap, const Clip& targetClip, float rate = 60.0f,
+                                               float contactHeight = 0.1f, float contactSpeed = 0.5f);
+
+}  // namespace marionette::retarget

@@ -1,0 +1,68 @@
+// Rig: what many characters made from one asset share (read-only once shared):
+// the asset (skeleton, meshes, morph targets) and a library of clips bound to its
+// skeleton, with their root motion. One copy of the data for 1000 characters.
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "marionette/animation/animation_clip.hpp"
+#include "marionette/io/asset.hpp"
+#include "marionette/rig/character_profile.hpp"
+
+namespace marionette {
+
+// What a rig does to the clips it loads.
+using RigOptions = AnimationClipOptions;
+
+// The profile resolved to indices once, for the controllers' per-frame use.
+struct RigJoints {
+  int hips = -1, neck = -1, head = -1, leftEye = -1, rightEye = -1, jaw = -1;
+  std::vector<int> spine;
+  struct LimbJoints {
+    int upper = -1, lower = -1, end = -1;  // as CharacterProfile's Limb
+  };
+  LimbJoints leftLeg, rightLeg, leftArm, rightArm;
+  int leftToe = -1, rightToe = -1;
+  // Face expression name -> (morph target index, amount).
+  std::map<std::string, std::vector<std::pair<int, float>>, std::less<>> face;
+  // Lip-sync channel (speech/lipsync.hpp index) -> morph target, at full channel weight.
+  struct LipMorph {
+    int channel = 0, morph = 0;
+    float amount = 1.0f;
+  };
+  std::vector<LipMorph> visemes;
+  bool jawOpenByMorph = false;     // a morph shows the jaw-open channel: the jaw joint is left alone
+  glm::vec3 leftAxis{1.0f, 0.0f, 0.0f};  // model frame, level: the character's left (arms, legs or eyes at rest)
+};
+
+class Rig {
+ public:
+  explicit Rig(std::shared_ptr<const Asset> asset, const RigOptions& options = {});  // wraps the asset's clips
+
+  [[nodiscard]] const Asset& asset() const noexcept { return *asset_; }
+  [[nodiscard]] const Skeleton& skeleton() const noexcept { return asset_->skeleton; }
+  [[nodiscard]] const std::vector<std::shared_ptr<const AnimationClip>>& clips() const noexcept { return clips_; }
+  [[nodiscard]] std::shared_ptr<const AnimationClip> findClip(std::string_view name) const noexcept;
+
+  // What the controllers know about the asset: guessed at construction
+  // (guessCharacterProfile) unless replaced, e.g. by loadCharacterProfile's.
+  // Set profiles before sharing the rig between characters.
+  [[nodiscard]] const CharacterProfile& profile() const noexcept { return profile_; }
+  [[nodiscard]] const RigJoints& joints() const noexcept { return joints_; }
+  void setProfile(CharacterProfile profile);
+
+  // Adds a clip from another file of the same skeleton naming (bound by joint
+  // name). Returns the number of its tracks that found no joint.
+  int addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string name = {});
+
+ private:
+  std::shared_ptr<const Asset> asset_;
+  RigOptions options_;
+  std::vector<std::shared_ptr<const AnimationClip>> clips_;
+  CharacterProfile profile_;
+  RigJoints joints_;
+};
+
+}  // namespace marionette

@@ -1,0 +1,88 @@
+#include "marionette/rig/rig.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "marionette/io/import.hpp"
+#include "marionette/speech/lipsync.hpp"
+
+namespace marionette {
+
+Rig::Rig(std::shared_ptr<const Asset> asset, const RigOptions& options) : asset_(std::move(asset)), options_(options) {
+  clips_.reserve(asset_->clips.size());
+  for (const Clip& c : asset_->clips) clips_.push_back(makeAnimationClip(c, asset_->skeleton, options_));
+  setProfile(guessCharacterProfile(*asset_));
+}
+
+void Rig::setProfile(CharacterProfile profile) {
+  profile_ = std::move(profile);
+  const Skeleton& s = asset_->skeleton;
+  auto joint = [&](const std::string& name) { return name.empty() ? -1 : s.findJoint(name); };
+  joints_ = RigJoints{};
+  joints_.hips = joint(profile_.hips);
+  joints_.neck = joint(profile_.neck);
+  joints_.head = joint(profile_.head);
+  joints_.leftEye = joint(profile_.leftEye);
+  joints_.rightEye = joint(profile_.rightEye);
+  joints_.jaw = joint(profile_.jaw);
+  for (const std::string& name : profile_.spine)
+    if (int j = joint(name); j >= 0) joints_.spine.push_back(j);
+  auto limb = [&](const Limb& l) { return RigJoints::LimbJoints{joint(l.upper), joint(l.lower), joint(l.end)}; };
+  joints_.leftLeg = limb(profile_.leftLeg);
+  joints_.rightLeg = limb(profile_.rightLeg);
+  joints_.leftArm = limb(profile_.leftArm);
+  joints_.rightArm = limb(profile_.rightArm);
+  joints_.leftToe = joint(profile_.leftToe);
+  joints_.rightToe = joint(profile_.rightToe);
+  const auto& morphs = asset_->morphTargets;
+  // Morph names to (index, amount); names the asset lacks are left out.
+  auto resolveMorphs = [&](const std::vector<FaceMorph>& list) {
+    std::vector<std::pair<int, float>> resolved;
+    for (const FaceMorph& m : list) {
+      auto it = std::find(morphs.begin(), morphs.end(), m.morph);
+      if (it != morphs.end()) resolved.emplace_back(static_cast<int>(it - morphs.begin()), std::clamp(m.amount, 0.0f, 1.0f));
+    }
+    return resolved;
+  };
+  for (const auto& [expression, list] : profile_.face)
+    if (auto resolved = resolveMorphs(list); !resolved.empty()) joints_.face.emplace(expression, std::move(resolved));
+  for (const auto& [channelName, list] : profile_.visemes) {
+    const std::optional<int> channel = speech::lipChannelFromName(channelName);
+    for (const auto& [morph, amount] : resolveMorphs(list))
+      if (channel) joints_.visemes.push_back({*channel, morph, amount});
+  }
+  joints_.jawOpenByMorph = std::any_of(joints_.visemes.begin(), joints_.visemes.end(), [](const RigJoints::LipMorph& m) {
+    return m.channel == speech::kJawOpenChannel;
+  });
+  // Left minus right at rest, from whichever pair the profile has, made level.
+  const std::vector<glm::mat4> rest = s.restModelMatrices();
+  const std::pair<int, int> pairs[] = {{joints_.leftArm.upper, joints_.rightArm.upper},
+                                       {joints_.leftLeg.upper, joints_.rightLeg.upper},
+                                       {joints_.leftEye, joints_.rightEye}};
+  for (const auto& [left, right] : pairs) {
+    if (left < 0 || right < 0 || static_cast<std::size_t>(std::max(left, right)) >= rest.size()) continue;
+    glm::vec3 axis = glm::vec3(rest[static_cast<std::size_t>(left)][3]) - glm::vec3(rest[static_cast<std::size_t>(right)][3]);
+    axis.y = 0.0f;
+    if (glm::length(axis) > 1e-6f && std::isfinite(glm::length(axis))) {
+      joints_.leftAxis = glm::normalize(axis);
+      break;
+    }
+  }
+}
+
+std::shared_ptr<const AnimationClip> Rig::findClip(std::string_view name) const noexcept {
+  for (const auto& c : clips_)
+    if (c->clip.name == name) return c;
+  return nullptr;
+}
+
+int Rig::addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string name) {
+  int unmatched = 0;
+  Clip bound = bindClipByName(clip, clipSkeleton, asset_->skeleton, &unmatched);
+  if (!name.empty()) bound.name = std::move(name);
+  clips_.push_back(makeAnimationClip(std::move(bound), asset_->skeleton, options_));
+  return unmatched;
+}
+
+}  // namespace marionette
