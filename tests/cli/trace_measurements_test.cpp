@@ -201,15 +201,18 @@ TEST_P(WalkLookNodSmileTrace, NoNaNNoFastJointsArrivesAndPlantsItsFeet) {
       startHeading = c.value("heading", 0.0);
     }
   ASSERT_TRUE(robotInScene) << scene;
-  // The feet the robot stands on: the profile's leg ends, Foot.L and Foot.R. In
+  // The feet the robot stands on: its joint map's feet (the profile names that map), Foot.L and Foot.R. In
   // RobotExpressive.glb the foot meshes hang from these joints (Blender IK
   // targets under the root, not children of the shins); the shin ends are not
   // drawn and can be several centimetres off the feet, so they would not show
   // what a viewer sees.
   const nlohmann::json profile = readJson(sourceFile("assets/profiles/RobotExpressive.json"));
   ASSERT_TRUE(profile.is_object());
-  const std::vector<std::string> feet = {profile.at("limbs").at("leftLeg").at("end").get<std::string>(),
-                                         profile.at("limbs").at("rightLeg").at("end").get<std::string>()};
+  ASSERT_EQ(profile.value("jointMap", ""), "../jointmaps/RobotExpressive.json");
+  const nlohmann::json map = readJson(sourceFile("assets/jointmaps/RobotExpressive.json"));
+  ASSERT_TRUE(map.is_object());
+  const std::vector<std::string> feet = {map.at("bones").at("leftFoot").get<std::string>(),
+                                         map.at("bones").at("rightFoot").get<std::string>()};
   ASSERT_EQ(feet, (std::vector<std::string>{"Foot.L", "Foot.R"}));
 
   const long frames = static_cast<long>(std::ceil(kSceneSeconds * fps)) + 1;  // frame 0 is t = 0

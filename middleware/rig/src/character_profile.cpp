@@ -1,8 +1,12 @@
+// The public character-profile functions: the guess as it is
+// (profile_guess.hpp), and a profile file read against its asset, with the
+// guess for what the file leaves out or gets wrong.
 #include "marionette/core/text_file.hpp"
 #include "marionette/rig/character_profile.hpp"
 #include "marionette/speech/lipsync.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -17,6 +21,7 @@
 
 #include "marionette/rig/detail/json_places.hpp"
 #include "limb_guess.hpp"
+#include "profile_guess.hpp"
 #include "profile_skeleton.hpp"
 
 namespace marionette {
@@ -27,455 +32,6 @@ using namespace profile_detail;
 using json_detail::JsonPlaces;
 using json_detail::JsonReaderBase;
 using json_detail::parseJsonText;
-
-// ---- Names ------------------------------------------------------------------
-
-// Morph-target prefixes: VRoid's Fcl_ALL_, shape-key and blend-shape prefixes.
-const std::set<std::string_view> kMorphNoise = {"fcl",   "all",        "blendshape", "blendshape1", "bs",   "shape",
-                                                "shapes", "key",       "morph",      "expression",  "exp",  "face",
-                                                "facial", "vrc",       "target"};
-// Clip-name padding of exporters and libraries ("Armature|mixamo.com|Layer0", "Walk_Loop").
-const std::set<std::string_view> kClipNoise = {"anim",     "animation", "action", "armature", "clip",    "take",
-                                               "loop",     "looped",    "cycle",  "inplace",  "in",      "place",
-                                               "default",  "mixamo",    "com",    "layer",    "character", "fwd",
-                                               "forward",  "rig",       "root",   "motion"};
-
-struct JointGuess {
-  int hips = -1, neck = -1, head = -1, leftEye = -1, rightEye = -1, jaw = -1;
-  std::string hipsHow, neckHow, headHow, leftEyeHow, rightEyeHow, jawHow;
-};
-
-// Joints on the path below `hips` down to `neck`, both excluded, in hips-to-neck order.
-std::vector<std::string> spineBetween(const Tree& t, int hips, int neck) {
-  std::vector<std::string> spine;
-  if (!t.above(hips, neck)) return spine;
-  for (int j = t.parent[neck]; j >= 0 && j != hips; j = t.parent[j]) spine.push_back(t.names[j]);
-  std::reverse(spine.begin(), spine.end());
-  return spine;
-}
-
-// The VRM humanoid map, when it is complete and its chain is consistent.
-bool guessFromHumanoid(const Asset& asset, const Tree& t, JointGuess& g) {
-  if (!asset.hasHumanoid) return false;
-  auto bone = [&](const char* key) {
-    auto it = asset.humanoid.bones.find(key);
-    return it == asset.humanoid.bones.end() ? -1 : t.find(it->second);
-  };
-  const int hips = bone("hips"), neck = bone("neck"), head = bone("head");
-  if (hips < 0 || neck < 0 || head < 0 || !t.above(hips, neck) || !t.above(neck, head)) return false;
-  g.hips = hips, g.neck = neck, g.head = head;
-  g.hipsHow = g.neckHow = g.headHow = "VRM humanoid";
-  auto below = [&](int j) { return t.above(head, j) ? j : -1; };
-  if ((g.leftEye = below(bone("leftEye"))) >= 0) g.leftEyeHow = "VRM humanoid";
-  if ((g.rightEye = below(bone("rightEye"))) >= 0) g.rightEyeHow = "VRM humanoid";
-  if ((g.jaw = below(bone("jaw"))) >= 0) g.jawHow = "VRM humanoid";
-  return true;
-}
-
-// Walking up from the neck, the joints where other branches (holding >= 2 leaves:
-// arms, legs) leave the spine: the first is the chest (or the neck, where the arms
-// hang from it), the next the hips.
-int hipsAboveNeck(const Tree& t, int neck, int head) {
-  int branchings = 0;
-  int from = head >= 0 ? t.childToward(neck, head) : -1;
-  for (int j = neck; t.valid(j); from = j, j = t.parent[j]) {
-    const int other = t.leaves[j] - (from >= 0 ? t.leaves[from] : (j == neck ? t.leaves[j] : 0));
-    if (other >= 2 && ++branchings == 2) return j;
-  }
-  return -1;
-}
-
-JointGuess guessJoints(const Asset& asset, const Tree& t) {
-  JointGuess g;
-  if (guessFromHumanoid(asset, t, g)) return g;
-
-  std::vector<int> hipsC, neckC, headC, eyeC[2], jawC;
-  for (int j = 0; j < t.count(); ++j) {
-    const NameParts np = parts(t.names[j], kJointNoise);
-    if (np.side == 0) {
-      if (np.is({"hips"}) || np.is({"hip"}) || np.is({"pelvis"})) hipsC.push_back(j);
-      // "lowerneck" (CMU 3dsMax-friendly) is where the neck starts: the root-most wins below.
-      if (np.is({"neck"}) || np.is({"lower", "neck"}) || np.is({"lowerneck"}) || np.is({"upper", "neck"}) ||
-          np.is({"upperneck"}))
-        neckC.push_back(j);
-      if (np.is({"head"})) headC.push_back(j);
-      if (np.is({"jaw"}) || np.is({"lower", "jaw"})) jawC.push_back(j);
-    } else if (np.is({"eye"}) || np.is({"face", "eye"}) || np.is({"eye", "ball"}) || np.is({"eyeball"})) {
-      eyeC[np.side > 0].push_back(j);
-    }
-  }
-  auto underAny = [&](const std::vector<int>& tops, int j) {
-    if (tops.empty()) return true;  // nothing of that name: no constraint
-    return std::any_of(tops.begin(), tops.end(), [&](int a) { return t.above(a, j); });
-  };
-  auto shallowest = [&](const std::vector<int>& c) {
-    int best = -1;
-    for (int j : c)
-      if (best < 0 || t.depth[j] < t.depth[best]) best = j;
-    return best;
-  };
-
-  // Head: a head-named joint below a neck-named one, below a hips-named one.
-  std::vector<int> heads;
-  std::string rejected;
-  for (int j : headC) {
-    if (underAny(neckC, j) && underAny(hipsC, j)) heads.push_back(j);
-    else rejected += (rejected.empty() ? "" : ", ") + inQuotes(t.names[j]);
-  }
-  const std::string rejectNote = rejected.empty() ? "" : "; " + rejected + " rejected: not below a neck and the hips";
-  if ((g.head = shallowest(heads)) >= 0) {
-    g.headHow = "name";
-  } else {
-    // The joint the eyes (or the jaw) hang from is the head, whatever its name.
-    const int le = shallowest(eyeC[0]), re = shallowest(eyeC[1]), jaw = shallowest(jawC);
-    if (le >= 0 && re >= 0 && t.parent[le] == t.parent[re] && t.parent[le] >= 0 && underAny(hipsC, t.parent[le])) {
-      g.head = t.parent[le];
-      g.headHow = "topology: parent of the eyes" + rejectNote;
-    } else if (jaw >= 0 && t.parent[jaw] >= 0 && underAny(hipsC, t.parent[jaw])) {
-      g.head = t.parent[jaw];
-      g.headHow = "topology: parent of the jaw" + rejectNote;
-    }
-  }
-
-  // Neck: the root-most neck-named joint above the head (CMU has Neck and Neck1);
-  // else the unbranched chain above the head, up to where the arms branch off.
-  if (g.head >= 0) {
-    for (int j = t.parent[g.head]; j >= 0; j = t.parent[j])
-      if (std::find(neckC.begin(), neckC.end(), j) != neckC.end()) g.neck = j, g.neckHow = "name";
-    if (g.neck < 0 && t.parent[g.head] >= 0) {
-      int j = t.parent[g.head];
-      while (t.parent[j] >= 0 && t.children[t.parent[j]].size() == 1 &&
-             std::find(hipsC.begin(), hipsC.end(), t.parent[j]) == hipsC.end())
-        j = t.parent[j];
-      if (std::find(hipsC.begin(), hipsC.end(), j) == hipsC.end())
-        g.neck = j, g.neckHow = "topology: unbranched chain above the head";
-    }
-  } else {
-    std::vector<int> necks;
-    for (int j : neckC)
-      if (underAny(hipsC, j)) necks.push_back(j);
-    if ((g.neck = shallowest(necks)) >= 0) {
-      g.neckHow = "name";
-      if (t.children[g.neck].size() == 1)
-        g.head = t.children[g.neck][0], g.headHow = "topology: only child of the neck" + rejectNote;
-    }
-  }
-
-  // Hips: the deepest hips-named joint above the neck (Pab has Hips above Pelvis;
-  // the legs branch at Pelvis); else where the legs branch off the spine.
-  const int top = g.neck >= 0 ? g.neck : g.head;
-  if (top >= 0) {
-    for (int j = t.parent[top]; j >= 0 && g.hips < 0; j = t.parent[j])
-      if (std::find(hipsC.begin(), hipsC.end(), j) != hipsC.end()) g.hips = j, g.hipsHow = "name";
-    if (g.hips < 0 && g.neck >= 0 && (g.hips = hipsAboveNeck(t, g.neck, g.head)) >= 0)
-      g.hipsHow = "topology: where the legs branch off below the arms";
-  } else if ((g.hips = shallowest(hipsC)) >= 0) {
-    g.hipsHow = "name";
-  } else {
-    // Nothing named: the root-most joint with a pair of legs and one odd branch.
-    for (int j = 0; j < t.count(); ++j)
-      if (t.oddChildOut(j, 1) >= 0 && (g.hips < 0 || t.depth[j] < t.depth[g.hips])) g.hips = j;
-    if (g.hips >= 0) g.hipsHow = "topology: root-most joint with two legs and a spine";
-  }
-
-  // Neither neck nor head named: down the spine to the chest, whose odd branch is the neck.
-  if (g.hips >= 0 && g.neck < 0 && g.head < 0) {
-    int j = t.oddChildOut(g.hips, 1);
-    while (t.valid(j) && t.children[j].size() == 1) j = t.children[j][0];
-    const int neck = t.oddChildOut(j, 0);
-    if (neck >= 0) {
-      g.neck = neck, g.neckHow = "topology: odd branch of the chest";
-      if (t.children[neck].size() == 1) g.head = t.children[neck][0], g.headHow = "topology: only child of the neck";
-    }
-  }
-  if (g.head < 0 && !rejected.empty()) g.headHow = rejectNote.substr(2);
-
-  // Eyes and jaw: named joints below the head.
-  auto below = [&](const std::vector<int>& c) {
-    std::vector<int> ok;
-    for (int j : c)
-      if (g.head < 0 || t.above(g.head, j)) ok.push_back(j);
-    return shallowest(ok);
-  };
-  if ((g.leftEye = below(eyeC[0])) >= 0) g.leftEyeHow = "name";
-  if ((g.rightEye = below(eyeC[1])) >= 0) g.rightEyeHow = "name";
-  if ((g.jaw = below(jawC)) >= 0) g.jawHow = "name";
-  return g;
-}
-
-// ---- Face -------------------------------------------------------------------
-
-// Morph keys (lower case, without side or prefix words) for each lexeme, best
-// first. `side` -1/+1 makes the left/right lexeme take only morphs of that side.
-struct LexemeRule {
-  const char* lexeme;
-  int side;
-  std::vector<std::string_view> keys;
-};
-
-const std::vector<LexemeRule>& lexemeRules() {
-  static const std::vector<std::string_view> raiseBrows = {"raisebrows", "raisebrow", "browsup", "browup", "browraise",
-                                                           "browouterup", "brwsurprised"};
-  static const std::vector<std::string_view> lowerBrows = {"lowerbrows", "lowerbrow", "browsdown", "browdown",
-                                                           "browlower"};
-  static const std::vector<std::string_view> lowerCorners = {"lowermouthcorners", "mouthcornersdown",
-                                                             "mouthcornerdown", "mouthfrown", "frown"};
-  static const std::vector<std::string_view> raiseCorners = {"raisemouthcorners", "mouthcornersup", "mouthcornerup",
-                                                             "mouthsmile"};
-  static const std::vector<LexemeRule> rules = {
-      {"SMILE", 0, {"smile", "joy", "happy", "mthjoy", "mouthsmile"}},
-      {"ANGER", 0, {"angry", "anger", "mad", "mthangry"}},
-      {"SADNESS", 0, {"sad", "sadness", "sorrow", "mthsorrow"}},
-      {"SURPRISE", 0, {"surprised", "surprise", "shocked", "mthsurprised"}},
-      {"FEAR", 0, {"fear", "afraid", "scared", "fearful"}},
-      {"DISGUST", 0, {"disgust", "disgusted"}},
-      {"CLOSE_EYES", 0, {"closeeyes", "eyesclosed", "eyeclosed", "eyeclose", "eyesclose", "blink", "eyeblink"}},
-      {"WIDEN_EYES", 0, {"wideneyes", "eyeswide", "eyewide", "eyewiden", "eyesurprised"}},
-      {"EYE_SQUINT", 0, {"eyesquint", "eyessquint", "squint"}},
-      {"OPEN_MOUTH", 0, {"openmouth", "mouthopen", "jawopen"}},
-      {"OPEN_LIPS", 0, {"openlips", "lipsopen", "lipspart", "lipsparted"}},
-      {"PRESS_LIPS", 0, {"presslips", "lipspress", "lipspressed", "mouthpress"}},
-      {"PUCKER_LIPS", 0, {"puckerlips", "lipspucker", "mouthpucker", "pucker"}},
-      {"BARE_TEETH", 0, {"bareteeth", "teethbare"}},
-      {"BARE_TEETH_WIDE", 0, {"bareteethwide"}},
-      {"TONGUE_OUT", 0, {"tongueout", "tongue"}},
-      {"OBLIQUE_BROWS", 0, {"obliquebrows", "browinnerup", "browsinnerup"}},
-      {"RAISE_BROWS", 0, raiseBrows},
-      {"RAISE_LEFT_BROW", -1, raiseBrows},
-      {"RAISE_RIGHT_BROW", 1, raiseBrows},
-      {"LOWER_BROWS", 0, lowerBrows},
-      {"LOWER_LEFT_BROW", -1, lowerBrows},
-      {"LOWER_RIGHT_BROW", 1, lowerBrows},
-      {"LOWER_MOUTH_CORNERS", 0, lowerCorners},
-      {"LOWER_LEFT_MOUTH_CORNER", -1, lowerCorners},
-      {"LOWER_RIGHT_MOUTH_CORNER", 1, lowerCorners},
-      {"RAISE_MOUTH_CORNERS", 0, raiseCorners},
-      {"RAISE_LEFT_MOUTH_CORNER", -1, raiseCorners},
-      {"RAISE_RIGHT_MOUTH_CORNER", 1, raiseCorners},
-  };
-  return rules;
-}
-
-// VRM expression presets (0.x and 1.0 names) that are BML lexemes.
-const std::vector<std::pair<std::string_view, const char*>> kVrmExpressions = {
-    {"joy", "SMILE"},       {"happy", "SMILE"},         {"angry", "ANGER"}, {"sorrow", "SADNESS"},
-    {"sad", "SADNESS"},     {"surprised", "SURPRISE"}, {"blink", "CLOSE_EYES"}};
-
-// The morphs of one of the file's VRM expressions, with their weights; empty when it has none.
-std::vector<FaceMorph> vrmExpressionMorphs(const Asset& asset, std::string_view expression) {
-  std::vector<FaceMorph> morphs;
-  auto it = asset.humanoid.expressions.find(std::string(expression));
-  if (it == asset.humanoid.expressions.end()) return morphs;
-  for (const auto& [index, weight] : it->second)
-    if (index >= 0 && static_cast<std::size_t>(index) < asset.morphTargets.size() && weight > 0.0f)
-      morphs.push_back({asset.morphTargets[static_cast<std::size_t>(index)], std::clamp(weight, 0.0f, 1.0f)});
-  return morphs;
-}
-
-void guessFace(const Asset& asset, CharacterProfile& p, Notes& notes) {
-  // The file's own expression groups first: authored intent, with weights.
-  if (asset.hasHumanoid) {
-    for (const auto& [preset, lexeme] : kVrmExpressions) {
-      if (p.face.count(lexeme)) continue;
-      std::vector<FaceMorph> morphs = vrmExpressionMorphs(asset, preset);
-      if (morphs.empty()) continue;
-      std::string list;
-      for (const auto& m : morphs) list += (list.empty() ? "" : ", ") + inQuotes(m.morph) + " " + std::to_string(m.amount).substr(0, 4);
-      notes.emplace_back("face", std::string("face ") + lexeme + ": " + list + " (VRM expression '" + std::string(preset) + "')");
-      p.face[lexeme] = std::move(morphs);
-    }
-  }
-  std::vector<NameParts> morphs;
-  for (const auto& m : asset.morphTargets) morphs.push_back(parts(m, kMorphNoise));
-  for (const LexemeRule& rule : lexemeRules()) {
-    if (p.face.count(rule.lexeme)) continue;
-    for (std::string_view key : rule.keys) {
-      int both = -1, left = -1, right = -1;
-      for (std::size_t i = 0; i < morphs.size(); ++i) {
-        if (morphs[i].key() != key) continue;
-        int& slot = morphs[i].side == 0 ? both : (morphs[i].side < 0 ? left : right);
-        if (slot < 0) slot = static_cast<int>(i);
-      }
-      std::vector<FaceMorph> found;
-      if (rule.side < 0 && left >= 0) found.push_back({asset.morphTargets[left], 1.0f});
-      else if (rule.side > 0 && right >= 0) found.push_back({asset.morphTargets[right], 1.0f});
-      else if (rule.side == 0 && both >= 0) found.push_back({asset.morphTargets[both], 1.0f});
-      else if (rule.side == 0 && left >= 0 && right >= 0)  // "blink_left" + "blink_right"
-        found = {{asset.morphTargets[left], 1.0f}, {asset.morphTargets[right], 1.0f}};
-      if (found.empty()) continue;
-      std::vector<std::string> names;
-      for (const auto& f : found) names.push_back(f.morph);
-      notes.emplace_back("face", std::string("face ") + rule.lexeme + ": " + joined(names) + " (name)");
-      p.face[rule.lexeme] = std::move(found);
-      break;
-    }
-  }
-  if (p.face.empty())
-    notes.emplace_back("face", asset.morphTargets.empty() ? "face: none (no morph targets)"
-                                                          : "face: none (no morph name matches a face lexeme)");
-}
-
-// The lip-sync channels a character's morphs can show (speech/lipsync.hpp):
-// the file's VRM mouth shapes first (A I U E O, both VRM versions), then a full
-// set of OVR viseme morphs ("viseme_PP", ...), then an ARKit-style jaw opening.
-void guessVisemes(const Asset& asset, CharacterProfile& p, Notes& notes) {
-  if (asset.hasHumanoid) {
-    const std::pair<const char*, const char*> vrm[] = {
-        {"A", "vrm_aa"}, {"I", "vrm_ih"}, {"U", "vrm_ou"}, {"E", "vrm_ee"}, {"O", "vrm_oh"}};
-    for (const auto& [alias, channel] : vrm) {
-      if (std::vector<FaceMorph> morphs = vrmExpressionMorphs(asset, alias); !morphs.empty())
-        p.visemes[channel] = std::move(morphs);
-    }
-  }
-  // OVR names are short ("E", "aa", "oh"): taken only with a "viseme" word, or as a nearly full set.
-  static const char* const ovr[] = {"sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou"};
-  std::map<std::string, std::string> tagged, bare;
-  for (const auto& m : asset.morphTargets) {
-    const NameParts np = parts(m, kMorphNoise);
-    std::vector<std::string> core = np.core;
-    const bool hasTag = std::erase(core, std::string("viseme")) > 0;
-    if (np.side != 0) continue;
-    if (np.is({"jaw", "open"}) || np.is({"mouth", "open"})) bare.emplace("jawopen", m);
-    if (core.size() == 1) (hasTag ? tagged : bare).emplace(core.front(), m);
-  }
-  auto lowered = [](std::string_view v) {
-    std::string out;
-    for (char c : v) out += lower(c);
-    return out;
-  };
-  std::size_t bareHits = 0;
-  for (const char* v : ovr) bareHits += bare.count(lowered(v));
-  for (const char* v : ovr) {
-    if (p.visemes.count(v)) continue;
-    const std::string key = lowered(v);
-    if (auto it = tagged.find(key); it != tagged.end()) p.visemes[v] = {{it->second, 1.0f}};
-    else if (auto b = bare.find(key); b != bare.end() && bareHits >= 12) p.visemes[v] = {{b->second, 1.0f}};
-  }
-  if (auto it = bare.find("jawopen"); it != bare.end() && !p.visemes.count("jawOpen")) p.visemes["jawOpen"] = {{it->second, 1.0f}};
-  std::string list;
-  for (const auto& [channel, morphs] : p.visemes) {
-    std::vector<std::string> names;
-    for (const auto& m : morphs) names.push_back(m.morph);
-    list += (list.empty() ? "" : "; ") + channel + " " + joined(names);
-  }
-  notes.emplace_back("visemes", p.visemes.empty() ? std::string("visemes: none (no VRM mouth shapes or viseme morphs)")
-                                                  : "visemes: " + list + " (VRM expressions and morph names)");
-}
-
-// ---- Clips ------------------------------------------------------------------
-
-// Words that make a clip something other than the plain cycle ("WalkJump", "Idle_to_Walk").
-const std::set<std::string_view> kClipExclusions = {"jump",  "to",     "start", "stop",  "end",    "turn",
-                                                    "transition", "back", "backward", "backwards", "strafe",
-                                                    "crouch", "injured", "sit", "sitting", "death", "die",
-                                                    "attack", "left", "right", "l", "r"};
-
-std::vector<std::string> clipCore(const std::string& name) {
-  // Blender exports "Armature|Idle": the action name is the last part.
-  const auto bar = name.find_last_of('|');
-  std::vector<std::string> core;
-  for (auto& w : words(bar == std::string::npos ? std::string_view(name) : std::string_view(name).substr(bar + 1)))
-    if (!isDigit(w[0]) && !kClipNoise.count(w)) core.push_back(std::move(w));
-  return core;
-}
-
-// The clip best named like one of `ws` (earlier words first; a bare word beats a
-// qualified one like "Slow Run"); "" when none.
-std::string findClip(const Asset& asset, std::initializer_list<std::string_view> ws) {
-  int bestScore = 1 << 30;
-  std::string best;
-  for (const Clip& clip : asset.clips) {
-    const auto core = clipCore(clip.name);
-    if (core.empty() || core.size() > 2) continue;
-    if (std::any_of(core.begin(), core.end(), [](const std::string& w) { return kClipExclusions.count(w) > 0; })) continue;
-    int rank = 0;
-    for (std::string_view w : ws) {
-      if (std::find(core.begin(), core.end(), w) != core.end()) {
-        const int score = rank * 2 + (core.size() == 1 ? 0 : 1);
-        if (score < bestScore) bestScore = score, best = clip.name;
-        break;
-      }
-      ++rank;
-    }
-  }
-  return best;
-}
-
-// Gesture lexemes and the joined clip-name words that perform them. Only arm and
-// hand gestures: head nods and shakes ("Yes", "No") are head behaviors in BML.
-const std::vector<std::pair<const char*, std::vector<std::string_view>>> kGestureRules = {
-    {"WAVE", {"wave", "waving", "wavehand", "handwave"}},
-    {"THUMBS_UP", {"thumbsup", "thumbup"}},
-    {"POINT", {"point", "pointing"}},
-    {"CLAP", {"clap", "clapping"}},
-    {"SHRUG", {"shrug", "shrugging"}},
-    {"CROSS_ARMS", {"crossarms", "armscrossed", "crossedarms"}},
-};
-
-void guessClips(const Asset& asset, CharacterProfile& p, Notes& notes) {
-  auto note = [&](const char* field, const std::string& clip) {
-    notes.emplace_back(field, std::string(field) + ": " + (clip.empty() ? "none" : inQuotes(clip) + " (name)"));
-  };
-  p.idle = findClip(asset, {"idle", "idling", "breathing", "stand", "standing"});
-  note("idle", p.idle);
-  p.walk = findClip(asset, {"walk", "walking"});
-  note("walk", p.walk);
-  p.run = findClip(asset, {"run", "running", "jog", "jogging", "sprint", "sprinting"});
-  note("run", p.run);
-  for (const auto& [lexeme, keys] : kGestureRules) {
-    for (const Clip& clip : asset.clips) {
-      std::string key;
-      for (const auto& w : clipCore(clip.name)) key += w;
-      if (std::find(keys.begin(), keys.end(), key) == keys.end()) continue;
-      p.gestures[lexeme] = clip.name;
-      notes.emplace_back("gestures", std::string("gesture ") + lexeme + ": " + inQuotes(clip.name) + " (name)");
-      break;
-    }
-  }
-  if (p.gestures.empty()) notes.emplace_back("gestures", "gestures: none");
-}
-
-struct Guess {
-  CharacterProfile profile;
-  Notes notes;
-};
-
-Guess guess(const Asset& asset) {
-  Guess g;
-  const Tree t(asset.skeleton);
-  const JointGuess j = guessJoints(asset, t);
-  CharacterProfile& p = g.profile;
-  auto set = [&](const char* field, std::string& out, int joint, const std::string& how) {
-    out = t.name(joint);
-    g.notes.emplace_back(field, std::string(field) + ": " + (joint >= 0 ? inQuotes(out) + " (" + how + ")"
-                                                                      : "none" + (how.empty() ? "" : " (" + how + ")")));
-  };
-  set("hips", p.hips, j.hips, j.hipsHow);
-  p.spine = spineBetween(t, j.hips, j.neck);
-  g.notes.emplace_back("spine", "spine: " + (p.spine.empty() ? std::string("none") : joined(p.spine)) +
-                                    (j.hips >= 0 && j.neck >= 0 ? " (path from the hips to the neck)" : ""));
-  set("neck", p.neck, j.neck, j.neckHow);
-  set("head", p.head, j.head, j.headHow);
-  set("leftEye", p.leftEye, j.leftEye, j.leftEyeHow);
-  set("rightEye", p.rightEye, j.rightEye, j.rightEyeHow);
-  set("jaw", p.jaw, j.jaw, j.jawHow);
-  guessLimbs(asset, t, BodyChain{j.hips, j.neck, j.head}, p, g.notes);
-  guessFace(asset, p, g.notes);
-  guessVisemes(asset, p, g.notes);
-  guessClips(asset, p, g.notes);
-  return g;
-}
-
-// ---- Loading ----------------------------------------------------------------
-
-const std::set<std::string_view>& faceLexemes() {
-  static const std::set<std::string_view> s = [] {
-    std::set<std::string_view> out;
-    for (const auto& r : lexemeRules()) out.insert(r.lexeme);
-    return out;
-  }();
-  return s;
-}
 
 // "AU12", "AU12L", "AU12_R": a FACS action unit, optionally one-sided.
 bool isFacsUnit(const std::string& k) {
@@ -494,31 +50,16 @@ class ProfileReader : JsonReaderBase {
       : JsonReaderBase(file, text, d, "ignored, its fields guessed"), asset_(asset), tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"joints", "limbs", "face", "visemes", "clips", "gestures", "comment"});
-    const Json& joints = section(doc, "joints");
+    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "comment"});
     const Json& clips = section(doc, "clips");
-    unknownKeys(joints, "/joints", {"hips", "spine", "neck", "head", "leftEye", "rightEye", "jaw"});
     unknownKeys(clips, "/clips", {"idle", "walk", "run"});
-
-    const std::pair<const char*, std::string CharacterProfile::*> jointFields[] = {
-        {"hips", &CharacterProfile::hips}, {"neck", &CharacterProfile::neck},         {"head", &CharacterProfile::head},
-        {"leftEye", &CharacterProfile::leftEye}, {"rightEye", &CharacterProfile::rightEye}, {"jaw", &CharacterProfile::jaw}};
-    for (const auto& [field, member] : jointFields) {
-      if (auto n = joints.contains(field) ? name(joints[field], std::string("/joints/") + field, Kind::Joint) : std::nullopt)
-        note(field, p.*member = *n);
-      else
-        p.*member = guessed.profile.*member, noteGuessed(guessed, field);
-    }
-    if (auto s = joints.contains("spine") ? spine(joints["spine"]) : std::nullopt) {
-      p.spine = std::move(*s);
+    if (doc.contains("jointMap") && jointMap(doc["jointMap"], p)) {
+      for (const char* key : {"joints", "limbs"})
+        if (doc.contains(key))
+          warn(std::string("/") + key, "ignored: the profile names a joint map (\"jointMap\"), the one description of the body's joints", true);
     } else {
-      // From the file's hips and neck when it names them: the guess may differ.
-      p.spine = spineBetween(tree_, tree_.find(p.hips), tree_.find(p.neck));
-      notes_.push_back("spine: " + (p.spine.empty() ? std::string("none") : joined(p.spine)) +
-                       " (path from the hips to the neck; not in the profile)");
+      bodyJoints(doc, p, guessed);
     }
-    checkChain(p, joints);
-    limbs(doc, p, guessed);
 
     if (!(doc.contains("face") && face(doc["face"], p))) p.face = guessed.profile.face, noteGuessed(guessed, "face");
     if (!(doc.contains("visemes") && visemes(doc["visemes"], p)))
@@ -540,6 +81,62 @@ class ProfileReader : JsonReaderBase {
 
  private:
   enum class Kind { Joint, Morph, Clip };
+
+  // "jointMap": a joint-map file (relative to the profile) names the body's joints. False
+  // (with a warning) when it cannot be used: the joints are then read or guessed.
+  bool jointMap(const Json& j, CharacterProfile& p) {
+    if (!j.is_string() || j.get<std::string>().empty()) {
+      warn("/jointMap", "expected the path of a joint-map file (a string); ignored, the joints read or guessed");
+      return false;
+    }
+    const std::filesystem::path given = j.get<std::string>();
+    const std::filesystem::path path = given.is_absolute() ? given : std::filesystem::path(file_).parent_path() / given;
+    const retarget::JointMapResult map = retarget::loadJointMap(path.string(), asset_);
+    if (!map.diagnostics.ok()) {  // its errors name the joint-map file
+      for (const Diagnostic& d : map.diagnostics.items) diags_.items.push_back(d);
+      warn("/jointMap", "the joint map '" + given.string() + "' cannot be used (above); the joints read or guessed");
+      return false;
+    }
+    setProfileJoints(p, map.map, asset_.skeleton);
+    notes_.push_back("joints: from the joint map " + path.lexically_normal().string());
+    // The map's warnings are about retargeting with it (a required bone the skeleton lacks,
+    // an unsaid clavicle); they are checked where the map is read on its own (loadJointMap),
+    // and recorded here.
+    for (const Diagnostic& d : map.diagnostics.items) notes_.push_back("joint map: " + d.format());
+    const std::pair<const char*, const Limb*> limbs[] = {
+        {"leftLeg", &p.leftLeg}, {"rightLeg", &p.rightLeg}, {"leftArm", &p.leftArm}, {"rightArm", &p.rightArm}};
+    for (const auto& [field, limb] : limbs)  // the map's own topology checks warn; the notes say what a leg's end is
+      notes_.push_back(std::string(field) + ": " + describeLimb(*limb) + " (joint map)" +
+                       checkLimb(*limb, Json::object(), "/jointMap", field[std::string_view(field).size() - 3] == 'L'));
+    notes_.push_back(sidesNote(tree_, restPositions(asset_.skeleton, tree_),
+                               BodyChain{tree_.find(p.hips), tree_.find(p.neck), tree_.find(p.head)}, p));
+    return true;
+  }
+
+  // The older inline form: "joints" and "limbs" in the profile itself, the guess for what they leave out.
+  void bodyJoints(const Json& doc, CharacterProfile& p, const Guess& guessed) {
+    const Json& joints = section(doc, "joints");
+    unknownKeys(joints, "/joints", {"hips", "spine", "neck", "head", "leftEye", "rightEye", "jaw"});
+    const std::pair<const char*, std::string CharacterProfile::*> jointFields[] = {
+        {"hips", &CharacterProfile::hips}, {"neck", &CharacterProfile::neck},         {"head", &CharacterProfile::head},
+        {"leftEye", &CharacterProfile::leftEye}, {"rightEye", &CharacterProfile::rightEye}, {"jaw", &CharacterProfile::jaw}};
+    for (const auto& [field, member] : jointFields) {
+      if (auto n = joints.contains(field) ? name(joints[field], std::string("/joints/") + field, Kind::Joint) : std::nullopt)
+        note(field, p.*member = *n);
+      else
+        p.*member = guessed.profile.*member, noteGuessed(guessed, field);
+    }
+    if (auto s = joints.contains("spine") ? spine(joints["spine"]) : std::nullopt) {
+      p.spine = std::move(*s);
+    } else {
+      // From the file's hips and neck when it names them: the guess may differ.
+      p.spine = spineBetween(tree_, tree_.find(p.hips), tree_.find(p.neck));
+      notes_.push_back("spine: " + (p.spine.empty() ? std::string("none") : joined(p.spine)) +
+                       " (path from the hips to the neck; not in the profile)");
+    }
+    checkChain(p, joints);
+    limbs(doc, p, guessed);
+  }
 
 
   [[nodiscard]] bool exists(const std::string& n, Kind kind) const {
@@ -848,6 +445,28 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
 }
 
 }  // namespace
+
+void setProfileJoints(CharacterProfile& p, const retarget::JointMap& map, const Skeleton& skeleton) {
+  using retarget::Bone;
+  using retarget::Chain;
+  auto name = [&](int j) { return j >= 0 && static_cast<std::size_t>(j) < skeleton.jointCount() ? skeleton.names[static_cast<std::size_t>(j)] : std::string(); };
+  auto bone = [&](Bone b) { return name(map.joint(b)); };
+  p.hips = bone(Bone::Hips);
+  p.spine.clear();
+  for (int j : map.chain(Chain::Spine))
+    if (std::string n = name(j); !n.empty()) p.spine.push_back(std::move(n));
+  p.neck = map.chain(Chain::Neck).empty() ? std::string() : name(map.chain(Chain::Neck).front());
+  p.head = bone(Bone::Head);
+  p.leftEye = bone(Bone::LeftEye);
+  p.rightEye = bone(Bone::RightEye);
+  p.jaw = bone(Bone::Jaw);
+  p.leftLeg = {bone(Bone::LeftUpperLeg), bone(Bone::LeftLowerLeg), bone(Bone::LeftFoot)};
+  p.rightLeg = {bone(Bone::RightUpperLeg), bone(Bone::RightLowerLeg), bone(Bone::RightFoot)};
+  p.leftArm = {bone(Bone::LeftUpperArm), bone(Bone::LeftLowerArm), bone(Bone::LeftHand)};
+  p.rightArm = {bone(Bone::RightUpperArm), bone(Bone::RightLowerArm), bone(Bone::RightHand)};
+  p.leftToe = bone(Bone::LeftToes);
+  p.rightToe = bone(Bone::RightToes);
+}
 
 CharacterProfile guessCharacterProfile(const Asset& asset) {
   try {

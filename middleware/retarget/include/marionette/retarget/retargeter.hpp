@@ -159,6 +159,28 @@ class Retargeter {
 
   void applyImpl(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, RetargetScratch& scratch,
                  float dt) const noexcept;
+
+  // bind()'s steps, in the order it takes them (retarget_binding.cpp). RestFrames:
+  // both skeletons' rest model rotations and matrices; RestShapes: the rest-shape
+  // rotations C gathered while the joints are paired.
+  struct RestFrames;
+  struct RestShapes;
+  [[nodiscard]] static bool checkBindInputs(Retargeter& r, const Skeleton& source, const JointMap& sourceMap,
+                                            const Skeleton& target, const JointMap& targetMap);
+  [[nodiscard]] static RestFrames bindRestFrames(Retargeter& r, const Skeleton& source, const Skeleton& target);
+  static void bindFacing(Retargeter& r, const JointMap& sourceMap, const JointMap& targetMap, const RestFrames& frames);
+  static void bindJointRests(Retargeter& r, const Skeleton& source, const RestFrames& frames);
+  static void driveJoint(Retargeter& r, int t, int a, int b, float w);
+  static void pairBones(Retargeter& r, const Skeleton& source, const JointMap& sourceMap, const Skeleton& target,
+                        const JointMap& targetMap, const RestFrames& frames, RestShapes& shapes);
+  static void pairChains(Retargeter& r, const Skeleton& source, const JointMap& sourceMap, const Skeleton& target,
+                         const JointMap& targetMap, const RestFrames& frames, RestShapes& shapes);
+  static void applyRestShapes(Retargeter& r, const RestFrames& frames, RestShapes& shapes);
+  static void bindHips(Retargeter& r, const Skeleton& source, const JointMap& sourceMap, const Skeleton& target,
+                       const JointMap& targetMap, const RestFrames& frames, const RetargetOptions& options);
+  static void bindDetachedEnds(Retargeter& r, const Skeleton& target, const JointMap& targetMap,
+                               const RestFrames& frames);
+  static void foldPerFrameShortcuts(Retargeter& r);
   void bindIk(const Skeleton& source, const JointMap& sourceMap, const Skeleton& target, const JointMap& targetMap,
               const std::vector<glm::mat4>& sourceRestModel, const RetargetIk& ik);
   void applyIk(std::span<const Transform> sourceLocal, std::span<Transform> targetLocal, RetargetScratch& scratch,

@@ -11,6 +11,7 @@
 
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/io/asset.hpp"
+#include "marionette/rig/joint_map.hpp"
 
 namespace marionette {
 
@@ -29,7 +30,9 @@ struct Limb {
 };
 
 struct CharacterProfile {
-  // Joints by name in the character's skeleton; "" when the character has none.
+  // The body's joints by name in the character's skeleton; "" when the character has none.
+  // They come from the character's joint map (setProfileJoints), the one description of its
+  // humanoid, unless a profile file lists them itself (the older inline form).
   std::string hips, neck, head, leftEye, rightEye, jaw;
   std::vector<std::string> spine;  // from the hips' child up to the chest, hips excluded
   // Left and right are the character's own.
@@ -52,12 +55,21 @@ struct CharacterProfileResult {
   Diagnostics diagnostics;  // each naming the file, line:column where known, and the field
 };
 
+// Names the body's joints from a joint map (rig/joint_map.hpp): hips, spine, neck (the
+// neck chain's first joint), head, eyes, jaw, legs (upper leg, lower leg, foot), arms (upper
+// arm, forearm, hand) and toes. The other fields are left as they are.
+void setProfileJoints(CharacterProfile& profile, const retarget::JointMap& map, const Skeleton& skeleton);
+
 // Reads a profile JSON file for `asset`. Names that the asset lacks (joint,
 // morph, clip) are warnings naming the field and the name; fields the file
-// leaves out are guessed as guessCharacterProfile does (with a note).
+// leaves out are guessed as guessCharacterProfile does (with a note). The body's
+// joints come from the joint map the file names ("jointMap", relative to the file;
+// docs/character-profiles.md), else from the file's "joints" and "limbs", else from
+// the guessed joint map.
 [[nodiscard]] CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset);
 
-// Guesses a profile from the asset alone: joint names in the common conventions
+// Guesses a profile from the asset alone. The body's joints are guessJointMap's;
+// that guess reads joint names in the common conventions
 // (Mixamo, VRM/J_Bip, Blender ".L/.R", CMU BVH, Pab), checked against the
 // topology (the head is a descendant of the neck, which descends from the
 // hips; a limb's joints descend from one another); limbs of unnamed skeletons
