@@ -78,7 +78,7 @@ static void BmlPerformNewLine(benchmark::State& state) {
     state.PauseTiming();
     realizer.waitForSpeech();
     const auto* entry = scene.findCharacter("robot")->behaviors().find("b:s");
-    if (s.failed || !entry || !entry->isSpeech || entry->request.end() - entry->request.start() < 30.0) {
+    if (s.failed || !entry || !entry->as<marionette::SpeechState>() || entry->request.end() - entry->request.start() < 30.0) {
       state.SkipWithError("the line was not said (a failed block, or no espeak-ng)");
       break;
     }

@@ -183,7 +183,8 @@ TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
   EXPECT_EQ(robot.behaviors().find("b1:f")->request.channelBits(), 0u);
   // The gesture has a clip and the smile a morph (guessed profile: "smile"); the
   // speech has no backend: reported, its timing and feedback still run.
-  EXPECT_FALSE(robot.behaviors().find("b1:f")->morphs.empty());
+  ASSERT_NE(robot.behaviors().find("b1:f")->as<FaceExpressionState>(), nullptr);
+  EXPECT_FALSE(robot.behaviors().find("b1:f")->as<FaceExpressionState>()->morphs.empty());
   const auto unrealized = rec.warnings(WarningType::CannotCreateBehavior);
   ASSERT_EQ(unrealized.size(), 1u);
   EXPECT_EQ(unrealized[0]->behaviorId, "s");

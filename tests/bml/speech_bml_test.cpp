@@ -216,7 +216,7 @@ TEST(SpeechBml, EspeakTimingDrivesTheSchedule) {
   EXPECT_LT(*s.time("s1", "w3"), *s.time("s1", "end"));
   const auto* entry = scene.findCharacter("godette")->behaviors().find("b1:s1");
   ASSERT_NE(entry, nullptr);
-  EXPECT_TRUE(entry->isSpeech);
+  EXPECT_TRUE(entry->as<SpeechState>() != nullptr);
 }
 #endif
 

@@ -210,7 +210,7 @@ TEST_F(GodetteSpeaks, VisemesMoveHerMouthInTimeWithTheRecording) {
   EXPECT_EQ(listener.speeches, 1);
   EXPECT_DOUBLE_EQ(listener.start, start);  // the engine plays the WAV from here
   EXPECT_EQ(listener.samples, 49520u);
-  const speech::Utterance& u = *godette->behaviors().find("s1")->speech.line->utterance;
+  const speech::Utterance& u = *godette->behaviors().find("s1")->as<SpeechState>()->line->utterance;
   const double dt = 1.0 / 60.0;
   float widest = 0.0f;
   int closedInBilabials = 0, bilabials = 0;

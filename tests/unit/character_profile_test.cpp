@@ -847,3 +847,90 @@ TEST(CharacterProfileLoad, SurvivesRandomMutations) {
   EXPECT_GT(errors, 50);  // the mutations did break the syntax often
   EXPECT_LT(errors, 400);
 }
+
+// ---- the joint map names the body's joints (one humanoid, issue 22) ----------------------
+
+namespace {
+// A map that disagrees with the name guess (hips "Hips"), so the test sees where the joints came from.
+constexpr const char* kRobotMap = R"({"bones": {"hips": "Spine", "head": "Head"},
+ "chains": {"spine": ["Chest"], "neck": ["Neck"]}})";
+}  // namespace
+
+TEST(CharacterProfileJointMap, TheNamedMapGivesTheBodyJoints) {
+  TempProfile map(kRobotMap, "robot_map.json");
+  TempProfile f(R"({"jointMap": "robot_map.json", "clips": {"idle": "Idle"}})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.hips, "Spine");
+  EXPECT_EQ(r.profile.spine, std::vector<std::string>{"Chest"});
+  EXPECT_EQ(r.profile.neck, "Neck");
+  EXPECT_EQ(r.profile.head, "Head");
+  EXPECT_EQ(r.profile.idle, "Idle");
+  EXPECT_TRUE(hasNote(r.profile, "joints: from the joint map")) << notes(r.profile);
+  // The map's own warnings (required bones it leaves out) are notes of the profile, not diagnostics.
+  EXPECT_TRUE(hasNote(r.profile, "joint map: ")) << notes(r.profile);
+  EXPECT_TRUE(hasNote(r.profile, "required bones not mapped")) << notes(r.profile);
+  // The rig resolves the same joints.
+  Rig rig(std::make_shared<const Asset>(robot()));
+  rig.setProfile(r.profile);
+  EXPECT_EQ(rig.joints().hips, rig.skeleton().findJoint("Spine"));
+  ASSERT_EQ(rig.joints().spine.size(), 1u);
+  EXPECT_EQ(rig.joints().spine[0], rig.skeleton().findJoint("Chest"));
+}
+
+TEST(CharacterProfileJointMap, JointsBesideAMapAreIgnoredWithAWarningAtTheirKey) {
+  TempProfile map(kRobotMap, "robot_map.json");
+  TempProfile f(R"({"jointMap": "robot_map.json",
+  "joints": {"hips": "Hips"},
+  "limbs": {}})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_EQ(r.profile.hips, "Spine");  // the map's
+  ASSERT_NE(findDiag(r.diagnostics, "ignored: the profile names a joint map"), nullptr) << r.diagnostics.format();
+  ASSERT_EQ(r.diagnostics.items.size(), 2u) << r.diagnostics.format();
+  EXPECT_EQ(r.diagnostics.items[0].line, 2) << r.diagnostics.format();  // at "joints"
+  EXPECT_EQ(r.diagnostics.items[1].line, 3) << r.diagnostics.format();  // at "limbs"
+}
+
+TEST(CharacterProfileJointMap, AMapThatCannotBeReadIsAnErrorNamingItAndTheFileJointsAreUsed) {
+  TempProfile f(R"({"jointMap": "no_such_map.json",
+  "joints": {"hips": "Hips", "spine": ["Spine", "Chest"], "neck": "Neck", "head": "Head"}})");
+  const auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_FALSE(r.diagnostics.ok()) << r.diagnostics.format();
+  const Diagnostic* missing = findDiag(r.diagnostics, "no_such_map.json");
+  ASSERT_NE(missing, nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "cannot be used (above); the joints read or guessed"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.hips, "Hips");  // the file's own joints
+  EXPECT_EQ(r.profile.spine, (std::vector<std::string>{"Spine", "Chest"}));
+}
+
+TEST(CharacterProfileJointMap, AJointMapValueThatIsNoPathIsWarnedAndTheJointsGuessed) {
+  for (const char* value : {"3", "\"\"", "null", "[\"a.json\"]"}) {
+    TempProfile f(std::string(R"({"jointMap": )") + value + "}");
+    const auto r = loadCharacterProfile(f.path(), robot());
+    EXPECT_NE(findDiag(r.diagnostics, "expected the path of a joint-map file"), nullptr) << value << '\n' << r.diagnostics.format();
+    EXPECT_TRUE(r.diagnostics.ok()) << value;
+    EXPECT_EQ(r.profile.hips, guessCharacterProfile(robot()).hips) << value;
+  }
+}
+
+TEST(CharacterProfileJointMap, SetProfileJointsNamesEveryBodyFieldFromTheMap) {
+  const Asset a = robot();
+  retarget::JointMap m;
+  m.bones[static_cast<std::size_t>(retarget::Bone::Hips)] = a.skeleton.findJoint("Hips");
+  m.bones[static_cast<std::size_t>(retarget::Bone::Head)] = a.skeleton.findJoint("Head");
+  m.chains[static_cast<std::size_t>(retarget::Chain::Spine)] = {a.skeleton.findJoint("Spine"), a.skeleton.findJoint("Chest")};
+  m.chains[static_cast<std::size_t>(retarget::Chain::Neck)] = {a.skeleton.findJoint("Neck")};
+  m.bones[static_cast<std::size_t>(retarget::Bone::LeftHand)] = 999;  // outside the skeleton: no name
+  CharacterProfile p;
+  p.hips = "stale";
+  p.leftArm.end = "stale";
+  p.idle = "Idle";
+  setProfileJoints(p, m, a.skeleton);
+  EXPECT_EQ(p.hips, "Hips");
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"Spine", "Chest"}));
+  EXPECT_EQ(p.neck, "Neck");
+  EXPECT_EQ(p.head, "Head");
+  EXPECT_EQ(p.leftArm.end, "");  // cleared, not left stale
+  EXPECT_EQ(p.leftEye, "");
+  EXPECT_EQ(p.idle, "Idle");     // not a body joint: untouched
+}

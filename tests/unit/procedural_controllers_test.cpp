@@ -105,7 +105,8 @@ TEST(HeadMotion, RepetitionsAmountAndCancellation) {
                  {"strokeStart:2", 0.7}, {"stroke:2", 0.8}, {"strokeEnd:2", 1.1}, {"relax", 1.2}, {"end", 1.3}};
   ASSERT_TRUE(c->addBehavior(shake).realized);
   const auto* e = c->behaviors().find("shake");
-  ASSERT_EQ(e->strokes.size(), 2u);
+  ASSERT_NE(e->as<HeadMotionState>(), nullptr);
+  ASSERT_EQ(e->as<HeadMotionState>()->strokes.size(), 2u);
   float peak1 = 0.0f, peak2 = 0.0f, between = 0.0f;
   for (int f = 1; f <= 130; ++f) {
     stepTo(scene, f * 0.01);

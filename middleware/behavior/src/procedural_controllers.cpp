@@ -66,9 +66,11 @@ std::string bindHead(BehaviorTimeline::Entry& e, const Rig& rig, std::string& wa
                           : "head lexeme '" + std::string(lexeme) + "' is not NOD, SHAKE or TILT";
   if (rig.joints().head < 0 && rig.joints().neck < 0)
     return "the character has no head or neck joint (set \"head\" in its profile)";
-  e.head = *head;
-  e.amount = amountOf(r, 0.5f, -1.0f, 1.0f, warning);
-  e.strokes = strokesOf(r);
+  HeadMotionState h;
+  h.lexeme = *head;
+  h.amount = amountOf(r, 0.5f, -1.0f, 1.0f, warning);
+  h.strokes = strokesOf(r);
+  e.controller = std::move(h);
   return {};
 }
 
@@ -86,17 +88,18 @@ std::string bindFace(BehaviorTimeline::Entry& e, const Rig& rig, std::string& wa
   const auto it = rig.joints().face.find(expression);
   if (it == rig.joints().face.end())
     return "the character has no morphs for face expression '" + expression + "' (" + knownExpressions(rig.joints()) + ")";
-  e.morphs = it->second;
-  e.amount = amountOf(r, 1.0f, 0.0f, 1.0f, warning);
+  FaceExpressionState f;
+  f.morphs = it->second;
+  f.amount = amountOf(r, 1.0f, 0.0f, 1.0f, warning);
+  e.controller = std::move(f);
   return {};
 }
 
-void applyHead(const BehaviorTimeline::Entry& e, float weight, double t, const Rig& rig,
-               std::span<Transform> pose) noexcept {
-  const float shape = headShape(e.head, e.strokes, t);
+void applyHead(const HeadMotionState& h, float weight, double t, const Rig& rig, std::span<Transform> pose) noexcept {
+  const float shape = headShape(h.lexeme, h.strokes, t);
   if (shape == 0.0f) return;
-  const float angle = weight * e.amount * headPeakAngle(e.head) * shape;
-  const glm::vec3 axis = headAxis(e.head);
+  const float angle = weight * h.amount * headPeakAngle(h.lexeme) * shape;
+  const glm::vec3 axis = headAxis(h.lexeme);
   const RigJoints& j = rig.joints();
   // The neck takes 40 % and the head the rest, in the model frame, so the total is the angle.
   if (j.neck >= 0 && j.head >= 0) {
@@ -107,12 +110,12 @@ void applyHead(const BehaviorTimeline::Entry& e, float weight, double t, const R
   }
 }
 
-void applyFace(const BehaviorTimeline::Entry& e, float weight, std::span<float> morphWeights) noexcept {
+void applyFace(const FaceExpressionState& f, float weight, std::span<float> morphWeights) noexcept {
   // Expressions add up, each morph clamped to [0, 1].
-  for (const auto& [morph, amount] : e.morphs)
+  for (const auto& [morph, amount] : f.morphs)
     if (morph >= 0 && static_cast<std::size_t>(morph) < morphWeights.size()) {
       float& w = morphWeights[static_cast<std::size_t>(morph)];
-      w = std::clamp(w + weight * e.amount * amount, 0.0f, 1.0f);
+      w = std::clamp(w + weight * f.amount * amount, 0.0f, 1.0f);
     }
 }
 
@@ -133,7 +136,7 @@ float degreesParameter(const BehaviorRequest& r, std::string_view name, std::str
 std::string bindGaze(BehaviorTimeline::Entry& e, const Rig& rig,
                      const TargetJointFinder& findJoint, std::string& warning) {
   const BehaviorRequest& r = e.request;
-  GazeState& g = e.gaze;
+  GazeState g;
   const RigJoints& j = rig.joints();
   if (j.head < 0 && j.neck < 0 && j.leftEye < 0 && j.rightEye < 0)
     return "the character has no eye, head or neck joint to gaze with (set them in its profile)";
@@ -158,7 +161,7 @@ std::string bindGaze(BehaviorTimeline::Entry& e, const Rig& rig,
   else if (offset != 0.0f)
     warning = "offsetDirection '" + direction.substr(0, 40) + "' is not one of RIGHT, LEFT, UP, DOWN, UPRIGHT, UPLEFT, "
               "DOWNRIGHT, DOWNLEFT; the offset was ignored";
-  e.isGaze = true;
+  e.controller = std::move(g);
   return {};
 }
 

@@ -10,6 +10,8 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "marionette/animation/sampling.hpp"
@@ -23,6 +25,24 @@ namespace marionette {
 
 struct AnimationClip;
 struct LocomotionPlan;
+
+// Per-controller state of a request (BehaviorTimeline::Entry::controller). Gaze, pointing
+// and speech keep theirs in their own headers (GazeState, PointingState, SpeechState).
+struct HeadMotionState {            // head: NOD, SHAKE, TILT
+  HeadLexeme lexeme = HeadLexeme::Nod;
+  std::vector<HeadStroke> strokes;  // one per repetition
+  float amount = 1.0f;              // BML amount
+};
+struct FaceExpressionState {                 // faceLexeme, faceFacs, face, faceShift
+  std::vector<std::pair<int, float>> morphs;  // (morph target, weight at full expression)
+  float amount = 1.0f;                         // BML amount
+};
+struct LocomotionEntryState {
+  std::shared_ptr<const LocomotionPlan> plan;  // where to go
+  glm::vec3 resolvedTarget{0.0f};              // a target character's place before this frame
+};
+using ControllerState = std::variant<std::monostate, HeadMotionState, FaceExpressionState, GazeState, PointingState,
+                                     SpeechState, LocomotionEntryState>;
 
 class BehaviorTimeline {
  public:
@@ -42,22 +62,16 @@ class BehaviorTimeline {
     std::shared_ptr<const AnimationClip> clip;
     SamplingCursor cursor, rootCursor;
     std::vector<float> mask;     // per joint: 1 where the clip animates it
-    // Procedural controllers' data, bound by Character::addBehavior.
-    HeadLexeme head = HeadLexeme::Nod;
-    std::vector<HeadStroke> strokes;            // head: one per repetition; empty = not a head motion
-    float amount = 1.0f;                        // BML amount
-    std::vector<std::pair<int, float>> morphs;  // face: (morph target, weight at full expression)
-    bool isGaze = false;
-    GazeState gaze;                             // gaze: target, influence and the tracking state
-    bool isPointing = false;
-    PointingState pointing;                     // pointing: target, arms, last elbow direction
-    bool isSpeech = false;
-    SpeechState speech;                         // speech: the spoken line, its jaw axis, viseme events sent
-    std::shared_ptr<const LocomotionPlan> locomotion;  // locomotion: where to go
-    glm::vec3 resolvedTarget{0.0f};             // locomotion: a target character's place before this frame
-    bool upperBody = false;                     // a gesture: played over posture and locomotion
+    bool upperBody = false;      // a gesture's clip: played over posture and locomotion
+    // The procedural controller's state, bound by Character::addBehavior: one alternative
+    // per controller, monostate for a request that only plays its clip or waits.
+    ControllerState controller;
     bool done = false;           // prune()'s mark
 
+    template <class State>
+    [[nodiscard]] State* as() noexcept { return std::get_if<State>(&controller); }
+    template <class State>
+    [[nodiscard]] const State* as() const noexcept { return std::get_if<State>(&controller); }
     [[nodiscard]] bool cancelled() const noexcept { return cancelAt != std::numeric_limits<double>::infinity(); }
     // Time after which the request has no effect (infinite for a persistent one).
     [[nodiscard]] double finishTime() const noexcept;

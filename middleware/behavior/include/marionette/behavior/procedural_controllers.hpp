@@ -14,8 +14,8 @@
 
 namespace marionette {
 
-// Empty when the rig can perform the head request (its data is stored in the
-// entry), else why not. `warning` gets a note on a bad parameter that was replaced.
+// Empty when the rig can perform the head request (its state is stored in the
+// entry's controller), else why not (the entry is left as it was). `warning` gets a note on a bad parameter that was replaced.
 [[nodiscard]] std::string bindHead(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
 [[nodiscard]] std::string bindFace(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
 // Gaze targets: "x y z" (world metres), "name" (a character's head) or "name:joint".
@@ -24,8 +24,7 @@ namespace marionette {
                                    const TargetJointFinder& findJoint,
                                    std::string& warning);
 
-void applyHead(const BehaviorTimeline::Entry& entry, float weight, double t, const Rig& rig,
-               std::span<Transform> pose) noexcept;
-void applyFace(const BehaviorTimeline::Entry& entry, float weight, std::span<float> morphWeights) noexcept;
+void applyHead(const HeadMotionState& head, float weight, double t, const Rig& rig, std::span<Transform> pose) noexcept;
+void applyFace(const FaceExpressionState& face, float weight, std::span<float> morphWeights) noexcept;
 
 }  // namespace marionette

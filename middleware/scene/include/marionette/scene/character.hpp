@@ -172,13 +172,31 @@ class Character {
   void resolveExternalTargets() noexcept;
   void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
   void blendLayers() noexcept;
+  // An entry a controller runs on this frame, and its weight now (the frame's one walk).
+  struct ActiveEntry {
+    std::uint32_t index = 0;  // into behaviors_.entries()
+    float weight = 0.0f;
+  };
+  enum Pass { kClipPass, kLocomotionPass, kUpperClipPass, kGazePass, kHeadPass, kPointingPass, kFacePass, kSpeechPass,
+              kPassCount };
   void applyBehaviors(float dt) noexcept;
-  bool applyBehaviorClips(bool upperBody) noexcept;  // true if a clip behavior contributed
+  bool applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept;  // true if a clip behavior contributed
   bool applyLocomotion(float dt) noexcept;
   [[nodiscard]] std::vector<float> upperBodyMask() const;
   [[nodiscard]] TargetJointFinder targetJointFinder(bool chest) const;
-  [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning) const;
+  // Command-time binding of a request to its controller (addBehavior's table), each:
+  // empty when realized, else why not; `warning` notes a parameter that was replaced.
+  void bindClipEntry(BehaviorTimeline::Entry& entry, std::shared_ptr<const AnimationClip> clip);
+  [[nodiscard]] std::string bindLocomotionEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindGazeEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindHeadDirectionEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindHeadEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindFaceEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindWaitEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  void ensureScratch();
+  void reserveBehaviorPasses();
   [[nodiscard]] std::vector<std::string> speechStoppedBy(std::string_view id, bool prefix) const;
   void notifySpeechStopped(const std::vector<std::string>& ids) const;
   bool applySpeechEntries() noexcept;
@@ -195,6 +213,7 @@ class Character {
   std::array<Layer, kMaxLayers> layers_;
   std::vector<Transform> pose_;
   BehaviorTimeline behaviors_;
+  std::array<std::vector<ActiveEntry>, kPassCount> passes_;  // reserved at addBehavior, filled each frame
   GazeSettings gazeSettings_;
   PointingSettings pointingSettings_;
   LocomotionSettings locomotionSettings_;

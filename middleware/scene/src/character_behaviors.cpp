@@ -1,0 +1,541 @@
+// Character, behaviors: binding a request to its controller (command time, by a table over
+// kinds) and running the controllers over the timeline each frame (one walk that hands each
+// entry to its controller, then the controllers in DESIGN.md's fixed order).
+#include "marionette/scene/character.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "marionette/animation/blending.hpp"
+#include "marionette/animation/sampling.hpp"
+#include "marionette/behavior/procedural_controllers.hpp"
+#include "marionette/scene/scene.hpp"
+#include "marionette/speech/speech_service.hpp"
+
+namespace marionette {
+
+BehaviorResult Character::addBehavior(BehaviorRequest request) {
+  BehaviorResult result;
+  result.message = behaviors_.check(request);
+  std::shared_ptr<const AnimationClip> clip;
+  if (result.message.empty() && !request.clip.empty()) {
+    clip = rig_->findClip(request.clip);
+    if (!clip) {
+      result.message = "behavior request '" + request.id + "': the character's rig has no clip named '" + request.clip + "'";
+      if (!rig_->clips().empty()) {
+        result.message += " (it has";
+        for (std::size_t i = 0; i < rig_->clips().size() && i < 8; ++i)
+          result.message += (i ? ", '" : " '") + rig_->clips()[i]->clip.name + "'";
+        result.message += rig_->clips().size() > 8 ? ", ...)" : ")";
+      }
+    }
+  }
+  if (result.message.empty() && request.kind == BehaviorKind::Clip && request.clip.empty())
+    result.message = "behavior request '" + request.id + "' is of kind clip but names no clip";
+  if (!result.message.empty()) {
+    if (scene_) scene_->log(LogLevel::Warning, result.message);
+    return result;
+  }
+  const BehaviorKind kind = request.kind;
+  // A locomotion lasts until the character arrives: its entry stays until a later one
+  // replaces it. Its plan is checked before the request joins the timeline.
+  std::shared_ptr<LocomotionPlan> plan;
+  std::string warning;
+  if (kind == BehaviorKind::Locomotion) {
+    std::string why = bindLocomotion(request, plan, warning);
+    if (!why.empty()) {
+      result.message = std::move(why);
+      if (scene_) scene_->log(LogLevel::Warning, "behavior request '" + request.id + "': " + result.message);
+      return result;
+    }
+    request.persistent = true;
+  }
+  BehaviorTimeline::Entry& e = behaviors_.add(std::move(request));
+  result.added = true;
+  reserveBehaviorPasses();
+  // Which controller binds each kind, in BehaviorKind order. A request that plays a clip is
+  // realized by the clip; only pointing also binds its controller over the clip (the clip
+  // shapes the hand, the controller aims the arm), when it has a target.
+  using Bind = std::string (Character::*)(BehaviorTimeline::Entry&, std::string&);
+  struct KindBinding {
+    Bind bind;      // nullptr: only a clip realizes the kind
+    bool overClip;  // also bound when the request plays a clip
+  };
+  static constexpr std::array<KindBinding, 16> kBindings = {{
+      {nullptr, false},                          // posture
+      {nullptr, false},                          // postureShift
+      {&Character::bindLocomotionEntry, false},  // locomotion
+      {&Character::bindGazeEntry, false},        // gaze
+      {&Character::bindGazeEntry, false},        // gazeShift
+      {&Character::bindHeadEntry, false},        // head
+      {&Character::bindHeadDirectionEntry, false},  // headDirectionShift
+      {&Character::bindFaceEntry, false},        // faceLexeme
+      {&Character::bindFaceEntry, false},        // faceFacs
+      {&Character::bindFaceEntry, false},        // face
+      {&Character::bindFaceEntry, false},        // faceShift
+      {nullptr, false},                          // gesture
+      {&Character::bindPointingEntry, true},     // pointing
+      {&Character::bindSpeechEntry, false},      // speech
+      {&Character::bindWaitEntry, false},        // wait
+      {nullptr, false},                          // clip
+  }};
+  static_assert(static_cast<std::size_t>(BehaviorKind::Clip) + 1 == kBindings.size(), "one binding per kind");
+  const KindBinding& binding = kBindings[static_cast<std::size_t>(kind)];
+  if (clip) {
+    bindClipEntry(e, std::move(clip));
+    result.realized = true;
+    if (binding.overClip && !e.request.parameter("target").empty()) {
+      const std::string why = (this->*binding.bind)(e, warning);
+      result.message = why.empty() ? warning : why + "; the clip plays without aiming";
+    }
+  } else if (binding.bind) {
+    if (plan) e.controller = LocomotionEntryState{std::move(plan), glm::vec3(0.0f)};
+    const std::string why = (this->*binding.bind)(e, warning);
+    result.realized = why.empty();
+    result.message = why.empty() ? warning : why;
+  } else {
+    result.message = "no controller for " + std::string(toString(kind)) +
+                     " behaviors exists yet; its timing, channel and feedback run but the body does not move";
+  }
+  return result;
+}
+
+void Character::bindClipEntry(BehaviorTimeline::Entry& e, std::shared_ptr<const AnimationClip> clip) {
+  const std::size_t n = skeleton().jointCount();
+  e.mask.assign(n, 0.0f);
+  // The in-place tracks count: they move joints the clip may hold at rest (IK feet beside the root).
+  for (const Clip* c : {&clip->clip, &clip->inPlaceRoot})
+    for (const JointTrack& t : c->tracks)
+      if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n &&
+          (!t.translation.empty() || !t.rotation.empty() || !t.scale.empty()))
+        e.mask[static_cast<std::size_t>(t.joint)] = 1.0f;
+  // Gestures play on the upper body, over the posture and the locomotion.
+  if (e.request.kind == BehaviorKind::Gesture || e.request.kind == BehaviorKind::Pointing) {
+    e.upperBody = true;
+    const std::vector<float> upper = upperBodyMask();
+    if (!upper.empty())
+      for (std::size_t i = 0; i < n; ++i) e.mask[i] *= upper[i];
+  }
+  e.cursor.reset(clip->clip);
+  e.rootCursor.reset(clip->inPlaceRoot);
+  e.clip = std::move(clip);
+  ensureScratch();
+}
+
+void Character::ensureScratch() {
+  if (!scratch_) {
+    ownScratch_ = std::make_unique<FrameScratch>();
+    scratch_ = ownScratch_.get();
+  }
+  scratch_->reserve(skeleton().jointCount());
+}
+
+void Character::reserveBehaviorPasses() {
+  // Command time: each frame's walk hands entries to these lists without allocating.
+  const std::size_t n = behaviors_.entries().size();
+  for (auto& pass : passes_) pass.reserve(n);
+}
+
+std::string Character::bindLocomotionEntry(BehaviorTimeline::Entry&, std::string&) {
+  if (!locomotion_) locomotion_ = std::make_unique<LocomotionController>(locomotionSet_, skeleton(), rig_->joints());
+  locomotion_->setSettings(locomotionSettings_);
+  ensureScratch();
+  return {};
+}
+
+std::string Character::bindGazeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  return bindGaze(e, *rig_, targetJointFinder(false), warning);
+}
+
+std::string Character::bindHeadDirectionEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  std::string why = bindGazeEntry(e, warning);
+  // headDirectionShift points the head (with the neck), not the eyes.
+  if (GazeState* g = e.as<GazeState>(); why.empty() && g) {
+    g->influence = GazeInfluence::Neck;
+    g->useEyes = false;
+  }
+  return why;
+}
+
+std::string Character::bindHeadEntry(BehaviorTimeline::Entry& e, std::string& warning) { return bindHead(e, *rig_, warning); }
+
+std::string Character::bindFaceEntry(BehaviorTimeline::Entry& e, std::string& warning) { return bindFace(e, *rig_, warning); }
+
+std::string Character::bindWaitEntry(BehaviorTimeline::Entry&, std::string&) { return {}; }  // nothing to move
+
+std::shared_ptr<const speech::SpokenLine> Character::prepareSpeech(const BehaviorRequest& request,
+                                                                   std::string& error) const {
+  if (!scene_) {
+    error = "a character outside a scene has no speech service";
+    return nullptr;
+  }
+  std::string warning;
+  speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(request, warning));
+  error = said.line ? std::string() : said.error;
+  return said.line;
+}
+
+std::shared_ptr<const speech::SpeechService::Preparation> Character::prepareSpeechInBackground(
+    const BehaviorRequest& request) const {
+  if (!scene_) return nullptr;
+  std::string warning;  // reported when the behavior is added
+  return scene_->speech().prepare(speechRequestOf(request, warning));
+}
+
+std::string Character::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  if (!scene_) return "a character outside a scene has no speech service";
+  speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(e.request, warning));
+  if (!said.line) return "speech cannot be said: " + said.error;
+  const std::shared_ptr<const speech::SpokenLine> line = said.line;
+  SpeechState& speech = e.controller.emplace<SpeechState>();
+  speech.line = line;
+  speech.nextPhoneme = 0;
+  // No envelope: the curves start and end at rest, and a blend-in would hide the first phoneme.
+  e.blendInEnd = e.request.start();
+  e.blendOutStart = e.request.end();
+  // Everything below may call listeners, which may add or cancel behaviors (moving `e`): copies only.
+  const std::string id = e.request.id;
+  const double start = e.request.start(), span = e.request.end() - e.request.start();
+  const std::string who = "speech '" + id + "' of '" + name_ + "': ";
+  // `warning` is for bad parameters (the realizer reports it so); what the backend repaired
+  // or guessed, and a face that cannot move, go to the scene's log.
+  if (!line->audioError.empty()) scene_->log(LogLevel::Warning, who + line->audioError);  // no WAV; it still plays
+  for (const std::string& w : line->utterance->warnings) scene_->log(LogLevel::Warning, who + w);
+  if (std::abs(span - line->utterance->duration) > 0.05) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "the request lasts %.3f s but the line %.3f s (Character::prepareSpeech gives its length)",
+                  span, line->utterance->duration);
+    scene_->log(LogLevel::Warning, who + buf);
+  }
+  if (std::string face = speechFaceNote(*rig_); !face.empty()) scene_->log(LogLevel::Info, who + face);
+  const std::string audio = line->audioFile.string();
+  scene_->forEachListener([&](SceneListener& l) { l.onSpeech(*this, id, *line->utterance, audio, start); });
+  return {};
+}
+
+TargetJointFinder Character::targetJointFinder(bool chest) const {
+  // A character named without a joint: its head for a gaze, its chest for a pointing.
+  return [this, chest](std::string_view name, std::string_view joint) -> int {
+    const Character* c = scene_ ? scene_->findCharacter(name) : nullptr;
+    if (!c) return -2;
+    if (!joint.empty()) return c->skeleton().findJoint(joint);
+    const RigJoints& j = c->rig().joints();
+    return chest ? (!j.spine.empty() ? j.spine.back() : j.hips) : j.head;
+  };
+}
+
+std::string Character::bindPointingEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  PointingState pointing;
+  std::string why = bindPointing(e.request, *rig_, skeleton(), targetJointFinder(true), pointing, warning);
+  if (why.empty()) e.controller = std::move(pointing);
+  return why;
+}
+
+std::vector<float> Character::upperBodyMask() const {
+  // The first spine joint and everything above it; empty when the profile has no spine.
+  const RigJoints& j = rig_->joints();
+  const int root = !j.spine.empty() ? j.spine.front() : j.neck;
+  if (root < 0) return {};
+  const Skeleton& s = skeleton();
+  std::vector<float> mask(s.jointCount(), 0.0f);
+  mask[static_cast<std::size_t>(root)] = 1.0f;
+  for (std::size_t i = static_cast<std::size_t>(root) + 1; i < s.jointCount(); ++i)
+    if (s.parents[i] >= 0 && mask[static_cast<std::size_t>(s.parents[i])] > 0.0f) mask[i] = 1.0f;
+  return mask;
+}
+
+const LocomotionSet& Character::locomotionSet() const {
+  if (!locomotionSet_) locomotionSet_ = std::make_shared<const LocomotionSet>(makeLocomotionSet(*rig_));
+  return *locomotionSet_;
+}
+
+void Character::setLocomotionSettings(const LocomotionSettings& settings) noexcept {
+  locomotionSettings_ = settings;
+  if (locomotion_) locomotion_->setSettings(settings);
+}
+
+std::string Character::bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
+                                      std::string& warning) const {
+  const LocomotionSet& set = locomotionSet();
+  if (!set.usable()) {
+    std::string why = "the character has no walk clip it can travel with (set \"walk\" in its profile)";
+    for (const std::string& n : set.notes) why += "; " + n;
+    return why;
+  }
+  plan = std::make_shared<LocomotionPlan>();
+  std::string why = parseLocomotionPlan(request, set, locomotionSettings_, *plan, warning);
+  if (!why.empty()) return why;
+  auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
+  if (!plan->targetCharacter.empty()) {
+    const Character* target = scene_ ? scene_->findCharacter(plan->targetCharacter) : nullptr;
+    if (!target) return "locomotion target: the scene has no character '" + plan->targetCharacter + "'";
+    if (target == this) return "locomotion target: a character cannot walk to itself";
+    return {};
+  }
+  // The destination as seen from here: warn about the implausible ones, still go.
+  const glm::vec2 here(position_.x, position_.z);
+  const float distance = glm::length(plan->waypoints.back() - here);
+  char buf[200];
+  if (distance < 0.1f && plan->waypoints.size() == 1) {
+    std::snprintf(buf, sizeof buf, "locomotion target is inside the character (%.3f m from its root); it stays and only turns to the facing",
+                  static_cast<double>(distance));
+    note(buf);
+  } else if (distance > 1000.0f) {
+    std::snprintf(buf, sizeof buf, "locomotion target is %.1f km away; at %.2f m/s that takes %.0f min",
+                  static_cast<double>(distance) / 1000.0, static_cast<double>(plan->speed),
+                  static_cast<double>(distance / plan->speed / 60.0f));
+    note(buf);
+  }
+  return {};
+}
+
+std::optional<double> Character::estimateLocomotion(const BehaviorRequest& request) const {
+  std::shared_ptr<LocomotionPlan> plan;
+  std::string warning;
+  if (!bindLocomotion(request, plan, warning).empty()) return std::nullopt;
+  SteeringState from;
+  from.position = {position_.x, position_.z};
+  from.heading = heading_;
+  glm::vec2 target(0.0f);
+  std::span<const glm::vec2> waypoints = plan->waypoints;
+  if (!plan->targetCharacter.empty()) {
+    const Character* t = scene_ ? scene_->findCharacter(plan->targetCharacter) : nullptr;
+    if (t) target = {t->position().x, t->position().z};
+    waypoints = std::span<const glm::vec2>(&target, 1);
+  }
+  return estimateLocomotionSeconds(from, *plan, waypoints, locomotionSettings_);
+}
+
+LocomotionStatus Character::locomotionStatus(std::string_view id) const noexcept {
+  LocomotionStatus st;
+  const BehaviorTimeline::Entry* e = behaviors_.find(id);
+  if (!e || !e->as<LocomotionEntryState>()) return st;
+  if (!locomotion_ || e->order > locomotionOrder_) st.state = LocomotionStatus::kPending;
+  else if (e->order < locomotionOrder_) st.state = LocomotionStatus::kSuperseded;
+  else if (locomotion_->moving()) st.state = LocomotionStatus::kMoving;
+  else {
+    st.state = LocomotionStatus::kDone;
+    st.doneTime = locomotion_->doneTime();
+  }
+  return st;
+}
+
+bool Character::cancelBehavior(std::string_view id, double blendOut) {
+  const std::vector<std::string> stopped = speechStoppedBy(id, false);
+  const bool known = behaviors_.cancel(id, clock_, blendOut);
+  notifySpeechStopped(stopped);
+  return known;
+}
+
+std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOut) {
+  const std::vector<std::string> stopped = speechStoppedBy(idPrefix, true);
+  const std::size_t n = behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
+  notifySpeechStopped(stopped);
+  return n;
+}
+
+std::vector<std::string> Character::speechStoppedBy(std::string_view id, bool prefix) const {
+  // Speech whose audio the engine was told to play and that has not ended yet.
+  std::vector<std::string> ids;
+  for (const BehaviorTimeline::Entry& e : behaviors_.entries())
+    if (e.as<SpeechState>() && !e.cancelled() && clock_ < e.request.end() &&
+        (prefix ? std::string_view(e.request.id).substr(0, id.size()) == id : e.request.id == id))
+      ids.push_back(e.request.id);
+  return ids;
+}
+
+void Character::notifySpeechStopped(const std::vector<std::string>& ids) const {
+  if (!scene_) return;
+  for (const std::string& id : ids)
+    scene_->forEachListener([&](SceneListener& l) { l.onSpeechStopped(*this, id, clock_); });
+}
+
+void Character::applyBehaviors(float dt) noexcept {
+  // One walk over the timeline hands each entry to its controller's pass, with its weight
+  // (entries without weight now are left out, except speech and locomotion, which look at
+  // time themselves). The passes then run in a fixed order (DESIGN.md): clip behaviors
+  // (postures) over the layers, locomotion, upper-body clips (gestures), gaze, head
+  // movements added on top of it, pointing (after the gaze has turned the torso, so the arm
+  // aims from where it ends up), face expressions, speech.
+  for (auto& pass : passes_) pass.clear();
+  const std::span<BehaviorTimeline::Entry> entries = behaviors_.entries();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const BehaviorTimeline::Entry& e = entries[i];
+    const float w = BehaviorTimeline::weightAt(e, clock_);
+    const ActiveEntry active{static_cast<std::uint32_t>(i), w};
+    if (e.as<SpeechState>()) passes_[kSpeechPass].push_back(active);
+    if (e.as<LocomotionEntryState>()) passes_[kLocomotionPass].push_back(active);
+    if (w <= 0.0f) continue;
+    if (e.clip) passes_[e.upperBody ? kUpperClipPass : kClipPass].push_back(active);
+    if (e.as<GazeState>()) passes_[kGazePass].push_back(active);
+    if (const HeadMotionState* h = e.as<HeadMotionState>(); h && !h->strokes.empty()) passes_[kHeadPass].push_back(active);
+    if (e.as<PointingState>()) passes_[kPointingPass].push_back(active);
+    if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !f->morphs.empty())
+      passes_[kFacePass].push_back(active);
+  }
+  const bool timing = scene_ && scene_->statsEnabled();
+  auto run = [&](CharacterStats::Controller which, auto&& pass) {
+    const auto start = timing ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
+    if (pass()) stats_.controllerUsed[which] = true;
+    if (timing)
+      stats_.controllerMicros[which] =
+          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+  };
+  run(CharacterStats::kClipBehaviors, [&] { return applyBehaviorClips(passes_[kClipPass]); });
+  if (locomotion_) run(CharacterStats::kLocomotion, [&] { return applyLocomotion(dt); });
+  if (applyBehaviorClips(passes_[kUpperClipPass])) stats_.controllerUsed[CharacterStats::kClipBehaviors] = true;
+  const glm::mat4 worldToModel = glm::inverse(worldMatrix());  // gaze and pointing targets
+  run(CharacterStats::kGaze, [&] {
+    for (const ActiveEntry& a : passes_[kGazePass]) {
+      GazeState& g = *behaviors_.entries()[a.index].as<GazeState>();
+      const SpatialTarget& t = g.target;  // a target that has left the scene: hold the direction
+      updateGaze(g, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), a.weight, gazeSettings_,
+                 skeleton(), rig_->joints(), pose_, dt);
+    }
+    return !passes_[kGazePass].empty();
+  });
+  run(CharacterStats::kHead, [&] {
+    for (const ActiveEntry& a : passes_[kHeadPass])
+      applyHead(*behaviors_.entries()[a.index].as<HeadMotionState>(), a.weight, clock_, *rig_, pose_);
+    return !passes_[kHeadPass].empty();
+  });
+  run(CharacterStats::kPointing, [&] {
+    for (const ActiveEntry& a : passes_[kPointingPass]) {
+      PointingState& p = *behaviors_.entries()[a.index].as<PointingState>();
+      const SpatialTarget& t = p.target;
+      updatePointing(p, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), a.weight, pointingSettings_,
+                     skeleton(), pose_);
+    }
+    return !passes_[kPointingPass].empty();
+  });
+  run(CharacterStats::kFace, [&] {
+    const std::span<float> morphs = buffer_.writeMorphWeights();
+    for (const ActiveEntry& a : passes_[kFacePass])
+      applyFace(*behaviors_.entries()[a.index].as<FaceExpressionState>(), a.weight, morphs);
+    return !passes_[kFacePass].empty();
+  });
+  run(CharacterStats::kSpeech, [&] { return applySpeechEntries(); });
+}
+
+bool Character::applySpeechEntries() noexcept {
+  bool any = false;
+  // Overlapping speech on one character: the one added last of those speaking now moves the
+  // lips (a speech that could not be said takes nothing from the others).
+  std::uint32_t voice = ~0u;
+  for (const ActiveEntry& a : passes_[kSpeechPass]) {
+    const BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
+    if (clock_ >= e.request.start() && clock_ < e.finishTime()) voice = a.index;
+  }
+  std::array<float, speech::kLipChannelCount> channels{};
+  const std::span<float> morphs = buffer_.writeMorphWeights();
+  // The listeners called below may add or cancel behaviors, which moves the entries and may
+  // grow this pass: everything is looked up again by index after a call, and a pass entry
+  // that no longer is this speech ends the pass for this frame.
+  auto speechAt = [this](std::uint32_t index) -> SpeechState* {
+    const std::span<BehaviorTimeline::Entry> entries = behaviors_.entries();
+    return index < entries.size() ? entries[index].as<SpeechState>() : nullptr;
+  };
+  for (std::size_t k = 0; k < passes_[kSpeechPass].size(); ++k) {
+    const ActiveEntry a = passes_[kSpeechPass][k];
+    if (!speechAt(a.index)) break;
+    const BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
+    const std::shared_ptr<const speech::SpokenLine> line = e.as<SpeechState>()->line;
+    const double start = e.request.start();
+    const double local = clock_ - start;
+    // Visemes of the phonemes that started by now, once each, also for a line whose lips another
+    // owns (the engine hears it) and for phonemes a long frame stepped over; not those after
+    // the line was cut off.
+    const std::vector<speech::Phoneme>& phonemes = line->utterance->phonemes;
+    const double cutoff = e.finishTime() - start;
+    for (SpeechState* st = speechAt(a.index); st && st->nextPhoneme < phonemes.size() &&
+                                              phonemes[st->nextPhoneme].start <= local && phonemes[st->nextPhoneme].start < cutoff;
+         st = speechAt(a.index)) {
+      const speech::Phoneme& p = phonemes[st->nextPhoneme++];
+      line->curves.evaluate(0.5 * (p.start + p.end), channels);
+      const float peak = channels[static_cast<std::size_t>(p.cls.viseme)];
+      scene_->forEachListener([&](SceneListener& l) {
+        l.onViseme(*this, speech::visemeName(p.cls.viseme), peak, start + p.start);
+      });
+    }
+    SpeechState* st = speechAt(a.index);
+    if (!st) break;
+    if (a.index != voice || a.weight <= 0.0f) continue;
+    applySpeech(*st, a.weight, local, *rig_, channels, morphs, pose_);
+    any = true;
+  }
+  return any;
+}
+
+void Character::resolveExternalTargets() noexcept {
+  if (!scene_) return;
+  for (BehaviorTimeline::Entry& e : behaviors_.entries())
+    if (LocomotionEntryState* l = e.as<LocomotionEntryState>();
+        l && e.order >= locomotionOrder_ && !l->plan->targetCharacter.empty())
+      if (const Character* t = scene_->findCharacter(l->plan->targetCharacter)) l->resolvedTarget = t->position();
+  auto resolve = [this](SpatialTarget& target) {
+    if (!target.external()) return;
+    const Character* t = scene_->findCharacter(target.character);
+    target.resolvedKnown = t != nullptr;
+    if (!t) return;
+    const auto models = t->transformBuffer().modelMatrices();
+    const auto j = static_cast<std::size_t>(target.jointIndex);
+    target.resolvedPoint = target.jointIndex >= 0 && j < models.size()
+                               ? glm::vec3(t->worldMatrix() * models[j][3])
+                               : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+  };
+  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (GazeState* g = e.as<GazeState>()) resolve(g->target);
+    if (PointingState* p = e.as<PointingState>()) resolve(p->target);
+  }
+}
+
+bool Character::applyLocomotion(float dt) noexcept {
+  // Follow the newest locomotion request that has started; stop when it is cancelled.
+  bool cancelled = false;
+  for (const ActiveEntry& a : passes_[kLocomotionPass]) {
+    const BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
+    const LocomotionEntryState& l = *e.as<LocomotionEntryState>();
+    if (e.request.start() > clock_) continue;
+    if (e.order > locomotionOrder_) {
+      locomotion_->start(l.plan, position_, heading_);
+      locomotionOrder_ = e.order;
+    }
+    if (e.order != locomotionOrder_) continue;
+    if (!l.plan->targetCharacter.empty()) locomotion_->setTargetPosition(l.resolvedTarget);
+    if (e.cancelled() && clock_ >= e.cancelAt) cancelled = true;
+  }
+  if (cancelled && locomotion_->moving()) locomotion_->stop();
+  const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(pose_.size());
+  locomotion_->update(dt, clock_, position_, heading_, skeleton(), pose_, scratch);
+  return true;
+}
+
+bool Character::applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept {
+  const std::span<const Transform> rest = skeleton().restPose;
+  const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(rest.size());
+  const std::span<float> morphs = buffer_.writeMorphWeights();
+  for (const ActiveEntry& a : pass) {
+    BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
+    const float w = a.weight;
+    const AnimationClip& ac = *e.clip;
+    const double start = e.request.start(), span = e.request.end() - start;
+    const float t = e.request.loop || span <= 0.0
+                        ? wrapClipTime(clock_ - start, ac.clip.duration, e.request.loop ? WrapMode::Loop : WrapMode::Clamp)
+                        : static_cast<float>(std::clamp((clock_ - start) / span, 0.0, 1.0) * ac.clip.duration);
+    sampleClip(ac.clip, t, rest, scratch, &e.cursor);
+    // A clip that travels is played in place: behaviors do not move the character.
+    if (!ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, scratch, &e.rootCursor);
+    blendOver(pose_, scratch, w, e.mask);
+    if (!ac.clip.morphTracks.empty() && !morphs.empty()) {
+      std::copy(morphs.begin(), morphs.end(), morphScratch_.begin());
+      sampleMorphWeights(ac.clip, t, morphScratch_);
+      for (std::size_t i = 0; i < morphs.size(); ++i) morphs[i] += w * (morphScratch_[i] - morphs[i]);
+    }
+  }
+  return !pass.empty();
+}
+
+}  // namespace marionette
