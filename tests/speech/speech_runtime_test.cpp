@@ -342,5 +342,53 @@ TEST(SpeechJaw, TheJawOfACharacterWithOneOpensOnVowels) {
 }
 #endif
 
+// A listener that changes the timeline from inside onViseme: it cancels a speech that has not
+// started (which erases it, so the entries after it move down) and adds another. The speech
+// pass finds each entry again by its order, so the two lines speaking now each send every one
+// of their visemes once, and neither advances the other's.
+TEST_F(GodetteSpeaks, AListenerThatCancelsAndAddsDuringVisemesMovesNoOtherSpeech) {
+  struct Meddler : SceneListener {
+    Character* who = nullptr;
+    bool done = false;
+    std::vector<double> times;  // scene time of each viseme
+    void onViseme(const Character&, std::string_view, float, double t) override {
+      times.push_back(t);
+      if (done || !who) return;
+      done = true;
+      who->cancelBehavior("future", 0.2);  // not started: erased, "now" and "other" move down
+      who->addBehavior(speechRequest("added", 20.0, 3.095, kArcticText));
+    }
+  } meddler;
+  meddler.who = godette;
+  scene.addListener(&meddler);
+  constexpr double kOther = 0.5;  // "other" starts half a second after "now" (the same line)
+  ASSERT_TRUE(godette->addBehavior(speechRequest("future", 10.0, 3.095, kArcticText)).realized);
+  ASSERT_TRUE(godette->addBehavior(speechRequest("now", 0.0, 3.095, kArcticText)).realized);
+  ASSERT_TRUE(godette->addBehavior(speechRequest("other", kOther, 3.095, kArcticText)).realized);
+  const BehaviorTimeline::Entry* now = godette->behaviors().find("now");
+  ASSERT_NE(now, nullptr);
+  ASSERT_NE(now->as<SpeechState>(), nullptr);
+  const std::vector<speech::Phoneme> phonemes = now->as<SpeechState>()->line->utterance->phonemes;
+  ASSERT_GT(phonemes.size(), 10u);
+  float widest = 0.0f;
+  for (int f = 0; f < 240; ++f) {  // 0 .. 4 s: both lines end
+    scene.update(1.0 / 60.0);
+    widest = std::max(widest, mouthOpen());
+  }
+  EXPECT_TRUE(meddler.done);
+  EXPECT_EQ(godette->behaviors().find("future"), nullptr);
+  EXPECT_NE(godette->behaviors().find("added"), nullptr);
+  // Every phoneme of both lines, once, each at its own line's time: the visemes before
+  // "other" starts are exactly those of "now" (none of "other"'s sent early, none skipped).
+  std::vector<double> expected;
+  for (const speech::Phoneme& p : phonemes) expected.push_back(p.start), expected.push_back(kOther + p.start);
+  std::sort(expected.begin(), expected.end());
+  std::vector<double> got = meddler.times;
+  std::sort(got.begin(), got.end());
+  ASSERT_EQ(got.size(), expected.size());
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], expected[i], 1e-9) << i;
+  EXPECT_GT(widest, 0.2f);  // the lips moved
+}
+
 }  // namespace
 }  // namespace marionette

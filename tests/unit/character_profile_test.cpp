@@ -891,14 +891,18 @@ TEST(CharacterProfileJointMap, JointsBesideAMapAreIgnoredWithAWarningAtTheirKey)
   EXPECT_EQ(r.diagnostics.items[1].line, 3) << r.diagnostics.format();  // at "limbs"
 }
 
-TEST(CharacterProfileJointMap, AMapThatCannotBeReadIsAnErrorNamingItAndTheFileJointsAreUsed) {
+TEST(CharacterProfileJointMap, AMapThatCannotBeReadIsAWarningNamingItAndTheFileJointsAreUsed) {
   TempProfile f(R"({"jointMap": "no_such_map.json",
   "joints": {"hips": "Hips", "spine": ["Spine", "Chest"], "neck": "Neck", "head": "Head"}})");
   const auto r = loadCharacterProfile(f.path(), robot());
-  EXPECT_FALSE(r.diagnostics.ok()) << r.diagnostics.format();
-  const Diagnostic* missing = findDiag(r.diagnostics, "no_such_map.json");
-  ASSERT_NE(missing, nullptr) << r.diagnostics.format();
-  EXPECT_NE(findDiag(r.diagnostics, "cannot be used (above); the joints read or guessed"), nullptr) << r.diagnostics.format();
+  // The profile still loads (a scene or the C API would otherwise refuse it): warnings only.
+  EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();
+  ASSERT_EQ(r.diagnostics.items.size(), 2u) << r.diagnostics.format();
+  EXPECT_EQ(r.diagnostics.items[0].file, f.path());  // the profile's own warning first, at "jointMap"
+  EXPECT_EQ(r.diagnostics.items[0].line, 1);
+  EXPECT_NE(r.diagnostics.items[0].message.find("cannot be used"), std::string::npos);
+  EXPECT_NE(r.diagnostics.items[1].file.find("no_such_map.json"), std::string::npos) << r.diagnostics.format();
+  EXPECT_EQ(r.diagnostics.items[1].severity, Severity::Warning);
   EXPECT_EQ(r.profile.hips, "Hips");  // the file's own joints
   EXPECT_EQ(r.profile.spine, (std::vector<std::string>{"Spine", "Chest"}));
 }
@@ -933,4 +937,14 @@ TEST(CharacterProfileJointMap, SetProfileJointsNamesEveryBodyFieldFromTheMap) {
   EXPECT_EQ(p.leftArm.end, "");  // cleared, not left stale
   EXPECT_EQ(p.leftEye, "");
   EXPECT_EQ(p.idle, "Idle");     // not a body joint: untouched
+  // A joint whose name an earlier joint shares cannot be named: left out, with a note.
+  Asset twin = robot();
+  const int second = static_cast<int>(twin.skeleton.jointCount());
+  twin.skeleton.addJoint("Head", twin.skeleton.findJoint("Neck"), Transform{}, glm::mat4(1.0f), false);
+  retarget::JointMap m2;
+  m2.bones[static_cast<std::size_t>(retarget::Bone::Head)] = second;
+  CharacterProfile q;
+  setProfileJoints(q, m2, twin.skeleton);
+  EXPECT_EQ(q.head, "");
+  EXPECT_TRUE(hasNote(q, "cannot be named in a profile")) << notes(q);
 }

@@ -92,9 +92,14 @@ class ProfileReader : JsonReaderBase {
     const std::filesystem::path given = j.get<std::string>();
     const std::filesystem::path path = given.is_absolute() ? given : std::filesystem::path(file_).parent_path() / given;
     const retarget::JointMapResult map = retarget::loadJointMap(path.string(), asset_);
-    if (!map.diagnostics.ok()) {  // its errors name the joint-map file
-      for (const Diagnostic& d : map.diagnostics.items) diags_.items.push_back(d);
-      warn("/jointMap", "the joint map '" + given.string() + "' cannot be used (above); the joints read or guessed");
+    if (!map.diagnostics.ok()) {
+      // Warnings here: the profile still loads, with the joints read or guessed. They keep
+      // the joint-map file's name and places.
+      warn("/jointMap", "the joint map '" + given.string() + "' cannot be used (the warnings naming it say why); the joints read or guessed");
+      for (Diagnostic d : map.diagnostics.items) {
+        d.severity = Severity::Warning;
+        diags_.items.push_back(std::move(d));
+      }
       return false;
     }
     setProfileJoints(p, map.map, asset_.skeleton);
@@ -107,7 +112,7 @@ class ProfileReader : JsonReaderBase {
         {"leftLeg", &p.leftLeg}, {"rightLeg", &p.rightLeg}, {"leftArm", &p.leftArm}, {"rightArm", &p.rightArm}};
     for (const auto& [field, limb] : limbs)  // the map's own topology checks warn; the notes say what a leg's end is
       notes_.push_back(std::string(field) + ": " + describeLimb(*limb) + " (joint map)" +
-                       checkLimb(*limb, Json::object(), "/jointMap", field[std::string_view(field).size() - 3] == 'L'));
+                       checkLimb(*limb, Json::object(), "/jointMap", field[std::string_view(field).size() - 3] == 'L', false));
     notes_.push_back(sidesNote(tree_, restPositions(asset_.skeleton, tree_),
                                BodyChain{tree_.find(p.hips), tree_.find(p.neck), tree_.find(p.head)}, p));
     return true;
@@ -277,9 +282,13 @@ class ProfileReader : JsonReaderBase {
 
   // Warnings where a limb's joints do not descend from one another. A leg's end
   // elsewhere (an IK target under the root) is fine: the returned note says so.
-  std::string checkLimb(const Limb& l, const Json& given, const std::string& where, bool leg) {
+  // `warnings` false: the note only (a joint map's limbs: the map's own checks warn).
+  std::string checkLimb(const Limb& l, const Json& given, const std::string& where, bool leg, bool warnings = true) {
     const int u = tree_.find(l.upper), lo = tree_.find(l.lower), e = tree_.find(l.end);
     auto at = [&](const char* key, const char* other) { return where + "/" + (given.contains(key) ? key : other); };
+    auto warn = [&](const std::string& pointer, const std::string& message) {
+      if (warnings) this->warn(pointer, message);
+    };
     if (u >= 0 && lo >= 0 && !tree_.above(u, lo))
       warn(at("lower", "upper"), "'" + l.lower + "' is not below the upper joint '" + l.upper + "'");
     const int before = lo >= 0 ? lo : u;
@@ -439,8 +448,11 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
   ProfileReader reader(path, text, asset, result.diagnostics);
   reader.read(doc, result.profile, guessed);
   // In file order, as a reader goes through the file (all are warnings here).
+  // (the joint map's, naming its own file, after the profile's).
   std::stable_sort(result.diagnostics.items.begin(), result.diagnostics.items.end(),
-                   [](const Diagnostic& a, const Diagnostic& b) { return std::pair{a.line, a.column} < std::pair{b.line, b.column}; });
+                   [&](const Diagnostic& a, const Diagnostic& b) {
+                     return std::tuple{a.file != path, a.line, a.column} < std::tuple{b.file != path, b.line, b.column};
+                   });
   return result;
 }
 
@@ -449,7 +461,16 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
 void setProfileJoints(CharacterProfile& p, const retarget::JointMap& map, const Skeleton& skeleton) {
   using retarget::Bone;
   using retarget::Chain;
-  auto name = [&](int j) { return j >= 0 && static_cast<std::size_t>(j) < skeleton.jointCount() ? skeleton.names[static_cast<std::size_t>(j)] : std::string(); };
+  // By name, as the profile holds joints; a joint whose name an earlier joint shares (a map
+  // may pick it as "#N") cannot be named so: left empty, with a note.
+  auto name = [&](int j) {
+    if (j < 0 || static_cast<std::size_t>(j) >= skeleton.jointCount()) return std::string();
+    const std::string& n = skeleton.names[static_cast<std::size_t>(j)];
+    if (!n.empty() && skeleton.findJoint(n) == j) return n;
+    p.notes.push_back("joint map: joint #" + std::to_string(j) + " '" + n +
+                      "' cannot be named in a profile (no name, or an earlier joint has it); left out");
+    return std::string();
+  };
   auto bone = [&](Bone b) { return name(map.joint(b)); };
   p.hips = bone(Bone::Hips);
   p.spine.clear();

@@ -365,7 +365,7 @@ void Character::applyBehaviors(float dt) noexcept {
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const BehaviorTimeline::Entry& e = entries[i];
     const float w = BehaviorTimeline::weightAt(e, clock_);
-    const ActiveEntry active{static_cast<std::uint32_t>(i), w};
+    const ActiveEntry active{static_cast<std::uint32_t>(i), w, e.order};
     if (e.as<SpeechState>()) passes_[kSpeechPass].push_back(active);
     if (e.as<LocomotionEntryState>()) passes_[kLocomotionPass].push_back(active);
     if (w <= 0.0f) continue;
@@ -424,46 +424,51 @@ bool Character::applySpeechEntries() noexcept {
   bool any = false;
   // Overlapping speech on one character: the one added last of those speaking now moves the
   // lips (a speech that could not be said takes nothing from the others).
-  std::uint32_t voice = ~0u;
+  std::uint64_t voice = 0;
+  bool hasVoice = false;
   for (const ActiveEntry& a : passes_[kSpeechPass]) {
     const BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
-    if (clock_ >= e.request.start() && clock_ < e.finishTime()) voice = a.index;
+    if (clock_ >= e.request.start() && clock_ < e.finishTime()) voice = a.order, hasVoice = true;
   }
   std::array<float, speech::kLipChannelCount> channels{};
   const std::span<float> morphs = buffer_.writeMorphWeights();
-  // The listeners called below may add or cancel behaviors, which moves the entries and may
-  // grow this pass: everything is looked up again by index after a call, and a pass entry
-  // that no longer is this speech ends the pass for this frame.
-  auto speechAt = [this](std::uint32_t index) -> SpeechState* {
+  // The listeners called below may add or cancel behaviors, which moves the entries (a
+  // cancel erases one that had not started) and may grow this pass: a pass entry is found
+  // again by its timeline order after every call, and skipped once it is gone.
+  auto find = [this](const ActiveEntry& a) -> BehaviorTimeline::Entry* {
     const std::span<BehaviorTimeline::Entry> entries = behaviors_.entries();
-    return index < entries.size() ? entries[index].as<SpeechState>() : nullptr;
+    if (a.index < entries.size() && entries[a.index].order == a.order) return &entries[a.index];
+    for (BehaviorTimeline::Entry& e : entries)  // moved down by an erase: the order ascends along the list
+      if (e.order == a.order) return &e;
+    return nullptr;
   };
   for (std::size_t k = 0; k < passes_[kSpeechPass].size(); ++k) {
     const ActiveEntry a = passes_[kSpeechPass][k];
-    if (!speechAt(a.index)) break;
-    const BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
-    const std::shared_ptr<const speech::SpokenLine> line = e.as<SpeechState>()->line;
-    const double start = e.request.start();
+    const BehaviorTimeline::Entry* e = find(a);
+    if (!e) continue;
+    const std::shared_ptr<const speech::SpokenLine> line = e->as<SpeechState>()->line;
+    const double start = e->request.start();
     const double local = clock_ - start;
     // Visemes of the phonemes that started by now, once each, also for a line whose lips another
     // owns (the engine hears it) and for phonemes a long frame stepped over; not those after
     // the line was cut off.
     const std::vector<speech::Phoneme>& phonemes = line->utterance->phonemes;
-    const double cutoff = e.finishTime() - start;
-    for (SpeechState* st = speechAt(a.index); st && st->nextPhoneme < phonemes.size() &&
-                                              phonemes[st->nextPhoneme].start <= local && phonemes[st->nextPhoneme].start < cutoff;
-         st = speechAt(a.index)) {
-      const speech::Phoneme& p = phonemes[st->nextPhoneme++];
+    const double cutoff = e->finishTime() - start;
+    for (BehaviorTimeline::Entry* now = find(a); now; now = find(a)) {
+      SpeechState& st = *now->as<SpeechState>();
+      if (st.nextPhoneme >= phonemes.size() || phonemes[st.nextPhoneme].start > local ||
+          phonemes[st.nextPhoneme].start >= cutoff)
+        break;
+      const speech::Phoneme& p = phonemes[st.nextPhoneme++];
       line->curves.evaluate(0.5 * (p.start + p.end), channels);
       const float peak = channels[static_cast<std::size_t>(p.cls.viseme)];
       scene_->forEachListener([&](SceneListener& l) {
         l.onViseme(*this, speech::visemeName(p.cls.viseme), peak, start + p.start);
       });
     }
-    SpeechState* st = speechAt(a.index);
-    if (!st) break;
-    if (a.index != voice || a.weight <= 0.0f) continue;
-    applySpeech(*st, a.weight, local, *rig_, channels, morphs, pose_);
+    BehaviorTimeline::Entry* now = find(a);
+    if (!now || !hasVoice || a.order != voice || a.weight <= 0.0f) continue;
+    applySpeech(*now->as<SpeechState>(), a.weight, local, *rig_, channels, morphs, pose_);
     any = true;
   }
   return any;

@@ -174,8 +174,9 @@ class Character {
   void blendLayers() noexcept;
   // An entry a controller runs on this frame, and its weight now (the frame's one walk).
   struct ActiveEntry {
-    std::uint32_t index = 0;  // into behaviors_.entries()
+    std::uint32_t index = 0;  // into behaviors_.entries() as the walk found them
     float weight = 0.0f;
+    std::uint64_t order = 0;  // the entry's timeline order: finds it again if a listener moved it
   };
   enum Pass { kClipPass, kLocomotionPass, kUpperClipPass, kGazePass, kHeadPass, kPointingPass, kFacePass, kSpeechPass,
               kPassCount };
