@@ -93,13 +93,13 @@ class ProfileReader : JsonReaderBase {
     const std::filesystem::path path = given.is_absolute() ? given : std::filesystem::path(file_).parent_path() / given;
     const retarget::JointMapResult map = retarget::loadJointMap(path.string(), asset_);
     if (!map.diagnostics.ok()) {
-      // Warnings here: the profile still loads, with the joints read or guessed. They keep
-      // the joint-map file's name and places.
-      warn("/jointMap", "the joint map '" + given.string() + "' cannot be used (the warnings naming it say why); the joints read or guessed");
-      for (Diagnostic d : map.diagnostics.items) {
-        d.severity = Severity::Warning;
-        diags_.items.push_back(std::move(d));
-      }
+      // One warning here, at "jointMap", with the map's own diagnostics in it (they name the
+      // map's file): the profile still loads, with the joints read or guessed.
+      std::string why;
+      for (std::size_t i = 0; i < map.diagnostics.items.size() && i < 3; ++i)
+        why += (i ? "; " : "") + map.diagnostics.items[i].format();
+      if (map.diagnostics.items.size() > 3) why += "; ...";
+      warn("/jointMap", "the joint map '" + given.string() + "' cannot be used (" + why + "); the joints read or guessed");
       return false;
     }
     setProfileJoints(p, map.map, asset_.skeleton);
@@ -448,11 +448,8 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
   ProfileReader reader(path, text, asset, result.diagnostics);
   reader.read(doc, result.profile, guessed);
   // In file order, as a reader goes through the file (all are warnings here).
-  // (the joint map's, naming its own file, after the profile's).
   std::stable_sort(result.diagnostics.items.begin(), result.diagnostics.items.end(),
-                   [&](const Diagnostic& a, const Diagnostic& b) {
-                     return std::tuple{a.file != path, a.line, a.column} < std::tuple{b.file != path, b.line, b.column};
-                   });
+                   [](const Diagnostic& a, const Diagnostic& b) { return std::pair{a.line, a.column} < std::pair{b.line, b.column}; });
   return result;
 }
 
