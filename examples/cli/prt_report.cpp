@@ -34,6 +34,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "commands.hpp"
+#include "marionette/core/finite.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/prt/mirror_ball.hpp"
 #include "marionette/prt/ray_occlusion.hpp"
@@ -451,7 +452,7 @@ bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& d
       solidAngle[k] = maps[0].texelSolidAngle(r);
     }
   auto usable = [](const glm::vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && glm::dot(v, v) > 1e-12f;
+    return isFinite(v) && glm::dot(v, v) > 1e-12f;
   };
   std::vector<std::vector<glm::dvec3>> reference(maps.size(), std::vector<glm::dvec3>(candidates.size()));
   std::vector<double> occludedFraction(candidates.size(), 0.0);

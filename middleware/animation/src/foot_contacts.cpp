@@ -1,10 +1,10 @@
-#include "marionette/core/finite.hpp"
 #include "marionette/animation/foot_contacts.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
+#include "marionette/core/finite.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/sampling.hpp"
 #include "marionette/core/easing.hpp"

@@ -1,10 +1,10 @@
-#include "marionette/core/finite.hpp"
 #include "marionette/behavior/pointing.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "marionette/core/finite.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/behavior/behavior_request.hpp"
 #include "marionette/core/text.hpp"

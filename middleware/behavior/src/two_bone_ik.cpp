@@ -1,10 +1,10 @@
-#include "marionette/core/finite.hpp"
 #include "marionette/behavior/two_bone_ik.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "marionette/core/finite.hpp"
 #include "marionette/animation/pose.hpp"
 
 namespace marionette {

@@ -1,8 +1,9 @@
 // BVH writer: see marionette/io/bvh_writer.hpp for what the file holds and what
 // is dropped. Two passes over the frames: the first finds which joints need
 // position channels and which carry scale, the second writes the text.
-#include "marionette/core/finite.hpp"
 #include "marionette/io/bvh_writer.hpp"
+
+#include "marionette/core/finite.hpp"
 
 #include <algorithm>
 #include <cerrno>

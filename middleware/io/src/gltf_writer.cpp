@@ -12,8 +12,9 @@
 // and the files. Materials, meshes and animations are written by their own files
 // (gltf_writer_materials.cpp, gltf_writer_mesh.cpp, gltf_writer_animation.cpp), all
 // stages of the one Writer (gltf_writer_context.hpp).
-#include "marionette/core/finite.hpp"
 #include "marionette/io/gltf_writer.hpp"
+
+#include "marionette/core/finite.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -1,5 +1,6 @@
 #include "marionette/prt/transfer.hpp"
 
+#include "marionette/core/finite.hpp"
 #include "marionette/core/split_mix.hpp"
 
 #include <algorithm>
@@ -50,7 +51,7 @@ void tangentFrame(const glm::vec3& n, glm::vec3& t, glm::vec3& b) noexcept {
 }
 
 bool usable(const glm::vec3& v) noexcept {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && glm::dot(v, v) > 1e-12f;
+  return isFinite(v) && glm::dot(v, v) > 1e-12f;
 }
 
 std::size_t vertexCountOf(const TransferMesh& mesh) noexcept { return mesh.positions.size(); }

@@ -1,5 +1,6 @@
-#include "marionette/core/finite.hpp"
 #include "marionette/prt/transfer_mesh.hpp"
+
+#include "marionette/core/finite.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>

@@ -1,11 +1,11 @@
 // Retargeter per frame: apply() from the binding worked out by bind()
 // (retarget_binding.cpp), and the offline retargetClip() built on it.
-#include "marionette/core/finite.hpp"
 #include "marionette/retarget/retargeter.hpp"
 
 #include <algorithm>
 #include <cmath>
 
+#include "marionette/core/finite.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/core/easing.hpp"
 #include "marionette/animation/sampling.hpp"

@@ -112,7 +112,7 @@ class ProfileReader : JsonReaderBase {
         {"leftLeg", &p.leftLeg}, {"rightLeg", &p.rightLeg}, {"leftArm", &p.leftArm}, {"rightArm", &p.rightArm}};
     for (const auto& [field, limb] : limbs)  // the map's own topology checks warn; the notes say what a leg's end is
       notes_.push_back(std::string(field) + ": " + describeLimb(*limb) + " (joint map)" +
-                       checkLimb(*limb, Json::object(), "/jointMap", field[std::string_view(field).size() - 3] == 'L', false));
+                       checkLimb(*limb, field[std::string_view(field).size() - 3] == 'L'));
     notes_.push_back(sidesNote(tree_, restPositions(asset_.skeleton, tree_),
                                BodyChain{tree_.find(p.hips), tree_.find(p.neck), tree_.find(p.head)}, p));
     return true;
@@ -259,7 +259,7 @@ class ProfileReader : JsonReaderBase {
           leftOut += (leftOut.empty() ? "" : ", ") + std::string(key);
       }
       const bool leg = field[std::string_view(field).size() - 3] == 'L';  // "...Leg"
-      const std::string detached = checkLimb(out, v, where, leg);
+      const std::string detached = checkLimb(out, leg, &v, where);
       notes_.push_back(std::string(field) + ": " + describeLimb(out) + " (profile" +
                        (leftOut.empty() ? "" : "; " + leftOut + " not in the profile, guessed") + ")" + detached);
     }
@@ -280,23 +280,23 @@ class ProfileReader : JsonReaderBase {
                                BodyChain{tree_.find(p.hips), tree_.find(p.neck), tree_.find(p.head)}, p));
   }
 
-  // Warnings where a limb's joints do not descend from one another. A leg's end
-  // elsewhere (an IK target under the root) is fine: the returned note says so.
-  // `warnings` false: the note only (a joint map's limbs: the map's own checks warn).
-  std::string checkLimb(const Limb& l, const Json& given, const std::string& where, bool leg, bool warnings = true) {
+  // The note on a limb whose leg ends elsewhere (an IK target under the root is fine); with
+  // its place in the file (`given` at `where`), warnings where its joints do not descend from
+  // one another. A joint map's limbs are checked by the map's reader: the note only.
+  std::string checkLimb(const Limb& l, bool leg, const Json* given = nullptr, const std::string& where = {}) {
     const int u = tree_.find(l.upper), lo = tree_.find(l.lower), e = tree_.find(l.end);
-    auto at = [&](const char* key, const char* other) { return where + "/" + (given.contains(key) ? key : other); };
-    auto warn = [&](const std::string& pointer, const std::string& message) {
-      if (warnings) this->warn(pointer, message);
+    auto at = [&](const char* key, const char* other) { return where + "/" + (given->contains(key) ? key : other); };
+    auto warn = [&](const char* key, const char* other, const std::string& message) {
+      if (given) this->warn(at(key, other), message);
     };
     if (u >= 0 && lo >= 0 && !tree_.above(u, lo))
-      warn(at("lower", "upper"), "'" + l.lower + "' is not below the upper joint '" + l.upper + "'");
+      warn("lower", "upper", "'" + l.lower + "' is not below the upper joint '" + l.upper + "'");
     const int before = lo >= 0 ? lo : u;
     if (before < 0 || e < 0 || tree_.above(before, e)) return {};
     const bool elsewhere = !tree_.above(e, before) && !(u >= 0 && tree_.above(e, u));
     if (leg && lo >= 0 && elsewhere)
       return "; '" + l.end + "' is not below '" + l.lower + "': the end point is its rest offset from the lower joint";
-    warn(at("end", lo >= 0 ? "lower" : "upper"),
+    warn("end", lo >= 0 ? "lower" : "upper",
          "'" + l.end + "' is not below the " + (lo >= 0 ? "lower" : "upper") + " joint '" + (lo >= 0 ? l.lower : l.upper) + "'");
     return {};
   }

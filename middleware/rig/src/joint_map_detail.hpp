@@ -11,6 +11,8 @@
 
 #include "marionette/rig/joint_map.hpp"
 #include "marionette/skeleton/skeleton.hpp"
+#include "marionette/io/asset.hpp"
+#include "marionette/rig/character_profile.hpp"
 #include "profile_skeleton.hpp"
 
 namespace marionette::retarget::joint_map_detail {
@@ -80,5 +82,10 @@ struct Problem {
 // the legs), the neck above the head, eyes and jaw below it, fingers below the
 // hand, and left joints on the character's left of the right ones.
 [[nodiscard]] std::vector<Problem> topologyProblems(const JointMap& m, const profile_detail::Tree& t, const Skeleton& s);
+
+// guessJointMap's work, given the skeleton's tree and, when the caller has guessed them
+// already (the profile guess), the body joints by name and their notes (nullptr: guessed here).
+[[nodiscard]] JointMapResult guessFromBody(const Asset& asset, const profile_detail::Tree& t, const CharacterProfile* body,
+                                           const profile_detail::Notes* found);
 
 }  // namespace marionette::retarget::joint_map_detail

@@ -180,11 +180,9 @@ bool saysShoulder(const std::string& name) {
   return false;
 }
 
-JointMap fromNames(const Asset& asset, const Tree& t) {
+// From the body joints guessed by names and topology (profile_detail::guessBodyJoints).
+JointMap fromNames(const Tree& t, const CharacterProfile& p, const profile_detail::Notes& found) {
   JointMap m;
-  CharacterProfile p;
-  profile_detail::Notes found;
-  profile_detail::guessBodyJoints(asset, t, p, found);
   // How each joint was found, for the record.
   for (const auto& [field, n] : found) m.notes.push_back("profile " + n);
   auto set = [&](Bone b, const std::string& name) { m.bones[at(b)] = name.empty() ? -1 : t.find(name); };
@@ -263,13 +261,24 @@ JointMap fromNames(const Asset& asset, const Tree& t) {
   return m;
 }
 
-JointMapResult guess(const Asset& asset) {
+}  // namespace
+
+JointMapResult joint_map_detail::guessFromBody(const Asset& asset, const Tree& t, const CharacterProfile* body,
+                                                 const profile_detail::Notes* found) {
   JointMapResult r;
-  const Tree t(asset.skeleton);
   const std::string& file = asset.sourcePath;
   const bool vrm = asset.hasHumanoid && asset.humanoid.bones.count("hips") &&
                    t.find(asset.humanoid.bones.at("hips")) >= 0;
-  r.map = vrm ? fromHumanoid(asset, t) : fromNames(asset, t);
+  if (vrm) {
+    r.map = fromHumanoid(asset, t);
+  } else if (body && found) {
+    r.map = fromNames(t, *body, *found);
+  } else {
+    CharacterProfile p;
+    profile_detail::Notes notes;
+    profile_detail::guessBodyJoints(asset, t, p, notes);
+    r.map = fromNames(t, p, notes);
+  }
   dropDuplicates(r.map, [&](int j, const Entry& keeps, const Entry& loses) {
     r.diagnostics.warning(file, "joint map guess: " + entryName(loses) + ": joint " + inQuotes(t.name(j)) + " is already " +
                                     entryName(keeps) + "; dropped");
@@ -288,11 +297,9 @@ JointMapResult guess(const Asset& asset) {
   return r;
 }
 
-}  // namespace
-
 JointMapResult guessJointMap(const Asset& asset) {
   try {
-    return guess(asset);
+    return guessFromBody(asset, Tree(asset.skeleton), nullptr, nullptr);
   } catch (const std::exception& e) {  // only std::bad_alloc can get here
     JointMapResult r;
     r.diagnostics.error(asset.sourcePath, std::string("cannot guess the joint map: ") + e.what());

@@ -5,7 +5,7 @@
 #include <tuple>
 
 #include "limb_guess.hpp"
-#include "marionette/rig/joint_map.hpp"
+#include "joint_map_detail.hpp"
 
 namespace marionette::profile_detail {
 
@@ -37,7 +37,7 @@ Guess guess(const Asset& asset) {
   // above, takes a VRM humanoid map first and settles the hips by topology), the profile
   // takes it; the name guess only fills what the map leaves out (a VRM file that lists no
   // spine bones: the path from the hips to the neck).
-  const retarget::JointMapResult map = retarget::guessJointMap(asset);
+  const retarget::JointMapResult map = retarget::joint_map_detail::guessFromBody(asset, t, &p, &g.notes);
   CharacterProfile fromMap;
   setProfileJoints(fromMap, map.map, asset.skeleton);
   auto take = [&](const char* field, std::string& mine, const std::string& theirs) {

@@ -1,5 +1,6 @@
-#include "marionette/core/finite.hpp"
 #include "marionette/skeleton/skeleton.hpp"
+
+#include "marionette/core/finite.hpp"
 
 #include <cmath>
 
