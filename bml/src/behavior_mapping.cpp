@@ -75,27 +75,18 @@ std::optional<double> naturalDuration(const Behavior& b, const Character& charac
   BehaviorRequest r;
   r.id = b.id;
   r.kind = BehaviorKind::Locomotion;
-  for (const Attribute& a : b.attributes) r.parameters.emplace_back(a.name, a.value);
+  r.parameters = readParameters(b, BehaviorKind::Locomotion).parameters;
   return character.estimateLocomotion(r);
 }
 
 namespace {
-
-// The speech parameters the middleware reads (speech_controller.hpp): text and marks.
-void addSpeechParameters(const Behavior& b, BehaviorRequest& r) {
-  r.parameters.emplace_back("text", b.text);
-  std::string marks;
-  for (const WordMark& m : b.marks) marks += (marks.empty() ? "" : " ") + std::to_string(m.characterOffset) + ":" + m.id;
-  if (!marks.empty()) r.parameters.emplace_back("markOffsets", std::move(marks));
-}
 
 // What the speech service is asked for a <speech> (the same text and marks as toRequest gives).
 BehaviorRequest speechRequest(const Behavior& b) {
   BehaviorRequest r;
   r.id = b.id;
   r.kind = BehaviorKind::Speech;
-  for (const Attribute& a : b.attributes) r.parameters.emplace_back(a.name, a.value);
-  addSpeechParameters(b, r);
+  r.parameters = readParameters(b, BehaviorKind::Speech).parameters;
   return r;
 }
 
@@ -118,9 +109,10 @@ std::optional<SpeechTiming> speechTiming(const Behavior& b, const Character& cha
   return t;
 }
 
-BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std::string& blockId, double blockStart,
-                          const Rig& rig) {
-  BehaviorRequest r;
+MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std::string& blockId, double blockStart,
+                        const Rig& rig) {
+  MappedRequest m;
+  BehaviorRequest& r = m.request;
   r.id = blockId + ":" + b.id;
   r.kind = behaviorKindFromName(b.type).value_or(BehaviorKind::Wait);
   r.channels = channelsOf(b);
@@ -130,14 +122,18 @@ BehaviorRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const s
     last = std::max(last, blockStart + sync.time);
     r.syncs.push_back({sync.name, last});
   }
-  for (const Attribute& a : b.attributes)
-    if (!s.time(a.name)) r.parameters.emplace_back(a.name, a.value);
-  if (r.kind == BehaviorKind::Speech) addSpeechParameters(b, r);
   if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
+  // A clip realizes the behavior alone, but for a pointing, whose controller aims the arm over it.
+  if (r.clip.empty() || r.kind == BehaviorKind::Pointing) {
+    ReadParameters read = readParameters(b, r.kind);
+    r.parameters = std::move(read.parameters);
+    m.error = std::move(read.error);
+    m.warning = std::move(read.warning);
+  }
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
   r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||
                  r.kind == BehaviorKind::GazeShift || r.kind == BehaviorKind::HeadDirectionShift;
-  return r;
+  return m;
 }
 
 }  // namespace marionette::bml

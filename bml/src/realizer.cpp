@@ -240,7 +240,12 @@ bool Realizer::submit(Character& character, const Active& a, const Block& block,
     auto parsedIt = std::find_if(block.behaviors.begin(), block.behaviors.end(),
                                  [&](const Behavior& b) { return b.id == sb.id; });
     if (parsedIt == block.behaviors.end() || sb.syncs.empty()) continue;
-    const BehaviorResult res = character.addBehavior(toRequest(*parsedIt, sb, a.blockId, a.start, character.rig()));
+    MappedRequest mapped = toRequest(*parsedIt, sb, a.blockId, a.start, character.rig());
+    BehaviorResult res = character.addBehavior(std::move(mapped.request));
+    // The attributes' own reasons come first: the character saw only what could be read of them.
+    if (!res.realized && !mapped.error.empty()) res.message = mapped.error;
+    if (res.realized && !mapped.warning.empty())
+      res.message = res.message.empty() ? mapped.warning : mapped.warning + "; " + res.message;
     if (!res.added) {
       Warning w{WarningType::CannotCreateBehavior, a.blockId, sb.id, sb.line, sb.column, res.message, sb.required};
       if (sb.required) {

@@ -135,9 +135,9 @@ int main(int argc, char** argv) {
     const LocomotionSet& set = scene.addCharacter("c", rig)->locomotionSet();
     mid = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
   }
-  const std::pair<const char*, WalkSpec> gaits[] = {{"walk", {{3.0f, 4.0f}, 90.0f, "WALK", 0.0f}},
-                                                    {"run", {{-4.0f, -3.0f}, -30.0f, "RUN", 0.0f}},
-                                                    {"mid", {{0.0f, 5.0f}, 0.0f, "WALK", mid}}};
+  const std::pair<const char*, WalkSpec> gaits[] = {{"walk", {{3.0f, 4.0f}, 90.0f, LocomotionManner::Walk, 0.0f}},
+                                                    {"run", {{-4.0f, -3.0f}, -30.0f, LocomotionManner::Run, 0.0f}},
+                                                    {"mid", {{0.0f, 5.0f}, 0.0f, LocomotionManner::Walk, mid}}};
   std::fprintf(out,
                "family,setting,is_default,gait,dt_s,skating_pct,contact_frames,arrival_error_m,facing_error_deg,"
                "planted_drift_m,planted_drift_full_gait_m,ik_residual_m,arrived,seconds,us_per_update,"

@@ -58,7 +58,7 @@ void BM_GodetteFrame(benchmark::State& state) {
       BehaviorRequest r;
       r.id = "s" + std::to_string(lines);
       r.kind = BehaviorKind::Speech;
-      r.parameters = {{"text", kLine}};
+      r.parameters = SpeechParameters{.text = kLine};
       r.syncs = {{"start", start}, {"end", start + kLineSeconds}};
       if (!c->addBehavior(std::move(r)).realized) state.SkipWithError("the line was not realized");
     }

@@ -171,14 +171,16 @@ TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
   EXPECT_EQ(g->request.kind, BehaviorKind::Gesture);
   EXPECT_EQ(g->request.channelBits(), kChannelRightHand);
   EXPECT_EQ(g->request.clip, "wave");
-  EXPECT_EQ(g->request.parameter("amount"), "2");
-  EXPECT_EQ(g->request.parameter("start"), "");  // sync attributes are times, not parameters
+  // A gesture played by its clip has no parameters (amount is not one of a clip's); sync
+  // attributes are times.
+  EXPECT_TRUE(std::holds_alternative<std::monostate>(g->request.parameters));
   EXPECT_NEAR(g->request.start(), 1.5, 1e-9);   // scene time = block start (1 s) + 0.5
   ASSERT_TRUE(s.time("g", "end"));
   EXPECT_NEAR(g->request.end(), 1.0 + *s.time("g", "end"), 1e-9);
   const auto* sp = robot.behaviors().find("b1:s");
   ASSERT_NE(sp, nullptr);
-  EXPECT_EQ(sp->request.parameter("text"), "hi there");
+  ASSERT_NE(sp->request.as<SpeechParameters>(), nullptr);
+  EXPECT_EQ(sp->request.as<SpeechParameters>()->text, "hi there");
   EXPECT_EQ(sp->request.channelBits(), kChannelVoice);
   EXPECT_EQ(robot.behaviors().find("b1:f")->request.channelBits(), 0u);
   // The gesture has a clip and the smile a morph (guessed profile: "smile"); the

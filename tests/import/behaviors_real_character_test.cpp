@@ -21,7 +21,7 @@ BehaviorRequest nod(double start) {
   BehaviorRequest r;
   r.id = "nod";
   r.kind = BehaviorKind::Head;
-  r.parameters = {{"lexeme", "NOD"}, {"amount", "1"}};
+  r.parameters = HeadParameters{HeadLexeme::Nod, 1.0f};
   for (auto [name, at] : std::initializer_list<std::pair<const char*, double>>{
            {"start", 0}, {"ready", .1}, {"strokeStart", .2}, {"stroke", .3}, {"strokeEnd", .5}, {"relax", .8}, {"end", 1}})
     r.syncs.push_back({name, start + at});
@@ -64,7 +64,7 @@ TEST(BehaviorsOnRealCharacters, GodetteSmiles) {
   BehaviorRequest smile;
   smile.id = "smile";
   smile.kind = BehaviorKind::FaceLexeme;
-  smile.parameters = {{"lexeme", "SMILE"}};
+  smile.parameters = FaceParameters{"SMILE"};
   smile.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1.2}, {"end", 1.5}};
   ASSERT_TRUE(g->addBehavior(smile).realized);
   scene.update(0.6);
@@ -95,8 +95,7 @@ TEST(BehaviorsOnRealCharacters, RobotGazesAtAPoint) {
   BehaviorRequest g;
   g.id = "look";
   g.kind = BehaviorKind::Gaze;
-  g.parameters = {{"target", std::to_string(target.x) + " " + std::to_string(target.y) + " " + std::to_string(target.z)},
-                  {"influence", "NECK"}};
+  g.parameters = GazeParameters{BehaviorTarget::at(target), GazeInfluence::Neck};
   g.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 9.0}, {"end", 10.0}};
   BehaviorResult r = robot->addBehavior(g);
   ASSERT_TRUE(r.realized) << r.message;

@@ -31,7 +31,7 @@ TEST(LocomotionOnRealCharacters, RobotFeetStayOnItsLegsAsInItsClips) {
     authored = std::max(authored, authoredFootGap(rig->skeleton(), rig->findClip(clip)->clip, legs, 480));
 
   // 5 m walking; 20 m running (5 m is too short to get above the walk's speed at 2 m/s^2).
-  for (const auto& [manner, target] : {std::pair{"WALK", "3 4"}, std::pair{"RUN", "12 16"}}) {
+  for (const auto& [manner, target] : {std::pair{"WALK", glm::vec2(3, 4)}, std::pair{"RUN", glm::vec2(12, 16)}}) {
     Scene scene;
     Character* c = scene.addCharacter("robot", rig);
     c->play(0, "Idle");
@@ -39,7 +39,11 @@ TEST(LocomotionOnRealCharacters, RobotFeetStayOnItsLegsAsInItsClips) {
     r.id = "walk";
     r.kind = BehaviorKind::Locomotion;
     r.syncs = {{"start", 0.0}, {"end", 5.0}};
-    r.parameters = {{"target", target}, {"manner", manner}, {"facing", "90"}};
+    LocomotionParameters p;
+    p.waypoints = {target};
+    p.manner = std::string(manner) == "RUN" ? LocomotionManner::Run : LocomotionManner::Walk;
+    p.facing = glm::radians(90.0f);
+    r.parameters = std::move(p);
     ASSERT_TRUE(c->addBehavior(r).realized);
     // One clip at full weight, and while the gait blends over the idle or walk and run blend.
     float worst = 0.0f, blending = 0.0f, runWeight = 0.0f;

@@ -52,7 +52,7 @@ using WalkResult = WalkMeasure;
 
 // Walks from the origin (facing +Z) to `target` at `speed` m/s (0: the manner's
 // preset) and measures it (skating as defined in locomotion_walk.hpp).
-WalkResult walk(const std::shared_ptr<Rig>& rig, glm::vec2 target, float facingDegrees, const std::string& manner,
+WalkResult walk(const std::shared_ptr<Rig>& rig, glm::vec2 target, float facingDegrees, LocomotionManner manner,
                 float speed, float dt = 1.0f / 60.0f) {
   WalkResult w = measureWalk(rig, {target, facingDegrees, manner, speed}, dt);
   EXPECT_TRUE(w.realized) << w.message;
@@ -133,12 +133,12 @@ TEST(LocomotionOnRealCharacters, RobotWalksAndRunsFiveMetres) {
   MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
   auto rig = robot();
   ASSERT_TRUE(rig);
-  expectGoodWalk(walk(rig, {3.0f, 4.0f}, 90.0f, "WALK", 0.0f), "Robot WALK to (3, 4)");
-  expectGoodWalk(walk(rig, {-4.0f, -3.0f}, -30.0f, "RUN", 0.0f), "Robot RUN to (-4, -3)");
+  expectGoodWalk(walk(rig, {3.0f, 4.0f}, 90.0f, LocomotionManner::Walk, 0.0f), "Robot WALK to (3, 4)");
+  expectGoodWalk(walk(rig, {-4.0f, -3.0f}, -30.0f, LocomotionManner::Run, 0.0f), "Robot RUN to (-4, -3)");
   Scene scene;
   const LocomotionSet& set = scene.addCharacter("c", rig)->locomotionSet();
   const float mid = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
-  expectGoodWalk(walk(rig, {0.0f, 5.0f}, 0.0f, "WALK", mid), "Robot between walk and run");
+  expectGoodWalk(walk(rig, {0.0f, 5.0f}, 0.0f, LocomotionManner::Walk, mid), "Robot between walk and run");
 }
 
 TEST(LocomotionOnRealCharacters, RobotCruisesAtRunAndMidSpeedOverTwentyMetres) {
@@ -148,8 +148,8 @@ TEST(LocomotionOnRealCharacters, RobotCruisesAtRunAndMidSpeedOverTwentyMetres) {
   Scene scene;
   const LocomotionSet& set = scene.addCharacter("c", rig)->locomotionSet();
   const float mid = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
-  expectCruise(walk(rig, {-12.0f, -16.0f}, -30.0f, "RUN", 0.0f), set.run.groundSpeed, 1.0f, "Robot RUN to (-12, -16)");
-  expectCruise(walk(rig, {0.0f, 20.0f}, 0.0f, "WALK", mid), mid, 0.5f, "Robot mid speed to (0, 20)");
+  expectCruise(walk(rig, {-12.0f, -16.0f}, -30.0f, LocomotionManner::Run, 0.0f), set.run.groundSpeed, 1.0f, "Robot RUN to (-12, -16)");
+  expectCruise(walk(rig, {0.0f, 20.0f}, 0.0f, LocomotionManner::Walk, mid), mid, 0.5f, "Robot mid speed to (0, 20)");
 }
 
 #ifdef MARIONETTE_HAS_ASSIMP
@@ -163,9 +163,9 @@ TEST(LocomotionOnRealCharacters, PabWalksAndJogsFiveMetres) {
   ASSERT_TRUE(set.usable());
   ASSERT_TRUE(set.run.clip);
   EXPECT_TRUE(set.walk.hasRootMotion);
-  expectGoodWalk(walk(rig, {3.0f, 4.0f}, 180.0f, "WALK", 0.0f), "Pab WALK to (3, 4)");
-  expectGoodWalk(walk(rig, {0.0f, 5.0f}, 0.0f, "RUN", 0.0f), "Pab RUN (jog) to (0, 5)");
-  expectGoodWalk(walk(rig, {5.0f, 0.0f}, 90.0f, "WALK", 0.5f * (set.walk.groundSpeed + set.run.groundSpeed)),
+  expectGoodWalk(walk(rig, {3.0f, 4.0f}, 180.0f, LocomotionManner::Walk, 0.0f), "Pab WALK to (3, 4)");
+  expectGoodWalk(walk(rig, {0.0f, 5.0f}, 0.0f, LocomotionManner::Run, 0.0f), "Pab RUN (jog) to (0, 5)");
+  expectGoodWalk(walk(rig, {5.0f, 0.0f}, 90.0f, LocomotionManner::Walk, 0.5f * (set.walk.groundSpeed + set.run.groundSpeed)),
                  "Pab between walk and jog");
 }
 
@@ -177,8 +177,8 @@ TEST(LocomotionOnRealCharacters, PabCruisesAtJogAndMidSpeedOverTwentyMetres) {
   const LocomotionSet& set = scene.addCharacter("c", rig)->locomotionSet();
   ASSERT_TRUE(set.run.clip);
   const float mid = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
-  expectCruise(walk(rig, {0.0f, 20.0f}, 0.0f, "RUN", 0.0f), set.run.groundSpeed, 1.0f, "Pab RUN (jog) to (0, 20)");
-  expectCruise(walk(rig, {20.0f, 0.0f}, 90.0f, "WALK", mid), mid, 0.5f, "Pab mid speed to (20, 0)");
+  expectCruise(walk(rig, {0.0f, 20.0f}, 0.0f, LocomotionManner::Run, 0.0f), set.run.groundSpeed, 1.0f, "Pab RUN (jog) to (0, 20)");
+  expectCruise(walk(rig, {20.0f, 0.0f}, 90.0f, LocomotionManner::Walk, mid), mid, 0.5f, "Pab mid speed to (20, 0)");
 }
 
 #endif
@@ -189,7 +189,7 @@ TEST(LocomotionOnRealCharacters, AnyTimeStepArrives) {
   auto rig = robot();
   ASSERT_TRUE(rig);
   for (float dt : {1.0f / 240.0f, 1.0f / 30.0f, 0.1f, 0.5f}) {
-    const WalkResult w = walk(rig, {3.0f, 4.0f}, 90.0f, "WALK", 0.0f, dt);
+    const WalkResult w = walk(rig, {3.0f, 4.0f}, 90.0f, LocomotionManner::Walk, 0.0f, dt);
     EXPECT_TRUE(w.done) << dt;
     EXPECT_LE(w.arrivalError, 0.2f) << dt;
     EXPECT_LE(w.facingError, glm::radians(5.0f)) << dt;

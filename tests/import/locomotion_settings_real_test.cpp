@@ -29,9 +29,9 @@ std::vector<Gait> gaits(const std::shared_ptr<Rig>& rig) {
   Scene scene;
   const LocomotionSet& set = scene.addCharacter("c", rig)->locomotionSet();
   const float mid = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
-  return {{"walk", {{3.0f, 4.0f}, 90.0f, "WALK", 0.0f}},
-          {"run", {{-4.0f, -3.0f}, -30.0f, "RUN", 0.0f}},
-          {"mid", {{0.0f, 5.0f}, 0.0f, "WALK", mid}}};
+  return {{"walk", {{3.0f, 4.0f}, 90.0f, LocomotionManner::Walk, 0.0f}},
+          {"run", {{-4.0f, -3.0f}, -30.0f, LocomotionManner::Run, 0.0f}},
+          {"mid", {{0.0f, 5.0f}, 0.0f, LocomotionManner::Walk, mid}}};
 }
 
 WalkMeasure walkWith(const std::shared_ptr<Rig>& rig, const Gait& gait, const LocomotionSettings& settings,

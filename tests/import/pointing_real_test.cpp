@@ -70,10 +70,7 @@ void checkPointing(const Case& k) {
     r.id = "point";
     r.kind = BehaviorKind::Pointing;
     r.syncs = {{"start", 0.0}, {"ready", 0.4}, {"relax", 9.0}, {"end", 10.0}};
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%g %g %g", static_cast<double>(target.x), static_cast<double>(target.y),
-                  static_cast<double>(target.z));
-    r.parameters = {{"target", buf}};
+    r.parameters = PointingParameters{BehaviorTarget::at(target)};
     const BehaviorResult added = c->addBehavior(r);
     ASSERT_TRUE(added.realized) << k.asset << ": " << added.message;
     EXPECT_EQ(added.message, "") << k.asset;
@@ -101,7 +98,7 @@ void checkPointing(const Case& k) {
     if (!rig->profile().idle.empty()) p->play(0, rig->profile().idle);
     for (int f = 0; f < 90; ++f) plain.update(1.0 / 60.0);
     EXPECT_LT(glm::length(worldOf(*c, idleEnd) - worldOf(*p, idleEnd)), 1e-4f * height)
-        << k.asset << ": the arm that does not point moved, target " << buf;
+        << k.asset << ": the arm that does not point moved, target " << describeTarget(BehaviorTarget::at(target));
   }
   std::printf("%s: height %.2f m, worst pointing error %.3f deg over %d frames, pointing %.2f us per frame\n", k.asset,
               static_cast<double>(height), static_cast<double>(glm::degrees(worst)), frames,

@@ -15,6 +15,10 @@
 #include <fstream>
 #include <tuple>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -42,11 +46,23 @@ fs::path root() { return fs::temp_directory_path() / "marionette_authoring_test"
 std::string camera() { return sourceFile("assets/cameras/synthetic_640x480.yml"); }
 
 // The demo's sweep and its map, as scripts/demo makes them; rendered once, then reused.
+// ctest runs this file's tests in parallel processes: the first renders while the others
+// wait on a lock file (else one would remove the folder another is writing).
 struct Sweep {
   fs::path frames, map;
 };
+struct FileLock {
+  int fd;
+  explicit FileLock(const fs::path& path) : fd(::open(path.c_str(), O_CREAT | O_RDWR, 0644)) {
+    if (fd >= 0) ::flock(fd, LOCK_EX);
+  }
+  ~FileLock() {
+    if (fd >= 0) ::close(fd);  // releases the lock
+  }
+};
 const Sweep& sweep() {
   static const Sweep s = [] {
+    const FileLock lock(fs::temp_directory_path() / "marionette_authoring_test.lock");
     Sweep out{root() / "sweep", root() / "sweep.map"};
     const bool have = fs::exists(out.map) && fs::exists(out.frames / "truth.csv") &&
                       fs::exists(out.frames / "frame_0149.png");

@@ -170,7 +170,7 @@ BehaviorRequest speechRequest(const std::string& id, double start, double durati
   r.id = id;
   r.kind = BehaviorKind::Speech;
   r.syncs = {{"start", start}, {"end", start + duration}};
-  r.parameters = {{"text", text}};
+  r.parameters = SpeechParameters{.text = text};
   return r;
 }
 
@@ -267,7 +267,7 @@ TEST(SpeechWithoutBackend, FailsClearlyAndTheRestKeepsWorking) {
   smile.id = "smile";
   smile.kind = BehaviorKind::FaceLexeme;
   smile.syncs = {{"start", 0.0}, {"end", 2.0}};
-  smile.parameters = {{"lexeme", "SMILE"}};
+  smile.parameters = FaceParameters{"SMILE"};
   ASSERT_TRUE(c->addBehavior(smile).realized);
   for (int f = 0; f < 60; ++f) scene.update(f == 0 ? 0.0 : 1.0 / 60.0);
   float any = 0.0f;

@@ -14,18 +14,18 @@ inline bool addGazeNodFace(Character& c, int i) {
   BehaviorRequest gaze;
   gaze.id = "gaze";
   gaze.kind = BehaviorKind::Gaze;
-  gaze.parameters = {{"target", std::to_string(i % 7 - 3) + " 1.5 2"}, {"influence", "NECK"}};
+  gaze.parameters = GazeParameters{BehaviorTarget::at({static_cast<float>(i % 7 - 3), 1.5f, 2.0f}), GazeInfluence::Neck};
   gaze.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
   BehaviorRequest nod;
   nod.id = "nod";
   nod.kind = BehaviorKind::Head;
-  nod.parameters = {{"lexeme", "NOD"}};
+  nod.parameters = HeadParameters{HeadLexeme::Nod};
   // One long stroke, so the nod is applied (not skipped) on every benchmarked frame.
   nod.syncs = {{"start", 0.0}, {"strokeStart", 0.0}, {"stroke", 5e5}, {"strokeEnd", 1e6}, {"end", 1e6}};
   BehaviorRequest face;
   face.id = "face";
   face.kind = BehaviorKind::FaceLexeme;
-  face.parameters = {{"lexeme", "ANGER"}, {"amount", "0.5"}};
+  face.parameters = FaceParameters{"ANGER", 0.5f};
   face.syncs = {{"start", 0.0}, {"attackPeak", 0.3}, {"relax", 1e6}, {"end", 1e6 + 1}};
   return c.addBehavior(gaze).realized && c.addBehavior(nod).realized && c.addBehavior(face).realized;
 }
@@ -38,8 +38,10 @@ inline bool addMidSpeedWalk(Character& c, int i) {
   BehaviorRequest walk;
   walk.id = "walk";
   walk.kind = BehaviorKind::Locomotion;
-  walk.parameters = {{"target", std::to_string(i % 10) + " 400"},
-                     {"speed", std::to_string(0.5f * (set.walk.groundSpeed + set.run.groundSpeed))}};
+  LocomotionParameters ahead;
+  ahead.waypoints = {{static_cast<float>(i % 10), 400.0f}};
+  ahead.speed = 0.5f * (set.walk.groundSpeed + set.run.groundSpeed);
+  walk.parameters = std::move(ahead);
   walk.syncs = {{"start", 0.0}, {"end", 1e6}};
   return c.addBehavior(walk).realized;
 }

@@ -17,7 +17,7 @@ namespace marionette::test {
 struct WalkSpec {
   glm::vec2 target{0.0f};
   float facingDegrees = 0.0f;
-  std::string manner = "WALK";
+  LocomotionManner manner = LocomotionManner::Walk;
   float speed = 0.0f;  // m/s; 0: the manner's preset
 };
 
@@ -66,12 +66,12 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
   r.id = "walk";
   r.kind = BehaviorKind::Locomotion;
   r.syncs = {{"start", 0.0}, {"end", 5.0}};
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g %g", static_cast<double>(spec.target.x), static_cast<double>(spec.target.y));
-  r.parameters = {{"target", buf}, {"manner", spec.manner}};
-  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(spec.facingDegrees));
-  r.parameters.emplace_back("facing", buf);
-  if (spec.speed > 0.0f) r.parameters.emplace_back("speed", std::to_string(spec.speed));
+  LocomotionParameters p;
+  p.waypoints = {spec.target};
+  p.manner = spec.manner;
+  p.facing = spec.facingDegrees * (kPi / 180.0f);
+  if (spec.speed > 0.0f) p.speed = spec.speed;
+  r.parameters = std::move(p);
   const BehaviorResult added = c->addBehavior(r);
   result.realized = added.realized;
   result.message = added.message;

@@ -101,7 +101,7 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
     BehaviorRequest say;
     say.id = "say";
     say.kind = BehaviorKind::Speech;
-    say.parameters = {{"text", "map"}};
+    say.parameters = SpeechParameters{.text = "map"};
     say.syncs = {{"start", 0.1}, {"end", 0.8}};
     EXPECT_TRUE(c->addBehavior(say).realized);
   }

@@ -200,7 +200,7 @@ TEST(BehaviorTimeline, CharacterRejectsUnknownClipsAndReportsUnrealizedKinds) {
   EXPECT_EQ(log.last, missing.message);
   scene.speech().useDefaultSynthesizer(false);  // no backend: as a build without TTS
   BehaviorRequest words = request("speak", {{"start", 0}, {"end", 1}}, BehaviorKind::Speech);
-  words.parameters.emplace_back("text", "Hello there.");
+  words.parameters = SpeechParameters{.text = "Hello there."};
   BehaviorResult speak = c->addBehavior(words);
   EXPECT_TRUE(speak.added);
   EXPECT_FALSE(speak.realized);

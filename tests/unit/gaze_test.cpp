@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "marionette/behavior/gaze.hpp"
 #include "joint_rotation.hpp"
@@ -39,11 +40,11 @@ std::shared_ptr<Rig> gazeRig(bool eyes, bool zUpCentimetres = false) {
   return rig;
 }
 
-BehaviorRequest gaze(std::string target, std::string influence = "NECK", double end = 100.0) {
+BehaviorRequest gaze(BehaviorTarget target, GazeInfluence influence = GazeInfluence::Neck, double end = 100.0) {
   BehaviorRequest r;
   r.id = "gaze";
   r.kind = BehaviorKind::Gaze;
-  r.parameters = {{"target", std::move(target)}, {"influence", std::move(influence)}};
+  r.parameters = GazeParameters{std::move(target), influence};
   r.syncs = {{"start", 0.0}, {"ready", 0.001}, {"relax", end - 0.001}, {"end", end}};
   return r;
 }
@@ -125,8 +126,7 @@ TEST(Gaze, HeadFacesAStaticTargetWithinTheLimits) {
     const glm::quat rest = modelRotation(*c, 3);
     const glm::vec3 eye = glm::vec3(c->transformBuffer().modelMatrices()[3][3]);
     const glm::vec3 target = eye + glm::vec3(std::sin(0.9f), -0.3f, std::cos(0.9f)) * 2.0f;  // 52 deg left, below
-    BehaviorResult r = c->addBehavior(gaze(std::to_string(target.x) + " " + std::to_string(target.y) + " " +
-                                           std::to_string(target.z)));
+    BehaviorResult r = c->addBehavior(gaze(BehaviorTarget::at(target)));
     ASSERT_TRUE(r.realized) << r.message;
     for (int f = 0; f < 120; ++f) scene.update(1.0 / 60.0);
     const glm::vec3 headNow = glm::vec3(c->transformBuffer().modelMatrices()[3][3]);
@@ -142,7 +142,7 @@ TEST(Gaze, LimitsHoldAndATargetBehindDoesNotFlipFlop) {
   Character* c = scene.addCharacter("c", gazeRig(false));
   scene.update(0.0);
   const glm::quat rest = modelRotation(*c, 3);
-  ASSERT_TRUE(c->addBehavior(gaze("bob")).realized);
+  ASSERT_TRUE(c->addBehavior(gaze(BehaviorTarget::of("bob"))).realized);
   float previousYaw = 0.0f;
   int signChanges = 0;
   for (int f = 0; f < 180; ++f) {
@@ -165,7 +165,7 @@ TEST(Gaze, EyesLeadTheHeadFollows) {
   Character* c = scene.addCharacter("c", gazeRig(true));
   scene.update(0.0);
   const glm::quat restHead = modelRotation(*c, 3), restEye = modelRotation(*c, 4);
-  c->addBehavior(gaze("1.5 0.9 1.5"));  // 45 degrees left
+  c->addBehavior(gaze(BehaviorTarget::at({1.5f, 0.9f, 1.5f})));  // 45 degrees left
   scene.update(0.05);
   const float eyeEarly = degreesBetween(headForward(*c, restEye, 4), {0, 0, 1});
   const float headEarly = degreesBetween(headForward(*c, restHead), {0, 0, 1});
@@ -179,32 +179,37 @@ TEST(Gaze, EyesLeadTheHeadFollows) {
 TEST(Gaze, ExtremeTargetsAreRejectedOrHeld) {
   Scene scene;
   Character* c = scene.addCharacter("c", gazeRig(true));
-  for (const char* bad : {"nan 0 1", "0 inf 1", "1e39 0 0", "-INF 0 0"}) {
-    BehaviorRequest r = gaze(bad);
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const glm::vec3 bad : {glm::vec3(std::nanf(""), 0, 1), glm::vec3(0, inf, 1), glm::vec3(-inf, 0, 0)}) {
+    BehaviorRequest r = gaze(BehaviorTarget::at(bad));
     BehaviorResult res = c->addBehavior(r);
-    EXPECT_FALSE(res.realized) << bad;
+    EXPECT_FALSE(res.realized) << res.message;
     EXPECT_NE(res.message.find("is not finite"), std::string::npos) << res.message;
     c->cancelBehavior("gaze", 0.0);
   }
-  EXPECT_NE(c->addBehavior(gaze("nobody")).message.find("no character 'nobody'"), std::string::npos);
+  EXPECT_NE(c->addBehavior(gaze(BehaviorTarget::of("nobody"))).message.find("no character 'nobody'"), std::string::npos);
   c->cancelBehavior("gaze", 0.0);
-  EXPECT_NE(c->addBehavior(gaze("c:Nose")).message.find("has no joint 'Nose'"), std::string::npos);
+  EXPECT_NE(c->addBehavior(gaze(BehaviorTarget::of("c", "Nose"))).message.find("has no joint 'Nose'"), std::string::npos);
   c->cancelBehavior("gaze", 0.0);
-  BehaviorResult odd = c->addBehavior(gaze("0 1 1", "TOES"));
+  // BML's influence text is read by the realizer (tests/bml/behavior_parameters_test.cpp); an
+  // offset beyond half a turn is replaced by none.
+  BehaviorRequest wide = gaze(BehaviorTarget::at({0, 1, 1}));
+  std::get<GazeParameters>(wide.parameters).offsetYaw = 7.0f;
+  BehaviorResult odd = c->addBehavior(wide);
   EXPECT_TRUE(odd.realized);
-  EXPECT_NE(odd.message.find("influence 'TOES'"), std::string::npos);
+  EXPECT_NE(odd.message.find("offsetYaw '7' is not an angle"), std::string::npos) << odd.message;
   c->cancelBehavior("gaze", 0.0);
   scene.update(0.0);
   // At the eye position (held), far away, on the character's own joint: finite.
   const glm::vec3 eye = glm::vec3(c->transformBuffer().modelMatrices()[4][3]);
-  for (std::string target : {std::to_string(eye.x) + " " + std::to_string(eye.y) + " " + std::to_string(eye.z),
-                             std::string("1e30 0 1e30"), std::string("c:j1")}) {
-    BehaviorRequest r = gaze(target, "WHOLE");
-    r.id = "g" + target;
-    ASSERT_TRUE(c->addBehavior(r).realized) << target;
+  for (const BehaviorTarget& target : {BehaviorTarget::at(eye), BehaviorTarget::at({1e30f, 0, 1e30f}),
+                                      BehaviorTarget::of("c", "j1")}) {
+    BehaviorRequest r = gaze(target, GazeInfluence::Whole);
+    r.id = "g" + describeTarget(target);
+    ASSERT_TRUE(c->addBehavior(r).realized) << describeTarget(target);
     for (double dt : {0.0, 1.0 / 240, 0.5, 1.0}) {
       scene.update(dt);
-      for (const Transform& t : c->localPose()) EXPECT_TRUE(test::finite(t)) << target;
+      for (const Transform& t : c->localPose()) EXPECT_TRUE(test::finite(t)) << describeTarget(target);
     }
     c->cancelBehavior(r.id, 0.0);
   }
@@ -218,7 +223,7 @@ TEST(Gaze, NoJointTurnsTooFastForAnyStep) {
     Scene scene;
     scene.addCharacter("bob", gazeRig(false))->setPosition({3, 0, 3});
     Character* c = scene.addCharacter("c", gazeRig(true));
-    ASSERT_TRUE(c->addBehavior(gaze("bob", "WAIST")).realized);
+    ASSERT_TRUE(c->addBehavior(gaze(BehaviorTarget::of("bob"), GazeInfluence::Waist)).realized);
     std::vector<Transform> previous(c->localPose().begin(), c->localPose().end());
     for (int f = 0; f < static_cast<int>(4.0 / dt); ++f) {
       if (f % 7 == 3) scene.findCharacter("bob")->setPosition({-3.0f + static_cast<float>(f % 5), 0, 2});
@@ -240,7 +245,7 @@ TEST(Gaze, HeadDirectionShiftPointsTheHeadAndHolds) {
   Character* c = scene.addCharacter("c", gazeRig(true));
   scene.update(0.0);
   const glm::quat restHead = modelRotation(*c, 3), restEye = modelRotation(*c, 4);
-  BehaviorRequest r = gaze("2 0.9 2");
+  BehaviorRequest r = gaze(BehaviorTarget::at({2, 0.9f, 2}));
   r.kind = BehaviorKind::HeadDirectionShift;
   r.persistent = true;
   r.syncs = {{"start", 0.0}, {"end", 1.0}};

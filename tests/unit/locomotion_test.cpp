@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "marionette/behavior/locomotion.hpp"
 
@@ -37,13 +38,11 @@ int simulate(SteeringState& s, const LocomotionPlan& plan, const LocomotionSetti
   return steps;
 }
 
-BehaviorRequest request(std::vector<std::pair<std::string, std::string>> parameters) {
-  BehaviorRequest r;
-  r.id = "walk";
-  r.kind = BehaviorKind::Locomotion;
-  r.syncs = {{"start", 0.0}, {"end", 1.0}};
-  r.parameters = std::move(parameters);
-  return r;
+LocomotionParameters to(std::vector<glm::vec2> waypoints, LocomotionManner manner = LocomotionManner::Walk) {
+  LocomotionParameters p;
+  p.waypoints = std::move(waypoints);
+  p.manner = manner;
+  return p;
 }
 
 LocomotionSet fakeSet() {
@@ -171,12 +170,13 @@ TEST(LocomotionSteering, EstimateMatchesTheSimulation) {
   EXPECT_NEAR(estimate, steps / 240.0, 0.05);
 }
 
+// The plan from typed parameters (BML's spelling of them: tests/bml/behavior_parameters_test.cpp).
 TEST(LocomotionPlanParsing, TargetsMannersAndBadValues) {
   const LocomotionSet set = fakeSet();  // no run clip: RUN is twice the walk, unless set
   {
     LocomotionPlan p;
     std::string warning;
-    EXPECT_EQ(parseLocomotionPlan(request({{"target", "1 2"}, {"manner", "RUN"}}), set, {}, p, warning), "");
+    EXPECT_EQ(makeLocomotionPlan(to({{1, 2}}, LocomotionManner::Run), set, {}, p, warning), "");
     EXPECT_FLOAT_EQ(p.speed, 2.4f);
   }
   LocomotionSettings settings;
@@ -184,7 +184,7 @@ TEST(LocomotionPlanParsing, TargetsMannersAndBadValues) {
   {
     LocomotionPlan p;
     std::string warning;
-    EXPECT_EQ(parseLocomotionPlan(request({{"target", "1 2"}, {"manner", "run"}}), set, settings, p, warning), "");
+    EXPECT_EQ(makeLocomotionPlan(to({{1, 2}}, LocomotionManner::Run), set, settings, p, warning), "");
     ASSERT_EQ(p.waypoints.size(), 1u);
     EXPECT_EQ(p.waypoints[0], glm::vec2(1.0f, 2.0f));
     EXPECT_FLOAT_EQ(p.speed, 3.0f);
@@ -193,8 +193,10 @@ TEST(LocomotionPlanParsing, TargetsMannersAndBadValues) {
   {
     LocomotionPlan p;
     std::string warning;
-    EXPECT_EQ(parseLocomotionPlan(request({{"target", "1 0 2"}, {"facing", "90"}}), set, settings, p, warning), "");
-    EXPECT_EQ(p.waypoints[0], glm::vec2(1.0f, 2.0f));  // y ignored
+    LocomotionParameters facing = to({{1, 2}});
+    facing.facing = kPi / 2;
+    EXPECT_EQ(makeLocomotionPlan(facing, set, settings, p, warning), "");
+    EXPECT_EQ(p.waypoints[0], glm::vec2(1.0f, 2.0f));
     EXPECT_TRUE(p.hasFacing);
     EXPECT_NEAR(p.facing, kPi / 2, 1e-6f);
     EXPECT_FLOAT_EQ(p.speed, 1.2f);
@@ -202,28 +204,32 @@ TEST(LocomotionPlanParsing, TargetsMannersAndBadValues) {
   {
     LocomotionPlan p;
     std::string warning;
-    EXPECT_EQ(parseLocomotionPlan(request({{"target", "0 1 2 3 4 5"}}), set, settings, p, warning), "");
+    EXPECT_EQ(makeLocomotionPlan(to({{0, 1}, {2, 3}, {4, 5}}), set, settings, p, warning), "");
     EXPECT_EQ(p.waypoints.size(), 3u);
   }
   {
     LocomotionPlan p;
     std::string warning;
-    EXPECT_EQ(parseLocomotionPlan(request({{"target", "Bob"}, {"manner", "fly"}, {"speed", "-3"}}), set, settings, p,
-                                  warning),
-              "");
+    LocomotionParameters bob;
+    bob.targetCharacter = "Bob";
+    bob.manner = LocomotionManner::Stroll;
+    bob.speed = -3.0f;
+    EXPECT_EQ(makeLocomotionPlan(bob, set, settings, p, warning), "");
     EXPECT_EQ(p.targetCharacter, "Bob");
     EXPECT_TRUE(p.faceTargetCharacter);
-    EXPECT_NE(warning.find("manner 'FLY'"), std::string::npos) << warning;
     EXPECT_NE(warning.find("speed '-3'"), std::string::npos) << warning;
-    EXPECT_FLOAT_EQ(p.speed, 1.2f);
+    EXPECT_FLOAT_EQ(p.speed, 0.6f);  // the stroll's, the bad speed ignored
   }
-  for (const char* bad : {"nan 1", "1 inf", "1 2 3 4 5", "", "1"}) {
+  const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+  for (const LocomotionParameters& bad : {to({{nan, 1}}), to({{1, inf}}), LocomotionParameters{},
+                                          to(std::vector<glm::vec2>(LocomotionParameters::kMaxWaypoints + 1))}) {
     LocomotionPlan p;
     std::string warning;
-    const std::string why = parseLocomotionPlan(request({{"target", bad}}), set, settings, p, warning);
-    EXPECT_NE(why, "") << bad;
-    if (*bad) {
-      EXPECT_NE(why.find(bad), std::string::npos) << why;
-    }
+    const std::string why = makeLocomotionPlan(bad, set, settings, p, warning);
+    EXPECT_NE(why, "");
+    EXPECT_TRUE(p.waypoints.empty()) << why;
   }
+  LocomotionPlan p;
+  std::string warning;
+  EXPECT_NE(makeLocomotionPlan(to({{nan, 1}}), set, settings, p, warning).find("'nan 1' is not finite"), std::string::npos);
 }

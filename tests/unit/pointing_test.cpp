@@ -32,12 +32,11 @@ struct Bench {
   const Skeleton& s = rig->skeleton();
   std::vector<Transform> pose{s.restPose.begin(), s.restPose.end()};
 
-  PointingState bind(const std::string& target, const std::string& mode = {}) {
+  PointingState bind(const glm::vec3& target, PointingArms arms = PointingArms::Nearest) {
     BehaviorRequest r;
     r.id = "p";
     r.kind = BehaviorKind::Pointing;
-    r.parameters = {{"target", target}};
-    if (!mode.empty()) r.parameters.emplace_back("mode", mode);
+    r.parameters = PointingParameters{BehaviorTarget::at(target), arms};
     PointingState st;
     std::string warning;
     const std::string why = bindPointing(r, *rig, s, [](std::string_view, std::string_view) { return -2; }, st, warning);
@@ -63,7 +62,7 @@ bool samePose(const std::vector<Transform>& a, const std::vector<Transform>& b) 
 TEST(Pointing, ForearmLinePassesThroughTheTargetOnTheTargetsSide) {
   Bench b;
   const glm::vec3 target(1.5f, 1.6f, 2.0f);  // ahead and to the left
-  PointingState st = b.bind("1.5 1.6 2");
+  PointingState st = b.bind({1.5f, 1.6f, 2.0f});
   const std::vector<Transform> before = b.pose;
   updatePointing(st, target, true, 1.0f, {}, b.s, b.pose);
   EXPECT_TRUE(st.arm[0]);
@@ -85,24 +84,24 @@ TEST(Pointing, ForearmLinePassesThroughTheTargetOnTheTargetsSide) {
 }
 
 TEST(Pointing, ModeChoosesTheArmEvenAcrossTheBody) {
-  for (const auto& [mode, left, right] : {std::tuple{"RIGHT_HAND", false, true}, std::tuple{"LEFT_HAND", true, false},
-                                          std::tuple{"BOTH_HANDS", true, true}}) {
+  for (const auto& [mode, left, right] : {std::tuple{PointingArms::Right, false, true}, std::tuple{PointingArms::Left, true, false},
+                                          std::tuple{PointingArms::Both, true, true}}) {
     Bench b;
     const glm::vec3 target(1.0f, 1.2f, 1.5f);
-    PointingState st = b.bind("1 1.2 1.5", mode);
+    PointingState st = b.bind({1.0f, 1.2f, 1.5f}, mode);
     updatePointing(st, target, true, 1.0f, {}, b.s, b.pose);
-    EXPECT_EQ(st.arm[0], left) << mode;
-    EXPECT_EQ(st.arm[1], right) << mode;
+    EXPECT_EQ(st.arm[0], left) << static_cast<int>(mode);
+    EXPECT_EQ(st.arm[1], right) << static_cast<int>(mode);
     for (int side = 0; side < 2; ++side) {
       if (!st.arm[side]) continue;
-      EXPECT_LT(pointingErrorRadians(b.s, b.pose, st.limb[side], target), 0.2f * kDeg) << mode;
+      EXPECT_LT(pointingErrorRadians(b.s, b.pose, st.limb[side], target), 0.2f * kDeg) << static_cast<int>(mode);
     }
   }
 }
 
 TEST(Pointing, ANearTargetIsReachedFor) {
   Bench b;
-  PointingState st = b.bind("0.3 1.3 0.3");
+  PointingState st = b.bind({0.3f, 1.3f, 0.3f});
   const glm::vec3 target(0.3f, 1.3f, 0.3f);  // nearer than the hand would be when pointing
   updatePointing(st, target, true, 1.0f, {}, b.s, b.pose);
   EXPECT_LT(glm::length(b.origin(st.limb[0].end) - target), 1e-3f);
@@ -110,7 +109,7 @@ TEST(Pointing, ANearTargetIsReachedFor) {
 
 TEST(Pointing, WeightZeroLeavesThePoseAndHalfWeightBlends) {
   Bench b;
-  PointingState st = b.bind("1 2 1");
+  PointingState st = b.bind({1.0f, 2.0f, 1.0f});
   const std::vector<Transform> before = b.pose;
   updatePointing(st, {1.0f, 2.0f, 1.0f}, true, 0.0f, {}, b.s, b.pose);
   EXPECT_TRUE(samePose(b.pose, before));
@@ -118,7 +117,7 @@ TEST(Pointing, WeightZeroLeavesThePoseAndHalfWeightBlends) {
   const float half = pointingErrorRadians(b.s, b.pose, st.limb[0], {1.0f, 2.0f, 1.0f});
   EXPECT_GT(half, 5.0f * kDeg);  // between the hanging arm and the aim
   Bench full;
-  PointingState st2 = full.bind("1 2 1");
+  PointingState st2 = full.bind({1.0f, 2.0f, 1.0f});
   updatePointing(st2, {1.0f, 2.0f, 1.0f}, true, 1.0f, {}, full.s, full.pose);
   const float rest = pointingErrorRadians(full.s, before, st2.limb[0], {1.0f, 2.0f, 1.0f});
   EXPECT_LT(half, rest);
@@ -136,7 +135,7 @@ TEST(Pointing, ExtremeTargetsGiveAFinitePose) {
                                shoulder + glm::vec3(1e-5f, 0, 0), shoulder};
   for (const glm::vec3& t : targets) {
     Bench b;
-    PointingState st = b.bind("0 0 0", "LEFT_HAND");
+    PointingState st = b.bind({0.0f, 0.0f, 0.0f}, PointingArms::Left);
     for (int frame = 0; frame < 3; ++frame) updatePointing(st, t, true, 1.0f, {}, b.s, b.pose);
     EXPECT_TRUE(finitePose(b.pose)) << t.x << " " << t.y << " " << t.z;
     if (glm::length(t - shoulder) > 1.0f) {
@@ -145,7 +144,7 @@ TEST(Pointing, ExtremeTargetsGiveAFinitePose) {
   }
   // A NaN target (a lost character) holds the last aim.
   Bench b;
-  PointingState st = b.bind("0 0 0", "LEFT_HAND");
+  PointingState st = b.bind({0.0f, 0.0f, 0.0f}, PointingArms::Left);
   const glm::vec3 t(1, 2, 1);
   updatePointing(st, t, true, 1.0f, {}, b.s, b.pose);
   b.pose.assign(b.s.restPose.begin(), b.s.restPose.end());
@@ -155,7 +154,7 @@ TEST(Pointing, ExtremeTargetsGiveAFinitePose) {
   EXPECT_LT(pointingErrorRadians(b.s, b.pose, st.limb[0], t), 0.2f * kDeg);
   // Never started and the target unknown: nothing moves.
   Bench c;
-  PointingState idle = c.bind("0 0 0");
+  PointingState idle = c.bind({0.0f, 0.0f, 0.0f});
   updatePointing(idle, t, false, 1.0f, {}, c.s, c.pose);
   EXPECT_TRUE(samePose(c.pose, Bench{}.pose));
 }
@@ -165,7 +164,7 @@ TEST(Pointing, ExtremeTargetsGiveAFinitePose) {
 // arm turns smoothly, never flipping between two frames.
 TEST(Pointing, ATargetCirclingTheShoulderNeverFlipsTheArm) {
   Bench b;
-  PointingState st = b.bind("0 0 0", "LEFT_HAND");
+  PointingState st = b.bind({0.0f, 0.0f, 0.0f}, PointingArms::Left);
   const glm::vec3 shoulder = b.origin(b.s.findJoint("LeftArm"));
   const int upper = b.s.findJoint("LeftArm"), lower = b.s.findJoint("LeftForeArm");
   std::vector<Transform> last;
@@ -200,7 +199,7 @@ TEST(PointingCharacter, ARequestAimsTheArmAndShowsInStats) {
   r.id = "p";
   r.kind = BehaviorKind::Pointing;
   r.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1.5}, {"end", 2.0}};
-  r.parameters = {{"target", "3 1.5 4"}, {"mode", "RIGHT_HAND"}};
+  r.parameters = PointingParameters{BehaviorTarget::at({3.0f, 1.5f, 4.0f}), PointingArms::Right};
   const BehaviorResult added = c->addBehavior(r);
   ASSERT_TRUE(added.realized) << added.message;
   EXPECT_EQ(added.message, "");
@@ -230,7 +229,7 @@ TEST(PointingCharacter, PointsAtAnotherCharactersChestOrJoint) {
     r.id = std::string("p_") + target;
     r.kind = BehaviorKind::Pointing;
     r.syncs = {{"start", scene.time()}, {"end", scene.time() + 5.0}};
-    r.parameters = {{"target", target}};
+    r.parameters = PointingParameters{std::strcmp(target, "bob") == 0 ? BehaviorTarget::of("bob") : BehaviorTarget::of("bob", "Head")};
     const BehaviorResult added = c->addBehavior(r);
     ASSERT_TRUE(added.realized) << added.message;
     for (int f = 0; f < 120; ++f) scene.update(1.0 / 60.0);
@@ -252,7 +251,7 @@ TEST(PointingCharacter, BadRequestsAreMessagesNotCrashes) {
   Scene scene;
   auto rig = makeUpperBodyRig();
   Character* c = scene.addCharacter("c", rig);
-  auto request = [&](const std::string& id, std::vector<std::pair<std::string, std::string>> params) {
+  auto request = [&](const std::string& id, BehaviorParameters params) {
     BehaviorRequest r;
     r.id = id;
     r.kind = BehaviorKind::Pointing;
@@ -260,21 +259,22 @@ TEST(PointingCharacter, BadRequestsAreMessagesNotCrashes) {
     r.parameters = std::move(params);
     return c->addBehavior(r);
   };
-  BehaviorResult r = request("none", {});
+  BehaviorResult r = request("none", PointingParameters{});
   EXPECT_FALSE(r.realized);
   EXPECT_NE(r.message.find("a pointing needs a target"), std::string::npos) << r.message;
-  r = request("nan", {{"target", "nan 1 2"}});
+  r = request("nan", PointingParameters{BehaviorTarget::at({std::nanf(""), 1.0f, 2.0f})});
   EXPECT_FALSE(r.realized);
   EXPECT_NE(r.message.find("pointing target 'nan 1 2' is not finite"), std::string::npos) << r.message;
-  r = request("who", {{"target", "nobody"}});
+  r = request("who", PointingParameters{BehaviorTarget::of("nobody")});
   EXPECT_FALSE(r.realized);
   EXPECT_NE(r.message.find("the scene has no character 'nobody'"), std::string::npos) << r.message;
-  r = request("joint", {{"target", "c:Tail"}});
+  r = request("joint", PointingParameters{BehaviorTarget::of("c", "Tail")});
   EXPECT_FALSE(r.realized);
   EXPECT_NE(r.message.find("character 'c' has no joint 'Tail'"), std::string::npos) << r.message;
-  r = request("mode", {{"target", "1 1 1"}, {"mode", "FOOT"}});
-  EXPECT_TRUE(r.realized);
-  EXPECT_NE(r.message.find("mode 'FOOT' is not LEFT_HAND, RIGHT_HAND or BOTH_HANDS"), std::string::npos) << r.message;
+  r = request("kind", HeadParameters{});  // parameters of another kind: no target
+  EXPECT_FALSE(r.realized);
+  EXPECT_NE(r.message.find("a pointing needs a target"), std::string::npos) << r.message;
+  // BML's mode text is read by the realizer (tests/bml/behavior_parameters_test.cpp).
   // A character without arms.
   auto armless = std::make_shared<Rig>(makeUpperBodyAsset());
   CharacterProfile p = upperBodyProfile();
@@ -285,7 +285,7 @@ TEST(PointingCharacter, BadRequestsAreMessagesNotCrashes) {
   q.id = "q";
   q.kind = BehaviorKind::Pointing;
   q.syncs = {{"start", 0.0}, {"end", 1.0}};
-  q.parameters = {{"target", "1 1 1"}};
+  q.parameters = PointingParameters{BehaviorTarget::at({1.0f, 1.0f, 1.0f})};
   r = d->addBehavior(q);
   EXPECT_FALSE(r.realized);
   EXPECT_NE(r.message.find("no arm to point with"), std::string::npos) << r.message;

@@ -36,12 +36,12 @@ std::shared_ptr<Rig> headRig(bool zUpCentimetres) {
   return rig;
 }
 
-BehaviorRequest headRequest(std::string id, std::string lexeme, double start, std::string amount = {}) {
+BehaviorRequest headRequest(std::string id, HeadLexeme lexeme, double start,
+                            float amount = HeadParameters::kDefaultAmount) {
   BehaviorRequest r;
   r.id = std::move(id);
   r.kind = BehaviorKind::Head;
-  r.parameters = {{"lexeme", std::move(lexeme)}};
-  if (!amount.empty()) r.parameters.emplace_back("amount", std::move(amount));
+  r.parameters = HeadParameters{lexeme, amount};
   // BML's default single nod over 1 s: ready .1, strokeStart .2, stroke .3, strokeEnd .5, relax .8.
   for (auto [name, at] : std::initializer_list<std::pair<const char*, double>>{
            {"start", 0}, {"ready", .1}, {"strokeStart", .2}, {"stroke", .3}, {"strokeEnd", .5}, {"relax", .8}, {"end", 1}})
@@ -68,8 +68,6 @@ TEST(HeadMotion, ShapesPeakAtTheStrokeAndVanishOutside) {
   }
   EXPECT_NEAR(hi, 1.0f, 1e-3);   // one way ...
   EXPECT_NEAR(lo, -1.0f, 1e-3);  // ... then the other
-  EXPECT_EQ(headLexemeFromName("nod"), HeadLexeme::Nod);
-  EXPECT_FALSE(headLexemeFromName("NODD"));
 }
 
 // At the stroke the head has turned by the peak angle about the model frame's
@@ -82,7 +80,7 @@ TEST(HeadMotion, NodTurnsTheHeadAboutTheModelFrameLateralAxis) {
     scene.update(0.0);
     const glm::quat restHead = modelRotation(*c, 3), restNeck = modelRotation(*c, 2);
     const glm::mat4 restMatrix = c->transformBuffer().modelMatrices()[3];
-    BehaviorResult r = c->addBehavior(headRequest("nod", "NOD", 0.0, "1"));
+    BehaviorResult r = c->addBehavior(headRequest("nod", HeadLexeme::Nod, 0.0, 1.0f));
     ASSERT_TRUE(r.realized) << r.message;
     EXPECT_EQ(r.message, "");
     stepTo(scene, 0.3);  // the stroke
@@ -100,7 +98,7 @@ TEST(HeadMotion, RepetitionsAmountAndCancellation) {
   Character* c = scene.addCharacter("c", headRig(false));
   scene.update(0.0);
   const glm::quat rest = modelRotation(*c, 3);
-  BehaviorRequest shake = headRequest("shake", "shake", 0.0, "-0.5");
+  BehaviorRequest shake = headRequest("shake", HeadLexeme::Shake, 0.0, -0.5f);
   shake.syncs = {{"start", 0.0}, {"ready", 0.1}, {"strokeStart", 0.2}, {"stroke", 0.3}, {"strokeEnd", 0.6},
                  {"strokeStart:2", 0.7}, {"stroke:2", 0.8}, {"strokeEnd:2", 1.1}, {"relax", 1.2}, {"end", 1.3}};
   ASSERT_TRUE(c->addBehavior(shake).realized);
@@ -123,7 +121,7 @@ TEST(HeadMotion, RepetitionsAmountAndCancellation) {
   Character* d = s2.addCharacter("d", headRig(false));
   s2.update(0.0);
   const glm::mat4 restMatrix = d->transformBuffer().modelMatrices()[3];
-  d->addBehavior(headRequest("nod", "NOD", 0.0, "1"));
+  d->addBehavior(headRequest("nod", HeadLexeme::Nod, 0.0, 1.0f));
   stepTo(s2, 0.3);
   ASSERT_TRUE(d->cancelBehavior("nod", 0.2));
   glm::quat prev = modelRotation(*d, 3);
@@ -140,17 +138,21 @@ TEST(HeadMotion, RepetitionsAmountAndCancellation) {
 TEST(HeadMotion, WhatCannotBeDoneIsSaidNotDropped) {
   Scene scene;
   Character* c = scene.addCharacter("c", headRig(false));
-  BehaviorResult odd = c->addBehavior(headRequest("a", "WIGGLE", 0.0));
-  EXPECT_TRUE(odd.added);
-  EXPECT_FALSE(odd.realized);
-  EXPECT_NE(odd.message.find("head lexeme 'WIGGLE' is not NOD, SHAKE or TILT"), std::string::npos);
-  BehaviorResult bad = c->addBehavior(headRequest("b", "NOD", 0.0, "lots"));
+  // BML's lexeme and amount text are read by the realizer (tests/bml/behavior_parameters_test.cpp).
+  BehaviorRequest odd = headRequest("a", HeadLexeme::Nod, 0.0);
+  odd.parameters = FaceParameters{"SMILE"};  // parameters of another kind
+  BehaviorResult wrong = c->addBehavior(odd);
+  EXPECT_TRUE(wrong.added);
+  EXPECT_FALSE(wrong.realized);
+  EXPECT_NE(wrong.message.find("a head behavior needs HeadParameters"), std::string::npos) << wrong.message;
+  BehaviorResult bad = c->addBehavior(headRequest("b", HeadLexeme::Nod, 0.0, std::nanf("")));
   EXPECT_TRUE(bad.realized);
-  EXPECT_NE(bad.message.find("amount 'lots' is not a number in [-1, 1]; 0.5 is used"), std::string::npos) << bad.message;
-  EXPECT_NE(c->addBehavior(headRequest("c", "NOD", 0.0, "2")).message.find("not a number in [-1, 1]"), std::string::npos);
+  EXPECT_NE(bad.message.find("amount 'nan' is not a number in [-1, 1]; 0.5 is used"), std::string::npos) << bad.message;
+  EXPECT_NE(c->addBehavior(headRequest("c", HeadLexeme::Nod, 0.0, 2.0f)).message.find("amount '2' is not a number in [-1, 1]"),
+            std::string::npos);
   auto headless = std::make_shared<Rig>(std::make_shared<Asset>(Asset{}));
   Character* h = scene.addCharacter("h", headless);
-  BehaviorResult none = h->addBehavior(headRequest("n", "NOD", 0.0));
+  BehaviorResult none = h->addBehavior(headRequest("n", HeadLexeme::Nod, 0.0));
   EXPECT_FALSE(none.realized);
   EXPECT_NE(none.message.find("no head or neck joint"), std::string::npos);
 }
@@ -161,13 +163,13 @@ TEST(FaceExpressions, LexemesAndUnitsDriveMorphsThroughTheProfile) {
   BehaviorRequest smile;
   smile.id = "smile";
   smile.kind = BehaviorKind::FaceLexeme;
-  smile.parameters = {{"lexeme", "smile"}, {"amount", "0.8"}};
+  smile.parameters = FaceParameters{"smile", 0.8f};
   smile.syncs = {{"start", 0.0}, {"attackPeak", 0.2}, {"relax", 1.0}, {"end", 1.5}};
   ASSERT_TRUE(c->addBehavior(smile).realized);
   BehaviorRequest blink = smile;
   blink.id = "blink";
   blink.kind = BehaviorKind::FaceFacs;
-  blink.parameters = {{"au", "45"}};
+  blink.parameters = FaceParameters{"AU45"};
   ASSERT_TRUE(c->addBehavior(blink).realized);
   stepTo(scene, 0.1);
   EXPECT_NEAR(c->transformBuffer().morphWeights()[0], 0.4f, 1e-5);  // attack: half way (smoothstep), x 0.8
@@ -185,7 +187,7 @@ TEST(FaceExpressions, LexemesAndUnitsDriveMorphsThroughTheProfile) {
   EXPECT_EQ(c->transformBuffer().morphWeights()[1], 0.0f);
   BehaviorRequest frown = smile;
   frown.id = "frown";
-  frown.parameters = {{"lexeme", "LOWER_BROWS"}};
+  frown.parameters = FaceParameters{"LOWER_BROWS"};
   BehaviorResult r = c->addBehavior(frown);
   EXPECT_FALSE(r.realized);
   EXPECT_NE(r.message.find("no morphs for face expression 'LOWER_BROWS' (its profile maps AU45, SMILE)"), std::string::npos)
@@ -197,9 +199,9 @@ TEST(HeadMotion, ExtremeStepsStayFiniteAndDeterministic) {
   auto run = [] {
     Scene scene;
     Character* c = scene.addCharacter("c", headRig(true));
-    c->addBehavior(headRequest("n", "NOD", 0.0));
-    c->addBehavior(headRequest("s", "SHAKE", 0.25, "1"));
-    c->addBehavior(headRequest("t", "TILT", 0.5, "-1"));
+    c->addBehavior(headRequest("n", HeadLexeme::Nod, 0.0));
+    c->addBehavior(headRequest("s", HeadLexeme::Shake, 0.25, 1.0f));
+    c->addBehavior(headRequest("t", HeadLexeme::Tilt, 0.5, -1.0f));
     std::vector<float> out;
     for (double dt : {0.0, 1.0 / 240, 0.3, 0.0, 0.05, 1.0, 0.001}) {
       scene.update(dt);

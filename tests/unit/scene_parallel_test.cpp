@@ -34,7 +34,7 @@ std::shared_ptr<const Rig> robotRig() {
   return rig;
 }
 
-BehaviorRequest request(std::string id, BehaviorKind kind, std::vector<std::pair<std::string, std::string>> parameters,
+BehaviorRequest request(std::string id, BehaviorKind kind, BehaviorParameters parameters,
                         std::vector<BehaviorSync> syncs) {
   BehaviorRequest r;
   r.id = std::move(id);
@@ -68,31 +68,34 @@ void buildScene(Scene& scene, int count) {
     if (i % 5 == 0) c->play(2, "Yes", {.weight = 0.6f, .additive = true});
     // Gaze at a character added earlier (or, for the first ones, at a point);
     // every other one at a joint of a synthetic character.
-    const std::string target = i < 4      ? "2 1.5 3"
-                               : i % 2 == 0 ? "s" + std::to_string((i / 4) * 4 - 1) + ":j3"
-                                            : "r" + std::to_string(i - 1);
+    const BehaviorTarget target = i < 4      ? BehaviorTarget::at({2.0f, 1.5f, 3.0f})
+                                  : i % 2 == 0 ? BehaviorTarget::of("s" + std::to_string((i / 4) * 4 - 1), "j3")
+                                               : BehaviorTarget::of("r" + std::to_string(i - 1));
     const double t0 = 0.02 * (i % 11);
-    EXPECT_TRUE(c->addBehavior(request("gaze", BehaviorKind::Gaze, {{"target", target}, {"influence", "NECK"}},
+    EXPECT_TRUE(c->addBehavior(request("gaze", BehaviorKind::Gaze, GazeParameters{target, GazeInfluence::Neck},
                                        {{"start", t0}, {"ready", t0 + 0.3}, {"relax", 2.5}, {"end", 3.0}}))
                     .realized)
         << c->name();
     for (int k = 0; k < 3; ++k) {
       const double s = 0.2 + 0.9 * k + 0.01 * (i % 13);
-      EXPECT_TRUE(c->addBehavior(request("nod" + std::to_string(k), BehaviorKind::Head, {{"lexeme", "NOD"}},
+      EXPECT_TRUE(c->addBehavior(request("nod" + std::to_string(k), BehaviorKind::Head, HeadParameters{HeadLexeme::Nod},
                                          {{"start", s}, {"ready", s + .1}, {"strokeStart", s + .2},
                                           {"stroke", s + .3}, {"strokeEnd", s + .5}, {"relax", s + .8},
                                           {"end", s + 1}}))
                       .realized);
     }
     EXPECT_TRUE(c->addBehavior(request("face", BehaviorKind::FaceLexeme,
-                                       {{"lexeme", i % 2 ? "ANGER" : "SURPRISE"}, {"amount", "0.7"}},
+                                       FaceParameters{i % 2 ? "ANGER" : "SURPRISE", 0.7f},
                                        {{"start", 0.1}, {"attackPeak", 0.4}, {"relax", 1.8}, {"end", 2.2}}))
                     .realized);
     if (i % 5 == 2) {
       // Locomotion to a point, or to a character (whose position the serial pass reads).
-      const std::string where = i % 10 == 2 ? std::to_string(x + 3.0f) + " " + std::to_string(z - 2.0f) : "r0";
+      LocomotionParameters where;
+      if (i % 10 == 2) where.waypoints = {{x + 3.0f, z - 2.0f}};
+      else where.targetCharacter = "r0";
+      where.manner = i % 4 ? LocomotionManner::Walk : LocomotionManner::Run;
       const BehaviorResult walk = c->addBehavior(request(
-          "walk", BehaviorKind::Locomotion, {{"target", where}, {"manner", i % 4 ? "WALK" : "RUN"}},
+          "walk", BehaviorKind::Locomotion, where,
           {{"start", 0.3}, {"end", 4.0}}));
       EXPECT_TRUE(walk.realized) << c->name() << ": " << walk.message;
     }

@@ -78,10 +78,4 @@ std::optional<double> BehaviorRequest::time(std::string_view sync) const noexcep
   return std::nullopt;
 }
 
-std::string_view BehaviorRequest::parameter(std::string_view name) const noexcept {
-  for (const auto& [key, value] : parameters)
-    if (key == name) return value;
-  return {};
-}
-
 }  // namespace marionette

@@ -59,16 +59,6 @@ glm::vec3 modelPosition(const Skeleton& s, std::span<const Transform> pose, int 
 }
 }  // namespace
 
-std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept {
-  if (equalsIgnoringCase(name, "EYES")) return GazeInfluence::Eyes;
-  if (equalsIgnoringCase(name, "HEAD")) return GazeInfluence::Head;
-  if (equalsIgnoringCase(name, "NECK")) return GazeInfluence::Neck;
-  if (equalsIgnoringCase(name, "SHOULDER")) return GazeInfluence::Shoulder;
-  if (equalsIgnoringCase(name, "WAIST")) return GazeInfluence::Waist;
-  if (equalsIgnoringCase(name, "WHOLE")) return GazeInfluence::Whole;
-  return std::nullopt;
-}
-
 YawPitch yawPitchOf(const glm::vec3& d, float hint) noexcept {
   YawPitch out;
   const float horizontal = std::sqrt(d.x * d.x + d.z * d.z);

@@ -13,13 +13,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
-std::optional<HeadLexeme> headLexemeFromName(std::string_view name) noexcept {
-  if (equalsIgnoringCase(name, "NOD")) return HeadLexeme::Nod;
-  if (equalsIgnoringCase(name, "SHAKE")) return HeadLexeme::Shake;
-  if (equalsIgnoringCase(name, "TILT")) return HeadLexeme::Tilt;
-  return std::nullopt;
-}
-
 float headPeakAngle(HeadLexeme lexeme) noexcept {
   switch (lexeme) {
     case HeadLexeme::Nod: return 0.4363323f;    // 25 degrees

@@ -6,16 +6,14 @@
 
 #include "marionette/animation/blending.hpp"
 #include "marionette/animation/pose.hpp"
-#include "marionette/core/number_list.hpp"
-#include "marionette/core/text.hpp"
+#include "marionette/core/finite.hpp"
 #include "marionette/rig/rig.hpp"
 
 namespace marionette {
 
 namespace {
 constexpr float kTwoPi = 6.28318530718f;
-constexpr std::size_t kMaxWaypoints = 1000;
-constexpr float kMaxSpeed = 12.0f;  // m/s: faster than any human gait
+constexpr std::size_t kMaxWaypoints = LocomotionParameters::kMaxWaypoints;
 
 float wrapAngle(float a) noexcept { return std::remainder(a, kTwoPi); }
 glm::vec2 forwardOf(float heading) noexcept { return {std::sin(heading), std::cos(heading)}; }
@@ -221,63 +219,61 @@ LocomotionSet makeLocomotionSet(const Rig& rig) {
   return set;
 }
 
-std::string parseLocomotionPlan(const BehaviorRequest& r, const LocomotionSet& set, const LocomotionSettings& settings,
-                                LocomotionPlan& plan, std::string& warning) {
+std::string makeLocomotionPlan(const LocomotionParameters& p, const LocomotionSet& set,
+                               const LocomotionSettings& settings, LocomotionPlan& plan, std::string& warning) {
   auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
-  const std::string_view target = r.parameter("target");
-  if (target.empty()) return "a locomotion needs a target: \"x z\" in metres, waypoints \"x1 z1 x2 z2 ...\", or a character";
-  const std::string shown(target.substr(0, 60));
-  if (const auto numbers = parseNumberList(target)) {
-    const std::vector<float>& v = *numbers;
-    for (float x : v)
-      if (!std::isfinite(x)) return "locomotion target '" + shown + "' is not finite (NaN or infinite); nothing moves";
-    if (v.size() == 3) {
-      plan.waypoints.push_back({v[0], v[2]});
-    } else if (v.size() >= 2 && v.size() % 2 == 0 && v.size() / 2 <= kMaxWaypoints) {
-      for (std::size_t i = 0; i < v.size(); i += 2) plan.waypoints.push_back({v[i], v[i + 1]});
-    } else {
-      return "locomotion target '" + shown + "' has " + std::to_string(v.size()) +
-             " numbers: give \"x z\", \"x y z\", or up to 1000 waypoints \"x1 z1 x2 z2 ...\"";
-    }
-  } else {
-    plan.targetCharacter = std::string(target.substr(0, target.find(':')));
+  if (!p.waypoints.empty()) {
+    if (p.waypoints.size() > kMaxWaypoints)
+      return "locomotion target has " + std::to_string(p.waypoints.size()) + " waypoints; at most " +
+             std::to_string(kMaxWaypoints) + " are taken";
+    for (const glm::vec2& w : p.waypoints)
+      if (!isFinite(w)) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%g %g", static_cast<double>(w.x), static_cast<double>(w.y));
+        return "locomotion target '" + std::string(buf) + "' is not finite (NaN or infinite); nothing moves";
+      }
+    plan.waypoints = p.waypoints;
+  } else if (!p.targetCharacter.empty()) {
+    plan.targetCharacter = p.targetCharacter;
     plan.proximity = settings.characterProximity;
     plan.faceTargetCharacter = true;
+  } else {
+    return "a locomotion needs a target: waypoints on the ground (x, z) or a character";
   }
   // Speed: the manner's preset, unless given.
   const float walk = settings.walkSpeed > 0.0f ? settings.walkSpeed : set.walk.groundSpeed;
   const float run = settings.runSpeed > 0.0f ? settings.runSpeed
                     : set.run.clip         ? set.run.groundSpeed
                                            : 2.0f * walk;
-  const std::string manner = toUpper(r.parameter("manner"));
-  plan.speed = walk;
-  if (manner == "RUN" || manner == "JOG") plan.speed = run;
-  else if (manner == "STROLL") plan.speed = 0.5f * walk;
-  else if (manner == "SPRINT") plan.speed = 1.3f * run;
-  else if (!manner.empty() && manner != "WALK")
-    note("manner '" + manner.substr(0, 40) + "' is not WALK, RUN, JOG, STROLL or SPRINT; WALK is used");
-  auto number = [&](std::string_view name, float lo, float hi, float& out) {
-    const std::string_view text = r.parameter(name);
-    if (text.empty()) return false;
-    const auto v = parseNumberList(text);
-    if (!v || v->size() != 1 || !std::isfinite((*v)[0]) || (*v)[0] < lo || (*v)[0] > hi) {
+  switch (p.manner) {
+    case LocomotionManner::Walk: plan.speed = walk; break;
+    case LocomotionManner::Run: plan.speed = run; break;
+    case LocomotionManner::Stroll: plan.speed = 0.5f * walk; break;
+    case LocomotionManner::Sprint: plan.speed = 1.3f * run; break;
+    default:
+      plan.speed = walk;
+      note("manner " + std::to_string(static_cast<int>(p.manner)) + " is not a LocomotionManner; WALK is used");
+  }
+  auto number = [&](const std::optional<float>& value, const char* name, float lo, float hi, float& out) {
+    if (!value) return false;
+    if (!std::isfinite(*value) || *value < lo || *value > hi) {
       char buf[200];
-      std::snprintf(buf, sizeof buf, "%s '%.40s' is not a number in [%g, %g]; ignored", std::string(name).c_str(),
-                    std::string(text).c_str(), static_cast<double>(lo), static_cast<double>(hi));
+      std::snprintf(buf, sizeof buf, "%s '%g' is not a number in [%g, %g]; ignored", name, static_cast<double>(*value),
+                    static_cast<double>(lo), static_cast<double>(hi));
       note(buf);
       return false;
     }
-    out = (*v)[0];
+    out = *value;
     return true;
   };
-  number("speed", 0.05f, kMaxSpeed, plan.speed);
-  float facingDegrees = 0.0f;
-  if (number("facing", -360.0f, 360.0f, facingDegrees)) {
+  number(p.speed, "speed", LocomotionParameters::kMinSpeed, LocomotionParameters::kMaxSpeed, plan.speed);
+  float facing = 0.0f;
+  if (number(p.facing, "facing", -2.0f * kTwoPi, 2.0f * kTwoPi, facing)) {
     plan.hasFacing = true;
-    plan.facing = wrapAngle(glm::radians(facingDegrees));
+    plan.facing = wrapAngle(facing);
     plan.faceTargetCharacter = false;
   }
-  number("proximity", 0.0f, 100.0f, plan.proximity);
+  number(p.proximity, "proximity", 0.0f, LocomotionParameters::kMaxProximity, plan.proximity);
   if (!(plan.speed > 0.0f)) return "the character has no usable walk clip, so no speed for the locomotion";
   return {};
 }

@@ -7,7 +7,6 @@
 #include "marionette/core/finite.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/behavior/behavior_request.hpp"
-#include "marionette/core/text.hpp"
 #include "marionette/rig/rig.hpp"
 
 namespace marionette {
@@ -169,13 +168,14 @@ std::string bindPointing(const BehaviorRequest& request, const Rig& rig, const S
   const bool usable[2] = {st.limb[0].upper >= 0, st.limb[1].upper >= 0};
   if (!usable[0] && !usable[1])
     return "the character has no arm to point with (set leftArm / rightArm in its profile)";
-  if (std::string why = parseSpatialTarget(request.parameter("target"), "pointing", findJoint, st.target); !why.empty())
+  const PointingParameters* p = request.as<PointingParameters>();
+  if (std::string why = resolveSpatialTarget(p ? p->target : BehaviorTarget{}, "pointing", findJoint, st.target);
+      !why.empty())
     return why;
-  // Unknown mode, or an arm the rig lacks: the first frame picks the arm on the target's side.
-  const std::string mode = toUpper(request.parameter("mode"));
-  const bool want[2] = {mode == "LEFT_HAND" || mode == "BOTH_HANDS", mode == "RIGHT_HAND" || mode == "BOTH_HANDS"};
-  if (!mode.empty() && !want[0] && !want[1])
-    warning = "mode '" + mode.substr(0, 40) + "' is not LEFT_HAND, RIGHT_HAND or BOTH_HANDS; the arm on the target's side points";
+  // Nearest, or an arm the rig lacks: the first frame picks the arm on the target's side.
+  const PointingArms arms = p->arms;
+  const bool want[2] = {arms == PointingArms::Left || arms == PointingArms::Both,
+                        arms == PointingArms::Right || arms == PointingArms::Both};
   for (int side = 0; side < 2; ++side) {
     if (want[side] && usable[side]) st.arm[side] = true;
     else if (want[side])

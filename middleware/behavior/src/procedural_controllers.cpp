@@ -4,26 +4,20 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
+#include <cstdio>
 #include <cmath>
 
 namespace marionette {
 
 namespace {
-// BML amount: a number in [lo, hi]; anything else is replaced by the default, with a note.
-float amountOf(const BehaviorRequest& r, float fallback, float lo, float hi, std::string& warning) {
-  const std::string_view text = r.parameter("amount");
-  if (text.empty()) return fallback;
-  float v = 0.0f;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v) || v < lo || v > hi) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "amount '%.40s' is not a number in [%g, %g]; %g is used", std::string(text).c_str(),
-                  static_cast<double>(lo), static_cast<double>(hi), static_cast<double>(fallback));
-    warning = buf;
-    return fallback;
-  }
-  return v;
+// An amount in [lo, hi]; anything else is replaced by the default, with a note.
+float checkedAmount(float v, float fallback, float lo, float hi, std::string& warning) {
+  if (std::isfinite(v) && v >= lo && v <= hi) return v;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "amount '%g' is not a number in [%g, %g]; %g is used", static_cast<double>(v),
+                static_cast<double>(lo), static_cast<double>(hi), static_cast<double>(fallback));
+  warning = buf;
+  return fallback;
 }
 
 // Stroke phases from sync names: strokeStart/stroke/strokeEnd, then ":2", ":3", ...
@@ -59,38 +53,30 @@ std::string knownExpressions(const RigJoints& joints) {
 
 std::string bindHead(BehaviorTimeline::Entry& e, const Rig& rig, std::string& warning) {
   const BehaviorRequest& r = e.request;
-  const std::string_view lexeme = r.parameter("lexeme");
-  const auto head = headLexemeFromName(lexeme);
-  if (!head)
-    return lexeme.empty() ? "a head behavior needs a lexeme (NOD, SHAKE or TILT)"
-                          : "head lexeme '" + std::string(lexeme) + "' is not NOD, SHAKE or TILT";
+  const HeadParameters* p = r.as<HeadParameters>();
+  if (!p) return "a head behavior needs HeadParameters (a lexeme: NOD, SHAKE or TILT)";
   if (rig.joints().head < 0 && rig.joints().neck < 0)
     return "the character has no head or neck joint (set \"head\" in its profile)";
   HeadMotionState h;
-  h.lexeme = *head;
-  h.amount = amountOf(r, 0.5f, -1.0f, 1.0f, warning);
+  h.lexeme = p->lexeme;
+  h.amount = checkedAmount(p->amount, HeadParameters::kDefaultAmount, HeadParameters::kMinAmount,
+                           HeadParameters::kMaxAmount, warning);
   h.strokes = strokesOf(r);
   e.controller = std::move(h);
   return {};
 }
 
 std::string bindFace(BehaviorTimeline::Entry& e, const Rig& rig, std::string& warning) {
-  const BehaviorRequest& r = e.request;
-  std::string expression;
-  if (r.kind == BehaviorKind::FaceFacs) {
-    const std::string_view au = r.parameter("au");
-    if (au.empty()) return "a faceFacs behavior needs an au (a FACS action unit number)";
-    expression = "AU" + std::string(au);
-  } else {
-    expression = toUpper(r.parameter("lexeme"));
-    if (expression.empty()) return "a face behavior needs a lexeme";
-  }
+  const FaceParameters* p = e.request.as<FaceParameters>();
+  if (!p || p->expression.empty()) return "a face behavior needs FaceParameters with an expression (a lexeme or AUn)";
+  const std::string expression = toUpper(p->expression);
   const auto it = rig.joints().face.find(expression);
   if (it == rig.joints().face.end())
     return "the character has no morphs for face expression '" + expression + "' (" + knownExpressions(rig.joints()) + ")";
   FaceExpressionState f;
   f.morphs = it->second;
-  f.amount = amountOf(r, 1.0f, 0.0f, 1.0f, warning);
+  f.amount = checkedAmount(p->amount, FaceParameters::kDefaultAmount, FaceParameters::kMinAmount,
+                           FaceParameters::kMaxAmount, warning);
   e.controller = std::move(f);
   return {};
 }
@@ -119,48 +105,25 @@ void applyFace(const FaceExpressionState& f, float weight, std::span<float> morp
     }
 }
 
-namespace {
-float degreesParameter(const BehaviorRequest& r, std::string_view name, std::string& warning) {
-  const std::string_view text = r.parameter(name);
-  if (text.empty()) return 0.0f;
-  float v = 0.0f;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v) || std::fabs(v) > 180.0f) {
-    warning = std::string(name) + " '" + std::string(text).substr(0, 40) + "' is not an angle in degrees (-180 to 180); 0 is used";
-    return 0.0f;
-  }
-  return glm::radians(v);
-}
-}  // namespace
-
 std::string bindGaze(BehaviorTimeline::Entry& e, const Rig& rig,
                      const TargetJointFinder& findJoint, std::string& warning) {
-  const BehaviorRequest& r = e.request;
+  const GazeParameters* p = e.request.as<GazeParameters>();
   GazeState g;
   const RigJoints& j = rig.joints();
   if (j.head < 0 && j.neck < 0 && j.leftEye < 0 && j.rightEye < 0)
     return "the character has no eye, head or neck joint to gaze with (set them in its profile)";
-  if (std::string why = parseSpatialTarget(r.parameter("target"), "gaze", findJoint, g.target); !why.empty()) return why;
-  const std::string_view influence = r.parameter("influence");
-  if (!influence.empty()) {
-    if (auto i = gazeInfluenceFromName(influence)) g.influence = *i;
-    else warning = "influence '" + std::string(influence).substr(0, 40) +
-                   "' is not EYES, HEAD, NECK, SHOULDER, WAIST or WHOLE; NECK is used";
-  }
-  const float offset = degreesParameter(r, "offsetAngle", warning);
-  const std::string direction = toUpper(r.parameter("offsetDirection"));
-  const float diagonal = 0.70710678f * offset;
-  if (direction == "RIGHT") g.offsetYaw = -offset;
-  else if (direction == "LEFT") g.offsetYaw = offset;
-  else if (direction == "UP") g.offsetPitch = -offset;
-  else if (direction == "DOWN") g.offsetPitch = offset;
-  else if (direction == "UPRIGHT") g.offsetYaw = -diagonal, g.offsetPitch = -diagonal;
-  else if (direction == "UPLEFT") g.offsetYaw = diagonal, g.offsetPitch = -diagonal;
-  else if (direction == "DOWNRIGHT") g.offsetYaw = -diagonal, g.offsetPitch = diagonal;
-  else if (direction == "DOWNLEFT") g.offsetYaw = diagonal, g.offsetPitch = diagonal;
-  else if (offset != 0.0f)
-    warning = "offsetDirection '" + direction.substr(0, 40) + "' is not one of RIGHT, LEFT, UP, DOWN, UPRIGHT, UPLEFT, "
-              "DOWNRIGHT, DOWNLEFT; the offset was ignored";
+  if (std::string why = resolveSpatialTarget(p ? p->target : BehaviorTarget{}, "gaze", findJoint, g.target); !why.empty())
+    return why;
+  g.influence = p->influence;
+  auto offset = [&](float v, const char* name) {
+    if (std::isfinite(v) && std::fabs(v) <= GazeParameters::kMaxOffsetRadians) return v;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s '%g' is not an angle in radians (-pi to pi); 0 is used", name, static_cast<double>(v));
+    warning += (warning.empty() ? "" : "; ") + std::string(buf);
+    return 0.0f;
+  };
+  g.offsetYaw = offset(p->offsetYaw, "offsetYaw");
+  g.offsetPitch = offset(p->offsetPitch, "offsetPitch");
   e.controller = std::move(g);
   return {};
 }

@@ -1,31 +1,38 @@
 #include "marionette/behavior/spatial_target.hpp"
 
-#include <cmath>
+#include <cstdio>
 
-#include "marionette/core/number_list.hpp"
+#include "marionette/core/finite.hpp"
 
 namespace marionette {
 
-std::string parseSpatialTarget(std::string_view text, std::string_view what, const TargetJointFinder& findJoint,
-                               SpatialTarget& target) {
+std::string describeTarget(const BehaviorTarget& target) {
+  if (target.point) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%g %g %g", static_cast<double>(target.point->x),
+                  static_cast<double>(target.point->y), static_cast<double>(target.point->z));
+    return buf;
+  }
+  return target.joint.empty() ? target.character : target.character + ":" + target.joint;
+}
+
+std::string resolveSpatialTarget(const BehaviorTarget& target, std::string_view what, const TargetJointFinder& findJoint,
+                                 SpatialTarget& out) {
   const std::string w(what);
-  if (text.empty()) return "a " + w + " needs a target: \"x y z\" in metres, a character, or character:joint";
-  const std::string quoted = w + " target '" + std::string(text.substr(0, 80)) + "'";
-  if (const auto v = parseNumberList(text); v && v->size() == 3) {
-    const glm::vec3 p((*v)[0], (*v)[1], (*v)[2]);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      return quoted + " is not finite (NaN or infinite); the " + w + " was not started";
-    target.point = p;
+  if (target.empty()) return "a " + w + " needs a target: a world point, a character, or a character's joint";
+  const std::string quoted = w + " target '" + describeTarget(target).substr(0, 80) + "'";
+  if (target.point) {
+    if (!isFinite(*target.point)) return quoted + " is not finite (NaN or infinite); the " + w + " was not started";
+    out.point = *target.point;
     return {};
   }
-  const std::size_t colon = text.find(':');
-  target.character = std::string(text.substr(0, colon));
-  target.joint = colon == std::string_view::npos ? std::string() : std::string(text.substr(colon + 1));
-  const int index = findJoint(target.character, target.joint);
-  if (index == -2) return quoted + ": the scene has no character '" + target.character + "'";
-  if (index < 0 && !target.joint.empty())
-    return quoted + ": character '" + target.character + "' has no joint '" + target.joint + "'";
-  target.jointIndex = index;
+  out.character = target.character;
+  out.joint = target.joint;
+  const int index = findJoint(out.character, out.joint);
+  if (index == -2) return quoted + ": the scene has no character '" + out.character + "'";
+  if (index < 0 && !out.joint.empty())
+    return quoted + ": character '" + out.character + "' has no joint '" + out.joint + "'";
+  out.jointIndex = index;
   return {};
 }
 

@@ -87,7 +87,8 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
   if (clip) {
     bindClipEntry(e, std::move(clip));
     result.realized = true;
-    if (binding.overClip && !e.request.parameter("target").empty()) {
+    const PointingParameters* aim = e.request.as<PointingParameters>();
+    if (binding.overClip && aim && !aim->target.empty()) {
       const std::string why = (this->*binding.bind)(e, warning);
       result.message = why.empty() ? warning : why + "; the clip plays without aiming";
     }
@@ -265,8 +266,10 @@ std::string Character::bindLocomotion(const BehaviorRequest& request, std::share
     for (const std::string& n : set.notes) why += "; " + n;
     return why;
   }
+  const LocomotionParameters* parameters = request.as<LocomotionParameters>();
+  if (!parameters) return "a locomotion needs a target (LocomotionParameters: waypoints or a character)";
   plan = std::make_shared<LocomotionPlan>();
-  std::string why = parseLocomotionPlan(request, set, locomotionSettings_, *plan, warning);
+  std::string why = makeLocomotionPlan(*parameters, set, locomotionSettings_, *plan, warning);
   if (!why.empty()) return why;
   auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
   if (!plan->targetCharacter.empty()) {

@@ -1,5 +1,5 @@
 // From a scheduled BML behavior to the middleware's BehaviorRequest: its kind,
-// body channels, sync times on the scene clock, parameters, and the rig clip
+// body channels, sync times on the scene clock, typed parameters, and the rig clip
 // that realizes it when the character has one named by its lexeme.
 #pragma once
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include <string>
 
 #include "marionette/behavior/behavior_request.hpp"
+#include "marionette/bml/behavior_parameters.hpp"
 #include "marionette/bml/scheduler.hpp"
 #include "marionette/scene/character.hpp"
 #include "marionette/rig/rig.hpp"
@@ -43,8 +44,18 @@ namespace marionette::bml {
                                                                                           const Character& character);
 
 // The request for one scheduled behavior of a block that starts at `blockStart`
-// (scene seconds). Its id is "blockId:behaviorId".
-[[nodiscard]] BehaviorRequest toRequest(const Behavior& behavior, const ScheduledBehavior& scheduled,
+// (scene seconds). Its id is "blockId:behaviorId"; its parameters are read from
+// the behavior's attributes (behavior_parameters.hpp), unless a clip of the rig
+// realizes it alone. `error`: why the parameters make it impossible (the request
+// still joins the timeline, unrealized, so its timing and feedback run; the
+// realizer reports `error` in place of the character's own reason); `warning`:
+// attribute values replaced by defaults.
+struct MappedRequest {
+  BehaviorRequest request;
+  std::string error;
+  std::string warning;
+};
+[[nodiscard]] MappedRequest toRequest(const Behavior& behavior, const ScheduledBehavior& scheduled,
                                         const std::string& blockId, double blockStart, const Rig& rig);
 
 }  // namespace marionette::bml

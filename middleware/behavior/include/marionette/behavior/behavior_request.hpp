@@ -9,6 +9,12 @@
 //   wave.syncs = {{"start", t}, {"ready", t + 0.3}, {"relax", t + 1.7}, {"end", t + 2.0}};
 //   character.addBehavior(std::move(wave));
 //
+// Controllers with parameters take them typed (behavior_parameters.hpp):
+//
+//   BehaviorRequest nod{.id = "nod1", .kind = BehaviorKind::Head,
+//                       .syncs = {{"start", t}, {"end", t + 1.0}},
+//                       .parameters = HeadParameters{.lexeme = HeadLexeme::Nod, .amount = 0.8f}};
+//
 // Sync times are on the scene clock (seconds). The weight of a request rises
 // from 0 at "start" to 1 at "ready" and falls back to 0 from "relax" to "end"
 // (smoothstep); without ready/relax it blends over a short default time.
@@ -19,6 +25,8 @@
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include "marionette/behavior/behavior_parameters.hpp"
 
 namespace marionette {
 
@@ -63,7 +71,7 @@ struct BehaviorRequest {
   BehaviorKind kind = BehaviorKind::Clip;
   std::optional<std::uint32_t> channels{};  // unset: defaultChannels(kind)
   std::vector<BehaviorSync> syncs{};      // in time order; the first is the start, the last the end
-  std::vector<std::pair<std::string, std::string>> parameters{};  // lexeme, target, amount, ... as given
+  BehaviorParameters parameters{};        // the struct of the kind's controller (behavior_parameters.hpp)
   std::string clip{};    // a clip of the rig to play, time-warped onto [start, end]; "" = none
   bool loop = false;     // play the clip at its own speed, looping, instead of warping it
   bool persistent = false;  // keeps full weight after its end until replaced or cancelled (postureShift)
@@ -73,8 +81,9 @@ struct BehaviorRequest {
   [[nodiscard]] double end() const noexcept { return syncs.empty() ? 0.0 : syncs.back().time; }
   // Time of a sync point by name (case-sensitive), if present.
   [[nodiscard]] std::optional<double> time(std::string_view sync) const noexcept;
-  // Value of a parameter, or "" when absent.
-  [[nodiscard]] std::string_view parameter(std::string_view name) const noexcept;
+  // The parameters as T (HeadParameters, GazeParameters, ...), or null when they are of another type.
+  template <class T>
+  [[nodiscard]] const T* as() const noexcept { return std::get_if<T>(&parameters); }
   [[nodiscard]] std::uint32_t channelBits() const noexcept { return channels ? *channels : defaultChannels(kind); }
 };
 

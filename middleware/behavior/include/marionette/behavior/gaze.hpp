@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "marionette/behavior/behavior_parameters.hpp"  // GazeInfluence
 #include "marionette/behavior/spatial_target.hpp"
 #include "marionette/core/transform.hpp"
 #include "marionette/skeleton/skeleton.hpp"
@@ -20,10 +21,6 @@
 namespace marionette {
 
 struct RigJoints;
-
-// BML influence: how much of the body turns.
-enum class GazeInfluence : std::uint8_t { Eyes, Head, Neck, Shoulder, Waist, Whole };
-[[nodiscard]] std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept;  // case-insensitive
 
 struct GazeSettings {
   float timeConstant = 0.12f;     // seconds: 1/omega of the spring (about 95 % of a step in 4 of them)
@@ -62,7 +59,7 @@ struct DampedAngle {
 struct GazeState {
   GazeInfluence influence = GazeInfluence::Neck;
   SpatialTarget target;         // a character without a joint: its head
-  float offsetYaw = 0.0f, offsetPitch = 0.0f;  // BML offsetAngle / offsetDirection, radians
+  float offsetYaw = 0.0f, offsetPitch = 0.0f;  // radians (GazeParameters)
   bool useEyes = true;          // false for headDirectionShift: the head points, the eyes stay centred
   DampedAngle chainYaw, chainPitch, eyeYaw, eyePitch;
   float lastTarget[4] = {};     // the last frame's targets (chain yaw, pitch, eye yaw, pitch), for the ramp

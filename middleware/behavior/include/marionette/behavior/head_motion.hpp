@@ -8,13 +8,11 @@
 #include <span>
 #include <string_view>
 
+#include "marionette/behavior/behavior_parameters.hpp"  // HeadLexeme
 #include "marionette/core/transform.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 
 namespace marionette {
-
-enum class HeadLexeme : std::uint8_t { Nod, Shake, Tilt };
-[[nodiscard]] std::optional<HeadLexeme> headLexemeFromName(std::string_view name) noexcept;  // case-insensitive
 
 // Peak angles at amount 1, radians: a nod dips 25 degrees, a shake turns 30, a tilt rolls 20.
 [[nodiscard]] float headPeakAngle(HeadLexeme lexeme) noexcept;

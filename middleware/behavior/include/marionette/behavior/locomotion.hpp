@@ -76,7 +76,7 @@ struct LocomotionSet {
 // The set from the rig's profile: its walk and run clips, feet from its legs.
 [[nodiscard]] LocomotionSet makeLocomotionSet(const Rig& rig);
 
-// Where to go, read from a request's parameters.
+// Where to go and how fast, made from a request's LocomotionParameters.
 struct LocomotionPlan {
   std::vector<glm::vec2> waypoints;  // world (x, z); the last one is the destination
   std::string targetCharacter;       // go to this character (its place is resolved every frame)
@@ -87,14 +87,14 @@ struct LocomotionPlan {
   bool faceTargetCharacter = false;  // turn to the target character on arrival
 };
 
-// BML attributes: target = "x z", "x y z" (y ignored), "x1 z1 x2 z2 ..." (waypoints)
-// or a character name; manner = WALK, RUN, JOG, STROLL (half the walk speed) or
-// SPRINT (1.3 x run); speed = m/s (overrides manner); facing = degrees (world
-// heading, 0 faces +Z) or a character name; proximity = metres. Returns "" or why
-// the request cannot be performed; `warning` notes parameters that were replaced.
-[[nodiscard]] std::string parseLocomotionPlan(const BehaviorRequest& request, const LocomotionSet& set,
-                                              const LocomotionSettings& settings, LocomotionPlan& plan,
-                                              std::string& warning);
+// The plan for `parameters` on this gait set: waypoints or a target character;
+// the speed from the manner (Walk, Run, Stroll: half the walk speed, Sprint: 1.3 x
+// run) unless `speed` is given; facing and proximity. Returns "" or why the request
+// cannot be performed (no target, a waypoint that is not finite, too many); `warning`
+// notes values out of range that were ignored (speed, facing, proximity).
+[[nodiscard]] std::string makeLocomotionPlan(const LocomotionParameters& parameters, const LocomotionSet& set,
+                                             const LocomotionSettings& settings, LocomotionPlan& plan,
+                                             std::string& warning);
 
 // The kinematic state.
 struct SteeringState {

@@ -36,11 +36,11 @@ struct PointingState {
   bool started = false;
 };
 
-// Binds a pointing request: target (see SpatialTarget), mode LEFT_HAND,
-// RIGHT_HAND or BOTH_HANDS (absent: the arm on the target's side, chosen at the
-// first frame and kept). An arm without an end joint in the profile
+// Binds a pointing request from its PointingParameters: the target (a character
+// without a joint: its chest) and the arms (Nearest: the arm on the target's
+// side, chosen at the first frame and kept). An arm without an end joint in the profile
 // (RobotExpressive) ends at the forearm's first child (its palm at the wrist).
-// Empty when it can be performed, else why not; `warning` notes a bad mode.
+// Empty when it can be performed, else why not; `warning` notes an arm the rig lacks.
 [[nodiscard]] std::string bindPointing(const BehaviorRequest& request, const Rig& rig, const Skeleton& skeleton,
                                        const TargetJointFinder& findJoint, PointingState& state, std::string& warning);
 

@@ -18,8 +18,8 @@ namespace marionette {
 // entry's controller), else why not (the entry is left as it was). `warning` gets a note on a bad parameter that was replaced.
 [[nodiscard]] std::string bindHead(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
 [[nodiscard]] std::string bindFace(BehaviorTimeline::Entry& entry, const Rig& rig, std::string& warning);
-// Gaze targets: "x y z" (world metres), "name" (a character's head) or "name:joint".
-// `findJoint` answers the joint index of a named character (-2: no such character).
+// Each reads its kind's parameters (HeadParameters, FaceParameters, GazeParameters);
+// a gaze at a character without a joint looks at its head. `findJoint` answers the joint index of a named character (-2: no such character).
 [[nodiscard]] std::string bindGaze(BehaviorTimeline::Entry& entry, const Rig& rig,
                                    const TargetJointFinder& findJoint,
                                    std::string& warning);

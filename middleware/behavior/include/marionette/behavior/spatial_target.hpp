@@ -1,6 +1,6 @@
-// What a gaze or a pointing aims at: a world point ("x y z", metres), a
-// character ("Bob": a joint the behavior picks, e.g. the head for a gaze) or a
-// joint of one ("Bob:Head"). A character target is looked up again before every
+// What a gaze or a pointing aims at, resolved from a BehaviorTarget: a world
+// point (metres), a character (a joint the behavior picks, e.g. the head for a
+// gaze) or a joint of one. A character target is looked up again before every
 // frame (Scene::update reads all of them from the last frame first, so the
 // order of characters and threads does not change the result).
 #pragma once
@@ -9,6 +9,8 @@
 #include <string_view>
 
 #include <glm/vec3.hpp>
+
+#include "marionette/behavior/behavior_parameters.hpp"
 
 namespace marionette {
 
@@ -33,10 +35,12 @@ struct SpatialTarget {
 // -2 when the scene has no such character.
 using TargetJointFinder = std::function<int(std::string_view character, std::string_view joint)>;
 
-// Parses `text` into `target`. Empty when it is usable, else why not, naming the
-// behavior (`what`, e.g. "gaze") and the target: empty text, a point that is not
+// Resolves `target` into `out`. Empty when it is usable, else why not, naming the
+// behavior (`what`, e.g. "gaze") and the target: none, a point that is not
 // finite, an unknown character or joint.
-[[nodiscard]] std::string parseSpatialTarget(std::string_view text, std::string_view what,
-                                             const TargetJointFinder& findJoint, SpatialTarget& target);
+[[nodiscard]] std::string resolveSpatialTarget(const BehaviorTarget& target, std::string_view what,
+                                               const TargetJointFinder& findJoint, SpatialTarget& out);
+// A target as messages quote it: "x y z" (%g) or "name" / "name:joint".
+[[nodiscard]] std::string describeTarget(const BehaviorTarget& target);
 
 }  // namespace marionette

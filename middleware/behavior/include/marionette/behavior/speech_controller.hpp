@@ -27,14 +27,12 @@ struct SpeechState {
   std::size_t nextPhoneme = 0;  // the next phoneme whose start is reported as a viseme
 };
 
-// What to say, from a speech request's parameters: "text"; "voice" (a backend
-// voice name, optional); "rate" (words per minute, optional); "markOffsets": the
-// text's marks as "OFFSET:ID" items separated by spaces, OFFSET the bytes of text
-// before the mark (the BML realizer writes it from <sync id> inside <speech>).
-// `warning` notes a bad rate or mark that was dropped.
+// What to say, from a speech request's SpeechParameters (empty text for another
+// kind): its text, voice, rate and marks, with a rate outside
+// [kMinWordsPerMinute, kMaxWordsPerMinute] replaced by the voice's default and
+// marks past the end of the text dropped, each with a note in `warning`.
+inline constexpr int kMinWordsPerMinute = 1, kMaxWordsPerMinute = 10000;
 [[nodiscard]] speech::SpeechRequest speechRequestOf(const BehaviorRequest& request, std::string& warning);
-// Words per minute from text ("175"); nullopt unless a number in [1, 10000].
-[[nodiscard]] std::optional<int> parseWordsPerMinute(std::string_view text) noexcept;
 
 // Largest jaw rotation (jaw-open channel at 1), radians: a wide-open mouth.
 inline constexpr float kMaxJawOpenRadians = 0.30f;

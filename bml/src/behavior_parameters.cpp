@@ -1,0 +1,240 @@
+#include "marionette/bml/behavior_parameters.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+#include "marionette/core/number_list.hpp"
+#include "marionette/core/text.hpp"
+
+namespace marionette::bml {
+
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+std::string_view valueOf(const Behavior& b, std::string_view name) {
+  const Attribute* a = b.attribute(name);
+  return a ? std::string_view(a->value) : std::string_view();
+}
+
+void note(std::string& warning, const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; }
+
+// One number, the whole text; nullopt for anything else (NaN and infinity are numbers here:
+// the middleware names them when it checks the range).
+std::optional<float> oneNumber(std::string_view text) {
+  float v = 0.0f;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return v;
+}
+
+std::string notANumber(std::string_view name, std::string_view text, double lo, double hi, const std::string& then) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%.*s '%.40s' is not a number in [%g, %g]; ", static_cast<int>(name.size()), name.data(),
+                std::string(text).c_str(), lo, hi);
+  return buf + then;
+}
+
+// amount: a number (its range is the middleware's), else the default with a warning.
+float amountOf(const Behavior& b, float fallback, float lo, float hi, std::string& warning) {
+  const std::string_view text = valueOf(b, "amount");
+  if (text.empty()) return fallback;
+  if (const auto v = oneNumber(text)) return *v;
+  char then[40];
+  std::snprintf(then, sizeof then, "%g is used", static_cast<double>(fallback));
+  note(warning, notANumber("amount", text, lo, hi, then));
+  return fallback;
+}
+
+void readHead(const Behavior& b, ReadParameters& out) {
+  const std::string_view lexeme = valueOf(b, "lexeme");
+  const auto head = headLexemeFromName(lexeme);
+  if (!head) {
+    out.error = lexeme.empty() ? "a head behavior needs a lexeme (NOD, SHAKE or TILT)"
+                               : "head lexeme '" + std::string(lexeme) + "' is not NOD, SHAKE or TILT";
+    return;
+  }
+  out.parameters = HeadParameters{
+      *head, amountOf(b, HeadParameters::kDefaultAmount, HeadParameters::kMinAmount, HeadParameters::kMaxAmount, out.warning)};
+}
+
+void readFace(const Behavior& b, BehaviorKind kind, ReadParameters& out) {
+  FaceParameters f;
+  if (kind == BehaviorKind::FaceFacs) {
+    const std::string_view au = valueOf(b, "au");
+    if (au.empty()) {
+      out.error = "a faceFacs behavior needs an au (a FACS action unit number)";
+      return;
+    }
+    f.expression = "AU" + std::string(au);
+  } else {
+    f.expression = toUpper(valueOf(b, "lexeme"));
+    if (f.expression.empty()) {
+      out.error = "a face behavior needs a lexeme";
+      return;
+    }
+  }
+  f.amount = amountOf(b, FaceParameters::kDefaultAmount, FaceParameters::kMinAmount, FaceParameters::kMaxAmount, out.warning);
+  out.parameters = std::move(f);
+}
+
+void readGaze(const Behavior& b, ReadParameters& out) {
+  GazeParameters g;
+  g.target = readTarget(valueOf(b, "target"));
+  if (const std::string_view influence = valueOf(b, "influence"); !influence.empty()) {
+    if (auto i = gazeInfluenceFromName(influence)) g.influence = *i;
+    else note(out.warning, "influence '" + std::string(influence).substr(0, 40) +
+                               "' is not EYES, HEAD, NECK, SHOULDER, WAIST or WHOLE; NECK is used");
+  }
+  // offsetAngle (degrees) toward offsetDirection, in the character's yaw (left +) and pitch (down +).
+  float offset = 0.0f;
+  if (const std::string_view text = valueOf(b, "offsetAngle"); !text.empty()) {
+    const auto v = oneNumber(text);
+    if (v && std::isfinite(*v) && std::fabs(*v) <= 180.0f) offset = static_cast<float>(*v * kDegree);
+    else note(out.warning, "offsetAngle '" + std::string(text).substr(0, 40) + "' is not an angle in degrees (-180 to 180); 0 is used");
+  }
+  const std::string direction = toUpper(valueOf(b, "offsetDirection"));
+  const float diagonal = 0.70710678f * offset;
+  if (direction == "RIGHT") g.offsetYaw = -offset;
+  else if (direction == "LEFT") g.offsetYaw = offset;
+  else if (direction == "UP") g.offsetPitch = -offset;
+  else if (direction == "DOWN") g.offsetPitch = offset;
+  else if (direction == "UPRIGHT") g.offsetYaw = -diagonal, g.offsetPitch = -diagonal;
+  else if (direction == "UPLEFT") g.offsetYaw = diagonal, g.offsetPitch = -diagonal;
+  else if (direction == "DOWNRIGHT") g.offsetYaw = -diagonal, g.offsetPitch = diagonal;
+  else if (direction == "DOWNLEFT") g.offsetYaw = diagonal, g.offsetPitch = diagonal;
+  else if (offset != 0.0f)
+    note(out.warning, "offsetDirection '" + direction.substr(0, 40) +
+                          "' is not one of RIGHT, LEFT, UP, DOWN, UPRIGHT, UPLEFT, DOWNRIGHT, DOWNLEFT; the offset was ignored");
+  out.parameters = std::move(g);
+}
+
+void readPointing(const Behavior& b, ReadParameters& out) {
+  PointingParameters p;
+  p.target = readTarget(valueOf(b, "target"));
+  const std::string mode = toUpper(valueOf(b, "mode"));
+  if (mode == "LEFT_HAND") p.arms = PointingArms::Left;
+  else if (mode == "RIGHT_HAND") p.arms = PointingArms::Right;
+  else if (mode == "BOTH_HANDS") p.arms = PointingArms::Both;
+  else if (!mode.empty())
+    note(out.warning, "mode '" + mode.substr(0, 40) + "' is not LEFT_HAND, RIGHT_HAND or BOTH_HANDS; the arm on the target's side points");
+  out.parameters = std::move(p);
+}
+
+void readLocomotion(const Behavior& b, ReadParameters& out) {
+  LocomotionParameters l;
+  const std::string_view target = valueOf(b, "target");
+  if (target.empty()) {
+    out.error = "a locomotion needs a target: \"x z\" in metres, waypoints \"x1 z1 x2 z2 ...\", or a character";
+    return;
+  }
+  const std::string shown(target.substr(0, 60));
+  if (const auto numbers = parseNumberList(target)) {
+    const std::vector<float>& v = *numbers;
+    for (float x : v)
+      if (!std::isfinite(x)) {
+        out.error = "locomotion target '" + shown + "' is not finite (NaN or infinite); nothing moves";
+        return;
+      }
+    if (v.size() == 3) {
+      l.waypoints.push_back({v[0], v[2]});  // x y z: y is ignored
+    } else if (v.size() >= 2 && v.size() % 2 == 0 && v.size() / 2 <= LocomotionParameters::kMaxWaypoints) {
+      for (std::size_t i = 0; i < v.size(); i += 2) l.waypoints.push_back({v[i], v[i + 1]});
+    } else {
+      out.error = "locomotion target '" + shown + "' has " + std::to_string(v.size()) +
+                  " numbers: give \"x z\", \"x y z\", or up to 1000 waypoints \"x1 z1 x2 z2 ...\"";
+      return;
+    }
+  } else {
+    l.targetCharacter = std::string(target.substr(0, target.find(':')));
+  }
+  const std::string manner = toUpper(valueOf(b, "manner"));
+  if (manner == "RUN" || manner == "JOG") l.manner = LocomotionManner::Run;
+  else if (manner == "STROLL") l.manner = LocomotionManner::Stroll;
+  else if (manner == "SPRINT") l.manner = LocomotionManner::Sprint;
+  else if (!manner.empty() && manner != "WALK")
+    note(out.warning, "manner '" + manner.substr(0, 40) + "' is not WALK, RUN, JOG, STROLL or SPRINT; WALK is used");
+  // A number, else ignored with a warning; the middleware checks the range of speed and
+  // proximity, facing (degrees here) is checked in BML's unit.
+  auto number = [&](std::string_view name, double lo, double hi) -> std::optional<float> {
+    const std::string_view text = valueOf(b, name);
+    if (text.empty()) return std::nullopt;
+    const auto v = parseNumberList(text);
+    if (!v || v->size() != 1) {
+      note(out.warning, notANumber(name, text, lo, hi, "ignored"));
+      return std::nullopt;
+    }
+    return v->front();
+  };
+  l.speed = number("speed", LocomotionParameters::kMinSpeed, LocomotionParameters::kMaxSpeed);
+  l.proximity = number("proximity", 0.0, LocomotionParameters::kMaxProximity);
+  if (const auto facing = number("facing", -360.0, 360.0)) {
+    if (std::isfinite(*facing) && std::fabs(*facing) <= 360.0f) l.facing = static_cast<float>(*facing * kDegree);
+    else note(out.warning, notANumber("facing", valueOf(b, "facing"), -360.0, 360.0, "ignored"));
+  }
+  out.parameters = std::move(l);
+}
+
+void readSpeech(const Behavior& b, ReadParameters& out) {
+  SpeechParameters s;
+  s.text = b.text;
+  s.voice = std::string(valueOf(b, "voice"));
+  for (const WordMark& m : b.marks) s.marks.push_back({m.id, m.characterOffset});
+  if (const std::string_view rate = valueOf(b, "rate"); !rate.empty()) {
+    const auto v = oneNumber(rate);
+    if (v && std::isfinite(*v) && *v >= 1.0f && *v <= 10000.0f) s.wordsPerMinute = static_cast<int>(std::lround(*v));
+    else note(out.warning, "speech rate '" + std::string(rate) +
+                               "' is not a number of words per minute in [1, 10000]; the voice's default is used");
+  }
+  out.parameters = std::move(s);
+}
+
+}  // namespace
+
+std::optional<HeadLexeme> headLexemeFromName(std::string_view name) noexcept {
+  if (equalsIgnoringCase(name, "NOD")) return HeadLexeme::Nod;
+  if (equalsIgnoringCase(name, "SHAKE")) return HeadLexeme::Shake;
+  if (equalsIgnoringCase(name, "TILT")) return HeadLexeme::Tilt;
+  return std::nullopt;
+}
+
+std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept {
+  if (equalsIgnoringCase(name, "EYES")) return GazeInfluence::Eyes;
+  if (equalsIgnoringCase(name, "HEAD")) return GazeInfluence::Head;
+  if (equalsIgnoringCase(name, "NECK")) return GazeInfluence::Neck;
+  if (equalsIgnoringCase(name, "SHOULDER")) return GazeInfluence::Shoulder;
+  if (equalsIgnoringCase(name, "WAIST")) return GazeInfluence::Waist;
+  if (equalsIgnoringCase(name, "WHOLE")) return GazeInfluence::Whole;
+  return std::nullopt;
+}
+
+BehaviorTarget readTarget(std::string_view text) {
+  if (text.empty()) return {};
+  if (const auto v = parseNumberList(text); v && v->size() == 3) return BehaviorTarget::at({(*v)[0], (*v)[1], (*v)[2]});
+  const std::size_t colon = text.find(':');
+  return BehaviorTarget::of(std::string(text.substr(0, colon)),
+                            colon == std::string_view::npos ? std::string() : std::string(text.substr(colon + 1)));
+}
+
+ReadParameters readParameters(const Behavior& b, BehaviorKind kind) {
+  ReadParameters out;
+  switch (kind) {
+    case BehaviorKind::Head: readHead(b, out); break;
+    case BehaviorKind::FaceLexeme:
+    case BehaviorKind::FaceFacs:
+    case BehaviorKind::Face:
+    case BehaviorKind::FaceShift: readFace(b, kind, out); break;
+    case BehaviorKind::Gaze:
+    case BehaviorKind::GazeShift:
+    case BehaviorKind::HeadDirectionShift: readGaze(b, out); break;
+    case BehaviorKind::Pointing: readPointing(b, out); break;
+    case BehaviorKind::Locomotion: readLocomotion(b, out); break;
+    case BehaviorKind::Speech: readSpeech(b, out); break;
+    default: break;  // postures, gestures, waits and clips have no parameters
+  }
+  if (!out.error.empty()) out.parameters = std::monostate{};
+  return out;
+}
+
+}  // namespace marionette::bml
