@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "marionette/behavior/gaze.hpp"
+#include "gaze_hold.hpp"
 #include "joint_rotation.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic.hpp"
@@ -255,4 +256,38 @@ TEST(Gaze, HeadDirectionShiftPointsTheHeadAndHolds) {
   EXPECT_LT(degreesBetween(headForward(*c, restHead), glm::vec3(2, 0.9f, 2) - head), 3.0f);
   EXPECT_LT(preciseAngleBetween(modelRotation(*c, 4) * glm::inverse(restEye), modelRotation(*c, 3) * glm::inverse(restHead)),
             1e-4f);
+}
+
+// A clip below turns the head up to 150 degrees and back: the gaze holds on the target
+// the whole time (it aims in the model frame from wherever the pose below has the head),
+// for any frame step, with no NaN.
+TEST(Gaze, HoldsOverAClipThatTurnsTheHead) {
+  for (const double dt : {1.0 / 240, 1.0 / 60, 0.1}) {
+    SCOPED_TRACE(dt);
+    Scene scene;
+    auto rig = gazeRig(false);
+    Character* c = scene.addCharacter("c", rig);
+    ASSERT_TRUE(c->play(0, test::headTurnClip(rig->skeleton(), 3, 150.0f, 4.0f)));
+    scene.update(0.0);
+    const glm::quat rest = modelRotation(*c, 3);
+    const glm::vec3 target(1.5f, 0.9f, 1.5f);
+    ASSERT_TRUE(c->addBehavior(gaze(BehaviorTarget::at(target))).realized);
+    float worst = 0.0f, worstWithoutGaze = 0.0f;
+    for (int f = 0; f < static_cast<int>(4.0 / dt); ++f) {
+      scene.update(dt);
+      for (const Transform& t : c->localPose()) ASSERT_TRUE(test::finite(t));
+      if (scene.time() < 1.0) continue;  // settled
+      worst = std::max(worst, test::gazeErrorDegrees(*c, 3, rest, test::gazeOriginWorld(*c), target));
+    }
+    // The clip alone turns the head far off the target: the test can fail.
+    Scene plain;
+    Character* p = plain.addCharacter("p", rig);
+    p->play(0, test::headTurnClip(rig->skeleton(), 3, 150.0f, 4.0f));
+    for (int f = 0; f < static_cast<int>(4.0 / dt); ++f) {
+      plain.update(dt);
+      worstWithoutGaze = std::max(worstWithoutGaze, test::gazeErrorDegrees(*p, 3, rest, test::gazeOriginWorld(*p), target));
+    }
+    EXPECT_LE(worst, 3.0f);
+    EXPECT_GT(worstWithoutGaze, 90.0f);
+  }
 }

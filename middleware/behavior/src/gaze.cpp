@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "marionette/behavior/head_motion.hpp"
+#include "marionette/core/finite.hpp"
 #include "marionette/core/text.hpp"
 #include "marionette/rig/rig.hpp"
 
@@ -47,6 +48,32 @@ bool hasEyes(const RigJoints& j) { return j.leftEye >= 0 || j.rightEye >= 0; }
 
 glm::quat lookRotation(float yaw, float pitch) {
   return glm::angleAxis(yaw, glm::vec3(0, 1, 0)) * glm::angleAxis(pitch, glm::vec3(1, 0, 0));
+}
+
+// The model-frame rotation of a joint (the root space's rotation, without its scale).
+glm::quat modelRotationOf(const Skeleton& s, std::span<const Transform> pose, int joint) {
+  glm::mat3 root(s.rootTransform);
+  for (int c = 0; c < 3; ++c) root[c] = glm::length(root[c]) > 0.0f ? glm::normalize(root[c]) : root[c];
+  int chain[256];
+  int n = 0;
+  for (int p = joint; p >= 0 && n < 256; p = s.parents[static_cast<std::size_t>(p)]) chain[n++] = p;
+  glm::quat q = glm::quat_cast(root);
+  for (int i = n - 1; i >= 0; --i) q = q * pose[static_cast<std::size_t>(chain[i])].rotation;
+  return q;
+}
+
+// The rotation that turns unit vector `from` onto `to` by the shortest arc (identity when
+// they agree; about any perpendicular axis when they are opposite).
+glm::quat shortestArc(const glm::vec3& from, const glm::vec3& to) {
+  const float d = glm::dot(from, to);
+  if (d > 1.0f - 1e-7f) return glm::quat(1, 0, 0, 0);
+  if (d < -1.0f + 1e-6f) {
+    glm::vec3 axis = glm::cross(glm::vec3(1, 0, 0), from);
+    if (glm::dot(axis, axis) < 1e-6f) axis = glm::cross(glm::vec3(0, 1, 0), from);
+    return glm::angleAxis(3.14159265f, glm::normalize(axis));
+  }
+  const glm::vec3 c = glm::cross(from, to);
+  return glm::normalize(glm::quat(1.0f + d, c.x, c.y, c.z));
 }
 
 glm::vec3 modelPosition(const Skeleton& s, std::span<const Transform> pose, int joint) {
@@ -135,22 +162,62 @@ void stepGaze(GazeState& g, const Chain& c, const glm::vec3& target, const glm::
   if (dt > 0.0f) g.started = true;
 }
 
-void applyGaze(const GazeState& g, const Chain& c, bool eyes, float weight, const Skeleton& skeleton,
+// The gaze holds in the model frame whatever the pose below does: the chain turns from where
+// the pose below has the head facing to the damped aim (blended by the weight), shared
+// along the chain in proportion to the limits; a last turn of the chain's top joint by the
+// shortest arc puts its facing exactly on the aim (the yaw-then-pitch shares compose
+// exactly only from a head that faces ahead).
+void applyGaze(GazeState& g, const Chain& c, bool eyes, float weight, const Skeleton& skeleton,
                const RigJoints& joints, std::span<Transform> pose) noexcept {
-  const float yaw = weight * g.chainYaw.value, pitch = weight * g.chainPitch.value;
+  float baseYaw = 0.0f, basePitch = 0.0f, yaw = 0.0f, pitch = 0.0f;
+  // Where the chain's top joint faces in the pose below: its rest forward (+Z, the
+  // character's) carried by the rotation it has gained over its rest pose (cached).
+  glm::vec3 facingBelow(0, 0, 1);
+  glm::quat topBelow(1, 0, 0, 0);  // its model rotation in the pose below
+  const int top = c.size > 0 ? c.joint[c.size - 1] : -1;
+  if (top >= 0) {
+    if (g.restTopJoint != top) {
+      g.restTop = modelRotationOf(skeleton, skeleton.restPose, top);
+      g.restTopJoint = top;
+    }
+    topBelow = modelRotationOf(skeleton, pose, top);
+    facingBelow = (topBelow * glm::inverse(g.restTop)) * glm::vec3(0, 0, 1);
+    const YawPitch below = yawPitchOf(facingBelow, g.chainYaw.value);
+    baseYaw = below.yaw;
+    basePitch = below.pitch;
+    yaw = weight * (g.chainYaw.value - below.yaw);
+    pitch = weight * (g.chainPitch.value - below.pitch);
+  }
+  const float aimYaw = baseYaw + yaw, aimPitch = basePitch + pitch;
   // Shared in proportion to the limits: every joint reaches its limit together.
   float cumYaw = 0.0f, cumPitch = 0.0f;
   glm::quat previous(1, 0, 0, 0);
-  for (int i = 0; i < c.size; ++i) {
+  for (int i = 0; i + 1 < c.size; ++i) {
     cumYaw += c.totalYaw > 0.0f ? c.yawLimit[i] / c.totalYaw : 0.0f;
     cumPitch += c.totalPitch > 0.0f ? c.pitchLimit[i] / c.totalPitch : 0.0f;
     const glm::quat q = lookRotation(cumYaw * yaw, cumPitch * pitch);
     rotateInModelFrame(skeleton, pose, c.joint[i], q * glm::inverse(previous));
     previous = q;
   }
+  if (top >= 0) {
+    // The top joint takes the rest of the turn and a shortest arc onto the aim, set from
+    // model rotations already known: the joints below it turned by `previous` in the model
+    // frame, so its parent's model rotation is `previous` times what it was.
+    const glm::quat whole = lookRotation(yaw, pitch);
+    const glm::vec3 facing = whole * facingBelow;
+    const float cp = std::cos(aimPitch);
+    const glm::vec3 aim(cp * std::sin(aimYaw), -std::sin(aimPitch), cp * std::cos(aimYaw));
+    const glm::quat onto = isFinite(facing) && glm::dot(facing, facing) > 0.5f
+                               ? shortestArc(glm::normalize(facing), aim)
+                               : glm::quat(1, 0, 0, 0);
+    Transform& t = pose[static_cast<std::size_t>(top)];
+    const glm::quat parentAfter = previous * (topBelow * glm::inverse(t.rotation));
+    const glm::quat turned = glm::normalize(glm::inverse(parentAfter) * (onto * whole * topBelow));
+    if (isFinite(turned)) t.rotation = turned;
+  }
   if (!eyes) return;
-  const glm::quat look = lookRotation(yaw + weight * g.eyeYaw.value, pitch + weight * g.eyePitch.value);
-  const glm::quat delta = look * glm::inverse(previous);
+  const glm::quat look = lookRotation(aimYaw + weight * g.eyeYaw.value, aimPitch + weight * g.eyePitch.value);
+  const glm::quat delta = look * glm::inverse(lookRotation(aimYaw, aimPitch));
   rotateInModelFrame(skeleton, pose, joints.leftEye, delta);
   rotateInModelFrame(skeleton, pose, joints.rightEye, delta);
 }

@@ -64,6 +64,8 @@ struct GazeState {
   DampedAngle chainYaw, chainPitch, eyeYaw, eyePitch;
   float lastTarget[4] = {};     // the last frame's targets (chain yaw, pitch, eye yaw, pitch), for the ramp
   bool started = false;         // false until the first step (which has no last target)
+  int restTopJoint = -1;        // the chain's top joint whose rest model rotation is cached below
+  glm::quat restTop{1, 0, 0, 0};
 };
 
 // One frame of a gaze: steps the state toward `targetModel` (a model-frame point)
