@@ -174,6 +174,8 @@ int retargetCommand(const std::vector<std::string>& args) {
     const auto err = retarget::endEffectorError(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap, out,
                                                 r.facingAlignment());
     const auto sk = retarget::compareSkating(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap, out);
+    const auto dir = retarget::segmentDirectionError(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap, out,
+                                                     r.facingAlignment());
     const int frames = static_cast<int>(out.tracks.empty() ? 0 : out.tracks.front().rotation.keyCount());
     if (a.json) {
       nlohmann::ordered_json j;
@@ -186,6 +188,9 @@ int retargetCommand(const std::vector<std::string>& args) {
       j["seconds"] = seconds;
       j["endEffectorMean"] = err.mean;
       j["endEffectorMax"] = err.max;
+      j["segmentDirectionMeanDegrees"] = dir.meanDegrees;
+      j["segmentDirectionP95Degrees"] = dir.p95Degrees;
+      j["segmentDirectionMaxDegrees"] = dir.maxDegrees;
       j["sourceSkating"] = sk.source;
       j["targetSkating"] = sk.target;
       j["skatingRatio"] = sk.ratio;
@@ -197,6 +202,8 @@ int retargetCommand(const std::vector<std::string>& args) {
       std::printf("| retarget time | %.1f ms |\n", seconds * 1e3);
       std::printf("| end-effector error, mean | %.2f %% of height |\n", 100.0 * err.mean);
       std::printf("| end-effector error, max | %.2f %% of height |\n", 100.0 * err.max);
+      std::printf("| segment directions (spine, neck, arms, legs), mean | %.2f deg |\n", dir.meanDegrees);
+      std::printf("| segment directions, p95 | %.2f deg |\n", dir.p95Degrees);
       std::printf("| foot skating in the source's contacts (%.0f %% of foot-frames), source | %.4f leg lengths/s |\n",
                   100.0 * sk.contactFraction, sk.source);
       std::printf("| foot skating in the source's contacts, output | %.4f leg lengths/s |\n", sk.target);

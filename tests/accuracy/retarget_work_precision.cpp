@@ -119,9 +119,10 @@ int main(int argc, char** argv) {
   // The walk's work-precision points, one gnuplot block per target.
   std::ofstream wp(dir + "/retarget_work_precision.dat");
   wp << "# target ik(0 none, 1 feet, 2 feet+hands) us_per_frame ee_mean skate_ratio\n";
-  csv << "source,target,ik,frames,seconds,us_per_frame,ee_mean,ee_max,skate_source,skate_target,skate_ratio\n";
-  std::printf("| source | target | IK | frames | us/frame | end-effector mean | max | skating ratio |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  csv << "source,target,ik,frames,seconds,us_per_frame,ee_mean,ee_max,skate_source,skate_target,skate_ratio,"
+         "dir_mean_deg,dir_p95_deg\n";
+  std::printf("| source | target | IK | frames | us/frame | end-effector mean | max | segment directions mean | p95 | skating ratio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& src : sources) {
     const Clip& clip = src.asset.clips.front();
     for (const auto& dst : targets) {
@@ -138,14 +139,18 @@ int main(int argc, char** argv) {
                                                  r.facingAlignment());
         const SkatingComparison sk =
             compareSkating(src.asset.skeleton, src.map, clip, dst.asset.skeleton, dst.map, out);
+        const SegmentDirectionError d = segmentDirectionError(src.asset.skeleton, src.map, clip, dst.asset.skeleton,
+                                                              dst.map, out, r.facingAlignment());
         const char* mode = ik == 0 ? "none" : ik == 1 ? "feet" : "feet+hands";
         const double us = frames ? seconds * 1e6 / static_cast<double>(frames) : 0.0;
         csv << src.name << ',' << dst.name << ',' << mode << ',' << frames << ',' << seconds << ',' << us << ','
-            << e.mean << ',' << e.max << ',' << sk.source << ',' << sk.target << ',' << sk.ratio << '\n';
+            << e.mean << ',' << e.max << ',' << sk.source << ',' << sk.target << ',' << sk.ratio << ',' << d.meanDegrees
+            << ',' << d.p95Degrees << '\n';
         if (&src == &sources.front())
           wp << dst.name << ' ' << ik << ' ' << us << ' ' << e.mean << ' ' << sk.ratio << (ik == 2 ? "\n\n\n" : "\n");
-        std::printf("| %s | %s | %s | %zu | %.2f | %.1f %% | %.1f %% | %.2f |\n", src.name.c_str(), dst.name.c_str(), mode,
-                    frames, us, 100.0 * e.mean, 100.0 * e.max, sk.ratio);
+        std::printf("| %s | %s | %s | %zu | %.2f | %.1f %% | %.1f %% | %.2f deg | %.2f deg | %.2f |\n", src.name.c_str(),
+                    dst.name.c_str(), mode, frames, us, 100.0 * e.mean, 100.0 * e.max, d.meanDegrees, d.p95Degrees,
+                    sk.ratio);
       }
     }
   }

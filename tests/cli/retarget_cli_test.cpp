@@ -61,6 +61,11 @@ TEST(RetargetCli, FeetIkReportAsJson) {
   EXPECT_LT(b["skatingRatio"].get<double>(), 0.7);
   EXPECT_LT(b["skatingRatio"].get<double>(), 0.6 * a["skatingRatio"].get<double>());
   EXPECT_LT(a["endEffectorMean"].get<double>(), 0.15);
+  // The proportion-free metric (docs/accuracy.md): the limbs point as the source's do.
+  ASSERT_TRUE(a.contains("segmentDirectionMeanDegrees")) << none.out;
+  EXPECT_LT(a["segmentDirectionMeanDegrees"].get<double>(), 2.0);
+  EXPECT_LT(a["segmentDirectionP95Degrees"].get<double>(), 10.0);
+  EXPECT_LE(a["segmentDirectionP95Degrees"].get<double>(), a["segmentDirectionMaxDegrees"].get<double>());
   EXPECT_GT(b["frames"].get<int>(), 900);
 }
 

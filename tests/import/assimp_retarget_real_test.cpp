@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/sampling.hpp"
@@ -35,6 +36,7 @@ RetargetSubject walk() {
 
 struct Result {
   EffectorError effectors;
+  SegmentDirectionError directions;
   SkatingComparison skating;
   Clip clip;
 };
@@ -51,6 +53,8 @@ Result run(const RetargetSubject& src, const RetargetSubject& dst, bool feetIk) 
   res.effectors = endEffectorError(src.asset.skeleton, src.map, clip, dst.asset.skeleton, dst.map, res.clip,
                                    r.facingAlignment());
   res.skating = compareSkating(src.asset.skeleton, src.map, clip, dst.asset.skeleton, dst.map, res.clip);
+  res.directions = segmentDirectionError(src.asset.skeleton, src.map, clip, dst.asset.skeleton, dst.map, res.clip,
+                                         r.facingAlignment());
   return res;
 }
 
@@ -62,6 +66,8 @@ TEST(RetargetRealData, CmuWalkOntoItselfIsTheSource) {
   const Result r = run(w, w, false);
   EXPECT_LT(r.effectors.max, 1e-5) << "mean " << r.effectors.mean;
   EXPECT_GT(r.effectors.samples, 1000);
+  EXPECT_LT(r.directions.maxDegrees, 0.05);
+  EXPECT_GT(r.directions.samples, 1000);
   // Joint by joint, at the source's keys.
   const Clip& clip = w.asset.clips.front();
   std::vector<Transform> a(w.asset.skeleton.jointCount()), b(a.size());
@@ -94,6 +100,16 @@ TEST(RetargetRealData, CmuWalkOntoEveryTargetHoldsItsFeet) {
     // Proportions differ (figures in docs/accuracy.md): bounded, and IK does not make it worse.
     EXPECT_LT(plain.effectors.mean, t.name == "RobotExpressive" ? 0.35 : 0.15);
     EXPECT_LT(held.effectors.mean, plain.effectors.mean + 0.01);
+    // The proportion-free measure: every limb and the spine point as the source's do,
+    // whatever the proportions (RobotExpressive's head is a third of its height).
+    std::printf("CMU walk onto %s: segment directions mean %.2f deg, p95 %.2f deg (feet IK: %.2f, %.2f)\n",
+                t.name.c_str(), plain.directions.meanDegrees, plain.directions.p95Degrees, held.directions.meanDegrees,
+                held.directions.p95Degrees);
+    EXPECT_GT(plain.directions.samples, 1000);
+    EXPECT_LT(plain.directions.meanDegrees, 2.0);   // measured 0.04 to 0.62
+    EXPECT_LT(plain.directions.p95Degrees, 10.0);   // 0.19 to 5.2
+    EXPECT_LT(held.directions.meanDegrees, 5.0);    // the feet IK bends the legs: 0.9 to 2.4
+    EXPECT_LT(held.directions.p95Degrees, 20.0);    // 4.7 to 10.5
   }
 }
 

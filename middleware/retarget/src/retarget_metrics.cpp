@@ -131,6 +131,54 @@ EffectorError endEffectorError(const Skeleton& source, const JointMap& sourceMap
   return e;
 }
 
+SegmentDirectionError segmentDirectionError(const Skeleton& source, const JointMap& sourceMap, const Clip& sourceClip,
+                                            const Skeleton& target, const JointMap& targetMap, const Clip& targetClip,
+                                            const glm::quat& facing, float rate) {
+  SegmentDirectionError out;
+  if (!(rate > 0.0f) || !sourceClip.validate(source.jointCount()).empty() || !targetClip.validate(target.jointCount()).empty())
+    return out;
+  // Each segment's ends: a bone, or the first joint of a chain (the neck's base).
+  auto end = [](const JointMap& m, Bone b, bool neckBase) {
+    if (neckBase) return !m.chain(Chain::Neck).empty() ? m.chain(Chain::Neck).front() : -1;
+    return m.joint(b);
+  };
+  struct Segment {
+    Bone from, to;
+    bool fromNeck, toNeck;
+  };
+  constexpr Segment kSegments[] = {
+      {Bone::Hips, Bone::Head, false, true},   {Bone::Head, Bone::Head, true, false},
+      {Bone::LeftUpperArm, Bone::LeftLowerArm, false, false}, {Bone::LeftLowerArm, Bone::LeftHand, false, false},
+      {Bone::RightUpperArm, Bone::RightLowerArm, false, false}, {Bone::RightLowerArm, Bone::RightHand, false, false},
+      {Bone::LeftUpperLeg, Bone::LeftLowerLeg, false, false}, {Bone::LeftLowerLeg, Bone::LeftFoot, false, false},
+      {Bone::RightUpperLeg, Bone::RightLowerLeg, false, false}, {Bone::RightLowerLeg, Bone::RightFoot, false, false},
+  };
+  const float duration = std::min(sourceClip.duration, targetClip.duration);
+  const Sampled a = sample(source, sourceClip, rate, duration), b = sample(target, targetClip, rate, duration);
+  std::vector<double> angles;
+  for (std::size_t f = 0; f < a.frames.size() && f < b.frames.size(); ++f)
+    for (const Segment& seg : kSegments) {
+      const int s0 = end(sourceMap, seg.from, seg.fromNeck), s1 = end(sourceMap, seg.to, seg.toNeck);
+      const int t0 = end(targetMap, seg.from, seg.fromNeck), t1 = end(targetMap, seg.to, seg.toNeck);
+      if (s0 < 0 || s1 < 0 || t0 < 0 || t1 < 0 || s0 == s1 || t0 == t1) continue;
+      const glm::vec3 ds = facing * (at(a.frames[f], s1) - at(a.frames[f], s0));
+      const glm::vec3 dt = at(b.frames[f], t1) - at(b.frames[f], t0);
+      const float ls = glm::length(ds), lt = glm::length(dt);
+      if (!(ls > 1e-6f) || !(lt > 1e-6f) || !std::isfinite(ls) || !std::isfinite(lt)) continue;
+      const double c = std::clamp(static_cast<double>(glm::dot(ds, dt)) / (static_cast<double>(ls) * lt), -1.0, 1.0);
+      angles.push_back(std::acos(c) * 180.0 / 3.14159265358979323846);
+    }
+  if (angles.empty()) return out;
+  double sum = 0.0;
+  for (double d : angles) sum += d;
+  out.samples = static_cast<int>(angles.size());
+  out.meanDegrees = sum / static_cast<double>(angles.size());
+  std::sort(angles.begin(), angles.end());
+  out.p95Degrees = angles[std::min(angles.size() - 1, static_cast<std::size_t>(0.95 * static_cast<double>(angles.size())))];
+  out.maxDegrees = angles.back();
+  return out;
+}
+
 SkatingComparison compareSkating(const Skeleton& source, const JointMap& sourceMap, const Clip& sourceClip,
                                  const Skeleton& target, const JointMap& targetMap, const Clip& targetClip, float rate,
                                  float contactHeight, float contactSpeed) {

@@ -3,6 +3,8 @@
 //  - end-effector error: hands, feet and head relative to the hips, each side
 //    divided by its character's height, the source turned by the facing
 //    alignment; mean and max over effectors and frames, as a fraction of height;
+//  - segment directions: the angle between each limb and spine segment's direction,
+//    source against target (proportion-free), mean, p95 and max in degrees;
 //  - foot skating: how fast each side's feet slide during the source's foot
 //    contacts, in its own leg lengths per second; the target's over the source's.
 #pragma once
@@ -40,6 +42,21 @@ struct EffectorError {
 [[nodiscard]] EffectorError endEffectorError(const Skeleton& source, const JointMap& sourceMap, const Clip& sourceClip,
                                              const Skeleton& target, const JointMap& targetMap, const Clip& targetClip,
                                              const glm::quat& facing, float rate = 60.0f);
+
+// Segment directions, free of proportions: the angle between each body segment's
+// direction in the source (turned by `facing`) and in the target, frame by frame. The
+// segments: hips to neck (the spine), neck to head, upper arm, forearm, thigh and shin of
+// each side, where both maps have both ends. End-effector error divided by height
+// mixes proportions in (a head a third of the height reads as a large error while every
+// limb points the same way); this does not.
+struct SegmentDirectionError {
+  double meanDegrees = 0.0, p95Degrees = 0.0, maxDegrees = 0.0;
+  int samples = 0;  // segment-frames compared
+};
+[[nodiscard]] SegmentDirectionError segmentDirectionError(const Skeleton& source, const JointMap& sourceMap,
+                                                          const Clip& sourceClip, const Skeleton& target,
+                                                          const JointMap& targetMap, const Clip& targetClip,
+                                                          const glm::quat& facing, float rate = 60.0f);
 
 // Foot skating over the source's contacts: frames where a source foot is down
 // (at most contactHeight leg lengths above its lowest point in the clip) and
