@@ -22,3 +22,16 @@ function(marionette_library name)
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
   install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endfunction()
+
+# marionette_link_private(<target> <dependency target> [NAMES library names...])
+# A static library's private dependencies must reach whoever links it, but an installed
+# package should not make its users find our dependencies' CMake packages (nor need
+# their headers): the build tree links the dependency's target, the installed targets
+# name its libraries (-lassimp ...), and header-only dependencies (no NAMES) vanish.
+function(marionette_link_private target dependency)
+  cmake_parse_arguments(P "" "" "NAMES" ${ARGN})
+  target_link_libraries(${target} PRIVATE $<BUILD_INTERFACE:${dependency}>)
+  foreach(name IN LISTS P_NAMES)
+    target_link_libraries(${target} INTERFACE $<INSTALL_INTERFACE:${name}>)
+  endforeach()
+endfunction()

@@ -1,4 +1,5 @@
 #include <cstdio>
+#include "example_synthesizer.hpp"
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -79,6 +80,7 @@ int bmlCheckCommand(const std::vector<std::string>& args) {
     // Each file is one block sent at time 0 to a fresh scene, so files do not
     // interact (many corpus files share the id "bml1").
     Scene scene;
+    examples::useExampleSynthesizer(scene.speech());
     scene.addCharacter(name, rig);
     bml::Realizer realizer(scene);
     realizer.setForwardWarningsToScene(false);

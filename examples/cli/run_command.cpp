@@ -1,4 +1,5 @@
 #include <array>
+#include "example_synthesizer.hpp"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -141,6 +142,7 @@ int runCommand(const std::vector<std::string>& args) {
   RunArgs r;
   if (int rc = parseArgs(args, r)) return rc;
   Scene scene;
+  examples::useExampleSynthesizer(scene.speech());
   WarningCounter counter;
   scene.addListener(&counter);
   const auto loadStart = std::chrono::steady_clock::now();

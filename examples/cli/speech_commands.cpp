@@ -7,7 +7,7 @@
 
 #include "commands.hpp"
 #include "marionette/speech/alignment_io.hpp"
-#include "marionette/speech/espeak_backend.hpp"
+#include "example_synthesizer.hpp"
 #include "marionette/speech/lipsync.hpp"
 
 namespace marionette::cli {
@@ -113,7 +113,7 @@ int speakCommand(const std::vector<std::string>& args) {
     request.wordsPerMinute = static_cast<int>(std::lround(wpm));
   }
   std::string why;
-  auto tts = makeEspeakBackend(&why);
+  auto tts = examples::exampleSynthesizer(&why);
   if (!tts) {
     std::fprintf(stderr, "marionette speak: error: %s\n", why.c_str());
     return 2;

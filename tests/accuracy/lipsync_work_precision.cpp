@@ -25,7 +25,9 @@
 
 #include "lipsync_measure.hpp"
 #include "marionette/speech/alignment_io.hpp"
-#include "marionette/speech/espeak_backend.hpp"
+#ifdef MARIONETTE_HAS_TTS
+#include "marionette/tts_espeak/espeak_backend.hpp"
+#endif
 #include "marionette/speech/lipsync.hpp"
 
 using namespace marionette;
@@ -102,6 +104,7 @@ int main(int argc, char** argv) {
   double arcticEnd = 0.0;
   for (const auto& p : arctic.phonemes) arcticEnd = std::max(arcticEnd, p.end);
   sources.push_back({"arctic_a0009", {arctic.phonemes}, {arcticEnd}});
+#ifdef MARIONETTE_HAS_TTS
   std::string whyNot;
   if (const auto espeak = makeEspeakBackend(&whyNot)) {
     for (const int wpm : {175, 300}) {
@@ -123,6 +126,9 @@ int main(int argc, char** argv) {
   } else {
     std::fprintf(stderr, "no espeak-ng sources: %s\n", whyNot.c_str());
   }
+#else
+  std::fprintf(stderr, "no espeak-ng sources: built without MARIONETTE_WITH_TTS\n");
+#endif
   const std::vector<Phoneme> tenSeconds = test::tiledTo(arctic.phonemes, 10.0);
 
   struct Sweep {

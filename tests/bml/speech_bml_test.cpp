@@ -9,7 +9,9 @@
 #include <memory>
 
 #include "marionette/bml/realizer.hpp"
-#include "marionette/speech/espeak_backend.hpp"
+#ifdef MARIONETTE_HAS_TTS
+#include "marionette/tts_espeak/espeak_backend.hpp"
+#endif
 #include "marionette/speech/recorded_speech.hpp"
 #include "gated_speech_backend.hpp"
 #include "real_rig.hpp"
@@ -191,6 +193,7 @@ TEST_F(GodetteRealizer, AppendQueuesTheSecondUtteranceAndReplaceInterruptsTheFir
 // With espeak-ng, the schedule holds the synthesized utterance's own length and mark.
 TEST(SpeechBml, EspeakTimingDrivesTheSchedule) {
   Scene scene;
+  speech::useEspeak(scene.speech());
   Realizer realizer(scene);
   realizer.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it
   const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
@@ -231,6 +234,9 @@ TEST(SpeechBml, AMarkAfterTheLastWordIsTheEndOfTheSpeech) {
   const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
   MARIONETTE_REQUIRE_FILE(vrm);
   Scene scene;
+#ifdef MARIONETTE_HAS_TTS
+  speech::useEspeak(scene.speech());  // the repro was found with espeak-ng's timing
+#endif
   ASSERT_TRUE(scene.addCharacter("godette", test::loadRigWithProfile(vrm, "Godette_vrm_v4.json")));
   Realizer realizer(scene);
   realizer.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);  // the schedule at once: these tests read it

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "marionette/marionette.h"
+#include "marionette/version.h"
 #include "test_data.hpp"
 
 namespace {
@@ -38,6 +39,20 @@ std::string tempFile(const std::string& name, const std::string& text) {
 }
 
 }  // namespace
+
+// The loaded library says its version (the one this program was compiled against) and
+// whether it is the variant with espeak-ng (these tests link it where the build has it).
+TEST(CApi, VersionAndSpeechSynthesisOfTheLoadedLibrary) {
+  EXPECT_STREQ(mn_version(), MARIONETTE_VERSION_STRING);
+  EXPECT_EQ(std::string(mn_version()), std::to_string(MARIONETTE_VERSION_MAJOR) + "." +
+                                           std::to_string(MARIONETTE_VERSION_MINOR) + "." +
+                                           std::to_string(MARIONETTE_VERSION_PATCH));
+#ifdef MARIONETTE_HAS_TTS
+  EXPECT_EQ(mn_has_speech_synthesis(), 1);
+#else
+  EXPECT_EQ(mn_has_speech_synthesis(), 0);
+#endif
+}
 
 TEST(CApi, NullHandlesAndArgumentsAreErrorsNotCrashes) {
   EXPECT_EQ(mn_scene_create(nullptr), MN_ERROR_INVALID_ARGUMENT);

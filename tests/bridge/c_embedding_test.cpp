@@ -12,6 +12,9 @@
 #include <string>
 #include <vector>
 
+#ifdef MARIONETTE_HAS_TTS
+#include "marionette/tts_espeak/espeak_backend.hpp"
+#endif
 #include "c_embedding_bml.h"
 #include "cli_run.hpp"
 #include "marionette/bml/realizer.hpp"
@@ -72,6 +75,9 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
   ASSERT_TRUE(p.diagnostics.ok()) << p.diagnostics.format();
   rig->setProfile(std::move(p.profile));
   Scene scene;
+#ifdef MARIONETTE_HAS_TTS
+  speech::useEspeak(scene.speech());  // as libmarionette_c_espeak does
+#endif
   Character* c = scene.addCharacter("robot", rig);
   bml::Realizer realizer(scene);
   realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // the example waits for its speech too

@@ -22,6 +22,9 @@
 #include "test_data.hpp"
 #ifdef MARIONETTE_HAS_BML
 #include "marionette/bml/realizer.hpp"
+#ifdef MARIONETTE_HAS_TTS
+#include "marionette/tts_espeak/espeak_backend.hpp"
+#endif
 #endif
 
 namespace marionette {
@@ -229,6 +232,9 @@ glm::quat worldRotation(const Character& c, int joint) {
 // The whole demo as `marionette run assets/scenes/ar_demo_walk.json --frames 600 --fps 60` runs it.
 TEST_F(SceneClipsTest, ArDemoSceneWalksLooksNodsAndSpeaks) {
   Scene scene;
+#ifdef MARIONETTE_HAS_TTS
+  speech::useEspeak(scene.speech());  // as the marionette program does
+#endif
   DemoListener listener;
   scene.addListener(&listener);
   const SceneLoadResult loaded = loadSceneFile(sourceFile("assets/scenes/ar_demo_walk.json"), scene);

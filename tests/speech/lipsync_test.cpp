@@ -14,7 +14,9 @@
 
 #include "lipsync_measure.hpp"
 #include "marionette/speech/alignment_io.hpp"
-#include "marionette/speech/espeak_backend.hpp"
+#ifdef MARIONETTE_HAS_TTS
+#include "marionette/tts_espeak/espeak_backend.hpp"
+#endif
 #include "marionette/speech/lipsync.hpp"
 #include "test_data.hpp"
 

@@ -66,12 +66,12 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
   r.id = "walk";
   r.kind = BehaviorKind::Locomotion;
   r.syncs = {{"start", 0.0}, {"end", 5.0}};
-  LocomotionParameters p;
-  p.waypoints = {spec.target};
-  p.manner = spec.manner;
-  p.facing = spec.facingDegrees * (kPi / 180.0f);
-  if (spec.speed > 0.0f) p.speed = spec.speed;
-  r.parameters = std::move(p);
+  LocomotionParameters where;
+  where.waypoints = {spec.target};
+  where.manner = spec.manner;
+  where.facing = spec.facingDegrees * (kPi / 180.0f);
+  if (spec.speed > 0.0f) where.speed = spec.speed;
+  r.parameters = std::move(where);
   const BehaviorResult added = c->addBehavior(r);
   result.realized = added.realized;
   result.message = added.message;

@@ -68,6 +68,14 @@ typedef enum mn_status {
 /* A short name of a status ("MN_OK", "MN_ERROR_IO", ...); never NULL. */
 MN_API const char* mn_status_name(mn_status status);
 
+/* The library's version, "MAJOR.MINOR.PATCH" (the loaded library's, which a program
+ * compiled against another marionette/version.h may compare with
+ * MARIONETTE_VERSION_STRING); never NULL. */
+MN_API const char* mn_version(void);
+/* Whether this library says <speech> lines with espeak-ng (libmarionette_c_espeak, GPL):
+ * 1, or only recorded lines and an engine's own voice (libmarionette_c, MIT): 0. */
+MN_API int mn_has_speech_synthesis(void);
+
 typedef struct mn_scene mn_scene;
 typedef struct mn_character mn_character;
 

@@ -11,6 +11,10 @@
 #include "marionette/core/text_file.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/rig/character_profile.hpp"
+#include "marionette/version.h"
+#ifdef MARIONETTE_C_HAS_ESPEAK
+#include "marionette/tts_espeak/espeak_backend.hpp"
+#endif
 
 using marionette::capi::fail;
 using marionette::capi::guarded;
@@ -174,11 +178,24 @@ const char* mn_status_name(mn_status status) {
   return "MN_ERROR_UNKNOWN_STATUS";
 }
 
+const char* mn_version(void) { return MARIONETTE_VERSION_STRING; }
+
+int mn_has_speech_synthesis(void) {
+#ifdef MARIONETTE_C_HAS_ESPEAK
+  return 1;
+#else
+  return 0;
+#endif
+}
+
 mn_status mn_scene_create(mn_scene** out) {
   if (!out) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, "mn_scene_create: out is NULL");
   *out = nullptr;
   return guarded(nullptr, [&] {
     *out = new mn_scene();
+#ifdef MARIONETTE_C_HAS_ESPEAK  // libmarionette_c_espeak: the same API, espeak-ng (GPL) linked in
+    marionette::speech::useEspeak((*out)->scene.speech());
+#endif
     return MN_OK;
   });
 }

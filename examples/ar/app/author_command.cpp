@@ -1,4 +1,5 @@
 #include "author_command.hpp"
+#include "example_synthesizer.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -67,6 +68,7 @@ int runAuthorCommand(int argc, char** argv) {
   std::fputs(sceneDiagnostics.format().c_str(), stderr);
   if (!actions || !sceneDiagnostics.ok()) return 2;
   Scene scene;
+  examples::useExampleSynthesizer(scene.speech());
   SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
   std::fputs(loaded.diagnostics.format().c_str(), stderr);
   if (!loaded.ok()) return 2;

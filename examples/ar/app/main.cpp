@@ -12,6 +12,7 @@
 // Headless renders offscreen into DIR/frame_0000.png ... (still needs an X
 // display: run it under xvfb-run; docs/ar-renderer.md).
 #include <epoxy/gl.h>
+#include "example_synthesizer.hpp"
 #include <GLFW/glfw3.h>
 
 #include <chrono>
@@ -279,6 +280,7 @@ int main(int argc, char** argv) {
   restore.mark("gl_context");
 
   Scene scene;
+  examples::useExampleSynthesizer(scene.speech());
   LogListener log;
   scene.addListener(&log);
   // The renderer plays no sound; --audio-dir writes each spoken line as a WAV, named by

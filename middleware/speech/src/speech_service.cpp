@@ -7,7 +7,6 @@
 #include <system_error>
 
 #include "marionette/speech/alignment_io.hpp"
-#include "marionette/speech/espeak_backend.hpp"
 
 namespace marionette::speech {
 
@@ -60,6 +59,16 @@ void SpeechService::addBackend(std::shared_ptr<SpeechBackend> backend) {
   std::lock_guard lock(mutex_);
   backends_.push_back(std::move(backend));
   cache_.clear();  // an added backend may say a text differently
+  ++generation_;
+}
+
+void SpeechService::setSynthesizer(SynthesizerFactory factory) {
+  std::lock_guard lock(mutex_);
+  synthesizerFactory_ = std::move(factory);
+  synthesizer_.reset();
+  defaultTried_ = false;
+  defaultMissing_.clear();
+  cache_.clear();
   ++generation_;
 }
 
@@ -204,7 +213,9 @@ void SpeechService::say(Preparation& job) {
     if (defaultSynthesizer_) {
       if (!defaultTried_) {
         defaultTried_ = true;
-        synthesizer_ = makeEspeakBackend(&defaultMissing_);
+        if (synthesizerFactory_) synthesizer_ = synthesizerFactory_(&defaultMissing_);
+        else defaultMissing_ = "no synthesizer was set (link marionette::tts_espeak and call "
+                               "speech::useEspeak(scene.speech()), or add recorded lines or an engine's own backend)";
       }
       if (synthesizer_) order.push_back(synthesizer_);
     }

@@ -1,6 +1,6 @@
 // Speech backends: text in, an Utterance out (audio, phoneme times, mark times).
 // An interface with several implementations: espeak-ng in-process
-// (espeak_backend.hpp, with MARIONETTE_WITH_TTS), recorded voice lines
+// (marionette::tts_espeak, a separate GPL library), recorded voice lines
 // (recorded_speech.hpp), or an engine's own. Backends run at command time only.
 #pragma once
 #include <cstddef>
@@ -21,9 +21,9 @@ struct TextMark {
 };
 
 struct SpeechRequest {
-  std::string text;             // plain text, UTF-8
-  std::vector<TextMark> marks;  // in text order
-  std::string voice;            // empty: the backend's default ("en-us" for espeak-ng)
+  std::string text{};             // plain text, UTF-8
+  std::vector<TextMark> marks{};  // in text order
+  std::string voice{};            // empty: the backend's default ("en-us" for espeak-ng)
   int wordsPerMinute = 0;       // 0: the backend's default (175 for espeak-ng)
 };
 

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -42,9 +43,13 @@ class SpeechService {
   SpeechService& operator=(const SpeechService&) = delete;
   ~SpeechService();  // waits for the line being said in the background, drops the queued ones
 
-  // Backends are asked in the order added, then espeak-ng when the build has it
-  // (started on the first speech it is asked for; useDefaultSynthesizer(false) leaves it out).
+  // Backends are asked in the order added, then the synthesizer when one is set
+  // (made by its factory on the first speech it is asked for; useDefaultSynthesizer(false)
+  // leaves it out). The middleware has none of its own: espeak-ng is the separate
+  // library marionette::tts_espeak (GPL), set with speech::useEspeak(service).
+  using SynthesizerFactory = std::function<std::shared_ptr<SpeechBackend>(std::string* whyNot)>;
   void addBackend(std::shared_ptr<SpeechBackend> backend);
+  void setSynthesizer(SynthesizerFactory factory);
   void useDefaultSynthesizer(bool use);
   [[nodiscard]] std::size_t backendCount() const;
   // Where each new utterance's audio is written ("utterance-<hash>.wav"); empty
@@ -114,7 +119,8 @@ class SpeechService {
   std::vector<std::shared_ptr<SpeechBackend>> backends_;
   bool defaultSynthesizer_ = true;
   bool defaultTried_ = false;
-  std::shared_ptr<SpeechBackend> synthesizer_;  // espeak-ng, once asked for
+  SynthesizerFactory synthesizerFactory_;
+  std::shared_ptr<SpeechBackend> synthesizer_;  // made by the factory, once asked for
   std::string defaultMissing_;                  // why it is not there
   std::filesystem::path audioDirectory_;
   LipSyncSettings lipSync_;

@@ -1,5 +1,7 @@
-// espeak-ng in process (Debian libespeak-ng-dev, GPL-3.0-or-later: a build with
-// MARIONETTE_WITH_TTS links it; see docs/credits.md). The text's marks become SSML
+// marionette::tts_espeak: espeak-ng in process (Debian libespeak-ng-dev,
+// GPL-3.0-or-later), a library of its own so that linking marionette::middleware or
+// the C API never pulls GPL code in: a program that links this library is covered by
+// the GPL (docs/credits.md). Built with MARIONETTE_WITH_TTS. The text's marks become SSML
 // <mark/> elements; espeak-ng's phoneme events give sample-accurate phoneme
 // times (their `sample` field) and its mark events the marks' times. espeak-ng
 // keeps global state, so every backend shares one engine behind a first-come
@@ -16,13 +18,18 @@
 #include <string>
 
 #include "marionette/speech/speech_backend.hpp"
+#include "marionette/speech/speech_service.hpp"
 
 namespace marionette::speech {
 
-// Whether this build has the espeak-ng backend.
-[[nodiscard]] bool espeakAvailable() noexcept;
-// The espeak-ng backend; null (and `whyNot` says so) when the build has no TTS.
-// A missing voice or data directory is reported by synthesize(), as an error naming the voice.
+// The espeak-ng backend. A missing voice or data directory is reported by
+// synthesize(), as an error naming the voice. `whyNot` is cleared (the signature of
+// SpeechService::SynthesizerFactory).
 [[nodiscard]] std::shared_ptr<SpeechBackend> makeEspeakBackend(std::string* whyNot = nullptr);
+
+// Makes espeak-ng the service's synthesizer (asked after its added backends, started
+// on the first line it is asked for): what an engine calls once per scene,
+//   marionette::speech::useEspeak(scene.speech());
+void useEspeak(SpeechService& service);
 
 }  // namespace marionette::speech

@@ -1,4 +1,4 @@
-// espeak-ng in process (built only with MARIONETTE_WITH_TTS).
+// espeak-ng in process (marionette::tts_espeak, built only with MARIONETTE_WITH_TTS).
 //
 // What espeak-ng 1.51 puts in an event (checked in its source, speech.c
 // MarkerEvent, and by experiment): `sample` is the number of output samples
@@ -17,7 +17,7 @@
 // order is still the spoken order, so the backend first fits the starts to a
 // non-decreasing sequence in that order (keeping "w 3: l d" from becoming
 // "w 3: d l", as a sort would), then normalizeTiming clamps what is past the end.
-#include "marionette/speech/espeak_backend.hpp"
+#include "marionette/tts_espeak/espeak_backend.hpp"
 
 #include "marionette/core/text.hpp"
 #include "marionette/speech/text_pieces.hpp"
@@ -399,11 +399,11 @@ class EspeakBackend final : public SpeechBackend {
 
 }  // namespace
 
-bool espeakAvailable() noexcept { return true; }
-
 std::shared_ptr<SpeechBackend> makeEspeakBackend(std::string* whyNot) {
   if (whyNot) whyNot->clear();
   return std::make_shared<EspeakBackend>();
 }
+
+void useEspeak(SpeechService& service) { service.setSynthesizer(&makeEspeakBackend); }
 
 }  // namespace marionette::speech
