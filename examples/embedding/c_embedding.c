@@ -1,6 +1,8 @@
 /* Embedding Marionette from C through marionette.h alone (compiled as C11).
  *   c_embedding CHARACTER_FILE [PROFILE_JSON|-] [PALETTE_OUT]
- * Creates a scene, loads a character, sends a BML block (a nod and a spoken line),
+ * Creates a scene, loads a character, lists its clips and plays "Idle" on layer 0 when
+ * it has one, sends a BML block (a nod and a spoken line, whose audio the speech
+ * callback hands over),
  * updates 3 s at 60 Hz reading the bone palette (column-major, inverse bind) and
  * the morph weights into its own arrays each frame, counts BML feedback and
  * visemes, and prints one line per fact. With PALETTE_OUT, writes the last frame's
@@ -16,9 +18,24 @@
 
 typedef struct {
   int feedback, predictions, block_starts, block_ends, sync_points, warnings;
-  int visemes, log_warnings;
+  int visemes, log_warnings, lines, clip_starts;
+  size_t samples;
+  int sample_rate;
   char first_viseme[16];
 } counts;
+
+/* A line starts: an engine would queue sp->samples on its audio device at sp->start_time. */
+static void on_speech(void* user, const mn_speech* sp) {
+  counts* c = (counts*)user;
+  ++c->lines;
+  c->samples += sp->samples ? sp->sample_count : 0;
+  c->sample_rate = sp->sample_rate;
+}
+
+static void on_clip(void* user, const mn_clip_event* e) {
+  counts* c = (counts*)user;
+  if (e->kind == MN_CLIP_STARTED) ++c->clip_starts;
+}
 
 static void on_feedback(void* user, const mn_feedback* f) {
   counts* c = (counts*)user;
@@ -74,6 +91,8 @@ int main(int argc, char** argv) {
   mn_scene_set_feedback_callback(scene, on_feedback, &n);
   mn_scene_set_viseme_callback(scene, on_viseme, &n);
   mn_scene_set_log_callback(scene, on_log, &n);
+  mn_scene_set_speech_callback(scene, on_speech, &n);
+  mn_scene_set_clip_callback(scene, on_clip, &n);
   if (mn_scene_add_character(scene, "robot", argv[1], profile, &robot) != MN_OK) {
     fprintf(stderr, "%s\n", mn_scene_last_error(scene));
     mn_scene_destroy(scene);
@@ -86,6 +105,18 @@ int main(int argc, char** argv) {
   first = malloc(floats * sizeof *first);
   weights = malloc((morphs ? morphs : 1) * sizeof *weights);
   if (!palette || !first || !weights) return 2;
+
+  /* The rig's clips; an idle under the behaviors, as a game's character stands. */
+  printf("clips: %zu", mn_character_clip_count(robot));
+  for (i = 0; i < mn_character_clip_count(robot); ++i) {
+    if (strcmp(mn_character_clip_name(robot, i), "Idle") != 0) continue;
+    printf(" (Idle, %.2f s, plays on layer 0)", mn_character_clip_duration(robot, i));
+    if (mn_character_play(robot, 0, "Idle", NULL) != MN_OK) {
+      fprintf(stderr, "%s\n", mn_scene_last_error(scene));
+      return 2;
+    }
+  }
+  printf("\n");
 
   status = mn_scene_send_bml(scene, "robot", C_EMBEDDING_BML);
   if (status == MN_ERROR_UNSUPPORTED) {
@@ -120,8 +151,10 @@ int main(int argc, char** argv) {
   printf("feedback: %d messages (%d predictions, %d block start, %d block end, %d sync points, %d warnings)\n",
          n.feedback, n.predictions, n.block_starts, n.block_ends, n.sync_points, n.warnings);
   printf("visemes: %d (first '%s')\n", n.visemes, n.first_viseme);
+  printf("speech: %d lines, %zu samples at %d Hz\n", n.lines, n.samples, n.sample_rate);
+  printf("clip starts: %d\n", n.clip_starts);
   printf("palette finite: %s\n", finite ? "yes" : "no");
-  printf("palette motion: %.6f (largest change of a palette float from the first frame: the nod)\n", motion);
+  printf("palette motion: %.6f (largest change of a palette float from the first frame: the idle and the nod)\n", motion);
   printf("palette checksum: %.9g\n", checksum);
   printf("max morph weight: %.4f\n", max_weight);
   /* Errors come back as a status with a message, never as a crash. */

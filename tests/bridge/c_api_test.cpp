@@ -513,3 +513,130 @@ TEST(CApi, OutOfRangeEnumValuesAreErrors) {
         << mn_scene_last_error(s.scene);
   }
 }
+
+// The rig's clips by index; playing one moves the palette and the clip callback hears it
+// start and stop; bad layers, names and options are errors naming what is wrong.
+TEST(CApi, ClipsListPlayStopAndTheirEvents) {
+  SceneWithRobot s;
+  const size_t clips = mn_character_clip_count(s.robot);
+  ASSERT_GE(clips, 10u);  // RobotExpressive: Idle, Walking, Running, Dance, ...
+  bool idle = false;
+  for (size_t i = 0; i < clips; ++i) {
+    ASSERT_NE(mn_character_clip_name(s.robot, i), nullptr);
+    EXPECT_GT(mn_character_clip_duration(s.robot, i), 0.0) << mn_character_clip_name(s.robot, i);
+    idle = idle || std::string(mn_character_clip_name(s.robot, i)) == "Idle";
+  }
+  EXPECT_TRUE(idle);
+  EXPECT_EQ(mn_character_clip_name(s.robot, clips), nullptr);
+  EXPECT_EQ(mn_character_clip_duration(s.robot, clips), 0.0);
+  EXPECT_EQ(mn_character_clip_count(nullptr), 0u);
+
+  struct Events {
+    std::vector<std::string> seen;
+  } events;
+  ASSERT_EQ(mn_scene_set_clip_callback(s.scene, [](void* user, const mn_clip_event* e) {
+    static_cast<Events*>(user)->seen.push_back(std::string(e->kind == MN_CLIP_STARTED ? "started " : "stopped ") + e->clip +
+                                               " by " + e->character);
+  }, &events), MN_OK);
+  const size_t floats = mn_character_joint_count(s.robot) * 16;
+  std::vector<float> rest(floats), moving(floats);
+  ASSERT_EQ(mn_scene_update(s.scene, 0.0), MN_OK);
+  ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, rest.data(), floats), MN_OK);
+  mn_play_options o = mn_play_options_default();
+  EXPECT_EQ(o.weight, 1.0f);
+  EXPECT_EQ(o.loop, 1);
+  o.fade_in = 0.2f;
+  ASSERT_EQ(mn_character_play(s.robot, 0, "Dance", &o), MN_OK) << mn_scene_last_error(s.scene);
+  for (int f = 0; f < 30; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, moving.data(), floats), MN_OK);
+  float change = 0.0f;
+  for (size_t k = 0; k < floats; ++k) change = std::max(change, std::fabs(moving[k] - rest[k]));
+  EXPECT_GT(change, 0.01f) << "the dance must move the palette";
+  ASSERT_EQ(mn_character_stop(s.robot, 0, 0.0f), MN_OK);
+  EXPECT_EQ(mn_character_stop(s.robot, 3, 0.5f), MN_OK);  // nothing plays there: not an error
+  ASSERT_EQ(events.seen.size(), 2u);
+  EXPECT_EQ(events.seen[0], "started Dance by robot");
+  EXPECT_EQ(events.seen[1], "stopped Dance by robot");
+
+  EXPECT_EQ(mn_character_play(s.robot, 0, "Moonwalk", nullptr), MN_ERROR_NOT_FOUND);
+  const std::string missing = mn_scene_last_error(s.scene);
+  EXPECT_NE(missing.find("has no clip 'Moonwalk' (it has '"), std::string::npos) << missing;
+  EXPECT_EQ(mn_character_play(s.robot, 8, "Idle", nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("layer 8 is not in 0..7"), std::string::npos);
+  o.speed = std::nanf("");
+  EXPECT_EQ(mn_character_play(s.robot, 0, "Idle", &o), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_play(s.robot, 0, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_stop(s.robot, -1, 0.0f), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_play(nullptr, 0, "Idle", nullptr), MN_ERROR_INVALID_ARGUMENT);
+}
+
+// A removed character's handle is refused afterwards, never a crash; the others stay.
+TEST(CApi, RemovedCharactersHandlesAreRefused) {
+  SceneWithRobot s;
+  mn_character* other = nullptr;
+  ASSERT_EQ(mn_scene_add_character(s.scene, "other", kRobot.c_str(), kRobotProfile.c_str(), &other), MN_OK);
+  ASSERT_EQ(mn_scene_character_count(s.scene), 2u);
+  ASSERT_EQ(mn_scene_remove_character(s.scene, s.robot), MN_OK) << mn_scene_last_error(s.scene);
+  EXPECT_EQ(mn_scene_character_count(s.scene), 1u);
+  EXPECT_EQ(mn_scene_character_at(s.scene, 0), other);
+  mn_character* found = nullptr;
+  EXPECT_EQ(mn_scene_find_character(s.scene, "robot", &found), MN_ERROR_NOT_FOUND);
+  EXPECT_EQ(mn_character_joint_count(s.robot), 0u);
+  EXPECT_EQ(mn_character_play(s.robot, 0, "Idle", nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_remove_character(s.scene, s.robot), MN_ERROR_INVALID_ARGUMENT);
+  for (int f = 0; f < 10; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_GT(mn_character_joint_count(other), 0u);
+  s.robot = nullptr;
+}
+
+#ifdef MARIONETTE_TEST_HAS_BML
+// BML interrupt from C: the block ends now (blockProgress end), an unknown id is named.
+TEST(CApi, InterruptEndsABlock) {
+  SceneWithRobot s;
+  Heard heard;
+  ASSERT_EQ(mn_scene_set_feedback_callback(s.scene, [](void* user, const mn_feedback* f) {
+    auto* h = static_cast<Heard*>(user);
+    if (f->kind == MN_FEEDBACK_BLOCK_PROGRESS && std::string(f->sync_point) == "end" && std::string(f->block) == "long") ++h->blockEnds;
+  }, &heard), MN_OK);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='long'><head id='n' lexeme='NOD' start='0' end='30'/></bml>"), MN_OK);
+  for (int f = 0; f < 30; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_EQ(heard.blockEnds, 0);
+  ASSERT_EQ(mn_scene_interrupt_block(s.scene, "long"), MN_OK) << mn_scene_last_error(s.scene);
+  for (int f = 0; f < 5; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_EQ(heard.blockEnds, 1);
+  EXPECT_EQ(mn_scene_interrupt_block(s.scene, "long"), MN_ERROR_NOT_FOUND);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("no block 'long'"), std::string::npos);
+  EXPECT_EQ(mn_scene_interrupt_block(s.scene, nullptr), MN_ERROR_INVALID_ARGUMENT);
+}
+#endif
+
+#if defined(MARIONETTE_TEST_HAS_BML) && defined(MARIONETTE_HAS_TTS)
+// The engine gets each line's audio with its start on the scene clock.
+TEST(CApi, SpeechCallbackHandsOverTheAudio) {
+  SceneWithRobot s;
+  struct Said {
+    int lines = 0;
+    size_t samples = 0;
+    int rate = 0;
+    double start = -1.0, duration = 0.0;
+    std::string behavior;
+  } said;
+  ASSERT_EQ(mn_scene_set_speech_callback(s.scene, [](void* user, const mn_speech* sp) {
+    auto* h = static_cast<Said*>(user);
+    ++h->lines;
+    h->samples = sp->samples ? sp->sample_count : 0;
+    h->rate = sp->sample_rate;
+    h->start = sp->start_time;
+    h->duration = sp->duration;
+    h->behavior = sp->behavior;
+  }, &said), MN_OK);
+  ASSERT_EQ(mn_scene_set_speech_synthesis(s.scene, MN_SPEECH_INLINE), MN_OK);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='b'><speech id='s'><text>Hello there.</text></speech></bml>"), MN_OK);
+  for (int f = 0; f < 10; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  ASSERT_EQ(said.lines, 1);
+  EXPECT_EQ(said.behavior, "b:s");
+  EXPECT_GT(said.rate, 8000);
+  EXPECT_NEAR(static_cast<double>(said.samples) / said.rate, said.duration, 0.05);
+  EXPECT_GE(said.start, 0.0);
+}
+#endif

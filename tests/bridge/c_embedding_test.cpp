@@ -62,7 +62,12 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
             std::string::npos) << out;
 #ifdef MARIONETTE_HAS_TTS
   EXPECT_GT(number(out, "visemes:"), 3.0) << "espeak-ng says the line: visemes arrive\n" << out;
+  EXPECT_EQ(number(out, "speech:"), 1.0) << "the speech callback hands over the line\n" << out;
+  EXPECT_NE(out.find(" samples at 22050 Hz"), std::string::npos) << out;
 #endif
+  EXPECT_GE(number(out, "clips:"), 10.0) << out;
+  EXPECT_NE(out.find("(Idle, "), std::string::npos) << out;
+  EXPECT_EQ(number(out, "clip starts:"), 1.0) << out;
 
   // The same inputs through the C++ API.
   ImportOptions options;
@@ -79,6 +84,7 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
   speech::useEspeak(scene.speech());  // as libmarionette_c_espeak does
 #endif
   Character* c = scene.addCharacter("robot", rig);
+  ASSERT_TRUE(c->play(0, "Idle"));  // as the example does
   bml::Realizer realizer(scene);
   realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // the example waits for its speech too
   ASSERT_FALSE(realizer.perform(C_EMBEDDING_BML, "robot").failed);

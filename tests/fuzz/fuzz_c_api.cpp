@@ -36,7 +36,7 @@ constexpr int kMaxCharacterLoads = 2;  // each import takes milliseconds
 
 enum Op : std::uint8_t {
   kCreate, kDestroy, kAddCharacter, kLoadSceneText, kSendBml, kUpdate, kSceneQueries, kCharacterCalls,
-  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kOpCount
+  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kClips, kRemoveCharacter, kInterrupt, kOpCount
 };
 
 class Stream {
@@ -98,6 +98,22 @@ void onViseme(void*, const mn_viseme* v) {
   checkString(v->character);
   checkString(v->viseme);
 }
+void onSpeech(void*, const mn_speech* s) {
+  require(s != nullptr, "speech is NULL");
+  for (const char* t : {s->character, s->behavior, s->audio_file}) checkString(t);
+  require(std::isfinite(s->start_time) && std::isfinite(s->duration) && s->duration >= 0.0, "speech times");
+  if (s->samples && s->sample_count) {  // readable to the end (ASan)
+    volatile short first = s->samples[0], last = s->samples[s->sample_count - 1];
+    (void)first;
+    (void)last;
+  }
+}
+void onClip(void*, const mn_clip_event* e) {
+  require(e != nullptr, "clip event is NULL");
+  require(e->kind == MN_CLIP_STARTED || e->kind == MN_CLIP_STOPPED, "unknown clip event");
+  checkString(e->character);
+  checkString(e->clip);
+}
 void onLog(void*, mn_log_level level, const char* message) {
   require(level >= MN_LOG_INFO && level <= MN_LOG_ERROR, "unknown log level");
   checkString(message);
@@ -117,7 +133,8 @@ class Driver {
   int created_ = 0, loads_ = 0, sceneTexts_ = 0;
   struct CharacterSlot {
     mn_character* handle;
-    const mn_scene* owner;  // the handle is live while its scene is
+    const mn_scene* owner;  // the handle is live while its scene is, until removed
+    bool removed = false;
   };
   std::vector<CharacterSlot> characters_;  // every handle seen, live or not
   char foreign_[64] = {};                   // an address that is no handle
@@ -135,7 +152,12 @@ class Driver {
     const std::uint8_t b = in.byte();
     if (b == 255 || characters_.empty()) return {b % 2 ? nullptr : reinterpret_cast<mn_character*>(foreign_), false};
     const CharacterSlot& c = characters_[b % characters_.size()];
-    return {c.handle, isLiveScene(c.owner)};
+    return {c.handle, isLiveScene(c.owner) && !c.removed};
+  }
+  [[nodiscard]] const mn_scene* ownerOf(const mn_character* c) const {
+    for (const CharacterSlot& slot : characters_)
+      if (slot.handle == c && !slot.removed) return slot.owner;
+    return nullptr;
   }
   [[nodiscard]] bool isLiveScene(const mn_scene* s) const {
     for (const SceneSlot& slot : scenes_)
@@ -311,7 +333,9 @@ class Driver {
         mn_scene* scene = scenes_[i].scene;
         for (mn_status st : {mn_scene_set_feedback_callback(scene, how & 1 ? onFeedback : nullptr, &callbacks_[i]),
                              mn_scene_set_viseme_callback(scene, how & 2 ? onViseme : nullptr, nullptr),
-                             mn_scene_set_log_callback(scene, how & 4 ? onLog : nullptr, nullptr)})
+                             mn_scene_set_log_callback(scene, how & 4 ? onLog : nullptr, nullptr),
+                             mn_scene_set_speech_callback(scene, how & 16 ? onSpeech : nullptr, nullptr),
+                             mn_scene_set_clip_callback(scene, how & 32 ? onClip : nullptr, nullptr)})
           require(st == (scenes_[i].live ? MN_OK : MN_ERROR_INVALID_ARGUMENT), "set_callback status");
         return;
       }
@@ -326,6 +350,58 @@ class Driver {
         invalid(mn_scene_find_character(scene, nullptr, nullptr));
         invalid(mn_scene_send_bml(scene, nullptr, nullptr));
         require(mn_scene_last_error(nullptr) != nullptr, "last_error(NULL) is NULL");
+        return;
+      }
+      case kClips: {
+        const auto [c, live] = anyCharacter(in);
+        const std::size_t clips = mn_character_clip_count(c);
+        if (!live) require(clips == 0, "a bad character has clips");
+        const std::uint8_t k = in.byte();
+        require((mn_character_clip_name(c, k) != nullptr) == (k < clips), "clip_name disagrees with clip_count");
+        const double d = mn_character_clip_duration(c, k);
+        require(std::isfinite(d) && d >= 0.0, "clip_duration");
+        // A clip of the rig or any text; defaults or fuzzed options; any layer.
+        const std::string name = clips && in.byte() % 2 ? mn_character_clip_name(c, in.byte() % clips) : in.text();
+        mn_play_options o = mn_play_options_default();
+        const bool fuzzed = in.byte() % 2;
+        if (fuzzed) {
+          o.weight = in.raw<float>();
+          o.speed = in.raw<float>();
+          o.loop = in.raw<std::int8_t>();
+          o.start_time = in.raw<double>();
+          o.fade_in = in.raw<float>();
+          o.additive = in.raw<std::int8_t>();
+          o.root_motion = in.raw<std::int8_t>();
+        }
+        const int layer = in.raw<std::int8_t>();
+        const mn_status st = mn_character_play(c, layer, name.c_str(), fuzzed ? &o : nullptr);
+        require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_NOT_FOUND, "play status");
+        if (!live || layer < 0 || layer > 7) require(st != MN_OK, "a bad play was accepted");
+        failed(st, ownerOf(c));
+        const mn_status stop = mn_character_stop(c, in.raw<std::int8_t>(), in.raw<float>());
+        require(stop == MN_OK || stop == MN_ERROR_INVALID_ARGUMENT, "stop status");
+        if (!live) require(stop != MN_OK, "a stop on a bad handle was accepted");
+        return;
+      }
+      case kRemoveCharacter: {
+        mn_scene* scene = anyScene(in);
+        const auto [c, live] = anyCharacter(in);
+        const mn_status st = mn_scene_remove_character(scene, c);
+        require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_NOT_FOUND, "remove status");
+        if (!live || !isLiveScene(scene)) require(st != MN_OK, "a bad remove was accepted");
+        if (st == MN_OK)
+          for (CharacterSlot& slot : characters_)
+            if (slot.handle == c) slot.removed = true;
+        failed(st, scene);
+        return;
+      }
+      case kInterrupt: {
+        mn_scene* scene = anyScene(in);
+        const std::string block = in.text();
+        const mn_status st = mn_scene_interrupt_block(scene, in.byte() % 8 ? block.c_str() : nullptr);
+        require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_NOT_FOUND || st == MN_ERROR_UNSUPPORTED,
+                "interrupt status");
+        failed(st, scene);
         return;
       }
       case kOpCount: return;

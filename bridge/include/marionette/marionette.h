@@ -160,6 +160,41 @@ MN_API const char* mn_character_morph_name(const mn_character* character, size_t
 /* Writes the morph weights in mn_character_morph_name order (out_floats >= morph count). */
 MN_API mn_status mn_character_morph_weights(const mn_character* character, float* out, size_t out_floats);
 
+/* ---- clips ---- */
+/* The clips of the character's rig, by index (0..count-1): name (NULL if out of range)
+ * and length in seconds (0 if out of range). */
+MN_API size_t mn_character_clip_count(const mn_character* character);
+MN_API const char* mn_character_clip_name(const mn_character* character, size_t clip);
+MN_API double mn_character_clip_duration(const mn_character* character, size_t clip);
+
+/* How a clip plays on a layer; mn_play_options_default() gives the defaults in brackets. */
+typedef struct mn_play_options {
+  float weight;      /* target weight, >= 0 [1] */
+  float speed;       /* playback rate; 0 holds, negative plays backwards [1] */
+  int loop;          /* nonzero loops; 0 holds the last frame [1] */
+  double start_time; /* clip-local seconds to start at [0] */
+  float fade_in;     /* seconds to reach the weight; 0 at once [0] */
+  int additive;      /* nonzero: a delta over the layers below, against the clip's first frame [0] */
+  int root_motion;   /* nonzero: the clip's root motion moves the character [0] */
+} mn_play_options;
+MN_API mn_play_options mn_play_options_default(void);
+/* Plays a clip of the character's rig on a layer (0..7; a later layer blends over the
+ * earlier ones), replacing what played there; `options` NULL: the defaults.
+ * MN_ERROR_NOT_FOUND names the clip and lists the rig's; MN_ERROR_INVALID_ARGUMENT for a
+ * layer out of range or a value that is not finite. The clip callback hears it start. */
+MN_API mn_status mn_character_play(mn_character* character, int layer, const char* clip, const mn_play_options* options);
+/* Stops a layer's clip, fading it out over `fade_out` seconds (0: at once); a layer with
+ * nothing playing is not an error. */
+MN_API mn_status mn_character_stop(mn_character* character, int layer, float fade_out);
+
+/* Removes a character from its scene; its handle is invalid afterwards (a later call with
+ * it is MN_ERROR_INVALID_ARGUMENT, never a crash). Not from inside a callback. */
+MN_API mn_status mn_scene_remove_character(mn_scene* scene, mn_character* character);
+/* Interrupts a BML block by its id (BML's interrupt: the block and its behaviors end now,
+ * blending out; a block still waiting for its speech is dropped). MN_ERROR_NOT_FOUND when
+ * no block has that id; MN_ERROR_UNSUPPORTED without BML. */
+MN_API mn_status mn_scene_interrupt_block(mn_scene* scene, const char* block_id);
+
 /* ---- callbacks (one of each kind per scene; NULL function removes it) ---- */
 typedef enum mn_feedback_kind {
   MN_FEEDBACK_PREDICTION = 0,     /* right after scheduling: when each sync point will be */
@@ -186,15 +221,44 @@ typedef struct mn_viseme {
   double time;        /* the phoneme's start on the scene clock */
 } mn_viseme;
 
+/* A line a character starts to say: play `samples` (or the WAV `audio_file`, written when
+ * the scene has an audio directory; "" otherwise) from `start_time` on the scene clock so
+ * that the lips stay in sync. Comes when the speech is realized, before its start. */
+typedef struct mn_speech {
+  const char* character;
+  const char* behavior;       /* "block:behavior" for BML */
+  const short* samples;       /* mono 16-bit PCM, valid during the call; NULL when the line has no audio */
+  size_t sample_count;
+  int sample_rate;
+  const char* audio_file;
+  double start_time;
+  double duration;            /* seconds */
+} mn_speech;
+
+typedef enum mn_clip_event_kind {
+  MN_CLIP_STARTED = 0, /* a layer began playing a clip */
+  MN_CLIP_STOPPED = 1  /* a layer's clip was stopped, or faded out to nothing */
+} mn_clip_event_kind;
+typedef struct mn_clip_event {
+  mn_clip_event_kind kind;
+  const char* character;
+  const char* clip;
+  double scene_time;
+} mn_clip_event;
+
 typedef enum mn_log_level { MN_LOG_INFO = 0, MN_LOG_WARNING = 1, MN_LOG_ERROR = 2 } mn_log_level;
 
 typedef void (*mn_feedback_fn)(void* user, const mn_feedback* feedback);
 typedef void (*mn_viseme_fn)(void* user, const mn_viseme* viseme);
 typedef void (*mn_log_fn)(void* user, mn_log_level level, const char* message);
+typedef void (*mn_speech_fn)(void* user, const mn_speech* speech);
+typedef void (*mn_clip_fn)(void* user, const mn_clip_event* event);
 
 MN_API mn_status mn_scene_set_feedback_callback(mn_scene* scene, mn_feedback_fn fn, void* user);
 MN_API mn_status mn_scene_set_viseme_callback(mn_scene* scene, mn_viseme_fn fn, void* user);
 MN_API mn_status mn_scene_set_log_callback(mn_scene* scene, mn_log_fn fn, void* user);
+MN_API mn_status mn_scene_set_speech_callback(mn_scene* scene, mn_speech_fn fn, void* user);
+MN_API mn_status mn_scene_set_clip_callback(mn_scene* scene, mn_clip_fn fn, void* user);
 
 #ifdef __cplusplus
 }

@@ -139,6 +139,28 @@ void CallbackForwarder::onLog(marionette::LogLevel level, std::string_view messa
   owner_.logFn(owner_.logUser, static_cast<mn_log_level>(level), text_.c_str());
 }
 
+void CallbackForwarder::onSpeech(const marionette::Character& character, std::string_view behaviorId,
+                                 const marionette::speech::Utterance& utterance, std::string_view audioFile,
+                                 double sceneStart) {
+  if (!owner_.speechFn) return;
+  text2_.assign(behaviorId);
+  text3_.assign(audioFile);
+  const mn_speech s{character.name().c_str(), text2_.c_str(),
+                    utterance.audio.empty() ? nullptr : utterance.audio.data(), utterance.audio.size(),
+                    utterance.sampleRate,       text3_.c_str(),
+                    sceneStart,                 utterance.duration};
+  owner_.speechFn(owner_.speechUser, &s);
+}
+
+void CallbackForwarder::onCharacterChanged(const marionette::Character& character, marionette::ChangeKind kind,
+                                           std::string_view what) {
+  if (!owner_.clipFn || kind == marionette::ChangeKind::Placement) return;
+  text3_.assign(what);
+  const mn_clip_event e{kind == marionette::ChangeKind::ClipStarted ? MN_CLIP_STARTED : MN_CLIP_STOPPED,
+                        character.name().c_str(), text3_.c_str(), owner_.scene.time()};
+  owner_.clipFn(owner_.clipUser, &e);
+}
+
 mn_scene::mn_scene() {
   scene.addListener(&forwarder);
 #ifdef MARIONETTE_C_HAS_BML
@@ -384,6 +406,51 @@ mn_status mn_scene_set_viseme_callback(mn_scene* scene, mn_viseme_fn fn, void* u
   scene->visemeFn = fn;
   scene->visemeUser = user;
   return MN_OK;
+}
+
+mn_status mn_scene_set_speech_callback(mn_scene* scene, mn_speech_fn fn, void* user) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_speech_callback: scene") + notLive(scene));
+  scene->speechFn = fn;
+  scene->speechUser = user;
+  return MN_OK;
+}
+
+mn_status mn_scene_set_clip_callback(mn_scene* scene, mn_clip_fn fn, void* user) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_clip_callback: scene") + notLive(scene));
+  scene->clipFn = fn;
+  scene->clipUser = user;
+  return MN_OK;
+}
+
+mn_status mn_scene_remove_character(mn_scene* scene, mn_character* character) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_remove_character: scene") + notLive(scene));
+  if (!isLive(character))
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_remove_character: character") + notLive(character));
+  if (character->owner != scene)
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT,
+                "mn_scene_remove_character: character '" + character->character->name() + "' belongs to another scene");
+  return inCall(scene, "mn_scene_remove_character", [&] {
+    const std::string name = character->character->name();
+    auto it = std::find_if(scene->handles.begin(), scene->handles.end(), [&](const auto& h) { return h.get() == character; });
+    if (it == scene->handles.end() || !scene->scene.removeCharacter(name))
+      return fail(scene, MN_ERROR_NOT_FOUND, "mn_scene_remove_character: the scene has no character '" + name + "'");
+    scene->handles.erase(it);  // frees the handle (kept back from reuse: a stale one is refused)
+    return MN_OK;
+  });
+}
+
+mn_status mn_scene_interrupt_block(mn_scene* scene, const char* block_id) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_interrupt_block: scene") + notLive(scene));
+  if (!block_id) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_interrupt_block: block_id is NULL");
+#ifdef MARIONETTE_C_HAS_BML
+  return inCall(scene, "mn_scene_interrupt_block", [&] {
+    if (!scene->realizer->interrupt(block_id))
+      return fail(scene, MN_ERROR_NOT_FOUND, std::string("mn_scene_interrupt_block: no block '") + block_id + "' is running or waiting");
+    return MN_OK;
+  });
+#else
+  return fail(scene, MN_ERROR_UNSUPPORTED, "mn_scene_interrupt_block: this library was built without BML");
+#endif
 }
 
 mn_status mn_scene_set_log_callback(mn_scene* scene, mn_log_fn fn, void* user) {

@@ -48,10 +48,14 @@ class CallbackForwarder final : public marionette::SceneListener {
   explicit CallbackForwarder(mn_scene& owner) : owner_(owner) {}
   void onViseme(const marionette::Character& character, std::string_view viseme, float weight, double time) override;
   void onLog(marionette::LogLevel level, std::string_view message) override;
+  void onSpeech(const marionette::Character& character, std::string_view behaviorId,
+                const marionette::speech::Utterance& utterance, std::string_view audioFile, double sceneStart) override;
+  void onCharacterChanged(const marionette::Character& character, marionette::ChangeKind kind,
+                          std::string_view what) override;
 
  private:
   mn_scene& owner_;
-  std::string text_;  // NUL-terminated copies of string views, reused (no allocation once grown)
+  std::string text_, text2_, text3_;  // NUL-terminated copies of string views, reused (no allocation once grown)
 };
 
 struct mn_scene : marionette::capi::Registered {
@@ -77,6 +81,10 @@ struct mn_scene : marionette::capi::Registered {
   void* visemeUser = nullptr;
   mn_log_fn logFn = nullptr;
   void* logUser = nullptr;
+  mn_speech_fn speechFn = nullptr;
+  void* speechUser = nullptr;
+  mn_clip_fn clipFn = nullptr;
+  void* clipUser = nullptr;
 
   // Handles for characters the scene gained (added or loaded from a file).
   void syncHandles();
