@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "marionette/behavior/speech_controller.hpp"  // the rate's range
 #include "marionette/core/number_list.hpp"
 #include "marionette/core/text.hpp"
 
@@ -183,7 +184,8 @@ void readSpeech(const Behavior& b, ReadParameters& out) {
   for (const WordMark& m : b.marks) s.marks.push_back({m.id, m.characterOffset});
   if (const std::string_view rate = valueOf(b, "rate"); !rate.empty()) {
     const auto v = oneNumber(rate);
-    if (v && std::isfinite(*v) && *v >= 1.0f && *v <= 10000.0f) s.wordsPerMinute = static_cast<int>(std::lround(*v));
+    if (v && std::isfinite(*v) && *v >= static_cast<float>(kMinWordsPerMinute) && *v <= static_cast<float>(kMaxWordsPerMinute))
+      s.wordsPerMinute = static_cast<int>(std::lround(*v));
     else note(out.warning, "speech rate '" + std::string(rate) +
                                "' is not a number of words per minute in [1, 10000]; the voice's default is used");
   }

@@ -29,6 +29,16 @@ BehaviorRequest nod(double start) {
     r.syncs.push_back({name, start + at});
   return r;
 }
+
+// A NECK gaze at a world point, blending in over 0.3 s and out from `relax` to `end`.
+BehaviorRequest gazeAt(const glm::vec3& target, double relax, double end) {
+  BehaviorRequest g;
+  g.id = "look";
+  g.kind = BehaviorKind::Gaze;
+  g.parameters = GazeParameters{BehaviorTarget::at(target), GazeInfluence::Neck};
+  g.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", relax}, {"end", end}};
+  return g;
+}
 }  // namespace
 
 // RobotExpressive playing Idle: at the stroke the head has turned 25 degrees about
@@ -94,12 +104,7 @@ TEST(BehaviorsOnRealCharacters, RobotGazesAtAPoint) {
   const float yaw = 0.5f + glm::radians(40.0f), pitch = glm::radians(10.0f);
   const glm::vec3 dir(std::sin(yaw) * std::cos(pitch), -std::sin(pitch), std::cos(yaw) * std::cos(pitch));
   const glm::vec3 target = headWorld + 3.0f * dir;
-  BehaviorRequest g;
-  g.id = "look";
-  g.kind = BehaviorKind::Gaze;
-  g.parameters = GazeParameters{BehaviorTarget::at(target), GazeInfluence::Neck};
-  g.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 9.0}, {"end", 10.0}};
-  BehaviorResult r = robot->addBehavior(g);
+  BehaviorResult r = robot->addBehavior(gazeAt(target, 9.0, 10.0));
   ASSERT_TRUE(r.realized) << r.message;
   for (int f = 0; f < 120; ++f) scene.update(1.0 / 60.0);
   // The head's rest forward is the character's +Z; carried into the world.
@@ -124,12 +129,7 @@ float worstGazeOverClip(const std::shared_ptr<Rig>& rig, std::shared_ptr<const A
   scene.update(0.0);
   const glm::quat rest = modelRotation(*c, head);
   EXPECT_TRUE(c->play(0, std::move(clip)));
-  BehaviorRequest g;
-  g.id = "look";
-  g.kind = BehaviorKind::Gaze;
-  g.parameters = GazeParameters{BehaviorTarget::at(target), GazeInfluence::Neck};
-  g.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 3.7}, {"end", 4.0}};
-  const BehaviorResult r = c->addBehavior(g);
+  const BehaviorResult r = c->addBehavior(gazeAt(target, 3.7, 4.0));
   EXPECT_TRUE(r.realized) << r.message;
   float worst = 0.0f, worstAt = 0.0f;
   for (int f = 1; f <= 222; ++f) {  // to 3.7 s, the relax: the whole hold

@@ -2,8 +2,10 @@
 // them on a character's layers (Character::play / stop).
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "handles.hpp"
+#include "marionette/core/text.hpp"
 
 using marionette::capi::fail;
 using marionette::capi::isLive;
@@ -17,13 +19,11 @@ const marionette::AnimationClip* clipAt(const mn_character* c, size_t clip) {
   return clip < clips.size() ? clips[clip].get() : nullptr;
 }
 
-// "'Idle', 'Walking', ..." (at most 8), for messages.
+// "'Idle', 'Walking' and 6 more", for messages.
 std::string clipList(const marionette::Rig& rig) {
-  std::string out;
-  const auto& clips = rig.clips();
-  for (std::size_t i = 0; i < clips.size() && i < 8; ++i) out += (i ? ", '" : "'") + clips[i]->clip.name + "'";
-  if (clips.size() > 8) out += ", ...";
-  return out.empty() ? std::string("none") : out;
+  std::vector<std::string> names;
+  for (const auto& c : rig.clips()) names.push_back(c->clip.name);
+  return names.empty() ? std::string("none") : marionette::quotedNameList(names);
 }
 
 }  // namespace

@@ -38,6 +38,16 @@ mn_status inCall(mn_scene* scene, const char* what, Body&& body) {
 
 thread_local std::string t_lastError;  // failures without a valid scene
 
+// One callback of a scene: its function and user pointer (NULL function removes it).
+template <class Fn>
+mn_status setCallback(mn_scene* scene, const char* what, Fn mn_scene::*fnField, void* mn_scene::*userField, Fn fn,
+                      void* user) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string(what) + ": scene" + notLive(scene));
+  scene->*fnField = fn;
+  scene->*userField = user;
+  return MN_OK;
+}
+
 bool readable(const char* path) {
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
@@ -395,31 +405,19 @@ mn_status mn_scene_update(mn_scene* scene, double dt) {
 double mn_scene_time(const mn_scene* scene) { return isLive(scene) ? scene->scene.time() : 0.0; }
 
 mn_status mn_scene_set_feedback_callback(mn_scene* scene, mn_feedback_fn fn, void* user) {
-  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_feedback_callback: scene") + notLive(scene));
-  scene->feedbackFn = fn;
-  scene->feedbackUser = user;
-  return MN_OK;
+  return setCallback(scene, "mn_scene_set_feedback_callback", &mn_scene::feedbackFn, &mn_scene::feedbackUser, fn, user);
 }
 
 mn_status mn_scene_set_viseme_callback(mn_scene* scene, mn_viseme_fn fn, void* user) {
-  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_viseme_callback: scene") + notLive(scene));
-  scene->visemeFn = fn;
-  scene->visemeUser = user;
-  return MN_OK;
+  return setCallback(scene, "mn_scene_set_viseme_callback", &mn_scene::visemeFn, &mn_scene::visemeUser, fn, user);
 }
 
 mn_status mn_scene_set_speech_callback(mn_scene* scene, mn_speech_fn fn, void* user) {
-  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_speech_callback: scene") + notLive(scene));
-  scene->speechFn = fn;
-  scene->speechUser = user;
-  return MN_OK;
+  return setCallback(scene, "mn_scene_set_speech_callback", &mn_scene::speechFn, &mn_scene::speechUser, fn, user);
 }
 
 mn_status mn_scene_set_clip_callback(mn_scene* scene, mn_clip_fn fn, void* user) {
-  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_clip_callback: scene") + notLive(scene));
-  scene->clipFn = fn;
-  scene->clipUser = user;
-  return MN_OK;
+  return setCallback(scene, "mn_scene_set_clip_callback", &mn_scene::clipFn, &mn_scene::clipUser, fn, user);
 }
 
 mn_status mn_scene_remove_character(mn_scene* scene, mn_character* character) {
@@ -454,10 +452,7 @@ mn_status mn_scene_interrupt_block(mn_scene* scene, const char* block_id) {
 }
 
 mn_status mn_scene_set_log_callback(mn_scene* scene, mn_log_fn fn, void* user) {
-  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_log_callback: scene") + notLive(scene));
-  scene->logFn = fn;
-  scene->logUser = user;
-  return MN_OK;
+  return setCallback(scene, "mn_scene_set_log_callback", &mn_scene::logFn, &mn_scene::logUser, fn, user);
 }
 
 }  // extern "C"

@@ -245,15 +245,10 @@ std::string makeLocomotionPlan(const LocomotionParameters& p, const LocomotionSe
   const float run = settings.runSpeed > 0.0f ? settings.runSpeed
                     : set.run.clip         ? set.run.groundSpeed
                                            : 2.0f * walk;
-  switch (p.manner) {
-    case LocomotionManner::Walk: plan.speed = walk; break;
-    case LocomotionManner::Run: plan.speed = run; break;
-    case LocomotionManner::Stroll: plan.speed = 0.5f * walk; break;
-    case LocomotionManner::Sprint: plan.speed = 1.3f * run; break;
-    default:
-      plan.speed = walk;
-      note("manner " + std::to_string(static_cast<int>(p.manner)) + " is not a LocomotionManner; WALK is used");
-  }
+  plan.speed = p.manner == LocomotionManner::Run      ? run
+               : p.manner == LocomotionManner::Stroll ? 0.5f * walk
+               : p.manner == LocomotionManner::Sprint ? 1.3f * run
+                                                      : walk;
   auto number = [&](const std::optional<float>& value, const char* name, float lo, float hi, float& out) {
     if (!value) return false;
     if (!std::isfinite(*value) || *value < lo || *value > hi) {
