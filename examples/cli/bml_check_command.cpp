@@ -39,23 +39,10 @@ std::shared_ptr<const Rig> defaultCharacterRig() {
 }
 }  // namespace
 
-int bmlCheckCommand(const std::vector<std::string>& args) {
-  bool json = false;
-  std::vector<std::string> files;
-  std::string characterFile;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--json") json = true;
-    else if (a == "--character" && i + 1 < args.size()) characterFile = args[++i];
-    else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "marionette bml-check: error: unknown option '%s'\n", a.c_str());
-      return 2;
-    } else files.push_back(a);
-  }
-  if (files.empty()) {
-    std::fputs("usage: marionette bml-check FILE.xml... [--json] [--character ASSET]\n", stderr);
-    return 2;
-  }
+int bmlCheckCommand(const BmlCheckOptions& o) {
+  const bool json = o.json;
+  const std::vector<std::string>& files = o.files;
+  const std::string& characterFile = o.character;
   // Against a real character: its clips give default durations, and behaviors
   // it cannot realize are CANNOT_CREATE_BEHAVIOR warnings.
   std::shared_ptr<const Rig> rig;

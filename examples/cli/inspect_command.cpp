@@ -27,24 +27,9 @@ std::size_t trackCount(const Clip& c) {
 }
 }  // namespace
 
-int inspectCommand(const std::vector<std::string>& args) {
-  std::string file;
-  bool json = false;
-  for (const std::string& a : args) {
-    if (a == "--json") json = true;
-    else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "marionette inspect: error: unknown option '%s'\n", a.c_str());
-      return 2;
-    } else if (file.empty()) file = a;
-    else {
-      std::fprintf(stderr, "marionette inspect: error: one file expected, got '%s' too\n", a.c_str());
-      return 2;
-    }
-  }
-  if (file.empty()) {
-    std::fputs("usage: marionette inspect FILE [--json]\n", stderr);
-    return 2;
-  }
+int inspectCommand(const InspectOptions& o) {
+  const std::string& file = o.file;
+  const bool json = o.json;
   ImportResult r = importAsset(file);
   std::fputs(r.diagnostics.format().c_str(), stderr);
   if (!r.ok()) return 2;

@@ -20,64 +20,9 @@
 namespace marionette::cli {
 
 namespace {
-constexpr const char* kUsage =
-    "usage: marionette prt lighting-error --env MAP [--bands N] [--window none|hann|lanczos|sinc4]\n"
-    "                                     [--probe latlong|mirror-ball|auto] [--json]\n"
-    "       marionette prt precompute MESH [--bands N] [--rays R] [--shadowed] [--threads T] -o CACHE [--json]\n"
-    "       marionette prt report [--docs DIR] [--quick] [--assets DIR] [--studiolights DIR] [--scripts DIR]\n"
-    "                             [--threads T]\n";
-
 int fail(const std::string& message) {
   std::fprintf(stderr, "marionette prt: error: %s\n", message.c_str());
   return 2;
-}
-
-bool parseInt(const std::string& text, int lo, int hi, int& out) {
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (end == text.c_str() || *end != '\0' || v < lo || v > hi) return false;
-  out = static_cast<int>(v);
-  return true;
-}
-
-struct Options {
-  std::vector<std::string> positional;
-  std::string env, output, window = "none", probe = "auto";
-  int bands = -1, rays = 1024, threads = 0;
-  bool json = false, shadowed = false;
-};
-
-int parse(const std::vector<std::string>& args, Options& o) {
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& s = args[i];
-    auto value = [&](std::string& out) {
-      if (i + 1 >= args.size()) return false;
-      out = args[++i];
-      return true;
-    };
-    std::string v;
-    if (s == "--env" || s == "-o" || s == "--window" || s == "--probe") {
-      if (!value(v)) return fail("option '" + s + "' needs a value");
-      (s == "--env" ? o.env : s == "-o" ? o.output : s == "--window" ? o.window : o.probe) = v;
-    } else if (s == "--bands" || s == "--rays" || s == "--threads") {
-      if (!value(v)) return fail("option '" + s + "' needs a value");
-      if (s == "--bands" && !parseInt(v, 2, prt::kMaxShBands, o.bands))
-        return fail("--bands '" + v + "': expected an integer in 2.." + std::to_string(prt::kMaxShBands));
-      if (s == "--rays" && !parseInt(v, 1, 1 << 20, o.rays))
-        return fail("--rays '" + v + "': expected an integer in 1..1048576");
-      if (s == "--threads" && !parseInt(v, 0, 256, o.threads))
-        return fail("--threads '" + v + "': expected an integer in 0..256 (0: every core)");
-    } else if (s == "--json") {
-      o.json = true;
-    } else if (s == "--shadowed") {
-      o.shadowed = true;
-    } else if (!s.empty() && s[0] == '-') {
-      return fail("unknown option '" + s + "'");
-    } else {
-      o.positional.push_back(s);
-    }
-  }
-  return -1;
 }
 
 bool windowFrom(const std::string& name, prt::ShWindow& w) {
@@ -93,8 +38,9 @@ bool probeKindFrom(const std::string& name, prt::LightProbeKind& kind) {
   return false;
 }
 
-int lightingErrorCommand(const Options& o) {
-  if (o.env.empty()) return fail("lighting-error needs --env MAP");
+}  // namespace
+
+int prtLightingErrorCommand(const PrtLightingErrorOptions& o) {
   prt::ShWindow window;
   if (!windowFrom(o.window, window)) return fail("--window '" + o.window + "': expected none, hann, lanczos or sinc4");
   prt::LightProbeKind kind;
@@ -119,10 +65,8 @@ int lightingErrorCommand(const Options& o) {
   return load.diagnostics.hasWarnings() ? 1 : 0;
 }
 
-int precomputeCommand(const Options& o) {
-  if (o.positional.size() != 2) return fail("precompute needs one MESH (a character file)");
-  if (o.output.empty()) return fail("precompute needs -o CACHE (the transfer file to write)");
-  const std::string& file = o.positional[1];
+int prtPrecomputeCommand(const PrtPrecomputeOptions& o) {
+  const std::string& file = o.mesh;
   ImportResult imported = importAsset(file);
   std::fputs(imported.diagnostics.format().c_str(), stderr);
   if (!imported.asset) return 2;
@@ -174,22 +118,4 @@ int precomputeCommand(const Options& o) {
   }
   return run.hasWarnings() ? 1 : 0;
 }
-}  // namespace
-
-int prtCommand(const std::vector<std::string>& args) {
-  if (!args.empty() && args[0] == "report") return prtReportCommand({args.begin() + 1, args.end()});
-  Options o;
-  if (const int code = parse(args, o); code >= 0) return code;
-  if (o.positional.empty()) {
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
-  const std::string& sub = o.positional[0];
-  if (sub == "lighting-error") return lightingErrorCommand(o);
-  if (sub == "precompute") return precomputeCommand(o);
-  std::fprintf(stderr, "marionette prt: error: unknown subcommand '%s'\n", sub.c_str());
-  std::fputs(kUsage, stderr);
-  return 2;
-}
-
 }  // namespace marionette::cli

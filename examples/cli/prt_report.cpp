@@ -52,16 +52,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 
-constexpr const char* kReportUsage =
-    "usage: marionette prt report [--docs DIR] [--quick] [--assets DIR] [--studiolights DIR]\n"
-    "                             [--scripts DIR] [--threads T]\n"
-    "  --docs DIR          output: DIR/prt-report.md, DIR/data/prt/*.csv, DIR/img/prt_*.png (default docs)\n"
-    "  --quick             a smoke run in well under 30 s (fewer maps, normals, rays and vertices)\n"
-    "  --assets DIR        the shared assets (envmaps/, characters/) (default ../shared/assets)\n"
-    "  --studiolights DIR  Blender's studio lights (default /usr/share/blender/datafiles/studiolights/world)\n"
-    "  --scripts DIR       where plot_prt_*.gp are (default scripts)\n"
-    "  --threads T         threads for the brute force, the references and the precompute (default 2)\n";
-
 int reportFail(const std::string& message) {
   std::fprintf(stderr, "marionette prt report: error: %s\n", message.c_str());
   return 2;
@@ -112,12 +102,7 @@ double percentile(std::vector<double> values, double p) {
   return values[std::min(values.size() - 1, k > 0 ? k - 1 : 0)];
 }
 
-struct ReportOptions {
-  std::string docs = "docs", assets = "../shared/assets",
-              studiolights = "/usr/share/blender/datafiles/studiolights/world", scripts = "scripts";
-  bool quick = false;
-  unsigned threads = 2;
-};
+using ReportOptions = PrtReportOptions;
 
 struct MapSpec {
   std::string name, path;
@@ -961,32 +946,7 @@ bool runGnuplot(const ReportOptions& o, const std::string& script, const fs::pat
 }
 }  // namespace
 
-int prtReportCommand(const std::vector<std::string>& args) {
-  ReportOptions o;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& s = args[i];
-    if (s == "--quick") {
-      o.quick = true;
-    } else if (s == "--docs" || s == "--assets" || s == "--studiolights" || s == "--scripts" || s == "--threads") {
-      if (i + 1 >= args.size()) return reportFail("option '" + s + "' needs a value");
-      const std::string v = args[++i];
-      if (s == "--threads") {
-        char* end = nullptr;
-        const long t = std::strtol(v.c_str(), &end, 10);
-        if (end == v.c_str() || *end != '\0' || t < 1 || t > 256)
-          return reportFail("--threads '" + v + "': expected an integer in 1..256");
-        o.threads = static_cast<unsigned>(t);
-      } else {
-        (s == "--docs" ? o.docs : s == "--assets" ? o.assets : s == "--studiolights" ? o.studiolights : o.scripts) = v;
-      }
-    } else if (s == "-h" || s == "--help") {
-      std::fputs(kReportUsage, stdout);
-      return 0;
-    } else {
-      std::fputs(kReportUsage, stderr);
-      return reportFail("unexpected argument '" + s + "'");
-    }
-  }
+int prtReportCommand(const PrtReportOptions& o) {
   for (const std::string* p : {&o.docs, &o.scripts})
     if (p->find_first_of("'\"") != std::string::npos) return reportFail("paths with quotes are not supported: " + *p);
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)

@@ -19,86 +19,31 @@ namespace marionette::cli {
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: marionette retarget SRC_MOTION --to TARGET_CHARACTER [--src-map M.json] [--dst-map M.json]\n"
-    "                           [--clip NAME] [--fps F] [--ik feet,hands|none] -o OUT.glb|OUT.gltf|OUT.bvh\n"
-    "                           [--report] [--json]\n";
-
 bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
-
-struct Args {
-  std::string source, target, sourceMap, targetMap, clip, output;
-  float fps = 0.0f;
-  bool feet = false, hands = false, report = false, json = false;
-};
 
 int fail(const std::string& message) {
   std::fprintf(stderr, "marionette retarget: error: %s\n", message.c_str());
   return 2;
 }
 
-// Returns an exit code >= 0 on a usage error, -1 when the arguments are fine.
-int parse(const std::vector<std::string>& args, Args& a) {
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& s = args[i];
-    auto value = [&](std::string& out) {
-      if (i + 1 >= args.size()) return false;
-      out = args[++i];
-      return true;
-    };
-    std::string v;
-    if (s == "--to" || s == "--src-map" || s == "--dst-map" || s == "--clip" || s == "-o" || s == "--fps" ||
-        s == "--ik") {
-      if (!value(v)) return fail("option '" + s + "' needs a value");
-      if (s == "--to") a.target = v;
-      else if (s == "--src-map") a.sourceMap = v;
-      else if (s == "--dst-map") a.targetMap = v;
-      else if (s == "--clip") a.clip = v;
-      else if (s == "-o") a.output = v;
-      else if (s == "--fps") {
-        char* end = nullptr;
-        a.fps = std::strtof(v.c_str(), &end);
-        if (end == v.c_str() || *end != '\0' || !(a.fps > 0.0f) || a.fps > 1000.0f)
-          return fail("--fps '" + v + "': expected frames per second in (0, 1000]");
-      } else {  // --ik
-        std::size_t start = 0;
-        while (start <= v.size()) {
-          const std::size_t comma = v.find(',', start);
-          const std::string part = v.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-          if (part == "feet") a.feet = true;
-          else if (part == "hands") a.hands = true;
-          else if (part != "none") return fail("--ik '" + v + "': expected feet, hands, feet,hands or none");
-          if (comma == std::string::npos) break;
-          start = comma + 1;
-        }
-      }
-    } else if (s == "--report") {
-      a.report = true;
-    } else if (s == "--json") {
-      a.json = true;
-    } else if (!s.empty() && s[0] == '-') {
-      return fail("unknown option '" + s + "'");
-    } else if (a.source.empty()) {
-      a.source = s;
-    } else {
-      return fail("one source motion expected, got '" + s + "' too");
-    }
-  }
-  if (a.source.empty() || a.target.empty() || a.output.empty()) {
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
-  if (!endsWith(a.output, ".glb") && !endsWith(a.output, ".gltf") && !endsWith(a.output, ".bvh"))
-    return fail("output '" + a.output + "': expected a .glb, .gltf or .bvh file name");
-  return -1;
-}
-
-// A joint map from a file, or guessed from the asset; diagnostics to stderr.
+// A joint map: the file given, else the shipped map that fits the asset, else a guess.
+// Diagnostics to stderr; which map was taken as a note.
 std::optional<retarget::JointMap> jointMapFor(const std::string& file, const Asset& asset, const std::string& what,
-                                              bool& warned) {
-  retarget::JointMapResult r = file.empty() ? retarget::guessJointMap(asset) : retarget::loadJointMap(file, asset);
+                                              const std::vector<std::string>& folders, bool& warned) {
+  retarget::JointMapResult r;
+  if (!file.empty()) {
+    r = retarget::loadJointMap(file, asset);
+  } else if (auto match = retarget::findJointMap(asset, folders)) {
+    std::fprintf(stderr, "marionette retarget: note: %s: joint map %s (shipped; fits every joint it names)\n",
+                 what.c_str(), match->file.c_str());
+    r = std::move(match->result);
+  } else {
+    r = retarget::guessJointMap(asset);
+    std::fprintf(stderr, "marionette retarget: note: %s: joint map guessed from names and topology (--%s-map M.json "
+                 "to give one)\n", what.c_str(), what.rfind("source", 0) == 0 ? "src" : "dst");
+  }
   std::fputs(r.diagnostics.format().c_str(), stderr);
   if (!r.diagnostics.ok()) {
     std::fprintf(stderr, "marionette retarget: error: no usable joint map for the %s\n", what.c_str());
@@ -110,9 +55,7 @@ std::optional<retarget::JointMap> jointMapFor(const std::string& file, const Ass
 
 }  // namespace
 
-int retargetCommand(const std::vector<std::string>& args) {
-  Args a;
-  if (const int code = parse(args, a); code >= 0) return code;
+int retargetCommand(const RetargetCommandOptions& a) {
   const bool bvh = endsWith(a.output, ".bvh");
 
   ImportOptions motionOptions;
@@ -135,15 +78,17 @@ int retargetCommand(const std::vector<std::string>& args) {
       clip = &c;
       break;
     }
-  if (!clip) {
-    std::string names;
-    for (const Clip& c : source.clips) names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
+  std::string names;
+  for (const Clip& c : source.clips) names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
+  if (!clip)
     return fail(a.source + ": " +
                 (a.clip.empty() ? "has no animation" : "no clip named '" + a.clip + "' (clips: " + names + ")"));
-  }
+  if (a.clip.empty() && source.clips.size() > 1)
+    std::fprintf(stderr, "marionette retarget: note: no --clip: took '%s', the first of %zu clips (%s)\n",
+                 clip->name.c_str(), source.clips.size(), names.c_str());
 
-  const auto sourceMap = jointMapFor(a.sourceMap, source, "source " + a.source, warned);
-  const auto targetMap = jointMapFor(a.targetMap, target, "target " + a.target, warned);
+  const auto sourceMap = jointMapFor(a.sourceMap, source, "source " + a.source, a.jointMapFolders, warned);
+  const auto targetMap = jointMapFor(a.targetMap, target, "target " + a.target, a.jointMapFolders, warned);
   if (!sourceMap || !targetMap) return 2;
 
   retarget::RetargetOptions options;
@@ -170,7 +115,7 @@ int retargetCommand(const std::vector<std::string>& args) {
   if (!written.ok()) return 2;
   warned |= written.hasWarnings();
 
-  if (a.report) {
+  if (a.report || a.json) {  // --json alone: the same figures, as JSON
     const auto err = retarget::endEffectorError(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap, out,
                                                 r.facingAlignment());
     const auto sk = retarget::compareSkating(source.skeleton, *sourceMap, *clip, target.skeleton, *targetMap, out);
@@ -181,6 +126,7 @@ int retargetCommand(const std::vector<std::string>& args) {
       nlohmann::ordered_json j;
       j["source"] = a.source;
       j["target"] = a.target;
+      j["output"] = a.output;
       j["clip"] = out.name;
       j["duration"] = out.duration;
       j["frames"] = frames;

@@ -23,83 +23,6 @@
 namespace marionette::cli {
 
 namespace {
-struct RunArgs {
-  std::string scene, trace, feedback, morphs, audioDir;
-  std::vector<std::string> bml;
-  long frames = 120;
-  double fps = 60.0;
-  bool stats = false;
-};
-
-bool parseNumber(const std::string& text, double& out) {
-  char* end = nullptr;
-  out = std::strtod(text.c_str(), &end);
-  return end && *end == '\0' && !text.empty() && std::isfinite(out);
-}
-
-int parseArgs(const std::vector<std::string>& args, RunArgs& r) {
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* what) -> const std::string* {
-      if (i + 1 >= args.size()) {
-        std::fprintf(stderr, "marionette run: error: %s needs a value\n", what);
-        return nullptr;
-      }
-      return &args[++i];
-    };
-    double v;
-    if (a == "--frames") {
-      const std::string* s = value("--frames");
-      if (!s || !parseNumber(*s, v) || v < 1 || v > 1e7 || v != std::floor(v)) {
-        if (s) std::fprintf(stderr, "marionette run: error: --frames expects a whole number from 1 to 10000000\n");
-        return 2;
-      }
-      r.frames = static_cast<long>(v);
-    } else if (a == "--fps") {
-      const std::string* s = value("--fps");
-      if (!s || !parseNumber(*s, v) || v <= 0 || v > 1e4) {
-        if (s) std::fprintf(stderr, "marionette run: error: --fps expects a number in (0, 10000]\n");
-        return 2;
-      }
-      r.fps = v;
-    } else if (a == "--trace") {
-      const std::string* s = value("--trace");
-      if (!s) return 2;
-      r.trace = *s;
-    } else if (a == "--bml" || a == "--feedback") {
-#ifndef MARIONETTE_CLI_HAS_BML
-      std::fprintf(stderr, "marionette run: error: %s needs a build with MARIONETTE_WITH_BML=ON\n", a.c_str());
-      return 2;
-#endif
-      const std::string* s = value(a.c_str());
-      if (!s) return 2;
-      if (a == "--bml") r.bml.push_back(*s);
-      else r.feedback = *s;
-    } else if (a == "--morphs" || a == "--audio-dir") {
-      const std::string* s = value(a.c_str());
-      if (!s) return 2;
-      (a == "--morphs" ? r.morphs : r.audioDir) = *s;
-    } else if (a == "--stats") {
-      r.stats = true;
-    } else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "marionette run: error: unknown option '%s'\n", a.c_str());
-      return 2;
-    } else if (r.scene.empty()) {
-      r.scene = a;
-    } else {
-      std::fprintf(stderr, "marionette run: error: one scene file expected, got '%s' too\n", a.c_str());
-      return 2;
-    }
-  }
-  if (r.scene.empty()) {
-    std::fputs("usage: marionette run SCENE.json [--frames N] [--fps F] [--trace OUT.csv] [--stats]"
-               " [--bml FILE.xml]... [--feedback OUT.jsonl] [--morphs OUT.csv] [--audio-dir DIR]\n",
-               stderr);
-    return 2;
-  }
-  return 0;
-}
-
 // Counts warnings the runtime reports while running, and says when speech starts.
 struct WarningCounter : SceneListener {
   int warnings = 0;
@@ -138,9 +61,7 @@ void writeTraceRows(std::FILE* out, long frame, double time, const Character& c)
 }
 }  // namespace
 
-int runCommand(const std::vector<std::string>& args) {
-  RunArgs r;
-  if (int rc = parseArgs(args, r)) return rc;
+int runCommand(const RunOptions& r) {
   Scene scene;
   examples::useExampleSynthesizer(scene.speech());
   WarningCounter counter;
@@ -204,8 +125,21 @@ int runCommand(const std::vector<std::string>& args) {
   std::vector<double> totalMicros(scene.characters().size(), 0.0);
   std::vector<std::array<double, CharacterStats::kControllerCount>> controllerMicros(scene.characters().size());
   const double dt = 1.0 / r.fps;
+  // Without --frames: 2 s, and on while a block is still to be sent, held for its speech
+  // or running, so that a scene that speaks runs to the end of its line.
+  // Frame 0 is t = 0, so N seconds take N * fps + 1 frames.
+  const long minFrames = r.frames.value_or(static_cast<long>(std::ceil(RunOptions::kDefaultSeconds * r.fps)) + 1);
+  const long maxFrames = r.frames.value_or(static_cast<long>(std::ceil(RunOptions::kMaxDefaultSeconds * r.fps)) + 1);
+  auto blocksRunning = [&] {
+#ifdef MARIONETTE_CLI_HAS_BML
+    return !bmlFiles.done() || realizer.heldBlocks() > 0 || realizer.activeBlocks() > 0;
+#else
+    return false;
+#endif
+  };
   const auto runStart = std::chrono::steady_clock::now();
-  for (long f = 0; f < r.frames; ++f) {
+  long frames = 0;
+  for (long f = 0; f < maxFrames && (f < minFrames || blocksRunning()); ++f, ++frames) {
 #ifdef MARIONETTE_CLI_HAS_BML
     sendDue(scene.time() + (f == 0 ? 0.0 : dt));
 #endif
@@ -229,7 +163,13 @@ int runCommand(const std::vector<std::string>& args) {
 
   std::printf("scene %s: %d characters from %d files loaded in %.1f ms\n", r.scene.c_str(), loaded.charactersAdded,
               loaded.assetsLoaded, loadMs);
-  std::printf("ran %ld frames at %g fps (%.3f s of scene time) in %.1f ms\n", r.frames, r.fps, scene.time(), runMs);
+  std::printf("ran %ld frames at %g fps (%.3f s of scene time) in %.1f ms%s\n", frames, r.fps, scene.time(), runMs,
+              r.frames ? "" : (frames > minFrames ? " (to the end of the BML blocks)" : ""));
+  if (!r.frames && frames == maxFrames && blocksRunning()) {
+    std::fprintf(stderr, "marionette run: warning: BML blocks still running after %.0f s; stopped (--frames N runs longer)\n",
+                 RunOptions::kMaxDefaultSeconds);
+    ++counter.warnings;
+  }
   for (const auto& c : scene.characters()) {
     glm::vec3 p = c->position();
     std::printf("  %-16s %3zu joints  layers %d  at (%.3f, %.3f, %.3f) heading %.1f deg\n", c->name().c_str(),
@@ -246,11 +186,11 @@ int runCommand(const std::vector<std::string>& args) {
         if (st.controllerUsed[k]) {
           char buf[64];
           std::snprintf(buf, sizeof buf, ", %s %.2f us", CharacterStats::kControllerNames[k],
-                        controllerMicros[i][static_cast<std::size_t>(k)] / static_cast<double>(r.frames));
+                        controllerMicros[i][static_cast<std::size_t>(k)] / static_cast<double>(frames));
           controllers += buf;
         }
       std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s%s\n", c.name().c_str(),
-                  totalMicros[i] / static_cast<double>(r.frames), c.layerCount(),
+                  totalMicros[i] / static_cast<double>(frames), c.layerCount(),
                   c.layerCount() == 0 ? " (rest pose only)" : (st.sampledDirect ? " (one-clip fast path)" : " (blend)"),
                   controllers.c_str());
     }

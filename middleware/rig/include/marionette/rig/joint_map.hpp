@@ -78,4 +78,16 @@ struct JointMapResult {
 // The map as JSON text in loadJointMap's format (joint names, or "#N" for unnamed joints).
 [[nodiscard]] std::string jointMapJson(const JointMap& map, const Skeleton& skeleton);
 
+// The joint-map file that fits an asset, among the *.json files of `folders` (e.g. the
+// shipped share/marionette/jointmaps): the first that loads without a warning, so every
+// joint it names exists, nothing required is left out and the topology agrees. The file
+// named after the asset's file (RobotExpressive.glb: RobotExpressive.json) is tried first,
+// then the rest in folder order and name order. Folders that do not exist are skipped;
+// files that do not load are passed over. nullopt when none fits.
+struct JointMapMatch {
+  std::string file;
+  JointMapResult result;
+};
+[[nodiscard]] std::optional<JointMapMatch> findJointMap(const Asset& asset, const std::vector<std::string>& folders);
+
 }  // namespace marionette::retarget
