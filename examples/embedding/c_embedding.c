@@ -5,8 +5,11 @@
  * callback hands over),
  * updates 3 s at 60 Hz reading the bone palette (column-major, inverse bind) and
  * the morph weights into its own arrays each frame, counts BML feedback and
- * visemes, and prints one line per fact. With PALETTE_OUT, writes the last frame's
- * palette there (one float per line) for the test to compare with the C++ API. */
+ * visemes, and prints one line per fact. Then binds the character to an "engine"
+ * skeleton that orders the bones its own way and has a morph slot of its own
+ * (mn_binding), and reads the palette and morphs in the engine's order. With
+ * PALETTE_OUT, writes the last frame's palette there (one float per line) for the test
+ * to compare with the C++ API. */
 #include <marionette/marionette.h>
 
 #include <math.h>
@@ -25,6 +28,49 @@ typedef struct {
 } counts;
 
 /* A line starts: an engine would queue sp->samples on its audio device at sp->start_time. */
+/* An engine's own skeleton: the character's bones in reverse order (each parent after its
+ * children, as some engines keep them) and its morphs plus an engine-only "blink" slot.
+ * mn_binding matches them by name once; each frame copies in the engine's order. */
+static int bind_engine_skeleton(mn_scene* scene, mn_character* c, const float* palette) {
+  const size_t bones = mn_character_joint_count(c), morphs = mn_character_morph_count(c);
+  const size_t per = mn_palette_floats_per_joint(MN_PALETTE_MAT4_COLUMN_MAJOR);
+  const char** names = malloc((bones + morphs + 1) * sizeof *names);
+  float* engine_palette = malloc(bones * per * sizeof *engine_palette);
+  float* engine_morphs = malloc((morphs + 1) * sizeof *engine_morphs);
+  mn_engine_skeleton engine;
+  mn_binding* binding = NULL;
+  size_t slot, k, bound = 0;
+  int same = 1;
+  if (!names || !engine_palette || !engine_morphs) return 2;
+  for (slot = 0; slot < bones; ++slot) names[slot] = mn_character_joint_name(c, bones - 1 - slot);
+  for (k = 0; k < morphs; ++k) names[bones + k] = mn_character_morph_name(c, k);
+  names[bones + morphs] = "blink";
+  engine.bone_names = names;
+  engine.parents = NULL; /* by name alone: the parents are needed only to bind through joint maps */
+  engine.bone_count = bones;
+  engine.morph_names = names + bones;
+  engine.morph_count = morphs + 1;
+  if (mn_binding_create(c, &engine, NULL, &binding) != MN_OK ||
+      mn_binding_palette(binding, MN_PALETTE_MAT4_COLUMN_MAJOR, 1, engine_palette, bones * per) != MN_OK ||
+      mn_binding_morph_weights(binding, engine_morphs, morphs + 1) != MN_OK) {
+    fprintf(stderr, "binding: %s\n", mn_scene_last_error(scene));
+    return 2;
+  }
+  for (slot = 0; slot < bones; ++slot) {
+    const int joint = mn_binding_joint_for_bone(binding, slot);
+    bound += joint >= 0;
+    for (k = 0; joint >= 0 && k < per; ++k) same = same && engine_palette[slot * per + k] == palette[(size_t)joint * per + k];
+  }
+  printf("binding: %zu of %zu engine bones bound, palette in the engine's order equal to the character's: %s\n", bound,
+         bones, same ? "yes" : "no");
+  printf("binding report: %s", mn_binding_report(binding)); /* names the engine-only "blink" slot */
+  mn_binding_destroy(binding);
+  free(names);
+  free(engine_palette);
+  free(engine_morphs);
+  return 0;
+}
+
 static void on_speech(void* user, const mn_speech* sp) {
   counts* c = (counts*)user;
   ++c->lines;
@@ -145,6 +191,7 @@ int main(int argc, char** argv) {
     for (i = 0; i < morphs; ++i) max_weight = weights[i] > max_weight ? weights[i] : max_weight;
   }
   for (i = 0; i < floats; ++i) checksum += palette[i];
+  if (bind_engine_skeleton(scene, robot, palette) != 0) return 2;
 
   printf("character: %s, %zu joints, %zu morphs\n", mn_character_name(robot), joints, morphs);
   printf("frames: %d, scene time %.4f s\n", frame, mn_scene_time(scene));

@@ -68,6 +68,12 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
   EXPECT_GE(number(out, "clips:"), 10.0) << out;
   EXPECT_NE(out.find("(Idle, "), std::string::npos) << out;
   EXPECT_EQ(number(out, "clip starts:"), 1.0) << out;
+  // mn_binding: every bone found in the engine's reversed order, the palette rearranged, the
+  // engine's own morph slot named.
+  EXPECT_NE(out.find("binding: 43 of 43 engine bones bound, palette in the engine's order equal to the character's: yes"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("binding report: morphs: engine slot 'blink'"), std::string::npos) << out;
 
   // The same inputs through the C++ API.
   ImportOptions options;

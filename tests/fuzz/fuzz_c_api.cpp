@@ -9,6 +9,7 @@
 // NULL strings, finite matrices. Stale handles stay within the header's 256-destroys
 // promise (a few scenes per input). With MARIONETTE_FUZZ_WRITE_SEED=folder the program
 // writes a few seed streams there and exits. Built by scripts/fuzz.
+#include <algorithm>
 #include <array>
 #include <cstring>
 
@@ -36,7 +37,7 @@ constexpr int kMaxCharacterLoads = 2;  // each import takes milliseconds
 
 enum Op : std::uint8_t {
   kCreate, kDestroy, kAddCharacter, kLoadSceneText, kSendBml, kUpdate, kSceneQueries, kCharacterCalls,
-  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kClips, kRemoveCharacter, kInterrupt, kOpCount
+  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kClips, kRemoveCharacter, kInterrupt, kBinding, kOpCount
 };
 
 class Stream {
@@ -123,6 +124,7 @@ class Driver {
  public:
   void run(Stream& in) {
     while (!in.empty()) step(in);
+    for (mn_binding* b : bindings_) mn_binding_destroy(b);  // outliving their characters and scenes
     for (SceneSlot& s : scenes_)
       if (s.live) mn_scene_destroy(s.scene);
   }
@@ -137,6 +139,7 @@ class Driver {
     bool removed = false;
   };
   std::vector<CharacterSlot> characters_;  // every handle seen, live or not
+  std::vector<mn_binding*> bindings_;  // live bindings (destroyed at the end)
   char foreign_[64] = {};                   // an address that is no handle
 
   SceneSlot& slot(Stream& in) { return scenes_[in.byte() % kMaxScenes]; }
@@ -402,6 +405,58 @@ class Driver {
         require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_NOT_FOUND || st == MN_ERROR_UNSUPPORTED,
                 "interrupt status");
         failed(st, scene);
+        return;
+      }
+      case kBinding: {  // bind to an engine skeleton of fuzzed names and parents, copy, maybe destroy
+        const auto [c, live] = anyCharacter(in);
+        const std::size_t bones = in.byte() % 24, morphs = in.byte() % 4;
+        std::vector<std::string> names;
+        std::vector<int> parents;
+        for (std::size_t i = 0; i < bones; ++i) {
+          const std::uint8_t pick = in.byte();  // a joint of the character's, or fuzzed text
+          const char* joint = mn_character_joint_name(c, pick);
+          names.push_back(pick % 3 && joint ? std::string(joint) : in.text());
+          parents.push_back(static_cast<int>(in.raw<std::int8_t>()));
+        }
+        for (std::size_t i = 0; i < morphs; ++i) {
+          const char* morph = mn_character_morph_name(c, in.byte());
+          names.push_back(morph ? std::string(morph) : in.text());
+        }
+        std::vector<const char*> ptrs;
+        for (const std::string& n : names) ptrs.push_back(n.c_str());
+        const std::uint8_t flags = in.byte();
+        mn_engine_skeleton engine{ptrs.data(), flags & 1 ? parents.data() : nullptr, bones, ptrs.data() + bones, morphs};
+        mn_binding_options o = mn_binding_options_default();
+        o.through_joint_maps = flags & 2;
+        const std::string map = in.text();
+        if (flags & 4) o.engine_joint_map = map.c_str();
+        mn_binding* b = nullptr;
+        const mn_status st = mn_binding_create(c, &engine, flags & 8 ? &o : nullptr, &b);
+        require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_IO || st == MN_ERROR_LOAD,
+                "binding status");
+        require((st == MN_OK) == (b != nullptr), "a binding without MN_OK, or none with it");
+        if (!live) require(st != MN_OK, "a binding of a bad character was accepted");
+        failed(st, ownerOf(c));
+        if (b) bindings_.push_back(b);
+        if (bindings_.empty()) return;
+        mn_binding* any = bindings_[in.byte() % bindings_.size()];  // maybe of a removed character
+        checkString(mn_binding_report(any));
+        std::vector<float> palette(mn_binding_bone_count(any) * 16 + in.byte() % 2);
+        const mn_status p =
+            mn_binding_palette(any, static_cast<mn_palette_layout>(in.byte() % 4), 1, palette.data(), palette.size());
+        require(p == MN_OK || p == MN_ERROR_INVALID_ARGUMENT, "binding palette status");
+        if (p == MN_OK)
+          for (float v : palette) require(std::isfinite(v), "binding palette not finite");
+        std::vector<float> weights(mn_binding_morph_slot_count(any), 0.0f);
+        const mn_status w = mn_binding_morph_weights(any, weights.data(), weights.size());
+        require(w == MN_OK || w == MN_ERROR_INVALID_ARGUMENT, "binding morph status");
+        for (float v : weights) require(std::isfinite(v), "binding morph weight not finite");
+        for (std::size_t slot = 0; slot < mn_binding_bone_count(any); ++slot)
+          require(mn_binding_joint_for_bone(any, slot) >= -1, "joint_for_bone below -1");
+        if (in.byte() % 4 == 0) {
+          mn_binding_destroy(any);
+          bindings_.erase(std::find(bindings_.begin(), bindings_.end(), any));
+        }
         return;
       }
       case kOpCount: return;

@@ -27,7 +27,8 @@
  * mn_scene_update and mn_scene_send_bml on it from a callback are refused
  * (MN_ERROR_INVALID_ARGUMENT). A callback must not throw (C++) or longjmp out.
  *
- * Per frame: mn_character_palette and mn_character_morph_weights allocate nothing;
+ * Per frame: mn_character_palette, mn_character_morph_weights, mn_binding_palette and
+ * mn_binding_morph_weights allocate nothing;
  * mn_scene_update is the scene's update (no allocation once warm) plus the BML
  * realizer's progress and the callbacks.
  */
@@ -159,6 +160,63 @@ MN_API size_t mn_character_morph_count(const mn_character* character);
 MN_API const char* mn_character_morph_name(const mn_character* character, size_t morph); /* NULL if out of range */
 /* Writes the morph weights in mn_character_morph_name order (out_floats >= morph count). */
 MN_API mn_status mn_character_morph_weights(const mn_character* character, float* out, size_t out_floats);
+
+/* ---- bindings: the palette and morphs in the engine's own bone and morph order ---- */
+/* The engine's skeleton as the engine has it: bone names in palette-slot order, each bone's
+ * parent slot (-1 for a root; any order, a parent may come after its child), and the names
+ * of the engine's morph slots (blend shapes) in order. */
+typedef struct mn_engine_skeleton {
+  const char* const* bone_names;  /* bone_count names, none NULL */
+  const int* parents;             /* bone_count parent slots; may be NULL when binding by name alone */
+  size_t bone_count;
+  const char* const* morph_names; /* morph_count names, or NULL when morph_count is 0 */
+  size_t morph_count;
+} mn_engine_skeleton;
+
+/* Where names differ; mn_binding_options_default() gives the defaults in brackets (by exact
+ * name alone). With through_joint_maps, an engine bone whose name the character lacks gets the
+ * character joint of the same canonical joint (hips, spine[1], leftUpperArm, leftIndex[2], ...):
+ * the engine's joint map names each bone's canonical joint, the character's map the joint for it
+ * (docs/joint-maps.md; the shipped maps are in share/marionette/jointmaps). Chains match joint k
+ * to joint k. An exact name wins over the maps. A map path without through_joint_maps is an error. */
+typedef struct mn_binding_options {
+  int through_joint_maps;          /* nonzero: bind through joint maps where names differ [0] */
+  const char* engine_joint_map;    /* the engine skeleton's map (JSON; its names are engine bone names);
+                                      NULL: guessed from the bone names and parents [NULL] */
+  const char* character_joint_map; /* the character's map (JSON); NULL: the character's own
+                                      (its VRM humanoid map, else guessed from names and topology) [NULL] */
+} mn_binding_options;
+MN_API mn_binding_options mn_binding_options_default(void);
+
+typedef struct mn_binding mn_binding;
+/* Binds a character to an engine skeleton, once (allocates, may read the map files).
+ * `options` NULL: the defaults. Engine bones without a joint are written as identity every
+ * frame; engine morph slots without a morph are left untouched (the engine may drive them);
+ * mn_binding_report names them. The binding is the caller's (mn_binding_destroy); it is
+ * refused (MN_ERROR_INVALID_ARGUMENT) once its character is removed or its scene destroyed.
+ * MN_ERROR_IO for a map file that cannot be read, MN_ERROR_LOAD for one that is not a valid
+ * map; the message names the file, line:column and the problem. */
+MN_API mn_status mn_binding_create(mn_character* character, const mn_engine_skeleton* engine,
+                                   const mn_binding_options* options, mn_binding** out);
+MN_API void mn_binding_destroy(mn_binding* binding); /* NULL is a no-op */
+/* How the names were resolved, one line per problem (an engine bone without a joint, a joint
+ * that drives no bone, a morph slot without a morph, a morph no slot takes) and the joint
+ * maps' warnings; "" when everything was bound. Never NULL. */
+MN_API const char* mn_binding_report(const mn_binding* binding);
+MN_API size_t mn_binding_bone_count(const mn_binding* binding);
+MN_API size_t mn_binding_morph_slot_count(const mn_binding* binding);
+/* The character joint (mn_character_joint_name) that engine bone `slot` receives, or the
+ * morph (mn_character_morph_name) that engine morph slot `slot` receives; -1 when none or
+ * out of range. */
+MN_API int mn_binding_joint_for_bone(const mn_binding* binding, size_t slot);
+MN_API int mn_binding_morph_for_slot(const mn_binding* binding, size_t slot);
+/* Per frame, no allocation: the palette in the engine's bone order (bone_count *
+ * mn_palette_floats_per_joint(layout) floats; as mn_character_palette otherwise), and the
+ * morph weights into the engine's morph slots (out_floats >= morph slot count; the slots
+ * without a morph are not written). Nothing is written on error. */
+MN_API mn_status mn_binding_palette(const mn_binding* binding, mn_palette_layout layout, int inverse_bind, float* out,
+                                    size_t out_floats);
+MN_API mn_status mn_binding_morph_weights(const mn_binding* binding, float* out, size_t out_floats);
 
 /* ---- clips ---- */
 /* The clips of the character's rig, by index (0..count-1): name (NULL if out of range)

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "marionette/bridge/morph_binding.hpp"
 #include "marionette/bridge/palette_binding.hpp"
 #include "marionette/marionette.h"
 #include "marionette/scene/scene.hpp"
@@ -40,6 +41,15 @@ struct mn_character : marionette::capi::Registered {
   mn_scene* owner = nullptr;
   marionette::Character* character = nullptr;
   marionette::bridge::PaletteBinding palette;  // identity, bound once
+};
+
+// A character bound to an engine's bone and morph order (mn_binding_create). It names
+// its character, which it checks is live on every call.
+struct mn_binding : marionette::capi::Registered {
+  mn_character* character = nullptr;
+  marionette::bridge::PaletteBinding palette;
+  marionette::bridge::MorphBinding morphs;
+  std::string report;
 };
 
 // Forwards the scene's listener calls to the C callbacks.
