@@ -123,8 +123,7 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
     r.syncs.push_back({sync.name, last});
   }
   if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
-  // A clip realizes the behavior alone, but for a pointing, whose controller aims the arm over it.
-  if (r.clip.empty() || r.kind == BehaviorKind::Pointing) {
+  if (r.clip.empty() || controllerRunsOverClip(r.kind)) {
     ReadParameters read = readParameters(b, r.kind);
     r.parameters = std::move(read.parameters);
     m.error = std::move(read.error);

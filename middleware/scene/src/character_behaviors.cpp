@@ -56,45 +56,42 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
   BehaviorTimeline::Entry& e = behaviors_.add(std::move(request));
   result.added = true;
   reserveBehaviorPasses();
-  // Which controller binds each kind, in BehaviorKind order. A request that plays a clip is
-  // realized by the clip; only pointing also binds its controller over the clip (the clip
-  // shapes the hand, the controller aims the arm), when it has a target.
+  // Which controller binds each kind, in BehaviorKind order (nullptr: only a clip realizes
+  // it). A request that plays a clip is realized by the clip; a kind whose controller runs
+  // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
+  // aims the arm) also binds it, when it has a target.
   using Bind = std::string (Character::*)(BehaviorTimeline::Entry&, std::string&);
-  struct KindBinding {
-    Bind bind;      // nullptr: only a clip realizes the kind
-    bool overClip;  // also bound when the request plays a clip
-  };
-  static constexpr std::array<KindBinding, 16> kBindings = {{
-      {nullptr, false},                          // posture
-      {nullptr, false},                          // postureShift
-      {&Character::bindLocomotionEntry, false},  // locomotion
-      {&Character::bindGazeEntry, false},        // gaze
-      {&Character::bindGazeEntry, false},        // gazeShift
-      {&Character::bindHeadEntry, false},        // head
-      {&Character::bindHeadDirectionEntry, false},  // headDirectionShift
-      {&Character::bindFaceEntry, false},        // faceLexeme
-      {&Character::bindFaceEntry, false},        // faceFacs
-      {&Character::bindFaceEntry, false},        // face
-      {&Character::bindFaceEntry, false},        // faceShift
-      {nullptr, false},                          // gesture
-      {&Character::bindPointingEntry, true},     // pointing
-      {&Character::bindSpeechEntry, false},      // speech
-      {&Character::bindWaitEntry, false},        // wait
-      {nullptr, false},                          // clip
+  static constexpr std::array<Bind, 16> kBindings = {{
+      nullptr,                              // posture
+      nullptr,                              // postureShift
+      &Character::bindLocomotionEntry,      // locomotion
+      &Character::bindGazeEntry,            // gaze
+      &Character::bindGazeEntry,            // gazeShift
+      &Character::bindHeadEntry,            // head
+      &Character::bindHeadDirectionEntry,   // headDirectionShift
+      &Character::bindFaceEntry,            // faceLexeme
+      &Character::bindFaceEntry,            // faceFacs
+      &Character::bindFaceEntry,            // face
+      &Character::bindFaceEntry,            // faceShift
+      nullptr,                              // gesture
+      &Character::bindPointingEntry,        // pointing
+      &Character::bindSpeechEntry,          // speech
+      &Character::bindWaitEntry,            // wait
+      nullptr,                              // clip
   }};
   static_assert(static_cast<std::size_t>(BehaviorKind::Clip) + 1 == kBindings.size(), "one binding per kind");
-  const KindBinding& binding = kBindings[static_cast<std::size_t>(kind)];
+  const Bind bind = kBindings[static_cast<std::size_t>(kind)];
   if (clip) {
     bindClipEntry(e, std::move(clip));
     result.realized = true;
     const PointingParameters* aim = e.request.as<PointingParameters>();
-    if (binding.overClip && aim && !aim->target.empty()) {
-      const std::string why = (this->*binding.bind)(e, warning);
+    if (controllerRunsOverClip(kind) && bind && aim && !aim->target.empty()) {
+      const std::string why = (this->*bind)(e, warning);
       result.message = why.empty() ? warning : why + "; the clip plays without aiming";
     }
-  } else if (binding.bind) {
+  } else if (bind) {
     if (plan) e.controller = LocomotionEntryState{std::move(plan), glm::vec3(0.0f)};
-    const std::string why = (this->*binding.bind)(e, warning);
+    const std::string why = (this->*bind)(e, warning);
     result.realized = why.empty();
     result.message = why.empty() ? warning : why;
   } else {

@@ -39,6 +39,10 @@ enum class BehaviorKind : std::uint8_t {
 };
 [[nodiscard]] std::string_view toString(BehaviorKind kind) noexcept;
 [[nodiscard]] std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept;
+// Whether the kind's controller also runs over a clip that realizes it: a pointing aims
+// the arm over its gesture clip; every other clip realizes its behavior alone. The BML
+// mapping reads the parameters of such a request and the character binds the controller.
+[[nodiscard]] constexpr bool controllerRunsOverClip(BehaviorKind kind) noexcept { return kind == BehaviorKind::Pointing; }
 
 // Body channels, as bits. Requests whose channels overlap conflict while both
 // run: the one added later is blended over the earlier one, so it wins at full
