@@ -1,6 +1,7 @@
 #include "marionette/bml/document.hpp"
 
 #include <array>
+#include <cctype>
 #include <map>
 #include <tuple>
 
@@ -79,13 +80,17 @@ class Parser {
     block.id = root.attribute("id").as_string();
     blockId_ = block.id;
     block.characterId = root.attribute("characterId").as_string();
+    // Compositions case-insensitively: Greta writes "append".
     block.composition = root.attribute("composition").as_string("MERGE");
+    for (char& c : block.composition) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     if (block.id.empty()) {
       fatal(WarningType::ParsingFailure, "", "<bml> has no id (BML 1.0 requires one)", block.line, block.column);
       return std::move(result_);
     }
     if (block.composition != "MERGE" && block.composition != "APPEND" && block.composition != "REPLACE") {
-      warn(WarningType::ParsingFailure, "", "composition '" + block.composition + "' is not MERGE, APPEND or REPLACE; using MERGE",
+      warn(WarningType::ParsingFailure, "",
+           "composition '" + std::string(root.attribute("composition").as_string()) +
+               "' is not MERGE, APPEND or REPLACE; using MERGE",
            block.line, block.column);
       block.composition = "MERGE";
     }
@@ -120,7 +125,7 @@ class Parser {
     return it == prefixes_.end() ? "undeclared prefix '" + std::string(prefix) + "'" : it->second;
   }
   static bool isBmlNamespace(std::string_view ns) {
-    return ns.empty() || ns == kBmlNamespace || ns == kCoreExtensionsNamespace;
+    return ns.empty() || ns == kBmlNamespace || ns == kCoreExtensionsNamespace || ns == kDraftBmlNamespace;
   }
 
   void readChildren(const pugi::xml_node& parent, bool required, Block& block) {
@@ -132,10 +137,13 @@ class Parser {
       auto [line, col] = place(n);
       const std::string id = n.attribute("id").as_string();
       const std::string ns = namespaceOf(qualified, false);
+      // Inside <required>, a behavior that cannot be realized fails the block (BML 1.0).
+      const std::string failsBlock = required ? "; being required, it made the block fail" : "";
       if (!isBmlNamespace(ns)) {
         warn(WarningType::CustomBehaviorNotSupported, id,
-             "<" + std::string(qualified) + "> is a custom behavior (" + ns + "); it is not supported and was left out",
-             line, col);
+             "<" + std::string(qualified) + "> is a custom behavior (" + ns + "); it is not supported and was left out" +
+                 failsBlock,
+             line, col, required);
         continue;
       }
       if (type == "required") {
@@ -151,8 +159,8 @@ class Parser {
       } else if (isCoreBehavior(type)) {
         readBehavior(n, type, required, block);
       } else {
-        warn(WarningType::BehaviorTypeNotSupported, id, "<" + type + "> is not a BML 1.0 behavior; it was left out", line,
-             col);
+        warn(WarningType::BehaviorTypeNotSupported, id,
+             "<" + type + "> is not a BML 1.0 behavior; it was left out" + failsBlock, line, col, required);
       }
     }
   }

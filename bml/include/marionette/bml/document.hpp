@@ -14,6 +14,9 @@ namespace marionette::bml {
 
 inline constexpr std::string_view kBmlNamespace = "http://www.bml-initiative.org/bml/bml-1.0";
 inline constexpr std::string_view kCoreExtensionsNamespace = "http://www.bml-initiative.org/bml/coreextensions-1.0";
+// The draft namespace of BML before 1.0, still written by Greta and older Elckerlyc scripts:
+// read as BML 1.0 (issue 24).
+inline constexpr std::string_view kDraftBmlNamespace = "http://www.mindmakers.org/projects/BML";
 
 // Size limits of one block. Real blocks have tens of behaviors; the limits keep
 // scheduling time and memory bounded on any input (a block over them fails with

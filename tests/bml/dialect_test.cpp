@@ -1,0 +1,80 @@
+// BML as other realizers' users write it (issue 24): Greta's draft namespace and
+// lower-case compositions, and <required> around what cannot be realized. The blocks
+// are written here after the published formats of those projects.
+#include <gtest/gtest.h>
+
+#include <cctype>
+
+#include "marionette/bml/document.hpp"
+#include "marionette/bml/scheduler.hpp"
+
+using namespace marionette;
+
+namespace {
+int count(const bml::ParseResult& r, bml::WarningType type) {
+  int n = 0;
+  for (const auto& w : r.warnings) n += w.type == type;
+  return n;
+}
+}  // namespace
+
+// Greta (and Elckerlyc before BML 1.0) declare the draft namespace: its behaviors are BML.
+TEST(BmlDialect, TheDraftNamespaceIsReadAsBml) {
+  const auto r = bml::parseBlock(
+      "<bml xmlns=\"http://www.mindmakers.org/projects/BML\" id=\"greta1\" composition=\"append\">\n"
+      "  <gaze id=\"g1\" target=\"user\" start=\"0\" end=\"2\"/>\n"
+      "  <head id=\"h1\" lexeme=\"NOD\" start=\"0.5\"/>\n"
+      "</bml>");
+  ASSERT_TRUE(r.block) << r.format("greta");
+  EXPECT_EQ(r.block->behaviors.size(), 2u) << r.format("greta");
+  EXPECT_EQ(count(r, bml::WarningType::CustomBehaviorNotSupported), 0) << r.format("greta");
+  EXPECT_EQ(r.block->composition, "APPEND");
+  EXPECT_TRUE(r.warnings.empty()) << r.format("greta");
+  // Prefixed, as in Greta's FML-APML files that embed BML.
+  const auto prefixed = bml::parseBlock(
+      "<b:bml xmlns:b=\"http://www.mindmakers.org/projects/BML\" id=\"g2\"><b:head id=\"h\" lexeme=\"SHAKE\"/></b:bml>");
+  ASSERT_TRUE(prefixed.block) << prefixed.format("prefixed");
+  EXPECT_EQ(prefixed.block->behaviors.size(), 1u) << prefixed.format("prefixed");
+  // A namespace that is neither BML 1.0 nor the draft is still someone else's.
+  const auto other = bml::parseBlock("<bml xmlns=\"http://example.org/notbml\" id=\"x\"><head id=\"h\" lexeme=\"NOD\"/></bml>");
+  ASSERT_TRUE(other.block);
+  EXPECT_TRUE(other.block->behaviors.empty());
+  EXPECT_EQ(count(other, bml::WarningType::CustomBehaviorNotSupported), 1) << other.format("other");
+}
+
+TEST(BmlDialect, CompositionsAreReadCaseInsensitively) {
+  for (const char* written : {"merge", "Append", "REPLACE", "replace"}) {
+    const auto r = bml::parseBlock(std::string("<bml id=\"b\" composition=\"") + written + "\"/>");
+    ASSERT_TRUE(r.block);
+    EXPECT_TRUE(r.warnings.empty()) << written << ": " << r.format("c");
+    std::string upper = written;
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    EXPECT_EQ(r.block->composition, upper);
+  }
+  const auto bad = bml::parseBlock("<bml id=\"b\" composition=\"sideways\"/>");
+  ASSERT_TRUE(bad.block);
+  EXPECT_EQ(bad.block->composition, "MERGE");
+  EXPECT_NE(bad.format("c").find("composition 'sideways' is not MERGE, APPEND or REPLACE"), std::string::npos)
+      << bad.format("c");
+}
+
+// BML 1.0: a behavior in <required> that cannot be realized fails the whole block; outside
+// it, the behavior is left out and the block goes on.
+TEST(BmlDialect, RequiredAroundAnUnsupportedBehaviorFailsTheBlock) {
+  const std::string unsupported =
+      "<bml id=\"r\" xmlns:sbm=\"http://ict.usc.edu\"><required><head id=\"h\" lexeme=\"NOD\"/>"
+      "<frobnicate id=\"f\"/></required></bml>";
+  const auto r = bml::parseBlock(unsupported);
+  ASSERT_EQ(count(r, bml::WarningType::BehaviorTypeNotSupported), 1) << r.format("r");
+  EXPECT_TRUE(r.warnings.back().fatal);
+  EXPECT_NE(r.format("r").find("being required, it made the block fail"), std::string::npos) << r.format("r");
+  EXPECT_TRUE(bml::scheduleText(unsupported).failed);
+  const std::string custom =
+      "<bml id=\"c\" xmlns:sbm=\"http://ict.usc.edu\"><required><sbm:animation id=\"a\" name=\"Wave\"/></required></bml>";
+  EXPECT_TRUE(bml::scheduleText(custom).failed);
+  // The same outside <required>: left out with a warning, the head still scheduled.
+  const bml::Schedule free = bml::scheduleText(
+      "<bml id=\"o\"><head id=\"h\" lexeme=\"NOD\"/><frobnicate id=\"f\"/></bml>");
+  EXPECT_FALSE(free.failed);
+  EXPECT_EQ(free.behaviors.size(), 1u);
+}
