@@ -2,7 +2,10 @@
 
 #include <array>
 #include <cctype>
+#include <cstdint>
+#include <cstdio>
 #include <map>
+#include <set>
 #include <tuple>
 
 #include <pugixml.hpp>
@@ -47,9 +50,34 @@ std::string collapse(const std::string& s) {
   return out;
 }
 
+// SmartBody's forms: an sbm: prefix on any element or attribute, or its declaration.
+// Iterative: blocks may nest deeply (DeepNestingAndHugeBlocksFailCleanlyAndQuickly).
+bool usesSmartBodyForms(const pugi::xml_node& root) {
+  std::vector<pugi::xml_node> stack{root};
+  while (!stack.empty()) {
+    const pugi::xml_node n = stack.back();
+    stack.pop_back();
+    if (prefixOf(n.name()) == "sbm") return true;
+    for (pugi::xml_attribute a : n.attributes())
+      if (prefixOf(a.name()) == "sbm" || std::string_view(a.name()) == "xmlns:sbm") return true;
+    for (pugi::xml_node c : n.children())
+      if (c.type() == pugi::node_element) stack.push_back(c);
+  }
+  return false;
+}
+
+// FNV-1a: a generated block id that is the same for the same text on every run.
+std::string textHash(std::string_view text) {
+  std::uint32_t h = 2166136261u;
+  for (char c : text) h = (h ^ static_cast<unsigned char>(c)) * 16777619u;
+  char buf[9];
+  std::snprintf(buf, sizeof buf, "%08x", h);
+  return buf;
+}
+
 class Parser {
  public:
-  explicit Parser(std::string_view text) : text_(text), lines_(text) {}
+  Parser(std::string_view text, const ParseOptions& options) : text_(text), lines_(text), options_(options) {}
 
   ParseResult run() {
     pugi::xml_document doc;
@@ -61,6 +89,9 @@ class Parser {
       return std::move(result_);
     }
     pugi::xml_node root = doc.document_element();
+    smartBody_ = options_.dialect == Dialect::SmartBody ||
+                 (options_.dialect == Dialect::Auto && root &&
+                  (localName(root.name()) == "act" || usesSmartBodyForms(root)));
     // SmartBody dialect: <act><bml>...</bml></act>.
     if (root && localName(root.name()) == "act") {
       pugi::xml_node inner = root.child("bml");
@@ -83,7 +114,13 @@ class Parser {
     // Compositions case-insensitively: Greta writes "append".
     block.composition = root.attribute("composition").as_string("MERGE");
     for (char& c : block.composition) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    if (block.id.empty()) {
+    block.smartBody = smartBody_;
+    collectIds(root);
+    if (block.id.empty() && smartBody_) {
+      block.id = options_.generatedBlockId.empty() ? "sbm_" + textHash(text_) : options_.generatedBlockId;
+      blockId_ = block.id;
+      generated_.push_back("the block ('" + block.id + "')");
+    } else if (block.id.empty()) {
       fatal(WarningType::ParsingFailure, "", "<bml> has no id (BML 1.0 requires one)", block.line, block.column);
       return std::move(result_);
     }
@@ -96,6 +133,15 @@ class Parser {
     }
     readChildren(root, false, block);
     if (tooLarge_) return std::move(result_);  // the block failed; its partial content is not scheduled
+    if (!generated_.empty()) {  // one warning for the whole block
+      std::string list;
+      for (std::size_t k = 0; k < generated_.size(); ++k)
+        list += (k == 0 ? "" : k + 1 == generated_.size() ? " and " : ", ") + generated_[k];
+      warn(WarningType::ParsingFailure, "",
+           "SmartBody mode: ids generated for " + list + " (BML 1.0 requires them; SmartBody's execBML adds them)",
+           block.line, block.column);
+      block.generatedIds = true;
+    }
     result_.block = std::move(block);
     return std::move(result_);
   }
@@ -108,6 +154,16 @@ class Parser {
   }
   void fatal(WarningType type, std::string behavior, std::string message, int line, int col) {
     warn(type, std::move(behavior), std::move(message), line, col, true);
+  }
+
+  // Every id the block's behaviors give themselves, so that a generated one takes none of them.
+  // Behaviors stand under <bml> or one <required> (readChildren goes no deeper).
+  void collectIds(const pugi::xml_node& n, bool inRequired = false) {
+    for (pugi::xml_node c : n.children()) {
+      if (c.type() != pugi::node_element) continue;
+      if (const char* id = c.attribute("id").as_string(); *id) usedIds_.insert(id);
+      if (!inRequired && localName(c.name()) == "required") collectIds(c, true);
+    }
   }
 
   // xmlns and xmlns:prefix declarations (on the root; enough for BML blocks).
@@ -187,8 +243,17 @@ class Parser {
       }
       b.attributes.push_back({std::string(localName(name)), a.value(), b.line, b.column});
     }
+    if (b.id.empty() && smartBody_) {
+      for (int k = ++typeCount_[type];; k = ++typeCount_[type])
+        if (usedIds_.insert(type + "_" + std::to_string(k)).second) {
+          b.id = type + "_" + std::to_string(k);
+          break;
+        }
+      generated_.push_back("<" + type + "> at " + std::to_string(b.line) + ":" + std::to_string(b.column) + " ('" +
+                           b.id + "')");
+    }
     if (b.id.empty()) {
-      warn(required ? WarningType::ParsingFailure : WarningType::ParsingFailure, "",
+      warn(WarningType::ParsingFailure, "",
            "<" + type + "> has no id (BML 1.0 requires one on every behavior); it was left out", b.line, b.column,
            required);
       return;
@@ -284,6 +349,11 @@ class Parser {
 
   std::string_view text_;
   LineIndex lines_;
+  const ParseOptions& options_;
+  bool smartBody_ = false;
+  std::set<std::string> usedIds_;
+  std::map<std::string, int> typeCount_;
+  std::vector<std::string> generated_;  // what got an id, for the one warning
   ParseResult result_;
   std::string blockId_;
   std::string defaultNs_;
@@ -312,6 +382,21 @@ std::string ParseResult::format(const std::string& source) const {
   return out;
 }
 
-ParseResult parseBlock(std::string_view text) { return Parser(text).run(); }
+ParseResult parseBlock(std::string_view text, const ParseOptions& options) { return Parser(text, options).run(); }
+
+std::string_view toString(Dialect d) noexcept {
+  switch (d) {
+    case Dialect::Bml: return "bml";
+    case Dialect::SmartBody: return "smartbody";
+    case Dialect::Auto: break;
+  }
+  return "auto";
+}
+
+std::optional<Dialect> dialectFromName(std::string_view name) noexcept {
+  for (Dialect d : {Dialect::Auto, Dialect::Bml, Dialect::SmartBody})
+    if (name == toString(d)) return d;
+  return std::nullopt;
+}
 
 }  // namespace marionette::bml

@@ -107,22 +107,24 @@ bool Realizer::Held::ready() const noexcept {
 
 Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
                            std::optional<double> at) {
+  const ParseOptions parse{dialect_, "sbm_block_" + std::to_string(++performed_)};
   if (speechSynthesis_ == SpeechSynthesis::Background) {
-    if (std::optional<Schedule> held = holdForSpeech(bmlText, character, options, at)) return std::move(*held);
+    if (std::optional<Schedule> held = holdForSpeech(bmlText, parse, character, options, at)) return std::move(*held);
   } else if (!held_.empty()) {
     waitForSpeech();  // held before the switch to Inline: they go first, in order
   }
-  return realize(bmlText, character, options, at);
+  return realize(bmlText, parse, character, options, at);
 }
 
-std::optional<Schedule> Realizer::holdForSpeech(std::string_view bmlText, std::string_view character,
+std::optional<Schedule> Realizer::holdForSpeech(std::string_view bmlText, const ParseOptions& parse,
+                                                std::string_view character,
                                                 const SchedulerOptions& options, std::optional<double> at) {
   // A block without speech, with none held before it, goes straight on (and is not parsed twice).
   if (held_.empty() && bmlText.find("speech") == std::string_view::npos) return std::nullopt;
-  const ParseResult parsed = parseBlock(bmlText);
+  const ParseResult parsed = parseBlock(bmlText, parse);
   const auto [who, target] = performer(parsed, character);
   if (!parsed.block || !target) return std::nullopt;  // fails now, with its reason
-  Held h{std::string(bmlText), who, parsed.block->id, options, at, {}};
+  Held h{std::string(bmlText), who, parsed.block->id, parse, options, at, {}};
   // Even with the caller's own speech timing: the speech behavior says its line when realized.
   for (const Behavior& b : parsed.block->behaviors)
     if (auto line = prepareSpeechTiming(b, *target)) h.lines.push_back(std::move(line));
@@ -147,7 +149,7 @@ void Realizer::realizeHeld() {
       ~Pinned() { service.unpin(lines); }
     } pinned{scene_.speech(), h.lines};
     scene_.speech().pin(h.lines);
-    (void)realize(h.text, h.character, h.options, h.at && std::isfinite(*h.at) ? std::max(*h.at, now) : now);
+    (void)realize(h.text, h.parse, h.character, h.options, h.at && std::isfinite(*h.at) ? std::max(*h.at, now) : now);
   }
 }
 
@@ -158,9 +160,10 @@ void Realizer::waitForSpeech() {
   }
 }
 
-Schedule Realizer::realize(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
+Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, std::string_view character,
+                           const SchedulerOptions& options,
                            std::optional<double> at) {
-  const ParseResult parsed = parseBlock(bmlText);
+  const ParseResult parsed = parseBlock(bmlText, parse);
   // Plain variables, not a structured binding: lambdas below capture them (clang 14 cannot capture bindings).
   const std::pair<std::string, Character*> performed = performer(parsed, character);
   const std::string& who = performed.first;

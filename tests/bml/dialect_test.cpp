@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <string>
+#include <vector>
 
 #include "marionette/bml/document.hpp"
 #include "marionette/bml/scheduler.hpp"
@@ -77,4 +79,60 @@ TEST(BmlDialect, RequiredAroundAnUnsupportedBehaviorFailsTheBlock) {
       "<bml id=\"o\"><head id=\"h\" lexeme=\"NOD\"/><frobnicate id=\"f\"/></bml>");
   EXPECT_FALSE(free.failed);
   EXPECT_EQ(free.behaviors.size(), 1u);
+}
+
+// SmartBody's execBML adds the ids its scripts leave out (issue 24, 1).
+TEST(BmlDialect, SmartBodyBlocksAndBehaviorsWithoutIdsGetStableGeneratedOnes) {
+  const std::string text =
+      "<act><bml xmlns:sbm=\"http://ict.usc.edu\">\n"
+      "  <head type=\"NOD\"/>\n"
+      "  <gaze target=\"camera\"/>\n"
+      "  <head id=\"head_1\" lexeme=\"SHAKE\"/>\n"  // an id the generated ones must not take
+      "  <head lexeme=\"TOSS\"/>\n"
+      "</bml></act>";
+  const auto r = bml::parseBlock(text);
+  ASSERT_TRUE(r.block) << r.format("sbm");
+  EXPECT_TRUE(r.block->smartBody);
+  EXPECT_TRUE(r.block->generatedIds);
+  std::vector<std::string> ids;
+  for (const auto& b : r.block->behaviors) ids.push_back(b.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{"head_2", "gaze_1", "head_1", "head_3"})) << r.format("sbm");
+  EXPECT_EQ(r.block->id.rfind("sbm_", 0), 0u) << r.block->id;
+  EXPECT_EQ(bml::parseBlock(text).block->id, r.block->id) << "generated from the text: the same on every run";
+  // One warning names everything generated, with places.
+  ASSERT_EQ(count(r, bml::WarningType::ParsingFailure), 1) << r.format("sbm");
+  const std::string w = r.format("sbm");
+  EXPECT_NE(w.find("SmartBody mode: ids generated for the block ('" + r.block->id + "'), <head> at 2:3 ('head_2'), "
+                   "<gaze> at 3:3 ('gaze_1') and <head> at 5:3 ('head_3')"),
+            std::string::npos)
+      << w;
+  // The caller's id for the block (the Realizer numbers its blocks).
+  bml::ParseOptions o;
+  o.generatedBlockId = "sbm_block_7";
+  EXPECT_EQ(bml::parseBlock(text, o).block->id, "sbm_block_7");
+}
+
+TEST(BmlDialect, TheDialectIsDetectedOrChosen) {
+  const std::string plain = "<bml><head lexeme=\"NOD\"/></bml>";
+  // BML 1.0 (no SmartBody form): a missing id fails, as the standard says.
+  EXPECT_FALSE(bml::parseBlock(plain).block);
+  bml::ParseOptions smartbody;
+  smartbody.dialect = bml::Dialect::SmartBody;
+  const auto chosen = bml::parseBlock(plain, smartbody);
+  ASSERT_TRUE(chosen.block) << chosen.format("p");
+  EXPECT_EQ(chosen.block->behaviors.at(0).id, "head_1");
+  // An sbm: attribute alone makes it SmartBody's; Bml refuses it even so.
+  const std::string sbm = "<bml xmlns:sbm=\"http://ict.usc.edu\"><head lexeme=\"NOD\" sbm:smooth=\"0.5\"/></bml>";
+  EXPECT_TRUE(bml::parseBlock(sbm).block);
+  bml::ParseOptions strict;
+  strict.dialect = bml::Dialect::Bml;
+  EXPECT_FALSE(bml::parseBlock(sbm, strict).block);
+  // A block that has its ids is not changed and gets no warning about them.
+  const auto given = bml::parseBlock("<bml id=\"b\" xmlns:sbm=\"http://ict.usc.edu\"><head id=\"h\" lexeme=\"NOD\"/></bml>");
+  ASSERT_TRUE(given.block);
+  EXPECT_FALSE(given.block->generatedIds);
+  EXPECT_TRUE(given.warnings.empty()) << given.format("g");
+  for (bml::Dialect d : {bml::Dialect::Auto, bml::Dialect::Bml, bml::Dialect::SmartBody})
+    EXPECT_EQ(bml::dialectFromName(bml::toString(d)), d);
+  EXPECT_FALSE(bml::dialectFromName("greta").has_value());
 }

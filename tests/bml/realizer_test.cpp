@@ -366,3 +366,27 @@ TEST(Realizer, PointingAimsTheArmAndBadTargetsAreWarnings) {
   EXPECT_NE(w[0]->warning.message.find("pointing target 'inf 0 0' is not finite"), std::string::npos) << w[0]->warning.message;
   EXPECT_NE(w[1]->warning.message.find("'Nobody'"), std::string::npos) << w[1]->warning.message;
 }
+
+// SmartBody mode on the realizer: blocks without ids get "sbm_block_N", N counting perform()
+// calls, so that two identical SmartBody blocks run one after the other (issue 24, 1).
+TEST_F(RealizerWithRobot, SmartBodyModeNumbersTheBlocksItGivesIds) {
+  const std::string block = "<bml><head lexeme=\"NOD\" start=\"0\" end=\"0.5\"/></bml>";
+  EXPECT_EQ(r.dialect(), Dialect::Auto);
+  EXPECT_TRUE(r.perform(block, "robot").failed) << "BML 1.0: a block needs an id";
+  r.setDialect(Dialect::SmartBody);
+  const Schedule first = r.perform(block, "robot");
+  const Schedule second = r.perform(block, "robot");
+  ASSERT_FALSE(first.failed);
+  ASSERT_FALSE(second.failed) << "the generated ids differ, so the second is not a duplicate";
+  EXPECT_EQ(first.blockId, "sbm_block_2");
+  EXPECT_EQ(second.blockId, "sbm_block_3");
+  ASSERT_EQ(first.behaviors.size(), 1u);
+  EXPECT_EQ(first.behaviors[0].id, "head_1");
+  // The warning reaches the feedback once per block, naming what was generated.
+  int generated = 0;
+  for (const Feedback* f : rec.warnings(WarningType::ParsingFailure))
+    generated += f->warning.message.find("SmartBody mode: ids generated") != std::string::npos;
+  EXPECT_EQ(generated, 2);
+  step(scene, r, 1.0);
+  EXPECT_EQ(r.activeBlocks(), 0u);
+}

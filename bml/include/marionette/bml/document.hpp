@@ -63,6 +63,8 @@ struct Constraint {
 
 struct Block {
   std::string id;
+  bool smartBody = false;   // read in SmartBody mode (ParseOptions), given or detected
+  bool generatedIds = false;  // some ids were generated (SmartBody mode)
   std::string characterId;  // "" = the default character
   std::string composition;  // "MERGE" (default), "APPEND", "REPLACE"
   std::vector<Behavior> behaviors;
@@ -78,7 +80,22 @@ struct ParseResult {
   [[nodiscard]] std::string format(const std::string& source) const;
 };
 
+// Which realizer's users wrote the block. SmartBody's execBML adds the ids its
+// scripts leave out; in SmartBody mode they are generated: the block's from
+// ParseOptions::generatedBlockId (else from a hash of the text, stable across runs),
+// a behavior's as TYPE_N (head_1, gaze_2, ...), never one the block uses itself,
+// with one warning naming them. Auto is SmartBody mode when the block uses SmartBody's
+// forms (an <act> wrapper, an sbm: prefix), else BML 1.0, where a missing id fails.
+enum class Dialect { Auto, Bml, SmartBody };
+[[nodiscard]] std::string_view toString(Dialect d) noexcept;  // "auto", "bml", "smartbody"
+[[nodiscard]] std::optional<Dialect> dialectFromName(std::string_view name) noexcept;
+
+struct ParseOptions {
+  Dialect dialect = Dialect::Auto;
+  std::string generatedBlockId;  // for a block without id in SmartBody mode ("" = from the text's hash)
+};
+
 // Parses one <bml> block (or a SmartBody <act> wrapping one).
-[[nodiscard]] ParseResult parseBlock(std::string_view text);
+[[nodiscard]] ParseResult parseBlock(std::string_view text, const ParseOptions& options = {});
 
 }  // namespace marionette::bml

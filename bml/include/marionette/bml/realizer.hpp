@@ -72,6 +72,12 @@ class Realizer {
   // CANNOT_CREATE_BEHAVIOR warning (default on). Off only to validate BML against
   // an idealised character that has every controller (bml-check's default).
   void setReportUnrealized(bool report) noexcept { reportUnrealized_ = report; }
+  // Which realizer's users wrote the blocks (document.hpp): Auto (the default) reads a block
+  // in SmartBody mode when it uses SmartBody's forms; SmartBody always (blocks and behaviors
+  // without ids get generated ones: the block's "sbm_block_N", N counting perform() calls);
+  // Bml strictly.
+  void setDialect(Dialect dialect) noexcept { dialect_ = dialect; }
+  [[nodiscard]] Dialect dialect() const noexcept { return dialect_; }
   // Blend-out of behaviors ended by REPLACE or interrupt() (default 0.3 s).
   void setReplaceBlendSeconds(double seconds) noexcept {
     replaceBlend_ = std::isfinite(seconds) && seconds >= 0.0 ? seconds : replaceBlend_;
@@ -146,16 +152,18 @@ class Realizer {
   };
   struct Held {  // performed, waiting for its speech
     std::string text, character, blockId;
+    ParseOptions parse;
     SchedulerOptions options;
     std::optional<double> at;
     std::vector<std::shared_ptr<const speech::SpeechService::Preparation>> lines;
     [[nodiscard]] bool ready() const noexcept;
   };
-  [[nodiscard]] std::optional<Schedule> holdForSpeech(std::string_view bmlText, std::string_view character,
-                                                      const SchedulerOptions& options, std::optional<double> at);
+  [[nodiscard]] std::optional<Schedule> holdForSpeech(std::string_view bmlText, const ParseOptions& parse,
+                                                      std::string_view character, const SchedulerOptions& options,
+                                                      std::optional<double> at);
   void realizeHeld();
-  Schedule realize(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
-                   std::optional<double> at);
+  Schedule realize(std::string_view bmlText, const ParseOptions& parse, std::string_view character,
+                   const SchedulerOptions& options, std::optional<double> at);
   [[nodiscard]] std::pair<std::string, Character*> performer(const ParseResult& parsed, std::string_view character) const;
   void emit(const Feedback& f);
   bool arrived(Active& block, Event& event, double now);
@@ -174,6 +182,8 @@ class Realizer {
   SpeechSynthesis speechSynthesis_ = SpeechSynthesis::Background;
   bool forwardWarnings_ = true;
   bool reportUnrealized_ = true;
+  Dialect dialect_ = Dialect::Auto;
+  std::size_t performed_ = 0;  // perform() calls: generated block ids
   double replaceBlend_ = 0.3;
 };
 
