@@ -101,6 +101,15 @@ void expectPaletteRearranged(const RobotScene& s, const mn_binding* b, mn_palett
   }
 }
 
+// Binding through joint maps: the given files, or guessed where NULL.
+mn_binding_options throughMaps(const char* engineMap, const char* characterMap) {
+  mn_binding_options o = mn_binding_options_default();
+  o.through_joint_maps = 1;
+  o.engine_joint_map = engineMap;
+  o.character_joint_map = characterMap;
+  return o;
+}
+
 }  // namespace
 
 TEST(CBinding, ThroughTheShippedMapsItBindsAsTheCppBridgeDoes) {
@@ -108,10 +117,7 @@ TEST(CBinding, ThroughTheShippedMapsItBindsAsTheCppBridgeDoes) {
   MARIONETTE_REQUIRE_FILE(kGodette);
   RobotScene s;
   EngineGodette g;
-  mn_binding_options o = mn_binding_options_default();
-  o.through_joint_maps = 1;
-  o.engine_joint_map = kGodetteMap.c_str();
-  o.character_joint_map = kRobotMap.c_str();
+  const mn_binding_options o = throughMaps(kGodetteMap.c_str(), kRobotMap.c_str());
   mn_binding* b = nullptr;
   ASSERT_EQ(mn_binding_create(s.robot, &g.engine, &o, &b), MN_OK) << mn_scene_last_error(s.scene);
   ASSERT_NE(b, nullptr);
@@ -162,8 +168,7 @@ TEST(CBinding, GuessedMapsFromNamesAndParentsAgreeWithTheCppGuess) {
   MARIONETTE_REQUIRE_FILE(kGodette);
   RobotScene s;
   EngineGodette g;
-  mn_binding_options o = mn_binding_options_default();
-  o.through_joint_maps = 1;
+  const mn_binding_options o = throughMaps(nullptr, nullptr);
   mn_binding* b = nullptr;
   ASSERT_EQ(mn_binding_create(s.robot, &g.engine, &o, &b), MN_OK) << mn_scene_last_error(s.scene);
   // The C++ guess on the same skeleton (rest poses unknown to the engine: identity).
