@@ -17,11 +17,12 @@
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
 #include "pose_error.hpp"
+#include "test_paths.hpp"
 
 using namespace marionette;
 
 namespace {
-std::string shared(const std::string& rel) { return std::string(MARIONETTE_SHARED_DIR) + "/assets/" + rel; }
+std::string shared(const std::string& rel) { return ::marionette::test::sharedDir() + "/assets/" + rel; }
 
 double sampleMicros(const std::shared_ptr<const Rig>& rig, const std::string& clip) {
   Scene scene;

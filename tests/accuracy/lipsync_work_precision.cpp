@@ -29,6 +29,7 @@
 #include "marionette/tts_espeak/espeak_backend.hpp"
 #endif
 #include "marionette/speech/lipsync.hpp"
+#include "test_paths.hpp"
 
 using namespace marionette;
 using namespace marionette::speech;
@@ -96,7 +97,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<Source> sources;
-  const Alignment arctic = readAlignment(std::string(MARIONETTE_SHARED_DIR) + "/assets/speech/arctic_a0009.phones.txt");
+  const Alignment arctic = readAlignment(::marionette::test::sharedDir() + "/assets/speech/arctic_a0009.phones.txt");
   if (!arctic.error.empty() || arctic.phonemes.empty()) {
     std::fprintf(stderr, "arctic_a0009: %s\n", arctic.error.c_str());
     return 1;

@@ -27,6 +27,7 @@
 
 #include "locomotion_walk.hpp"
 #include "marionette/io/import.hpp"
+#include "test_paths.hpp"
 
 using namespace marionette;
 using namespace marionette::test;
@@ -36,7 +37,7 @@ constexpr int kRepeats = 15;
 constexpr double kNever = 1e9;  // a setting value that switches the feature off
 
 std::shared_ptr<Rig> loadRobot() {
-  ImportResult r = importAsset(std::string(MARIONETTE_SHARED_DIR) + "/assets/characters/RobotExpressive.glb");
+  ImportResult r = importAsset(::marionette::test::sharedDir() + "/assets/characters/RobotExpressive.glb");
   if (!r.ok()) {
     std::fprintf(stderr, "%s", r.diagnostics.format().c_str());
     return nullptr;
@@ -44,7 +45,7 @@ std::shared_ptr<Rig> loadRobot() {
   auto asset = std::make_shared<Asset>(std::move(*r.asset));
   auto rig = std::make_shared<Rig>(asset);
   CharacterProfileResult p =
-      loadCharacterProfile(std::string(MARIONETTE_SOURCE_DIR) + "/assets/profiles/RobotExpressive.json", *asset);
+      loadCharacterProfile(::marionette::test::sourceDir() + "/assets/profiles/RobotExpressive.json", *asset);
   if (!p.diagnostics.ok()) {
     std::fprintf(stderr, "%s", p.diagnostics.format().c_str());
     return nullptr;

@@ -20,6 +20,7 @@
 #include "marionette/scene/scene.hpp"
 #include "bench_behaviors.hpp"
 #include "synthetic.hpp"
+#include "test_paths.hpp"
 
 using namespace marionette;
 
@@ -31,7 +32,7 @@ struct BenchAsset {
   std::string error;
 };
 
-std::string shared(const std::string& rel) { return std::string(MARIONETTE_SHARED_DIR) + "/assets/" + rel; }
+std::string shared(const std::string& rel) { return ::marionette::test::sharedDir() + "/assets/" + rel; }
 
 const BenchAsset& loadBenchAsset(const std::string& which) {
   static std::map<std::string, BenchAsset> cache;

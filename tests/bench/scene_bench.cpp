@@ -19,6 +19,7 @@
 #include "marionette/io/import.hpp"
 #include "bench_behaviors.hpp"
 #include "marionette/scene/scene.hpp"
+#include "test_paths.hpp"
 
 using namespace marionette;
 
@@ -32,7 +33,7 @@ std::shared_ptr<const Rig> sceneBenchRig(std::string& error) {
   static const std::shared_ptr<const Rig> rig = [] {
     ImportOptions noMesh;
     noMesh.loadMeshes = false;
-    ImportResult r = importAsset(std::string(MARIONETTE_SHARED_DIR) + "/assets/characters/RobotExpressive.glb", noMesh);
+    ImportResult r = importAsset(::marionette::test::sharedDir() + "/assets/characters/RobotExpressive.glb", noMesh);
     if (!r.ok()) {
       loadError = r.diagnostics.format();
       return std::shared_ptr<const Rig>();

@@ -14,6 +14,7 @@
 #include "lipsync_measure.hpp"
 #include "marionette/speech/alignment_io.hpp"
 #include "marionette/speech/lipsync.hpp"
+#include "test_paths.hpp"
 
 using namespace marionette;
 using namespace marionette::speech;
@@ -21,7 +22,7 @@ using namespace marionette::speech;
 namespace {
 
 const std::vector<Phoneme>* tenSecondsOfSpeech(benchmark::State& state) {
-  static const Alignment a = readAlignment(std::string(MARIONETTE_SHARED_DIR) + "/assets/speech/arctic_a0009.phones.txt");
+  static const Alignment a = readAlignment(::marionette::test::sharedDir() + "/assets/speech/arctic_a0009.phones.txt");
   static const std::vector<Phoneme> tiled = test::tiledTo(a.phonemes, 10.0);
   if (!a.error.empty() || tiled.empty()) {
     state.SkipWithError(("arctic_a0009 alignment: " + a.error).c_str());

@@ -208,7 +208,7 @@ void markerlessRelocalizeNoTarget(benchmark::State& state) {
 void aprilTagFrame(benchmark::State& state) {
   cv::setNumThreads(1);
   const std::string file =
-      std::string(MARIONETTE_VISP_IMAGES) + "/AprilTag/benchmark/640x480/tag36_11_640x480.png";
+      ::marionette::test::vispImagesDir() + "/AprilTag/benchmark/640x480/tag36_11_640x480.png";
   cv::Mat bgr = cv::imread(file, cv::IMREAD_COLOR), rgb;
   if (bgr.empty()) {
     state.SkipWithError((file + ": missing (Debian visp-images-data)").c_str());

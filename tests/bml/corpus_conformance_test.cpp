@@ -25,7 +25,7 @@ using namespace marionette::bml;
 
 namespace {
 
-const std::string kDir = std::string(MARIONETTE_SHARED_DIR) + "/bml-corpus/openbmlparser";
+const std::string kDir = ::marionette::test::sharedDir() + "/bml-corpus/openbmlparser";
 
 // file -> why a statement of its header is not checked as written.
 const std::map<std::string, std::string> kDivergences = {

@@ -9,7 +9,7 @@ using namespace marionette;
 using marionette::test::readFile;
 
 namespace {
-std::string corpus(const std::string& name) { return std::string(MARIONETTE_SHARED_DIR) + "/bml-corpus/openbmlparser/" + name; }
+std::string corpus(const std::string& name) { return ::marionette::test::sharedDir() + "/bml-corpus/openbmlparser/" + name; }
 bool hasWarning(const bml::ParseResult& r, bml::WarningType type) {
   for (const auto& w : r.warnings)
     if (w.type == type) return true;
@@ -103,7 +103,7 @@ TEST(BmlDocument, ConstraintsRequiredAndSpeechMarks) {
 }
 
 TEST(BmlDocument, EveryCorpusFileParsesOrFailsWithAPlace) {
-  const std::string dir = std::string(MARIONETTE_SHARED_DIR) + "/bml-corpus/openbmlparser";
+  const std::string dir = ::marionette::test::sharedDir() + "/bml-corpus/openbmlparser";
   MARIONETTE_REQUIRE_FILE(dir);
   int parsed = 0, rejected = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {

@@ -229,7 +229,7 @@ TEST(SpeechBml, EspeakTimingDrivesTheSchedule) {
 // word, a space after it. The mark was dropped with the nod that starts on it; it is the
 // end of the speech.
 TEST(SpeechBml, AMarkAfterTheLastWordIsTheEndOfTheSpeech) {
-  const std::string file = std::string(MARIONETTE_SHARED_DIR) + "/repro/bml_speech_mark_after_trailing_space_dropped.xml";
+  const std::string file = ::marionette::test::sharedDir() + "/repro/bml_speech_mark_after_trailing_space_dropped.xml";
   MARIONETTE_REQUIRE_FILE(file);
   const std::string vrm = test::sharedAsset("characters/Godette_vrm_v4.vrm");
   MARIONETTE_REQUIRE_FILE(vrm);

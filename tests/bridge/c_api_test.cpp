@@ -408,7 +408,7 @@ TEST(CApi, DtTooLargeForTheClockIsRejectedAndTheWalkGoesOn) {
 // ../shared/repro/scene_number_overflow_uncaught_out_of_range.json through the C API: an
 // error naming the file and the number, not an internal error.
 TEST(CApi, SceneFileWithANumberTooLargeNamesTheFile) {
-  const std::string path = std::string(MARIONETTE_SHARED_DIR) + "/repro/scene_number_overflow_uncaught_out_of_range.json";
+  const std::string path = ::marionette::test::sharedDir() + "/repro/scene_number_overflow_uncaught_out_of_range.json";
   MARIONETTE_REQUIRE_FILE(path);
   mn_scene* scene = nullptr;
   ASSERT_EQ(mn_scene_create(&scene), MN_OK);

@@ -46,7 +46,7 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
   const std::string paletteFile =
       (std::filesystem::temp_directory_path() / ("c_embedding_palette_" + std::to_string(::getpid()) + ".txt")).string();
   const test::CliRun run =
-      test::runCommand(std::string(MARIONETTE_C_EMBEDDING) + " " + robot + " " + profile + " " + paletteFile);
+      test::runCommand(::marionette::test::programPath("c_embedding") + " " + robot + " " + profile + " " + paletteFile);
   ASSERT_EQ(run.status, 0) << run.out;
   const std::string& out = run.out;
   EXPECT_EQ(number(out, "character: robot,"), 43.0) << out;

@@ -108,7 +108,7 @@ TEST(Cli, RunWithWarningsExitsWithOne) {
 #ifdef MARIONETTE_CLI_HAS_BML
 namespace {
 std::string corpusFile(const std::string& name) {
-  return std::string(MARIONETTE_SHARED_DIR) + "/bml-corpus/openbmlparser/" + name;
+  return ::marionette::test::sharedDir() + "/bml-corpus/openbmlparser/" + name;
 }
 }  // namespace
 

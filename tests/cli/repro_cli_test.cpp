@@ -17,10 +17,10 @@ using namespace marionette::test;
 
 namespace {
 
-std::string repro(const std::string& name) { return std::string(MARIONETTE_SHARED_DIR) + "/repro/" + name; }
+std::string repro(const std::string& name) { return ::marionette::test::sharedDir() + "/repro/" + name; }
 
 // `marionette ARGS` killed after 30 s (exit 124 from timeout(1): a hang).
-CliRun runBounded(const std::string& args) { return runCommand("timeout 30 " + std::string(MARIONETTE_CLI) + " " + args); }
+CliRun runBounded(const std::string& args) { return runCommand("timeout 30 " + ::marionette::test::programPath("marionette") + " " + args); }
 
 // The largest resident size of any child this process has waited for, in MiB.
 double largestChildMiB() {

@@ -18,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-CliRun runAr(const std::string& args) { return runCommand(std::string(MARIONETTE_AR) + " " + args); }
+CliRun runAr(const std::string& args) { return runCommand(::marionette::test::programPath("marionette-ar") + " " + args); }
 
 double jsonNumber(const std::string& text, const std::string& key) {
   const std::size_t at = text.find("\"" + key + "\": ");

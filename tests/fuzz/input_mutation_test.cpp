@@ -201,7 +201,7 @@ TEST(Fuzz, SceneFilesWithSpeech) {
 
 #ifdef MARIONETTE_HAS_BML
 TEST(Fuzz, BmlBlocks) {
-  const std::string dir = std::string(MARIONETTE_SHARED_DIR) + "/bml-corpus/openbmlparser";
+  const std::string dir = ::marionette::test::sharedDir() + "/bml-corpus/openbmlparser";
   MARIONETTE_REQUIRE_FILE(dir);
   std::mt19937 rng(8);
   int cases = 0;

@@ -19,7 +19,7 @@
 namespace marionette::test {
 namespace {
 
-std::string repro(const std::string& name) { return std::string(MARIONETTE_SHARED_DIR) + "/repro/" + name; }
+std::string repro(const std::string& name) { return ::marionette::test::sharedDir() + "/repro/" + name; }
 
 // The first error's text, or "" when there is none.
 std::string firstError(const Diagnostics& d) {

@@ -10,7 +10,7 @@ using namespace marionette::test;
 
 namespace {
 SceneLoadResult load(const std::string& json, Scene& scene) {
-  return loadSceneText(json, "scene.json", std::string(MARIONETTE_SHARED_DIR) + "/assets/characters", scene);
+  return loadSceneText(json, "scene.json", ::marionette::test::sharedDir() + "/assets/characters", scene);
 }
 std::string errors(const SceneLoadResult& r) { return r.diagnostics.format(); }
 }  // namespace

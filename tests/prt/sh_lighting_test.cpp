@@ -257,7 +257,7 @@ TEST(ShLighting, Sh9MatchesBruteForceOnTheSharedMaps) {
 }
 
 TEST(ShLighting, Sh9MatchesBruteForceOnEveryBlenderStudiolight) {
-  std::printf("SH9 vs brute force, Blender studio lights (%s):\n", MARIONETTE_BLENDER_STUDIOLIGHTS);
+  std::printf("SH9 vs brute force, Blender studio lights (%s):\n", marionette::test::studiolightsDir().c_str());
   const struct {
     const char* name;
     double mean, max;

@@ -1,4 +1,4 @@
-// Running marionette-ar (the MARIONETTE_AR path the test target defines) and reading the
+// Running marionette-ar (programPath("marionette-ar")) and reading the
 // frames it writes headless: shared by the renderer's end-to-end tests.
 #pragma once
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 
 namespace marionette::test {
 
-inline CliRun runAr(const std::string& args) { return runCommand(std::string(MARIONETTE_AR) + " " + args); }
+inline CliRun runAr(const std::string& args) { return runCommand(::marionette::test::programPath("marionette-ar") + " " + args); }
 
 // DIR/frame_NNNN.png, failing the test if it cannot be read.
 inline ar::Image8 frame(const std::filesystem::path& dir, int index) {

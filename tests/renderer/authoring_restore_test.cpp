@@ -69,7 +69,7 @@ const Sweep& sweep() {
     if (!have) {
       fs::remove_all(root());
       fs::create_directories(root());
-      const CliRun write = runCommand(std::string(MARIONETTE_WRITE_SEQUENCE) + " --target " + opencvData("graf1.png") +
+      const CliRun write = runCommand(::marionette::test::programPath("marionette_write_sequence") + " --target " + opencvData("graf1.png") +
                                       " --target-width 2.0 --camera " + camera() + " --scenario authoring_sweep --frames " +
                                       std::to_string(kSweepFrames) + " --floor " + opencvData("baboon.jpg") +
                                       " --floor-mpp 0.008 --out " + out.frames.string());
@@ -110,7 +110,7 @@ struct JsonRun {
 JsonRun runArJson(const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "report.json", err = dir / "stderr.txt";
   JsonRun r;
-  r.status = runCommand("( " + std::string(MARIONETTE_AR) + " " + args + " > " + out.string() + " 2> " + err.string() +
+  r.status = runCommand("( " + ::marionette::test::programPath("marionette-ar") + " " + args + " > " + out.string() + " 2> " + err.string() +
                         " )").status;
   r.err = readFile(err.string());
   const std::string text = readFile(out.string());

@@ -95,7 +95,7 @@ ar::Image8 render(const ar::CharacterModel& model, const ar::CharacterPose& pose
   return image;
 }
 
-class GpuSkinning : public GlTest, public ::testing::WithParamInterface<const char*> {};
+class GpuSkinning : public GlTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(GpuSkinning, MatchesCpuReference) {
   const std::string path = GetParam();
@@ -141,10 +141,10 @@ TEST_P(GpuSkinning, MatchesCpuReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Characters, GpuSkinning,
-                         ::testing::Values(MARIONETTE_ASSIMP_MODELS "/X/BCN_Epileptic.X",
-                                           MARIONETTE_SHARED_DIR "/assets/characters/RobotExpressive.glb",
-                                           MARIONETTE_SHARED_DIR "/assets/characters/CesiumMan.glb"),
-                         [](const ::testing::TestParamInfo<const char*>& param_info) {  // the file's stem: no path in the name
+                         ::testing::Values(assimpModel("X/BCN_Epileptic.X"),
+                                           sharedAsset("characters/RobotExpressive.glb"),
+                                           sharedAsset("characters/CesiumMan.glb")),
+                         [](const ::testing::TestParamInfo<std::string>& param_info) {  // the file's stem: no path in the name
                            return std::filesystem::path(param_info.param).stem().string();
                          });
 

@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 constexpr int kWidth = 240, kHeight = 320;
 
-CliRun runAr(const std::string& args) { return runCommand(std::string(MARIONETTE_AR) + " " + args); }
+CliRun runAr(const std::string& args) { return runCommand(::marionette::test::programPath("marionette-ar") + " " + args); }
 
 double luminance(const ar::Image8& im, std::size_t pixel) {
   const std::size_t i = pixel * std::size_t(im.channels);

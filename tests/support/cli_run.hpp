@@ -1,4 +1,4 @@
-// Runs the `marionette` tool (the MARIONETTE_CLI path the test target defines),
+// Runs the `marionette` tool (built by this configuration: test_paths.hpp),
 // or another program, as a user would, capturing its exit status and its stdout and stderr together.
 #pragma once
 #include <sys/wait.h>
@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdio>
 #include <string>
+
+#include "test_paths.hpp"
 
 namespace marionette::test {
 
@@ -27,8 +29,6 @@ inline CliRun runCommand(const std::string& commandLine) {
   return r;
 }
 
-#ifdef MARIONETTE_CLI
-inline CliRun runCli(const std::string& args) { return runCommand(std::string(MARIONETTE_CLI) + " " + args); }
-#endif
+inline CliRun runCli(const std::string& args) { return runCommand(programPath("marionette") + " " + args); }
 
 }  // namespace marionette::test

@@ -7,25 +7,27 @@
 #include <sstream>
 #include <string>
 
+#include "test_paths.hpp"
+
 namespace marionette::test {
 
 inline std::string sharedAsset(const std::string& relative) {
-  return std::string(MARIONETTE_SHARED_DIR) + "/assets/" + relative;
+  return sharedDir() + "/assets/" + relative;
 }
 inline std::string assimpModel(const std::string& relative) {
-  return std::string(MARIONETTE_ASSIMP_MODELS) + "/" + relative;
+  return assimpModelsDir() + "/" + relative;
 }
 inline std::string blenderStudiolight(const std::string& relative) {
-  return std::string(MARIONETTE_BLENDER_STUDIOLIGHTS) + "/" + relative;
+  return studiolightsDir() + "/" + relative;
 }
 inline std::string vispImage(const std::string& relative) {  // Debian visp-images-data
-  return std::string(MARIONETTE_VISP_IMAGES) + "/" + relative;
+  return vispImagesDir() + "/" + relative;
 }
 inline std::string opencvData(const std::string& relative) {  // Debian opencv-doc
-  return std::string(MARIONETTE_OPENCV_DATA) + "/" + relative;
+  return opencvDataDir() + "/" + relative;
 }
 inline std::string sourceFile(const std::string& relative) {
-  return std::string(MARIONETTE_SOURCE_DIR) + "/" + relative;
+  return sourceDir() + "/" + relative;
 }
 
 // The whole file as bytes (empty when it cannot be read).

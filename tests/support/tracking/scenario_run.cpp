@@ -1,4 +1,5 @@
 #include "tracking/scenario_run.hpp"
+#include "test_paths.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -24,13 +25,13 @@ cv::Mat readRgb(const std::string& file) {
 
 }  // namespace
 
-std::string standardTargetImage() { return std::string(MARIONETTE_OPENCV_DATA) + "/graf1.png"; }
+std::string standardTargetImage() { return ::marionette::test::opencvDataDir() + "/graf1.png"; }
 
 SequenceRenderer standardRenderer() {
   PlanarScene scene;
   scene.target = readRgb(standardTargetImage());
   scene.targetWidth = kStandardTargetWidth;
-  scene.floor = readRgb(std::string(MARIONETTE_OPENCV_DATA) + "/baboon.jpg");
+  scene.floor = readRgb(::marionette::test::opencvDataDir() + "/baboon.jpg");
   scene.floorMetresPerPixel = 0.002;
   const CameraModel camera{.width = 640, .height = 480, .fx = 600, .fy = 600, .cx = 319.5, .cy = 239.5};
   return SequenceRenderer(scene, camera);
