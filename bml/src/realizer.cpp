@@ -101,13 +101,37 @@ std::pair<std::string, Character*> Realizer::performer(const ParseResult& parsed
   return {std::move(who), target};
 }
 
+void Realizer::setDialect(std::string_view character, Dialect dialect) {
+  for (auto& [who, d] : characterDialects_)
+    if (who == character) {
+      d = dialect;
+      return;
+    }
+  characterDialects_.emplace_back(character, dialect);
+}
+
+Dialect Realizer::dialectFor(std::string_view character) const {
+  for (const auto& [who, d] : characterDialects_)
+    if (who == character) return d;
+  return dialect_;
+}
+
+Dialect Realizer::dialectOfBlock(std::string_view bmlText, std::string_view character) const {
+  if (characterDialects_.empty()) return dialect_;
+  if (!character.empty()) return dialectFor(character);
+  // The performer is the block's characterId: read it as leniently as any dialect would (a
+  // SmartBody block has no id to fail on), then parse the block for real in its dialect.
+  const ParseResult peek = parseBlock(bmlText, ParseOptions{Dialect::SmartBody, "peek"});
+  return dialectFor(performer(peek, {}).first);
+}
+
 bool Realizer::Held::ready() const noexcept {
   return std::all_of(lines.begin(), lines.end(), [](const auto& line) { return line->ready(); });
 }
 
 Schedule Realizer::perform(std::string_view bmlText, std::string_view character, const SchedulerOptions& options,
                            std::optional<double> at) {
-  const ParseOptions parse{dialect_, "sbm_block_" + std::to_string(++performed_)};
+  const ParseOptions parse{dialectOfBlock(bmlText, character), "sbm_block_" + std::to_string(++performed_)};
   if (speechSynthesis_ == SpeechSynthesis::Background) {
     if (std::optional<Schedule> held = holdForSpeech(bmlText, parse, character, options, at)) return std::move(*held);
   } else if (!held_.empty()) {

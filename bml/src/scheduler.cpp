@@ -190,6 +190,7 @@ class Scheduler {
   Schedule run() {
     Schedule out;
     out.blockId = block_.id;
+    out.dialect = block_.smartBody ? Dialect::SmartBody : Dialect::Bml;
     active_.assign(block_.behaviors.size(), true);
     std::size_t syncPoints = 0;
     for (const Behavior& b : block_.behaviors) {

@@ -28,4 +28,9 @@ void TimedFiles::sendDue(double now, const std::function<void(const Diagnostic&)
   }
 }
 
+void useSceneDialects(Realizer& realizer, const SceneLoadResult& loaded) {
+  for (const auto& [character, name] : loaded.bmlDialects)
+    if (const std::optional<Dialect> d = dialectFromName(name)) realizer.setDialect(character, *d);
+}
+
 }  // namespace marionette::bml

@@ -55,6 +55,15 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
     if (!loaded.ok()) return 2;
     rig = std::make_shared<Rig>(std::make_shared<const Asset>(std::move(*loaded.asset)));
   }
+  const bml::Dialect dialect = bml::dialectFromName(o.dialect).value_or(bml::Dialect::Auto);  // checked by the option
+  // Without a character the check is about the BML alone: say so once, so that "ok" is not
+  // read as "a character can do this".
+  const std::string realizability =
+      characterFile.empty() ? "not checked (no --character: durations are the built-in defaults)"
+                            : "checked against " + characterFile;
+  if (characterFile.empty() && !json)
+    std::fprintf(stderr, "note: no --character: what a character can realize is not checked; "
+                         "durations are the built-in defaults\n");
   int worst = 0;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const std::string& file : files) {
@@ -70,6 +79,7 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
     examples::useExampleSynthesizer(scene.speech());
     scene.addCharacter(name, rig);
     bml::Realizer realizer(scene);
+    realizer.setDialect(dialect);
     realizer.setForwardWarningsToScene(false);
     realizer.setReportUnrealized(!characterFile.empty());
     realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // the schedule is the answer
@@ -79,6 +89,8 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
       nlohmann::ordered_json block;
       block["id"] = s.blockId;
       block["status"] = status(s);
+      block["dialect"] = bml::toString(s.dialect);
+      block["realizability"] = realizability;
       auto& behaviors = block["behaviors"] = nlohmann::ordered_json::array();
       for (const auto& b : s.behaviors) {
         nlohmann::ordered_json syncs = nlohmann::ordered_json::object();
@@ -92,7 +104,8 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
       out.push_back({{"file", file}, {"blocks", nlohmann::json::array({block})}});
       continue;
     }
-    std::printf("%s: block '%s': %s\n", file.c_str(), s.blockId.c_str(), status(s));
+    std::printf("%s: block '%s': %s%s\n", file.c_str(), s.blockId.c_str(), status(s),
+                s.dialect == bml::Dialect::SmartBody ? " (read as SmartBody)" : "");
     for (const auto& b : s.behaviors) {
       std::printf("  %-14s %-12s", b.id.c_str(), b.type.c_str());
       for (const auto& sync : b.syncs) std::printf(" %s=%.3f", sync.name.c_str(), sync.time);

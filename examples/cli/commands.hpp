@@ -18,6 +18,7 @@ int inspectCommand(const InspectOptions& o);
 struct RunOptions {
   std::string scene, trace, feedback, morphs, audioDir;
   std::vector<std::string> bml;
+  std::string dialect;  // "" = the scene file's (else auto); else auto, bml, smartbody
   std::optional<long> frames;  // none: at least kDefaultSeconds, on to the end of the BML blocks
   double fps = 60.0;
   bool stats = false;
@@ -76,6 +77,7 @@ int prtReportCommand(const PrtReportOptions& o);  // prt_report.cpp
 struct BmlCheckOptions {
   std::vector<std::string> files;
   std::string character;
+  std::string dialect = "auto";  // auto, bml, smartbody (bml::dialectFromName)
   bool json = false;
 };
 int bmlCheckCommand(const BmlCheckOptions& o);

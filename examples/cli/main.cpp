@@ -114,6 +114,10 @@ int parseAndRun(int argc, char** argv) {
       ->expected(1)
       ->allow_extra_args(false);
   runCmd->add_option("--feedback", run.feedback, "Write the BML feedback as JSON lines")->type_name("OUT.jsonl")->check(kOutputFile);
+  runCmd->add_option("--dialect", run.dialect,
+                     "How BML is read: auto (SmartBody's forms when a block uses them), bml, smartbody "
+                     "(default: the scene file's bmlDialect, else auto); a character's own bmlDialect comes first")
+      ->type_name("D")->check(oneOf({"auto", "bml", "smartbody"}, "auto, bml or smartbody"));
 #endif
 
   SpeakOptions speak;
@@ -217,6 +221,9 @@ int parseAndRun(int argc, char** argv) {
   bmlCheckCmd->add_option("FILE", bmlCheck.files, "BML files, one block each")->type_name("")->required();
   bmlCheckCmd->add_option("--character", bmlCheck.character,
                           "Check against this character: durations from its clips, what it cannot realize")->type_name("FILE");
+  bmlCheckCmd->add_option("--dialect", bmlCheck.dialect,
+                          "How the blocks are read: auto (default: SmartBody's forms when a block uses them), bml, smartbody")
+      ->type_name("D")->check(oneOf({"auto", "bml", "smartbody"}, "auto, bml or smartbody"));
   bmlCheckCmd->add_flag("--json", bmlCheck.json, "Print JSON");
 #endif
 

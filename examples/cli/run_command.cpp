@@ -99,6 +99,8 @@ int runCommand(const RunOptions& r) {
   std::vector<TimedFile> sends = loaded.bml;
   for (const std::string& f : r.bml) sends.push_back({f, 0.0, {}});
   const std::size_t bmlFileCount = sends.size();
+  if (!r.dialect.empty()) realizer.setDialect(*bml::dialectFromName(r.dialect));  // checked by the option
+  bml::useSceneDialects(realizer, loaded);
   bml::TimedFiles bmlFiles(realizer, std::move(sends));
   int bmlProblems = 0, bmlErrors = 0;
   std::FILE* feedback = nullptr;

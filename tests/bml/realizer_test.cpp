@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "marionette/bml/realizer.hpp"
+#include "marionette/bml/timed_files.hpp"
 #include "synthetic_rig.hpp"
 #include "synthetic_upper_body.hpp"
 
@@ -389,4 +390,39 @@ TEST_F(RealizerWithRobot, SmartBodyModeNumbersTheBlocksItGivesIds) {
   EXPECT_EQ(generated, 2);
   step(scene, r, 1.0);
   EXPECT_EQ(r.activeBlocks(), 0u);
+}
+
+// A character's own dialect (a scene file's "bmlDialect") comes first, whether the block is
+// sent to it by name or names it as characterId; the others keep the realizer's (issue 24, 1).
+TEST_F(RealizerWithRobot, ACharactersOwnDialectComesFirst) {
+  scene.addCharacter("sbm", test::makeSyntheticRig());
+  r.setDialect(Dialect::Bml);
+  r.setDialect("sbm", Dialect::SmartBody);
+  EXPECT_EQ(r.dialectFor("sbm"), Dialect::SmartBody);
+  EXPECT_EQ(r.dialectFor("robot"), Dialect::Bml);
+  const std::string noIds = "<bml><head lexeme=\"NOD\" start=\"0\" end=\"0.5\"/></bml>";
+  const Schedule toSbm = r.perform(noIds, "sbm");
+  EXPECT_FALSE(toSbm.failed);
+  EXPECT_EQ(toSbm.dialect, Dialect::SmartBody);
+  EXPECT_TRUE(r.perform(noIds, "robot").failed) << "strict BML for the robot";
+  // Named inside the block: found even though the block has no id to parse strictly.
+  const Schedule named = r.perform("<bml characterId=\"sbm\"><head lexeme=\"SHAKE\" start=\"0\" end=\"0.4\"/></bml>");
+  EXPECT_FALSE(named.failed);
+  EXPECT_EQ(named.dialect, Dialect::SmartBody);
+  const Schedule namedRobot = r.perform("<bml characterId=\"robot\"><head lexeme=\"SHAKE\"/></bml>");
+  EXPECT_TRUE(namedRobot.failed);
+  // A block with ids, for the robot, is read as BML; a later setDialect replaces the first.
+  EXPECT_EQ(r.perform("<bml id=\"b\"><head id=\"h\" lexeme=\"NOD\"/></bml>", "robot").dialect, Dialect::Bml);
+  r.setDialect("robot", Dialect::SmartBody);
+  r.setDialect("robot", Dialect::Auto);
+  EXPECT_EQ(r.dialectFor("robot"), Dialect::Auto);
+  // Unparseable text stays an error in every dialect (the lenient read only finds the character).
+  EXPECT_TRUE(r.perform("<bml characterId=\"sbm\"><head", "").failed);
+  // A scene file's list, as loadSceneFile gives it, sets the same thing; every name it accepts is one.
+  SceneLoadResult loaded;
+  loaded.bmlDialects = {{"robot", "smartbody"}, {"sbm", "bml"}};
+  useSceneDialects(r, loaded);
+  EXPECT_EQ(r.dialectFor("robot"), Dialect::SmartBody);
+  EXPECT_EQ(r.dialectFor("sbm"), Dialect::Bml);
+  for (const char* name : {"auto", "bml", "smartbody"}) EXPECT_TRUE(dialectFromName(name)) << name;
 }

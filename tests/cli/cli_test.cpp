@@ -189,6 +189,35 @@ TEST(CliBmlCheck, DefaultCharacterOrARealOne) {
       << text.out;
   EXPECT_EQ(run("bml-check --character /nonexistent.glb " + bml).status, 2);
 }
+
+// Without --character nothing says whether a character can do it: the check says so (issue 24,
+// 8). --dialect reads SmartBody's blocks without ids; the JSON names how each block was read.
+TEST(CliBmlCheck, SaysWhatItDidNotCheckAndHowItReadTheBlock) {
+  const std::string robot = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(robot);
+  const std::string noIds = tempFile("check_no_ids.xml", "<bml>\n  <head type=\"NOD\" start=\"0\" end=\"1\"/>\n</bml>\n");
+  const CliRun text = run("bml-check " + noIds);
+  EXPECT_EQ(text.status, 2) << "strict BML 1.0 by default (auto: nothing SmartBody-only here)\n" << text.out;
+  EXPECT_NE(text.out.find("note: no --character: what a character can realize is not checked"), std::string::npos)
+      << text.out;
+  const CliRun sbm = run("bml-check --dialect smartbody " + noIds);
+  EXPECT_EQ(sbm.status, 1) << "the generated ids are a warning\n" << sbm.out;
+  EXPECT_NE(sbm.out.find("block 'sbm_block_1': warnings (read as SmartBody)"), std::string::npos) << sbm.out;
+  const CliRun json = run("bml-check --json --dialect smartbody " + noIds);
+  auto j = nlohmann::json::parse(json.out, nullptr, false);
+  ASSERT_TRUE(j.is_array()) << json.out;
+  const auto& block = j[0]["blocks"][0];
+  EXPECT_EQ(block["dialect"], "smartbody");
+  EXPECT_EQ(block["realizability"].get<std::string>().rfind("not checked", 0), 0u) << json.out;
+  const CliRun withRobot = run("bml-check --json --dialect bml --character " + robot + " " + corpusFile("testnod.xml"));
+  auto k = nlohmann::json::parse(withRobot.out, nullptr, false);
+  ASSERT_TRUE(k.is_array()) << withRobot.out;
+  EXPECT_EQ(k[0]["blocks"][0]["dialect"], "bml");
+  EXPECT_EQ(k[0]["blocks"][0]["realizability"], "checked against " + robot);
+  const CliRun bad = run("bml-check --dialect greta " + noIds);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("auto, bml or smartbody"), std::string::npos) << bad.out;
+}
 #endif
 
 #ifdef MARIONETTE_CLI_HAS_BML
@@ -239,6 +268,26 @@ TEST(CliRunBml, BmlWarningsAndFailuresSetTheExitCode) {
   CliRun failed = run("run " + scene + " --frames 5 --bml " + corpusFile("testinvalidxml.xml"));
   EXPECT_EQ(failed.status, 2) << failed.out;
   EXPECT_EQ(run("run " + scene + " --frames 5 --bml /nonexistent.xml").status, 2);
+}
+
+// The dialect from the command line, from the scene file, and a character's own first.
+TEST(CliRunBml, DialectFromTheOptionTheSceneOrTheCharacter) {
+  const std::string asset = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(asset);
+  const std::string noIds = tempFile("run_no_ids.xml", "<bml>\n  <head type=\"NOD\" start=\"0\" end=\"0.5\"/>\n</bml>\n");
+  const std::string plain = tempFile("dialect_plain.json", R"({"characters": [{"name": "robot", "asset": ")" + asset + R"("}]})");
+  const CliRun strict = run("run " + plain + " --frames 5 --bml " + noIds);
+  EXPECT_EQ(strict.status, 2) << strict.out;
+  EXPECT_NE(strict.out.find("has no id"), std::string::npos) << strict.out;
+  const CliRun option = run("run " + plain + " --frames 5 --dialect smartbody --bml " + noIds);
+  EXPECT_EQ(option.status, 1) << option.out;  // generated ids: a warning
+  EXPECT_NE(option.out.find("SmartBody mode: ids generated"), std::string::npos) << option.out;
+  const std::string fileWide = tempFile("dialect_file.json", R"({"bmlDialect": "smartbody", "characters": [{"name": "robot", "asset": ")" +
+                                                                 asset + R"("}]})");
+  EXPECT_EQ(run("run " + fileWide + " --frames 5 --bml " + noIds).status, 1);
+  const std::string own = tempFile("dialect_own.json", R"({"bmlDialect": "smartbody", "characters": [{"name": "robot", "asset": ")" +
+                                                           asset + R"(", "bmlDialect": "bml"}]})");
+  EXPECT_EQ(run("run " + own + " --frames 5 --dialect smartbody --bml " + noIds).status, 2) << "the character's own comes first";
 }
 #endif
 

@@ -123,3 +123,31 @@ TEST(SceneFile, CharacterProfileFromTheSceneFile) {
   EXPECT_FALSE(bad.ok());
   EXPECT_NE(errors(bad).find("/characters/0/profile: could not load 'nope.json'"), std::string::npos) << errors(bad);
 }
+
+// "bmlDialect" (issue 24): the file's for every character, a character's own first; a name
+// that is not a dialect is an error at its place. The middleware only checks and hands on.
+TEST(SceneFile, BmlDialectPerFileAndPerCharacter) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  Scene scene;
+  auto r = load(R"({"bmlDialect": "smartbody", "characters": [
+      {"name": "a", "asset": "RobotExpressive.glb"},
+      {"name": "b", "asset": "RobotExpressive.glb", "bmlDialect": "bml"}]})",
+                scene);
+  ASSERT_TRUE(r.ok()) << errors(r);
+  using Pair = std::pair<std::string, std::string>;
+  EXPECT_EQ(r.bmlDialects, (std::vector<Pair>{{"a", "smartbody"}, {"b", "bml"}}));
+  Scene none;
+  auto plain = load(R"({"characters": [{"name": "a", "asset": "RobotExpressive.glb"}]})", none);
+  ASSERT_TRUE(plain.ok()) << errors(plain);
+  EXPECT_TRUE(plain.bmlDialects.empty()) << "not given: the realizer's own";
+  Scene bad;
+  auto wrong = load(R"({"bmlDialect": "greta", "characters": [
+      {"name": "a", "asset": "RobotExpressive.glb", "bmlDialect": 3}]})",
+                    bad);
+  EXPECT_FALSE(wrong.ok());
+  EXPECT_NE(errors(wrong).find("scene.json:1:"), std::string::npos) << errors(wrong);
+  EXPECT_NE(errors(wrong).find("/bmlDialect: \"greta\" is not a BML dialect (auto, bml or smartbody)"), std::string::npos)
+      << errors(wrong);
+  EXPECT_NE(errors(wrong).find("/characters/0/bmlDialect: expected a non-empty string"), std::string::npos) << errors(wrong);
+  EXPECT_TRUE(bad.characters().empty());
+}

@@ -296,6 +296,7 @@ int main(int argc, char** argv) {
   // written headless step a fixed clock and must come out the same every run.
   if (args.headless) realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);
   restore.bind(scene, loaded.bml);
+  bml::useSceneDialects(realizer, loaded);
   bml::TimedFiles bmlFiles(realizer, loaded.bml);
   int bmlErrors = 0;
 

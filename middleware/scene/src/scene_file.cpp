@@ -51,7 +51,9 @@ struct CharacterSpec {
   std::vector<ClipSpec> clips;
   std::vector<PlaySpec> play;
   bool playGiven = false;
+  std::string bmlDialect;  // "" = the file's
 };
+
 
 // Reads typed members and reports "<file>:12:7: error: /characters/2/position: expected ..."
 // (line:column of the value the JSON pointer names, when the text has it).
@@ -199,9 +201,19 @@ bool readPlay(Reader& r, const Json& j, const std::string& where, PlaySpec& p) {
   return ok;
 }
 
+// The BML dialect names (bml::dialectFromName reads the same; the middleware does not read
+// BML, so it only checks the name and hands it on: SceneLoadResult::bmlDialects).
+bool readBmlDialect(Reader& r, const Json& j, const std::string& where, std::string& out) {
+  if (!r.string(j, where, out)) return false;
+  for (const char* known : {"auto", "bml", "smartbody"})
+    if (out == known) return true;
+  r.fail(where, "\"" + out + "\" is not a BML dialect (auto, bml or smartbody)");
+  return false;
+}
+
 bool readCharacter(Reader& r, const Json& j, const std::string& where, CharacterSpec& c) {
   if (!j.is_object()) return r.fail(where, "expected an object with \"name\" and \"asset\""), false;
-  r.unknownKeys(j, where, {"name", "asset", "profile", "position", "heading", "scale", "clips", "play"});
+  r.unknownKeys(j, where, {"name", "asset", "profile", "position", "heading", "scale", "clips", "play", "bmlDialect"});
   bool ok = true;
   if (!j.contains("name")) ok = false, r.fail(where, "missing \"name\"");
   else ok &= r.string(j["name"], where + "/name", c.name);
@@ -211,6 +223,7 @@ bool readCharacter(Reader& r, const Json& j, const std::string& where, Character
   if (j.contains("position")) ok &= r.vec3(j["position"], where + "/position", c.position);
   if (j.contains("heading")) ok &= r.number(j["heading"], where + "/heading", c.headingDegrees, -1e6f, 1e6f);
   if (j.contains("scale")) ok &= r.number(j["scale"], where + "/scale", c.scale, 1e-6f, 1e6f);
+  if (j.contains("bmlDialect")) ok &= readBmlDialect(r, j["bmlDialect"], where + "/bmlDialect", c.bmlDialect);
   if (j.contains("clips")) {
     const Json& clips = j["clips"];
     if (!clips.is_array()) return r.fail(where + "/clips", "expected an array of {\"file\", \"name\"}"), false;
@@ -393,7 +406,9 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     r.fail("/", "expected an object with a \"characters\" array");
     return result;
   }
-  r.unknownKeys(doc, "", {"characters", "comment", "bml", "speech"});
+  r.unknownKeys(doc, "", {"characters", "comment", "bml", "speech", "bmlDialect"});
+  std::string fileDialect;
+  if (doc.contains("bmlDialect")) (void)readBmlDialect(r, doc["bmlDialect"], "/bmlDialect", fileDialect);
   // Recorded voice lines: read now (errors name the line), added to the scene's speech below.
   std::shared_ptr<speech::RecordedSpeech> recorded;
   bool synthesizer = true;
@@ -469,6 +484,10 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     specs.push_back(std::move(c));
   }
   if (!diags.ok()) return result;
+  for (const CharacterSpec& c : specs) {
+    const std::string& dialect = c.bmlDialect.empty() ? fileDialect : c.bmlDialect;
+    if (!dialect.empty()) result.bmlDialects.push_back({c.name, dialect});
+  }
 
   // Load each distinct (asset, scale, profile, clips with their settings) once.
   std::map<std::string, std::shared_ptr<const Rig>> rigs;

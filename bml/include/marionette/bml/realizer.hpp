@@ -76,8 +76,12 @@ class Realizer {
   // in SmartBody mode when it uses SmartBody's forms; SmartBody always (blocks and behaviors
   // without ids get generated ones: the block's "sbm_block_N", N counting perform() calls);
   // Bml strictly.
+  // A character's own dialect comes first: the one given as perform()'s `character`, else
+  // the block's characterId (read leniently to find it), else the scene's first character.
   void setDialect(Dialect dialect) noexcept { dialect_ = dialect; }
+  void setDialect(std::string_view character, Dialect dialect);
   [[nodiscard]] Dialect dialect() const noexcept { return dialect_; }
+  [[nodiscard]] Dialect dialectFor(std::string_view character) const;
   // Blend-out of behaviors ended by REPLACE or interrupt() (default 0.3 s).
   void setReplaceBlendSeconds(double seconds) noexcept {
     replaceBlend_ = std::isfinite(seconds) && seconds >= 0.0 ? seconds : replaceBlend_;
@@ -165,6 +169,7 @@ class Realizer {
   Schedule realize(std::string_view bmlText, const ParseOptions& parse, std::string_view character,
                    const SchedulerOptions& options, std::optional<double> at);
   [[nodiscard]] std::pair<std::string, Character*> performer(const ParseResult& parsed, std::string_view character) const;
+  [[nodiscard]] Dialect dialectOfBlock(std::string_view bmlText, std::string_view character) const;
   void emit(const Feedback& f);
   bool arrived(Active& block, Event& event, double now);
   static Feedback syncFeedback(Feedback::Kind kind, const Active& block, const Event& event);
@@ -183,6 +188,7 @@ class Realizer {
   bool forwardWarnings_ = true;
   bool reportUnrealized_ = true;
   Dialect dialect_ = Dialect::Auto;
+  std::vector<std::pair<std::string, Dialect>> characterDialects_;  // setDialect(character, ...)
   std::size_t performed_ = 0;  // perform() calls: generated block ids
   double replaceBlend_ = 0.3;
 };

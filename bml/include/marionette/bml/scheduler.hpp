@@ -84,6 +84,7 @@ struct Schedule {
   std::vector<ScheduledBehavior> behaviors;  // removed behaviors are not here
   std::vector<Warning> warnings;             // parse warnings first, then scheduling ones
   bool failed = false;                       // the block failed as a whole
+  Dialect dialect = Dialect::Bml;            // how it was read: Bml, or SmartBody (given or detected)
   // The realizer holds the block until its speech is said (Realizer::SpeechSynthesis):
   // `behaviors` is empty; predictions, warnings and progress come as feedback.
   bool heldForSpeech = false;

@@ -27,4 +27,7 @@ class TimedFiles {
   std::size_t next_ = 0;
 };
 
+// Gives each character of a loaded scene file its "bmlDialect" (SceneLoadResult::bmlDialects).
+void useSceneDialects(Realizer& realizer, const SceneLoadResult& loaded);
+
 }  // namespace marionette::bml

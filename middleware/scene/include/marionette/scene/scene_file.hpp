@@ -7,6 +7,7 @@
 //       "position": [0, 0, 0],                // metres (default origin)
 //       "heading": 0,                         // degrees about +Y; 0 faces +Z (default)
 //       "scale": 1.0,                         // extra length scale on import (e.g. BVH units to metres)
+//       "bmlDialect": "smartbody",            // how its BML is read (default: the file's)
 //       "clips": [ { "file": "walk.fbx", "name": "walk" } ],  // more clips, bound by joint name,
 //       // or retargeted through joint maps, cut to a range, looped (see below):
 //       // "clips": [ { "file": "/usr/share/assimp/models/BVH/01_03.bvh", "name": "walk",
@@ -18,6 +19,9 @@
 //       // ("clip" may be left out in a layer: the first clip)
 //     } ],
 //   "bml": [ { "file": "greet.xml", "time": 1.5, "character": "robot" } ],  // optional
+//   "bmlDialect": "smartbody",               // optional: how the characters' BML is read
+//                                            // ("auto" default, "bml", "smartbody"; a
+//                                            // character's own "bmlDialect" comes first)
 //   "speech": {                              // optional
 //     "lines": [ { "text": "Hello there.", "audio": "hello.wav", "alignment": "hello.phones.txt" } ],
 //     "synthesizer": true                    // false: recorded lines only, never espeak-ng
@@ -55,6 +59,8 @@
 // characters that use them; meshes are not loaded (a headless scene needs none).
 #pragma once
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/scene/scene.hpp"
@@ -90,6 +96,9 @@ struct SceneLoadResult {
   std::vector<TimedFile> bml;  // the file's "bml" list, sorted by time
   std::vector<SceneClipInfo> clips;  // the clips its "clips" entries made, in file order (per distinct asset)
   std::vector<std::string> notes;    // one line per such clip, for logs and --stats
+  // "bmlDialect" per character (its own, else the file's), for whoever drives the realizer
+  // (bml::useSceneDialects): {character, "auto" | "bml" | "smartbody"}; none when not given.
+  std::vector<std::pair<std::string, std::string>> bmlDialects;
   [[nodiscard]] bool ok() const noexcept { return diagnostics.ok(); }
 };
 
