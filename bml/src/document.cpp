@@ -20,6 +20,49 @@ constexpr std::array kCoreBehaviors = {"posture",  "postureShift", "locomotion",
                                        "head",     "headDirectionShift", "faceLexeme", "faceFacs", "face",
                                        "faceShift", "gesture",     "pointing",   "speech",   "wait"};
 
+// The attributes each behavior has in BML 1.0 (its sync points included), with those this
+// realizer reads beyond it (locomotion's speed, proximity and facing; speech's voice and
+// rate) and SmartBody's spellings of the same things (head type/repeats, face type/au,
+// gesture name). Anything else is named in a warning: a misspelt "strok" is not silent.
+struct KnownAttributes {
+  const char* type;
+  std::initializer_list<const char*> names;
+};
+const KnownAttributes kKnownAttributes[] = {
+    // lexeme and stance: the attribute forms of <stance>/<pose>; posture: SmartBody's <body>.
+    {"posture", {"start", "ready", "relax", "end", "priority", "lexeme", "stance", "posture"}},
+    {"postureShift", {"start", "end", "lexeme", "stance", "posture"}},
+    {"locomotion", {"start", "ready", "relax", "end", "target", "manner", "speed", "proximity", "facing"}},
+    {"gaze", {"start", "ready", "relax", "end", "target", "influence", "offsetAngle", "offsetDirection"}},
+    {"gazeShift", {"start", "end", "target", "influence", "offsetAngle", "offsetDirection"}},
+    {"head", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "lexeme", "repetition", "amount",
+              "type", "repeats"}},
+    {"headDirectionShift", {"start", "end", "target"}},
+    {"faceLexeme", {"start", "attackPeak", "relax", "end", "lexeme", "amount"}},
+    {"faceFacs", {"start", "attackPeak", "relax", "end", "au", "side", "amount"}},
+    {"face", {"start", "attackPeak", "relax", "end", "lexeme", "amount", "type", "au", "side"}},
+    {"faceShift", {"start", "end", "lexeme", "amount"}},
+    {"gesture", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "lexeme", "mode", "repetition",
+                 "name"}},
+    {"pointing", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "target", "mode"}},
+    {"speech", {"start", "end", "voice", "rate"}},
+    {"wait", {"start", "end"}},
+};
+
+// "" when `type` has `attribute`, else the list of what it has (for the warning).
+std::string unknownAttribute(std::string_view type, std::string_view attribute) {
+  for (const KnownAttributes& k : kKnownAttributes) {
+    if (type != k.type) continue;
+    std::string list;
+    for (const char* name : k.names) {
+      if (attribute == name) return {};
+      list += (list.empty() ? "" : ", ") + std::string(name);
+    }
+    return list;
+  }
+  return {};  // a type without a table: nothing to say
+}
+
 bool isCoreBehavior(std::string_view name) {
   for (const char* b : kCoreBehaviors)
     if (name == b) return true;
@@ -226,6 +269,8 @@ class Parser {
     b.type = type;
     b.required = required;
     std::tie(b.line, b.column) = place(n);
+    std::vector<std::string> unknown;  // named together in one warning, after the id is known
+    std::string knownList;
     for (pugi::xml_attribute a : n.attributes()) {
       const std::string_view name = a.name();
       if (name == "id") {
@@ -241,7 +286,13 @@ class Parser {
              b.line, b.column);
         continue;
       }
-      b.attributes.push_back({std::string(localName(name)), a.value(), b.line, b.column});
+      const std::string local(localName(name));
+      if (const std::string known = unknownAttribute(type, local); !known.empty()) {
+        unknown.push_back("'" + local + "'");
+        knownList = known;
+        continue;
+      }
+      b.attributes.push_back({local, a.value(), b.line, b.column});
     }
     if (b.id.empty() && smartBody_) {
       for (int k = ++typeCount_[type];; k = ++typeCount_[type])
@@ -251,6 +302,14 @@ class Parser {
         }
       generated_.push_back("<" + type + "> at " + std::to_string(b.line) + ":" + std::to_string(b.column) + " ('" +
                            b.id + "')");
+    }
+    if (!unknown.empty()) {
+      std::string names;
+      for (const std::string& u : unknown) names += (names.empty() ? "" : ", ") + u;
+      warn(WarningType::CustomAttributeNotSupported, b.id,
+           "<" + type + "> has no attribute" + (unknown.size() > 1 ? "s " : " ") + names + " in BML 1.0 or here (it has " +
+               knownList + "); ignored",
+           b.line, b.column);
     }
     if (b.id.empty()) {
       warn(WarningType::ParsingFailure, "",

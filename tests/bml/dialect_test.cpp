@@ -136,3 +136,25 @@ TEST(BmlDialect, TheDialectIsDetectedOrChosen) {
     EXPECT_EQ(bml::dialectFromName(bml::toString(d)), d);
   EXPECT_FALSE(bml::dialectFromName("greta").has_value());
 }
+
+// An attribute a behavior does not have (a misspelt sync point, another realizer's option)
+// is named, with what the behavior has, in one warning per behavior (issue 24, 8); the
+// behavior itself stays, without it.
+TEST(BmlDialect, UnknownAttributesAreNamed) {
+  const auto r = bml::parseBlock(
+      "<bml xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\" id=\"b\">\n"
+      "  <head id=\"h\" lexeme=\"NOD\" strok=\"0.5\" velocity=\"2\"/>\n"
+      "  <gaze id=\"g\" target=\"user\" influence=\"HEAD\" ready=\"1\"/>\n"
+      "</bml>");
+  ASSERT_TRUE(r.block) << r.format("unknown");
+  ASSERT_EQ(r.block->behaviors.size(), 2u);
+  ASSERT_EQ(count(r, bml::WarningType::CustomAttributeNotSupported), 1) << r.format("unknown");
+  const bml::Warning& w = r.warnings.front();
+  EXPECT_EQ(w.behaviorId, "h");
+  EXPECT_EQ(w.line, 2);
+  EXPECT_NE(w.message.find("<head> has no attributes 'strok', 'velocity'"), std::string::npos) << w.message;
+  EXPECT_NE(w.message.find("strokeStart, stroke, strokeEnd"), std::string::npos) << w.message;
+  EXPECT_FALSE(w.fatal);
+  EXPECT_EQ(r.block->behaviors[0].attribute("strok"), nullptr);
+  EXPECT_NE(r.block->behaviors[0].attribute("lexeme"), nullptr);
+}
