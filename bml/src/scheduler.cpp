@@ -515,6 +515,7 @@ class Scheduler {
         }
       }
     }
+    if (templates_[i].stretchable && comp == 0) shortenPreparation(i, anchors.front());
     // Record the times of this behavior's groups (a group already timed keeps its time;
     // a mismatch is found by checkBehaviors).
     for (std::size_t k = 0; k < tpl.size(); ++k) {
@@ -525,6 +526,22 @@ class Scheduler {
       }
     }
     return true;
+  }
+
+  // stroke="0" relax="2", or a head's stroke="0.1": the first timed sync point is at or after
+  // the block's start, but the default preparation before it would begin earlier. Only the
+  // untimed sync points before it are moved: they are compressed into [0, first] keeping their
+  // proportions (as AsapRealizer shortens a preparation), rather than the behavior removed.
+  // A timed sync point before 0 still is a contradiction (checkBehaviors).
+  void shortenPreparation(std::size_t i, std::pair<std::size_t, double> first) {
+    const auto [kb, tb] = first;
+    std::vector<double>& out = times_[i];
+    if (kb == 0 || !(out[0] < -kEpsilon) || tb < -kEpsilon) return;
+    const auto& tpl = templates_[i].syncs;
+    const double span = tpl[kb].time - tpl[0].time;
+    const double at = std::max(tb, 0.0);
+    for (std::size_t k = 0; k < kb; ++k)
+      out[k] = span > 0 ? at * (tpl[k].time - tpl[0].time) / span : at * static_cast<double>(k) / static_cast<double>(kb);
   }
 
   int componentOf(int peg) {

@@ -2,6 +2,7 @@
 
 #include "marionette/bml/realizer.hpp"
 #include "marionette/bml/timed_files.hpp"
+#include "synthetic.hpp"
 #include "synthetic_rig.hpp"
 #include "synthetic_upper_body.hpp"
 
@@ -366,6 +367,26 @@ TEST(Realizer, PointingAimsTheArmAndBadTargetsAreWarnings) {
   ASSERT_EQ(w.size(), 2u);
   EXPECT_NE(w[0]->warning.message.find("pointing target 'inf 0 0' is not finite"), std::string::npos) << w[0]->warning.message;
   EXPECT_NE(w[1]->warning.message.find("'Nobody'"), std::string::npos) << w[1]->warning.message;
+}
+
+// A preparation shortened to nothing (stroke="0", ready="0" relax="0") reaches the body as a
+// jump to the stroke, never a NaN (issue 24, 2): head, pointing and gaze on an upper body.
+TEST(Realizer, ShortenedPreparationsMoveTheBodyWithoutNaN) {
+  Scene scene;
+  Realizer r(scene);
+  Recorder rec;
+  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+  Character* c = scene.addCharacter("ann", test::makeUpperBodyRig());
+  r.perform("<bml id='b' characterId='ann'><head id='h' lexeme='NOD' stroke='0'/>"
+            "<pointing id='p' target='3 4 6' stroke='0' relax='1'/>"
+            "<gaze id='g' target='1 1 2' ready='0' relax='0'/></bml>");
+  ASSERT_TRUE(rec.of(Feedback::Kind::Warning).empty()) << rec.all.front().xml();
+  for (int frame = 0; frame < 60; ++frame) {
+    scene.update(1.0 / 60.0);
+    r.update();
+    for (const Transform& t : c->localPose()) ASSERT_TRUE(test::finite(t)) << "frame " << frame;
+  }
+  EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kPointing]);
 }
 
 // SmartBody mode on the realizer: blocks without ids get "sbm_block_N", N counting perform()

@@ -369,3 +369,50 @@ TEST(Scheduler, ReferringBehaviorWaitsForTheOneItRefersTo) {
   EXPECT_NEAR(*s.time("look", "end"), 2.7, 1e-9);      // stretched to it
   EXPECT_NEAR(*s.time("look", "ready"), 0.675, 1e-9);  // proportions kept
 }
+
+// Timings that can be met are met (issue 24, 2): when only the untimed sync points before the
+// first timed one would fall before the block's start, the preparation is compressed into
+// [0, first] keeping its proportions, instead of the behavior being removed.
+TEST(Scheduler, APreparationThatWouldStartBeforeTheBlockIsShortenedNotDropped) {
+  // The standard form with a stroke near 0: a nod's default preparation is 0.3 s.
+  Schedule nod = scheduleText("<bml id='b'><head id='h' lexeme='NOD' stroke='0.1'/></bml>");
+  EXPECT_TRUE(nod.warnings.empty()) << nod.warnings.front().message;
+  ASSERT_NE(nod.find("h"), nullptr);
+  EXPECT_DOUBLE_EQ(*nod.time("h", "start"), 0.0);
+  EXPECT_NEAR(*nod.time("h", "ready"), 0.1 / 3, 1e-9);      // 0.1 of 0.3 of the preparation
+  EXPECT_NEAR(*nod.time("h", "strokeStart"), 0.2 / 3, 1e-9);
+  EXPECT_DOUBLE_EQ(*nod.time("h", "stroke"), 0.1);
+  EXPECT_NEAR(*nod.time("h", "strokeEnd"), 0.3, 1e-9);      // after the stroke: the default spacing
+  // stroke="0" relax="2": the preparation takes no time; the rest stretches between the two.
+  Schedule beat = scheduleText("<bml id='b'><gesture id='g' lexeme='BEAT' stroke='0' relax='2'/></bml>");
+  EXPECT_TRUE(beat.warnings.empty());
+  ASSERT_NE(beat.find("g"), nullptr);
+  EXPECT_DOUBLE_EQ(*beat.time("g", "start"), 0.0);
+  EXPECT_DOUBLE_EQ(*beat.time("g", "ready"), 0.0);
+  EXPECT_DOUBLE_EQ(*beat.time("g", "relax"), 2.0);
+  EXPECT_GT(*beat.time("g", "end"), 2.0);
+  // ready="0" relax="0", and a gaze with only its relax given.
+  Schedule still = scheduleText("<bml id='b'><gesture id='g' lexeme='BEAT' ready='0' relax='0'/>"
+                                "<gaze id='z' target='x' relax='0.5'/></bml>");
+  EXPECT_TRUE(still.warnings.empty());
+  ASSERT_EQ(still.behaviors.size(), 2u);
+  EXPECT_DOUBLE_EQ(*still.time("g", "start"), 0.0);
+  EXPECT_NEAR(*still.time("z", "ready"), 0.5 / 3, 1e-9);
+  // A behavior timed by another's sync point near 0 is shortened the same way.
+  Schedule chained = scheduleText("<bml id='b'><gaze id='z' target='x' start='0' end='1'/>"
+                                  "<head id='h' lexeme='NOD' stroke='z:start+0.05'/></bml>");
+  EXPECT_TRUE(chained.warnings.empty());
+  EXPECT_DOUBLE_EQ(*chained.time("h", "start"), 0.0);
+  // What truly contradicts still goes: a timed sync point before the block, or out of order.
+  Schedule before = scheduleText("<bml id='b'><head id='h' lexeme='NOD' stroke='-0.1'/></bml>");
+  EXPECT_EQ(before.find("h"), nullptr);
+  EXPECT_TRUE(hasWarning(before, WarningType::ImpossibleToSchedule, "h"));
+  Schedule backwards = scheduleText("<bml id='b'><gesture id='g' lexeme='BEAT' stroke='1' ready='2'/></bml>");
+  EXPECT_EQ(backwards.find("g"), nullptr);
+  // Speech keeps its own timing: it is placed, never compressed.
+  Schedule speech = scheduleText("<bml id='b'><speech id='s'><text>Hello <sync id='m'/>there.</text></speech>"
+                                 "<head id='h' lexeme='NOD' stroke='s:m'/></bml>");
+  EXPECT_TRUE(speech.warnings.empty());
+  EXPECT_GE(*speech.time("h", "start"), 0.0);
+  EXPECT_DOUBLE_EQ(*speech.time("h", "stroke"), *speech.time("s", "m"));
+}
