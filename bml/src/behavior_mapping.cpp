@@ -2,10 +2,12 @@
 
 #include "marionette/speech/speech_service.hpp"
 
+#include "marionette/core/number_list.hpp"
 #include "marionette/core/text.hpp"
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <limits>
 
 namespace marionette::bml {
@@ -13,6 +15,8 @@ namespace marionette::bml {
 namespace {
 // The name a behavior's clip would have, if it can be realized by one.
 std::string clipName(const Behavior& b) {
+  if (b.type == "animation")  // SmartBody: <animation name="CLIP"/>
+    if (const Attribute* a = b.attribute("name")) return a->value;
   const auto kind = behaviorKindFromName(b.type);
   if (!kind) return {};
   switch (*kind) {
@@ -67,7 +71,11 @@ std::optional<double> naturalDuration(const Behavior& b, const Rig& rig) {
   if (b.type == "posture" || b.type == "postureShift") return std::nullopt;
   const auto clip = clipFor(b, rig);
   if (!clip || !(clip->clip.duration > 0.0f)) return std::nullopt;
-  return static_cast<double>(clip->clip.duration);
+  double speed = 1.0;  // SmartBody's <animation speed>: the clip plays over duration / speed
+  if (const Attribute* a = b.type == "animation" ? b.attribute("speed") : nullptr)
+    if (const auto v = parseNumberList(a->value); v && v->size() == 1 && std::isfinite(v->front()) && v->front() > 0.0f)
+      speed = std::clamp(static_cast<double>(v->front()), 0.01, 100.0);
+  return static_cast<double>(clip->clip.duration) / speed;
 }
 
 std::optional<double> naturalDuration(const Behavior& b, const Character& character) {
@@ -114,7 +122,9 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
   MappedRequest m;
   BehaviorRequest& r = m.request;
   r.id = blockId + ":" + b.id;
-  r.kind = behaviorKindFromName(b.type).value_or(BehaviorKind::Wait);
+  // SmartBody's <animation> plays its clip; an <event> is realized by the realizer's feedback
+  // (a message at its stroke), on the timeline as a wait.
+  r.kind = b.type == "animation" ? BehaviorKind::Clip : behaviorKindFromName(b.type).value_or(BehaviorKind::Wait);
   r.channels = channelsOf(b);
   double last = -std::numeric_limits<double>::infinity();
   for (const SyncTime& sync : s.syncs) {
@@ -123,6 +133,7 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
     r.syncs.push_back({sync.name, last});
   }
   if (auto clip = clipFor(b, rig)) r.clip = clip->clip.name;
+  else if (r.kind == BehaviorKind::Clip) r.clip = clipName(b);  // not the rig's: the character names what it has
   if (r.clip.empty() || controllerRunsOverClip(r.kind)) {
     ReadParameters read = readParameters(b, r.kind);
     r.parameters = std::move(read.parameters);

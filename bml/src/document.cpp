@@ -10,6 +10,7 @@
 
 #include <pugixml.hpp>
 
+#include "dialect_forms.hpp"
 #include "marionette/core/diagnostic.hpp"
 
 namespace marionette::bml {
@@ -45,9 +46,16 @@ const KnownAttributes kKnownAttributes[] = {
     {"gesture", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "lexeme", "mode", "repetition",
                  "name"}},
     {"pointing", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "target", "mode"}},
-    {"speech", {"start", "end", "voice", "rate"}},
+    {"speech", {"start", "end", "voice", "rate", "type"}},  // type: SmartBody's text/plain or SSML
     {"wait", {"start", "end"}},
+    // SmartBody's own behaviors (dialect_forms.hpp): a clip by name, a message at a sync point.
+    {"animation", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "name", "speed"}},
+    {"event", {"start", "stroke", "end", "message"}},
 };
+
+// Behaviors only SmartBody has, read in every dialect (their use makes Auto read the block
+// as SmartBody's): <animation name>, <event message> (also as <sbm:event>).
+bool isSmartBodyBehavior(std::string_view name) { return name == "animation" || name == "event"; }
 
 // "" when `type` has `attribute`, else the list of what it has (for the warning).
 std::string unknownAttribute(std::string_view type, std::string_view attribute) {
@@ -101,6 +109,7 @@ bool usesSmartBodyForms(const pugi::xml_node& root) {
     const pugi::xml_node n = stack.back();
     stack.pop_back();
     if (prefixOf(n.name()) == "sbm") return true;
+    if (isSmartBodyBehavior(n.name()) || (std::string_view(n.name()) == "body" && n.attribute("posture"))) return true;
     for (pugi::xml_attribute a : n.attributes())
       if (prefixOf(a.name()) == "sbm" || std::string_view(a.name()) == "xmlns:sbm") return true;
     for (pugi::xml_node c : n.children())
@@ -238,6 +247,10 @@ class Parser {
       const std::string ns = namespaceOf(qualified, false);
       // Inside <required>, a behavior that cannot be realized fails the block (BML 1.0).
       const std::string failsBlock = required ? "; being required, it made the block fail" : "";
+      if (prefixOf(qualified) == "sbm" && isSmartBodyBehavior(type)) {  // <sbm:event>
+        readBehavior(n, type, required, block);
+        continue;
+      }
       if (!isBmlNamespace(ns)) {
         warn(WarningType::CustomBehaviorNotSupported, id,
              "<" + std::string(qualified) + "> is a custom behavior (" + ns + "); it is not supported and was left out" +
@@ -255,7 +268,7 @@ class Parser {
         readConstraint(n, required, block);
       } else if (type == "body" && prefixOf(qualified).empty() && n.attribute("posture")) {
         readBehavior(n, "posture", required, block);  // SmartBody <body posture="..."/>
-      } else if (isCoreBehavior(type)) {
+      } else if (isCoreBehavior(type) || (prefixOf(qualified).empty() && isSmartBodyBehavior(type))) {
         readBehavior(n, type, required, block);
       } else {
         warn(WarningType::BehaviorTypeNotSupported, id,
@@ -332,10 +345,16 @@ class Parser {
       return;
     }
     if (type == "speech") readSpeech(n, b);
+    if (type == "posture" || type == "postureShift") readPostureChildren(n, b);
+    if (const std::string w = detail::standardizeSpellings(b); !w.empty())
+      warn(WarningType::CustomAttributeNotSupported, b.id, w, b.line, b.column);
     block.behaviors.push_back(std::move(b));
   }
 
-  // Text and <sync id> word marks, with character offsets into the collapsed text.
+  // Text and word marks, with character offsets into the collapsed text. Marks are BML's
+  // <sync id>, SSML's <mark name> (SmartBody, Greta) and AsapRealizer's <tm id>; other
+  // elements (SSML's <speak>, <prosody>, <emphasis>, ...) give their text. The walk is
+  // iterative and bounded by the document, which pugixml has already read.
   void readSpeech(const pugi::xml_node& n, Behavior& b) {
     pugi::xml_node textNode = n.child("text");
     if (!textNode)
@@ -343,26 +362,61 @@ class Parser {
         if (c.type() == pugi::node_element && localName(c.name()) == "text") textNode = c;
     const pugi::xml_node source = textNode ? textNode : n;
     std::string raw;
-    for (pugi::xml_node c : source.children()) {
+    std::vector<pugi::xml_node> stack;  // siblings still to visit, last first
+    for (pugi::xml_node c = source.last_child(); c; c = c.previous_sibling()) stack.push_back(c);
+    while (!stack.empty()) {
+      const pugi::xml_node c = stack.back();
+      stack.pop_back();
       if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) {
         raw += c.value();
-      } else if (c.type() == pugi::node_element && localName(c.name()) == "sync") {
-        const std::string id = c.attribute("id").as_string();
-        auto [line, col] = place(c);
-        if (id.empty()) {
-          warn(WarningType::ParsingFailure, b.id, "<sync> in speech text has no id; it was ignored", line, col);
-          continue;
-        }
-        // Offset in the collapsed text where the next word starts.
-        const std::string sofar = collapse(raw);
-        const bool gap = !sofar.empty() && !raw.empty() && (raw.back() == ' ' || raw.back() == '\n' || raw.back() == '\t');
-        b.marks.push_back({id, sofar.size() + (gap ? 1 : 0)});
+        continue;
       }
+      if (c.type() != pugi::node_element) continue;
+      const std::string_view kind = localName(c.name());
+      const char* idAttribute = kind == "sync" || kind == "tm" ? "id" : kind == "mark" ? "name" : nullptr;
+      if (!idAttribute) {
+        for (pugi::xml_node g = c.last_child(); g; g = g.previous_sibling()) stack.push_back(g);
+        continue;
+      }
+      const std::string id = c.attribute(idAttribute).as_string();
+      auto [line, col] = place(c);
+      if (id.empty()) {
+        warn(WarningType::ParsingFailure, b.id,
+             "<" + std::string(kind) + "> in speech text has no " + idAttribute + "; it was ignored", line, col);
+        continue;
+      }
+      // Offset in the collapsed text where the next word starts.
+      const std::string sofar = collapse(raw);
+      const bool gap = !sofar.empty() && !raw.empty() && (raw.back() == ' ' || raw.back() == '\n' || raw.back() == '\t');
+      b.marks.push_back({id, sofar.size() + (gap ? 1 : 0)});
     }
     b.text = collapse(raw);
     // A mark after the last word (a space may follow it) is the end of the text: the
     // offset counted that space, which collapsing trims away.
     for (WordMark& m : b.marks) m.characterOffset = std::min(m.characterOffset, b.text.size());
+  }
+
+  // BML 1.0's element form of a posture: <stance type="SITTING"/> and <pose part="WHOLEBODY"
+  // lexeme="..."/> children, read as the stance and lexeme attributes (an attribute given
+  // on the behavior itself comes first).
+  void readPostureChildren(const pugi::xml_node& n, Behavior& b) {
+    for (pugi::xml_node c : n.children()) {
+      if (c.type() != pugi::node_element) continue;
+      const std::string_view kind = localName(c.name());
+      const char* name = kind == "stance" ? "stance" : kind == "pose" ? "lexeme" : nullptr;
+      const char* value = kind == "stance" ? c.attribute("type").as_string() : c.attribute("lexeme").as_string();
+      auto [line, col] = place(c);
+      if (!name) {
+        warn(WarningType::ParsingFailure, b.id, "<" + std::string(kind) + "> in <" + b.type +
+                                                    ">: expected <stance type> or <pose lexeme>; it was ignored",
+             line, col);
+      } else if (!*value) {
+        warn(WarningType::ParsingFailure, b.id,
+             "<" + std::string(kind) + "> has no " + (kind == "stance" ? "type" : "lexeme") + "; it was ignored", line, col);
+      } else if (!b.attribute(name)) {
+        b.attributes.push_back({name, value, line, col});
+      }
+    }
   }
 
   void readConstraint(const pugi::xml_node& n, bool required, Block& block) {

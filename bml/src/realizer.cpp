@@ -38,6 +38,9 @@ std::string Feedback::xml() const {
     case Kind::Prediction:
       return "<predictionFeedback" + ns + " id=\"" + id + ":" + xmlEscape(syncPoint) + "\" time=\"" + number(blockTime) +
              "\"" + global + who + "/>";
+    case Kind::Event:  // SmartBody's form of the message; not a BML 1.0 feedback element
+      return "<sbm:event xmlns:sbm=\"http://ict.usc.edu\" id=\"" + id + ":" + xmlEscape(syncPoint) + "\" time=\"" +
+             number(blockTime) + "\"" + global + who + " message=\"" + xmlEscape(message) + "\"/>";
     case Kind::Warning:
       return "<warningFeedback" + ns + " id=\"" + id + "\" type=\"" + std::string(toString(warning.type)) + "\"" +
              who + ">" + xmlEscape(warning.message) + "</warningFeedback>";
@@ -52,6 +55,11 @@ void Realizer::emit(const Feedback& f) {
     return;
   }
   if (f.kind == Feedback::Kind::Prediction) return;
+  if (f.kind == Feedback::Kind::Event) {
+    if (Character* c = scene_.findCharacter(f.character))
+      scene_.forEachListener([&](SceneListener& l) { l.onMessage(*c, f.message, f.sceneTime); });
+    return;
+  }
   if (Character* c = scene_.findCharacter(f.character)) {
     const std::string sync = f.kind == Feedback::Kind::BlockProgress ? f.syncPoint : f.behaviorId + ":" + f.syncPoint;
     scene_.forEachListener([&](SceneListener& l) { l.onBehaviorProgress(*c, f.blockId, sync, f.sceneTime); });
@@ -248,8 +256,12 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
     const auto parsedIt = std::find_if(parsed.block->behaviors.begin(), parsed.block->behaviors.end(),
                                        [&](const Behavior& p) { return p.id == b.id; });
     const bool locomotion = parsedIt != parsed.block->behaviors.end() && parsedIt->type == "locomotion";
+    const bool event = parsedIt != parsed.block->behaviors.end() && parsedIt->type == "event";
     for (const SyncTime& s : b.syncs) {
-      a.events.push_back({start + s.time, b.id, s.name, s.time, locomotion && s.name == "end"});
+      const bool sends = event && s.name == "stroke";
+      const Attribute* message = sends ? parsedIt->attribute("message") : nullptr;
+      a.events.push_back({start + s.time, b.id, s.name, s.time, locomotion && s.name == "end",
+                          message ? message->value : std::string(), sends});
       blockEnd = std::max(blockEnd, s.time);
     }
   }
@@ -406,6 +418,11 @@ void Realizer::update() {
       Event& e = b.events[b.next];
       if (e.onArrival && !arrived(b, e, now)) break;  // holds this block's later feedback too, keeping order
       emit(syncFeedback(Feedback::Kind::SyncPointProgress, b, e));
+      if (e.sendsMessage) {
+        Feedback f = syncFeedback(Feedback::Kind::Event, b, e);
+        f.message = e.message;
+        emit(f);
+      }
       ++b.next;
     }
   }

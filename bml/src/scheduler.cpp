@@ -99,6 +99,8 @@ SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
     return s;
   }
   if (t == "wait") return fromProportions({{"start", 0}, {"end", 1}}, 0.0);
+  // An event is an instant: SmartBody times it by its stroke, BML by its start.
+  if (t == "event") return fromProportions({{"start", 0}, {"stroke", 0}, {"end", 0}}, 0.0, false);
   // The character's own length for the behavior, when it knows one. Checked against
   // the repetition cap too, so that R times it stays finite.
   std::optional<double> natural;
@@ -106,6 +108,7 @@ SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
     if (auto d = options.defaultDuration(b); d && std::isfinite(*d * kMaxBehaviorRepetitions) && *d > 0) natural = *d;
   // Gestures and head movements have the full BML 1.0 phase structure.
   if (repeats(t)) return repeatedStroke(natural.value_or(t == "head" ? 1.0 : 2.0), repetitionsOf(b));
+  if (t == "animation") return repeatedStroke(natural.value_or(2.0), 1);  // a gesture's phases, once
   if (t == "gaze" || t == "posture" || t == "locomotion")
     return fromProportions({{"start", 0}, {"ready", .25}, {"relax", .75}, {"end", 1}}, natural.value_or(2.0));
   if (t == "faceLexeme" || t == "faceFacs" || t == "face")

@@ -72,7 +72,7 @@ TEST(BmlDialect, RequiredAroundAnUnsupportedBehaviorFailsTheBlock) {
   EXPECT_NE(r.format("r").find("being required, it made the block fail"), std::string::npos) << r.format("r");
   EXPECT_TRUE(bml::scheduleText(unsupported).failed);
   const std::string custom =
-      "<bml id=\"c\" xmlns:sbm=\"http://ict.usc.edu\"><required><sbm:animation id=\"a\" name=\"Wave\"/></required></bml>";
+      "<bml id=\"c\" xmlns:sbm=\"http://ict.usc.edu\"><required><sbm:reach id=\"a\" target=\"ball\"/></required></bml>";
   EXPECT_TRUE(bml::scheduleText(custom).failed);
   // The same outside <required>: left out with a warning, the head still scheduled.
   const bml::Schedule free = bml::scheduleText(
@@ -157,4 +157,109 @@ TEST(BmlDialect, UnknownAttributesAreNamed) {
   EXPECT_FALSE(w.fatal);
   EXPECT_EQ(r.block->behaviors[0].attribute("strok"), nullptr);
   EXPECT_NE(r.block->behaviors[0].attribute("lexeme"), nullptr);
+}
+
+namespace {
+const bml::Behavior* behavior(const bml::ParseResult& r, const std::string& id) {
+  if (!r.block) return nullptr;
+  for (const bml::Behavior& b : r.block->behaviors)
+    if (b.id == id) return &b;
+  return nullptr;
+}
+std::string value(const bml::Behavior* b, const char* name) {
+  const bml::Attribute* a = b ? b->attribute(name) : nullptr;
+  return a ? a->value : "<none>";
+}
+}  // namespace
+
+// Standard forms the attribute-only reading missed, and SmartBody's spellings (issue 24, 5).
+TEST(BmlDialect, PostureChildrenAndSmartBodySpellingsAreReadAsTheStandardForm) {
+  const auto r = bml::parseBlock(
+      "<bml xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\" id=\"b\">\n"
+      "  <postureShift id=\"p\"><stance type=\"SITTING\"/></postureShift>\n"
+      "  <posture id=\"q\" start=\"3\"><stance type=\"STANDING\"/><pose part=\"WHOLEBODY\" lexeme=\"RELAXED\"/></posture>\n"
+      "  <head id=\"h\" type=\"NOD\" repeats=\"2\"/>\n"
+      "  <head id=\"h2\" type=\"SHAKE\" repeats=\"1.4\" lexeme=\"TILT\"/>\n"
+      "  <face id=\"f\" type=\"facs\" au=\"12\" amount=\"0.5\"/>\n"
+      "  <gesture id=\"g\" name=\"Wave\"/>\n"
+      "  <posture id=\"bad\"><stance/></posture>\n"
+      "</bml>");
+  ASSERT_TRUE(r.block) << r.format("forms");
+  EXPECT_EQ(value(behavior(r, "p"), "stance"), "SITTING");
+  EXPECT_EQ(value(behavior(r, "q"), "stance"), "STANDING");
+  EXPECT_EQ(value(behavior(r, "q"), "lexeme"), "RELAXED");
+  EXPECT_EQ(value(behavior(r, "h"), "lexeme"), "NOD");
+  EXPECT_EQ(value(behavior(r, "h"), "repetition"), "2");
+  EXPECT_EQ(value(behavior(r, "h2"), "lexeme"), "TILT") << "the standard spelling wins";
+  EXPECT_EQ(value(behavior(r, "h2"), "repetition"), "1");
+  ASSERT_NE(behavior(r, "f"), nullptr);
+  EXPECT_EQ(behavior(r, "f")->type, "faceFacs");
+  EXPECT_EQ(value(behavior(r, "f"), "au"), "12");
+  EXPECT_EQ(value(behavior(r, "f"), "type"), "<none>");
+  EXPECT_EQ(value(behavior(r, "g"), "lexeme"), "Wave");
+  // What could only be read approximately, or not at all, is said where it is.
+  const std::string all = r.format("forms");
+  EXPECT_NE(all.find("forms:5:3: warning: CUSTOM_ATTRIBUTE_NOT_SUPPORTED: block 'b', behavior 'h2': repeats=\"1.4\" is "
+                     "read as 1 repetitions"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("forms:8:21: warning: PARSING_FAILURE: block 'b', behavior 'bad': <stance> has no type"), std::string::npos) << all;
+  EXPECT_EQ(r.warnings.size(), 2u) << all;
+}
+
+// SSML's <mark name> (SmartBody, Greta) and AsapRealizer's <tm id> are word marks, inside
+// SSML elements too; the text is the words alone.
+TEST(BmlDialect, SsmlMarksAndTimeMarkersAreSyncPoints) {
+  const auto r = bml::parseBlock(
+      "<bml xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\" id=\"b\">\n"
+      "  <speech id=\"s1\" type=\"application/ssml+xml\"><text><speak>Hello <mark name=\"T1\"/>there, "
+      "<prosody rate=\"slow\">my <mark name=\"T2\"/>friend</prosody>.</speak></text></speech>\n"
+      "  <speech id=\"s2\">Good <tm id=\"tm1\"/>morning.</speech>\n"
+      "  <head id=\"h\" lexeme=\"NOD\" stroke=\"s1:T2\"/>\n"
+      "  <speech id=\"s3\">No <mark/>name.</speech>\n"
+      "</bml>");
+  ASSERT_TRUE(r.block) << r.format("ssml");
+  const bml::Behavior* s1 = behavior(r, "s1");
+  ASSERT_NE(s1, nullptr);
+  EXPECT_EQ(s1->text, "Hello there, my friend.");
+  ASSERT_EQ(s1->marks.size(), 2u);
+  EXPECT_EQ(s1->marks[0].id, "T1");
+  EXPECT_EQ(s1->marks[0].characterOffset, 6u);
+  EXPECT_EQ(s1->marks[1].id, "T2");
+  EXPECT_EQ(s1->text.substr(s1->marks[1].characterOffset), "friend.");
+  const bml::Behavior* s2 = behavior(r, "s2");
+  ASSERT_NE(s2, nullptr);
+  ASSERT_EQ(s2->marks.size(), 1u);
+  EXPECT_EQ(s2->text.substr(s2->marks[0].characterOffset), "morning.");
+  // The head's stroke is scheduled at the mark.
+  const bml::Schedule s = bml::scheduleParsed(r);
+  ASSERT_NE(s.find("h"), nullptr);
+  EXPECT_DOUBLE_EQ(*s.time("h", "stroke"), *s.time("s1", "T2"));
+  EXPECT_NE(r.format("ssml").find("<mark> in speech text has no name"), std::string::npos) << r.format("ssml");
+}
+
+// SmartBody's own behaviors: <animation name speed> and <sbm:event message> / <event>.
+TEST(BmlDialect, SmartBodyAnimationsAndEventsAreBehaviors) {
+  const auto r = bml::parseBlock(
+      "<bml xmlns:sbm=\"http://ict.usc.edu\">\n"
+      "  <animation name=\"ChrBrad@Idle01\" speed=\"2\"/>\n"
+      "  <sbm:event message=\"cue lights\" stroke=\"animation_1:stroke\"/>\n"
+      "  <event message=\"second\" start=\"1\"/>\n"
+      "  <animation speed=\"-1\"/>\n"
+      "</bml>");
+  ASSERT_TRUE(r.block) << r.format("sbm");
+  EXPECT_TRUE(r.block->smartBody);
+  ASSERT_EQ(r.block->behaviors.size(), 4u) << r.format("sbm");
+  EXPECT_EQ(r.block->behaviors[0].type, "animation");
+  EXPECT_EQ(r.block->behaviors[1].type, "event");
+  EXPECT_EQ(value(&r.block->behaviors[1], "message"), "cue lights");
+  const bml::Schedule s = bml::scheduleParsed(r);
+  EXPECT_DOUBLE_EQ(*s.time("event_1", "stroke"), *s.time("animation_1", "stroke"));
+  EXPECT_DOUBLE_EQ(*s.time("event_1", "start"), *s.time("event_1", "end")) << "an event is an instant";
+  EXPECT_DOUBLE_EQ(*s.time("event_2", "stroke"), 1.0);
+  const std::string all = r.format("sbm");
+  EXPECT_NE(all.find("<animation> needs a name"), std::string::npos) << all;
+  EXPECT_NE(all.find("speed=\"-1\" is not a positive number"), std::string::npos) << all;
+  // <animation> alone makes Auto read the block as SmartBody's (no ids needed).
+  EXPECT_TRUE(bml::parseBlock("<bml><animation name=\"Wave\"/></bml>").block);
 }

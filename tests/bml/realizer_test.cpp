@@ -389,6 +389,44 @@ TEST(Realizer, ShortenedPreparationsMoveTheBodyWithoutNaN) {
   EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kPointing]);
 }
 
+// SmartBody's <animation name speed> plays the rig's clip over duration / speed; <sbm:event>
+// sends its message at its stroke, as feedback and to the scene's listeners (issue 24, 5).
+TEST_F(RealizerWithRobot, SmartBodyAnimationsPlayClipsAndEventsSendMessages) {
+  struct Messages : SceneListener {
+    std::vector<std::pair<std::string, double>> got;
+    void onMessage(const Character& c, std::string_view m, double t) override {
+      got.emplace_back(c.name() + ": " + std::string(m), t);
+    }
+  } messages;
+  scene.addListener(&messages);
+  const double wave = scene.findCharacter("robot")->rig().findClip("wave")->clip.duration;
+  const Schedule s = r.perform("<bml xmlns:sbm=\"http://ict.usc.edu\"><animation name=\"wave\" speed=\"2\"/>"
+                               "<sbm:event message=\"cue lights\" stroke=\"animation_1:end\"/></bml>",
+                               "robot");
+  ASSERT_FALSE(s.failed);
+  EXPECT_NEAR(*s.time("animation_1", "end"), wave / 2, 1e-6);
+  const auto* entry = scene.findCharacter("robot")->behaviors().find(s.blockId + ":animation_1");
+  ASSERT_NE(entry, nullptr);
+  EXPECT_EQ(entry->request.clip, "wave");
+  EXPECT_TRUE(rec.of(Feedback::Kind::Warning).empty() || rec.of(Feedback::Kind::Warning).size() == 1u)
+      << "only the generated ids are named";
+  step(scene, r, wave);
+  ASSERT_EQ(messages.got.size(), 1u);
+  EXPECT_EQ(messages.got[0].first, "robot: cue lights");
+  EXPECT_NEAR(messages.got[0].second, wave / 2, 1e-9);
+  const auto events = rec.of(Feedback::Kind::Event);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0]->message, "cue lights");
+  EXPECT_NE(events[0]->xml().find("message=\"cue lights\""), std::string::npos) << events[0]->xml();
+  // A clip the rig does not have is named, with what it has.
+  r.perform("<bml><animation name=\"Moonwalk\"/></bml>", "robot");
+  const auto cannot = rec.warnings(WarningType::CannotCreateBehavior);
+  ASSERT_EQ(cannot.size(), 1u);
+  EXPECT_NE(cannot[0]->warning.message.find("no clip named 'Moonwalk' (it has"), std::string::npos)
+      << cannot[0]->warning.message;
+  scene.removeListener(&messages);
+}
+
 // SmartBody mode on the realizer: blocks without ids get "sbm_block_N", N counting perform()
 // calls, so that two identical SmartBody blocks run one after the other (issue 24, 1).
 TEST_F(RealizerWithRobot, SmartBodyModeNumbersTheBlocksItGivesIds) {

@@ -350,6 +350,7 @@ TEST(CApi, SceneFileCharactersAndTheirBmlAtItsTime) {
 TEST(CApi, BmlIsUnsupportedWithoutTheRealizer) {
   SceneWithRobot s;
   EXPECT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='b'/>"), MN_ERROR_UNSUPPORTED);
+  EXPECT_EQ(mn_scene_set_bml_dialect(s.scene, nullptr, "smartbody"), MN_ERROR_UNSUPPORTED);
   EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("without BML"), std::string::npos);
 }
 #endif
@@ -607,6 +608,34 @@ TEST(CApi, InterruptEndsABlock) {
   EXPECT_EQ(mn_scene_interrupt_block(s.scene, "long"), MN_ERROR_NOT_FOUND);
   EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("no block 'long'"), std::string::npos);
   EXPECT_EQ(mn_scene_interrupt_block(s.scene, nullptr), MN_ERROR_INVALID_ARGUMENT);
+}
+
+// The dialect from the C API (issue 24): SmartBody's blocks without ids, for one character or
+// the scene; a script's <event> message arrives as MN_FEEDBACK_EVENT.
+TEST(CApi, BmlDialectAndEventMessages) {
+  SceneWithRobot s;
+  struct Got {
+    std::vector<std::string> messages;
+    int warnings = 0;
+  } got;
+  ASSERT_EQ(mn_scene_set_feedback_callback(s.scene, [](void* user, const mn_feedback* f) {
+    auto* g = static_cast<Got*>(user);
+    if (f->kind == MN_FEEDBACK_EVENT) g->messages.push_back(std::string(f->character) + ": " + f->message);
+    if (f->kind == MN_FEEDBACK_WARNING) ++g->warnings;
+  }, &got), MN_OK);
+  const char* noIds = "<bml><head lexeme='NOD' start='0' end='0.2'/><event message='nodded' start='0.1'/></bml>";
+  ASSERT_EQ(mn_scene_set_bml_dialect(s.scene, nullptr, "bml"), MN_OK);
+  EXPECT_NE(mn_scene_send_bml(s.scene, "robot", noIds), MN_OK) << "strict: a block needs an id";
+  ASSERT_EQ(mn_scene_set_bml_dialect(s.scene, "robot", "smartbody"), MN_OK) << mn_scene_last_error(s.scene);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", noIds), MN_OK) << mn_scene_last_error(s.scene);
+  for (int f = 0; f < 20; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  ASSERT_EQ(got.messages.size(), 1u);
+  EXPECT_EQ(got.messages[0], "robot: nodded");
+  EXPECT_EQ(mn_scene_set_bml_dialect(s.scene, nullptr, "greta"), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("\"greta\" is not a BML dialect (auto, bml or smartbody)"),
+            std::string::npos);
+  EXPECT_EQ(mn_scene_set_bml_dialect(s.scene, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_set_bml_dialect(nullptr, nullptr, "bml"), MN_ERROR_INVALID_ARGUMENT);
 }
 #endif
 

@@ -37,7 +37,7 @@ constexpr int kMaxCharacterLoads = 2;  // each import takes milliseconds
 
 enum Op : std::uint8_t {
   kCreate, kDestroy, kAddCharacter, kLoadSceneText, kSendBml, kUpdate, kSceneQueries, kCharacterCalls,
-  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kClips, kRemoveCharacter, kInterrupt, kBinding, kOpCount
+  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kClips, kRemoveCharacter, kInterrupt, kBinding, kDialect, kOpCount
 };
 
 class Stream {
@@ -404,6 +404,17 @@ class Driver {
         const mn_status st = mn_scene_interrupt_block(scene, in.byte() % 8 ? block.c_str() : nullptr);
         require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_NOT_FOUND || st == MN_ERROR_UNSUPPORTED,
                 "interrupt status");
+        failed(st, scene);
+        return;
+      }
+      case kDialect: {  // a dialect name, mostly a real one, for the scene or a character (maybe unknown)
+        mn_scene* scene = anyScene(in);
+        static const char* const kNames[] = {"auto", "bml", "smartbody"};
+        const std::uint8_t pick = in.byte();
+        const std::string name = pick % 4 == 3 ? in.text() : kNames[pick % 4];
+        const std::string character = in.text();
+        const mn_status st = mn_scene_set_bml_dialect(scene, pick & 4 ? character.c_str() : nullptr, name.c_str());
+        require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_UNSUPPORTED, "dialect status");
         failed(st, scene);
         return;
       }

@@ -253,12 +253,19 @@ MN_API mn_status mn_scene_remove_character(mn_scene* scene, mn_character* charac
  * no block has that id; MN_ERROR_UNSUPPORTED without BML. */
 MN_API mn_status mn_scene_interrupt_block(mn_scene* scene, const char* block_id);
 
+/* How BML is read: "auto" (the default: SmartBody's forms, such as blocks without ids, when a
+ * block uses them), "bml" (BML 1.0 strictly) or "smartbody". For one character (its own comes
+ * first), or for the scene's blocks when `character` is NULL. A scene file's "bmlDialect" sets
+ * the same. MN_ERROR_INVALID_ARGUMENT for another name; MN_ERROR_UNSUPPORTED without BML. */
+MN_API mn_status mn_scene_set_bml_dialect(mn_scene* scene, const char* character, const char* dialect);
+
 /* ---- callbacks (one of each kind per scene; NULL function removes it) ---- */
 typedef enum mn_feedback_kind {
   MN_FEEDBACK_PREDICTION = 0,     /* right after scheduling: when each sync point will be */
   MN_FEEDBACK_BLOCK_PROGRESS = 1, /* a block's "start" or "end" */
   MN_FEEDBACK_SYNC_POINT = 2,     /* a behavior's sync point was passed */
-  MN_FEEDBACK_WARNING = 3         /* a problem with a block; `message` says what */
+  MN_FEEDBACK_WARNING = 3,        /* a problem with a block; `message` says what */
+  MN_FEEDBACK_EVENT = 4           /* an <event message> reached its stroke; `message` is the script's */
 } mn_feedback_kind;
 
 typedef struct mn_feedback {
@@ -267,7 +274,7 @@ typedef struct mn_feedback {
   const char* block;
   const char* behavior;   /* "" for block progress */
   const char* sync_point; /* "start"/"end" for block progress; the sync point's name otherwise */
-  const char* message;    /* warnings: "TYPE: text"; "" otherwise */
+  const char* message;    /* warnings: "TYPE: text"; events: the script's message; "" otherwise */
   double block_time;      /* seconds from the block's start */
   double scene_time;      /* on the scene clock */
 } mn_feedback;

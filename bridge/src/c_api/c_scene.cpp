@@ -5,9 +5,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <optional>
 #include <sstream>
 
 #include "handles.hpp"
+#ifdef MARIONETTE_C_HAS_BML
+#include "marionette/bml/timed_files.hpp"
+#endif
 #include "marionette/core/text_file.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/rig/character_profile.hpp"
@@ -99,8 +104,12 @@ std::string formatWarning(const std::string& blockId, const marionette::bml::War
 void sendFeedback(mn_scene& s, const marionette::bml::Feedback& f) {
   if (!s.feedbackFn) return;
   static constexpr mn_feedback_kind kinds[] = {MN_FEEDBACK_PREDICTION, MN_FEEDBACK_BLOCK_PROGRESS,
-                                               MN_FEEDBACK_SYNC_POINT, MN_FEEDBACK_WARNING};
-  const std::string message = f.kind == marionette::bml::Feedback::Kind::Warning ? formatWarning(f.blockId, f.warning) : "";
+                                               MN_FEEDBACK_SYNC_POINT, MN_FEEDBACK_WARNING, MN_FEEDBACK_EVENT};
+  static_assert(std::size(kinds) == static_cast<std::size_t>(marionette::bml::Feedback::Kind::Event) + 1,
+                "one C kind per feedback kind");
+  const std::string message = f.kind == marionette::bml::Feedback::Kind::Warning ? formatWarning(f.blockId, f.warning)
+                              : f.kind == marionette::bml::Feedback::Kind::Event ? f.message
+                                                                                 : "";
   mn_feedback out{kinds[static_cast<int>(f.kind)], f.character.c_str(), f.blockId.c_str(), f.behaviorId.c_str(),
                   f.syncPoint.c_str(), message.c_str(), f.blockTime, f.sceneTime};
   s.feedbackFn(s.feedbackUser, &out);
@@ -259,6 +268,9 @@ mn_status mn_scene_load_file(mn_scene* scene, const char* path) {
     if (!r.ok()) return fail(scene, MN_ERROR_LOAD, r.diagnostics.format());
     logWarnings(*scene, r.diagnostics);
     scene->syncHandles();
+#ifdef MARIONETTE_C_HAS_BML
+    marionette::bml::useSceneDialects(*scene->realizer, r);
+#endif
     if (!r.bml.empty()) {
 #ifdef MARIONETTE_C_HAS_BML
       scene->pendingBml.insert(scene->pendingBml.end(), r.bml.begin(), r.bml.end());
@@ -448,6 +460,24 @@ mn_status mn_scene_interrupt_block(mn_scene* scene, const char* block_id) {
   });
 #else
   return fail(scene, MN_ERROR_UNSUPPORTED, "mn_scene_interrupt_block: this library was built without BML");
+#endif
+}
+
+mn_status mn_scene_set_bml_dialect(mn_scene* scene, const char* character, const char* dialect) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_bml_dialect: scene") + notLive(scene));
+  if (!dialect) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_bml_dialect: dialect is NULL");
+#ifdef MARIONETTE_C_HAS_BML
+  return inCall(scene, "mn_scene_set_bml_dialect", [&] {
+    const std::optional<marionette::bml::Dialect> d = marionette::bml::dialectFromName(dialect);
+    if (!d)
+      return fail(scene, MN_ERROR_INVALID_ARGUMENT,
+                  std::string("mn_scene_set_bml_dialect: \"") + dialect + "\" is not a BML dialect (auto, bml or smartbody)");
+    if (character) scene->realizer->setDialect(character, *d);
+    else scene->realizer->setDialect(*d);
+    return MN_OK;
+  });
+#else
+  return fail(scene, MN_ERROR_UNSUPPORTED, "mn_scene_set_bml_dialect: this library was built without BML");
 #endif
 }
 

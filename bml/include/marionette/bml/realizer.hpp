@@ -45,7 +45,9 @@
 namespace marionette::bml {
 
 struct Feedback {
-  enum class Kind { Prediction, BlockProgress, SyncPointProgress, Warning } kind = Kind::BlockProgress;
+  // Event: an <event message> (SmartBody's <sbm:event>) reached its stroke; `message` is
+  // what the script sends (also to the scene's listeners: SceneListener::onMessage).
+  enum class Kind { Prediction, BlockProgress, SyncPointProgress, Warning, Event } kind = Kind::BlockProgress;
   std::string character;
   std::string blockId;
   std::string behaviorId;  // SyncPointProgress, Prediction of a sync point, Warning
@@ -53,6 +55,7 @@ struct Feedback {
   double blockTime = 0.0;  // seconds from the block's start
   double sceneTime = 0.0;  // on the scene clock
   Warning warning;         // Kind::Warning
+  std::string message;     // Kind::Event
 
   // The BML 1.0 feedback element, ids escaped for XML.
   [[nodiscard]] std::string xml() const;
@@ -146,6 +149,8 @@ class Realizer {
     std::string behaviorId, syncPoint;
     double blockTime;
     bool onArrival = false;  // a locomotion's end: fires when the character arrives
+    std::string message;     // an <event>'s stroke: sent as Feedback::Kind::Event
+    bool sendsMessage = false;
   };
   struct Active {
     std::string character, blockId;

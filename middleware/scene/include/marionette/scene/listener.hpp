@@ -43,6 +43,9 @@ class SceneListener {
   // A speech was cut off before its end (BML REPLACE, interrupt, Character::cancelBehavior):
   // stop its audio. `time` is the scene time of the cut; the lips blend out from there.
   virtual void onSpeechStopped(const Character& /*character*/, std::string_view /*behaviorId*/, double /*time*/) {}
+  // A script's message at a moment of its performance (BML <event message>, SmartBody's
+  // <sbm:event>): a game cue, a sound, a camera cut. `time` is the scene time it was due.
+  virtual void onMessage(const Character& /*character*/, std::string_view /*message*/, double /*time*/) {}
   virtual void onLog(LogLevel /*level*/, std::string_view /*message*/) {}
 };
 
