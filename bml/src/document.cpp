@@ -51,6 +51,9 @@ const KnownAttributes kKnownAttributes[] = {
     // SmartBody's own behaviors (dialect_forms.hpp): a clip by name, a message at a sync point.
     {"animation", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "name", "speed"}},
     {"event", {"start", "stroke", "end", "message"}},
+    // BMLA's behaviors: interrupt or activate the target block at their start.
+    {"interrupt", {"start", "end", "target"}},
+    {"activate", {"start", "end", "target"}},
 };
 
 // Behaviors only SmartBody has, read in every dialect (their use makes Auto read the block
@@ -176,6 +179,7 @@ class Parser {
       fatal(WarningType::ParsingFailure, "", "<bml> has no id (BML 1.0 requires one)", block.line, block.column);
       return std::move(result_);
     }
+    readBlockAttributes(root, block);
     if (block.composition != "MERGE" && block.composition != "APPEND" && block.composition != "REPLACE") {
       warn(WarningType::ParsingFailure, "",
            "composition '" + std::string(root.attribute("composition").as_string()) +
@@ -206,6 +210,53 @@ class Parser {
   }
   void fatal(WarningType type, std::string behavior, std::string message, int line, int col) {
     warn(type, std::move(behavior), std::move(message), line, col, true);
+  }
+
+  // The <bml> element's other attributes: BMLA's (Block::Bmla) read, any other named.
+  void readBlockAttributes(const pugi::xml_node& root, Block& block) {
+    for (pugi::xml_attribute a : root.attributes()) {
+      const std::string_view name = a.name();
+      if (name == "xmlns" || name.substr(0, 6) == "xmlns:") continue;
+      const std::string_view local = localName(name);
+      const std::string ns = prefixOf(name).empty() ? std::string(kBmlNamespace) : namespaceOf(name, true);
+      if (ns == kBmlaNamespace) {
+        std::vector<std::string>* list = local == "interrupt"     ? &block.bmla.interrupt
+                                         : local == "appendAfter" ? &block.bmla.appendAfter
+                                         : local == "chunkAfter"  ? &block.bmla.chunkAfter
+                                         : local == "onStart"     ? &block.bmla.onStart
+                                                                  : nullptr;
+        if (list) {
+          std::string id;
+          for (const char* c = a.value();; ++c) {  // "b1,b2" or "b1 b2"
+            if (*c && *c != ',' && *c != ' ' && *c != '\t' && *c != '\n') {
+              id += *c;
+              continue;
+            }
+            if (!id.empty()) list->push_back(std::move(id));
+            id.clear();
+            if (!*c) break;
+          }
+        } else if (local == "preplan") {
+          block.bmla.preplan = std::string_view(a.value()) == "true";
+          if (!block.bmla.preplan && std::string_view(a.value()) != "false")
+            warn(WarningType::ParsingFailure, "", "bmla:preplan=\"" + std::string(a.value()).substr(0, 40) +
+                                                      "\" is not true or false; the block starts as planned", block.line,
+                 block.column);
+        } else {
+          warn(WarningType::CustomAttributeNotSupported, "",
+               "BMLA's " + std::string(name) + " is not supported (this realizer reads interrupt, preplan, onStart, "
+               "appendAfter and chunkAfter); ignored",
+               block.line, block.column);
+        }
+        continue;
+      }
+      if (isBmlNamespace(ns) && (local == "id" || local == "characterId" || local == "composition")) continue;
+      warn(WarningType::CustomAttributeNotSupported, "",
+           "attribute '" + std::string(name) + "' of <bml> " +
+               (isBmlNamespace(ns) ? std::string("is not one of id, characterId, composition") : "(" + ns + ") is not supported") +
+               "; ignored",
+           block.line, block.column);
+    }
   }
 
   // Every id the block's behaviors give themselves, so that a generated one takes none of them.
@@ -248,6 +299,10 @@ class Parser {
       // Inside <required>, a behavior that cannot be realized fails the block (BML 1.0).
       const std::string failsBlock = required ? "; being required, it made the block fail" : "";
       if (prefixOf(qualified) == "sbm" && isSmartBodyBehavior(type)) {  // <sbm:event>
+        readBehavior(n, type, required, block);
+        continue;
+      }
+      if (ns == kBmlaNamespace && (type == "interrupt" || type == "activate")) {  // <bmla:interrupt target>
         readBehavior(n, type, required, block);
         continue;
       }

@@ -3,6 +3,7 @@
 #include "marionette/core/text.hpp"
 
 #include <algorithm>
+#include <tuple>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -193,8 +194,7 @@ void Realizer::waitForSpeech() {
 }
 
 Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, std::string_view character,
-                           const SchedulerOptions& options,
-                           std::optional<double> at) {
+                           const SchedulerOptions& options, std::optional<double> at, bool activation) {
   const ParseResult parsed = parseBlock(bmlText, parse);
   // Plain variables, not a structured binding: lambdas below capture them (clang 14 cannot capture bindings).
   const std::pair<std::string, Character*> performed = performer(parsed, character);
@@ -208,6 +208,10 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
   if (composition == "APPEND")
     for (const Active& b : blocks_)
       if (b.character == who) start = std::max(start, b.end);
+  const Block::Bmla noBmla;
+  const Block::Bmla& bmla = parsed.block ? parsed.block->bmla : noBmla;
+  std::vector<std::string> notQueued;
+  start = bmlaStart(bmla, start, notQueued);
   SchedulerOptions opts = options;
   if (!opts.externalSync) opts.externalSync = [&](const SyncRef& ref) { return resolveExternal(ref, start); };
   if (!opts.defaultDuration && target)
@@ -223,7 +227,20 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
                                  true});
     schedule.failed = true;
   }
-  if (!schedule.failed) {
+  for (const std::string& id : notQueued)
+    schedule.warnings.push_back({WarningType::NoSuchTarget, schedule.blockId, "", parsed.block->line, parsed.block->column,
+                                 "BMLA: block '" + id + "' (appendAfter/chunkAfter) is neither queued nor finished; "
+                                 "this block does not wait for it",
+                                 false});
+  if (!schedule.failed && !activation) {
+    for (const Planned& p : preplanned_)
+      if (p.blockId == schedule.blockId) {
+        schedule.warnings.push_back({WarningType::ImpossibleToSchedule, schedule.blockId, "", parsed.block->line,
+                                     parsed.block->column,
+                                     "a preplanned block with id '" + p.blockId + "' waits for activation; block ids must be unique",
+                                     true});
+        schedule.failed = true;
+      }
     for (const Active& b : blocks_)
       if (b.blockId == schedule.blockId && !(composition == "REPLACE" && b.character == who)) {
         schedule.warnings.push_back({WarningType::ImpossibleToSchedule, schedule.blockId, "", parsed.block->line,
@@ -235,8 +252,19 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
         break;
       }
   }
-  for (const Warning& w : schedule.warnings) warn(who, schedule.blockId, now, w);
+  if (!activation)  // an activated block's were said when it was planned
+    for (const Warning& w : schedule.warnings) warn(who, schedule.blockId, now, w);
   if (schedule.failed) return schedule;
+  if (bmla.preplan && !activation) {  // checked; realized when activated
+    preplanned_.push_back({std::string(bmlText), who, schedule.blockId, parse, options});
+    schedule.preplanned = true;
+    return schedule;
+  }
+  // BMLA's interrupt and onStart act when the block starts: now, or when update() reaches it.
+  const bool startsNow = start <= now + 1e-9;
+  if (startsNow)
+    for (const std::string& id : bmla.interrupt)
+      if (id != schedule.blockId) (void)interrupt(id);
 
   if (composition == "REPLACE") {
     for (Active& b : blocks_)
@@ -251,25 +279,39 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
   a.character = who;
   a.blockId = schedule.blockId;
   a.start = start;
-  double blockEnd = 0.0;
+  if (!startsNow) {
+    a.interruptOnStart = bmla.interrupt;
+    a.activateOnStart = bmla.onStart;
+  }
+  double blockEnd = 0.0, relaxed = 0.0;
   for (const ScheduledBehavior& b : schedule.behaviors) {
     const auto parsedIt = std::find_if(parsed.block->behaviors.begin(), parsed.block->behaviors.end(),
                                        [&](const Behavior& p) { return p.id == b.id; });
     const bool locomotion = parsedIt != parsed.block->behaviors.end() && parsedIt->type == "locomotion";
-    const bool event = parsedIt != parsed.block->behaviors.end() && parsedIt->type == "event";
+    const std::string type = parsedIt != parsed.block->behaviors.end() ? parsedIt->type : std::string();
+    // The sync point that acts, and how: an <event>'s stroke, a BMLA interrupt's or activate's start.
+    const auto [actsAt, action, argumentName] =
+        type == "event"       ? std::tuple{"stroke", Event::Action::Message, "message"}
+        : type == "interrupt" ? std::tuple{"start", Event::Action::Interrupt, "target"}
+        : type == "activate"  ? std::tuple{"start", Event::Action::Activate, "target"}
+                              : std::tuple{"", Event::Action::None, ""};
     for (const SyncTime& s : b.syncs) {
-      const bool sends = event && s.name == "stroke";
-      const Attribute* message = sends ? parsedIt->attribute("message") : nullptr;
+      const bool acts = action != Event::Action::None && s.name == actsAt;
+      const Attribute* argument = acts ? parsedIt->attribute(argumentName) : nullptr;
       a.events.push_back({start + s.time, b.id, s.name, s.time, locomotion && s.name == "end",
-                          message ? message->value : std::string(), sends});
+                          acts ? action : Event::Action::None, argument ? argument->value : std::string()});
       blockEnd = std::max(blockEnd, s.time);
+      if (s.name == (b.time("relax") ? "relax" : "end")) relaxed = std::max(relaxed, s.time);
     }
   }
   std::stable_sort(a.events.begin(), a.events.end(), [](const Event& x, const Event& y) { return x.sceneTime < y.sceneTime; });
   a.end = start + blockEnd;
+  a.relaxed = start + relaxed;
   if (!submit(*target, a, *parsed.block, schedule)) return schedule;
   for (const Event& e : a.events) emit(syncFeedback(Feedback::Kind::Prediction, a, e));
   blocks_.push_back(std::move(a));
+  if (startsNow)
+    for (const std::string& id : bmla.onStart) (void)activate(id);
   return schedule;
 }
 
@@ -377,6 +419,8 @@ Feedback Realizer::syncFeedback(Feedback::Kind kind, const Active& block, const 
 }
 
 void Realizer::finish(Active& block, double sceneTime) {
+  finished_.push_back(block.blockId);
+  if (finished_.size() > kFinishedKept) finished_.pop_front();
   Feedback f;
   f.kind = Feedback::Kind::BlockProgress;
   f.character = block.character;
@@ -403,9 +447,14 @@ bool Realizer::arrived(Active& b, Event& e, double now) {
 void Realizer::update() {
   if (!held_.empty()) realizeHeld();
   const double now = scene_.time();
+  // Interrupting and activating change blocks_: collected here, run after the walk.
+  std::vector<Action> actions;
   for (Active& b : blocks_) {
     if (!b.started && now >= b.start) {
       b.started = true;
+      for (std::string& id : b.interruptOnStart)
+        if (id != b.blockId) actions.emplace_back(Event::Action::Interrupt, std::move(id));
+      for (std::string& id : b.activateOnStart) actions.emplace_back(Event::Action::Activate, std::move(id));
       Feedback f;
       f.kind = Feedback::Kind::BlockProgress;
       f.character = b.character;
@@ -418,10 +467,12 @@ void Realizer::update() {
       Event& e = b.events[b.next];
       if (e.onArrival && !arrived(b, e, now)) break;  // holds this block's later feedback too, keeping order
       emit(syncFeedback(Feedback::Kind::SyncPointProgress, b, e));
-      if (e.sendsMessage) {
+      if (e.action == Event::Action::Message) {
         Feedback f = syncFeedback(Feedback::Kind::Event, b, e);
-        f.message = e.message;
+        f.message = e.argument;
         emit(f);
+      } else if (e.action != Event::Action::None) {
+        actions.emplace_back(e.action, e.argument);
       }
       ++b.next;
     }
@@ -432,9 +483,49 @@ void Realizer::update() {
   blocks_.erase(std::remove_if(blocks_.begin(), blocks_.end(),
                                [&](const Active& b) { return b.started && b.next == b.events.size() && now >= b.end; }),
                 blocks_.end());
+  run(actions);
+}
+
+void Realizer::run(const std::vector<Action>& actions) {
+  for (const auto& [action, block] : actions) {
+    if (action == Event::Action::Interrupt) (void)interrupt(block);
+    if (action == Event::Action::Activate) (void)activate(block);
+  }
+}
+
+double Realizer::bmlaStart(const Block::Bmla& bmla, double start, std::vector<std::string>& unknown) const {
+  auto after = [&](const std::vector<std::string>& ids, bool chunk) {
+    for (const std::string& id : ids) {
+      const auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == id; });
+      if (it != blocks_.end()) start = std::max(start, chunk ? it->relaxed : it->end);
+      else if (!finishedRecently(id)) unknown.push_back(id);
+    }
+  };
+  after(bmla.appendAfter, false);
+  after(bmla.chunkAfter, true);
+  return start;
+}
+
+bool Realizer::finishedRecently(std::string_view blockId) const {
+  return std::find(finished_.begin(), finished_.end(), blockId) != finished_.end();
+}
+
+bool Realizer::activate(std::string_view blockId) {
+  const auto it = std::find_if(preplanned_.begin(), preplanned_.end(), [&](const Planned& p) { return p.blockId == blockId; });
+  if (it == preplanned_.end()) return false;
+  Planned p = std::move(*it);
+  preplanned_.erase(it);
+  (void)realize(p.text, p.parse, p.character, p.options, scene_.time(), true);
+  return true;
 }
 
 bool Realizer::interrupt(std::string_view blockId) {
+  const auto planned =
+      std::find_if(preplanned_.begin(), preplanned_.end(), [&](const Planned& p) { return p.blockId == blockId; });
+  if (planned != preplanned_.end()) {  // never started: dropped without feedback
+    preplanned_.erase(planned);
+    return true;
+  }
   auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Active& b) { return b.blockId == blockId; });
   if (it == blocks_.end()) {  // not running: perhaps held, never started (no feedback was sent for it)
     const auto held = std::find_if(held_.begin(), held_.end(), [&](const Held& h) { return h.blockId == blockId; });

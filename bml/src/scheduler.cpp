@@ -101,6 +101,7 @@ SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
   if (t == "wait") return fromProportions({{"start", 0}, {"end", 1}}, 0.0);
   // An event is an instant: SmartBody times it by its stroke, BML by its start.
   if (t == "event") return fromProportions({{"start", 0}, {"stroke", 0}, {"end", 0}}, 0.0, false);
+  if (t == "interrupt" || t == "activate") return fromProportions({{"start", 0}, {"end", 0}}, 0.0, false);
   // The character's own length for the behavior, when it knows one. Checked against
   // the repetition cap too, so that R times it stays finite.
   std::optional<double> natural;

@@ -427,6 +427,63 @@ TEST_F(RealizerWithRobot, SmartBodyAnimationsPlayClipsAndEventsSendMessages) {
   scene.removeListener(&messages);
 }
 
+// AsapRealizer's BMLA (issue 24, 5): start after named blocks end or relax, interrupt them,
+// plan now and start later; what is not supported is named.
+TEST_F(RealizerWithRobot, BmlaAppendChunkInterruptPreplanAndActivate) {
+  const std::string ns = " xmlns:bmla=\"http://www.asap-project.org/bmla\"";
+  auto ends = [&](const std::string& block) {
+    int n = 0;
+    for (const Feedback* f : rec.of(Feedback::Kind::BlockProgress)) n += f->blockId == block && f->syncPoint == "end";
+    return n;
+  };
+  ASSERT_FALSE(r.perform("<bml id=\"a\"><gaze id=\"g\" target=\"1 1 1\" start=\"0\" ready=\"0.2\" relax=\"1\" end=\"2\"/></bml>",
+                         "robot").failed);
+  const Schedule appended = r.perform("<bml id=\"b\"" + ns + " bmla:appendAfter=\"a\"><head id=\"h\" lexeme=\"NOD\"/></bml>", "robot");
+  ASSERT_FALSE(appended.failed);
+  EXPECT_DOUBLE_EQ(*r.blockStart("b"), 2.0) << "after a ends";
+  ASSERT_FALSE(r.perform("<bml id=\"c\"" + ns + " bmla:chunkAfter=\"a\"><head id=\"h\" lexeme=\"SHAKE\"/></bml>", "robot").failed);
+  EXPECT_DOUBLE_EQ(*r.blockStart("c"), 1.0) << "once a relaxes";
+  // Preplanned: checked now (warnings), started by another block's onStart.
+  const Schedule planned = r.perform("<bml id=\"p\"" + ns + " bmla:preplan=\"true\"><head id=\"h\" lexeme=\"TILT\"/></bml>", "robot");
+  EXPECT_TRUE(planned.preplanned);
+  EXPECT_EQ(r.preplannedBlocks(), 1u);
+  EXPECT_FALSE(r.blockStart("p"));
+  step(scene, r, 0.5);
+  // A block that interrupts a and starts p.
+  ASSERT_FALSE(r.perform("<bml id=\"i\"" + ns + " bmla:interrupt=\"a, c\" bmla:onStart=\"p\">"
+                         "<head id=\"h\" lexeme=\"NOD\"/></bml>", "robot").failed);
+  EXPECT_EQ(ends("a"), 1) << "interrupted when i started";
+  EXPECT_EQ(ends("c"), 1);
+  EXPECT_EQ(r.preplannedBlocks(), 0u);
+  ASSERT_TRUE(r.blockStart("p"));
+  EXPECT_NEAR(*r.blockStart("p"), scene.time(), 1e-9);
+  // <bmla:activate> at a sync point, and Realizer::activate.
+  ASSERT_FALSE(r.perform("<bml id=\"q\"" + ns + " bmla:preplan=\"true\"><head id=\"h\" lexeme=\"NOD\"/></bml>", "robot").failed);
+  ASSERT_FALSE(r.perform("<bml id=\"x\"" + ns + "><head id=\"h\" lexeme=\"NOD\"/>"
+                         "<bmla:activate id=\"act\" target=\"q\" start=\"h:end\"/></bml>", "robot").failed);
+  EXPECT_FALSE(r.blockStart("q"));
+  step(scene, r, 1.1);
+  ASSERT_TRUE(r.blockStart("q")) << "activated when x's nod ended";
+  ASSERT_FALSE(r.perform("<bml id=\"z\"" + ns + " bmla:preplan=\"true\"><head id=\"h\" lexeme=\"NOD\"/></bml>", "robot").failed);
+  EXPECT_TRUE(r.activate("z"));
+  EXPECT_FALSE(r.activate("z"));
+  EXPECT_TRUE(r.blockStart("z"));
+  // Named: BMLA attributes this realizer does not read, a block to wait for that never ran.
+  const Schedule odd = r.perform("<bml id=\"o\"" + ns + " bmla:prependBefore=\"z\" bmla:appendAfter=\"ghost\" color=\"red\">"
+                                 "<head id=\"h\" lexeme=\"NOD\"/></bml>", "robot");
+  EXPECT_FALSE(odd.failed);
+  std::string said;
+  for (const Warning& w : odd.warnings) said += w.message + "\n";
+  EXPECT_NE(said.find("BMLA's bmla:prependBefore is not supported"), std::string::npos) << said;
+  EXPECT_NE(said.find("block 'ghost' (appendAfter/chunkAfter) is neither queued nor finished"), std::string::npos) << said;
+  EXPECT_NE(said.find("attribute 'color' of <bml> is not one of id, characterId, composition"), std::string::npos) << said;
+  // A preplanned id is taken until it starts; interrupt drops a preplanned block.
+  ASSERT_FALSE(r.perform("<bml id=\"w\"" + ns + " bmla:preplan=\"true\"><head id=\"h\" lexeme=\"NOD\"/></bml>", "robot").failed);
+  EXPECT_TRUE(r.perform("<bml id=\"w\"><head id=\"h\" lexeme=\"NOD\"/></bml>", "robot").failed);
+  EXPECT_TRUE(r.interrupt("w"));
+  EXPECT_EQ(r.preplannedBlocks(), 0u);
+}
+
 // SmartBody mode on the realizer: blocks without ids get "sbm_block_N", N counting perform()
 // calls, so that two identical SmartBody blocks run one after the other (issue 24, 1).
 TEST_F(RealizerWithRobot, SmartBodyModeNumbersTheBlocksItGivesIds) {

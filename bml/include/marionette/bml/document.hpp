@@ -17,6 +17,8 @@ inline constexpr std::string_view kCoreExtensionsNamespace = "http://www.bml-ini
 // The draft namespace of BML before 1.0, still written by Greta and older Elckerlyc scripts:
 // read as BML 1.0 (issue 24).
 inline constexpr std::string_view kDraftBmlNamespace = "http://www.mindmakers.org/projects/BML";
+// AsapRealizer's BML Agent extensions (BMLA): how a block is planned and started.
+inline constexpr std::string_view kBmlaNamespace = "http://www.asap-project.org/bmla";
 
 // Size limits of one block. Real blocks have tens of behaviors; the limits keep
 // scheduling time and memory bounded on any input (a block over them fails with
@@ -67,6 +69,14 @@ struct Block {
   bool generatedIds = false;  // some ids were generated (SmartBody mode)
   std::string characterId;  // "" = the default character
   std::string composition;  // "MERGE" (default), "APPEND", "REPLACE"
+  // BMLA's block attributes (lists of block ids): interrupt them when this block starts; start
+  // after they end (appendAfter) or once they relax (chunkAfter: their behaviors past their
+  // relax sync point); activate preplanned ones when this starts (onStart); preplan: plan
+  // now, start when activated (Realizer::activate, <bmla:activate>, another's onStart).
+  struct Bmla {
+    std::vector<std::string> interrupt, appendAfter, chunkAfter, onStart;
+    bool preplan = false;
+  } bmla;
   std::vector<Behavior> behaviors;
   std::vector<Constraint> constraints;
   int line = 0, column = 0;

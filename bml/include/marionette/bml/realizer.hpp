@@ -127,9 +127,13 @@ class Realizer {
   // Waits until the held blocks' speech is said and realizes them now (offline, tests).
   void waitForSpeech();
 
-  // Ends a block now (blockProgress end is sent; a held block is dropped, unsent).
-  // False if no such block is queued or held.
+  // Ends a block now (blockProgress end is sent; a held or preplanned block is dropped,
+  // unsent). False if no such block is queued, held or preplanned.
   bool interrupt(std::string_view blockId);
+  // Starts a preplanned block (BMLA's bmla:preplan="true": scheduled and checked when
+  // performed, started only when activated) now. False if no such block waits.
+  bool activate(std::string_view blockId);
+  [[nodiscard]] std::size_t preplannedBlocks() const noexcept { return preplanned_.size(); }
 
   [[nodiscard]] std::size_t activeBlocks() const noexcept { return blocks_.size(); }
   // Scene time at which a queued block starts (APPEND may start it later than perform()).
@@ -149,16 +153,26 @@ class Realizer {
     std::string behaviorId, syncPoint;
     double blockTime;
     bool onArrival = false;  // a locomotion's end: fires when the character arrives
-    std::string message;     // an <event>'s stroke: sent as Feedback::Kind::Event
-    bool sendsMessage = false;
+    // What passing it does besides feedback: an <event>'s stroke sends its message; BMLA's
+    // <bmla:interrupt>/<bmla:activate> start interrupts or activates the `argument` block.
+    enum class Action : std::uint8_t { None, Message, Interrupt, Activate } action = Action::None;
+    std::string argument;
   };
   struct Active {
     std::string character, blockId;
     double start = 0.0, end = 0.0;  // scene time
+    double relaxed = 0.0;           // when every behavior has passed its relax (BMLA chunkAfter)
     std::vector<Event> events;      // sync points, sorted by time
     std::size_t next = 0;
     bool started = false;
+    std::vector<std::string> interruptOnStart, activateOnStart;  // BMLA, when it starts later
   };
+  struct Planned {  // BMLA preplan: checked when performed, realized when activated
+    std::string text, character, blockId;
+    ParseOptions parse;
+    SchedulerOptions options;
+  };
+  using Action = std::pair<Event::Action, std::string>;
   struct Held {  // performed, waiting for its speech
     std::string text, character, blockId;
     ParseOptions parse;
@@ -171,8 +185,13 @@ class Realizer {
                                                       std::string_view character, const SchedulerOptions& options,
                                                       std::optional<double> at);
   void realizeHeld();
+  // `activation`: a preplanned block starting (its planning warnings were said already).
   Schedule realize(std::string_view bmlText, const ParseOptions& parse, std::string_view character,
-                   const SchedulerOptions& options, std::optional<double> at);
+                   const SchedulerOptions& options, std::optional<double> at, bool activation = false);
+  // BMLA: the block's start after the blocks it appends or chunks after, naming those not queued.
+  double bmlaStart(const Block::Bmla& bmla, double start, std::vector<std::string>& unknown) const;
+  void run(const std::vector<Action>& actions);
+  [[nodiscard]] bool finishedRecently(std::string_view blockId) const;
   [[nodiscard]] std::pair<std::string, Character*> performer(const ParseResult& parsed, std::string_view character) const;
   [[nodiscard]] Dialect dialectOfBlock(std::string_view bmlText, std::string_view character) const;
   void emit(const Feedback& f);
@@ -189,6 +208,9 @@ class Realizer {
   std::vector<FeedbackListener> listeners_;
   std::vector<Active> blocks_;
   std::deque<Held> held_;
+  std::vector<Planned> preplanned_;
+  std::deque<std::string> finished_;  // the last kFinishedKept block ids that ended
+  static constexpr std::size_t kFinishedKept = 256;
   SpeechSynthesis speechSynthesis_ = SpeechSynthesis::Background;
   bool forwardWarnings_ = true;
   bool reportUnrealized_ = true;

@@ -88,6 +88,8 @@ struct Schedule {
   // The realizer holds the block until its speech is said (Realizer::SpeechSynthesis):
   // `behaviors` is empty; predictions, warnings and progress come as feedback.
   bool heldForSpeech = false;
+  // BMLA preplan: planned and checked, waiting for Realizer::activate (`behaviors` as planned).
+  bool preplanned = false;
 
   [[nodiscard]] const ScheduledBehavior* find(std::string_view id) const noexcept;
   [[nodiscard]] std::optional<double> time(std::string_view behavior, std::string_view sync) const;
