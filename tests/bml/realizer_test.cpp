@@ -343,6 +343,20 @@ TEST_F(RealizerWithRobot, LocomotionBadTargetsAreWarnings) {
   EXPECT_TRUE(std::isfinite(c->position().x) && std::isfinite(c->position().z));
 }
 
+// Scripts walk to named scene objects (pawns, props) as to characters, onto them unless a
+// proximity is given (issue 24, 6; gaze: Gaze.SceneObjectsAreTargetsLikePoints).
+TEST_F(RealizerWithRobot, LocomotionReachesASceneObject) {
+  Character* c = scene.findCharacter("robot");
+  ASSERT_TRUE(scene.setObject("door", {2.0f, 0.0f, 1.0f}));
+  ASSERT_TRUE(scene.setObject("camera", {0.0f, 1.6f, 3.0f}));
+  ASSERT_FALSE(r.perform("<bml id='w'><locomotion id='l' target='door'/></bml>", "robot").failed);
+  EXPECT_TRUE(rec.warnings(WarningType::CannotCreateBehavior).empty())
+      << rec.warnings(WarningType::CannotCreateBehavior).front()->warning.message;
+  step(scene, r, 12.0);
+  EXPECT_LT(glm::length(glm::vec2(c->position().x - 2.0f, c->position().z - 1.0f)), 0.5f)
+      << c->position().x << " " << c->position().z;
+}
+
 // <pointing> with a target aims the arm (no "no controller" warning); a bad
 // target is a CANNOT_CREATE_BEHAVIOR warning naming it.
 TEST(Realizer, PointingAimsTheArmAndBadTargetsAreWarnings) {

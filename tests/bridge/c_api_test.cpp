@@ -610,6 +610,31 @@ TEST(CApi, InterruptEndsABlock) {
   EXPECT_EQ(mn_scene_interrupt_block(s.scene, nullptr), MN_ERROR_INVALID_ARGUMENT);
 }
 
+// Scene objects from C (issue 24, 6): the engine's camera as a target.
+TEST(CApi, SceneObjectsAreTargets) {
+  SceneWithRobot s;
+  std::vector<std::string> warnings;
+  ASSERT_EQ(mn_scene_set_feedback_callback(s.scene, [](void* user, const mn_feedback* f) {
+    if (f->kind == MN_FEEDBACK_WARNING) static_cast<std::vector<std::string>*>(user)->push_back(f->message);
+  }, &warnings), MN_OK);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='n'><gaze id='g' target='camera' start='0' end='1'/></bml>"), MN_OK);
+  ASSERT_FALSE(warnings.empty()) << "no camera yet";
+  EXPECT_NE(warnings[0].find("no character or object 'camera'"), std::string::npos) << warnings[0];
+  ASSERT_EQ(mn_scene_interrupt_block(s.scene, "n"), MN_OK);
+  ASSERT_EQ(mn_scene_set_object(s.scene, "camera", 0.0f, 1.6f, 3.0f), MN_OK) << mn_scene_last_error(s.scene);
+  ASSERT_EQ(mn_scene_send_bml(s.scene, "robot", "<bml id='g'><gaze id='g' target='camera' start='0' end='1'/></bml>"), MN_OK)
+      << mn_scene_last_error(s.scene);
+  for (int f = 0; f < 30; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_EQ(warnings.size(), 1u) << warnings.back();
+  EXPECT_EQ(mn_scene_set_object(s.scene, "", 0, 0, 0), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_set_object(s.scene, nullptr, 0, 0, 0), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_scene_set_object(s.scene, "x", std::nanf(""), 0, 0), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene)).find("'x' is not finite"), std::string::npos);
+  EXPECT_EQ(mn_scene_remove_object(s.scene, "camera"), MN_OK);
+  EXPECT_EQ(mn_scene_remove_object(s.scene, "camera"), MN_ERROR_NOT_FOUND);
+  EXPECT_EQ(mn_scene_remove_object(nullptr, "camera"), MN_ERROR_INVALID_ARGUMENT);
+}
+
 // The dialect from the C API (issue 24): SmartBody's blocks without ids, for one character or
 // the scene; a script's <event> message arrives as MN_FEEDBACK_EVENT.
 TEST(CApi, BmlDialectAndEventMessages) {

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <limits>
 
 #include "fuzz_support.hpp"
 #include "marionette/marionette.h"
@@ -37,7 +38,7 @@ constexpr int kMaxCharacterLoads = 2;  // each import takes milliseconds
 
 enum Op : std::uint8_t {
   kCreate, kDestroy, kAddCharacter, kLoadSceneText, kSendBml, kUpdate, kSceneQueries, kCharacterCalls,
-  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kClips, kRemoveCharacter, kInterrupt, kBinding, kDialect, kOpCount
+  kPalette, kMorphs, kEnums, kCallbacks, kNullArguments, kClips, kRemoveCharacter, kInterrupt, kBinding, kDialect, kObject, kOpCount
 };
 
 class Stream {
@@ -415,6 +416,16 @@ class Driver {
         const std::string character = in.text();
         const mn_status st = mn_scene_set_bml_dialect(scene, pick & 4 ? character.c_str() : nullptr, name.c_str());
         require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_UNSUPPORTED, "dialect status");
+        failed(st, scene);
+        return;
+      }
+      case kObject: {  // a place to aim at: set (maybe not finite) or removed
+        mn_scene* scene = anyScene(in);
+        const std::string name = in.byte() % 4 ? std::string("camera") : in.text();
+        const float x = in.byte() % 16 ? static_cast<float>(in.byte()) - 128.0f : std::numeric_limits<float>::quiet_NaN();
+        const mn_status st = in.byte() % 3 ? mn_scene_set_object(scene, name.c_str(), x, 1.5f, 2.0f)
+                                           : mn_scene_remove_object(scene, name.c_str());
+        require(st == MN_OK || st == MN_ERROR_INVALID_ARGUMENT || st == MN_ERROR_NOT_FOUND, "object status");
         failed(st, scene);
         return;
       }

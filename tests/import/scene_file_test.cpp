@@ -151,3 +151,28 @@ TEST(SceneFile, BmlDialectPerFileAndPerCharacter) {
   EXPECT_NE(errors(wrong).find("/characters/0/bmlDialect: expected a non-empty string"), std::string::npos) << errors(wrong);
   EXPECT_TRUE(bad.characters().empty());
 }
+
+// "objects": named places for targets (issue 24, 6), named at their place when wrong.
+TEST(SceneFile, ObjectsAreNamedPlaces) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  Scene scene;
+  auto r = load(R"({"characters": [{"name": "robot", "asset": "RobotExpressive.glb"}],
+                   "objects": [{"name": "camera", "position": [0, 1.6, 3]}, {"name": "cup", "position": [0.5, 0.9, 0.2]}]})",
+                scene);
+  ASSERT_TRUE(r.ok()) << errors(r);
+  ASSERT_TRUE(scene.findObject("camera"));
+  EXPECT_EQ(*scene.findObject("cup"), glm::vec3(0.5f, 0.9f, 0.2f));
+  Scene bad;
+  auto wrong = load(R"({"characters": [{"name": "cup", "asset": "RobotExpressive.glb"}],
+                       "objects": [{"name": "cup", "position": [0, 0, 0]}, {"name": "cup", "position": [1, 0, 0]},
+                                   {"name": "lamp", "position": [0, "up", 0]}, {"place": "x"}]})",
+                    bad);
+  EXPECT_FALSE(wrong.ok());
+  const std::string e = errors(wrong);
+  EXPECT_NE(e.find("/objects/1/name: an object named 'cup' exists already in this file"), std::string::npos) << e;
+  EXPECT_NE(e.find("/objects/2/position/1: expected a number"), std::string::npos) << e;
+  EXPECT_NE(e.find("/objects/3: expected {\"name\": NAME, \"position\": [x, y, z]}"), std::string::npos) << e;
+  EXPECT_NE(e.find("/characters/0/name: 'cup' names an object of this file too"), std::string::npos) << e;
+  EXPECT_TRUE(bad.objects().empty());
+  EXPECT_TRUE(bad.characters().empty());
+}

@@ -188,7 +188,7 @@ TEST(Gaze, ExtremeTargetsAreRejectedOrHeld) {
     EXPECT_NE(res.message.find("is not finite"), std::string::npos) << res.message;
     c->cancelBehavior("gaze", 0.0);
   }
-  EXPECT_NE(c->addBehavior(gaze(BehaviorTarget::of("nobody"))).message.find("no character 'nobody'"), std::string::npos);
+  EXPECT_NE(c->addBehavior(gaze(BehaviorTarget::of("nobody"))).message.find("no character or object 'nobody'"), std::string::npos);
   c->cancelBehavior("gaze", 0.0);
   EXPECT_NE(c->addBehavior(gaze(BehaviorTarget::of("c", "Nose"))).message.find("has no joint 'Nose'"), std::string::npos);
   c->cancelBehavior("gaze", 0.0);
@@ -290,4 +290,43 @@ TEST(Gaze, HoldsOverAClipThatTurnsTheHead) {
     EXPECT_LE(worst, 3.0f);
     EXPECT_GT(worstWithoutGaze, 90.0f);
   }
+}
+
+// A scene object (a pawn, a prop, the viewer "camera") is a target as a character is
+// (issue 24, 6): the gaze is the one at its point, follows it when it moves, holds when it
+// goes, and a joint of it is an error naming it.
+TEST(Gaze, SceneObjectsAreTargetsLikePoints) {
+  const glm::vec3 where(0.6f, 1.4f, 2.0f);
+  Scene byObject, byPoint;
+  Character* a = byObject.addCharacter("c", gazeRig(true));
+  Character* b = byPoint.addCharacter("c", gazeRig(true));
+  ASSERT_TRUE(byObject.setObject("camera", where));
+  ASSERT_TRUE(a->addBehavior(gaze(BehaviorTarget::of("camera"))).realized);
+  ASSERT_TRUE(b->addBehavior(gaze(BehaviorTarget::at(where))).realized);
+  for (int f = 0; f < 60; ++f) {
+    byObject.update(1.0 / 60.0);
+    byPoint.update(1.0 / 60.0);
+  }
+  const auto pa = a->localPose(), pb = b->localPose();
+  for (std::size_t j = 0; j < pa.size(); ++j) EXPECT_EQ(pa[j].rotation, pb[j].rotation) << "joint " << j;
+  // Moved: followed.
+  const glm::vec3 before = headForward(*a, glm::quat(1, 0, 0, 0));
+  ASSERT_TRUE(byObject.setObject("camera", {-2.0f, 1.4f, 1.0f}));
+  for (int f = 0; f < 60; ++f) byObject.update(1.0 / 60.0);
+  EXPECT_GT(degreesBetween(headForward(*a, glm::quat(1, 0, 0, 0)), before), 20.0f);
+  // Gone: the direction holds (no NaN, no jump).
+  const glm::vec3 held = headForward(*a, glm::quat(1, 0, 0, 0));
+  EXPECT_TRUE(byObject.removeObject("camera"));
+  EXPECT_FALSE(byObject.removeObject("camera"));
+  for (int f = 0; f < 10; ++f) byObject.update(1.0 / 60.0);
+  EXPECT_LT(degreesBetween(headForward(*a, glm::quat(1, 0, 0, 0)), held), 0.5f);
+  // Refused: no name, not finite; a joint of an object.
+  EXPECT_FALSE(byObject.setObject("", where));
+  EXPECT_FALSE(byObject.setObject("x", glm::vec3(std::nanf(""), 0, 0)));
+  ASSERT_TRUE(byObject.setObject("cup", where));
+  BehaviorRequest atJoint = gaze(BehaviorTarget::of("cup", "Head"));
+  atJoint.id = "gaze2";
+  const BehaviorResult joint = a->addBehavior(atJoint);
+  EXPECT_FALSE(joint.realized);
+  EXPECT_NE(joint.message.find("'cup' is an object (a place), which has no joint 'Head'"), std::string::npos) << joint.message;
 }

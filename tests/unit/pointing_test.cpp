@@ -267,7 +267,7 @@ TEST(PointingCharacter, BadRequestsAreMessagesNotCrashes) {
   EXPECT_NE(r.message.find("pointing target 'nan 1 2' is not finite"), std::string::npos) << r.message;
   r = request("who", PointingParameters{BehaviorTarget::of("nobody")});
   EXPECT_FALSE(r.realized);
-  EXPECT_NE(r.message.find("the scene has no character 'nobody'"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("the scene has no character or object 'nobody'"), std::string::npos) << r.message;
   r = request("joint", PointingParameters{BehaviorTarget::of("c", "Tail")});
   EXPECT_FALSE(r.realized);
   EXPECT_NE(r.message.find("character 'c' has no joint 'Tail'"), std::string::npos) << r.message;

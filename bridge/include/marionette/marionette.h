@@ -253,6 +253,13 @@ MN_API mn_status mn_scene_remove_character(mn_scene* scene, mn_character* charac
  * no block has that id; MN_ERROR_UNSUPPORTED without BML. */
 MN_API mn_status mn_scene_interrupt_block(mn_scene* scene, const char* block_id);
 
+/* Named places that gaze, pointing and locomotion targets may name, as they name characters
+ * (SmartBody's pawns, props; "camera" for the viewer: move it with the engine's camera every
+ * frame). Setting an existing name moves it. MN_ERROR_INVALID_ARGUMENT for a NULL or empty
+ * name or a position that is not finite; removing an unknown name is MN_ERROR_NOT_FOUND. */
+MN_API mn_status mn_scene_set_object(mn_scene* scene, const char* name, float x, float y, float z);
+MN_API mn_status mn_scene_remove_object(mn_scene* scene, const char* name);
+
 /* How BML is read: "auto" (the default: SmartBody's forms, such as blocks without ids, when a
  * block uses them), "bml" (BML 1.0 strictly) or "smartbody". For one character (its own comes
  * first), or for the scene's blocks when `character` is NULL. A scene file's "bmlDialect" sets

@@ -463,6 +463,27 @@ mn_status mn_scene_interrupt_block(mn_scene* scene, const char* block_id) {
 #endif
 }
 
+mn_status mn_scene_set_object(mn_scene* scene, const char* name, float x, float y, float z) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_object: scene") + notLive(scene));
+  if (!name || !*name) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_object: name is NULL or empty");
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_object: the position of '") + name + "' is not finite");
+  return inCall(scene, "mn_scene_set_object", [&] {
+    scene->scene.setObject(name, {x, y, z});
+    return MN_OK;
+  });
+}
+
+mn_status mn_scene_remove_object(mn_scene* scene, const char* name) {
+  if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_remove_object: scene") + notLive(scene));
+  if (!name) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_remove_object: name is NULL");
+  return inCall(scene, "mn_scene_remove_object", [&] {
+    if (!scene->scene.removeObject(name))
+      return fail(scene, MN_ERROR_NOT_FOUND, std::string("mn_scene_remove_object: no object '") + name + "'");
+    return MN_OK;
+  });
+}
+
 mn_status mn_scene_set_bml_dialect(mn_scene* scene, const char* character, const char* dialect) {
   if (!isLive(scene)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_set_bml_dialect: scene") + notLive(scene));
   if (!dialect) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_set_bml_dialect: dialect is NULL");

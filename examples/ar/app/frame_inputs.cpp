@@ -179,6 +179,13 @@ const Image8* FrameInputs::backgroundFrame(double time, std::string& error) {
   return &s.frame;
 }
 
+glm::vec3 FrameInputs::viewerBeforeFirstFrame(double time) const {
+#if MARIONETTE_AR_HAS_TRACKING
+  if (sources_->tracked || sources_->replayed) return {0.0f, 1.5f, 2.0f};
+#endif
+  return glm::vec3(glm::inverse(sources_->camera->poseAt(time).view)[3]);
+}
+
 CameraView FrameInputs::camera(double time, int width, int height) {
   CameraView v;
 #if MARIONETTE_AR_HAS_TRACKING

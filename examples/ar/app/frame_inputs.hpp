@@ -55,6 +55,10 @@ class FrameInputs {
   // tracker's (fed by backgroundFrame(), so call that first in a frame), or the replayed
   // trajectory's (by the background frame shown, or by `time` without camera frames).
   [[nodiscard]] CameraView camera(double time, int width, int height);
+  // Where the viewer stands before the first frame: the static camera's eye at `time`; for a
+  // tracked or replayed camera (known only from its frames), 1.5 m up and 2 m in front of the
+  // origin until then. The scene's "camera" object (a BML target) starts here.
+  [[nodiscard]] glm::vec3 viewerBeforeFirstFrame(double time) const;
   // False while a tracked camera has no pose to draw the characters with (LOST past
   // "holdSeconds", unless "hideWhenLost" is false).
   [[nodiscard]] bool charactersVisible(double time) const noexcept;

@@ -391,6 +391,8 @@ int main(int argc, char** argv) {
   double cpuMs = 0.0;
   auto last = std::chrono::steady_clock::now();
   long frame = 0;
+  // The viewer is the scene's "camera" object: scripts gaze and point at the user through it.
+  scene.setObject("camera", inputs.viewerBeforeFirstFrame(0.0));
   for (; frames < 0 || frame < frames; ++frame) {
     if (!args.headless && gl->shouldClose()) break;
     // Headless steps at the scene's fps exactly; a window follows the wall clock (at most 0.1 s a
@@ -423,6 +425,8 @@ int main(int argc, char** argv) {
     }
     if (frame == 0) restore.mark("frame0_background_and_tracking");
     const CameraView view = inputs.camera(scene.time(), ar.width, ar.height);
+    // Followed from the next frame; a tracked camera without a pose (identity view) keeps the last.
+    if (view.view != glm::mat4(1.0f)) scene.setObject("camera", glm::vec3(glm::inverse(view.view)[3]));
     TrackingStateReport tracking;
     const bool tracked = inputs.trackingState(tracking);
     if (tracked && (tracking.changed || frame == 0))

@@ -29,7 +29,8 @@ std::string resolveSpatialTarget(const BehaviorTarget& target, std::string_view 
   out.character = target.character;
   out.joint = target.joint;
   const int index = findJoint(out.character, out.joint);
-  if (index == -2) return quoted + ": the scene has no character '" + out.character + "'";
+  if (index == -2) return quoted + ": the scene has no character or object '" + out.character + "'";
+  if (index == -3) return quoted + ": '" + out.character + "' is an object (a place), which has no joint '" + out.joint + "'";
   if (index < 0 && !out.joint.empty())
     return quoted + ": character '" + out.character + "' has no joint '" + out.joint + "'";
   out.jointIndex = index;

@@ -218,7 +218,7 @@ TargetJointFinder Character::targetJointFinder(bool chest) const {
   // A character named without a joint: its head for a gaze, its chest for a pointing.
   return [this, chest](std::string_view name, std::string_view joint) -> int {
     const Character* c = scene_ ? scene_->findCharacter(name) : nullptr;
-    if (!c) return -2;
+    if (!c) return scene_ && scene_->findObject(name) ? (joint.empty() ? -1 : -3) : -2;
     if (!joint.empty()) return c->skeleton().findJoint(joint);
     const RigJoints& j = c->rig().joints();
     return chest ? (!j.spine.empty() ? j.spine.back() : j.hips) : j.head;
@@ -271,7 +271,12 @@ std::string Character::bindLocomotion(const BehaviorRequest& request, std::share
   auto note = [&](const std::string& w) { warning += (warning.empty() ? "" : "; ") + w; };
   if (!plan->targetCharacter.empty()) {
     const Character* target = scene_ ? scene_->findCharacter(plan->targetCharacter) : nullptr;
-    if (!target) return "locomotion target: the scene has no character '" + plan->targetCharacter + "'";
+    if (!target && scene_ && scene_->findObject(plan->targetCharacter)) {  // a place: walked onto, unless told how near
+      if (!parameters->proximity) plan->proximity = 0.0f;
+      return {};
+    }
+    if (!target)
+      return "locomotion target: the scene has no character or object '" + plan->targetCharacter + "'";
     if (target == this) return "locomotion target: a character cannot walk to itself";
     return {};
   }
@@ -304,6 +309,7 @@ std::optional<double> Character::estimateLocomotion(const BehaviorRequest& reque
   if (!plan->targetCharacter.empty()) {
     const Character* t = scene_ ? scene_->findCharacter(plan->targetCharacter) : nullptr;
     if (t) target = {t->position().x, t->position().z};
+    else if (const auto o = scene_ ? scene_->findObject(plan->targetCharacter) : std::nullopt) target = {o->x, o->z};
     waypoints = std::span<const glm::vec2>(&target, 1);
   }
   return estimateLocomotionSeconds(from, *plan, waypoints, locomotionSettings_);
@@ -480,11 +486,17 @@ void Character::resolveExternalTargets() noexcept {
     if (LocomotionEntryState* l = e.as<LocomotionEntryState>();
         l && e.order >= locomotionOrder_ && !l->plan->targetCharacter.empty())
       if (const Character* t = scene_->findCharacter(l->plan->targetCharacter)) l->resolvedTarget = t->position();
+      else if (const auto o = scene_->findObject(l->plan->targetCharacter)) l->resolvedTarget = glm::vec3(o->x, 0.0f, o->z);
   auto resolve = [this](SpatialTarget& target) {
     if (!target.external()) return;
     const Character* t = scene_->findCharacter(target.character);
-    target.resolvedKnown = t != nullptr;
-    if (!t) return;
+    if (!t) {  // an object (a place), or gone: then the direction holds
+      const auto o = scene_->findObject(target.character);
+      target.resolvedKnown = o.has_value();
+      if (o) target.resolvedPoint = *o;
+      return;
+    }
+    target.resolvedKnown = true;
     const auto models = t->transformBuffer().modelMatrices();
     const auto j = static_cast<std::size_t>(target.jointIndex);
     target.resolvedPoint = target.jointIndex >= 0 && j < models.size()

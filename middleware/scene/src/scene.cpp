@@ -85,6 +85,33 @@ bool Scene::removeCharacter(std::string_view name) {
   return true;
 }
 
+bool Scene::setObject(std::string name, const glm::vec3& position) {
+  if (name.empty() || !std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z)) {
+    log(LogLevel::Error, "setObject: an object needs a name and a finite position ('" + name + "' was not set)");
+    return false;
+  }
+  for (auto& [n, p] : objects_)
+    if (n == name) {
+      p = position;
+      return true;
+    }
+  objects_.emplace_back(std::move(name), position);
+  return true;
+}
+
+bool Scene::removeObject(std::string_view name) {
+  const auto it = std::find_if(objects_.begin(), objects_.end(), [&](const auto& o) { return o.first == name; });
+  if (it == objects_.end()) return false;
+  objects_.erase(it);
+  return true;
+}
+
+std::optional<glm::vec3> Scene::findObject(std::string_view name) const noexcept {
+  for (const auto& [n, p] : objects_)
+    if (n == name) return p;
+  return std::nullopt;
+}
+
 Character* Scene::findCharacter(std::string_view name) noexcept {
   for (auto& c : characters_)
     if (c->name() == name) return c.get();

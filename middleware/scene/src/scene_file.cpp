@@ -406,7 +406,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     r.fail("/", "expected an object with a \"characters\" array");
     return result;
   }
-  r.unknownKeys(doc, "", {"characters", "comment", "bml", "speech", "bmlDialect"});
+  r.unknownKeys(doc, "", {"characters", "comment", "bml", "speech", "bmlDialect", "objects"});
   std::string fileDialect;
   if (doc.contains("bmlDialect")) (void)readBmlDialect(r, doc["bmlDialect"], "/bmlDialect", fileDialect);
   // Recorded voice lines: read now (errors name the line), added to the scene's speech below.
@@ -466,6 +466,30 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
                        [](const TimedFile& a, const TimedFile& b) { return a.time < b.time; });
     }
   }
+  // Named places behaviors aim at and walk to (Scene::setObject): {"name", "position"}.
+  std::vector<std::pair<std::string, glm::vec3>> objects;
+  std::set<std::string> objectNames;
+  if (doc.contains("objects")) {
+    const Json& list = doc["objects"];
+    if (!list.is_array()) r.fail("/objects", "expected an array of {\"name\", \"position\": [x, y, z]}");
+    for (std::size_t i = 0; list.is_array() && i < list.size(); ++i) {
+      const std::string where = "/objects/" + std::to_string(i);
+      const Json& e = list[i];
+      if (!e.is_object() || !e.contains("name") || !e.contains("position")) {
+        r.fail(where, "expected {\"name\": NAME, \"position\": [x, y, z]}");
+        continue;
+      }
+      r.unknownKeys(e, where, {"name", "position", "comment"});
+      std::string objectName;
+      glm::vec3 position(0.0f);
+      if (!r.string(e["name"], where + "/name", objectName) || !r.vec3(e["position"], where + "/position", position)) continue;
+      if (!objectNames.insert(objectName).second) {
+        r.fail(where + "/name", "an object named '" + objectName + "' exists already in this file");
+        continue;
+      }
+      objects.emplace_back(std::move(objectName), position);
+    }
+  }
   std::vector<CharacterSpec> specs;
   std::set<std::string> names;
   const Json& list = doc["characters"];
@@ -479,6 +503,10 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     }
     if (scene.findCharacter(c.name)) {
       r.fail(where + "/name", "the scene has a character named '" + c.name + "' already");
+      continue;
+    }
+    if (objectNames.count(c.name)) {  // a target naming it would be ambiguous
+      r.fail(where + "/name", "'" + c.name + "' names an object of this file too");
       continue;
     }
     specs.push_back(std::move(c));
@@ -566,6 +594,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     }
     ++result.charactersAdded;
   }
+  for (auto& [objectName, position] : objects) scene.setObject(std::move(objectName), position);
   return result;
 }
 

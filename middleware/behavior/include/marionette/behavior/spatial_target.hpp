@@ -31,8 +31,9 @@ struct SpatialTarget {
 };
 
 // Answers the joint index of `joint` in the character named `character`, or the
-// behavior's default joint of that character when `joint` is empty (-1: none);
-// -2 when the scene has no such character.
+// behavior's default joint of that character when `joint` is empty (-1: none, or the
+// name is a scene object: a place without joints); -2 when the scene has no such
+// character or object; -3 when it names an object and a joint.
 using TargetJointFinder = std::function<int(std::string_view character, std::string_view joint)>;
 
 // Resolves `target` into `out`. Empty when it is usable, else why not, naming the

@@ -14,6 +14,9 @@
 #pragma once
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
 #include <string_view>
 #include <vector>
 
@@ -35,6 +38,18 @@ class Scene {
   bool removeCharacter(std::string_view name);
   [[nodiscard]] Character* findCharacter(std::string_view name) noexcept;
   [[nodiscard]] const std::vector<std::unique_ptr<Character>>& characters() const noexcept { return characters_; }
+
+  // Named places that behaviors aim at and walk to as they do at characters (SmartBody's
+  // pawns, props, the viewer): a gaze, pointing or locomotion target naming one finds it
+  // (a character of the same name comes first). "camera" is the viewer: the AR renderer
+  // moves it with the tracked camera every frame. Command time (between updates); a target
+  // is read again before every frame, so a moved object is followed. setObject replaces an
+  // object of that name; an empty name or a position that is not finite is refused (false,
+  // logged).
+  bool setObject(std::string name, const glm::vec3& position);
+  bool removeObject(std::string_view name);
+  [[nodiscard]] std::optional<glm::vec3> findObject(std::string_view name) const noexcept;
+  [[nodiscard]] const std::vector<std::pair<std::string, glm::vec3>>& objects() const noexcept { return objects_; }
 
   // Listeners are not owned. They are called until removed, never from ~Scene
   // (destroying a scene sends no onCharacterRemoved), so a listener may die
@@ -88,6 +103,7 @@ class Scene {
   void updateCharacter(Character& c, FrameScratch& scratch, double dt) noexcept;
 
   std::vector<std::unique_ptr<Character>> characters_;
+  std::vector<std::pair<std::string, glm::vec3>> objects_;  // few: a linear search
   std::vector<SceneListener*> listeners_;
   speech::SpeechService speech_;
   FrameScratch scratch_;  // the calling thread's blend scratch, sized to the largest skeleton

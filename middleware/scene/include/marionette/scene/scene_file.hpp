@@ -19,6 +19,8 @@
 //       // ("clip" may be left out in a layer: the first clip)
 //     } ],
 //   "bml": [ { "file": "greet.xml", "time": 1.5, "character": "robot" } ],  // optional
+//   "objects": [ { "name": "camera", "position": [0, 1.6, 3] } ],  // optional: places to
+//                                            // gaze, point and walk at (Scene::setObject)
 //   "bmlDialect": "smartbody",               // optional: how the characters' BML is read
 //                                            // ("auto" default, "bml", "smartbody"; a
 //                                            // character's own "bmlDialect" comes first)
