@@ -139,7 +139,16 @@ void readLocomotion(const Behavior& b, ReadParameters& out) {
         return;
       }
     if (v.size() == 3) {
-      l.waypoints.push_back({v[0], v[2]});  // x y z: y is ignored
+      l.waypoints.push_back({v[0], v[2]});  // x y z: y (up) is ignored
+      if (v[1] != 0.0f && v[1] != v[2]) {  // which convention was meant is not sure: say which was taken
+        char buf[240];
+        std::snprintf(buf, sizeof buf,
+                      "locomotion target '%s' is read as BML's x y z (y up): the ground point x=%g, z=%g, its height %g "
+                      "dropped (SmartBody's z-up reading, in its dialect, would be x=%g, z=%g)",
+                      shown.c_str(), static_cast<double>(v[0]), static_cast<double>(v[2]), static_cast<double>(v[1]),
+                      static_cast<double>(v[0]), static_cast<double>(v[1]));
+        note(out.warning, buf);
+      }
     } else if (v.size() >= 2 && v.size() % 2 == 0 && v.size() / 2 <= LocomotionParameters::kMaxWaypoints) {
       for (std::size_t i = 0; i < v.size(); i += 2) l.waypoints.push_back({v[i], v[i + 1]});
     } else {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 #include "marionette/core/number_list.hpp"
@@ -32,8 +33,29 @@ void add(std::string& warning, const std::string& w) { warning += (warning.empty
 
 }  // namespace
 
-std::string standardizeSpellings(Behavior& b) {
+std::string standardizeSpellings(Behavior& b, bool smartBody) {
   std::string warning;
+  if (b.type == "locomotion" && smartBody) {
+    // SmartBody's target="x y z" is z-up: x and y on the ground. Rewritten to BML's y-up
+    // "x 0 z"; a height it gives is said and dropped (a walk stays on the ground).
+    if (Attribute* target = find(b, "target")) {
+      const auto v = parseNumberList(target->value);
+      if (v && v->size() == 3 && std::isfinite((*v)[0]) && std::isfinite((*v)[1]) && std::isfinite((*v)[2])) {
+        const std::string given = target->value;
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%.9g 0 %.9g", static_cast<double>((*v)[0]), static_cast<double>((*v)[1]));
+        target->value = buf;
+        if ((*v)[2] != 0.0f && (*v)[1] != (*v)[2]) {
+          std::snprintf(buf, sizeof buf,
+                        "locomotion target '%.60s' is read as SmartBody's (z up): the ground point x=%g, z=%g here, its "
+                        "height %g dropped (as BML's y-up x y z it would be x=%g, z=%g)",
+                        given.c_str(), static_cast<double>((*v)[0]), static_cast<double>((*v)[1]),
+                        static_cast<double>((*v)[2]), static_cast<double>((*v)[0]), static_cast<double>((*v)[2]));
+          add(warning, buf);
+        }
+      }
+    }
+  }
   if (b.type == "head") {
     rename(b, "type", "lexeme");  // SmartBody: <head type="NOD">
     if (Attribute* repeats = find(b, "repeats")) {

@@ -10,6 +10,7 @@ namespace marionette::bml::detail {
 
 // Rewrites `b` in place; returns a warning ("" when none) for what could only be read
 // approximately (a fractional repeats, a face type that is not facs).
-std::string standardizeSpellings(Behavior& b);
+// `smartBody`: the block is read in SmartBody mode (its locomotion targets are z-up).
+std::string standardizeSpellings(Behavior& b, bool smartBody);
 
 }  // namespace marionette::bml::detail

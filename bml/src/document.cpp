@@ -401,7 +401,7 @@ class Parser {
     }
     if (type == "speech") readSpeech(n, b);
     if (type == "posture" || type == "postureShift") readPostureChildren(n, b);
-    if (const std::string w = detail::standardizeSpellings(b); !w.empty())
+    if (const std::string w = detail::standardizeSpellings(b, smartBody_); !w.empty())
       warn(WarningType::CustomAttributeNotSupported, b.id, w, b.line, b.column);
     block.behaviors.push_back(std::move(b));
   }

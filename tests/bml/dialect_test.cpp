@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "marionette/bml/behavior_parameters.hpp"
 #include "marionette/bml/document.hpp"
 #include "marionette/bml/scheduler.hpp"
 
@@ -262,4 +263,39 @@ TEST(BmlDialect, SmartBodyAnimationsAndEventsAreBehaviors) {
   EXPECT_NE(all.find("speed=\"-1\" is not a positive number"), std::string::npos) << all;
   // <animation> alone makes Auto read the block as SmartBody's (no ids needed).
   EXPECT_TRUE(bml::parseBlock("<bml><animation name=\"Wave\"/></bml>").block);
+}
+
+// SmartBody's locomotion targets are z-up (issue 24, 9): "9 9 0" is the ground point x=9,
+// z=9 in its dialect; BML's x y z is y-up. When the reading taken leaves a height, both
+// readings are named.
+TEST(BmlDialect, LocomotionTargetsAreReadInTheBlocksConvention) {
+  auto waypoint = [](const bml::ParseResult& r, std::string& warning) {
+    const bml::ReadParameters p = bml::readParameters(r.block->behaviors.at(0), BehaviorKind::Locomotion);
+    warning = p.warning;
+    const auto* l = std::get_if<LocomotionParameters>(&p.parameters);
+    return l && l->waypoints.size() == 1 ? l->waypoints[0] : glm::vec2(-1e9f);
+  };
+  std::string warning;
+  const auto sbm = bml::parseBlock("<bml xmlns:sbm=\"http://ict.usc.edu\"><locomotion target=\"9.0 9.0 0\"/></bml>");
+  ASSERT_TRUE(sbm.block) << sbm.format("sbm");
+  EXPECT_EQ(waypoint(sbm, warning), glm::vec2(9.0f, 9.0f));
+  EXPECT_TRUE(warning.empty()) << warning;
+  EXPECT_EQ(count(sbm, bml::WarningType::CustomAttributeNotSupported), 0) << sbm.format("sbm");
+  const auto bml = bml::parseBlock("<bml id=\"b\"><locomotion id=\"l\" target=\"9.0 9.0 0\"/></bml>");
+  ASSERT_TRUE(bml.block) << bml.format("bml");
+  EXPECT_EQ(waypoint(bml, warning), glm::vec2(9.0f, 0.0f));
+  EXPECT_NE(warning.find("read as BML's x y z (y up): the ground point x=9, z=0, its height 9 dropped (SmartBody's z-up "
+                         "reading, in its dialect, would be x=9, z=9)"),
+            std::string::npos)
+      << warning;
+  const auto flat = bml::parseBlock("<bml id=\"b\"><locomotion id=\"l\" target=\"2 0 3\"/></bml>");
+  EXPECT_EQ(waypoint(flat, warning), glm::vec2(2.0f, 3.0f));
+  EXPECT_TRUE(warning.empty()) << "y = 0: nothing to doubt";
+  const auto high = bml::parseBlock("<act><bml><locomotion target=\"1 2 3\"/></bml></act>");
+  ASSERT_TRUE(high.block);
+  EXPECT_EQ(waypoint(high, warning), glm::vec2(1.0f, 2.0f));
+  EXPECT_NE(high.format("sbm").find("read as SmartBody's (z up): the ground point x=1, z=2 here, its height 3 dropped (as "
+                                    "BML's y-up x y z it would be x=1, z=3)"),
+            std::string::npos)
+      << high.format("sbm");
 }
