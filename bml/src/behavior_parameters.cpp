@@ -123,6 +123,21 @@ void readPointing(const Behavior& b, ReadParameters& out) {
   out.parameters = std::move(p);
 }
 
+// A gesture the character has no clip for: the procedural set's lexeme, the hands (mode),
+// and for DEICTIC / POINT a target.
+void readGesture(const Behavior& b, ReadParameters& out) {
+  GestureParameters g;
+  g.lexeme = std::string(valueOf(b, "lexeme"));
+  g.target = readTarget(valueOf(b, "target"));
+  const std::string mode = toUpper(valueOf(b, "mode"));
+  if (mode == "LEFT_HAND") g.hands = PointingArms::Left;
+  else if (mode == "RIGHT_HAND") g.hands = PointingArms::Right;
+  else if (mode == "BOTH_HANDS") g.hands = PointingArms::Both;
+  else if (!mode.empty())
+    note(out.warning, "mode '" + mode.substr(0, 40) + "' is not LEFT_HAND, RIGHT_HAND or BOTH_HANDS; the gesture's own hands are used");
+  out.parameters = std::move(g);
+}
+
 void readLocomotion(const Behavior& b, ReadParameters& out) {
   LocomotionParameters l;
   const std::string_view target = valueOf(b, "target");
@@ -240,9 +255,10 @@ ReadParameters readParameters(const Behavior& b, BehaviorKind kind) {
     case BehaviorKind::GazeShift:
     case BehaviorKind::HeadDirectionShift: readGaze(b, out); break;
     case BehaviorKind::Pointing: readPointing(b, out); break;
+    case BehaviorKind::Gesture: readGesture(b, out); break;
     case BehaviorKind::Locomotion: readLocomotion(b, out); break;
     case BehaviorKind::Speech: readSpeech(b, out); break;
-    default: break;  // postures, gestures, waits and clips have no parameters
+    default: break;  // postures, waits and clips have no parameters
   }
   if (!out.error.empty()) out.parameters = std::monostate{};
   return out;

@@ -17,19 +17,6 @@ glm::vec3 originOf(const Skeleton& s, std::span<const Transform> pose, int joint
   return glm::vec3(modelMatrixOf(s, pose, joint)[3]);
 }
 
-// The arm's joints, ending at the forearm's first child when the profile names no end.
-RigJoints::LimbJoints armOf(const RigJoints::LimbJoints& arm, const Skeleton& s) {
-  RigJoints::LimbJoints a = arm;
-  if (a.end < 0 && a.lower >= 0)
-    for (std::size_t j = static_cast<std::size_t>(a.lower) + 1; j < s.parents.size(); ++j)
-      if (s.parents[j] == a.lower) {
-        a.end = static_cast<int>(j);
-        break;
-      }
-  return a;
-}
-
-
 // Where the elbow goes for an aim d: a direction field across d that is
 // continuous everywhere but at one aim, `away` (behind and across the body,
 // where no arm points). It is the sphere's image of a constant plane field
@@ -163,8 +150,8 @@ void aimArm(PointingState& st, int side, const glm::vec3& target, float weight, 
 std::string bindPointing(const BehaviorRequest& request, const Rig& rig, const Skeleton& skeleton,
                          const TargetJointFinder& findJoint, PointingState& st, std::string& warning) {
   const RigJoints& j = rig.joints();
-  st.limb[0] = makeLimbIk(skeleton, armOf(j.leftArm, skeleton));
-  st.limb[1] = makeLimbIk(skeleton, armOf(j.rightArm, skeleton));
+  st.limb[0] = makeLimbIk(skeleton, limbWithEnd(j.leftArm, skeleton));
+  st.limb[1] = makeLimbIk(skeleton, limbWithEnd(j.rightArm, skeleton));
   const bool usable[2] = {st.limb[0].upper >= 0, st.limb[1].upper >= 0};
   if (!usable[0] && !usable[1])
     return "the character has no arm to point with (set leftArm / rightArm in its profile)";

@@ -214,4 +214,15 @@ float solveTwoBoneIk(const Skeleton& skeleton, std::span<Transform> localPose, c
   return lengthOf(targetModel - evaluate(skeleton, pose, limb).c);
 }
 
+RigJoints::LimbJoints limbWithEnd(const RigJoints::LimbJoints& limb, const Skeleton& s) noexcept {
+  RigJoints::LimbJoints a = limb;
+  if (a.end < 0 && a.lower >= 0)
+    for (std::size_t j = static_cast<std::size_t>(a.lower) + 1; j < s.parents.size(); ++j)
+      if (s.parents[j] == a.lower) {
+        a.end = static_cast<int>(j);
+        break;
+      }
+  return a;
+}
+
 }  // namespace marionette

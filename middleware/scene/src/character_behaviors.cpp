@@ -12,6 +12,7 @@
 #include "marionette/animation/blending.hpp"
 #include "marionette/animation/sampling.hpp"
 #include "marionette/behavior/procedural_controllers.hpp"
+#include "marionette/core/text.hpp"
 #include "marionette/scene/scene.hpp"
 #include "marionette/speech/speech_service.hpp"
 
@@ -73,7 +74,7 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
       &Character::bindFaceEntry,            // faceFacs
       &Character::bindFaceEntry,            // face
       &Character::bindFaceEntry,            // faceShift
-      nullptr,                              // gesture
+      &Character::bindGestureEntry,         // gesture (procedural, when no clip realizes it)
       &Character::bindPointingEntry,        // pointing
       &Character::bindSpeechEntry,          // speech
       &Character::bindWaitEntry,            // wait
@@ -232,6 +233,23 @@ std::string Character::bindPointingEntry(BehaviorTimeline::Entry& e, std::string
   return why;
 }
 
+std::string Character::bindGestureEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  // DEICTIC / POINT with a target is a pointing: the pointing controller aims the arm.
+  const GestureParameters* g = e.request.as<GestureParameters>();
+  if (g && !g->target.empty() && (equalsIgnoringCase(g->lexeme, "DEICTIC") || equalsIgnoringCase(g->lexeme, "POINT"))) {
+    PointingState pointing;
+    BehaviorRequest asPointing = e.request;
+    asPointing.parameters = PointingParameters{g->target, g->hands};
+    std::string why = bindPointing(asPointing, *rig_, skeleton(), targetJointFinder(true), pointing, warning);
+    if (why.empty()) e.controller = std::move(pointing);
+    return why;
+  }
+  GestureState gesture;
+  std::string why = bindProceduralGesture(e.request, *rig_, skeleton(), gesture, warning);
+  if (why.empty()) e.controller = std::move(gesture);
+  return why;
+}
+
 std::vector<float> Character::upperBodyMask() const {
   // The first spine joint and everything above it; empty when the profile has no spine.
   const RigJoints& j = rig_->joints();
@@ -364,8 +382,8 @@ void Character::applyBehaviors(float dt) noexcept {
   // (entries without weight now are left out, except speech and locomotion, which look at
   // time themselves). The passes then run in a fixed order (DESIGN.md): clip behaviors
   // (postures) over the layers, locomotion, upper-body clips (gestures), gaze, head
-  // movements added on top of it, pointing (after the gaze has turned the torso, so the arm
-  // aims from where it ends up), face expressions, speech.
+  // movements added on top of it, procedural gestures and pointing (after the gaze has
+  // turned the torso, so the arms move from where it ends up), face expressions, speech.
   for (auto& pass : passes_) pass.clear();
   const std::span<BehaviorTimeline::Entry> entries = behaviors_.entries();
   for (std::size_t i = 0; i < entries.size(); ++i) {
@@ -378,6 +396,7 @@ void Character::applyBehaviors(float dt) noexcept {
     if (e.clip) passes_[e.upperBody ? kUpperClipPass : kClipPass].push_back(active);
     if (e.as<GazeState>()) passes_[kGazePass].push_back(active);
     if (const HeadMotionState* h = e.as<HeadMotionState>(); h && !h->strokes.empty()) passes_[kHeadPass].push_back(active);
+    if (e.as<GestureState>()) passes_[kGesturePass].push_back(active);
     if (e.as<PointingState>()) passes_[kPointingPass].push_back(active);
     if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !f->morphs.empty())
       passes_[kFacePass].push_back(active);
@@ -407,6 +426,11 @@ void Character::applyBehaviors(float dt) noexcept {
     for (const ActiveEntry& a : passes_[kHeadPass])
       applyHead(*behaviors_.entries()[a.index].as<HeadMotionState>(), a.weight, clock_, *rig_, pose_);
     return !passes_[kHeadPass].empty();
+  });
+  run(CharacterStats::kGesture, [&] {
+    for (const ActiveEntry& a : passes_[kGesturePass])
+      updateProceduralGesture(*behaviors_.entries()[a.index].as<GestureState>(), clock_, a.weight, skeleton(), pose_);
+    return !passes_[kGesturePass].empty();
   });
   run(CharacterStats::kPointing, [&] {
     for (const ActiveEntry& a : passes_[kPointingPass]) {

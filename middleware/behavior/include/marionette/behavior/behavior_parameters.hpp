@@ -105,9 +105,17 @@ struct LocomotionParameters {
 // wordsPerMinute outside [1, 10000] is the voice's default, with a note.
 using SpeechParameters = speech::SpeechRequest;
 
-// The parameters of one request: none (postures, gestures, clips and waits need
-// only their clip and times), or the struct of its kind's controller.
+// A gesture without a clip (kind Gesture; behavior/procedural_gesture.hpp): its lexeme,
+// which hands (Nearest: the lexeme's own), and for DEICTIC / POINT a target to point at.
+struct GestureParameters {
+  std::string lexeme{};  // matched case-insensitively
+  PointingArms hands = PointingArms::Nearest;
+  BehaviorTarget target{};
+};
+
+// The parameters of one request: none (postures, clips and waits need only their clip
+// and times), or the struct of its kind's controller.
 using BehaviorParameters = std::variant<std::monostate, HeadParameters, FaceParameters, GazeParameters,
-                                        PointingParameters, LocomotionParameters, SpeechParameters>;
+                                        PointingParameters, LocomotionParameters, SpeechParameters, GestureParameters>;
 
 }  // namespace marionette

@@ -19,6 +19,7 @@
 #include "marionette/behavior/gaze.hpp"
 #include "marionette/behavior/head_motion.hpp"
 #include "marionette/behavior/pointing.hpp"
+#include "marionette/behavior/procedural_gesture.hpp"
 #include "marionette/behavior/speech_controller.hpp"
 
 namespace marionette {
@@ -42,7 +43,7 @@ struct LocomotionEntryState {
   glm::vec3 resolvedTarget{0.0f};              // a target character's place before this frame
 };
 using ControllerState = std::variant<std::monostate, HeadMotionState, FaceExpressionState, GazeState, PointingState,
-                                     SpeechState, LocomotionEntryState>;
+                                     SpeechState, LocomotionEntryState, GestureState>;
 
 class BehaviorTimeline {
  public:

@@ -36,6 +36,9 @@ struct LimbIk {
 // the rest pose. Returns upper = -1 when the limb is unusable: a joint missing,
 // out of range, not chained, or a zero-length bone. No allocation.
 [[nodiscard]] LimbIk makeLimbIk(const Skeleton& skeleton, const RigJoints::LimbJoints& limb) noexcept;
+// An arm as the solvers use it: ending at the forearm's first child when the profile names
+// no end joint (RobotExpressive: its palm at the wrist).
+[[nodiscard]] RigJoints::LimbJoints limbWithEnd(const RigJoints::LimbJoints& limb, const Skeleton& skeleton) noexcept;
 
 // The end point of the limb in model space for this pose (NaN-free; the
 // origin when the limb is unusable).
