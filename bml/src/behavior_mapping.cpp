@@ -140,6 +140,12 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
     m.error = std::move(read.error);
     m.warning = std::move(read.warning);
   }
+  // SmartBody's saccade model and parametric blends are read but not realized: said, with why.
+  if (b.type == "saccade")
+    m.error = "SmartBody's <saccade> is not realized: the eyes move with gaze behaviors only (no saccade model yet)";
+  if (b.type == "blend")
+    m.error = "SmartBody's <blend> (a parametric animation state) is not realized: this realizer has no blend states; "
+              "play a clip with <animation name> or walk with <locomotion>";
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
   r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||
                  r.kind == BehaviorKind::GazeShift || r.kind == BehaviorKind::HeadDirectionShift;

@@ -44,13 +44,16 @@ const KnownAttributes kKnownAttributes[] = {
     {"face", {"start", "attackPeak", "relax", "end", "lexeme", "amount", "type", "au", "side"}},
     {"faceShift", {"start", "end", "lexeme", "amount"}},
     {"gesture", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "lexeme", "mode", "repetition",
-                 "name"}},
+                 "name", "target"}},  // target: a DEICTIC's (AsapRealizer, Greta)
     {"pointing", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "target", "mode"}},
     {"speech", {"start", "end", "voice", "rate", "type"}},  // type: SmartBody's text/plain or SSML
     {"wait", {"start", "end"}},
     // SmartBody's own behaviors (dialect_forms.hpp): a clip by name, a message at a sync point.
     {"animation", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "name", "speed"}},
     {"event", {"start", "stroke", "end", "message"}},
+    // Read so that they are named for what they are, not as unknown: not realized (yet).
+    {"saccade", {"start", "end", "mode", "finish", "angle", "direction", "magnitude", "duration"}},
+    {"blend", {"start", "ready", "relax", "end", "name", "x", "y", "z"}},
     // BMLA's behaviors: interrupt or activate the target block at their start.
     {"interrupt", {"start", "end", "target"}},
     {"activate", {"start", "end", "target"}},
@@ -58,7 +61,9 @@ const KnownAttributes kKnownAttributes[] = {
 
 // Behaviors only SmartBody has, read in every dialect (their use makes Auto read the block
 // as SmartBody's): <animation name>, <event message> (also as <sbm:event>).
-bool isSmartBodyBehavior(std::string_view name) { return name == "animation" || name == "event"; }
+bool isSmartBodyBehavior(std::string_view name) {
+  return name == "animation" || name == "event" || name == "saccade" || name == "blend";
+}
 
 // "" when `type` has `attribute`, else the list of what it has (for the warning).
 std::string unknownAttribute(std::string_view type, std::string_view attribute) {

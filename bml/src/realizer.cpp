@@ -324,7 +324,10 @@ bool Realizer::submit(Character& character, const Active& a, const Block& block,
     MappedRequest mapped = toRequest(*parsedIt, sb, a.blockId, a.start, character.rig());
     BehaviorResult res = character.addBehavior(std::move(mapped.request));
     // The attributes' own reasons come first: the character saw only what could be read of them.
-    if (!res.realized && !mapped.error.empty()) res.message = mapped.error;
+    if (!mapped.error.empty()) {  // e.g. a saccade: on the timeline as a wait, yet nothing moves
+      res.realized = false;
+      res.message = mapped.error;
+    }
     if (res.realized && !mapped.warning.empty())
       res.message = res.message.empty() ? mapped.warning : mapped.warning + "; " + res.message;
     if (!res.added) {
