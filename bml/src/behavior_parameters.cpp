@@ -111,15 +111,21 @@ void readGaze(const Behavior& b, ReadParameters& out) {
   out.parameters = std::move(g);
 }
 
+// A pointing's or gesture's mode: which hands; anything else is Nearest, said with `otherwise`.
+PointingArms handsOf(const Behavior& b, const char* otherwise, std::string& warning) {
+  const std::string mode = toUpper(valueOf(b, "mode"));
+  if (mode == "LEFT_HAND") return PointingArms::Left;
+  if (mode == "RIGHT_HAND") return PointingArms::Right;
+  if (mode == "BOTH_HANDS") return PointingArms::Both;
+  if (!mode.empty())
+    note(warning, "mode '" + mode.substr(0, 40) + "' is not LEFT_HAND, RIGHT_HAND or BOTH_HANDS; " + otherwise);
+  return PointingArms::Nearest;
+}
+
 void readPointing(const Behavior& b, ReadParameters& out) {
   PointingParameters p;
   p.target = readTarget(valueOf(b, "target"));
-  const std::string mode = toUpper(valueOf(b, "mode"));
-  if (mode == "LEFT_HAND") p.arms = PointingArms::Left;
-  else if (mode == "RIGHT_HAND") p.arms = PointingArms::Right;
-  else if (mode == "BOTH_HANDS") p.arms = PointingArms::Both;
-  else if (!mode.empty())
-    note(out.warning, "mode '" + mode.substr(0, 40) + "' is not LEFT_HAND, RIGHT_HAND or BOTH_HANDS; the arm on the target's side points");
+  p.arms = handsOf(b, "the arm on the target's side points", out.warning);
   out.parameters = std::move(p);
 }
 
@@ -129,12 +135,7 @@ void readGesture(const Behavior& b, ReadParameters& out) {
   GestureParameters g;
   g.lexeme = std::string(valueOf(b, "lexeme"));
   g.target = readTarget(valueOf(b, "target"));
-  const std::string mode = toUpper(valueOf(b, "mode"));
-  if (mode == "LEFT_HAND") g.hands = PointingArms::Left;
-  else if (mode == "RIGHT_HAND") g.hands = PointingArms::Right;
-  else if (mode == "BOTH_HANDS") g.hands = PointingArms::Both;
-  else if (!mode.empty())
-    note(out.warning, "mode '" + mode.substr(0, 40) + "' is not LEFT_HAND, RIGHT_HAND or BOTH_HANDS; the gesture's own hands are used");
+  g.hands = handsOf(b, "the gesture's own hands are used", out.warning);
   out.parameters = std::move(g);
 }
 
