@@ -185,6 +185,12 @@ class Parser {
       return std::move(result_);
     }
     readBlockAttributes(root, block);
+    if (block.id.find_first_of(": \t\n\r") != std::string::npos) {
+      fatal(WarningType::ParsingFailure, "",
+            "<bml> id '" + block.id.substr(0, 40) + "' has a ':' or a space (references to other blocks use ':')",
+            block.line, block.column);
+      return std::move(result_);
+    }
     if (block.composition != "MERGE" && block.composition != "APPEND" && block.composition != "REPLACE") {
       warn(WarningType::ParsingFailure, "",
            "composition '" + std::string(root.attribute("composition").as_string()) +
@@ -383,6 +389,12 @@ class Parser {
            "<" + type + "> has no attribute" + (unknown.size() > 1 ? "s " : " ") + names + " in BML 1.0 or here (it has " +
                knownList + "); ignored",
            b.line, b.column);
+    }
+    if (b.id.find_first_of(": \t\n\r") != std::string::npos) {
+      warn(WarningType::ParsingFailure, b.id,
+           "<" + type + "> id '" + b.id.substr(0, 40) + "' has a ':' or a space (sync references use ':'); it was left out",
+           b.line, b.column, required);
+      return;
     }
     if (b.id.empty()) {
       warn(WarningType::ParsingFailure, "",

@@ -299,3 +299,33 @@ TEST(BmlDialect, LocomotionTargetsAreReadInTheBlocksConvention) {
             std::string::npos)
       << high.format("sbm");
 }
+
+// Bad input across dialects: ids that sync references could not name, a block mixing
+// SmartBody's forms into BML 1.0 (read as SmartBody's, its BML kept), another namespace.
+TEST(BmlDialect, MalformedIdsAndMixedDialectsAreNamed) {
+  const auto colon = bml::parseBlock("<bml id=\"b\"><head id=\"h:1\" lexeme=\"NOD\"/><head id=\"ok\" lexeme=\"NOD\"/></bml>");
+  ASSERT_TRUE(colon.block);
+  EXPECT_EQ(colon.block->behaviors.size(), 1u);
+  EXPECT_NE(colon.format("m").find("<head> id 'h:1' has a ':' or a space"), std::string::npos) << colon.format("m");
+  EXPECT_FALSE(bml::parseBlock("<bml id=\"a b\"><head id=\"h\" lexeme=\"NOD\"/></bml>").block);
+  EXPECT_TRUE(bml::scheduleText("<bml id=\"b\"><required><head id=\"x y\" lexeme=\"NOD\"/></required></bml>").failed);
+  // Mixed: BML 1.0's namespace, an sbm: event and a BMLA attribute in one block.
+  const auto mixed = bml::parseBlock(
+      "<bml xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\" xmlns:sbm=\"http://ict.usc.edu\" "
+      "xmlns:bmla=\"http://www.asap-project.org/bmla\" bmla:chunkAfter=\"prev\">\n"
+      "  <head id=\"h\" lexeme=\"NOD\"/><sbm:event message=\"m\" stroke=\"h:stroke\"/>\n"
+      "  <other:thing xmlns:other=\"urn:x\" id=\"t\"/>\n"
+      "</bml>");
+  ASSERT_TRUE(mixed.block) << mixed.format("mixed");
+  EXPECT_TRUE(mixed.block->smartBody);
+  EXPECT_EQ(mixed.block->behaviors.size(), 2u);
+  EXPECT_EQ(mixed.block->bmla.chunkAfter, std::vector<std::string>{"prev"});
+  EXPECT_EQ(count(mixed, bml::WarningType::CustomBehaviorNotSupported), 1) << mixed.format("mixed");
+  // Generated ids never repeat, whatever the block gives itself.
+  const auto taken = bml::parseBlock("<act><bml><head id=\"head_2\" lexeme=\"NOD\"/><head lexeme=\"NOD\"/>"
+                                     "<head lexeme=\"NOD\"/><head id=\"head_1b\" lexeme=\"NOD\"/></bml></act>");
+  ASSERT_TRUE(taken.block);
+  std::vector<std::string> ids;
+  for (const bml::Behavior& b : taken.block->behaviors) ids.push_back(b.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{"head_2", "head_1", "head_3", "head_1b"}));
+}
