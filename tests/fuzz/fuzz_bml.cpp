@@ -46,12 +46,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const auto rig = fuzzRig();
   Scene scene;
   Character* c = scene.addCharacter("c", rig);
+  scene.setObject("camera", {0.0f, 1.6f, 3.0f});  // targets scripts name (issue 24)
   bml::Realizer realizer(scene);
   realizer.perform(text);
   scene.update(0.25);
   realizer.update();
   realizer.perform(text);
   for (double dt : {0.0, 0.1, 1.0, 5.0}) {
+    scene.update(dt);
+    realizer.update();
+    for (const Transform& t : c->localPose())
+      if (!std::isfinite(t.rotation.w) || !std::isfinite(t.translation.x)) __builtin_trap();
+  }
+  // Read as SmartBody's (ids generated, z-up targets), and a preplanned block activated.
+  realizer.setDialect("c", bml::Dialect::SmartBody);
+  const bml::Schedule sbm = realizer.perform(text);
+  if (sbm.preplanned) realizer.activate(sbm.blockId);
+  for (double dt : {0.1, 2.0}) {
     scene.update(dt);
     realizer.update();
     for (const Transform& t : c->localPose())
