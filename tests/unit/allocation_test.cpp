@@ -19,6 +19,7 @@
 #endif
 #include "synthetic_humanoid.hpp"
 #include "synthetic_rig.hpp"
+#include "synthetic_upper_body.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -121,6 +122,39 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
   // The counter works: a vector allocates.
   std::vector<int> v(10);
   EXPECT_GT(g_allocations.load() - before, 0);
+}
+
+// Procedural gestures (repeated strokes, both hands) and a gaze at a scene object that moves
+// every frame (issue 24): bound at command time, nothing allocated per frame.
+TEST(Allocation, ProceduralGesturesAndObjectTargetsAllocateNothingPerFrame) {
+  Scene scene;
+  ASSERT_TRUE(scene.setObject("camera", {0.0f, 1.6f, 3.0f}));
+  for (int i = 0; i < 4; ++i) {
+    Character* c = scene.addCharacter("c" + std::to_string(i), marionette::test::makeUpperBodyRig());
+    BehaviorRequest g;
+    g.id = "g";
+    g.kind = BehaviorKind::Gesture;
+    g.parameters = GestureParameters{i % 2 ? "SHRUG" : "BEAT", PointingArms::Nearest, {}};
+    g.syncs = {{"start", 0.0},         {"ready", 0.2},   {"strokeStart", 0.3}, {"stroke", 0.4},
+               {"strokeEnd", 0.5},     {"strokeStart:2", 0.7}, {"stroke:2", 0.8}, {"strokeEnd:2", 0.9},
+               {"relax", 1.2},         {"end", 1.5}};
+    ASSERT_TRUE(c->addBehavior(g).realized);
+    BehaviorRequest look;
+    look.id = "look";
+    look.kind = BehaviorKind::Gaze;
+    look.parameters = GazeParameters{BehaviorTarget::of("camera"), GazeInfluence::Neck};
+    look.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1.5}, {"end", 2.0}};
+    ASSERT_TRUE(c->addBehavior(look).realized);
+  }
+  scene.update(1.0 / 60.0);  // warm-up
+  const long before = g_allocations.load();
+  for (int f = 0; f < 120; ++f) {
+    scene.setObject("camera", {0.01f * static_cast<float>(f), 1.6f, 3.0f});  // an existing name: moved
+    scene.update(1.0 / 60.0);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  for (const auto& c : scene.characters())
+    EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kGaze] && c->stats().controllerUsed[CharacterStats::kGesture]);
 }
 
 // The same with two threads: waking the workers, the shared chunk index, the
