@@ -69,6 +69,12 @@ std::shared_ptr<const AnimationClip> clipFor(const Behavior& b, const Rig& rig) 
 
 std::optional<double> naturalDuration(const Behavior& b, const Rig& rig) {
   if (b.type == "posture" || b.type == "postureShift") return std::nullopt;
+  if (b.type == "saccade") {  // SmartBody's sbm:duration: how long one saccade holds
+    const Attribute* d = b.attribute("duration");
+    const auto v = d ? parseNumberList(d->value) : std::nullopt;
+    if (v && v->size() == 1 && std::isfinite(v->front()) && v->front() > 0.0f) return std::min(v->front(), 3600.0f);
+    return std::nullopt;
+  }
   const auto clip = clipFor(b, rig);
   if (!clip || !(clip->clip.duration > 0.0f)) return std::nullopt;
   double speed = 1.0;  // SmartBody's <animation speed>: the clip plays over duration / speed
@@ -140,14 +146,15 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
     m.error = std::move(read.error);
     m.warning = std::move(read.warning);
   }
-  // SmartBody's saccade model and parametric blends are read but not realized: said, with why.
-  if (b.type == "saccade")
-    m.error = "SmartBody's <saccade> is not realized: the eyes move with gaze behaviors only (no saccade model yet)";
+  // SmartBody's parametric blends are read but not realized: said, with why.
   if (b.type == "blend")
     m.error = "SmartBody's <blend> (a parametric animation state) is not realized: this realizer has no blend states; "
               "play a clip with <animation name> or walk with <locomotion>";
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
-  r.persistent = r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||
+  // A saccade model runs (and a finish holds) until a later saccade request replaces it.
+  const SaccadeParameters* saccade = r.as<SaccadeParameters>();
+  r.persistent = (saccade && (saccade->mode != SaccadeMode::None || saccade->finish)) ||
+                 r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||
                  r.kind == BehaviorKind::GazeShift || r.kind == BehaviorKind::HeadDirectionShift;
   return m;
 }

@@ -139,6 +139,31 @@ void readGesture(const Behavior& b, ReadParameters& out) {
   out.parameters = std::move(g);
 }
 
+// SmartBody's <saccade>: mode (talk, listen, think), finish="true", or direction and magnitude.
+void readSaccade(const Behavior& b, ReadParameters& out) {
+  SaccadeParameters s;
+  const std::string mode = toUpper(valueOf(b, "mode"));
+  if (mode == "TALK") s.mode = SaccadeMode::Talk;
+  else if (mode == "LISTEN") s.mode = SaccadeMode::Listen;
+  else if (mode == "THINK") s.mode = SaccadeMode::Think;
+  else if (!mode.empty()) note(out.warning, "saccade mode '" + mode.substr(0, 40) + "' is not TALK, LISTEN or THINK; TALK is used");
+  if (!mode.empty() && s.mode == SaccadeMode::None) s.mode = SaccadeMode::Talk;
+  s.finish = equalsIgnoringCase(valueOf(b, "finish"), "true");
+  auto angle = [&](std::string_view name, float lo, float hi) {
+    const std::string_view text = valueOf(b, name);
+    if (text.empty()) return 0.0f;
+    const auto v = oneNumber(text);
+    if (v && std::isfinite(*v) && *v >= lo && *v <= hi) return *v;
+    note(out.warning, notANumber(name, text, lo, hi, "0 is used"));
+    return 0.0f;
+  };
+  s.directionDegrees = angle("direction", -360.0f, 360.0f);
+  s.magnitudeDegrees = angle("magnitude", -SaccadeParameters::kMaxMagnitudeDegrees, SaccadeParameters::kMaxMagnitudeDegrees);
+  if (s.mode == SaccadeMode::None && !s.finish && valueOf(b, "magnitude").empty())
+    note(out.warning, "a saccade without mode, finish or magnitude moves nothing");
+  out.parameters = s;
+}
+
 void readLocomotion(const Behavior& b, ReadParameters& out) {
   LocomotionParameters l;
   const std::string_view target = valueOf(b, "target");
@@ -257,6 +282,7 @@ ReadParameters readParameters(const Behavior& b, BehaviorKind kind) {
     case BehaviorKind::HeadDirectionShift: readGaze(b, out); break;
     case BehaviorKind::Pointing: readPointing(b, out); break;
     case BehaviorKind::Gesture: readGesture(b, out); break;
+    case BehaviorKind::Saccade: readSaccade(b, out); break;
     case BehaviorKind::Locomotion: readLocomotion(b, out); break;
     case BehaviorKind::Speech: readSpeech(b, out); break;
     default: break;  // postures, waits and clips have no parameters

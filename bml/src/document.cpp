@@ -51,8 +51,8 @@ const KnownAttributes kKnownAttributes[] = {
     // SmartBody's own behaviors (dialect_forms.hpp): a clip by name, a message at a sync point.
     {"animation", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "name", "speed"}},
     {"event", {"start", "stroke", "end", "message"}},
-    // Read so that they are named for what they are, not as unknown: not realized (yet).
-    {"saccade", {"start", "end", "mode", "finish", "angle", "direction", "magnitude", "duration"}},
+    {"saccade", {"start", "end", "mode", "finish", "direction", "magnitude", "duration"}},
+    // Read so that it is named for what it is, not as unknown: not realized (yet).
     {"blend", {"start", "ready", "relax", "end", "name", "x", "y", "z"}},
     // BMLA's behaviors: interrupt or activate the target block at their start.
     {"interrupt", {"start", "end", "target"}},
@@ -358,6 +358,10 @@ class Parser {
       }
       if (name == "xmlns" || name.substr(0, 6) == "xmlns:") continue;
       const std::string ns = namespaceOf(name, true);
+      if (type == "saccade" && name == "sbm:duration") {  // SmartBody's own spelling of the saccade's length
+        b.attributes.push_back({"duration", a.value(), b.line, b.column});
+        continue;
+      }
       if (!isBmlNamespace(ns) || prefixOf(name) == "sbm") {
         warn(WarningType::CustomAttributeNotSupported, b.id,
              "attribute '" + std::string(name) + "' (" + (prefixOf(name) == "sbm" ? "SmartBody" : ns) +

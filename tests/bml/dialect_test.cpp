@@ -329,3 +329,24 @@ TEST(BmlDialect, MalformedIdsAndMixedDialectsAreNamed) {
   for (const bml::Behavior& b : taken.block->behaviors) ids.push_back(b.id);
   EXPECT_EQ(ids, (std::vector<std::string>{"head_2", "head_1", "head_3", "head_1b"}));
 }
+
+// SmartBody's <saccade>: a model (mode), a finish, or one saccade with sbm:duration kept.
+TEST(BmlDialect, SaccadesAreReadIntoTheirParameters) {
+  const auto r = bml::parseBlock(
+      "<bml xmlns:sbm=\"http://ict.usc.edu\"><saccade mode=\"listen\"/><saccade finish=\"true\" start=\"5\"/>"
+      "<saccade direction=\"45\" magnitude=\"15\" sbm:duration=\".5\"/><saccade mode=\"dream\"/></bml>");
+  ASSERT_TRUE(r.block) << r.format("s");
+  ASSERT_EQ(r.block->behaviors.size(), 4u);
+  EXPECT_EQ(count(r, bml::WarningType::CustomAttributeNotSupported), 0) << r.format("s");
+  auto read = [&](int i) { return bml::readParameters(r.block->behaviors.at(static_cast<std::size_t>(i)), BehaviorKind::Saccade); };
+  EXPECT_EQ(std::get<SaccadeParameters>(read(0).parameters).mode, SaccadeMode::Listen);
+  EXPECT_TRUE(std::get<SaccadeParameters>(read(1).parameters).finish);
+  const auto one = std::get<SaccadeParameters>(read(2).parameters);
+  EXPECT_EQ(one.mode, SaccadeMode::None);
+  EXPECT_FLOAT_EQ(one.directionDegrees, 45.0f);
+  EXPECT_FLOAT_EQ(one.magnitudeDegrees, 15.0f);
+  EXPECT_EQ(r.block->behaviors[2].attribute("duration")->value, ".5");
+  const bml::ReadParameters dream = read(3);
+  EXPECT_EQ(std::get<SaccadeParameters>(dream.parameters).mode, SaccadeMode::Talk);
+  EXPECT_NE(dream.warning.find("saccade mode 'DREAM' is not TALK, LISTEN or THINK"), std::string::npos) << dream.warning;
+}

@@ -2,8 +2,10 @@
 // behind the character, the chain sharing and limits, and extreme targets.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "marionette/behavior/gaze.hpp"
 #include "gaze_hold.hpp"
@@ -329,4 +331,69 @@ TEST(Gaze, SceneObjectsAreTargetsLikePoints) {
   const BehaviorResult joint = a->addBehavior(atJoint);
   EXPECT_FALSE(joint.realized);
   EXPECT_NE(joint.message.find("'cup' is an object (a place), which has no joint 'Head'"), std::string::npos) << joint.message;
+}
+
+namespace {
+BehaviorRequest saccade(const std::string& id, SaccadeParameters p, double start, double end) {
+  BehaviorRequest r;
+  r.id = id;
+  r.kind = BehaviorKind::Saccade;
+  r.channels = kChannelEyes;
+  r.parameters = p;
+  r.persistent = p.mode != SaccadeMode::None || p.finish;
+  r.syncs = {{"start", start}, {"end", end}};
+  return r;
+}
+glm::vec3 eyeForward(const Character& c, const glm::quat& restEye) { return headForward(c, restEye, 4); }
+}  // namespace
+
+// Saccades (issue 24; SmartBody's <saccade>): one saccade turns the eyes by its magnitude
+// toward its direction, quickly, then holds; a model draws saccades away from the gaze and
+// back, deterministically from the request id, until a finish replaces it; eyes only.
+TEST(Saccade, OneSaccadeAndTheModelsMoveTheEyesOnly) {
+  Scene scene;
+  Character* c = scene.addCharacter("c", gazeRig(true));
+  scene.update(0.0);
+  const glm::quat restEye = modelRotation(*c, 4), restHead = modelRotation(*c, 3);
+  // 10 degrees up (direction 90): 25 ms + 24 ms, reached well within 0.1 s.
+  ASSERT_TRUE(c->addBehavior(saccade("up", {SaccadeMode::None, false, 90.0f, 10.0f}, 0.0, 1.0)).realized);
+  for (int f = 0; f < 30; ++f) scene.update(1.0 / 60.0);  // 0.5 s: past the blend-in
+  const glm::vec3 f = eyeForward(*c, restEye);
+  EXPECT_NEAR(degreesBetween(f, {0, 0, 1}), 10.0f, 0.5f);
+  EXPECT_GT(f.y, 0.15f) << "up";
+  EXPECT_LT(preciseAngleBetween(modelRotation(*c, 3), restHead), 1e-5f) << "the head stays";
+  for (int f2 = 0; f2 < 60; ++f2) scene.update(1.0 / 60.0);
+  EXPECT_LT(degreesBetween(eyeForward(*c, restEye), {0, 0, 1}), 0.01f) << "back after the end";
+
+  // The talk model: several saccades in 10 s, each within its limit, the same on a second run.
+  auto run = [](std::vector<float>& angles) {
+    Scene s;
+    Character* k = s.addCharacter("c", gazeRig(true));
+    s.update(0.0);
+    const glm::quat rest = modelRotation(*k, 4);
+    EXPECT_TRUE(k->addBehavior(saccade("talk", {SaccadeMode::Talk, false, 0.0f, 0.0f}, 0.0, 0.2)).realized);
+    for (int f3 = 0; f3 < 600; ++f3) {
+      s.update(1.0 / 60.0);
+      angles.push_back(degreesBetween(eyeForward(*k, rest), {0, 0, 1}));
+    }
+    // finish: the model is replaced, the eyes come back onto the gaze.
+    EXPECT_TRUE(k->addBehavior(saccade("stop", {SaccadeMode::None, true, 0.0f, 0.0f}, s.time(), s.time() + 0.2)).realized);
+    for (int f3 = 0; f3 < 60; ++f3) s.update(1.0 / 60.0);
+    angles.push_back(degreesBetween(eyeForward(*k, rest), {0, 0, 1}));
+  };
+  std::vector<float> a, b;
+  run(a);
+  run(b);
+  EXPECT_EQ(a, b) << "deterministic";
+  int moves = 0;
+  for (std::size_t i = 1; i + 1 < a.size(); ++i) moves += (a[i] > 1.0f) != (a[i - 1] > 1.0f);
+  EXPECT_GE(moves, 4) << "away and back several times in 10 s";
+  EXPECT_LE(*std::max_element(a.begin(), a.end() - 1), 12.5f) << "within the talk model's limit";
+  EXPECT_LT(a.back(), 0.05f) << "finished";
+  // A character without eyes: named.
+  Scene none;
+  Character* blind = none.addCharacter("c", gazeRig(false));
+  const BehaviorResult r = blind->addBehavior(saccade("s", {SaccadeMode::Listen, false, 0, 0}, 0, 1));
+  EXPECT_FALSE(r.realized);
+  EXPECT_NE(r.message.find("no eye joints"), std::string::npos) << r.message;
 }

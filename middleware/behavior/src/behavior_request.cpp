@@ -5,9 +5,10 @@
 namespace marionette {
 
 namespace {
-constexpr std::array<std::string_view, 16> kKindNames = {
+constexpr std::array<std::string_view, 17> kKindNames = {
     "posture",   "postureShift", "locomotion", "gaze", "gazeShift", "head",    "headDirectionShift", "faceLexeme",
-    "faceFacs", "face",         "faceShift",  "gesture", "pointing", "speech", "wait",               "clip"};
+    "faceFacs", "face",         "faceShift",  "gesture", "pointing", "speech", "wait",               "clip",
+    "saccade"};
 }  // namespace
 
 std::string_view toString(BehaviorKind kind) noexcept {
@@ -33,19 +34,21 @@ std::uint32_t defaultChannels(BehaviorKind kind) noexcept {
     case BehaviorKind::Gesture:
     case BehaviorKind::Pointing: return kChannelHands;
     case BehaviorKind::Speech: return kChannelVoice;
+    case BehaviorKind::Saccade: return kChannelEyes;
     case BehaviorKind::Clip: return kChannelPosture;  // a whole-body clip stands in for the posture
     default: return 0;                                // face behaviors combine; wait drives nothing
   }
 }
 
 std::string channelNames(std::uint32_t channels) {
-  static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 6> kNames = {{
+  static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 7> kNames = {{
       {kChannelPosture, "posture"},
       {kChannelLocomotion, "locomotion"},
       {kChannelHands, "hands"},  // before the single hands, so both read "hands"
       {kChannelHead, "head"},
       {kChannelGaze, "gaze"},
       {kChannelVoice, "voice"},
+      {kChannelEyes, "eyes"},
   }};
   std::string out;
   auto append = [&](std::string_view s) {
@@ -67,7 +70,8 @@ std::string channelNames(std::uint32_t channels) {
 std::uint32_t channelFromName(std::string_view name) noexcept {
   if (name == "leftHand") return kChannelLeftHand;
   if (name == "rightHand") return kChannelRightHand;
-  for (std::uint32_t bits : {kChannelPosture, kChannelLocomotion, kChannelHands, kChannelHead, kChannelGaze, kChannelVoice})
+  for (std::uint32_t bits :
+       {kChannelPosture, kChannelLocomotion, kChannelHands, kChannelHead, kChannelGaze, kChannelVoice, kChannelEyes})
     if (channelNames(bits) == name) return bits;
   return 0;
 }

@@ -62,7 +62,7 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
   // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
   // aims the arm) also binds it, when it has a target.
   using Bind = std::string (Character::*)(BehaviorTimeline::Entry&, std::string&);
-  static constexpr std::array<Bind, 16> kBindings = {{
+  static constexpr std::array<Bind, 17> kBindings = {{
       nullptr,                              // posture
       nullptr,                              // postureShift
       &Character::bindLocomotionEntry,      // locomotion
@@ -79,8 +79,9 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
       &Character::bindSpeechEntry,          // speech
       &Character::bindWaitEntry,            // wait
       nullptr,                              // clip
+      &Character::bindSaccadeEntry,         // saccade
   }};
-  static_assert(static_cast<std::size_t>(BehaviorKind::Clip) + 1 == kBindings.size(), "one binding per kind");
+  static_assert(static_cast<std::size_t>(BehaviorKind::Saccade) + 1 == kBindings.size(), "one binding per kind");
   const Bind bind = kBindings[static_cast<std::size_t>(kind)];
   if (clip) {
     bindClipEntry(e, std::move(clip));
@@ -250,6 +251,15 @@ std::string Character::bindGestureEntry(BehaviorTimeline::Entry& e, std::string&
   return why;
 }
 
+std::string Character::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  const SaccadeParameters* p = e.request.as<SaccadeParameters>();
+  if (p && p->finish) return {};  // persistent and moving nothing: it replaces the running models
+  SaccadeState saccade;
+  std::string why = bindSaccade(e.request, *rig_, skeleton(), saccade, warning);
+  if (why.empty()) e.controller = std::move(saccade);
+  return why;
+}
+
 std::vector<float> Character::upperBodyMask() const {
   // The first spine joint and everything above it; empty when the profile has no spine.
   const RigJoints& j = rig_->joints();
@@ -396,6 +406,7 @@ void Character::applyBehaviors(float dt) noexcept {
     if (e.clip) passes_[e.upperBody ? kUpperClipPass : kClipPass].push_back(active);
     if (e.as<GazeState>()) passes_[kGazePass].push_back(active);
     if (const HeadMotionState* h = e.as<HeadMotionState>(); h && !h->strokes.empty()) passes_[kHeadPass].push_back(active);
+    if (e.as<SaccadeState>()) passes_[kSaccadePass].push_back(active);
     if (e.as<GestureState>()) passes_[kGesturePass].push_back(active);
     if (e.as<PointingState>()) passes_[kPointingPass].push_back(active);
     if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !f->morphs.empty())
@@ -426,6 +437,11 @@ void Character::applyBehaviors(float dt) noexcept {
     for (const ActiveEntry& a : passes_[kHeadPass])
       applyHead(*behaviors_.entries()[a.index].as<HeadMotionState>(), a.weight, clock_, *rig_, pose_);
     return !passes_[kHeadPass].empty();
+  });
+  run(CharacterStats::kSaccade, [&] {
+    for (const ActiveEntry& a : passes_[kSaccadePass])
+      updateSaccade(*behaviors_.entries()[a.index].as<SaccadeState>(), clock_, a.weight, skeleton(), pose_);
+    return !passes_[kSaccadePass].empty();
   });
   run(CharacterStats::kGesture, [&] {
     for (const ActiveEntry& a : passes_[kGesturePass])

@@ -113,9 +113,23 @@ struct GestureParameters {
   BehaviorTarget target{};
 };
 
+// Rapid eye movements (kind Saccade; behavior/saccade.hpp): a model that runs until another
+// saccade request finishes it (Talk, Listen, Think: Lee, Badler and Badler's "Eyes Alive"
+// statistics), or one saccade (None: `magnitudeDegrees` toward `directionDegrees`, 0 = the
+// character's right, 90 = up), or `finish`: stop the running models.
+enum class SaccadeMode : std::uint8_t { None, Talk, Listen, Think };
+struct SaccadeParameters {
+  static constexpr float kMaxMagnitudeDegrees = 30.0f;
+  SaccadeMode mode = SaccadeMode::None;
+  bool finish = false;
+  float directionDegrees = 0.0f;
+  float magnitudeDegrees = 0.0f;
+};
+
 // The parameters of one request: none (postures, clips and waits need only their clip
 // and times), or the struct of its kind's controller.
 using BehaviorParameters = std::variant<std::monostate, HeadParameters, FaceParameters, GazeParameters,
-                                        PointingParameters, LocomotionParameters, SpeechParameters, GestureParameters>;
+                                        PointingParameters, LocomotionParameters, SpeechParameters, GestureParameters,
+                                        SaccadeParameters>;
 
 }  // namespace marionette

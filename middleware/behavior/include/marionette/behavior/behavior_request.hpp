@@ -36,6 +36,7 @@ enum class BehaviorKind : std::uint8_t {
   Posture, PostureShift, Locomotion, Gaze, GazeShift, Head, HeadDirectionShift,
   FaceLexeme, FaceFacs, Face, FaceShift, Gesture, Pointing, Speech, Wait,
   Clip,  // play a clip of the rig, nothing more (no BML element)
+  Saccade,  // rapid eye movements: a model's (talk, listen, think) or one (SmartBody's <saccade>)
 };
 [[nodiscard]] std::string_view toString(BehaviorKind kind) noexcept;
 [[nodiscard]] std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept;
@@ -57,6 +58,7 @@ enum BodyChannel : std::uint32_t {
   kChannelHead = 1u << 4,
   kChannelGaze = 1u << 5,
   kChannelVoice = 1u << 6,
+  kChannelEyes = 1u << 7,  // saccades, over whatever the gaze does
 };
 // The channels a kind drives by default (gestures: both hands).
 [[nodiscard]] std::uint32_t defaultChannels(BehaviorKind kind) noexcept;

@@ -62,9 +62,10 @@ struct CharacterStats {
   // Behavior controllers, in frame order: whether each has run at least once (they
   // exist only while a behavior uses them) and its wall time in the last frame
   // (measured only while the scene's stats are on).
-  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kGesture, kPointing, kFace, kSpeech, kControllerCount };
+  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kSaccade, kGesture, kPointing, kFace, kSpeech,
+                    kControllerCount };
   static constexpr const char* kControllerNames[kControllerCount] = {"clip behaviors", "locomotion", "gaze", "head",
-                                                                     "gesture", "pointing", "face", "speech"};
+                                                                     "saccade", "gesture", "pointing", "face", "speech"};
   bool controllerUsed[kControllerCount] = {};
   double controllerMicros[kControllerCount] = {};
 };
@@ -178,8 +179,8 @@ class Character {
     float weight = 0.0f;
     std::uint64_t order = 0;  // the entry's timeline order: finds it again if a listener moved it
   };
-  enum Pass { kClipPass, kLocomotionPass, kUpperClipPass, kGazePass, kHeadPass, kGesturePass, kPointingPass, kFacePass,
-              kSpeechPass, kPassCount };
+  enum Pass { kClipPass, kLocomotionPass, kUpperClipPass, kGazePass, kHeadPass, kSaccadePass, kGesturePass, kPointingPass,
+              kFacePass, kSpeechPass, kPassCount };
   void applyBehaviors(float dt) noexcept;
   bool applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept;  // true if a clip behavior contributed
   bool applyLocomotion(float dt) noexcept;
@@ -195,6 +196,7 @@ class Character {
   [[nodiscard]] std::string bindFaceEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindGestureEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindSaccadeEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindWaitEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   void ensureScratch();
