@@ -137,21 +137,20 @@ std::string bindProceduralGesture(const BehaviorRequest& request, const Rig& rig
   }
   st.left = glm::length(j.leftAxis) > 1e-6f ? glm::normalize(j.leftAxis) : glm::vec3(1.0f, 0.0f, 0.0f);
   // The phases from the request's sync points (repetitions carry ":N").
-  st.ready = request.start();
-  st.relax = request.end();
+  double ready = request.start(), relax = request.end();  // the weight envelope's: only a stroke-less request needs them
   st.strokes.clear();
   for (const BehaviorSync& s : request.syncs) {
     const std::string_view name = s.name;
     const std::string_view base = name.substr(0, name.find(':'));
-    if (base == "ready") st.ready = s.time;
-    else if (base == "relax") st.relax = s.time;
+    if (base == "ready") ready = s.time;
+    else if (base == "relax") relax = s.time;
     else if (base == "strokeStart") st.strokes.push_back({s.time, s.time, s.time});
     else if (base == "stroke" && !st.strokes.empty()) st.strokes.back().peak = st.strokes.back().end = s.time;
     else if (base == "strokeEnd" && !st.strokes.empty()) st.strokes.back().end = s.time;
   }
   if (st.strokes.empty()) {  // a request without stroke sync points: the middle of its time
-    const double mid = 0.5 * (st.ready + st.relax);
-    st.strokes.push_back({st.ready, mid, st.relax});
+    const double mid = 0.5 * (ready + relax);
+    st.strokes.push_back({ready, mid, relax});
   }
   return {};
 }

@@ -25,7 +25,6 @@ struct GestureState {
   LimbIk limb[2];
   float armLength[2] = {};         // upper + lower, rest pose (m)
   glm::vec3 left{1.0f, 0.0f, 0.0f};  // the character's left, model frame (RigJoints::leftAxis)
-  double ready = 0.0, relax = 0.0;   // scene times
   struct Stroke {
     double start = 0.0, peak = 0.0, end = 0.0;  // strokeStart, stroke, strokeEnd (scene times)
   };
