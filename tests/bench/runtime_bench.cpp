@@ -16,50 +16,17 @@
 #include <map>
 #include <memory>
 
-#include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
+#include "bench_assets.hpp"
 #include "bench_behaviors.hpp"
 #include "synthetic.hpp"
 #include "test_paths.hpp"
 
 using namespace marionette;
+using test::BenchAsset;
+using test::loadBenchAsset;
 
 namespace {
-
-struct BenchAsset {
-  std::shared_ptr<const Rig> rig;
-  std::vector<std::string> clips;  // three clip names to play
-  std::string error;
-};
-
-std::string shared(const std::string& rel) { return ::marionette::test::sharedDir() + "/assets/" + rel; }
-
-const BenchAsset& loadBenchAsset(const std::string& which) {
-  static std::map<std::string, BenchAsset> cache;
-  if (auto it = cache.find(which); it != cache.end()) return it->second;
-  BenchAsset& b = cache[which];
-  ImportOptions noMesh;
-  noMesh.loadMeshes = false;
-  if (which == "Pab") {
-    ImportResult r = importAsset(shared("characters/pab_arnaud.fbx"), noMesh);
-    if (!r.ok()) return b.error = r.diagnostics.format(), b;
-    auto asset = std::make_shared<Asset>(std::move(*r.asset));
-    auto rig = std::make_shared<Rig>(asset);
-    for (const char* m : {"walk", "jog", "crossarms"}) {
-      ImportResult c = importAsset(shared(std::string("motions/fbx/pab_") + m + ".fbx"), noMesh);
-      if (!c.ok() || c.asset->clips.empty()) return b.error = c.diagnostics.format(), b;
-      rig->addClip(c.asset->clips.front(), c.asset->skeleton, m);
-      b.clips.push_back(m);
-    }
-    b.rig = rig;
-  } else {
-    ImportResult r = importAsset(shared("characters/RobotExpressive.glb"), noMesh);
-    if (!r.ok()) return b.error = r.diagnostics.format(), b;
-    b.rig = std::make_shared<Rig>(std::make_shared<Asset>(std::move(*r.asset)));
-    b.clips = {"Idle", "Walking", "Running"};
-  }
-  return b;
-}
 
 void fillScene(Scene& scene, const std::shared_ptr<const Rig>& rig, const std::vector<std::string>& clips, int count,
                int layers) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "simd4.hpp"
+
 namespace marionette {
 
 namespace {
@@ -35,7 +37,7 @@ inline void accumulate(JointSum& sum, const Transform& p, const Transform& rest,
   sum.w += w;
 }
 
-inline Transform finishJoint(JointSum sum, const Transform& rest) noexcept {
+inline Transform finishSum(JointSum sum, const Transform& rest) noexcept {
   if (sum.w < 1.0f) accumulate(sum, rest, rest, 1.0f - sum.w);  // rest fills the remainder
   const float inv = 1.0f / sum.w;
   Transform o;
@@ -63,7 +65,7 @@ void blendPoses(std::span<const BlendLayer> layers, std::span<const Transform> r
       const float w = jointWeight(sanitizeWeight(layer.weight), layer.jointWeights, j);
       if (w > 0.0f) accumulate(sum, layer.pose[j], rest[j], w);
     }
-    out[j] = finishJoint(sum, rest[j]);
+    out[j] = finishSum(sum, rest[j]);
   }
   for (const BlendLayer& layer : layers)
     if (layer.additive) applyAdditive(layer.pose, layer.weight, layer.jointWeights, out.first(n));
@@ -71,33 +73,200 @@ void blendPoses(std::span<const BlendLayer> layers, std::span<const Transform> r
 
 void BlendAccumulator::reset(std::size_t joints) {
   joints_ = joints;
-  translation_.assign(joints, glm::vec3(0.0f));
-  scale_.assign(joints, glm::vec3(0.0f));
-  rotation_.assign(joints, glm::quat(0.0f, 0.0f, 0.0f, 0.0f));
-  weight_.assign(joints, 0.0f);
+  stride_ = (joints + 3) / 4 * 4;
+  if (sums_.size() < kStreams * stride_) sums_.resize(kStreams * stride_);
+  if (restRotation_.size() < 4 * stride_) restRotation_.resize(4 * stride_);
+  std::fill_n(sums_.begin(), kStreams * stride_, 0.0f);
+  restOf_ = nullptr;
 }
+
+namespace {
+enum Stream : std::size_t { TX, TY, TZ, QX, QY, QZ, QW, SX, SY, SZ, W };
+}
+
+void BlendAccumulator::addJoint(std::size_t j, const Transform& pose, const Transform& rest, float w) noexcept {
+  float* s = sums_.data() + j;
+  const std::size_t k = stride_;
+  JointSum sum{{s[TX * k], s[TY * k], s[TZ * k]},
+               {s[SX * k], s[SY * k], s[SZ * k]},
+               glm::quat(s[QW * k], s[QX * k], s[QY * k], s[QZ * k]),
+               s[W * k]};
+  accumulate(sum, pose, rest, w);
+  s[TX * k] = sum.t.x, s[TY * k] = sum.t.y, s[TZ * k] = sum.t.z;
+  s[QX * k] = sum.q.x, s[QY * k] = sum.q.y, s[QZ * k] = sum.q.z, s[QW * k] = sum.q.w;
+  s[SX * k] = sum.s.x, s[SY * k] = sum.s.y, s[SZ * k] = sum.s.z;
+  s[W * k] = sum.w;
+}
+
+Transform BlendAccumulator::finishJoint(std::size_t j, const Transform& rest) const noexcept {
+  const float* s = sums_.data() + j;
+  const std::size_t k = stride_;
+  return finishSum({{s[TX * k], s[TY * k], s[TZ * k]},
+                                  {s[SX * k], s[SY * k], s[SZ * k]},
+                                  glm::quat(s[QW * k], s[QX * k], s[QY * k], s[QZ * k]),
+                                  s[W * k]},
+                                 rest);
+}
+
+#if MARIONETTE_SIMD4
+namespace {
+using namespace simd4;
+
+inline __m128 select(__m128 mask, __m128 a, __m128 b) noexcept {
+  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
+
+// The scalar dot(a, b) of blending.cpp, in its order: w, x, y, z.
+inline __m128 dot4(__m128 ax, __m128 ay, __m128 az, __m128 aw, __m128 bx, __m128 by, __m128 bz, __m128 bw) noexcept {
+  return _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(aw, bw), _mm_mul_ps(ax, bx)), _mm_mul_ps(ay, by)),
+                    _mm_mul_ps(az, bz));
+}
+
+// sum += value * w in the lanes where `on` is set (the others are left as they are:
+// adding +0 to a sum that starts at +0 changes no bit).
+inline void addTo(float* sum, __m128 value, __m128 w, __m128 on) noexcept {
+  _mm_storeu_ps(sum, _mm_add_ps(_mm_loadu_ps(sum), _mm_and_ps(on, _mm_mul_ps(value, w))));
+}
+
+inline void addTo(float* sum, __m128 value, __m128 w) noexcept {
+  _mm_storeu_ps(sum, _mm_add_ps(_mm_loadu_ps(sum), _mm_mul_ps(value, w)));
+}
+
+// Adds four joints' transforms with per-lane weights `w`; `r` points at the rest rotations'
+// streams. With `masked`, lanes with w <= 0 add nothing; without, every w must be > 0.
+// The rest streams are `rk` floats apart (stride of the accumulator, or 4 for a padded tail).
+template <bool masked>
+inline void add4(float* s, std::size_t k, const Transforms4& p, const float* r, __m128 w, std::size_t rk = 0) noexcept {
+  const __m128 zero = _mm_setzero_ps();
+  if (rk == 0) rk = k;
+  // Rotations are sign-aligned to the rest rotation (accumulate() in scalar form).
+  const __m128 d = dot4(p.qx, p.qy, p.qz, p.qw, _mm_loadu_ps(r), _mm_loadu_ps(r + rk), _mm_loadu_ps(r + 2 * rk),
+                        _mm_loadu_ps(r + 3 * rk));
+  const __m128 sw = _mm_xor_ps(w, _mm_and_ps(_mm_cmplt_ps(d, zero), _mm_set1_ps(-0.0f)));
+  if constexpr (masked) {
+    const __m128 on = _mm_cmpgt_ps(w, zero);
+    addTo(s + TX * k, p.tx, w, on), addTo(s + TY * k, p.ty, w, on), addTo(s + TZ * k, p.tz, w, on);
+    addTo(s + SX * k, p.sx, w, on), addTo(s + SY * k, p.sy, w, on), addTo(s + SZ * k, p.sz, w, on);
+    addTo(s + QW * k, p.qw, sw, on), addTo(s + QX * k, p.qx, sw, on), addTo(s + QY * k, p.qy, sw, on);
+    addTo(s + QZ * k, p.qz, sw, on);
+    _mm_storeu_ps(s + W * k, _mm_add_ps(_mm_loadu_ps(s + W * k), _mm_and_ps(on, w)));
+  } else {
+    addTo(s + TX * k, p.tx, w), addTo(s + TY * k, p.ty, w), addTo(s + TZ * k, p.tz, w);
+    addTo(s + SX * k, p.sx, w), addTo(s + SY * k, p.sy, w), addTo(s + SZ * k, p.sz, w);
+    addTo(s + QW * k, p.qw, sw), addTo(s + QX * k, p.qx, sw), addTo(s + QY * k, p.qy, sw), addTo(s + QZ * k, p.qz, sw);
+    _mm_storeu_ps(s + W * k, _mm_add_ps(_mm_loadu_ps(s + W * k), w));
+  }
+}
+}  // namespace
+#endif
 
 void BlendAccumulator::addNormal(std::span<const Transform> pose, float weight, std::span<const float> jointWeights,
                                  std::span<const Transform> rest) noexcept {
   const float lw = sanitizeWeight(weight);
   if (lw <= 0.0f) return;
   const std::size_t n = std::min({joints_, pose.size(), rest.size()});
-  for (std::size_t j = 0; j < n; ++j) {
+  std::size_t j = 0;
+#if MARIONETTE_SIMD4
+  const std::size_t groups = n / 4 * 4;
+  if (groups > 0 && restOf_ != rest.data()) {  // the rest rotations as streams, once per reset
+    for (std::size_t g = 0; g < groups; g += 4) {
+      const Transforms4 r = load4(&rest[g]);
+      float* o = restRotation_.data() + g;
+      _mm_storeu_ps(o, r.qx), _mm_storeu_ps(o + stride_, r.qy), _mm_storeu_ps(o + 2 * stride_, r.qz);
+      _mm_storeu_ps(o + 3 * stride_, r.qw);
+    }
+    restOf_ = rest.data();
+  }
+  const __m128 layerWeight = _mm_set1_ps(lw);
+  for (; j < groups; j += 4) {
+    if (jointWeights.empty()) {
+      add4<false>(sums_.data() + j, stride_, load4(&pose[j]), restRotation_.data() + j, layerWeight);
+    } else {
+      alignas(16) float m[4];
+      for (std::size_t k = 0; k < 4; ++k) m[k] = jointWeight(lw, jointWeights, j + k);
+      add4<true>(sums_.data() + j, stride_, load4(&pose[j]), restRotation_.data() + j, _mm_load_ps(m));
+    }
+  }
+  if (j < n) {  // the last joints, padded to four with weight 0 (the streams have room)
+    Transform tail[4], restTail[4];
+    alignas(16) float m[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (std::size_t k = 0; j + k < n; ++k) {
+      tail[k] = pose[j + k];
+      restTail[k] = rest[j + k];
+      m[k] = jointWeight(lw, jointWeights, j + k);
+    }
+    const Transforms4 r = load4(restTail);
+    alignas(16) float restRotation[16];
+    _mm_store_ps(restRotation, r.qx), _mm_store_ps(restRotation + 4, r.qy), _mm_store_ps(restRotation + 8, r.qz);
+    _mm_store_ps(restRotation + 12, r.qw);
+    // add4 reads the rest streams 4 apart here, the sums stride_ apart: two strides.
+    add4<true>(sums_.data() + j, stride_, load4(tail), restRotation, _mm_load_ps(m), 4);
+    j = n;
+  }
+#endif
+  for (; j < n; ++j) {
     const float w = jointWeight(lw, jointWeights, j);
-    if (w <= 0.0f) continue;
-    JointSum sum{translation_[j], scale_[j], rotation_[j], weight_[j]};
-    accumulate(sum, pose[j], rest[j], w);
-    translation_[j] = sum.t;
-    scale_[j] = sum.s;
-    rotation_[j] = sum.q;
-    weight_[j] = sum.w;
+    if (w > 0.0f) addJoint(j, pose[j], rest[j], w);
   }
 }
 
 void BlendAccumulator::finish(std::span<const Transform> rest, std::span<Transform> out) const noexcept {
   const std::size_t n = std::min({joints_, rest.size(), out.size()});
-  for (std::size_t j = 0; j < n; ++j)
-    out[j] = finishJoint({translation_[j], scale_[j], rotation_[j], weight_[j]}, rest[j]);
+  std::size_t j = 0;
+#if MARIONETTE_SIMD4
+  const std::size_t k = stride_;
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  for (; j < n; j += 4) {
+    // The last joints are finished four-wide too (the streams are padded) through a
+    // padded copy of the rest pose and of the result.
+    const std::size_t count = std::min<std::size_t>(4, n - j);
+    Transform restTail[4], outTail[4];
+    if (count < 4) std::copy_n(&rest[j], count, restTail);
+    const Transform* restAt = count == 4 ? &rest[j] : restTail;
+    const float* s = sums_.data() + j;
+    __m128 w = _mm_loadu_ps(s + W * k);
+    Transforms4 o{_mm_loadu_ps(s + TX * k), _mm_loadu_ps(s + TY * k), _mm_loadu_ps(s + TZ * k),
+                  _mm_loadu_ps(s + QX * k), _mm_loadu_ps(s + QY * k), _mm_loadu_ps(s + QZ * k),
+                  _mm_loadu_ps(s + QW * k), _mm_loadu_ps(s + SX * k), _mm_loadu_ps(s + SY * k),
+                  _mm_loadu_ps(s + SZ * k)};
+    // The rest pose fills the remainder below weight 1 (its rotation aligned with itself).
+    const __m128 fill = _mm_cmplt_ps(w, one);
+    const bool anyFill = _mm_movemask_ps(fill) != 0;
+    if (anyFill) {
+      const Transforms4 r = load4(restAt);
+      const __m128 rw = _mm_sub_ps(one, w);
+      const auto add = [&](__m128& sum, __m128 restValue) {
+        sum = _mm_add_ps(sum, _mm_and_ps(fill, _mm_mul_ps(restValue, rw)));
+      };
+      add(o.tx, r.tx), add(o.ty, r.ty), add(o.tz, r.tz), add(o.sx, r.sx), add(o.sy, r.sy), add(o.sz, r.sz);
+      add(o.qw, r.qw), add(o.qx, r.qx), add(o.qy, r.qy), add(o.qz, r.qz);
+      w = _mm_add_ps(w, _mm_and_ps(fill, rw));
+    }
+    const __m128 qw = o.qw, qx = o.qx, qy = o.qy, qz = o.qz;
+    const __m128 inv = _mm_div_ps(one, w);
+    o.tx = _mm_mul_ps(o.tx, inv), o.ty = _mm_mul_ps(o.ty, inv), o.tz = _mm_mul_ps(o.tz, inv);
+    o.sx = _mm_mul_ps(o.sx, inv), o.sy = _mm_mul_ps(o.sy, inv), o.sz = _mm_mul_ps(o.sz, inv);
+    // finishJoint's rotation: rest where opposite rotations cancelled, else safeNormalize.
+    const __m128 len2 = dot4(qx, qy, qz, qw, qx, qy, qz, qw);
+    const __m128 nonzero = _mm_cmpgt_ps(len2, _mm_set1_ps(1e-12f));
+    const __m128 finite = _mm_cmplt_ps(len2, _mm_set1_ps(1e30f));
+    const __m128 invLen = _mm_div_ps(one, _mm_sqrt_ps(len2));
+    o.qx = select(finite, _mm_mul_ps(qx, invLen), zero), o.qy = select(finite, _mm_mul_ps(qy, invLen), zero);
+    o.qz = select(finite, _mm_mul_ps(qz, invLen), zero), o.qw = select(finite, _mm_mul_ps(qw, invLen), one);
+    if (_mm_movemask_ps(nonzero) != 0xF) {  // opposite rotations cancelled: the rest rotation there
+      const Transforms4 r = load4(restAt);
+      o.qx = select(nonzero, o.qx, r.qx), o.qy = select(nonzero, o.qy, r.qy);
+      o.qz = select(nonzero, o.qz, r.qz), o.qw = select(nonzero, o.qw, r.qw);
+    }
+    if (count == 4) {
+      store4(o, &out[j]);
+    } else {
+      store4(o, outTail);
+      std::copy_n(outTail, count, &out[j]);
+    }
+  }
+#endif
+  for (; j < n; ++j) out[j] = finishJoint(j, rest[j]);
 }
 
 void applyAdditive(std::span<const Transform> delta, float weight, std::span<const float> jointWeights,

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "marionette/animation/pose.hpp"
 #include "marionette/behavior/head_motion.hpp"
 #include "marionette/core/finite.hpp"
 #include "marionette/core/text.hpp"
@@ -48,18 +49,6 @@ bool hasEyes(const RigJoints& j) { return j.leftEye >= 0 || j.rightEye >= 0; }
 
 glm::quat lookRotation(float yaw, float pitch) {
   return glm::angleAxis(yaw, glm::vec3(0, 1, 0)) * glm::angleAxis(pitch, glm::vec3(1, 0, 0));
-}
-
-// The model-frame rotation of a joint (the root space's rotation, without its scale).
-glm::quat modelRotationOf(const Skeleton& s, std::span<const Transform> pose, int joint) {
-  glm::mat3 root(s.rootTransform);
-  for (int c = 0; c < 3; ++c) root[c] = glm::length(root[c]) > 0.0f ? glm::normalize(root[c]) : root[c];
-  int chain[256];
-  int n = 0;
-  for (int p = joint; p >= 0 && n < 256; p = s.parents[static_cast<std::size_t>(p)]) chain[n++] = p;
-  glm::quat q = glm::quat_cast(root);
-  for (int i = n - 1; i >= 0; --i) q = q * pose[static_cast<std::size_t>(chain[i])].rotation;
-  return q;
 }
 
 // The rotation that turns unit vector `from` onto `to` by the shortest arc (identity when

@@ -74,13 +74,6 @@ void draw(SaccadeState& s, double at) noexcept {
   s.next = at + s.duration + hold;
 }
 
-glm::quat modelRotation(const Skeleton& skeleton, std::span<const Transform> pose, int joint) noexcept {
-  if (joint < 0) return {1.0f, 0.0f, 0.0f, 0.0f};
-  glm::mat3 m(modelMatrixOf(skeleton, pose, joint));
-  for (int c = 0; c < 3; ++c) m[c] = glm::length(m[c]) > 0.0f ? glm::normalize(m[c]) : m[c];
-  return glm::normalize(glm::quat_cast(m));
-}
-
 }  // namespace
 
 std::string bindSaccade(const BehaviorRequest& request, const Rig& rig, const Skeleton& skeleton, SaccadeState& st,
@@ -92,7 +85,7 @@ std::string bindSaccade(const BehaviorRequest& request, const Rig& rig, const Sk
   st.eye[1] = j.rightEye;
   if (st.eye[0] < 0 && st.eye[1] < 0) return "the character has no eye joints to saccade with (set them in its profile)";
   st.head = j.head;
-  st.headRest = modelRotation(skeleton, skeleton.restPose, j.head);
+  st.headRest = modelRotationOf(skeleton, skeleton.restPose, j.head);
   st.left = glm::length(j.leftAxis) > 1e-6f ? glm::normalize(j.leftAxis) : glm::vec3(1.0f, 0.0f, 0.0f);
   st.mode = p->mode;
   st.start = st.next = request.start();
@@ -131,13 +124,13 @@ void updateSaccade(SaccadeState& st, double clock, float weight, const Skeleton&
   const glm::vec2 offset = advanceSaccade(st, clock) * std::clamp(weight, 0.0f, 1.0f);
   if (offset == glm::vec2(0.0f)) return;
   // About the character's up and left as the head carries them now.
-  const glm::quat headTurn = modelRotation(skeleton, pose, st.head) * glm::inverse(st.headRest);
+  const glm::quat headTurn = modelRotationOf(skeleton, pose, st.head) * glm::inverse(st.headRest);
   const glm::vec3 up = headTurn * glm::vec3(0.0f, 1.0f, 0.0f), left = headTurn * st.left;
   const glm::quat delta = glm::angleAxis(offset.x, up) * glm::angleAxis(offset.y, left);
   for (int eye : st.eye) {
     if (eye < 0 || static_cast<std::size_t>(eye) >= pose.size()) continue;
     const int parent = skeleton.parents[static_cast<std::size_t>(eye)];
-    const glm::quat above = modelRotation(skeleton, pose, parent);
+    const glm::quat above = modelRotationOf(skeleton, pose, parent);
     Transform& t = pose[static_cast<std::size_t>(eye)];
     const glm::quat turned = glm::inverse(above) * delta * above * t.rotation;
     if (isFinite(turned)) t.rotation = glm::normalize(turned);

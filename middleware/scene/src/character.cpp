@@ -220,8 +220,7 @@ void Character::update(double dt) noexcept {
     position_ += glm::angleAxis(heading_, glm::vec3(0, 1, 0)) * move;
     heading_ = std::remainder(heading_ + turn, 6.28318530718f);
   }
-  localToModel(skeleton(), pose_, buffer_.writeModel());
-  skinningPalette(buffer_.modelMatrices(), skeleton().inverseBind, buffer_.writeSkinning());
+  localToModelAndPalette(skeleton(), pose_, buffer_.writeModel(), buffer_.writeSkinning());
   buffer_.setWorld(worldMatrix());
   buffer_.finishFrame();
   stats_.activeLayers = active;

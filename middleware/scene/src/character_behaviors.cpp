@@ -524,9 +524,13 @@ void Character::resolveExternalTargets() noexcept {
   if (!scene_) return;
   for (BehaviorTimeline::Entry& e : behaviors_.entries())
     if (LocomotionEntryState* l = e.as<LocomotionEntryState>();
-        l && e.order >= locomotionOrder_ && !l->plan->targetCharacter.empty())
-      if (const Character* t = scene_->findCharacter(l->plan->targetCharacter)) l->resolvedTarget = t->position();
-      else if (const auto o = scene_->findObject(l->plan->targetCharacter)) l->resolvedTarget = glm::vec3(o->x, 0.0f, o->z);
+        l && e.order >= locomotionOrder_ && !l->plan->targetCharacter.empty()) {
+      if (const Character* t = scene_->findCharacter(l->plan->targetCharacter)) {
+        l->resolvedTarget = t->position();
+      } else if (const auto o = scene_->findObject(l->plan->targetCharacter)) {
+        l->resolvedTarget = glm::vec3(o->x, 0.0f, o->z);
+      }
+    }
   auto resolve = [this](SpatialTarget& target) {
     if (!target.external()) return;
     const Character* t = scene_->findCharacter(target.character);

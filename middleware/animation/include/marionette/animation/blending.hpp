@@ -31,19 +31,33 @@ void blendPoses(std::span<const BlendLayer> layers, std::span<const Transform> r
 // any scratch pose, add it, reuse the scratch for the next layer. The same
 // result as blendPoses (tested) with one scratch pose for all layers and all
 // characters of a scene, instead of one pose per layer per character.
+// The sums are kept as structure of arrays (one stream per component), and on x86-64
+// four joints are summed and finished at a time with SSE2, bit-identical to the scalar
+// form (simd4.hpp says why).
 class BlendAccumulator {
  public:
   void reset(std::size_t joints);  // allocates only when `joints` grows
+  // `rest` must be the same pose (same span, same values) from reset to finish: its
+  // rotations are turned into streams once, on the first addNormal.
   void addNormal(std::span<const Transform> pose, float weight, std::span<const float> jointWeights,
                  std::span<const Transform> rest) noexcept;
   // Weighted mean, rest filling the remainder below total weight 1 (as blendPoses).
   void finish(std::span<const Transform> rest, std::span<Transform> out) const noexcept;
 
+  // Streams of the sums: translation x, y, z, rotation x, y, z, w, scale x, y, z, weight.
+  static constexpr std::size_t kStreams = 11;
+
  private:
+  [[nodiscard]] float* stream(std::size_t s) noexcept { return sums_.data() + s * stride_; }
+  [[nodiscard]] const float* stream(std::size_t s) const noexcept { return sums_.data() + s * stride_; }
+  void addJoint(std::size_t j, const Transform& pose, const Transform& rest, float w) noexcept;
+  [[nodiscard]] Transform finishJoint(std::size_t j, const Transform& rest) const noexcept;
+
   std::size_t joints_ = 0;
-  std::vector<glm::vec3> translation_, scale_;
-  std::vector<glm::quat> rotation_;
-  std::vector<float> weight_;
+  std::size_t stride_ = 0;  // joints rounded up to 4
+  std::vector<float> sums_;  // kStreams * stride_
+  std::vector<float> restRotation_;  // 4 * stride_: x, y, z, w streams of the rest pose's rotations
+  const Transform* restOf_ = nullptr;  // the rest pose restRotation_ holds, since reset
 };
 
 // Applies an additive delta layer to `pose` in place (as blendPoses does).

@@ -19,11 +19,27 @@ namespace marionette {
 
 // model[i] = model[parent(i)] * local[i]; roots use skeleton.rootTransform.
 // Joints 0 .. min(joints, local, model) - 1 (the span contract above).
+// On x86-64 the local matrices are built four joints at a time with SSE2 (the baseline
+// of every x86-64 CPU); the result is bit-identical to localToModelScalar, which is the
+// definition and what other targets run.
 void localToModel(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept;
+void localToModelScalar(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept;
+
+// localToModel, then palette[i] = model[i] * skeleton.inverseBind[i] in the same pass
+// while the model matrix is in registers: what a character does every frame. The same
+// bits as the two calls; the palette is written for i below the shortest of the model
+// joints, inverseBind and palette.
+void localToModelAndPalette(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
+                            std::span<glm::mat4> palette) noexcept;
 
 // Model-space matrix of one joint, walking up its ancestors (no allocation): for
 // controllers that need a few joints mid-frame, before the full localToModel.
 [[nodiscard]] glm::mat4 modelMatrixOf(const Skeleton& skeleton, std::span<const Transform> local, int joint) noexcept;
+
+// Model-space rotation of one joint: the root transform's rotation (its scale removed)
+// times the local rotations down the chain. Scale along the chain is ignored, which is
+// what aiming controllers (gaze, saccades) want. A joint < 0 gives the root's rotation.
+[[nodiscard]] glm::quat modelRotationOf(const Skeleton& skeleton, std::span<const Transform> local, int joint) noexcept;
 
 // palette[i] = model[i] * inverseBind[i], for i below the shortest span's length.
 void skinningPalette(std::span<const glm::mat4> model, std::span<const glm::mat4> inverseBind,

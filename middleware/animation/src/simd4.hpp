@@ -1,0 +1,129 @@
+// 4-wide SSE2 building blocks of the pose code (pose.cpp, blending.cpp).
+//
+// SSE2 is part of x86-64, the baseline the library ships with (no -march). Its add,
+// multiply, divide and square root are IEEE correctly rounded, and these helpers do
+// the same operations in the same order as the scalar code they replace (no FMA, no
+// reciprocal estimates), so results are bit-identical to the scalar forms on every
+// x86-64 CPU. tests/unit/simd_pose_test.cpp holds them to that.
+//
+// Poses stay arrays of Transform (what behaviors and the public API use); four joints
+// are turned into structure-of-arrays registers on load and back on store.
+#pragma once
+#include <cstddef>
+
+#include "marionette/core/transform.hpp"
+
+#if defined(__SSE2__) && !defined(MARIONETTE_NO_SIMD)
+#define MARIONETTE_SIMD4 1
+#include <emmintrin.h>
+
+namespace marionette::simd4 {
+
+// The loads below read Transform as 10 packed floats: translation, rotation (x, y, z, w), scale.
+static_assert(sizeof(Transform) == 10 * sizeof(float), "Transform must be 10 packed floats");
+static_assert(offsetof(Transform, translation) == 0 && offsetof(Transform, rotation) == 12 &&
+                  offsetof(Transform, scale) == 28,
+              "Transform layout: translation, rotation, scale");
+static_assert(sizeof(glm::quat) == 16 && offsetof(glm::quat, x) == 0 && offsetof(glm::quat, w) == 12,
+              "glm::quat must store x, y, z, w (GLM_FORCE_QUAT_DATA_WXYZ is not supported)");
+
+// Four joints' transforms, one component per register, lane k = joint k.
+struct Transforms4 {
+  __m128 tx, ty, tz, qx, qy, qz, qw, sx, sy, sz;
+};
+
+template <int I>
+inline __m128 broadcast(__m128 v) noexcept {
+  return _mm_shuffle_ps(v, v, _MM_SHUFFLE(I, I, I, I));
+}
+
+// Four consecutive transforms (t[0..3] must all exist).
+inline Transforms4 load4(const Transform* t) noexcept {
+  const float* p = reinterpret_cast<const float*>(t);
+  __m128 a0 = _mm_loadu_ps(p), a1 = _mm_loadu_ps(p + 10), a2 = _mm_loadu_ps(p + 20), a3 = _mm_loadu_ps(p + 30);
+  __m128 b0 = _mm_loadu_ps(p + 4), b1 = _mm_loadu_ps(p + 14), b2 = _mm_loadu_ps(p + 24), b3 = _mm_loadu_ps(p + 34);
+  const auto low2 = [](const float* q) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(q))); };
+  const __m128 c01 = _mm_unpacklo_ps(low2(p + 8), low2(p + 18));  // sy0 sy1 sz0 sz1
+  const __m128 c23 = _mm_unpacklo_ps(low2(p + 28), low2(p + 38));
+  _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+  _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+  return {a0, a1, a2, a3, b0, b1, b2, b3, _mm_movelh_ps(c01, c23), _mm_movehl_ps(c23, c01)};
+}
+
+// Writes four consecutive transforms (t[0..3] must all exist).
+inline void store4(const Transforms4& v, Transform* t) noexcept {
+  float* p = reinterpret_cast<float*>(t);
+  __m128 a0 = v.tx, a1 = v.ty, a2 = v.tz, a3 = v.qx;
+  __m128 b0 = v.qy, b1 = v.qz, b2 = v.qw, b3 = v.sx;
+  _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+  _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+  _mm_storeu_ps(p, a0);
+  _mm_storeu_ps(p + 4, b0);
+  _mm_storeu_ps(p + 10, a1);
+  _mm_storeu_ps(p + 14, b1);
+  _mm_storeu_ps(p + 20, a2);
+  _mm_storeu_ps(p + 24, b2);
+  _mm_storeu_ps(p + 30, a3);
+  _mm_storeu_ps(p + 34, b3);
+  const __m128 lo = _mm_unpacklo_ps(v.sy, v.sz), hi = _mm_unpackhi_ps(v.sy, v.sz);  // sy0 sz0 sy1 sz1 | sy2 sz2 sy3 sz3
+  _mm_storel_pi(reinterpret_cast<__m64*>(p + 8), lo);
+  _mm_storeh_pi(reinterpret_cast<__m64*>(p + 18), lo);
+  _mm_storel_pi(reinterpret_cast<__m64*>(p + 28), hi);
+  _mm_storeh_pi(reinterpret_cast<__m64*>(p + 38), hi);
+}
+
+// Columns of an affine 4x4 matrix.
+struct Mat4 {
+  __m128 c0, c1, c2, c3;
+};
+
+inline Mat4 loadMat(const glm::mat4& m) noexcept {
+  const float* p = &m[0][0];
+  return {_mm_loadu_ps(p), _mm_loadu_ps(p + 4), _mm_loadu_ps(p + 8), _mm_loadu_ps(p + 12)};
+}
+
+inline void storeMat(const Mat4& m, glm::mat4& out) noexcept {
+  float* p = &out[0][0];
+  _mm_storeu_ps(p, m.c0);
+  _mm_storeu_ps(p + 4, m.c1);
+  _mm_storeu_ps(p + 8, m.c2);
+  _mm_storeu_ps(p + 12, m.c3);
+}
+
+// a * b for affine matrices, as affineMultiply (pose.hpp) computes it, term by term.
+inline Mat4 affineMultiply(const Mat4& a, const Mat4& b) noexcept {
+  const auto column = [&](__m128 bc) {
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(a.c0, broadcast<0>(bc)), _mm_mul_ps(a.c1, broadcast<1>(bc))),
+                      _mm_mul_ps(a.c2, broadcast<2>(bc)));
+  };
+  return {column(b.c0), column(b.c1), column(b.c2), _mm_add_ps(column(b.c3), a.c3)};
+}
+
+// Local matrices (Transform::matrix, T * R * S) of four joints, as Transform::matrix
+// computes them, term by term; out[k] is joint k's.
+inline void composeMatrices4(const Transforms4& v, Mat4 out[4]) noexcept {
+  const __m128 one = _mm_set1_ps(1.0f), two = _mm_set1_ps(2.0f), zero = _mm_setzero_ps();
+  const __m128 xx = _mm_mul_ps(v.qx, v.qx), yy = _mm_mul_ps(v.qy, v.qy), zz = _mm_mul_ps(v.qz, v.qz);
+  const __m128 xy = _mm_mul_ps(v.qx, v.qy), xz = _mm_mul_ps(v.qx, v.qz), yz = _mm_mul_ps(v.qy, v.qz);
+  const __m128 wx = _mm_mul_ps(v.qw, v.qx), wy = _mm_mul_ps(v.qw, v.qy), wz = _mm_mul_ps(v.qw, v.qz);
+  const auto diag = [&](__m128 a, __m128 b, __m128 s) {
+    return _mm_mul_ps(_mm_sub_ps(one, _mm_mul_ps(two, _mm_add_ps(a, b))), s);
+  };
+  const auto twice = [&](__m128 a, __m128 s) { return _mm_mul_ps(_mm_mul_ps(two, a), s); };
+  // Rows of the transposes are the joints' columns.
+  __m128 r0 = diag(yy, zz, v.sx), r1 = twice(_mm_add_ps(xy, wz), v.sx), r2 = twice(_mm_sub_ps(xz, wy), v.sx), r3 = zero;
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  out[0].c0 = r0, out[1].c0 = r1, out[2].c0 = r2, out[3].c0 = r3;
+  r0 = twice(_mm_sub_ps(xy, wz), v.sy), r1 = diag(xx, zz, v.sy), r2 = twice(_mm_add_ps(yz, wx), v.sy), r3 = zero;
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  out[0].c1 = r0, out[1].c1 = r1, out[2].c1 = r2, out[3].c1 = r3;
+  r0 = twice(_mm_add_ps(xz, wy), v.sz), r1 = twice(_mm_sub_ps(yz, wx), v.sz), r2 = diag(xx, yy, v.sz), r3 = zero;
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  out[0].c2 = r0, out[1].c2 = r1, out[2].c2 = r2, out[3].c2 = r3;
+  r0 = v.tx, r1 = v.ty, r2 = v.tz, r3 = one;
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  out[0].c3 = r0, out[1].c3 = r1, out[2].c3 = r2, out[3].c3 = r3;
+}
+
+}  // namespace marionette::simd4
+#endif

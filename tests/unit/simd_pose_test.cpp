@@ -1,0 +1,132 @@
+// The 4-wide (SSE2) pose code gives the same bits as its scalar definition: local-to-model
+// against localToModelScalar, the fused palette against skinningPalette, and the blend
+// accumulator against blendPoses, on skeletons whose joint counts leave every tail length
+// (n mod 4), with masks, zero weights, weights below and above 1, and rotations that cancel.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "marionette/animation/blending.hpp"
+#include "marionette/animation/pose.hpp"
+
+using namespace marionette;
+
+namespace {
+
+bool sameBits(const void* a, const void* b, std::size_t bytes) { return std::memcmp(a, b, bytes) == 0; }
+
+Transform randomTransform(std::mt19937& rng, bool scaled) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Transform t;
+  t.translation = {u(rng) * 0.3f, u(rng) * 0.3f + 0.1f, u(rng) * 0.3f};
+  t.rotation = safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng)));
+  if (scaled) t.scale = {1.0f + 0.5f * u(rng), 1.0f + 0.5f * u(rng), 1.0f + 0.5f * u(rng)};
+  return t;
+}
+
+// A branching skeleton: each joint's parent is one of the few before it, some are roots.
+Skeleton randomSkeleton(std::mt19937& rng, int joints) {
+  Skeleton s;
+  for (int j = 0; j < joints; ++j) {
+    const int parent = j == 0 || j % 11 == 5 ? -1 : std::max(0, j - 1 - static_cast<int>(rng() % 3));
+    s.addJoint("j" + std::to_string(j), parent, randomTransform(rng, j % 3 == 0),
+               Transform{randomTransform(rng, false)}.matrix(), true);
+  }
+  s.rootTransform = Transform{{0.1f, -0.2f, 0.3f}, glm::angleAxis(0.4f, glm::vec3(0, 0, 1)), {0.01f, 0.01f, 0.01f}}.matrix();
+  return s;
+}
+
+}  // namespace
+
+TEST(SimdPose, LocalToModelIsBitIdenticalToTheScalarDefinition) {
+  std::mt19937 rng(7);
+  for (int joints : {1, 2, 3, 4, 5, 6, 7, 8, 9, 43, 54, 67}) {
+    const Skeleton s = randomSkeleton(rng, joints);
+    std::vector<Transform> local(static_cast<std::size_t>(joints));
+    for (Transform& t : local) t = randomTransform(rng, true);
+    std::vector<glm::mat4> wide(local.size()), scalar(local.size()), fused(local.size()), palette(local.size()),
+        reference(local.size());
+    localToModel(s, local, wide);
+    localToModelScalar(s, local, scalar);
+    EXPECT_TRUE(sameBits(wide.data(), scalar.data(), wide.size() * sizeof(glm::mat4))) << joints << " joints";
+    localToModelAndPalette(s, local, fused, palette);
+    EXPECT_TRUE(sameBits(fused.data(), scalar.data(), fused.size() * sizeof(glm::mat4))) << joints << " joints";
+    for (std::size_t j = 0; j < local.size(); ++j) reference[j] = affineMultiply(scalar[j], s.inverseBind[j]);
+    EXPECT_TRUE(sameBits(palette.data(), reference.data(), palette.size() * sizeof(glm::mat4))) << joints << " joints";
+    skinningPalette(scalar, s.inverseBind, palette);
+    EXPECT_TRUE(sameBits(palette.data(), reference.data(), palette.size() * sizeof(glm::mat4))) << joints << " joints";
+    // And the value is the definition's: the full product of the local matrices.
+    const glm::mat4 last = modelMatrixOf(s, local, joints - 1);
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) EXPECT_NEAR(wide.back()[c][r], last[c][r], 1e-5f);
+  }
+}
+
+TEST(SimdPose, FusedPaletteKeepsTheSpanContract) {
+  std::mt19937 rng(3);
+  const Skeleton s = randomSkeleton(rng, 10);
+  std::vector<Transform> local(10);
+  for (Transform& t : local) t = randomTransform(rng, true);
+  std::vector<glm::mat4> model(10, glm::mat4(7.0f)), palette(6, glm::mat4(7.0f));
+  localToModelAndPalette(s, std::span<const Transform>(local).first(8), model, palette);
+  EXPECT_EQ(model[8], glm::mat4(7.0f));  // past the pose: untouched
+  EXPECT_NE(model[7], glm::mat4(7.0f));
+  EXPECT_NE(palette[5], glm::mat4(7.0f));
+}
+
+TEST(SimdPose, BlendAccumulatorIsBitIdenticalToBlendPoses) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int joints : {1, 3, 4, 5, 7, 8, 43, 54}) {
+    const std::size_t n = static_cast<std::size_t>(joints);
+    std::vector<Transform> rest(n), a(n), b(n), c(n), out1(n), out2(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      rest[j] = randomTransform(rng, j % 2 == 0);
+      a[j] = randomTransform(rng, true);
+      b[j] = randomTransform(rng, false);
+      c[j] = randomTransform(rng, true);
+      if (j % 5 == 2) b[j].rotation = -a[j].rotation;  // same rotation, other sign
+      if (j % 7 == 3) {  // a and c cancel: equal weight, opposite rotation after alignment
+        c[j] = a[j];
+        c[j].rotation = glm::quat(-a[j].rotation.w, a[j].rotation.x, -a[j].rotation.y, a[j].rotation.z);
+      }
+    }
+    std::vector<float> mask(n), shortMask(n / 2 + 1);
+    for (std::size_t j = 0; j < n; ++j) mask[j] = j % 4 == 1 ? 0.0f : u(rng);
+    for (float& m : shortMask) m = u(rng);
+    for (const auto& weights : {std::array<float, 3>{0.5f, 0.3f, 0.2f}, std::array<float, 3>{0.1f, 0.2f, 0.0f},
+                                std::array<float, 3>{1.5f, 0.0f, 1.5f}, std::array<float, 3>{2.0f, 3.0f, 0.7f}}) {
+      for (int masks = 0; masks < 3; ++masks) {
+        const std::span<const float> m1 = masks == 0 ? std::span<const float>() : std::span<const float>(mask);
+        const std::span<const float> m2 = masks == 2 ? std::span<const float>(shortMask) : std::span<const float>();
+        const BlendLayer layers[] = {{a, weights[0]}, {b, weights[1], m1}, {c, weights[2], m2}};
+        blendPoses(layers, rest, out1);
+        BlendAccumulator acc;
+        acc.reset(n);
+        acc.addNormal(a, weights[0], {}, rest);
+        acc.addNormal(b, weights[1], m1, rest);
+        acc.addNormal(c, weights[2], m2, rest);
+        acc.finish(rest, out2);
+        EXPECT_TRUE(sameBits(out1.data(), out2.data(), n * sizeof(Transform)))
+            << joints << " joints, weights " << weights[0] << " " << weights[1] << " " << weights[2] << ", masks " << masks;
+      }
+    }
+  }
+}
+
+TEST(SimdPose, BlendAccumulatorRereadsTheRestPoseAfterReset) {
+  std::mt19937 rng(5);
+  std::vector<Transform> rest(9), pose(9), out1(9), out2(9);
+  for (Transform& t : pose) t = randomTransform(rng, false);
+  BlendAccumulator acc;
+  for (int round = 0; round < 2; ++round) {  // the same span, new values: reset must forget the old ones
+    for (Transform& t : rest) t = randomTransform(rng, false);
+    const BlendLayer layers[] = {{pose, 0.4f}};
+    blendPoses(layers, rest, out1);
+    acc.reset(9);
+    acc.addNormal(pose, 0.4f, {}, rest);
+    acc.finish(rest, out2);
+    EXPECT_TRUE(sameBits(out1.data(), out2.data(), sizeof(Transform) * 9)) << "round " << round;
+  }
+}
