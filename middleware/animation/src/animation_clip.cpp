@@ -23,7 +23,27 @@ std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton
         out->inPlaceRoot.tracks.push_back(t);
   }
   out->clip = std::move(clip);
+  if (options.compactClips) {
+    out->compact = compactClip(out->clip, skeleton, options.compaction, &out->compaction);
+    // Both forms or neither: a layer samples the clip and its in-place root tracks alike.
+    if (!out->compact.empty() && !out->inPlaceRoot.tracks.empty()) {
+      out->compactInPlaceRoot = compactClip(out->inPlaceRoot, skeleton, options.compaction, &out->compactionInPlaceRoot);
+      if (out->compactInPlaceRoot.empty()) out->compact = {};
+    }
+  }
   return out;
+}
+
+void sampleAnimationClip(const AnimationClip& clip, float time, bool inPlace, std::span<const Transform> rest,
+                         std::span<Transform> out, SamplingCursor* cursor, SamplingCursor* rootCursor) noexcept {
+  const bool travels = inPlace && !clip.rootMotion.empty();
+  if (!clip.compact.empty()) {
+    sampleCompactClip(clip.compact, time, rest, out);
+    if (travels) sampleCompactClipTracks(clip.compactInPlaceRoot, time, out.first(std::min(rest.size(), out.size())));
+    return;
+  }
+  sampleClip(clip.clip, time, rest, out, cursor);
+  if (travels) sampleClipTracks(clip.inPlaceRoot, time, out.first(std::min(rest.size(), out.size())), rootCursor);
 }
 
 }  // namespace marionette

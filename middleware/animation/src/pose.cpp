@@ -19,7 +19,7 @@ void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, s
   const std::size_t withPalette = std::min({n, inverseBind.size(), palette.size()});
   const int* parents = skeleton.parents.data();
   const simd4::Mat4 root = simd4::loadMat(skeleton.rootTransform);
-  simd4::Mat4 locals[4];
+  simd4::Mat4 locals[4], previous = root;
   for (std::size_t j0 = 0; j0 < n; j0 += 4) {
     const std::size_t count = std::min<std::size_t>(4, n - j0);
     if (count == 4) {
@@ -32,7 +32,11 @@ void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, s
     for (std::size_t k = 0; k < count; ++k) {
       const std::size_t j = j0 + k;
       const int p = parents[j];
-      const simd4::Mat4 m = simd4::affineMultiply(p < 0 ? root : simd4::loadMat(model[static_cast<std::size_t>(p)]), locals[k]);
+      // A chain's next joint takes its parent from registers, not back through the store.
+      const simd4::Mat4& parent =
+          p < 0 ? root : (static_cast<std::size_t>(p) + 1 == j ? previous : simd4::loadMat(model[static_cast<std::size_t>(p)]));
+      const simd4::Mat4 m = simd4::affineMultiply(parent, locals[k]);
+      previous = m;
       simd4::storeMat(m, model[j]);
       if (j < withPalette) simd4::storeMat(simd4::affineMultiply(m, simd4::loadMat(inverseBind[j])), palette[j]);
     }

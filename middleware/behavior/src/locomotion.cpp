@@ -508,12 +508,10 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
   // root's sway and hip turn out would move the legs away from feet that do not
   // hang from that root (RobotExpressive's IK feet went 20 cm off the shins
   // walking and 36 cm running, against the clips' own 5 and 3 cm).
-  sampleClip(walk.clip->clip, walkTime, rest, gait, &walkCursor_);
-  if (walk.hasRootMotion) sampleClipTracks(walk.clip->inPlaceRoot, walkTime, gait, &walkRootCursor_);
+  sampleAnimationClip(*walk.clip, walkTime, walk.hasRootMotion, rest, gait, &walkCursor_, &walkRootCursor_);
   if (runWeight_ > 0.0f) {
     const float runTime = static_cast<float>(gaitTime(run, phase_) - std::floor(phase_ + run.strikePhase) * run.duration());
-    sampleClip(run.clip->clip, runTime, rest, scratch, &runCursor_);
-    if (run.hasRootMotion) sampleClipTracks(run.clip->inPlaceRoot, runTime, scratch, &runRootCursor_);
+    sampleAnimationClip(*run.clip, runTime, run.hasRootMotion, rest, scratch, &runCursor_, &runRootCursor_);
     blendOver(gait, scratch, runWeight_, {});
   }
   blendOver(pose, gait, weight_, {});

@@ -84,7 +84,7 @@ bool Character::play(int layer, std::shared_ptr<const AnimationClip> clip, const
   scratch_->reserve(n);
   if (options.additive) {
     l.reference.resize(n);
-    sampleClip(l.clip->clip, 0.0f, skeleton().restPose, l.reference);
+    sampleAnimationClip(*l.clip, 0.0f, false, skeleton().restPose, l.reference);
   }
   notify(ChangeKind::ClipStarted, l.clip->clip.name);
   return true;
@@ -124,8 +124,7 @@ double Character::layerTime(int layer) const noexcept {
 void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
   const AnimationClip& ac = *layer.clip;
   const float t = layer.clipTime;
-  sampleClip(ac.clip, t, skeleton().restPose, out, &layer.cursor);
-  if (layer.options.rootMotion && !ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, out, &layer.rootCursor);
+  sampleAnimationClip(ac, t, layer.options.rootMotion, skeleton().restPose, out, &layer.cursor, &layer.rootCursor);
   if (layer.options.additive) makeAdditiveDelta(out, layer.reference, out);
 }
 

@@ -586,9 +586,8 @@ bool Character::applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept {
     const float t = e.request.loop || span <= 0.0
                         ? wrapClipTime(clock_ - start, ac.clip.duration, e.request.loop ? WrapMode::Loop : WrapMode::Clamp)
                         : static_cast<float>(std::clamp((clock_ - start) / span, 0.0, 1.0) * ac.clip.duration);
-    sampleClip(ac.clip, t, rest, scratch, &e.cursor);
     // A clip that travels is played in place: behaviors do not move the character.
-    if (!ac.rootMotion.empty()) sampleClipTracks(ac.inPlaceRoot, t, scratch, &e.rootCursor);
+    sampleAnimationClip(ac, t, true, rest, scratch, &e.cursor, &e.rootCursor);
     blendOver(pose_, scratch, w, e.mask);
     if (!ac.clip.morphTracks.empty() && !morphs.empty()) {
       std::copy(morphs.begin(), morphs.end(), morphScratch_.begin());

@@ -6,6 +6,8 @@
 
 #include "marionette/animation/clip.hpp"
 #include "marionette/animation/clip_optimizer.hpp"
+#include "marionette/animation/compact_clip.hpp"
+#include "marionette/animation/sampling.hpp"
 #include "marionette/animation/root_motion.hpp"
 #include "marionette/skeleton/skeleton.hpp"
 
@@ -19,12 +21,19 @@ struct AnimationClip {
   // the root motion removed, and the tracks of the joints carried with the root
   // (RootMotion::carried, extractRootMotion's rule) with the same motion removed.
   Clip inPlaceRoot;
+  // What the runtime samples when they are not empty: the keys of `clip` and of
+  // `inPlaceRoot` quantized within the error budget (compact_clip.hpp). The float
+  // tracks stay for load-time analysis (gait, contacts, retargeting) and as the reference.
+  CompactClip compact, compactInPlaceRoot;
+  CompactClipStats compaction, compactionInPlaceRoot;
 };
 
 // How clips are prepared when they are loaded (a Rig's RigOptions).
 struct AnimationClipOptions {
   bool optimizeClips = true;       // drop constant rest-pose tracks (see clip_optimizer.hpp)
   ClipOptimizeOptions tolerances;  // what "constant" means
+  bool compactClips = true;        // quantize the keys the runtime samples (compact_clip.hpp)
+  CompactClipOptions compaction;   // the error budget, and where it is measured
 };
 
 // Optimizes the clip (unless told not to) and extracts its root motion
@@ -33,5 +42,12 @@ struct AnimationClipOptions {
 [[nodiscard]] std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton& skeleton,
                                                                       const AnimationClipOptions& options = {},
                                                                       int rootJoint = -1);
+
+// Samples the clip as the runtime plays it: the compact keys when the clip has them,
+// else the float ones; with `inPlace`, the in-place root tracks over them (when the clip
+// has root motion). Per-frame code: no allocation; the cursors serve the float form.
+void sampleAnimationClip(const AnimationClip& clip, float time, bool inPlace, std::span<const Transform> rest,
+                         std::span<Transform> out, SamplingCursor* cursor = nullptr,
+                         SamplingCursor* rootCursor = nullptr) noexcept;
 
 }  // namespace marionette

@@ -1,0 +1,89 @@
+// Compact clips: the keys of a clip quantized under an error budget, in the spirit of
+// ACL (Animation Compression Library). What the runtime samples when a clip allows it.
+//
+// - Evenly spaced keys are found from the time by one multiply, no search. Keys on a
+//   frame grid with frames left out (as FBX exports hold them) are resampled on that
+//   grid, which is exact for linear and step keys. Keys off any grid (curves an exporter
+//   subdivided) keep their float times and are found by a binary search.
+// - Each component is stored in 8 or 16 bits within the track's own range [min, max]
+//   (a rotation drops the component that is never small over the track and rebuilds it
+//   as sqrt(1 - the others' squares)). A rotation that needs more, or has no such
+//   component, takes 64 bits a key (smallest three); a translation or scale, floats.
+// - The bits are chosen per track so that virtual vertices a few centimetres from each
+//   joint (ACL's error metric: clip_error.hpp) stay within the budget in model space,
+//   checked at every key of the clip against the float clip, with the hierarchy's
+//   accumulation included. The stats say what the error came to.
+//
+// Linear and step tracks are compacted; a clip with a cubic-spline track stays float.
+// Morph-weight tracks are not part of it (they stay in the float clip).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "marionette/animation/clip.hpp"
+#include "marionette/skeleton/skeleton.hpp"
+
+namespace marionette {
+
+struct CompactClipOptions {
+  float errorBudget = 1e-4f;            // metres at a virtual vertex (0.1 mm)
+  float virtualVertexDistance = 0.03f;  // metres from each joint (3 cm, ACL's default)
+};
+
+// One property of one joint.
+struct CompactTrack {
+  enum Property : std::uint8_t { Translation, Rotation, Scale };
+  std::int32_t joint = -1;
+  Property property = Translation;
+  // Per stored component: 8 or 16 (within the track's range, a rotation dropping one
+  // component), 32 (floats), or for rotations 64: each key in 64 bits, the largest
+  // component dropped (2 bits say which) and the other three in 20 bits each.
+  std::uint8_t bits = 32;
+  std::uint8_t dropped = 3;   // rotations in 8 / 16 bits: the component rebuilt (x, y, z, w = 0..3)
+  bool step = false;          // step interpolation (else linear)
+  std::uint32_t keys = 0;
+  std::uint32_t offset = 0;   // bytes into CompactClip::data
+  float start = 0.0f;         // time of key 0; key k at start + k / rate
+  float rate = 0.0f;          // keys per second (0 for one key, or uneven keys)
+  static constexpr std::uint32_t kEvenKeys = 0xFFFFFFFFu;
+  std::uint32_t times = kEvenKeys;  // uneven keys: bytes into CompactClip::data of their float times
+  float min[3] = {0, 0, 0};   // value = min + quantized * scale, per stored component
+  float scale[3] = {0, 0, 0};
+};
+
+struct CompactClip {
+  float duration = 0.0f;
+  std::vector<CompactTrack> tracks;  // sorted by joint
+  std::vector<std::uint8_t> data;    // the keys, track after track
+
+  [[nodiscard]] bool empty() const noexcept { return tracks.empty(); }
+  [[nodiscard]] std::size_t bytes() const noexcept { return tracks.size() * sizeof(CompactTrack) + data.size(); }
+};
+
+struct CompactClipStats {
+  bool compacted = false;
+  std::string reason;            // why not, when not
+  std::size_t floatBytes = 0;    // the float clip's keys: times and values of its joint tracks
+  std::size_t compactBytes = 0;  // CompactClip::bytes()
+  int tracks8 = 0, tracks16 = 0, tracks32 = 0, tracks64 = 0;  // 64: smallest-three rotations
+  int tracksResampled = 0;       // tracks whose keys were put on their frame grid
+  int tracksTimed = 0;           // tracks whose keys keep their (uneven) times
+  float maxError = 0.0f;         // metres, largest virtual-vertex distance found at the keys
+  int checks = 0;                // encode-and-measure rounds the bit choice took
+};
+
+// Compacts `clip` (bound to `skeleton`). Empty, with the reason in the stats, when the
+// clip cannot be (cubic tracks, keys not evenly spaced, nothing to compact).
+[[nodiscard]] CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const CompactClipOptions& options = {},
+                                      CompactClipStats* stats = nullptr);
+
+// As sampleClip / sampleClipTracks (sampling.hpp), from the compact keys: joints without
+// a track get `rest` (sampleCompactClip) or are left untouched (sampleCompactClipTracks).
+// Per-frame code: no allocation, never NaN, the span contract of pose.hpp.
+void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest,
+                       std::span<Transform> out) noexcept;
+void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out) noexcept;
+
+}  // namespace marionette

@@ -1,0 +1,478 @@
+#include "marionette/animation/compact_clip.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <type_traits>
+
+#include "marionette/animation/clip_error.hpp"
+#include "marionette/animation/pose.hpp"
+#include "marionette/animation/sampling.hpp"
+
+namespace marionette {
+
+namespace {
+
+// ---------------------------------------------------------------- decoding (per frame)
+
+template <class T>
+T readAt(const std::uint8_t* p) noexcept {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+
+// Stored component c of key k.
+inline float component(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k, int c, int stored) noexcept {
+  switch (t.bits) {
+    case 8:
+      return t.min[c] + static_cast<float>(data[k * stored + c]) * t.scale[c];
+    case 16:
+      return t.min[c] + static_cast<float>(readAt<std::uint16_t>(data + (k * stored + c) * 2)) * t.scale[c];
+    default:
+      return readAt<float>(data + (k * stored + c) * 4);
+  }
+}
+
+inline glm::vec3 vec3Key(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k) noexcept {
+  return {component(t, data, k, 0, 3), component(t, data, k, 1, 3), component(t, data, k, 2, 3)};
+}
+
+// Smallest three in 64 bits: 2 bits of index, three 20-bit components in [-1/sqrt2, 1/sqrt2].
+constexpr float kS3Half = 0.70710678f;
+constexpr float kS3Levels = 1048575.0f;  // 2^20 - 1
+
+inline glm::quat smallestThreeKey(const std::uint8_t* data, std::uint32_t k) noexcept {
+  const auto word = readAt<std::uint64_t>(data + k * 8);
+  const auto largest = static_cast<int>(word >> 60);
+  const float step = 2.0f * kS3Half / kS3Levels;
+  const float a = static_cast<float>((word >> 40) & 0xFFFFF) * step - kS3Half;
+  const float b = static_cast<float>((word >> 20) & 0xFFFFF) * step - kS3Half;
+  const float c = static_cast<float>(word & 0xFFFFF) * step - kS3Half;
+  const float kept[3] = {a, b, c};
+  float q[4];  // x, y, z, w
+  const float rebuilt = std::sqrt(std::max(0.0f, 1.0f - a * a - b * b - c * c));
+  for (int i = 0, s = 0; i < 4; ++i) q[i] = i == largest ? rebuilt : kept[s++];
+  return glm::quat(q[3], q[0], q[1], q[2]);
+}
+
+inline glm::quat quatKey(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k) noexcept {
+  if (t.bits == 64) return smallestThreeKey(data, k);
+  if (t.bits == 32)
+    return glm::quat(component(t, data, k, 3, 4), component(t, data, k, 0, 4), component(t, data, k, 1, 4),
+                     component(t, data, k, 2, 4));
+  const float a = component(t, data, k, 0, 3), b = component(t, data, k, 1, 3), c = component(t, data, k, 2, 3);
+  const float rebuilt = std::sqrt(std::max(0.0f, 1.0f - a * a - b * b - c * c));
+  const float kept[3] = {a, b, c};
+  float q[4];  // x, y, z, w
+  for (int i = 0, s = 0; i < 4; ++i) q[i] = i == t.dropped ? rebuilt : kept[s++];
+  return glm::quat(q[3], q[0], q[1], q[2]);
+}
+
+struct KeyAt {
+  std::uint32_t i = 0;
+  float f = 0.0f;
+  bool single = true;
+};
+
+// The key interval holding `time`; NaN and times before the first key hold key 0.
+inline KeyAt locate(const CompactTrack& t, const std::uint8_t* base, float time) noexcept {
+  if (t.keys <= 1) return {};
+  if (t.times != CompactTrack::kEvenKeys) {  // uneven keys: a binary search, as the float sampler's
+    const std::uint8_t* times = base + t.times;
+    if (!(time > readAt<float>(times))) return {};
+    if (time >= readAt<float>(times + (t.keys - 1) * 4)) return {t.keys - 1, 0.0f, true};
+    std::uint32_t lo = 0, hi = t.keys - 1;  // times[lo] <= time < times[hi]
+    while (hi - lo > 1) {
+      const std::uint32_t mid = (lo + hi) / 2;
+      (time >= readAt<float>(times + mid * 4) ? lo : hi) = mid;
+    }
+    const float a = readAt<float>(times + lo * 4), b = readAt<float>(times + hi * 4);
+    return {lo, b > a ? std::clamp((time - a) / (b - a), 0.0f, 1.0f) : 0.0f, false};
+  }
+  const float u = (time - t.start) * t.rate;
+  if (!(u > 0.0f)) return {};
+  const auto last = static_cast<float>(t.keys - 1);
+  if (u >= last) return {t.keys - 1, 0.0f, true};
+  const auto i = static_cast<std::uint32_t>(u);
+  return {i, u - static_cast<float>(i), false};
+}
+
+inline void sampleTrack(const CompactTrack& t, const std::uint8_t* base, float time, Transform& o) noexcept {
+  const std::uint8_t* data = base + t.offset;
+  const KeyAt k = locate(t, base, time);
+  const bool hold = k.single || t.step;
+  if (t.property == CompactTrack::Rotation) {
+    const glm::quat a = quatKey(t, data, k.i);
+    o.rotation = hold ? safeNormalize(a) : nlerpShortest(a, quatKey(t, data, k.i + 1), k.f);
+  } else {
+    const glm::vec3 a = vec3Key(t, data, k.i);
+    const glm::vec3 v = hold ? a : a + (vec3Key(t, data, k.i + 1) - a) * k.f;
+    (t.property == CompactTrack::Translation ? o.translation : o.scale) = v;
+  }
+}
+
+// ---------------------------------------------------------------- encoding (load time)
+
+// A float track to compact: its keys as rows of `width` floats (3, or 4 for x, y, z, w).
+struct Source {
+  int joint = -1;
+  CompactTrack::Property property = CompactTrack::Translation;
+  int width = 3;
+  const float* values = nullptr;
+  std::uint32_t keys = 0;
+  bool step = false;
+  float start = 0.0f, rate = 0.0f;
+  const float* times = nullptr;  // keys off any grid: their times (else even, from start and rate)
+  // Rotations: the component to drop (never small over the track) and its smallest size.
+  int dropped = 3;
+  float droppedMin = 0.0f;
+  float range[4] = {0, 0, 0, 0};  // largest extent of a stored component's values, per stored component
+};
+
+// Keys on a frame grid with frames left out (as FBX exports hold them): the number of
+// frames of that grid (resampling on it is exact), or 0 when the keys are off any grid
+// (curves an exporter subdivided) or the grid would be much longer than the keys.
+std::size_t frameGrid(const std::vector<float>& times) {
+  float dt = INFINITY;
+  for (std::size_t k = 1; k < times.size(); ++k) dt = std::min(dt, times[k] - times[k - 1]);
+  if (!(dt > 0.0f) || !std::isfinite(dt)) return 0;
+  for (float t : times) {
+    const float m = (t - times.front()) / dt;
+    if (std::fabs(m - std::round(m)) > 1e-3f) return 0;
+  }
+  const float frames = std::round((times.back() - times.front()) / dt) + 1.0f;
+  return frames <= 4.0f * static_cast<float>(times.size()) ? static_cast<std::size_t>(frames) : 0;
+}
+
+// The track's value at `t`, as the float sampler gives it for linear and step keys.
+template <class T>
+T valueAt(const Track<T>& track, float t) {
+  const std::vector<float>& times = track.times;
+  std::size_t i = 0;
+  while (i + 2 < times.size() && t >= times[i + 1]) ++i;
+  if (times.size() < 2 || !(t > times[0])) return track.values[0];
+  if (t >= times.back()) return track.values.back();
+  if (track.interpolation == Interpolation::Step) return track.values[i];
+  const float u = std::clamp((t - times[i]) / (times[i + 1] - times[i]), 0.0f, 1.0f);
+  if constexpr (std::is_same_v<T, glm::quat>)
+    return nlerpShortest(track.values[i], track.values[i + 1], u);
+  else
+    return track.values[i] + (track.values[i + 1] - track.values[i]) * u;
+}
+
+// Keys evenly spaced (to a thousandth of their spacing): start and rate, else false.
+bool evenKeys(const std::vector<float>& times, float& start, float& rate) {
+  start = times.front();
+  rate = 0.0f;
+  if (times.size() < 2) return true;
+  const float dt = (times.back() - times.front()) / static_cast<float>(times.size() - 1);
+  if (!(dt > 0.0f)) return false;
+  for (std::size_t k = 0; k < times.size(); ++k)
+    if (std::fabs(times[k] - (start + static_cast<float>(k) * dt)) > 1e-3f * dt) return false;
+  rate = 1.0f / dt;
+  return true;
+}
+
+// The stored components of key k of a source (rotations: sign-aligned, dropped component removed).
+void stored(const Source& s, std::uint32_t k, float out[4], bool full) {
+  const float* v = s.values + static_cast<std::size_t>(k) * s.width;
+  if (s.property != CompactTrack::Rotation || full) {
+    for (int c = 0; c < s.width; ++c) out[c] = v[c];
+    return;
+  }
+  const float sign = v[s.dropped] < 0.0f ? -1.0f : 1.0f;
+  int o = 0;
+  for (int c = 0; c < 4; ++c)
+    if (c != s.dropped) out[o++] = v[c] * sign;
+}
+
+void analyze(Source& s) {
+  if (s.property == CompactTrack::Rotation) {
+    float best = -1.0f;
+    for (int c = 0; c < 4; ++c) {
+      float smallest = INFINITY;
+      for (std::uint32_t k = 0; k < s.keys; ++k) smallest = std::min(smallest, std::fabs(s.values[k * 4 + c]));
+      if (smallest > best) best = smallest, s.dropped = c;
+    }
+    s.droppedMin = best;
+  }
+  float lo[4], hi[4], v[4];
+  std::fill_n(lo, 4, INFINITY);
+  std::fill_n(hi, 4, -INFINITY);
+  for (std::uint32_t k = 0; k < s.keys; ++k) {
+    stored(s, k, v, false);
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], v[c]), hi[c] = std::max(hi[c], v[c]);
+  }
+  for (int c = 0; c < 3; ++c) s.range[c] = hi[c] - lo[c];
+}
+
+// A rotation dropping a component smaller than this is stored as floats: rebuilding it
+// from the other three would magnify their quantization error (by about 1 / its size).
+constexpr float kSmallestDropped = 0.3f;
+
+void encode(const Source& s, int bits, CompactClip& out) {
+  CompactTrack t;
+  if (s.times) {
+    while (out.data.size() % 4 != 0) out.data.push_back(0);
+    t.times = static_cast<std::uint32_t>(out.data.size());
+    const auto* b = reinterpret_cast<const std::uint8_t*>(s.times);
+    out.data.insert(out.data.end(), b, b + s.keys * sizeof(float));
+  }
+  t.joint = s.joint;
+  t.property = s.property;
+  t.step = s.step;
+  t.keys = s.keys;
+  t.start = s.start;
+  t.rate = s.rate;
+  if (s.property == CompactTrack::Rotation && (s.droppedMin < kSmallestDropped || bits == 32)) bits = 64;
+  t.bits = static_cast<std::uint8_t>(bits);
+  t.dropped = static_cast<std::uint8_t>(s.dropped);
+  while (out.data.size() % 4 != 0) out.data.push_back(0);
+  t.offset = static_cast<std::uint32_t>(out.data.size());
+  if (bits == 64) {
+    while (out.data.size() % 8 != 0) out.data.push_back(0);
+    t.offset = static_cast<std::uint32_t>(out.data.size());
+    for (std::uint32_t k = 0; k < s.keys; ++k) {
+      const float* q = s.values + static_cast<std::size_t>(k) * 4;
+      int largest = 0;
+      for (int c = 1; c < 4; ++c)
+        if (std::fabs(q[c]) > std::fabs(q[largest])) largest = c;
+      const float sign = q[largest] < 0.0f ? -1.0f : 1.0f;
+      std::uint64_t word = static_cast<std::uint64_t>(largest) << 60;
+      for (int c = 0, shift = 40; c < 4; ++c) {
+        if (c == largest) continue;
+        const float v = std::clamp(q[c] * sign, -kS3Half, kS3Half);
+        word |= static_cast<std::uint64_t>(std::round((v + kS3Half) / (2.0f * kS3Half) * kS3Levels)) << shift;
+        shift -= 20;
+      }
+      std::uint8_t b[8];
+      std::memcpy(b, &word, 8);
+      out.data.insert(out.data.end(), b, b + 8);
+    }
+    out.tracks.push_back(t);
+    return;
+  }
+  const bool full = bits == 32;
+  const int n = full ? s.width : 3;
+  float v[4];
+  if (!full) {
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (std::uint32_t k = 0; k < s.keys; ++k) {
+      stored(s, k, v, false);
+      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], v[c]), hi[c] = std::max(hi[c], v[c]);
+    }
+    const float levels = static_cast<float>((1u << bits) - 1u);
+    for (int c = 0; c < 3; ++c) t.min[c] = lo[c], t.scale[c] = (hi[c] - lo[c]) / levels;
+  }
+  for (std::uint32_t k = 0; k < s.keys; ++k) {
+    stored(s, k, v, full);
+    for (int c = 0; c < n; ++c) {
+      if (full) {
+        std::uint8_t b[4];
+        std::memcpy(b, &v[c], 4);
+        out.data.insert(out.data.end(), b, b + 4);
+        continue;
+      }
+      const float levels = static_cast<float>((1u << bits) - 1u);
+      const float q = t.scale[c] > 0.0f ? std::round((v[c] - t.min[c]) / t.scale[c]) : 0.0f;
+      const auto code = static_cast<std::uint32_t>(std::clamp(q, 0.0f, levels));
+      if (bits == 8) {
+        out.data.push_back(static_cast<std::uint8_t>(code));
+      } else {
+        const auto c16 = static_cast<std::uint16_t>(code);
+        std::uint8_t b[2];
+        std::memcpy(b, &c16, 2);
+        out.data.insert(out.data.end(), b, b + 2);
+      }
+    }
+  }
+  out.tracks.push_back(t);
+}
+
+CompactClip build(const std::vector<Source>& sources, const std::vector<int>& bits, float duration) {
+  CompactClip c;
+  c.duration = duration;
+  for (std::size_t i = 0; i < sources.size(); ++i) encode(sources[i], bits[i], c);
+  c.data.shrink_to_fit();
+  return c;
+}
+
+// How far a track's quantization at `bits` can move a point `lever` away (model units):
+// the bit choice's first guess and its ranking of which track to refine.
+float proxyError(const Source& s, int bits, float lever, float parentScale) {
+  if (bits >= 32) return 0.0f;
+  if (s.property == CompactTrack::Rotation && s.droppedMin < kSmallestDropped) return 0.0f;  // 64 bits anyway
+  const float levels = static_cast<float>((1u << bits) - 1u);
+  const float step = std::max({s.range[0], s.range[1], s.range[2]}) / levels;
+  const float component = 0.5f * step * std::sqrt(3.0f);
+  switch (s.property) {
+    case CompactTrack::Rotation:  // angle ~ twice the quaternion's error, the dropped part magnified
+      return 2.0f * component * (1.0f + 1.0f / s.droppedMin) * lever;
+    case CompactTrack::Scale:
+      return component * lever;
+    default:
+      return component * parentScale;
+  }
+}
+
+}  // namespace
+
+void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out) noexcept {
+  const std::uint8_t* data = clip.data.data();
+  const std::size_t n = out.size();
+  for (const CompactTrack& t : clip.tracks)
+    if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n) sampleTrack(t, data, time, out[static_cast<std::size_t>(t.joint)]);
+}
+
+void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest, std::span<Transform> out) noexcept {
+  const std::size_t n = std::min(rest.size(), out.size());
+  std::copy_n(rest.begin(), n, out.begin());
+  sampleCompactClipTracks(clip, time, out.first(n));
+}
+
+CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const CompactClipOptions& options,
+                        CompactClipStats* statsOut) {
+  CompactClipStats local;
+  CompactClipStats& stats = statsOut ? *statsOut : local;
+  stats = {};
+  const std::size_t joints = skeleton.jointCount();
+  std::vector<Source> sources;
+  std::deque<std::vector<float>> resampled;  // keys put on their frame grid (a deque: pointers stay)
+  float fastest = 0.0f;
+  const auto add = [&](int joint, CompactTrack::Property p, const auto& track, int width) -> bool {
+    if (track.empty()) return true;
+    stats.floatBytes += track.times.size() * sizeof(float) + track.values.size() * sizeof(track.values[0]);
+    if (track.interpolation == Interpolation::CubicSpline) return stats.reason = "a cubic-spline track", false;
+    Source s;
+    s.joint = joint;
+    s.property = p;
+    s.width = width;
+    s.values = reinterpret_cast<const float*>(track.values.data());
+    s.keys = static_cast<std::uint32_t>(track.times.size());
+    s.step = track.interpolation == Interpolation::Step;
+    for (std::size_t i = 0; i < track.values.size() * static_cast<std::size_t>(width); ++i)
+      if (!std::isfinite(s.values[i])) return stats.reason = "a key that is not finite", false;
+    if (!evenKeys(track.times, s.start, s.rate)) {
+      const std::size_t frames = frameGrid(track.times);
+      if (frames < 2) {  // keys off any grid keep their times
+        s.times = track.times.data();
+        s.rate = 0.0f;
+        ++stats.tracksTimed;
+        // The check runs at least as finely as these keys come (to 480 a second).
+        for (std::size_t k = 1; k < track.times.size(); ++k)
+          fastest = std::max(fastest, std::min(480.0f, 1.0f / (track.times[k] - track.times[k - 1])));
+        analyze(s);
+        sources.push_back(s);
+        return true;
+      }
+      using Value = typename std::decay_t<decltype(track.values)>::value_type;
+      const float dt = (track.times.back() - track.times.front()) / static_cast<float>(frames - 1);
+      std::vector<float>& grid = resampled.emplace_back(frames * static_cast<std::size_t>(width));
+      for (std::size_t f = 0; f < frames; ++f) {
+        const Value v = valueAt(track, track.times.front() + static_cast<float>(f) * dt);
+        std::memcpy(&grid[f * static_cast<std::size_t>(width)], &v, sizeof(float) * static_cast<std::size_t>(width));
+      }
+      s.values = grid.data();
+      s.keys = static_cast<std::uint32_t>(frames);
+      s.start = track.times.front();
+      s.rate = 1.0f / dt;
+      ++stats.tracksResampled;
+    }
+    fastest = std::max(fastest, s.rate);
+    analyze(s);
+    sources.push_back(s);
+    return true;
+  };
+  for (const JointTrack& jt : clip.tracks) {
+    if (jt.joint < 0 || static_cast<std::size_t>(jt.joint) >= joints) continue;
+    if (!add(jt.joint, CompactTrack::Translation, jt.translation, 3) || !add(jt.joint, CompactTrack::Rotation, jt.rotation, 4) ||
+        !add(jt.joint, CompactTrack::Scale, jt.scale, 3))
+      return {};
+  }
+  if (sources.empty()) {
+    stats.reason = "no joint tracks";
+    return {};
+  }
+
+  // Levers from the rest pose: how far each joint's rotation can swing a virtual vertex
+  // (its farthest descendant plus the vertex distance), and the scale above each joint.
+  const std::vector<glm::mat4> restModel = skeleton.restModelMatrices();
+  std::vector<float> lever(joints, options.virtualVertexDistance);
+  for (std::size_t j = 0; j < joints; ++j)
+    for (int a = static_cast<int>(j); a >= 0; a = skeleton.parents[static_cast<std::size_t>(a)]) {
+      const auto ai = static_cast<std::size_t>(a);
+      lever[ai] = std::max(lever[ai], glm::length(glm::vec3(restModel[j][3]) - glm::vec3(restModel[ai][3])) +
+                                          options.virtualVertexDistance);
+    }
+  const auto scaleAbove = [&](int joint) {
+    const int p = skeleton.parents[static_cast<std::size_t>(joint)];
+    const glm::mat4& m = p < 0 ? skeleton.rootTransform : restModel[static_cast<std::size_t>(p)];
+    return std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+  };
+
+  // First guess: each track within half the budget on its own (the check then refines).
+  const float share = 0.5f * options.errorBudget;
+  std::vector<int> bits(sources.size());
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const Source& s = sources[i];
+    const float l = lever[static_cast<std::size_t>(s.joint)], ps = scaleAbove(s.joint);
+    bits[i] = proxyError(s, 8, l, ps) <= share ? 8 : proxyError(s, 16, l, ps) <= share ? 16 : 32;
+  }
+
+  // Check at the keys: the float clip and the compact one, through the hierarchy.
+  const float duration = clip.duration;
+  const int frames = fastest > 0.0f ? std::clamp(static_cast<int>(std::ceil(duration * fastest)) + 1, 2, 1000) : 1;
+  std::vector<glm::mat4> reference(static_cast<std::size_t>(frames) * joints), model(joints);
+  std::vector<Transform> pose(joints);
+  const auto frameTime = [&](int f) { return frames > 1 ? duration * static_cast<float>(f) / static_cast<float>(frames - 1) : 0.0f; };
+  for (int f = 0; f < frames; ++f) {
+    sampleClip(clip, frameTime(f), skeleton.restPose, pose);
+    localToModel(skeleton, pose, std::span<glm::mat4>(reference).subspan(static_cast<std::size_t>(f) * joints, joints));
+  }
+  std::vector<float> perJoint(joints), worstPerJoint(joints);
+  CompactClip compact;
+  const int maxChecks = 4 * static_cast<int>(sources.size()) + 4;
+  for (stats.checks = 1;; ++stats.checks) {
+    compact = build(sources, bits, duration);
+    std::fill(worstPerJoint.begin(), worstPerJoint.end(), 0.0f);
+    for (int f = 0; f < frames; ++f) {
+      sampleCompactClip(compact, frameTime(f), skeleton.restPose, pose);
+      localToModel(skeleton, pose, model);
+      virtualVertexError(std::span<const glm::mat4>(reference).subspan(static_cast<std::size_t>(f) * joints, joints), model,
+                         options.virtualVertexDistance, perJoint);
+      for (std::size_t j = 0; j < joints; ++j) worstPerJoint[j] = std::max(worstPerJoint[j], perJoint[j]);
+    }
+    const auto worst = std::max_element(worstPerJoint.begin(), worstPerJoint.end());
+    stats.maxError = *worst;
+    if (stats.maxError <= options.errorBudget || stats.checks >= maxChecks) break;
+    // Refine the track, on the worst joint's chain, whose quantization moves it most.
+    const auto w = static_cast<std::size_t>(worst - worstPerJoint.begin());
+    int pick = -1;
+    float most = -1.0f;
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+      if (bits[i] >= 32) continue;
+      const auto j = static_cast<std::size_t>(sources[i].joint);
+      bool above = false;
+      for (int a = static_cast<int>(w); a >= 0; a = skeleton.parents[static_cast<std::size_t>(a)]) above |= static_cast<std::size_t>(a) == j;
+      if (!above) continue;
+      const float l = glm::length(glm::vec3(restModel[w][3]) - glm::vec3(restModel[j][3])) + options.virtualVertexDistance;
+      const float e = proxyError(sources[i], bits[i], l, scaleAbove(sources[i].joint));
+      if (e > most) most = e, pick = static_cast<int>(i);
+    }
+    if (pick < 0) break;  // every track above it is float already: the error is the time grid's
+    bits[static_cast<std::size_t>(pick)] = bits[static_cast<std::size_t>(pick)] == 8 ? 16 : 32;
+  }
+  for (const CompactTrack& t : compact.tracks)
+    (t.bits == 8 ? stats.tracks8 : t.bits == 16 ? stats.tracks16 : t.bits == 32 ? stats.tracks32 : stats.tracks64)++;
+  stats.compactBytes = compact.bytes();
+  if (stats.maxError > options.errorBudget) {
+    stats.reason = "the budget was not met at every key (the float clip is kept)";
+    return {};
+  }
+  stats.compacted = true;
+  return compact;
+}
+
+}  // namespace marionette

@@ -1,0 +1,152 @@
+// Compact clips on real clips: every clip of the test characters compacts, and the
+// compact keys stay within the error budget (0.1 mm at virtual vertices 3 cm from each
+// joint, in model space) against the clip as the file holds it, measured every 1/120 s
+// (between keys too, not only at the keys the encoder checked). Writes a CSV of size,
+// error and encoding time per clip that docs/accuracy.md reports.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+
+#include "marionette/animation/animation_clip.hpp"
+#include "marionette/animation/clip_error.hpp"
+#include "marionette/animation/pose.hpp"
+#include "marionette/io/import.hpp"
+#include "test_data.hpp"
+
+using namespace marionette;
+using namespace marionette::test;
+
+namespace {
+
+struct Errors {
+  std::vector<float> samples;
+  float max = 0.0f;
+  float percentile(double p) const {
+    if (samples.empty()) return 0.0f;
+    std::vector<float> v = samples;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+  }
+};
+
+// Error of the runtime's sampling of `ac` (compact when it is) against the authored clip.
+Errors measure(const Skeleton& s, const Clip& authored, const AnimationClip& ac, float distance) {
+  const std::size_t n = s.jointCount();
+  std::vector<Transform> pa(n), pb(n);
+  std::vector<glm::mat4> ma(n), mb(n);
+  std::vector<float> perJoint(n);
+  Errors e;
+  for (double t = 0.0; t <= authored.duration + 1e-9; t += 1.0 / 120.0) {
+    sampleClip(authored, static_cast<float>(t), s.restPose, pa);
+    sampleAnimationClip(ac, static_cast<float>(t), false, s.restPose, pb);
+    localToModel(s, pa, ma);
+    localToModel(s, pb, mb);
+    e.max = std::max(e.max, virtualVertexError(ma, mb, distance, perJoint));
+    e.samples.insert(e.samples.end(), perJoint.begin(), perJoint.end());
+  }
+  return e;
+}
+
+}  // namespace
+
+TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
+  std::vector<std::string> files = {"characters/RobotExpressive.glb", "characters/CesiumMan.glb"};
+#ifdef MARIONETTE_HAS_ASSIMP
+  for (const char* f : {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx", "motions/fbx/pab_crossarms.fbx",
+                        "motions/bvh/cmu_01_01_mbfriendly.bvh"})
+    files.push_back(f);
+#endif
+  std::ofstream csv(::testing::TempDir() + "compact_clip_error.csv");
+  csv << "file,clip,float_bytes,compact_bytes,tracks_8bit,tracks_16bit,tracks_32bit,max_error_m,p99_error_m,checks,encode_ms\n";
+  const AnimationClipOptions options;  // the defaults a Rig uses
+  const float budget = options.compaction.errorBudget;
+  std::size_t floatBytes = 0, compactBytes = 0;
+  for (const std::string& f : files) {
+    MARIONETTE_REQUIRE_FILE(sharedAsset(f));
+    ImportOptions o;
+    o.loadMeshes = false;
+    if (f.find("cmu_") != std::string::npos) o.extraScale = 0.056444f;  // CMU units to metres
+    ImportResult r = importAsset(sharedAsset(f), o);
+    ASSERT_TRUE(r.ok()) << r.diagnostics.format();
+    const Skeleton& s = r.asset->skeleton;
+    for (const Clip& authored : r.asset->clips) {
+      const auto start = std::chrono::steady_clock::now();
+      const auto ac = makeAnimationClip(authored, s, options);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      const CompactClipStats& st = ac->compaction;
+      EXPECT_TRUE(st.compacted) << f << " " << authored.name << ": " << st.reason;
+      // The optimizer's own error (1e-5 tolerances) comes on top of the budget.
+      const Errors e = measure(s, authored, *ac, options.compaction.virtualVertexDistance);
+      EXPECT_LT(e.max, 1.1f * budget) << f << " " << authored.name;
+      EXPECT_LE(st.maxError, budget) << f << " " << authored.name;
+      floatBytes += st.floatBytes + ac->compactionInPlaceRoot.floatBytes;
+      compactBytes += st.compactBytes + ac->compactionInPlaceRoot.compactBytes;
+      csv << f << ',' << authored.name << ',' << st.floatBytes + ac->compactionInPlaceRoot.floatBytes << ','
+          << st.compactBytes + ac->compactionInPlaceRoot.compactBytes << ',' << st.tracks8 << ',' << st.tracks16 << ','
+          << st.tracks32 << ',' << e.max << ',' << e.percentile(0.99) << ',' << st.checks << ',' << ms << '\n';
+      std::printf("%-40s %-24s %8zu -> %7zu bytes  8/16/32/64-bit tracks %3d/%3d/%3d/%3d resampled %d timed %d  max %.4f mm  p99 %.4f mm  %d checks  %.1f ms\n",
+                  f.c_str(), authored.name.substr(0, 24).c_str(), st.floatBytes, st.compactBytes, st.tracks8, st.tracks16,
+                  st.tracks32, st.tracks64, st.tracksResampled, st.tracksTimed, e.max * 1e3, e.percentile(0.99) * 1e3, st.checks, ms);
+    }
+  }
+  EXPECT_LT(static_cast<double>(compactBytes), 0.4 * static_cast<double>(floatBytes))
+      << "compact clips should be under 40 % of the float keys";
+  std::printf("compact clips: %zu float bytes -> %zu bytes; CSV in %scompact_clip_error.csv\n", floatBytes, compactBytes,
+              ::testing::TempDir().c_str());
+}
+
+// Size against error: the benchmark clips (RobotExpressive Idle / Walking / Running, Pab
+// walk / jog / crossarms) compacted at budgets from 0.01 mm to 1 mm, with the error
+// measured every 1/120 s against the authored clip. Each budget must be met (the
+// optimizer's 1e-5 tolerances add to it), and a looser budget must not take more bytes.
+TEST(CompactClipAccuracy, SizeFallsAsTheBudgetGrows) {
+  struct Set {
+    std::string file;
+    std::vector<std::string> clips;
+  };
+  std::vector<Set> sets = {{"characters/RobotExpressive.glb", {"Idle", "Walking", "Running"}}};
+#ifdef MARIONETTE_HAS_ASSIMP
+  for (const char* f : {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx", "motions/fbx/pab_crossarms.fbx"})
+    sets.push_back({f, {}});
+#endif
+  std::ofstream csv(::testing::TempDir() + "compact_clip_budget.csv");
+  csv << "set,budget_m,compact_bytes,float_bytes,max_error_m,p99_error_m\n";
+  for (const bool pab : {false, true}) {
+    std::size_t previous = SIZE_MAX;
+    for (const float budget : {3e-5f, 1e-4f, 3e-4f, 1e-3f}) {
+      AnimationClipOptions options;
+      options.compaction.errorBudget = budget;
+      std::size_t bytes = 0, floats = 0;
+      Errors all;
+      for (const Set& set : sets) {
+        if ((set.file.find("pab_") != std::string::npos) != pab) continue;
+        MARIONETTE_REQUIRE_FILE(sharedAsset(set.file));
+        ImportOptions o;
+        o.loadMeshes = false;
+        ImportResult r = importAsset(sharedAsset(set.file), o);
+        ASSERT_TRUE(r.ok()) << r.diagnostics.format();
+        for (const Clip& authored : r.asset->clips) {
+          if (!set.clips.empty() && std::find(set.clips.begin(), set.clips.end(), authored.name) == set.clips.end()) continue;
+          const auto ac = makeAnimationClip(authored, r.asset->skeleton, options);
+          EXPECT_TRUE(ac->compaction.compacted) << set.file << " " << authored.name << ": " << ac->compaction.reason;
+          bytes += ac->compaction.compactBytes + ac->compactionInPlaceRoot.compactBytes;
+          floats += ac->compaction.floatBytes + ac->compactionInPlaceRoot.floatBytes;
+          const Errors e = measure(r.asset->skeleton, authored, *ac, options.compaction.virtualVertexDistance);
+          all.max = std::max(all.max, e.max);
+          all.samples.insert(all.samples.end(), e.samples.begin(), e.samples.end());
+        }
+      }
+      EXPECT_LT(all.max, budget + 2e-5f) << (pab ? "Pab" : "RobotExpressive") << " at " << budget;
+      EXPECT_LE(bytes, previous) << (pab ? "Pab" : "RobotExpressive") << " at " << budget;
+      previous = bytes;
+      csv << (pab ? "Pab" : "RobotExpressive") << ',' << budget << ',' << bytes << ',' << floats << ',' << all.max << ','
+          << all.percentile(0.99) << '\n';
+      std::printf("%-16s budget %.3f mm: %7zu bytes (float %7zu)  max %.4f mm  p99 %.4f mm\n", pab ? "Pab" : "RobotExpressive",
+                  budget * 1e3, bytes, floats, all.max * 1e3, all.percentile(0.99) * 1e3);
+    }
+  }
+}
