@@ -50,10 +50,23 @@ TEST(SimdPose, LocalToModelIsBitIdenticalToTheScalarDefinition) {
     localToModel(s, local, wide);
     localToModelScalar(s, local, scalar);
     EXPECT_TRUE(sameBits(wide.data(), scalar.data(), wide.size() * sizeof(glm::mat4))) << joints << " joints";
-    localToModelAndPalette(s, local, fused, palette);
-    EXPECT_TRUE(sameBits(fused.data(), scalar.data(), fused.size() * sizeof(glm::mat4))) << joints << " joints";
     for (std::size_t j = 0; j < local.size(); ++j) reference[j] = affineMultiply(scalar[j], s.inverseBind[j]);
-    EXPECT_TRUE(sameBits(palette.data(), reference.data(), palette.size() * sizeof(glm::mat4))) << joints << " joints";
+    const PaletteBasis basis = PaletteBasis::of(s.inverseBind);
+    for (const SimdPath path : {SimdPath::Auto, SimdPath::Baseline}) {  // the AVX build (where the CPU has it) and SSE2's
+      setSimdPath(path);
+      for (const PaletteBasis* b : {static_cast<const PaletteBasis*>(nullptr), &basis}) {
+        std::fill(fused.begin(), fused.end(), glm::mat4(0.0f));
+        std::fill(palette.begin(), palette.end(), glm::mat4(0.0f));
+        localToModelAndPalette(s, local, fused, palette, b);
+        EXPECT_TRUE(sameBits(fused.data(), scalar.data(), fused.size() * sizeof(glm::mat4)))
+            << joints << " joints, " << activeSimdPath() << (b ? ", basis" : "");
+        EXPECT_TRUE(sameBits(palette.data(), reference.data(), palette.size() * sizeof(glm::mat4)))
+            << joints << " joints, " << activeSimdPath() << (b ? ", basis" : "");
+      }
+      localToModel(s, local, wide);
+      EXPECT_TRUE(sameBits(wide.data(), scalar.data(), wide.size() * sizeof(glm::mat4))) << joints << " joints";
+    }
+    setSimdPath(SimdPath::Auto);
     skinningPalette(scalar, s.inverseBind, palette);
     EXPECT_TRUE(sameBits(palette.data(), reference.data(), palette.size() * sizeof(glm::mat4))) << joints << " joints";
     // And the value is the definition's: the full product of the local matrices.

@@ -9,111 +9,13 @@
 #include "marionette/animation/clip_error.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/sampling.hpp"
+#include "compact_clip_format.hpp"
 
 namespace marionette {
 
 namespace {
 
-// ---------------------------------------------------------------- decoding (per frame)
-
-template <class T>
-T readAt(const std::uint8_t* p) noexcept {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return v;
-}
-
-// Stored component c of key k.
-inline float component(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k, int c, int stored) noexcept {
-  switch (t.bits) {
-    case 8:
-      return t.min[c] + static_cast<float>(data[k * stored + c]) * t.scale[c];
-    case 16:
-      return t.min[c] + static_cast<float>(readAt<std::uint16_t>(data + (k * stored + c) * 2)) * t.scale[c];
-    default:
-      return readAt<float>(data + (k * stored + c) * 4);
-  }
-}
-
-inline glm::vec3 vec3Key(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k) noexcept {
-  return {component(t, data, k, 0, 3), component(t, data, k, 1, 3), component(t, data, k, 2, 3)};
-}
-
-// Smallest three in 64 bits: 2 bits of index, three 20-bit components in [-1/sqrt2, 1/sqrt2].
-constexpr float kS3Half = 0.70710678f;
-constexpr float kS3Levels = 1048575.0f;  // 2^20 - 1
-
-inline glm::quat smallestThreeKey(const std::uint8_t* data, std::uint32_t k) noexcept {
-  const auto word = readAt<std::uint64_t>(data + k * 8);
-  const auto largest = static_cast<int>(word >> 60);
-  const float step = 2.0f * kS3Half / kS3Levels;
-  const float a = static_cast<float>((word >> 40) & 0xFFFFF) * step - kS3Half;
-  const float b = static_cast<float>((word >> 20) & 0xFFFFF) * step - kS3Half;
-  const float c = static_cast<float>(word & 0xFFFFF) * step - kS3Half;
-  const float kept[3] = {a, b, c};
-  float q[4];  // x, y, z, w
-  const float rebuilt = std::sqrt(std::max(0.0f, 1.0f - a * a - b * b - c * c));
-  for (int i = 0, s = 0; i < 4; ++i) q[i] = i == largest ? rebuilt : kept[s++];
-  return glm::quat(q[3], q[0], q[1], q[2]);
-}
-
-inline glm::quat quatKey(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k) noexcept {
-  if (t.bits == 64) return smallestThreeKey(data, k);
-  if (t.bits == 32)
-    return glm::quat(component(t, data, k, 3, 4), component(t, data, k, 0, 4), component(t, data, k, 1, 4),
-                     component(t, data, k, 2, 4));
-  const float a = component(t, data, k, 0, 3), b = component(t, data, k, 1, 3), c = component(t, data, k, 2, 3);
-  const float rebuilt = std::sqrt(std::max(0.0f, 1.0f - a * a - b * b - c * c));
-  const float kept[3] = {a, b, c};
-  float q[4];  // x, y, z, w
-  for (int i = 0, s = 0; i < 4; ++i) q[i] = i == t.dropped ? rebuilt : kept[s++];
-  return glm::quat(q[3], q[0], q[1], q[2]);
-}
-
-struct KeyAt {
-  std::uint32_t i = 0;
-  float f = 0.0f;
-  bool single = true;
-};
-
-// The key interval holding `time`; NaN and times before the first key hold key 0.
-inline KeyAt locate(const CompactTrack& t, const std::uint8_t* base, float time) noexcept {
-  if (t.keys <= 1) return {};
-  if (t.times != CompactTrack::kEvenKeys) {  // uneven keys: a binary search, as the float sampler's
-    const std::uint8_t* times = base + t.times;
-    if (!(time > readAt<float>(times))) return {};
-    if (time >= readAt<float>(times + (t.keys - 1) * 4)) return {t.keys - 1, 0.0f, true};
-    std::uint32_t lo = 0, hi = t.keys - 1;  // times[lo] <= time < times[hi]
-    while (hi - lo > 1) {
-      const std::uint32_t mid = (lo + hi) / 2;
-      (time >= readAt<float>(times + mid * 4) ? lo : hi) = mid;
-    }
-    const float a = readAt<float>(times + lo * 4), b = readAt<float>(times + hi * 4);
-    return {lo, b > a ? std::clamp((time - a) / (b - a), 0.0f, 1.0f) : 0.0f, false};
-  }
-  const float u = (time - t.start) * t.rate;
-  if (!(u > 0.0f)) return {};
-  const auto last = static_cast<float>(t.keys - 1);
-  if (u >= last) return {t.keys - 1, 0.0f, true};
-  const auto i = static_cast<std::uint32_t>(u);
-  return {i, u - static_cast<float>(i), false};
-}
-
-inline void sampleTrack(const CompactTrack& t, const std::uint8_t* base, float time, Transform& o) noexcept {
-  const std::uint8_t* data = base + t.offset;
-  const KeyAt k = locate(t, base, time);
-  const bool hold = k.single || t.step;
-  if (t.property == CompactTrack::Rotation) {
-    const glm::quat a = quatKey(t, data, k.i);
-    o.rotation = hold ? safeNormalize(a) : nlerpShortest(a, quatKey(t, data, k.i + 1), k.f);
-  } else {
-    const glm::vec3 a = vec3Key(t, data, k.i);
-    const glm::vec3 v = hold ? a : a + (vec3Key(t, data, k.i + 1) - a) * k.f;
-    (t.property == CompactTrack::Translation ? o.translation : o.scale) = v;
-  }
-}
-
-// ---------------------------------------------------------------- encoding (load time)
+using namespace compact;
 
 // A float track to compact: its keys as rows of `width` floats (3, or 4 for x, y, z, w).
 struct Source {
@@ -227,6 +129,7 @@ void encode(const Source& s, int bits, CompactClip& out) {
   t.start = s.start;
   t.rate = s.rate;
   if (s.property == CompactTrack::Rotation && (s.droppedMin < kSmallestDropped || bits == 32)) bits = 64;
+  if (s.keys == 1) bits = 32;  // a constant: its value as it is, read without decoding
   t.bits = static_cast<std::uint8_t>(bits);
   t.dropped = static_cast<std::uint8_t>(s.dropped);
   while (out.data.size() % 4 != 0) out.data.push_back(0);
@@ -295,6 +198,15 @@ CompactClip build(const std::vector<Source>& sources, const std::vector<int>& bi
   CompactClip c;
   c.duration = duration;
   for (std::size_t i = 0; i < sources.size(); ++i) encode(sources[i], bits[i], c);
+  // Runs of 16-bit, then 8-bit rotations first (stable: by joint within each).
+  const auto rank = [](const CompactTrack& t) {
+    return t.property == CompactTrack::Rotation && t.bits == 16 ? 0 : t.property == CompactTrack::Rotation && t.bits == 8 ? 1 : 2;
+  };
+  std::stable_sort(c.tracks.begin(), c.tracks.end(), [&](const CompactTrack& a, const CompactTrack& b) { return rank(a) < rank(b); });
+  for (const CompactTrack& t : c.tracks) {
+    if (rank(t) == 0) ++c.rotations16;
+    if (rank(t) == 1) ++c.rotations8;
+  }
   c.data.shrink_to_fit();
   return c;
 }
@@ -318,19 +230,6 @@ float proxyError(const Source& s, int bits, float lever, float parentScale) {
 }
 
 }  // namespace
-
-void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out) noexcept {
-  const std::uint8_t* data = clip.data.data();
-  const std::size_t n = out.size();
-  for (const CompactTrack& t : clip.tracks)
-    if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n) sampleTrack(t, data, time, out[static_cast<std::size_t>(t.joint)]);
-}
-
-void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest, std::span<Transform> out) noexcept {
-  const std::size_t n = std::min(rest.size(), out.size());
-  std::copy_n(rest.begin(), n, out.begin());
-  sampleCompactClipTracks(clip, time, out.first(n));
-}
 
 CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const CompactClipOptions& options,
                         CompactClipStats* statsOut) {
@@ -418,7 +317,7 @@ CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const Compac
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const Source& s = sources[i];
     const float l = lever[static_cast<std::size_t>(s.joint)], ps = scaleAbove(s.joint);
-    bits[i] = proxyError(s, 8, l, ps) <= share ? 8 : proxyError(s, 16, l, ps) <= share ? 16 : 32;
+    bits[i] = s.keys == 1 ? 32 : proxyError(s, 8, l, ps) <= share ? 8 : proxyError(s, 16, l, ps) <= share ? 16 : 32;
   }
 
   // Check at the keys: the float clip and the compact one, through the hierarchy.

@@ -1,6 +1,7 @@
 #include "marionette/animation/pose.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 #include "simd4.hpp"
 
@@ -11,44 +12,121 @@ namespace {
 #if MARIONETTE_SIMD4
 // Local matrices are composed four joints at a time (structure of arrays), then each
 // joint is multiplied by its parent's model matrix, which is already written (parents
-// come first). With a palette, model * inverseBind follows while the model matrix is
-// still in registers.
-void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
-                   std::span<const glm::mat4> inverseBind, std::span<glm::mat4> palette) noexcept {
+// come first). The product takes each local element broadcast from memory: on SSE2 a
+// load and a shuffle, with AVX a single broadcast load. With a palette,
+// model * inverseBind follows while the model matrix is in registers, its factors read
+// ready-broadcast from the PaletteBasis when there is one.
+//
+// Built twice from the same source: for the SSE2 baseline and for AVX (its broadcasts
+// are single loads), chosen once per process by what the CPU has. Both round the same
+// way (simd4.hpp), so the choice changes speed, not bits (tests/unit/simd_pose_test.cpp).
+inline __m128 productColumn(const simd4::Mat4& a, const float* b) noexcept {  // a * (b[0], b[4], b[8]) broadcast
+  return _mm_add_ps(_mm_add_ps(_mm_mul_ps(a.c0, _mm_load1_ps(b)), _mm_mul_ps(a.c1, _mm_load1_ps(b + 4))),
+                    _mm_mul_ps(a.c2, _mm_load1_ps(b + 8)));
+}
+
+inline __m128 splatColumn(const simd4::Mat4& a, const float* b) noexcept {  // b: three splatted factors
+  return _mm_add_ps(_mm_add_ps(_mm_mul_ps(a.c0, _mm_loadu_ps(b)), _mm_mul_ps(a.c1, _mm_loadu_ps(b + 4))),
+                    _mm_mul_ps(a.c2, _mm_loadu_ps(b + 8)));
+}
+
+[[gnu::always_inline]] inline void localToModel4Body(const Skeleton& skeleton, std::span<const Transform> local,
+                                                     std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
+                                                     const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
   const std::size_t n = std::min({skeleton.jointCount(), local.size(), model.size()});
   const std::size_t withPalette = std::min({n, inverseBind.size(), palette.size()});
+  const bool splat = basis && basis->joints() >= withPalette && withPalette > 0;
   const int* parents = skeleton.parents.data();
   const simd4::Mat4 root = simd4::loadMat(skeleton.rootTransform);
-  simd4::Mat4 locals[4], previous = root;
+  simd4::Mat4 previous = root;
+  alignas(16) float elements[12][4];  // [element][joint of the group]: columns 0..3, rows 0..2
   for (std::size_t j0 = 0; j0 < n; j0 += 4) {
     const std::size_t count = std::min<std::size_t>(4, n - j0);
     if (count == 4) {
-      simd4::composeMatrices4(simd4::load4(&local[j0]), locals);
+      simd4::composeElements4(simd4::load4(&local[j0]), elements);
     } else {  // the last joints, padded with identities
       Transform tail[4];
       std::copy_n(&local[j0], count, tail);
-      simd4::composeMatrices4(simd4::load4(tail), locals);
+      simd4::composeElements4(simd4::load4(tail), elements);
     }
     for (std::size_t k = 0; k < count; ++k) {
       const std::size_t j = j0 + k;
       const int p = parents[j];
       // A chain's next joint takes its parent from registers, not back through the store.
-      const simd4::Mat4& parent =
+      const simd4::Mat4& a =
           p < 0 ? root : (static_cast<std::size_t>(p) + 1 == j ? previous : simd4::loadMat(model[static_cast<std::size_t>(p)]));
-      const simd4::Mat4 m = simd4::affineMultiply(parent, locals[k]);
+      const float* e = &elements[0][k];
+      const simd4::Mat4 m{productColumn(a, e), productColumn(a, e + 12), productColumn(a, e + 24),
+                          _mm_add_ps(productColumn(a, e + 36), a.c3)};
       previous = m;
       simd4::storeMat(m, model[j]);
-      if (j < withPalette) simd4::storeMat(simd4::affineMultiply(m, simd4::loadMat(inverseBind[j])), palette[j]);
+      if (j >= withPalette) continue;
+      if (splat) {
+        const float* b = basis->splat.data() + j * 48;
+        simd4::storeMat({splatColumn(m, b), splatColumn(m, b + 12), splatColumn(m, b + 24),
+                         _mm_add_ps(splatColumn(m, b + 36), m.c3)},
+                        palette[j]);
+      } else {
+        simd4::storeMat(simd4::affineMultiply(m, simd4::loadMat(inverseBind[j])), palette[j]);
+      }
     }
   }
+}
+
+void localToModel4Baseline(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
+                           std::span<const glm::mat4> inverseBind, const PaletteBasis* basis,
+                           std::span<glm::mat4> palette) noexcept {
+  localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define MARIONETTE_HAS_AVX_BUILD 1
+[[gnu::target("avx")]] void localToModel4Avx(const Skeleton& skeleton, std::span<const Transform> local,
+                                               std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
+                                               const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
+  localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
+}
+#endif
+
+std::atomic<SimdPath> requestedPath{SimdPath::Auto};
+
+void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
+                   std::span<const glm::mat4> inverseBind, const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
+#if MARIONETTE_HAS_AVX_BUILD
+  static const bool cpuHasAvx = __builtin_cpu_supports("avx");
+  if (cpuHasAvx && requestedPath.load(std::memory_order_relaxed) == SimdPath::Auto) {
+    localToModel4Avx(skeleton, local, model, inverseBind, basis, palette);
+    return;
+  }
+#endif
+  localToModel4Baseline(skeleton, local, model, inverseBind, basis, palette);
 }
 #endif
 
 }  // namespace
 
+void setSimdPath(SimdPath path) noexcept {
+#if MARIONETTE_SIMD4
+  requestedPath.store(path, std::memory_order_relaxed);
+#else
+  (void)path;
+#endif
+}
+
+const char* activeSimdPath() noexcept {
+#if MARIONETTE_SIMD4 && MARIONETTE_HAS_AVX_BUILD
+  if (__builtin_cpu_supports("avx") && requestedPath.load(std::memory_order_relaxed) == SimdPath::Auto) return "avx";
+#endif
+#if MARIONETTE_SIMD4
+  return "sse2";
+#else
+  return "scalar";
+#endif
+}
+
 void localToModel(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept {
 #if MARIONETTE_SIMD4
-  localToModel4(skeleton, local, model, {}, {});
+  localToModel4(skeleton, local, model, {}, nullptr, {});
 #else
   localToModelScalar(skeleton, local, model);
 #endif
@@ -64,11 +142,22 @@ void localToModelScalar(const Skeleton& skeleton, std::span<const Transform> loc
   }
 }
 
+PaletteBasis PaletteBasis::of(std::span<const glm::mat4> inverseBind) {
+  PaletteBasis b;
+  b.splat.resize(inverseBind.size() * 48);
+  for (std::size_t j = 0; j < inverseBind.size(); ++j)
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r)
+        for (int lane = 0; lane < 4; ++lane) b.splat[j * 48 + static_cast<std::size_t>((c * 3 + r) * 4 + lane)] = inverseBind[j][c][r];
+  return b;
+}
+
 void localToModelAndPalette(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
-                            std::span<glm::mat4> palette) noexcept {
+                            std::span<glm::mat4> palette, const PaletteBasis* basis) noexcept {
 #if MARIONETTE_SIMD4
-  localToModel4(skeleton, local, model, skeleton.inverseBind, palette);
+  localToModel4(skeleton, local, model, skeleton.inverseBind, basis, palette);
 #else
+  (void)basis;
   localToModelScalar(skeleton, local, model);
   skinningPalette(model.first(std::min({skeleton.jointCount(), local.size(), model.size()})), skeleton.inverseBind, palette);
 #endif

@@ -99,10 +99,11 @@ inline Mat4 affineMultiply(const Mat4& a, const Mat4& b) noexcept {
   return {column(b.c0), column(b.c1), column(b.c2), _mm_add_ps(column(b.c3), a.c3)};
 }
 
-// Local matrices (Transform::matrix, T * R * S) of four joints, as Transform::matrix
-// computes them, term by term; out[k] is joint k's.
-inline void composeMatrices4(const Transforms4& v, Mat4 out[4]) noexcept {
-  const __m128 one = _mm_set1_ps(1.0f), two = _mm_set1_ps(2.0f), zero = _mm_setzero_ps();
+// The elements of four joints' local matrices (Transform::matrix, T * R * S), computed
+// term by term as Transform::matrix does: out[e][k] is element e of joint k, for columns
+// 0..3 and rows 0..2 in order (the last row is 0, 0, 0, 1).
+inline void composeElements4(const Transforms4& v, float out[12][4]) noexcept {
+  const __m128 one = _mm_set1_ps(1.0f), two = _mm_set1_ps(2.0f);
   const __m128 xx = _mm_mul_ps(v.qx, v.qx), yy = _mm_mul_ps(v.qy, v.qy), zz = _mm_mul_ps(v.qz, v.qz);
   const __m128 xy = _mm_mul_ps(v.qx, v.qy), xz = _mm_mul_ps(v.qx, v.qz), yz = _mm_mul_ps(v.qy, v.qz);
   const __m128 wx = _mm_mul_ps(v.qw, v.qx), wy = _mm_mul_ps(v.qw, v.qy), wz = _mm_mul_ps(v.qw, v.qz);
@@ -110,19 +111,18 @@ inline void composeMatrices4(const Transforms4& v, Mat4 out[4]) noexcept {
     return _mm_mul_ps(_mm_sub_ps(one, _mm_mul_ps(two, _mm_add_ps(a, b))), s);
   };
   const auto twice = [&](__m128 a, __m128 s) { return _mm_mul_ps(_mm_mul_ps(two, a), s); };
-  // Rows of the transposes are the joints' columns.
-  __m128 r0 = diag(yy, zz, v.sx), r1 = twice(_mm_add_ps(xy, wz), v.sx), r2 = twice(_mm_sub_ps(xz, wy), v.sx), r3 = zero;
-  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-  out[0].c0 = r0, out[1].c0 = r1, out[2].c0 = r2, out[3].c0 = r3;
-  r0 = twice(_mm_sub_ps(xy, wz), v.sy), r1 = diag(xx, zz, v.sy), r2 = twice(_mm_add_ps(yz, wx), v.sy), r3 = zero;
-  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-  out[0].c1 = r0, out[1].c1 = r1, out[2].c1 = r2, out[3].c1 = r3;
-  r0 = twice(_mm_add_ps(xz, wy), v.sz), r1 = twice(_mm_sub_ps(yz, wx), v.sz), r2 = diag(xx, yy, v.sz), r3 = zero;
-  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-  out[0].c2 = r0, out[1].c2 = r1, out[2].c2 = r2, out[3].c2 = r3;
-  r0 = v.tx, r1 = v.ty, r2 = v.tz, r3 = one;
-  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-  out[0].c3 = r0, out[1].c3 = r1, out[2].c3 = r2, out[3].c3 = r3;
+  _mm_store_ps(out[0], diag(yy, zz, v.sx));
+  _mm_store_ps(out[1], twice(_mm_add_ps(xy, wz), v.sx));
+  _mm_store_ps(out[2], twice(_mm_sub_ps(xz, wy), v.sx));
+  _mm_store_ps(out[3], twice(_mm_sub_ps(xy, wz), v.sy));
+  _mm_store_ps(out[4], diag(xx, zz, v.sy));
+  _mm_store_ps(out[5], twice(_mm_add_ps(yz, wx), v.sy));
+  _mm_store_ps(out[6], twice(_mm_add_ps(xz, wy), v.sz));
+  _mm_store_ps(out[7], twice(_mm_sub_ps(yz, wx), v.sz));
+  _mm_store_ps(out[8], diag(xx, yy, v.sz));
+  _mm_store_ps(out[9], v.tx);
+  _mm_store_ps(out[10], v.ty);
+  _mm_store_ps(out[11], v.tz);
 }
 
 }  // namespace marionette::simd4

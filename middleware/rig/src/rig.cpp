@@ -9,7 +9,8 @@
 
 namespace marionette {
 
-Rig::Rig(std::shared_ptr<const Asset> asset, const RigOptions& options) : asset_(std::move(asset)), options_(options) {
+Rig::Rig(std::shared_ptr<const Asset> asset, const RigOptions& options)
+    : asset_(std::move(asset)), options_(options), paletteBasis_(PaletteBasis::of(asset_->skeleton.inverseBind)) {
   clips_.reserve(asset_->clips.size());
   for (const Clip& c : asset_->clips) clips_.push_back(makeAnimationClip(c, asset_->skeleton, options_));
   setProfile(guessCharacterProfile(*asset_));

@@ -219,7 +219,7 @@ void Character::update(double dt) noexcept {
     position_ += glm::angleAxis(heading_, glm::vec3(0, 1, 0)) * move;
     heading_ = std::remainder(heading_ + turn, 6.28318530718f);
   }
-  localToModelAndPalette(skeleton(), pose_, buffer_.writeModel(), buffer_.writeSkinning());
+  localToModelAndPalette(skeleton(), pose_, buffer_.writeModel(), buffer_.writeSkinning(), &rig_->paletteBasis());
   buffer_.setWorld(worldMatrix());
   buffer_.finishFrame();
   stats_.activeLayers = active;

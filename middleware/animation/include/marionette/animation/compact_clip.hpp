@@ -55,7 +55,10 @@ struct CompactTrack {
 
 struct CompactClip {
   float duration = 0.0f;
-  std::vector<CompactTrack> tracks;  // sorted by joint
+  // The 16-bit rotations first, then the 8-bit ones (the sampler decodes each run four
+  // tracks at a time), then the others; by joint within each.
+  std::vector<CompactTrack> tracks;
+  std::uint32_t rotations16 = 0, rotations8 = 0;  // the lengths of the two runs
   std::vector<std::uint8_t> data;    // the keys, track after track
 
   [[nodiscard]] bool empty() const noexcept { return tracks.empty(); }
@@ -85,5 +88,7 @@ struct CompactClipStats {
 void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest,
                        std::span<Transform> out) noexcept;
 void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out) noexcept;
+// Track after track, without the four-wide decoding: the definition, for tests (the same bits).
+void sampleCompactClipTracksScalar(const CompactClip& clip, float time, std::span<Transform> out) noexcept;
 
 }  // namespace marionette

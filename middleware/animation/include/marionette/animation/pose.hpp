@@ -12,6 +12,7 @@
 // tests/unit/span_contract_test.cpp holds each function to this.
 #pragma once
 #include <span>
+#include <vector>
 
 #include "marionette/skeleton/skeleton.hpp"
 
@@ -29,8 +30,26 @@ void localToModelScalar(const Skeleton& skeleton, std::span<const Transform> loc
 // while the model matrix is in registers: what a character does every frame. The same
 // bits as the two calls; the palette is written for i below the shortest of the model
 // joints, inverseBind and palette.
+//
+// With a PaletteBasis of the skeleton's inverse binds (a Rig keeps one), the palette
+// product reads its factors ready-broadcast instead of shuffling them out of the
+// matrices, which is most of its cost on SSE2; the bits are the same either way.
+// On CPUs with AVX the function runs an AVX build of the same code, whose broadcasts
+// are loads: again the same bits, as AVX's add and multiply round as SSE2's (no FMA is
+// used, which would not). setSimdPath(Baseline) keeps to the SSE2 build.
+enum class SimdPath { Auto, Baseline };
+void setSimdPath(SimdPath path) noexcept;  // for the whole process; Auto by default
+[[nodiscard]] const char* activeSimdPath() noexcept;  // "avx", "sse2" or "scalar" (no SSE2: other CPUs)
+
+struct PaletteBasis {
+  // Per joint, the 12 elements of the inverse bind's first three rows (column-major),
+  // each repeated 4 times: 192 bytes a joint, shared by every character of a rig.
+  std::vector<float> splat;
+  [[nodiscard]] static PaletteBasis of(std::span<const glm::mat4> inverseBind);
+  [[nodiscard]] std::size_t joints() const noexcept { return splat.size() / 48; }
+};
 void localToModelAndPalette(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
-                            std::span<glm::mat4> palette) noexcept;
+                            std::span<glm::mat4> palette, const PaletteBasis* basis = nullptr) noexcept;
 
 // Model-space matrix of one joint, walking up its ancestors (no allocation): for
 // controllers that need a few joints mid-frame, before the full localToModel.

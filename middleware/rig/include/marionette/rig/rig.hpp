@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "marionette/animation/animation_clip.hpp"
+#include "marionette/animation/pose.hpp"
 #include "marionette/io/asset.hpp"
 #include "marionette/rig/character_profile.hpp"
 
@@ -45,6 +46,8 @@ class Rig {
   [[nodiscard]] const Skeleton& skeleton() const noexcept { return asset_->skeleton; }
   [[nodiscard]] const std::vector<std::shared_ptr<const AnimationClip>>& clips() const noexcept { return clips_; }
   [[nodiscard]] std::shared_ptr<const AnimationClip> findClip(std::string_view name) const noexcept;
+  // The skeleton's inverse binds laid out for the per-frame palette (pose.hpp).
+  [[nodiscard]] const PaletteBasis& paletteBasis() const noexcept { return paletteBasis_; }
 
   // What the controllers know about the asset: guessed at construction
   // (guessCharacterProfile) unless replaced, e.g. by loadCharacterProfile's.
@@ -61,6 +64,7 @@ class Rig {
   std::shared_ptr<const Asset> asset_;
   RigOptions options_;
   std::vector<std::shared_ptr<const AnimationClip>> clips_;
+  PaletteBasis paletteBasis_;
   CharacterProfile profile_;
   RigJoints joints_;
 };

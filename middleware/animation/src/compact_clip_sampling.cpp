@@ -1,0 +1,248 @@
+// Sampling a compact clip (compact_clip.hpp): per-frame code, no allocation.
+#include <algorithm>
+#include <cmath>
+
+#include "compact_clip_format.hpp"
+#include "simd4.hpp"
+#include "marionette/animation/compact_clip.hpp"
+
+namespace marionette {
+
+namespace {
+
+using namespace compact;
+
+// The three stored components of key k, for a track of `Bits` bits (8 or 16: within the
+// track's range; 32: floats, `Width` of them).
+template <int Bits>
+inline void storedKey(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k, float* out) noexcept {
+  if constexpr (Bits == 8) {
+    const std::uint8_t* p = data + k * 3;
+    for (int c = 0; c < 3; ++c) out[c] = t.min[c] + static_cast<float>(p[c]) * t.scale[c];
+  } else {
+    const std::uint8_t* p = data + k * 6;
+    for (int c = 0; c < 3; ++c) out[c] = t.min[c] + static_cast<float>(readAt<std::uint16_t>(p + 2 * c)) * t.scale[c];
+  }
+}
+
+inline glm::quat assemble(const float kept[3], int dropped) noexcept {
+  float q[4];  // x, y, z, w
+  const int* at = kKept[dropped];
+  q[at[0]] = kept[0], q[at[1]] = kept[1], q[at[2]] = kept[2];
+  q[dropped] = std::sqrt(std::max(0.0f, 1.0f - kept[0] * kept[0] - kept[1] * kept[1] - kept[2] * kept[2]));
+  return glm::quat(q[3], q[0], q[1], q[2]);
+}
+
+inline glm::quat smallestThreeKey(const std::uint8_t* data, std::uint32_t k) noexcept {
+  const auto word = readAt<std::uint64_t>(data + k * 8);
+  const float step = 2.0f * kS3Half / kS3Levels;
+  const float kept[3] = {static_cast<float>((word >> 40) & 0xFFFFF) * step - kS3Half,
+                         static_cast<float>((word >> 20) & 0xFFFFF) * step - kS3Half,
+                         static_cast<float>(word & 0xFFFFF) * step - kS3Half};
+  return assemble(kept, static_cast<int>(word >> 60));
+}
+
+template <int Bits>
+inline glm::quat quatKey(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k) noexcept {
+  if constexpr (Bits == 64) {
+    return smallestThreeKey(data, k);
+  } else if constexpr (Bits == 32) {
+    const std::uint8_t* q = data + k * 16;
+    return glm::quat(readAt<float>(q + 12), readAt<float>(q), readAt<float>(q + 4), readAt<float>(q + 8));
+  } else {
+    float kept[3];
+    storedKey<Bits>(t, data, k, kept);
+    return assemble(kept, t.dropped);
+  }
+}
+
+template <int Bits>
+inline glm::vec3 vec3Key(const CompactTrack& t, const std::uint8_t* data, std::uint32_t k) noexcept {
+  if constexpr (Bits == 32) {
+    const std::uint8_t* v = data + k * 12;
+    return {readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8)};
+  } else {
+    float v[3];
+    storedKey<Bits>(t, data, k, v);
+    return {v[0], v[1], v[2]};
+  }
+}
+
+struct KeyAt {
+  std::uint32_t i = 0;
+  float f = 0.0f;
+  bool single = true;
+};
+
+// The key interval holding `time`; NaN and times before the first key hold key 0.
+inline KeyAt locate(const CompactTrack& t, const std::uint8_t* base, float time) noexcept {
+  if (t.keys <= 1) return {};
+  if (t.times != CompactTrack::kEvenKeys) {  // uneven keys: a binary search, as the float sampler's
+    const std::uint8_t* times = base + t.times;
+    if (!(time > readAt<float>(times))) return {};
+    if (time >= readAt<float>(times + (t.keys - 1) * 4)) return {t.keys - 1, 0.0f, true};
+    std::uint32_t lo = 0, hi = t.keys - 1;  // times[lo] <= time < times[hi]
+    while (hi - lo > 1) {
+      const std::uint32_t mid = (lo + hi) / 2;
+      (time >= readAt<float>(times + mid * 4) ? lo : hi) = mid;
+    }
+    const float a = readAt<float>(times + lo * 4), b = readAt<float>(times + hi * 4);
+    return {lo, b > a ? std::clamp((time - a) / (b - a), 0.0f, 1.0f) : 0.0f, false};
+  }
+  const float u = (time - t.start) * t.rate;
+  if (!(u > 0.0f)) return {};
+  const auto last = static_cast<float>(t.keys - 1);
+  if (u >= last) return {t.keys - 1, 0.0f, true};
+  const auto i = static_cast<std::uint32_t>(u);
+  return {i, u - static_cast<float>(i), false};
+}
+
+template <int Bits>
+inline void sampleRotation(const CompactTrack& t, const std::uint8_t* data, const KeyAt& k, glm::quat& out) noexcept {
+  const glm::quat a = quatKey<Bits>(t, data, k.i);
+  // A held key is unit already: floats as the float clip holds them, a rebuilt component by construction.
+  out = k.single || t.step ? a : nlerpShortest(a, quatKey<Bits>(t, data, k.i + 1), k.f);
+}
+
+template <int Bits>
+inline void sampleVec3(const CompactTrack& t, const std::uint8_t* data, const KeyAt& k, glm::vec3& out) noexcept {
+  const glm::vec3 a = vec3Key<Bits>(t, data, k.i);
+  out = k.single || t.step ? a : a + (vec3Key<Bits>(t, data, k.i + 1) - a) * k.f;
+}
+
+// Data is 4-aligned (8 for 64-bit keys): the encoder pads each track's start.
+inline void sampleTrack(const CompactTrack& t, const std::uint8_t* base, float time, Transform& o) noexcept {
+  const std::uint8_t* data = base + t.offset;
+  const KeyAt k = locate(t, base, time);
+  if (t.property == CompactTrack::Rotation) {
+    switch (t.bits) {
+      case 8: return sampleRotation<8>(t, data, k, o.rotation);
+      case 16: return sampleRotation<16>(t, data, k, o.rotation);
+      case 32: return sampleRotation<32>(t, data, k, o.rotation);
+      default: return sampleRotation<64>(t, data, k, o.rotation);
+    }
+  }
+  glm::vec3& v = t.property == CompactTrack::Translation ? o.translation : o.scale;
+  switch (t.bits) {
+    case 8: return sampleVec3<8>(t, data, k, v);
+    case 16: return sampleVec3<16>(t, data, k, v);
+    default: return sampleVec3<32>(t, data, k, v);
+  }
+}
+
+}  // namespace
+
+void sampleCompactClipTracksScalar(const CompactClip& clip, float time, std::span<Transform> out) noexcept {
+  const std::uint8_t* data = clip.data.data();
+  const std::size_t n = out.size();
+  for (const CompactTrack& t : clip.tracks)
+    if (t.joint >= 0 && static_cast<std::size_t>(t.joint) < n) sampleTrack(t, data, time, out[static_cast<std::size_t>(t.joint)]);
+}
+
+#if MARIONETTE_SIMD4
+namespace {
+
+// Four rotation tracks of the same width (8 or 16 bits) decoded and interpolated at once,
+// lane k = track k: the operations of sampleRotation, in its order, four-wide.
+template <int Bits>
+void sampleRotations4(const CompactTrack* tracks, const std::uint8_t* base, float time, std::span<Transform> out) noexcept {
+  alignas(16) std::int32_t qa[3][4], qb[3][4], dropped[4];
+  alignas(16) float lo[3][4], step[3][4], f[4];
+  alignas(16) std::uint32_t hold[4];
+  for (int k = 0; k < 4; ++k) {
+    const CompactTrack& t = tracks[k];
+    const std::uint8_t* data = base + t.offset;
+    const KeyAt at = locate(t, base, time);
+    const std::uint32_t i = at.i, j = at.single ? at.i : at.i + 1;
+    for (int c = 0; c < 3; ++c) {
+      if constexpr (Bits == 8) {
+        qa[c][k] = data[i * 3 + static_cast<std::uint32_t>(c)];
+        qb[c][k] = data[j * 3 + static_cast<std::uint32_t>(c)];
+      } else {
+        qa[c][k] = readAt<std::uint16_t>(data + i * 6 + static_cast<std::uint32_t>(c) * 2);
+        qb[c][k] = readAt<std::uint16_t>(data + j * 6 + static_cast<std::uint32_t>(c) * 2);
+      }
+      lo[c][k] = t.min[c];
+      step[c][k] = t.scale[c];
+    }
+    dropped[k] = t.dropped;
+    f[k] = at.f;
+    hold[k] = at.single || t.step ? 0xFFFFFFFFu : 0u;
+  }
+  const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+  const __m128i which = _mm_load_si128(reinterpret_cast<const __m128i*>(dropped));
+  const auto is = [&](int c) { return _mm_castsi128_ps(_mm_cmpeq_epi32(which, _mm_set1_epi32(c))); };
+  const auto pick = [](__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); };
+  const __m128 is0 = is(0), is1 = is(1), is2 = is(2), is3 = is(3);
+  // One key of the four tracks, assembled as x, y, z, w (assemble() four-wide).
+  const auto key = [&](std::int32_t (&q)[3][4], __m128& x, __m128& y, __m128& z, __m128& w) {
+    __m128 kept[3];
+    for (int c = 0; c < 3; ++c)
+      kept[c] = _mm_add_ps(_mm_load_ps(lo[c]),
+                           _mm_mul_ps(_mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(q[c]))), _mm_load_ps(step[c])));
+    // std::max(0, v) is (0 < v ? v : 0); _mm_max_ps(v, 0) is (v > 0 ? v : 0): the same, NaN included.
+    const __m128 rebuilt = _mm_sqrt_ps(_mm_max_ps(
+        _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(one, _mm_mul_ps(kept[0], kept[0])), _mm_mul_ps(kept[1], kept[1])),
+                   _mm_mul_ps(kept[2], kept[2])),
+        zero));
+    x = pick(is0, rebuilt, kept[0]);
+    y = pick(is0, kept[0], pick(is1, rebuilt, kept[1]));
+    z = pick(_mm_or_ps(is0, is1), kept[1], pick(is2, rebuilt, kept[2]));
+    w = pick(is3, rebuilt, kept[2]);
+  };
+  __m128 ax, ay, az, aw, bx, by, bz, bw;
+  key(qa, ax, ay, az, aw);
+  key(qb, bx, by, bz, bw);
+  // nlerpShortest(a, b, f), then safeNormalize.
+  const __m128 t = _mm_load_ps(f);
+  const __m128 d = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(aw, bw), _mm_mul_ps(ax, bx)), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
+  const __m128 s = _mm_xor_ps(t, _mm_and_ps(_mm_cmplt_ps(d, zero), _mm_set1_ps(-0.0f)));
+  const __m128 u = _mm_sub_ps(one, t);
+  const __m128 rw = _mm_add_ps(_mm_mul_ps(u, aw), _mm_mul_ps(s, bw)), rx = _mm_add_ps(_mm_mul_ps(u, ax), _mm_mul_ps(s, bx));
+  const __m128 ry = _mm_add_ps(_mm_mul_ps(u, ay), _mm_mul_ps(s, by)), rz = _mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(s, bz));
+  const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(rw, rw), _mm_mul_ps(rx, rx)), _mm_mul_ps(ry, ry)), _mm_mul_ps(rz, rz));
+  const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(len2, _mm_set1_ps(1e-30f)), _mm_cmplt_ps(len2, _mm_set1_ps(1e30f)));
+  const __m128 inv = _mm_div_ps(one, _mm_sqrt_ps(len2));
+  const __m128 held = _mm_load_ps(reinterpret_cast<const float*>(hold));
+  alignas(16) float x[4], y[4], z[4], w[4];
+  _mm_store_ps(x, pick(held, ax, pick(ok, _mm_mul_ps(rx, inv), zero)));
+  _mm_store_ps(y, pick(held, ay, pick(ok, _mm_mul_ps(ry, inv), zero)));
+  _mm_store_ps(z, pick(held, az, pick(ok, _mm_mul_ps(rz, inv), zero)));
+  _mm_store_ps(w, pick(held, aw, pick(ok, _mm_mul_ps(rw, inv), one)));
+  for (int k = 0; k < 4; ++k) {
+    const auto j = static_cast<std::size_t>(tracks[k].joint);
+    if (tracks[k].joint >= 0 && j < out.size()) out[j].rotation = glm::quat(w[k], x[k], y[k], z[k]);
+  }
+}
+
+}  // namespace
+#endif
+
+void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out) noexcept {
+#if MARIONETTE_SIMD4
+  const std::uint8_t* data = clip.data.data();
+  const CompactTrack* t = clip.tracks.data();
+  const std::size_t n = out.size();
+  std::size_t i = 0;
+  const auto one = [&](std::size_t end) {
+    for (; i < end; ++i)
+      if (t[i].joint >= 0 && static_cast<std::size_t>(t[i].joint) < n) sampleTrack(t[i], data, time, out[static_cast<std::size_t>(t[i].joint)]);
+  };
+  const std::size_t end16 = clip.rotations16, end8 = end16 + clip.rotations8;
+  for (; i + 4 <= end16; i += 4) sampleRotations4<16>(t + i, data, time, out);
+  one(end16);
+  for (; i + 4 <= end8; i += 4) sampleRotations4<8>(t + i, data, time, out);
+  one(end8);
+  one(clip.tracks.size());
+#else
+  sampleCompactClipTracksScalar(clip, time, out);
+#endif
+}
+
+void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest, std::span<Transform> out) noexcept {
+  const std::size_t n = std::min(rest.size(), out.size());
+  std::copy_n(rest.begin(), n, out.begin());
+  sampleCompactClipTracks(clip, time, out.first(n));
+}
+
+}  // namespace marionette
