@@ -1,7 +1,9 @@
 // Per-stage cost of the runtime per joint, on the real skeletons of runtime_bench.cpp,
 // over 1000 characters' worth of data (each with its own poses and matrices, so the
 // caches hold what they hold in a scene of 1000):
-//   Stage/Sample/<asset>              one clip sampled into a pose (rest, then its tracks)
+//   Stage/Sample/<asset>              one clip sampled into a pose as the runtime does it (rest, then
+//                                     its tracks, from the compact keys)
+//   Stage/SampleFloat/<asset>         the same from the float keys (the clip before compaction)
 //   Stage/Blend3/<asset>              three sampled poses (0.5 / 0.3 / 0.2) summed and finished into
 //                                     the character's pose; the sampled poses are hot in the cache,
 //                                     as the runtime's shared scratch pose is (8 sets, in turn)
@@ -9,7 +11,9 @@
 //   Stage/LocalToModel/<asset>        local pose to model matrices (4-wide on x86-64)
 //   Stage/LocalToModelScalar/<asset>  the scalar definition, for a same-run ratio
 //   Stage/Palette/<asset>             model * inverse bind
-//   Stage/LocalToModelAndPalette/<asset>  both in one pass (what a character runs)
+//   Stage/LocalToModelAndPalette/<asset>  both in one pass, with the rig's PaletteBasis (what a
+//                                     character runs; the AVX build where the CPU has AVX)
+//   Stage/LocalToModelAndPaletteSSE2/<asset>  the same held to the SSE2 build
 //   Stage/Memcpy/<asset>              copying the bytes model + palette hold: the floor
 // Counter ns_per_joint: nanoseconds per joint per character (one core).
 #include <benchmark/benchmark.h>
@@ -17,6 +21,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "marionette/animation/animation_clip.hpp"
 #include "marionette/animation/blending.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/sampling.hpp"
@@ -31,6 +36,7 @@ constexpr int kCharacters = 1000;
 // Poses and matrices of kCharacters characters, three clips each, sampled at the
 // characters' own times (0.013 s apart, as runtime_bench.cpp starts them).
 struct StageData {
+  const Rig* rig = nullptr;
   const Skeleton* skeleton = nullptr;
   std::vector<const AnimationClip*> clips;
   std::size_t joints = 0;
@@ -58,6 +64,7 @@ StageData* stageData(const std::string& which, std::string& error) {
     return nullptr;
   }
   StageData& d = cache[which];
+  d.rig = b.rig.get();
   d.skeleton = &b.rig->skeleton();
   d.joints = d.skeleton->jointCount();
   for (const std::string& name : b.clips) d.clips.push_back(b.rig->findClip(name).get());
@@ -97,6 +104,12 @@ const float kWeights[3] = {0.5f, 0.3f, 0.2f};
 
 void sampleStage(benchmark::State& state, const std::string& which) {
   perJoint(state, which, [](StageData& d, int c) {
+    sampleAnimationClip(*d.clips[0], d.time(0, c), false, d.skeleton->restPose, d.result(c), &d.cursors[static_cast<std::size_t>(c)]);
+  });
+}
+
+void sampleFloatStage(benchmark::State& state, const std::string& which) {
+  perJoint(state, which, [](StageData& d, int c) {
     sampleClip(d.clips[0]->clip, d.time(0, c), d.skeleton->restPose, d.result(c), &d.cursors[static_cast<std::size_t>(c)]);
   });
 }
@@ -131,8 +144,15 @@ void paletteStage(benchmark::State& state, const std::string& which) {
 }
 
 void localToModelAndPaletteStage(benchmark::State& state, const std::string& which) {
-  perJoint(state, which,
-           [](StageData& d, int c) { localToModelAndPalette(*d.skeleton, d.pose(0, c), d.models(c), d.palettes(c)); });
+  perJoint(state, which, [](StageData& d, int c) {
+    localToModelAndPalette(*d.skeleton, d.pose(0, c), d.models(c), d.palettes(c), &d.rig->paletteBasis());
+  });
+}
+
+void localToModelAndPaletteSse2Stage(benchmark::State& state, const std::string& which) {
+  setSimdPath(SimdPath::Baseline);
+  localToModelAndPaletteStage(state, which);
+  setSimdPath(SimdPath::Auto);
 }
 
 void memcpyStage(benchmark::State& state, const std::string& which) {
@@ -151,10 +171,12 @@ void memcpyStage(benchmark::State& state, const std::string& which) {
       ->Name("Stage/" name "/RobotExpressive")                                                                \
       ->Unit(benchmark::kMicrosecond)
 MARIONETTE_STAGE(sampleStage, "Sample");
+MARIONETTE_STAGE(sampleFloatStage, "SampleFloat");
 MARIONETTE_STAGE(blendStage, "Blend3");
 MARIONETTE_STAGE(blendReferenceStage, "Blend3Reference");
 MARIONETTE_STAGE(localToModelStage, "LocalToModel");
 MARIONETTE_STAGE(localToModelScalarStage, "LocalToModelScalar");
 MARIONETTE_STAGE(paletteStage, "Palette");
 MARIONETTE_STAGE(localToModelAndPaletteStage, "LocalToModelAndPalette");
+MARIONETTE_STAGE(localToModelAndPaletteSse2Stage, "LocalToModelAndPaletteSSE2");
 MARIONETTE_STAGE(memcpyStage, "Memcpy");

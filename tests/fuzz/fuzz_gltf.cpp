@@ -3,10 +3,13 @@
 // else .gltf) with the default options (no files outside the model's folder). Contract:
 // no crash; a failure has an error and every diagnostic names the file; a success holds a
 // valid skeleton, clips and meshes (indices and joints in range) with finite numbers
-// only, and sampling each clip gives a finite pose. Built and run by scripts/fuzz.
+// only, and sampling each clip gives a finite pose, also once prepared as a Rig does
+// (optimized and compacted: the compact keys decode to a finite pose, four-wide and
+// track by track alike). Built and run by scripts/fuzz.
 #include <cstring>
 
 #include "fuzz_support.hpp"
+#include "marionette/animation/animation_clip.hpp"
 #include "marionette/animation/sampling.hpp"
 
 namespace {
@@ -80,6 +83,25 @@ void checkClips(const Asset& a) {
                     std::isfinite(t.scale.x),
                 "sampled pose not finite");
       require(finiteAll(weights), "sampled morph weights not finite");
+    }
+    // As a Rig prepares it: optimized and compacted (or kept in float form, with a reason).
+    const auto prepared = makeAnimationClip(clip, s);
+    require(prepared->compaction.compacted == !prepared->compact.empty(), "compaction stats disagree with the clip");
+    require(prepared->compaction.compacted || !prepared->compaction.reason.empty(), "a clip left uncompacted gives no reason");
+    std::vector<Transform> scalar(s.jointCount());
+    for (float time : {0.0f, clip.duration * 0.37f, clip.duration}) {
+      sampleAnimationClip(*prepared, time, true, s.restPose, pose);
+      for (const Transform& t : pose)
+        require(std::isfinite(t.rotation.w) && std::isfinite(t.rotation.x) && std::isfinite(t.translation.x) &&
+                    std::isfinite(t.scale.x),
+                "sampled compact pose not finite");
+      if (prepared->compact.empty()) continue;
+      std::copy(s.restPose.begin(), s.restPose.end(), scalar.begin());
+      std::copy(s.restPose.begin(), s.restPose.end(), pose.begin());
+      sampleCompactClipTracks(prepared->compact, time, pose);
+      sampleCompactClipTracksScalar(prepared->compact, time, scalar);
+      require(std::memcmp(pose.data(), scalar.data(), pose.size() * sizeof(Transform)) == 0,
+              "four-wide compact decoding differs from the definition");
     }
   }
 }

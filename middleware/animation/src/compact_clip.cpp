@@ -322,7 +322,10 @@ CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const Compac
 
   // Check at the keys: the float clip and the compact one, through the hierarchy.
   const float duration = clip.duration;
-  const int frames = fastest > 0.0f ? std::clamp(static_cast<int>(std::ceil(duration * fastest)) + 1, 2, 1000) : 1;
+  // Bounded work whatever the clip: at most ~2 million joint evaluations a check, 48 checks.
+  const int frameCap = std::max(2, static_cast<int>(2'000'000 / std::max<std::size_t>(joints, 1)));
+  const float wanted = std::ceil(std::min(duration * fastest, 1e6f)) + 1.0f;
+  const int frames = fastest > 0.0f && duration > 0.0f ? std::clamp(static_cast<int>(wanted), 2, std::min(1000, frameCap)) : 1;
   std::vector<glm::mat4> reference(static_cast<std::size_t>(frames) * joints), model(joints);
   std::vector<Transform> pose(joints);
   const auto frameTime = [&](int f) { return frames > 1 ? duration * static_cast<float>(f) / static_cast<float>(frames - 1) : 0.0f; };
@@ -332,7 +335,7 @@ CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const Compac
   }
   std::vector<float> perJoint(joints), worstPerJoint(joints);
   CompactClip compact;
-  const int maxChecks = 4 * static_cast<int>(sources.size()) + 4;
+  const int maxChecks = std::min(48, 4 * static_cast<int>(sources.size()) + 4);  // then the float clip stays
   for (stats.checks = 1;; ++stats.checks) {
     compact = build(sources, bits, duration);
     std::fill(worstPerJoint.begin(), worstPerJoint.end(), 0.0f);
