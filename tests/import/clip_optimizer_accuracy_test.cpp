@@ -17,21 +17,13 @@ using namespace marionette::test;
 
 
 TEST(ClipOptimizerAccuracy, RealClipsStayWithinATenthOfAMillimetre) {
-  std::vector<std::string> files = {"characters/RobotExpressive.glb", "characters/CesiumMan.glb"};
-#ifdef MARIONETTE_HAS_ASSIMP
-  for (const char* f : {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx", "motions/fbx/pab_crossarms.fbx",
-                        "motions/bvh/cmu_01_01_mbfriendly.bvh"})
-    files.push_back(f);
-#endif
+  const std::vector<std::string> files = accuracyClipFiles();
   std::ofstream csv(::testing::TempDir() + "clip_optimizer_error.csv");
   csv << "file,clip,keys_before,keys_after,max_error_m,p99_error_m\n";
   std::size_t totalBefore = 0, totalAfter = 0, pabBefore = 0, pabAfter = 0;
   for (const std::string& f : files) {
     MARIONETTE_REQUIRE_FILE(sharedAsset(f));
-    ImportOptions o;
-    o.loadMeshes = false;
-    if (f.find("cmu_") != std::string::npos) o.extraScale = 0.056444f;  // CMU units to metres
-    ImportResult r = importAsset(sharedAsset(f), o);
+    ImportResult r = importAccuracyClips(sharedAsset(f));
     ASSERT_TRUE(r.ok()) << r.diagnostics.format();
     for (const Clip& authored : r.asset->clips) {
       Clip optimized = authored;

@@ -16,6 +16,7 @@
 #include "marionette/animation/clip_error.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/io/import.hpp"
+#include "pose_error.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
@@ -23,31 +24,20 @@ using namespace marionette::test;
 
 namespace {
 
-struct Errors {
-  std::vector<float> samples;
-  float max = 0.0f;
-  float percentile(double p) const {
-    if (samples.empty()) return 0.0f;
-    std::vector<float> v = samples;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
-  }
-};
-
 // Error of the runtime's sampling of `ac` (compact when it is) against the authored clip.
-Errors measure(const Skeleton& s, const Clip& authored, const AnimationClip& ac, float distance) {
+PoseErrors measure(const Skeleton& s, const Clip& authored, const AnimationClip& ac, float distance) {
   const std::size_t n = s.jointCount();
   std::vector<Transform> pa(n), pb(n);
   std::vector<glm::mat4> ma(n), mb(n);
   std::vector<float> perJoint(n);
-  Errors e;
+  PoseErrors e;
   for (double t = 0.0; t <= authored.duration + 1e-9; t += 1.0 / 120.0) {
     sampleClip(authored, static_cast<float>(t), s.restPose, pa);
     sampleAnimationClip(ac, static_cast<float>(t), false, s.restPose, pb);
     localToModel(s, pa, ma);
     localToModel(s, pb, mb);
     e.max = std::max(e.max, virtualVertexError(ma, mb, distance, perJoint));
-    e.samples.insert(e.samples.end(), perJoint.begin(), perJoint.end());
+    e.perJointSample.insert(e.perJointSample.end(), perJoint.begin(), perJoint.end());
   }
   return e;
 }
@@ -55,12 +45,7 @@ Errors measure(const Skeleton& s, const Clip& authored, const AnimationClip& ac,
 }  // namespace
 
 TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
-  std::vector<std::string> files = {"characters/RobotExpressive.glb", "characters/CesiumMan.glb"};
-#ifdef MARIONETTE_HAS_ASSIMP
-  for (const char* f : {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx", "motions/fbx/pab_crossarms.fbx",
-                        "motions/bvh/cmu_01_01_mbfriendly.bvh"})
-    files.push_back(f);
-#endif
+  const std::vector<std::string> files = accuracyClipFiles();
   std::ofstream csv(::testing::TempDir() + "compact_clip_error.csv");
   csv << "file,clip,float_bytes,compact_bytes,tracks_8bit,tracks_16bit,tracks_32bit,max_error_m,p99_error_m,checks,encode_ms\n";
   const AnimationClipOptions options;  // the defaults a Rig uses
@@ -68,10 +53,7 @@ TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
   std::size_t floatBytes = 0, compactBytes = 0;
   for (const std::string& f : files) {
     MARIONETTE_REQUIRE_FILE(sharedAsset(f));
-    ImportOptions o;
-    o.loadMeshes = false;
-    if (f.find("cmu_") != std::string::npos) o.extraScale = 0.056444f;  // CMU units to metres
-    ImportResult r = importAsset(sharedAsset(f), o);
+    ImportResult r = importAccuracyClips(sharedAsset(f));
     ASSERT_TRUE(r.ok()) << r.diagnostics.format();
     const Skeleton& s = r.asset->skeleton;
     for (const Clip& authored : r.asset->clips) {
@@ -81,7 +63,7 @@ TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
       const CompactClipStats& st = ac->compaction;
       EXPECT_TRUE(st.compacted) << f << " " << authored.name << ": " << st.reason;
       // The optimizer's own error (1e-5 tolerances) comes on top of the budget.
-      const Errors e = measure(s, authored, *ac, options.compaction.virtualVertexDistance);
+      const PoseErrors e = measure(s, authored, *ac, options.compaction.virtualVertexDistance);
       EXPECT_LT(e.max, 1.1f * budget) << f << " " << authored.name;
       EXPECT_LE(st.maxError, budget) << f << " " << authored.name;
       // The four-wide decoding gives the bits of the track-by-track definition.
@@ -130,13 +112,11 @@ TEST(CompactClipAccuracy, SizeFallsAsTheBudgetGrows) {
       AnimationClipOptions options;
       options.compaction.errorBudget = budget;
       std::size_t bytes = 0, floats = 0;
-      Errors all;
+      PoseErrors all;
       for (const Set& set : sets) {
         if ((set.file.find("pab_") != std::string::npos) != pab) continue;
         MARIONETTE_REQUIRE_FILE(sharedAsset(set.file));
-        ImportOptions o;
-        o.loadMeshes = false;
-        ImportResult r = importAsset(sharedAsset(set.file), o);
+        ImportResult r = importAccuracyClips(sharedAsset(set.file));
         ASSERT_TRUE(r.ok()) << r.diagnostics.format();
         for (const Clip& authored : r.asset->clips) {
           if (!set.clips.empty() && std::find(set.clips.begin(), set.clips.end(), authored.name) == set.clips.end()) continue;
@@ -144,9 +124,9 @@ TEST(CompactClipAccuracy, SizeFallsAsTheBudgetGrows) {
           EXPECT_TRUE(ac->compaction.compacted) << set.file << " " << authored.name << ": " << ac->compaction.reason;
           bytes += ac->compaction.compactBytes + ac->compactionInPlaceRoot.compactBytes;
           floats += ac->compaction.floatBytes + ac->compactionInPlaceRoot.floatBytes;
-          const Errors e = measure(r.asset->skeleton, authored, *ac, options.compaction.virtualVertexDistance);
+          const PoseErrors e = measure(r.asset->skeleton, authored, *ac, options.compaction.virtualVertexDistance);
           all.max = std::max(all.max, e.max);
-          all.samples.insert(all.samples.end(), e.samples.begin(), e.samples.end());
+          all.perJointSample.insert(all.perJointSample.end(), e.perJointSample.begin(), e.perJointSample.end());
         }
       }
       EXPECT_LT(all.max, budget + 2e-5f) << (pab ? "Pab" : "RobotExpressive") << " at " << budget;

@@ -4,7 +4,10 @@
 // by an approximation of it, sampled every 1/120 s over the reference clip.
 #pragma once
 #include <algorithm>
+#include <string>
 #include <vector>
+
+#include "marionette/io/import.hpp"
 
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/sampling.hpp"
@@ -47,6 +50,26 @@ inline void accumulateVirtualVertexErrors(const Skeleton& s, const Clip& referen
       out.perJointSample.push_back(worst);
     }
   }
+}
+
+// The real clips the clip accuracy tests measure, in ../shared/assets: RobotExpressive,
+// CesiumMan, and (with Assimp) the Pab motions and CMU 01_01.
+inline std::vector<std::string> accuracyClipFiles() {
+  std::vector<std::string> files = {"characters/RobotExpressive.glb", "characters/CesiumMan.glb"};
+#ifdef MARIONETTE_HAS_ASSIMP
+  for (const char* f : {"motions/fbx/pab_walk.fbx", "motions/fbx/pab_jog.fbx", "motions/fbx/pab_crossarms.fbx",
+                        "motions/bvh/cmu_01_01_mbfriendly.bvh"})
+    files.push_back(f);
+#endif
+  return files;
+}
+
+// Imports one of them without meshes, in metres (CMU's BVH units scaled).
+inline ImportResult importAccuracyClips(const std::string& path) {
+  ImportOptions o;
+  o.loadMeshes = false;
+  if (path.find("cmu_") != std::string::npos) o.extraScale = 0.056444f;  // CMU units to metres
+  return importAsset(path, o);
 }
 
 }  // namespace marionette::test
