@@ -144,10 +144,12 @@ namespace {
 
 // Four rotation tracks of the same width (8 or 16 bits) decoded and interpolated at once,
 // lane k = track k: the operations of sampleRotation, in its order, four-wide.
+// `ranges`: the group's entry of CompactClip::groups (min[3][4], scale[3][4], dropped[4]).
 template <int Bits>
-void sampleRotations4(const CompactTrack* tracks, const std::uint8_t* base, float time, std::span<Transform> out) noexcept {
-  alignas(16) std::int32_t qa[3][4], qb[3][4], dropped[4];
-  alignas(16) float lo[3][4], step[3][4], f[4];
+void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std::uint8_t* base, float time,
+                      std::span<Transform> out) noexcept {
+  alignas(16) std::int32_t qa[3][4], qb[3][4];
+  alignas(16) float f[4];
   alignas(16) std::uint32_t hold[4];
   for (int k = 0; k < 4; ++k) {
     const CompactTrack& t = tracks[k];
@@ -162,15 +164,12 @@ void sampleRotations4(const CompactTrack* tracks, const std::uint8_t* base, floa
         qa[c][k] = readAt<std::uint16_t>(data + i * 6 + static_cast<std::uint32_t>(c) * 2);
         qb[c][k] = readAt<std::uint16_t>(data + j * 6 + static_cast<std::uint32_t>(c) * 2);
       }
-      lo[c][k] = t.min[c];
-      step[c][k] = t.scale[c];
     }
-    dropped[k] = t.dropped;
     f[k] = at.f;
     hold[k] = at.single || t.step ? 0xFFFFFFFFu : 0u;
   }
   const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
-  const __m128i which = _mm_load_si128(reinterpret_cast<const __m128i*>(dropped));
+  const __m128i which = _mm_cvttps_epi32(_mm_loadu_ps(ranges + 24));
   const auto is = [&](int c) { return _mm_castsi128_ps(_mm_cmpeq_epi32(which, _mm_set1_epi32(c))); };
   const auto pick = [](__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); };
   const __m128 is0 = is(0), is1 = is(1), is2 = is(2), is3 = is(3);
@@ -178,8 +177,9 @@ void sampleRotations4(const CompactTrack* tracks, const std::uint8_t* base, floa
   const auto key = [&](std::int32_t (&q)[3][4], __m128& x, __m128& y, __m128& z, __m128& w) {
     __m128 kept[3];
     for (int c = 0; c < 3; ++c)
-      kept[c] = _mm_add_ps(_mm_load_ps(lo[c]),
-                           _mm_mul_ps(_mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(q[c]))), _mm_load_ps(step[c])));
+      kept[c] = _mm_add_ps(_mm_loadu_ps(ranges + 4 * c),
+                           _mm_mul_ps(_mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(q[c]))),
+                                      _mm_loadu_ps(ranges + 12 + 4 * c)));
     // std::max(0, v) is (0 < v ? v : 0); _mm_max_ps(v, 0) is (v > 0 ? v : 0): the same, NaN included.
     const __m128 rebuilt = _mm_sqrt_ps(_mm_max_ps(
         _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(one, _mm_mul_ps(kept[0], kept[0])), _mm_mul_ps(kept[1], kept[1])),
@@ -229,11 +229,24 @@ void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Tran
       if (t[i].joint >= 0 && static_cast<std::size_t>(t[i].joint) < n) sampleTrack(t[i], data, time, out[static_cast<std::size_t>(t[i].joint)]);
   };
   const std::size_t end16 = clip.rotations16, end8 = end16 + clip.rotations8;
-  for (; i + 4 <= end16; i += 4) sampleRotations4<16>(t + i, data, time, out);
+  const std::size_t animated = clip.tracks.size() - clip.constants;
+  const float* ranges = clip.groups.data();
+  for (; i + 4 <= end16; i += 4, ranges += 28) sampleRotations4<16>(t + i, ranges, data, time, out);
   one(end16);
-  for (; i + 4 <= end8; i += 4) sampleRotations4<8>(t + i, data, time, out);
+  for (; i + 4 <= end8; i += 4, ranges += 28) sampleRotations4<8>(t + i, ranges, data, time, out);
   one(end8);
-  one(clip.tracks.size());
+  one(animated);
+  for (; i < clip.tracks.size(); ++i) {  // constants: one key, floats, copied as they are
+    const CompactTrack& c = t[i];
+    const auto j = static_cast<std::size_t>(c.joint);
+    if (c.joint < 0 || j >= n) continue;
+    const std::uint8_t* v = data + c.offset;
+    if (c.property == CompactTrack::Rotation)
+      out[j].rotation = glm::quat(readAt<float>(v + 12), readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
+    else
+      (c.property == CompactTrack::Translation ? out[j].translation : out[j].scale) =
+          glm::vec3(readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
+  }
 #else
   sampleCompactClipTracksScalar(clip, time, out);
 #endif

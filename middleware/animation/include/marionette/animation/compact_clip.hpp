@@ -56,13 +56,19 @@ struct CompactTrack {
 struct CompactClip {
   float duration = 0.0f;
   // The 16-bit rotations first, then the 8-bit ones (the sampler decodes each run four
-  // tracks at a time), then the others; by joint within each.
+  // tracks at a time), then the other animated tracks, then the constants (one key, stored
+  // as floats, copied); by joint within each.
   std::vector<CompactTrack> tracks;
-  std::uint32_t rotations16 = 0, rotations8 = 0;  // the lengths of the two runs
+  std::uint32_t rotations16 = 0, rotations8 = 0, constants = 0;  // the lengths of those runs
+  // Per group of four rotations in the two runs: their ranges as the four-wide decoder loads
+  // them (min[3][4], scale[3][4], then the dropped components as floats[4]).
+  std::vector<float> groups;
   std::vector<std::uint8_t> data;    // the keys, track after track
 
   [[nodiscard]] bool empty() const noexcept { return tracks.empty(); }
-  [[nodiscard]] std::size_t bytes() const noexcept { return tracks.size() * sizeof(CompactTrack) + data.size(); }
+  [[nodiscard]] std::size_t bytes() const noexcept {
+    return tracks.size() * sizeof(CompactTrack) + groups.size() * sizeof(float) + data.size();
+  }
 };
 
 struct CompactClipStats {
