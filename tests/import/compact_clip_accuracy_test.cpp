@@ -84,8 +84,14 @@ TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
                   st.tracks32, st.tracks64, st.tracksResampled, st.tracksTimed, e.max * 1e3, e.percentile(0.99) * 1e3, st.checks, ms);
     }
   }
-  EXPECT_LT(static_cast<double>(compactBytes), 0.4 * static_cast<double>(floatBytes))
-      << "compact clips should be under 40 % of the float keys";
+  // 37 % with the FBX and BVH motions (long, dense: more to gain), 49 % on the glTF clips alone.
+#ifdef MARIONETTE_HAS_ASSIMP
+  const double share = 0.40;
+#else
+  const double share = 0.55;
+#endif
+  EXPECT_LT(static_cast<double>(compactBytes), share * static_cast<double>(floatBytes))
+      << "compact clips should be under " << share * 100 << " % of the float keys";
   std::printf("compact clips: %zu float bytes -> %zu bytes; CSV in %scompact_clip_error.csv\n", floatBytes, compactBytes,
               ::testing::TempDir().c_str());
 }
