@@ -554,6 +554,17 @@ ErrorStats marionetteError(const BenchAsset& b) {
   });
 }
 
+// The clip as the runtime samples it (the compact keys when it has them).
+ErrorStats marionettePlayedError(const BenchAsset& b) {
+  const mar::Skeleton& s = b.rig->skeleton();
+  std::vector<mar::Transform> pose(s.jointCount());
+  return measureError(b, [&](std::size_t c, float t, std::vector<glm::mat4>& out) {
+    const auto ac = b.rig->findClip(b.clips[c]);
+    mar::sampleAnimationClip(*ac, t, false, s.restPose, pose);
+    mar::localToModel(s, pose, out);
+  });
+}
+
 ErrorStats ozzError(const BenchAsset& b, const OzzRig& r, const OzzVariant& v) {
   const int n = r.skeleton->num_joints();
   oa::SamplingJob::Context context(n);
@@ -689,6 +700,27 @@ void runAsset(const std::string& which, const Options& opt) {
   std::printf("%-10s %10zu %10zu %12zu %12zu %10zu", "total", total[0], total[1], total[2], total[3], total[4]);
   for (std::size_t v = 0; v < variants.size(); ++v) std::printf(" %16zu", ozzTotal[v]);
   std::printf("\n");
+  {  // The compact clips the runtime samples (CompactClip::bytes(): track headers, group ranges, data)
+    std::printf("\nCompact clips (bytes = CompactClip::bytes(): tracks * sizeof(CompactTrack) %zu + group ranges + data)\n", sizeof(mar::CompactTrack));
+    std::printf("%-10s %10s %12s %12s %12s %12s %12s  %-22s %10s  %s\n", "clip", "compacted", "float B", "compact B", "inPl float B",
+                "inPl cmpct B", "sum compact", "tracks 8/16/32/64", "maxErr mm", "resampled/timed");
+    std::size_t tf = 0, tc = 0, tif = 0, tic = 0;
+    for (std::size_t c = 0; c < b.clips.size(); ++c) {
+      const auto ac = b.rig->findClip(b.clips[c]);
+      const mar::CompactClipStats& a = ac->compaction;
+      const mar::CompactClipStats& i = ac->compactionInPlaceRoot;
+      char tr[64];
+      std::snprintf(tr, sizeof tr, "%d/%d/%d/%d", a.tracks8, a.tracks16, a.tracks32, a.tracks64);
+      std::printf("%-10s %10s %12zu %12zu %12zu %12zu %12zu  %-22s %10.4f  %d/%d %s\n", b.clips[c].c_str(), a.compacted ? "yes" : "no", a.floatBytes,
+                  a.compactBytes, i.floatBytes, i.compactBytes, a.compactBytes + i.compactBytes, tr, a.maxError * 1e3f, a.tracksResampled,
+                  a.tracksTimed, a.compacted ? "" : a.reason.c_str());
+      std::printf("%-10s   (CompactClip::bytes(): clip %zu (%zu tracks, data %zu), inPlaceRoot %zu (%zu tracks, data %zu); inPlace compacted %s, maxErr %.4f mm)\n", "",
+                  ac->compact.bytes(), ac->compact.tracks.size(), ac->compact.data.size(), ac->compactInPlaceRoot.bytes(),
+                  ac->compactInPlaceRoot.tracks.size(), ac->compactInPlaceRoot.data.size(), i.compacted ? "yes" : "no", i.maxError * 1e3f);
+      tf += a.floatBytes, tc += a.compactBytes, tif += i.floatBytes, tic += i.compactBytes;
+    }
+    std::printf("%-10s %10s %12zu %12zu %12zu %12zu %12zu\n", "total", "", tf, tc, tif, tic, tc + tic);
+  }
 
   // Accuracy.
   if (opt.accuracy) {
@@ -702,6 +734,7 @@ void runAsset(const std::string& which, const Options& opt) {
                   e.worstJoint >= 0 ? s.names[static_cast<std::size_t>(e.worstJoint)].c_str() : "");
     };
     row("Marionette (Rig clip)", marionetteError(b));
+    row("Mar (as played)", marionettePlayedError(b));  // sampleAnimationClip: the compact keys
     for (const OzzVariant& v : variants) row(v.label, ozzError(b, r, v));
   }
 
