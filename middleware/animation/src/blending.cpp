@@ -112,16 +112,6 @@ Transform BlendAccumulator::finishJoint(std::size_t j, const Transform& rest) co
 namespace {
 using namespace simd4;
 
-inline __m128 select(__m128 mask, __m128 a, __m128 b) noexcept {
-  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
-}
-
-// The scalar dot(a, b) of blending.cpp, in its order: w, x, y, z.
-inline __m128 dot4(__m128 ax, __m128 ay, __m128 az, __m128 aw, __m128 bx, __m128 by, __m128 bz, __m128 bw) noexcept {
-  return _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(aw, bw), _mm_mul_ps(ax, bx)), _mm_mul_ps(ay, by)),
-                    _mm_mul_ps(az, bz));
-}
-
 // sum += value * w in the lanes where `on` is set (the others are left as they are:
 // adding +0 to a sum that starts at +0 changes no bit).
 inline void addTo(float* sum, __m128 value, __m128 w, __m128 on) noexcept {
@@ -215,7 +205,7 @@ void BlendAccumulator::finish(std::span<const Transform> rest, std::span<Transfo
   std::size_t j = 0;
 #if MARIONETTE_SIMD4
   const std::size_t k = stride_;
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  const __m128 one = _mm_set1_ps(1.0f);
   for (; j < n; j += 4) {
     // The last joints are finished four-wide too (the streams are padded) through a
     // padded copy of the rest pose and of the result.
@@ -242,17 +232,11 @@ void BlendAccumulator::finish(std::span<const Transform> rest, std::span<Transfo
       add(o.qw, r.qw), add(o.qx, r.qx), add(o.qy, r.qy), add(o.qz, r.qz);
       w = _mm_add_ps(w, _mm_and_ps(fill, rw));
     }
-    const __m128 qw = o.qw, qx = o.qx, qy = o.qy, qz = o.qz;
     const __m128 inv = _mm_div_ps(one, w);
     o.tx = _mm_mul_ps(o.tx, inv), o.ty = _mm_mul_ps(o.ty, inv), o.tz = _mm_mul_ps(o.tz, inv);
     o.sx = _mm_mul_ps(o.sx, inv), o.sy = _mm_mul_ps(o.sy, inv), o.sz = _mm_mul_ps(o.sz, inv);
     // finishJoint's rotation: rest where opposite rotations cancelled, else safeNormalize.
-    const __m128 len2 = dot4(qx, qy, qz, qw, qx, qy, qz, qw);
-    const __m128 nonzero = _mm_cmpgt_ps(len2, _mm_set1_ps(1e-12f));
-    const __m128 finite = _mm_cmplt_ps(len2, _mm_set1_ps(1e30f));
-    const __m128 invLen = _mm_div_ps(one, _mm_sqrt_ps(len2));
-    o.qx = select(finite, _mm_mul_ps(qx, invLen), zero), o.qy = select(finite, _mm_mul_ps(qy, invLen), zero);
-    o.qz = select(finite, _mm_mul_ps(qz, invLen), zero), o.qw = select(finite, _mm_mul_ps(qw, invLen), one);
+    const __m128 nonzero = _mm_cmpgt_ps(safeNormalize4(o.qx, o.qy, o.qz, o.qw), _mm_set1_ps(1e-12f));
     if (_mm_movemask_ps(nonzero) != 0xF) {  // opposite rotations cancelled: the rest rotation there
       const Transforms4 r = load4(restAt);
       o.qx = select(nonzero, o.qx, r.qx), o.qy = select(nonzero, o.qy, r.qy);

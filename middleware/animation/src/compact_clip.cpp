@@ -30,7 +30,7 @@ struct Source {
   // Rotations: the component to drop (never small over the track) and its smallest size.
   int dropped = 3;
   float droppedMin = 0.0f;
-  float range[4] = {0, 0, 0, 0};  // largest extent of a stored component's values, per stored component
+  float lo[3] = {0, 0, 0}, range[3] = {0, 0, 0};  // smallest value and extent of each stored component
 };
 
 // Keys on a frame grid with frames left out (as FBX exports hold them): the number of
@@ -107,20 +107,28 @@ void analyze(Source& s) {
     stored(s, k, v, false);
     for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], v[c]), hi[c] = std::max(hi[c], v[c]);
   }
-  for (int c = 0; c < 3; ++c) s.range[c] = hi[c] - lo[c];
+  for (int c = 0; c < 3; ++c) s.lo[c] = lo[c], s.range[c] = hi[c] - lo[c];
 }
 
 // A rotation dropping a component smaller than this is stored as floats: rebuilding it
 // from the other three would magnify their quantization error (by about 1 / its size).
 constexpr float kSmallestDropped = 0.3f;
 
+void padTo(std::vector<std::uint8_t>& data, std::size_t alignment) {
+  data.resize((data.size() + alignment - 1) / alignment * alignment, 0);
+}
+
+void append(std::vector<std::uint8_t>& data, const void* bytes, std::size_t size) {
+  const auto* b = static_cast<const std::uint8_t*>(bytes);
+  data.insert(data.end(), b, b + size);
+}
+
 void encode(const Source& s, int bits, CompactClip& out) {
   CompactTrack t;
   if (s.times) {
-    while (out.data.size() % 4 != 0) out.data.push_back(0);
+    padTo(out.data, 4);
     t.times = static_cast<std::uint32_t>(out.data.size());
-    const auto* b = reinterpret_cast<const std::uint8_t*>(s.times);
-    out.data.insert(out.data.end(), b, b + s.keys * sizeof(float));
+    append(out.data, s.times, s.keys * sizeof(float));
   }
   t.joint = s.joint;
   t.property = s.property;
@@ -132,10 +140,10 @@ void encode(const Source& s, int bits, CompactClip& out) {
   if (s.keys == 1) bits = 32;  // a constant: its value as it is, read without decoding
   t.bits = static_cast<std::uint8_t>(bits);
   t.dropped = static_cast<std::uint8_t>(s.dropped);
-  while (out.data.size() % 4 != 0) out.data.push_back(0);
+  padTo(out.data, 4);
   t.offset = static_cast<std::uint32_t>(out.data.size());
   if (bits == 64) {
-    while (out.data.size() % 8 != 0) out.data.push_back(0);
+    padTo(out.data, 8);
     t.offset = static_cast<std::uint32_t>(out.data.size());
     for (std::uint32_t k = 0; k < s.keys; ++k) {
       const float* q = s.values + static_cast<std::size_t>(k) * 4;
@@ -150,9 +158,7 @@ void encode(const Source& s, int bits, CompactClip& out) {
         word |= static_cast<std::uint64_t>(std::round((v + kS3Half) / (2.0f * kS3Half) * kS3Levels)) << shift;
         shift -= 20;
       }
-      std::uint8_t b[8];
-      std::memcpy(b, &word, 8);
-      out.data.insert(out.data.end(), b, b + 8);
+      append(out.data, &word, 8);
     }
     out.tracks.push_back(t);
     return;
@@ -160,22 +166,15 @@ void encode(const Source& s, int bits, CompactClip& out) {
   const bool full = bits == 32;
   const int n = full ? s.width : 3;
   float v[4];
-  if (!full) {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (std::uint32_t k = 0; k < s.keys; ++k) {
-      stored(s, k, v, false);
-      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], v[c]), hi[c] = std::max(hi[c], v[c]);
-    }
+  if (!full) {  // the ranges analyze() found
     const float levels = static_cast<float>((1u << bits) - 1u);
-    for (int c = 0; c < 3; ++c) t.min[c] = lo[c], t.scale[c] = (hi[c] - lo[c]) / levels;
+    for (int c = 0; c < 3; ++c) t.min[c] = s.lo[c], t.scale[c] = s.range[c] / levels;
   }
   for (std::uint32_t k = 0; k < s.keys; ++k) {
     stored(s, k, v, full);
     for (int c = 0; c < n; ++c) {
       if (full) {
-        std::uint8_t b[4];
-        std::memcpy(b, &v[c], 4);
-        out.data.insert(out.data.end(), b, b + 4);
+        append(out.data, &v[c], 4);
         continue;
       }
       const float levels = static_cast<float>((1u << bits) - 1u);
@@ -185,9 +184,7 @@ void encode(const Source& s, int bits, CompactClip& out) {
         out.data.push_back(static_cast<std::uint8_t>(code));
       } else {
         const auto c16 = static_cast<std::uint16_t>(code);
-        std::uint8_t b[2];
-        std::memcpy(b, &c16, 2);
-        out.data.insert(out.data.end(), b, b + 2);
+        append(out.data, &c16, 2);
       }
     }
   }

@@ -145,6 +145,8 @@ namespace {
 // Four rotation tracks of the same width (8 or 16 bits) decoded and interpolated at once,
 // lane k = track k: the operations of sampleRotation, in its order, four-wide.
 // `ranges`: the group's entry of CompactClip::groups (min[3][4], scale[3][4], dropped[4]).
+using namespace simd4;
+
 template <int Bits>
 void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std::uint8_t* base, float time,
                       std::span<Transform> out) noexcept {
@@ -171,7 +173,6 @@ void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std
   const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
   const __m128i which = _mm_cvttps_epi32(_mm_loadu_ps(ranges + 24));
   const auto is = [&](int c) { return _mm_castsi128_ps(_mm_cmpeq_epi32(which, _mm_set1_epi32(c))); };
-  const auto pick = [](__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); };
   const __m128 is0 = is(0), is1 = is(1), is2 = is(2), is3 = is(3);
   // One key of the four tracks, assembled as x, y, z, w (assemble() four-wide).
   const auto key = [&](std::int32_t (&q)[3][4], __m128& x, __m128& y, __m128& z, __m128& w) {
@@ -185,30 +186,28 @@ void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std
         _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(one, _mm_mul_ps(kept[0], kept[0])), _mm_mul_ps(kept[1], kept[1])),
                    _mm_mul_ps(kept[2], kept[2])),
         zero));
-    x = pick(is0, rebuilt, kept[0]);
-    y = pick(is0, kept[0], pick(is1, rebuilt, kept[1]));
-    z = pick(_mm_or_ps(is0, is1), kept[1], pick(is2, rebuilt, kept[2]));
-    w = pick(is3, rebuilt, kept[2]);
+    x = select(is0, rebuilt, kept[0]);
+    y = select(is0, kept[0], select(is1, rebuilt, kept[1]));
+    z = select(_mm_or_ps(is0, is1), kept[1], select(is2, rebuilt, kept[2]));
+    w = select(is3, rebuilt, kept[2]);
   };
   __m128 ax, ay, az, aw, bx, by, bz, bw;
   key(qa, ax, ay, az, aw);
   key(qb, bx, by, bz, bw);
   // nlerpShortest(a, b, f), then safeNormalize.
   const __m128 t = _mm_load_ps(f);
-  const __m128 d = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(aw, bw), _mm_mul_ps(ax, bx)), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
+  const __m128 d = dot4(ax, ay, az, aw, bx, by, bz, bw);
   const __m128 s = _mm_xor_ps(t, _mm_and_ps(_mm_cmplt_ps(d, zero), _mm_set1_ps(-0.0f)));
   const __m128 u = _mm_sub_ps(one, t);
-  const __m128 rw = _mm_add_ps(_mm_mul_ps(u, aw), _mm_mul_ps(s, bw)), rx = _mm_add_ps(_mm_mul_ps(u, ax), _mm_mul_ps(s, bx));
-  const __m128 ry = _mm_add_ps(_mm_mul_ps(u, ay), _mm_mul_ps(s, by)), rz = _mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(s, bz));
-  const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(rw, rw), _mm_mul_ps(rx, rx)), _mm_mul_ps(ry, ry)), _mm_mul_ps(rz, rz));
-  const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(len2, _mm_set1_ps(1e-30f)), _mm_cmplt_ps(len2, _mm_set1_ps(1e30f)));
-  const __m128 inv = _mm_div_ps(one, _mm_sqrt_ps(len2));
+  __m128 rw = _mm_add_ps(_mm_mul_ps(u, aw), _mm_mul_ps(s, bw)), rx = _mm_add_ps(_mm_mul_ps(u, ax), _mm_mul_ps(s, bx));
+  __m128 ry = _mm_add_ps(_mm_mul_ps(u, ay), _mm_mul_ps(s, by)), rz = _mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(s, bz));
+  safeNormalize4(rx, ry, rz, rw);
   const __m128 held = _mm_load_ps(reinterpret_cast<const float*>(hold));
   alignas(16) float x[4], y[4], z[4], w[4];
-  _mm_store_ps(x, pick(held, ax, pick(ok, _mm_mul_ps(rx, inv), zero)));
-  _mm_store_ps(y, pick(held, ay, pick(ok, _mm_mul_ps(ry, inv), zero)));
-  _mm_store_ps(z, pick(held, az, pick(ok, _mm_mul_ps(rz, inv), zero)));
-  _mm_store_ps(w, pick(held, aw, pick(ok, _mm_mul_ps(rw, inv), one)));
+  _mm_store_ps(x, select(held, ax, rx));
+  _mm_store_ps(y, select(held, ay, ry));
+  _mm_store_ps(z, select(held, az, rz));
+  _mm_store_ps(w, select(held, aw, rw));
   for (int k = 0; k < 4; ++k) {
     const auto j = static_cast<std::size_t>(tracks[k].joint);
     if (tracks[k].joint >= 0 && j < out.size()) out[j].rotation = glm::quat(w[k], x[k], y[k], z[k]);

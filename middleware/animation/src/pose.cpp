@@ -90,11 +90,20 @@ void localToModel4Baseline(const Skeleton& skeleton, std::span<const Transform> 
 
 std::atomic<SimdPath> requestedPath{SimdPath::Auto};
 
+// Whether the AVX build runs: the CPU has AVX (asked once) and nobody asked for the baseline.
+bool useAvxBuild() noexcept {
+#if MARIONETTE_HAS_AVX_BUILD
+  static const bool cpuHasAvx = __builtin_cpu_supports("avx");
+  return cpuHasAvx && requestedPath.load(std::memory_order_relaxed) == SimdPath::Auto;
+#else
+  return false;
+#endif
+}
+
 void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
                    std::span<const glm::mat4> inverseBind, const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
 #if MARIONETTE_HAS_AVX_BUILD
-  static const bool cpuHasAvx = __builtin_cpu_supports("avx");
-  if (cpuHasAvx && requestedPath.load(std::memory_order_relaxed) == SimdPath::Auto) {
+  if (useAvxBuild()) {
     localToModel4Avx(skeleton, local, model, inverseBind, basis, palette);
     return;
   }
@@ -114,11 +123,8 @@ void setSimdPath(SimdPath path) noexcept {
 }
 
 const char* activeSimdPath() noexcept {
-#if MARIONETTE_SIMD4 && MARIONETTE_HAS_AVX_BUILD
-  if (__builtin_cpu_supports("avx") && requestedPath.load(std::memory_order_relaxed) == SimdPath::Auto) return "avx";
-#endif
 #if MARIONETTE_SIMD4
-  return "sse2";
+  return useAvxBuild() ? "avx" : "sse2";
 #else
   return "scalar";
 #endif

@@ -37,6 +37,29 @@ inline __m128 broadcast(__m128 v) noexcept {
   return _mm_shuffle_ps(v, v, _MM_SHUFFLE(I, I, I, I));
 }
 
+// Per lane: a where mask is set, else b.
+inline __m128 select(__m128 mask, __m128 a, __m128 b) noexcept {
+  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
+
+// Four quaternion dot products in the scalar code's order (blending.cpp, nlerpShortest): w, x, y, z.
+inline __m128 dot4(__m128 ax, __m128 ay, __m128 az, __m128 aw, __m128 bx, __m128 by, __m128 bz, __m128 bw) noexcept {
+  return _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(aw, bw), _mm_mul_ps(ax, bx)), _mm_mul_ps(ay, by)),
+                    _mm_mul_ps(az, bz));
+}
+
+// safeNormalize (transform.hpp) of four quaternions in place: identity where the squared
+// length is not in (1e-30, 1e30). Returns the squared lengths.
+inline __m128 safeNormalize4(__m128& x, __m128& y, __m128& z, __m128& w) noexcept {
+  const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+  const __m128 len2 = dot4(x, y, z, w, x, y, z, w);
+  const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(len2, _mm_set1_ps(1e-30f)), _mm_cmplt_ps(len2, _mm_set1_ps(1e30f)));
+  const __m128 inv = _mm_div_ps(one, _mm_sqrt_ps(len2));
+  x = select(ok, _mm_mul_ps(x, inv), zero), y = select(ok, _mm_mul_ps(y, inv), zero);
+  z = select(ok, _mm_mul_ps(z, inv), zero), w = select(ok, _mm_mul_ps(w, inv), one);
+  return len2;
+}
+
 // Four consecutive transforms (t[0..3] must all exist).
 inline Transforms4 load4(const Transform* t) noexcept {
   const float* p = reinterpret_cast<const float*>(t);
