@@ -8,6 +8,10 @@
 //                                     the character's pose; the sampled poses are hot in the cache,
 //                                     as the runtime's shared scratch pose is (8 sets, in turn)
 //   Stage/Blend3Reference/<asset>     the same with blendPoses, the scalar definition
+//   Stage/BlendOver/<asset>           a sampled pose (walk) copied, another (run) blended over it at
+//                                     0.4 (slerp per joint): how locomotion and behavior clips layer
+//   Stage/BlendOverAcos/<asset>       the same, one joint at a time with slerp by acos and sin (what
+//                                     blendOver did before the series), for a same-run ratio
 //   Stage/LocalToModel/<asset>        local pose to model matrices (4-wide on x86-64)
 //   Stage/LocalToModelScalar/<asset>  the scalar definition, for a same-run ratio
 //   Stage/Palette/<asset>             model * inverse bind
@@ -19,6 +23,7 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 
 #include "marionette/animation/animation_clip.hpp"
@@ -131,6 +136,37 @@ void blendReferenceStage(benchmark::State& state, const std::string& which) {
   });
 }
 
+void blendOverStage(benchmark::State& state, const std::string& which) {
+  perJoint(state, which, [](StageData& d, int c) {
+    std::memcpy(d.result(c).data(), d.pose(0, c % 8).data(), d.joints * sizeof(Transform));
+    blendOver(d.result(c), d.pose(1, c % 8), 0.4f, {});
+  });
+}
+
+// slerp by its definition, as slerpShortest computed it before the series (transform.hpp).
+glm::quat slerpAcos(const glm::quat& a, const glm::quat& b, float t) {
+  float d = a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
+  const glm::quat bb = d < 0.0f ? -b : b;
+  d = std::abs(d);
+  if (d > 0.9995f) return nlerpShortest(a, bb, t);
+  const float theta = std::acos(d), s = std::sin(theta);
+  const float wa = std::sin((1.0f - t) * theta) / s, wb = std::sin(t * theta) / s;
+  return safeNormalize(glm::quat(wa * a.w + wb * bb.w, wa * a.x + wb * bb.x, wa * a.y + wb * bb.y, wa * a.z + wb * bb.z));
+}
+
+void blendOverAcosStage(benchmark::State& state, const std::string& which) {
+  perJoint(state, which, [](StageData& d, int c) {
+    std::memcpy(d.result(c).data(), d.pose(0, c % 8).data(), d.joints * sizeof(Transform));
+    const std::span<Transform> out = d.result(c);
+    const std::span<const Transform> layer = d.pose(1, c % 8);
+    for (std::size_t j = 0; j < out.size(); ++j) {
+      out[j].translation = glm::mix(out[j].translation, layer[j].translation, 0.4f);
+      out[j].scale = glm::mix(out[j].scale, layer[j].scale, 0.4f);
+      out[j].rotation = slerpAcos(out[j].rotation, layer[j].rotation, 0.4f);
+    }
+  });
+}
+
 void localToModelStage(benchmark::State& state, const std::string& which) {
   perJoint(state, which, [](StageData& d, int c) { localToModel(*d.skeleton, d.pose(0, c), d.models(c)); });
 }
@@ -174,6 +210,8 @@ MARIONETTE_STAGE(sampleStage, "Sample");
 MARIONETTE_STAGE(sampleFloatStage, "SampleFloat");
 MARIONETTE_STAGE(blendStage, "Blend3");
 MARIONETTE_STAGE(blendReferenceStage, "Blend3Reference");
+MARIONETTE_STAGE(blendOverStage, "BlendOver");
+MARIONETTE_STAGE(blendOverAcosStage, "BlendOverAcos");
 MARIONETTE_STAGE(localToModelStage, "LocalToModel");
 MARIONETTE_STAGE(localToModelScalarStage, "LocalToModelScalar");
 MARIONETTE_STAGE(paletteStage, "Palette");

@@ -143,3 +143,41 @@ TEST(SimdPose, BlendAccumulatorRereadsTheRestPoseAfterReset) {
     EXPECT_TRUE(sameBits(out1.data(), out2.data(), sizeof(Transform) * 9)) << "round " << round;
   }
 }
+
+// blendOver (two groups of four joints at a time, the last ones padded) against its
+// definition one joint at a time: glm::mix and slerpShortest. Poses include rotations
+// past 90 degrees apart (the halved arc) beside ones that are not, in the same group.
+TEST(SimdPose, BlendOverIsBitIdenticalToSlerpOneJointAtATime) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int joints : {1, 2, 3, 4, 5, 7, 8, 9, 12, 15, 16, 17, 43, 54}) {
+    for (const float weight : {0.0f, 0.3f, 0.5f, 0.77f, 1.0f, 1.7f}) {
+      for (int masked = 0; masked < 3; ++masked) {
+        const std::size_t n = static_cast<std::size_t>(joints);
+        std::vector<Transform> pose(n), layer(n);
+        for (std::size_t j = 0; j < n; ++j) {
+          pose[j] = randomTransform(rng, true);
+          layer[j] = j % 3 == 0 ? randomTransform(rng, true) : pose[j];  // far apart, or close
+          if (j % 3 == 1) layer[j].rotation = safeNormalize(pose[j].rotation * glm::angleAxis(0.3f, glm::vec3(0, 1, 0)));
+          if (j % 5 == 2) layer[j].rotation = -layer[j].rotation;  // the other sign of the same rotation
+        }
+        // No mask; a mask with zeros, fractions and values over 1; a mask shorter than the pose.
+        std::vector<float> mask;
+        if (masked > 0)
+          for (std::size_t j = 0; j < (masked == 1 ? n : n / 2); ++j) mask.push_back(j % 4 == 0 ? 0.0f : 1.5f * u(rng));
+        std::vector<Transform> expected = pose;
+        const float lw = std::min(weight, 1.0f);
+        for (std::size_t j = 0; j < n; ++j) {
+          const float w = std::min(mask.empty() ? lw : (j < mask.size() ? lw * mask[j] : 0.0f), 1.0f);
+          if (w <= 0.0f) continue;
+          expected[j].translation = glm::mix(pose[j].translation, layer[j].translation, w);
+          expected[j].scale = glm::mix(pose[j].scale, layer[j].scale, w);
+          expected[j].rotation = slerpShortest(pose[j].rotation, layer[j].rotation, w);
+        }
+        blendOver(pose, layer, weight, mask);
+        EXPECT_TRUE(sameBits(pose.data(), expected.data(), n * sizeof(Transform)))
+            << joints << " joints, weight " << weight << ", mask " << masked;
+      }
+    }
+  }
+}

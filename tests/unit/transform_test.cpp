@@ -1,6 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <random>
+#include <utility>
+#include <vector>
 
 #include "marionette/core/transform.hpp"
 
@@ -11,4 +16,79 @@ TEST(Transform, SafeNormalizeRejectsZeroAndNaN) {
   EXPECT_EQ(safeNormalize(glm::quat(NAN, 0, 0, 0)), glm::quat(1, 0, 0, 0));
   glm::quat q = safeNormalize(glm::quat(2, 0, 0, 0));
   EXPECT_FLOAT_EQ(q.w, 1.0f);
+}
+
+namespace {
+
+// slerp by its definition, in double precision.
+glm::dquat exactSlerp(const glm::quat& a, const glm::quat& b, double t) {
+  const glm::dquat qa = glm::normalize(glm::dquat(a)), qb0 = glm::normalize(glm::dquat(b));
+  const glm::dquat qb = glm::dot(qa, qb0) < 0.0 ? -qb0 : qb0;
+  // The arc from the chord, accurate for close rotations too (acos of the dot is not).
+  const double theta = 2.0 * std::atan2(glm::length(qa - qb), glm::length(qa + qb));
+  if (theta < 1e-12) return qa;
+  return glm::normalize(qa * (std::sin((1.0 - t) * theta) / std::sin(theta)) + qb * (std::sin(t * theta) / std::sin(theta)));
+}
+
+// The angle between two rotations, in radians (q and -q are the same rotation). q is
+// normalized in double first: a float quaternion is unit to 6e-8, which alone would
+// read as 3e-4 rad here.
+double angleBetween(const glm::quat& q, const glm::dquat& exact) {
+  const double d = std::min(std::abs(glm::dot(glm::normalize(glm::dquat(q)), exact)), 1.0);
+  return 2.0 * std::atan2(std::sqrt(std::max(0.0, 1.0 - d * d)), d);
+}
+
+}  // namespace
+
+// slerpShortest's series (no acos, no sin) against slerp in double precision: random
+// pairs (most past 90 degrees apart, where the arc is halved), close pairs, nearly
+// opposite ones, and pairs either side of the 90-degree switch, over t in [0, 1].
+TEST(Transform, SlerpSeriesIsWithinAMicroradianOfTheExactSlerp) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<std::pair<glm::quat, glm::quat>> pairs;
+  for (int i = 0; i < 4000; ++i)
+    pairs.emplace_back(safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng))),
+                       safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng))));
+  const glm::vec3 axis = glm::normalize(glm::vec3(0.3f, -0.8f, 0.5f));
+  for (const float angle : {1e-6f, 1e-4f, 0.01f, 0.03f, 0.3f, 1.0f, 1.5707f, 1.5708f, 1.5709f, 2.5f, 3.1f, 3.14159f}) {
+    const glm::quat a = safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng)));
+    pairs.emplace_back(a, safeNormalize(a * glm::angleAxis(angle, axis)));
+    pairs.emplace_back(a, -safeNormalize(a * glm::angleAxis(angle, axis)));  // the other sign: the same rotation
+  }
+  double worst = 0.0, worstNorm = 0.0;
+  for (const auto& [a, b] : pairs)
+    for (int k = 0; k <= 20; ++k) {
+      const float t = static_cast<float>(k) / 20.0f;
+      const glm::quat q = slerpShortest(a, b, t);
+      worst = std::max(worst, angleBetween(q, exactSlerp(a, b, t)));
+      worstNorm = std::max(worstNorm, std::abs(static_cast<double>(glm::length(q)) - 1.0));
+    }
+  std::printf("slerpShortest against double-precision slerp: worst %.3g rad, |length - 1| %.3g\n", worst, worstNorm);
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(worstNorm, 1e-6);
+}
+
+TEST(Transform, SlerpEndsAreTheInputsAndExtrapolationIsExact) {
+  const glm::quat a = safeNormalize(glm::quat(0.9f, 0.1f, -0.3f, 0.2f));
+  const glm::quat b = safeNormalize(a * glm::angleAxis(2.0f, glm::normalize(glm::vec3(1, 2, 3))));  // past 90 degrees
+  const glm::quat c = safeNormalize(a * glm::angleAxis(0.5f, glm::normalize(glm::vec3(1, 2, 3))));
+  for (const glm::quat& other : {b, c, -b}) {
+    EXPECT_LT(angleBetween(slerpShortest(a, other, 0.0f), glm::normalize(glm::dquat(a))), 1e-6);
+    EXPECT_LT(angleBetween(slerpShortest(a, other, 1.0f), glm::normalize(glm::dquat(other))), 1e-6);
+    for (const float t : {-0.5f, 1.5f, 2.0f})  // additive layers over full weight extrapolate
+      EXPECT_LT(angleBetween(slerpShortest(a, other, t), exactSlerp(a, other, t)), 1e-5) << t;
+  }
+}
+
+TEST(Transform, SlerpOfBadInputIsNeverNaN) {
+  const glm::quat a = safeNormalize(glm::quat(0.9f, 0.1f, -0.3f, 0.2f));
+  const glm::quat nan(NAN, 0.0f, 0.0f, 0.0f), inf(INFINITY, 0.0f, 0.0f, 0.0f), zero(0.0f, 0.0f, 0.0f, 0.0f);
+  for (const glm::quat& bad : {nan, inf, zero})
+    for (const float t : {0.0f, 0.25f, 0.5f, 1.0f}) {
+      const glm::quat q = slerpShortest(a, bad, t), r = slerpShortest(bad, a, t);
+      EXPECT_TRUE(std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z));
+      EXPECT_TRUE(std::isfinite(r.w) && std::isfinite(r.x) && std::isfinite(r.y) && std::isfinite(r.z));
+    }
+  EXPECT_EQ(slerpShortest(a, a, NAN), a);  // a weight that is not a number leaves the first rotation
 }

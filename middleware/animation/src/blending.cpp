@@ -278,20 +278,74 @@ void makeAdditiveDelta(std::span<const Transform> pose, std::span<const Transfor
   }
 }
 
+namespace {
+constexpr int kOverGroups = 2;  // two groups of four joints at a time, whose slerps overlap
+constexpr std::size_t kOverJoints = 4 * kOverGroups;
+
+// blendOver of pose[0..count) (count <= kOverJoints; pose and layer hold kOverJoints),
+// operation for operation as slerpShortest and glm::mix (x (1 - w) + y w) compute it:
+// the same bits as one joint at a time. Joints at weight 0 keep their transform.
+void blendOverJoints(Transform* pose, const Transform* layer, float lw, std::span<const float> jointWeights,
+                     std::size_t first, std::size_t count) noexcept {
+  const auto weightOf = [&](std::size_t k) {
+    return k < count ? std::min(jointWeight(lw, jointWeights, first + k), 1.0f) : 0.0f;
+  };
+  __m128 wv[kOverGroups], active[kOverGroups];
+  int anyActive = 0;
+  for (int g = 0; g < kOverGroups; ++g) {
+    const std::size_t k0 = 4 * static_cast<std::size_t>(g);
+    wv[g] = jointWeights.empty() && count == kOverJoints
+                ? _mm_set1_ps(lw)
+                : _mm_setr_ps(weightOf(k0), weightOf(k0 + 1), weightOf(k0 + 2), weightOf(k0 + 3));
+    active[g] = _mm_cmpgt_ps(wv[g], _mm_setzero_ps());
+    anyActive |= _mm_movemask_ps(active[g]);
+  }
+  if (anyActive == 0) return;
+  simd4::Transforms4 p[kOverGroups], l[kOverGroups];
+  simd4::Quats4 from[kOverGroups], to[kOverGroups], q[kOverGroups];
+  for (int g = 0; g < kOverGroups; ++g) {
+    p[g] = simd4::load4(pose + 4 * g);
+    l[g] = simd4::load4(layer + 4 * g);
+    from[g] = {p[g].qx, p[g].qy, p[g].qz, p[g].qw};
+    to[g] = {l[g].qx, l[g].qy, l[g].qz, l[g].qw};
+  }
+  simd4::slerpShortest4(from, to, wv, q);
+  for (int g = 0; g < kOverGroups; ++g) {
+    const __m128 w = wv[g], keep = _mm_sub_ps(_mm_set1_ps(1.0f), w), on = active[g];
+    const auto mix = [&](__m128 a, __m128 b) {
+      return simd4::select(on, _mm_add_ps(_mm_mul_ps(a, keep), _mm_mul_ps(b, w)), a);
+    };
+    const simd4::Transforms4 &pg = p[g], &lg = l[g];
+    const simd4::Transforms4 o{mix(pg.tx, lg.tx),
+                               mix(pg.ty, lg.ty),
+                               mix(pg.tz, lg.tz),
+                               simd4::select(on, q[g].x, pg.qx),
+                               simd4::select(on, q[g].y, pg.qy),
+                               simd4::select(on, q[g].z, pg.qz),
+                               simd4::select(on, q[g].w, pg.qw),
+                               mix(pg.sx, lg.sx),
+                               mix(pg.sy, lg.sy),
+                               mix(pg.sz, lg.sz)};
+    simd4::store4(o, pose + 4 * g);
+  }
+}
+}  // namespace
+
 void blendOver(std::span<Transform> pose, std::span<const Transform> layer, float weight,
                std::span<const float> jointWeights) noexcept {
   const float lw = std::min(sanitizeWeight(weight), 1.0f);
   if (lw <= 0.0f) return;
   const std::size_t n = std::min(pose.size(), layer.size());
-  for (std::size_t j = 0; j < n; ++j) {
-    const float w = std::min(jointWeight(lw, jointWeights, j), 1.0f);
-    if (w <= 0.0f) continue;
-    Transform& p = pose[j];
-    const Transform& l = layer[j];
-    p.translation = glm::mix(p.translation, l.translation, w);
-    p.scale = glm::mix(p.scale, l.scale, w);
-    p.rotation = slerpShortest(p.rotation, l.rotation, w);
-  }
+  std::size_t j = 0;
+  for (; j + kOverJoints <= n; j += kOverJoints) blendOverJoints(&pose[j], &layer[j], lw, jointWeights, j, kOverJoints);
+  if (j == n) return;
+  // The last joints, padded to a whole group (the padding has weight 0).
+  Transform p[kOverJoints], l[kOverJoints];
+  const std::size_t rest = n - j;
+  std::copy_n(&pose[j], rest, p);
+  std::copy_n(&layer[j], rest, l);
+  blendOverJoints(p, l, lw, jointWeights, j, rest);
+  std::copy_n(p, rest, &pose[j]);
 }
 
 }  // namespace marionette

@@ -60,6 +60,70 @@ inline __m128 safeNormalize4(__m128& x, __m128& y, __m128& z, __m128& w) noexcep
   return len2;
 }
 
+// Four quaternions as registers (lane k = joint k).
+struct Quats4 {
+  __m128 x, y, z, w;
+};
+
+// slerpShortest (core/transform.cpp) of N groups of four pairs for t in [0, 1], operation
+// for operation (the arc halved in the same lanes, the same series): the scalar bits.
+// The groups go through each step together: the steps are a chain of long latencies
+// (two square roots and divisions), which the groups then overlap.
+template <int N>
+inline void slerpShortest4(const Quats4 (&a)[N], const Quats4 (&b)[N], const __m128 (&t)[N], Quats4 (&r)[N]) noexcept {
+  const __m128 one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+  Quats4 p[N], q[N];
+  __m128 c[N], u[N], halve[N];
+  int anyHalved = 0;
+  for (int k = 0; k < N; ++k) {
+    __m128 d = dot4(a[k].x, a[k].y, a[k].z, a[k].w, b[k].x, b[k].y, b[k].z, b[k].w);
+    const __m128 sign = select(_mm_cmplt_ps(d, _mm_setzero_ps()), _mm_set1_ps(-1.0f), one);
+    d = _mm_mul_ps(d, sign);
+    p[k] = a[k];
+    q[k] = {_mm_mul_ps(b[k].x, sign), _mm_mul_ps(b[k].y, sign), _mm_mul_ps(b[k].z, sign), _mm_mul_ps(b[k].w, sign)};
+    c[k] = select(_mm_cmplt_ps(one, d), one, d);
+    u[k] = t[k];
+    halve[k] = _mm_cmplt_ps(c[k], _mm_set1_ps(slerp_series::kHalveBelow));
+    anyHalved |= _mm_movemask_ps(halve[k]);
+  }
+  if (anyHalved != 0) {  // past 90 degrees in some lane: those take the half of the arc that holds t
+    for (int k = 0; k < N; ++k) {
+      const __m128 ch = _mm_sqrt_ps(_mm_mul_ps(_mm_add_ps(one, c[k]), half));
+      const __m128 h = _mm_div_ps(half, ch);
+      const Quats4 m{_mm_mul_ps(_mm_add_ps(a[k].x, q[k].x), h), _mm_mul_ps(_mm_add_ps(a[k].y, q[k].y), h),
+                     _mm_mul_ps(_mm_add_ps(a[k].z, q[k].z), h), _mm_mul_ps(_mm_add_ps(a[k].w, q[k].w), h)};
+      const __m128 low = _mm_cmplt_ps(t[k], half);
+      const __m128 lowHalf = _mm_and_ps(halve[k], low), highHalf = _mm_andnot_ps(low, halve[k]);
+      p[k] = {select(highHalf, m.x, p[k].x), select(highHalf, m.y, p[k].y), select(highHalf, m.z, p[k].z),
+              select(highHalf, m.w, p[k].w)};
+      q[k] = {select(lowHalf, m.x, q[k].x), select(lowHalf, m.y, q[k].y), select(lowHalf, m.z, q[k].z),
+              select(lowHalf, m.w, q[k].w)};
+      const __m128 t2 = _mm_mul_ps(t[k], _mm_set1_ps(2.0f));
+      u[k] = select(halve[k], select(low, t2, _mm_sub_ps(t2, one)), t[k]);
+      c[k] = select(halve[k], ch, c[k]);
+    }
+  }
+  __m128 v[N], y[N], u2[N], v2[N], ru[N], rv[N];
+  for (int k = 0; k < N; ++k) {
+    v[k] = _mm_sub_ps(one, u[k]);
+    y[k] = _mm_sub_ps(c[k], one), u2[k] = _mm_mul_ps(u[k], u[k]), v2[k] = _mm_mul_ps(v[k], v[k]);
+    ru[k] = one, rv[k] = one;
+  }
+  for (int i = slerp_series::kTerms; i >= 1; --i) {
+    const __m128 scale = _mm_set1_ps(slerp_series::kScale[i]), offset = _mm_set1_ps(slerp_series::kOffset[i]);
+    for (int k = 0; k < N; ++k) {
+      ru[k] = _mm_add_ps(one, _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_mul_ps(u2[k], scale), offset), y[k]), ru[k]));
+      rv[k] = _mm_add_ps(one, _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_mul_ps(v2[k], scale), offset), y[k]), rv[k]));
+    }
+  }
+  for (int k = 0; k < N; ++k) {
+    const __m128 wp = _mm_mul_ps(v[k], rv[k]), wq = _mm_mul_ps(u[k], ru[k]);
+    r[k] = {_mm_add_ps(_mm_mul_ps(wp, p[k].x), _mm_mul_ps(wq, q[k].x)), _mm_add_ps(_mm_mul_ps(wp, p[k].y), _mm_mul_ps(wq, q[k].y)),
+            _mm_add_ps(_mm_mul_ps(wp, p[k].z), _mm_mul_ps(wq, q[k].z)), _mm_add_ps(_mm_mul_ps(wp, p[k].w), _mm_mul_ps(wq, q[k].w))};
+  }
+  for (int k = 0; k < N; ++k) safeNormalize4(r[k].x, r[k].y, r[k].z, r[k].w);
+}
+
 // Four consecutive transforms (t[0..3] must all exist).
 inline Transforms4 load4(const Transform* t) noexcept {
   const float* p = reinterpret_cast<const float*>(t);

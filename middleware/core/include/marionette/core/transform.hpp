@@ -52,7 +52,29 @@ inline glm::mat4 Transform::matrix() const noexcept {
 // determinant is folded into scale.x). Shear is dropped.
 [[nodiscard]] Transform decompose(const glm::mat4& m) noexcept;
 
-// Spherical lerp on the shortest arc, stable for nearly equal inputs.
+// Spherical lerp on the shortest arc, for unit a and b, stable for nearly equal inputs.
+// For t in [0, 1] it uses no acos or sin (whose bits differ between C libraries):
+// sin(u θ) / sin θ comes from a 5-term series in cos θ (below), on the arc or, past
+// 90 degrees of rotation, on its half that holds t (the arc halved at its exact
+// midpoint); weights within 1e-7 of the exact ones, the same bits on every x86-64
+// (docs/accuracy.md). Outside [0, 1] (extrapolation, as additive layers over
+// full weight ask) it takes the exact formula.
 [[nodiscard]] glm::quat slerpShortest(const glm::quat& a, const glm::quat& b, float t) noexcept;
+
+namespace slerp_series {
+// sin(u θ) / sin θ = u (1 + c1 y (1 + c2 y (1 + ... (1 + c5 y)))), y = cos θ - 1,
+// c_i = (u² - i²) / (i (2i + 1)) = u² kScale[i] - kOffset[i] (Eberly, "A fast and
+// accurate algorithm for computing SLERP", 2011). The last term is scaled by 1.1468,
+// fitted so that the truncated series' largest error over u in [0, 1] and
+// cos θ in [cos 45°, 1] is 7.2e-8; below kHalveBelow the arc is halved first. slerpShortest and the 4-wide
+// blendOver (animation/src/simd4.hpp) evaluate it in the same order.
+inline constexpr int kTerms = 5;
+inline constexpr float kHalveBelow = 0.70710678f;  // cos 45°
+inline constexpr double kLastTermScale = 1.1468;
+constexpr float scaleOf(int i) { return static_cast<float>((i == kTerms ? kLastTermScale : 1.0) / (i * (2.0 * i + 1.0))); }
+constexpr float offsetOf(int i) { return static_cast<float>((i == kTerms ? kLastTermScale : 1.0) * i / (2.0 * i + 1.0)); }
+inline constexpr float kScale[kTerms + 1] = {0.0f, scaleOf(1), scaleOf(2), scaleOf(3), scaleOf(4), scaleOf(5)};
+inline constexpr float kOffset[kTerms + 1] = {0.0f, offsetOf(1), offsetOf(2), offsetOf(3), offsetOf(4), offsetOf(5)};
+}  // namespace slerp_series
 
 }  // namespace marionette
