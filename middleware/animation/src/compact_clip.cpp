@@ -27,6 +27,7 @@ struct Source {
   bool step = false;
   float start = 0.0f, rate = 0.0f;
   const float* times = nullptr;  // keys off any grid: their times (else even, from start and rate)
+  const std::uint16_t* frames = nullptr;  // sparse keys on the grid of start and rate: their frame numbers
   // Rotations: the component to drop (never small over the track) and its smallest size.
   int dropped = 3;
   float droppedMin = 0.0f;
@@ -47,6 +48,11 @@ std::size_t frameGrid(const std::vector<float>& times) {
   const float frames = std::round((times.back() - times.front()) / dt) + 1.0f;
   return frames <= 4.0f * static_cast<float>(times.size()) ? static_cast<std::size_t>(frames) : 0;
 }
+
+// A track on a frame grid keeps its keys sparse (with 16-bit frame numbers) when it has
+// at most one key in this many frames: 2 bytes a key for the numbers against 3 or 6 for
+// each frame filled in, and a short search to sample it (compact_clip_sampling.cpp).
+constexpr std::size_t kSparseKeysPerFrame = 3;
 
 // The track's value at `t`, as the float sampler gives it for linear and step keys.
 template <class T>
@@ -125,10 +131,13 @@ void append(std::vector<std::uint8_t>& data, const void* bytes, std::size_t size
 
 void encode(const Source& s, int bits, CompactClip& out) {
   CompactTrack t;
-  if (s.times) {
+  if (s.times || s.frames) {
     padTo(out.data, 4);
     t.times = static_cast<std::uint32_t>(out.data.size());
-    append(out.data, s.times, s.keys * sizeof(float));
+    if (s.times)
+      append(out.data, s.times, s.keys * sizeof(float));
+    else
+      append(out.data, s.frames, s.keys * sizeof(std::uint16_t));
   }
   t.joint = s.joint;
   t.property = s.property;
@@ -241,16 +250,99 @@ float proxyError(const Source& s, int bits, float lever, float parentScale) {
   }
 }
 
+// Key reduction of an evenly keyed, linear track: greedily, from each kept key, the
+// farthest key (at most kMaxSpan frames on) whose interpolation from it recovers every
+// key between within `tolerance` (component units: a rotation's 4 components, sign-
+// aligned, as the sampler's nlerp gives them). The kept keys' frame numbers, or none
+// when too few would go for the track to be kept sparse.
+constexpr std::uint32_t kMaxSpan = 128;
+
+std::vector<std::uint16_t> keysToKeep(const Source& s, float tolerance) {
+  if (s.keys < 2 * kSparseKeysPerFrame || s.step || s.times || s.frames || s.keys > 65536 || !(tolerance > 0.0f)) return {};
+  const auto w = static_cast<std::size_t>(s.width);
+  const auto value = [&](std::uint32_t k, std::size_t c) { return s.values[k * w + c]; };
+  const auto quat = [&](std::uint32_t k) { return glm::quat(value(k, 3), value(k, 0), value(k, 1), value(k, 2)); };
+  const auto within = [&](const glm::quat& q, const glm::quat& r) {
+    const float sign = glm::dot(q, r) < 0.0f ? -1.0f : 1.0f;
+    const glm::quat d(q.w - sign * r.w, q.x - sign * r.x, q.y - sign * r.y, q.z - sign * r.z);
+    return glm::dot(d, d) <= tolerance * tolerance;
+  };
+  // Every key between a and b, and for rotations every midpoint between those keys too:
+  // nlerp over a longer span moves at another pace, so matching at the keys alone
+  // would leave the reduced curve off between them.
+  const auto recovered = [&](std::uint32_t a, std::uint32_t b) {
+    const auto span = static_cast<float>(b - a);
+    for (std::uint32_t k = a + 1; k < b; ++k) {
+      const float u = static_cast<float>(k - a) / span;
+      if (s.property == CompactTrack::Rotation) {
+        const glm::quat qa = quat(a), qb = quat(b);
+        if (!within(nlerpShortest(qa, qb, u), quat(k))) return false;
+        const float uMid = (static_cast<float>(k - a) - 0.5f) / span;
+        if (!within(nlerpShortest(qa, qb, uMid), nlerpShortest(quat(k - 1), quat(k), 0.5f))) return false;
+        if (k + 1 == b && !within(nlerpShortest(qa, qb, (span - 0.5f) / span), nlerpShortest(quat(k), quat(b), 0.5f)))
+          return false;
+        continue;
+      }
+      float err2 = 0.0f;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const float e = value(a, c) + (value(b, c) - value(a, c)) * u - value(k, c);
+        err2 += e * e;
+      }
+      if (!(err2 <= tolerance * tolerance)) return false;
+    }
+    return true;
+  };
+  std::vector<std::uint16_t> kept{0};
+  for (std::uint32_t a = 0; a + 1 < s.keys;) {
+    std::uint32_t b = a + 1;
+    while (b + 1 < s.keys && b + 1 - a <= kMaxSpan && recovered(a, b + 1)) ++b;
+    kept.push_back(static_cast<std::uint16_t>(b));
+    a = b;
+  }
+  if (kept.size() * kSparseKeysPerFrame > s.keys) return {};
+  return kept;
+}
+
+// A track's reduction tolerance in its own units, from a distance at a virtual vertex.
+float componentTolerance(const Source& s, float distance, float lever, float parentScale) {
+  switch (s.property) {
+    case CompactTrack::Rotation:  // a quaternion's components move by about half the angle
+      return 0.5f * distance / lever;
+    case CompactTrack::Scale:
+      return distance / lever;
+    default:
+      return distance / parentScale;
+  }
+}
+
+CompactClip compactClipOnce(const Clip& clip, const Skeleton& skeleton, const CompactClipOptions& options,
+                            CompactClipStats& stats);
+
 }  // namespace
 
 CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const CompactClipOptions& options,
                         CompactClipStats* statsOut) {
   CompactClipStats local;
   CompactClipStats& stats = statsOut ? *statsOut : local;
+  CompactClip c = compactClipOnce(clip, skeleton, options, stats);
+  if (c.empty() && options.keyReductionShare > 0.0f && stats.keysDropped > 0) {
+    CompactClipOptions without = options;
+    without.keyReductionShare = 0.0f;
+    c = compactClipOnce(clip, skeleton, without, stats);
+    stats.keyReductionUndone = true;
+  }
+  return c;
+}
+
+namespace {
+
+CompactClip compactClipOnce(const Clip& clip, const Skeleton& skeleton, const CompactClipOptions& options,
+                            CompactClipStats& stats) {
   stats = {};
   const std::size_t joints = skeleton.jointCount();
   std::vector<Source> sources;
   std::deque<std::vector<float>> resampled;  // keys put on their frame grid (a deque: pointers stay)
+  std::deque<std::vector<std::uint16_t>> frameNumbers;  // sparse tracks' keys
   float fastest = 0.0f;
   const auto add = [&](int joint, CompactTrack::Property p, const auto& track, int width) -> bool {
     if (track.empty()) return true;
@@ -280,6 +372,21 @@ CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const Compac
       }
       using Value = typename std::decay_t<decltype(track.values)>::value_type;
       const float dt = (track.times.back() - track.times.front()) / static_cast<float>(frames - 1);
+      if (track.times.size() * kSparseKeysPerFrame <= frames && frames <= 65536) {
+        // Few keys (the optimizer removed the rest, which interpolation recovers): kept
+        // as they are, with their frame numbers, rather than filling every frame.
+        std::vector<std::uint16_t>& numbers = frameNumbers.emplace_back(track.times.size());
+        for (std::size_t k = 0; k < track.times.size(); ++k)
+          numbers[k] = static_cast<std::uint16_t>(std::lround((track.times[k] - track.times.front()) / dt));
+        s.frames = numbers.data();
+        s.start = track.times.front();
+        s.rate = 1.0f / dt;
+        ++stats.tracksSparse;
+        fastest = std::max(fastest, s.rate);
+        analyze(s);
+        sources.push_back(s);
+        return true;
+      }
       std::vector<float>& grid = resampled.emplace_back(frames * static_cast<std::size_t>(width));
       for (std::size_t f = 0; f < frames; ++f) {
         const Value v = valueAt(track, track.times.front() + static_cast<float>(f) * dt);
@@ -322,6 +429,24 @@ CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const Compac
     const glm::mat4& m = p < 0 ? skeleton.rootTransform : restModel[static_cast<std::size_t>(p)];
     return std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
   };
+
+  // Key reduction, within its share of the budget: tracks left with few keys keep them sparse.
+  std::deque<std::vector<float>> reduced;
+  for (Source& src : sources) {
+    const float tolerance = componentTolerance(src, options.keyReductionShare * options.errorBudget,
+                                               lever[static_cast<std::size_t>(src.joint)], scaleAbove(src.joint));
+    std::vector<std::uint16_t> keep = keysToKeep(src, tolerance);
+    if (keep.empty()) continue;
+    std::vector<float>& values = reduced.emplace_back();
+    for (const std::uint16_t k : keep)
+      values.insert(values.end(), src.values + k * static_cast<std::size_t>(src.width), src.values + (k + 1) * static_cast<std::size_t>(src.width));
+    stats.keysDropped += static_cast<int>(src.keys - keep.size());
+    ++stats.tracksSparse;
+    src.values = values.data();
+    src.keys = static_cast<std::uint32_t>(keep.size());
+    src.frames = frameNumbers.emplace_back(std::move(keep)).data();
+    analyze(src);
+  }
 
   // First guess: each track within half the budget on its own (the check then refines).
   const float share = 0.5f * options.errorBudget;
@@ -388,5 +513,7 @@ CompactClip compactClip(const Clip& clip, const Skeleton& skeleton, const Compac
   stats.compacted = true;
   return compact;
 }
+
+}  // namespace
 
 }  // namespace marionette

@@ -77,7 +77,21 @@ struct KeyAt {
 // The key interval holding `time`; NaN and times before the first key hold key 0.
 inline KeyAt locate(const CompactTrack& t, const std::uint8_t* base, float time) noexcept {
   if (t.keys <= 1) return {};
-  if (t.times != CompactTrack::kEvenKeys) {  // uneven keys: a binary search, as the float sampler's
+  if (t.times != CompactTrack::kEvenKeys && t.rate > 0.0f) {  // sparse keys: a binary search on frame numbers
+    const std::uint8_t* frames = base + t.times;
+    const float u = (time - t.start) * t.rate;
+    if (!(u > static_cast<float>(readAt<std::uint16_t>(frames)))) return {};
+    if (u >= static_cast<float>(readAt<std::uint16_t>(frames + (t.keys - 1) * 2))) return {t.keys - 1, 0.0f, true};
+    std::uint32_t lo = 0, hi = t.keys - 1;  // frames[lo] <= u < frames[hi]
+    while (hi - lo > 1) {
+      const std::uint32_t mid = (lo + hi) / 2;
+      (u >= static_cast<float>(readAt<std::uint16_t>(frames + mid * 2)) ? lo : hi) = mid;
+    }
+    const auto a = static_cast<float>(readAt<std::uint16_t>(frames + lo * 2));
+    const auto b = static_cast<float>(readAt<std::uint16_t>(frames + hi * 2));
+    return {lo, std::clamp((u - a) / (b - a), 0.0f, 1.0f), false};
+  }
+  if (t.times != CompactTrack::kEvenKeys) {  // keys at float times: a binary search, as the float sampler's
     const std::uint8_t* times = base + t.times;
     if (!(time > readAt<float>(times))) return {};
     if (time >= readAt<float>(times + (t.keys - 1) * 4)) return {t.keys - 1, 0.0f, true};

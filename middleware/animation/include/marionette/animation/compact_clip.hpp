@@ -30,6 +30,11 @@ namespace marionette {
 struct CompactClipOptions {
   float errorBudget = 1e-4f;            // metres at a virtual vertex (0.1 mm)
   float virtualVertexDistance = 0.03f;  // metres from each joint (3 cm, ACL's default)
+  // Key reduction: a track's keys that interpolation recovers within this share of the
+  // budget (at its joint's lever) are dropped, and the track keeps the rest sparse with
+  // their frame numbers when that is at most a third of its frames. 0 turns it off. When
+  // the clip then misses the budget, it is compacted again without (stats say so).
+  float keyReductionShare = 0.25f;
 };
 
 // One property of one joint.
@@ -45,10 +50,14 @@ struct CompactTrack {
   bool step = false;          // step interpolation (else linear)
   std::uint32_t keys = 0;
   std::uint32_t offset = 0;   // bytes into CompactClip::data
-  float start = 0.0f;         // time of key 0; key k at start + k / rate
-  float rate = 0.0f;          // keys per second (0 for one key, or uneven keys)
+  float start = 0.0f;         // time of key 0, or of frame 0 of a sparse track
+  float rate = 0.0f;          // keys (frames) per second; 0 for one key, or keys at float times
   static constexpr std::uint32_t kEvenKeys = 0xFFFFFFFFu;
-  std::uint32_t times = kEvenKeys;  // uneven keys: bytes into CompactClip::data of their float times
+  // Where the keys fall. kEvenKeys: key k at start + k / rate. Otherwise bytes into
+  // CompactClip::data of the keys' times: with rate 0, floats (keys off any grid); with
+  // rate > 0, 16-bit frame numbers f, key at start + f / rate (a sparse track: the keys
+  // the load-time optimizer kept on the clip's frame grid, when much fewer than its frames).
+  std::uint32_t times = kEvenKeys;
   float min[3] = {0, 0, 0};   // value = min + quantized * scale, per stored component
   float scale[3] = {0, 0, 0};
 };
@@ -79,6 +88,9 @@ struct CompactClipStats {
   int tracks8 = 0, tracks16 = 0, tracks32 = 0, tracks64 = 0;  // 64: smallest-three rotations
   int tracksResampled = 0;       // tracks whose keys were put on their frame grid
   int tracksTimed = 0;           // tracks whose keys keep their (uneven) times
+  int tracksSparse = 0;          // tracks whose keys stay few, with their frame numbers
+  int keysDropped = 0;           // keys the key reduction removed
+  bool keyReductionUndone = false;  // it broke the budget: compacted again without
   float maxError = 0.0f;         // metres, largest virtual-vertex distance found at the keys
   int checks = 0;                // encode-and-measure rounds the bit choice took
 };
