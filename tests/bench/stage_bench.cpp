@@ -23,7 +23,6 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstring>
 
 #include "marionette/animation/animation_clip.hpp"
@@ -31,6 +30,7 @@
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/sampling.hpp"
 #include "bench_assets.hpp"
+#include "slerp_acos.hpp"
 
 using namespace marionette;
 
@@ -143,17 +143,6 @@ void blendOverStage(benchmark::State& state, const std::string& which) {
   });
 }
 
-// slerp by its definition, as slerpShortest computed it before the series (transform.hpp).
-glm::quat slerpAcos(const glm::quat& a, const glm::quat& b, float t) {
-  float d = a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
-  const glm::quat bb = d < 0.0f ? -b : b;
-  d = std::abs(d);
-  if (d > 0.9995f) return nlerpShortest(a, bb, t);
-  const float theta = std::acos(d), s = std::sin(theta);
-  const float wa = std::sin((1.0f - t) * theta) / s, wb = std::sin(t * theta) / s;
-  return safeNormalize(glm::quat(wa * a.w + wb * bb.w, wa * a.x + wb * bb.x, wa * a.y + wb * bb.y, wa * a.z + wb * bb.z));
-}
-
 void blendOverAcosStage(benchmark::State& state, const std::string& which) {
   perJoint(state, which, [](StageData& d, int c) {
     std::memcpy(d.result(c).data(), d.pose(0, c % 8).data(), d.joints * sizeof(Transform));
@@ -162,7 +151,7 @@ void blendOverAcosStage(benchmark::State& state, const std::string& which) {
     for (std::size_t j = 0; j < out.size(); ++j) {
       out[j].translation = glm::mix(out[j].translation, layer[j].translation, 0.4f);
       out[j].scale = glm::mix(out[j].scale, layer[j].scale, 0.4f);
-      out[j].rotation = slerpAcos(out[j].rotation, layer[j].rotation, 0.4f);
+      out[j].rotation = test::slerpAcos(out[j].rotation, layer[j].rotation, 0.4f);
     }
   });
 }

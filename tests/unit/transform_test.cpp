@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "marionette/core/transform.hpp"
+#include "slerp_acos.hpp"
 
 using namespace marionette;
 
@@ -41,32 +42,49 @@ double angleBetween(const glm::quat& q, const glm::dquat& exact) {
 }  // namespace
 
 // slerpShortest's series (no acos, no sin) against slerp in double precision: random
-// pairs (most past 90 degrees apart, where the arc is halved), close pairs, nearly
-// opposite ones, and pairs either side of the 90-degree switch, over t in [0, 1].
+// pairs (most past 90 degrees apart, where the arc is halved), pairs within 3 degrees,
+// nearly opposite ones, and pairs either side of the 90-degree switch, over t in [0, 1].
+// Prints the worst errors, and those of the acos / sin form it replaced (docs/accuracy.md).
 TEST(Transform, SlerpSeriesIsWithinAMicroradianOfTheExactSlerp) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<std::pair<glm::quat, glm::quat>> pairs;
-  for (int i = 0; i < 4000; ++i)
-    pairs.emplace_back(safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng))),
-                       safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng))));
+  const auto randomUnit = [&] { return safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng))); };
+  std::vector<std::pair<glm::quat, glm::quat>> far, close;
+  for (int i = 0; i < 20000; ++i) {
+    far.emplace_back(randomUnit(), randomUnit());
+    const glm::quat a = randomUnit();
+    const glm::vec3 axis = glm::normalize(glm::vec3(u(rng), u(rng), u(rng) + 2.0f));
+    close.emplace_back(a, safeNormalize(a * glm::angleAxis(0.05f * std::abs(u(rng)), axis)));
+  }
   const glm::vec3 axis = glm::normalize(glm::vec3(0.3f, -0.8f, 0.5f));
   for (const float angle : {1e-6f, 1e-4f, 0.01f, 0.03f, 0.3f, 1.0f, 1.5707f, 1.5708f, 1.5709f, 2.5f, 3.1f, 3.14159f}) {
-    const glm::quat a = safeNormalize(glm::quat(u(rng), u(rng), u(rng), u(rng)));
-    pairs.emplace_back(a, safeNormalize(a * glm::angleAxis(angle, axis)));
-    pairs.emplace_back(a, -safeNormalize(a * glm::angleAxis(angle, axis)));  // the other sign: the same rotation
+    const glm::quat a = randomUnit();
+    far.emplace_back(a, safeNormalize(a * glm::angleAxis(angle, axis)));
+    far.emplace_back(a, -safeNormalize(a * glm::angleAxis(angle, axis)));  // the other sign: the same rotation
   }
-  double worst = 0.0, worstNorm = 0.0;
-  for (const auto& [a, b] : pairs)
-    for (int k = 0; k <= 20; ++k) {
-      const float t = static_cast<float>(k) / 20.0f;
-      const glm::quat q = slerpShortest(a, b, t);
-      worst = std::max(worst, angleBetween(q, exactSlerp(a, b, t)));
-      worstNorm = std::max(worstNorm, std::abs(static_cast<double>(glm::length(q)) - 1.0));
-    }
-  std::printf("slerpShortest against double-precision slerp: worst %.3g rad, |length - 1| %.3g\n", worst, worstNorm);
-  EXPECT_LT(worst, 1e-6);
-  EXPECT_LT(worstNorm, 1e-6);
+  struct Worst {
+    double series = 0.0, acos = 0.0, length = 0.0;
+  };
+  const auto measure = [](const std::vector<std::pair<glm::quat, glm::quat>>& pairs) {
+    Worst w;
+    for (const auto& [a, b] : pairs)
+      for (int k = 0; k <= 20; ++k) {
+        const float t = static_cast<float>(k) / 20.0f;
+        const glm::dquat exact = exactSlerp(a, b, t);
+        const glm::quat q = slerpShortest(a, b, t);
+        w.series = std::max(w.series, angleBetween(q, exact));
+        w.acos = std::max(w.acos, angleBetween(test::slerpAcos(a, b, t), exact));
+        w.length = std::max(w.length, std::abs(static_cast<double>(glm::length(q)) - 1.0));
+      }
+    return w;
+  };
+  const Worst wf = measure(far), wc = measure(close);
+  std::printf("slerp against double precision, worst angle: %zu random pairs: series %.2g rad, acos/sin %.2g rad; "
+              "%zu pairs within 3 degrees: series %.2g rad, acos/sin %.2g rad; |length - 1| %.2g\n",
+              far.size(), wf.series, wf.acos, close.size(), wc.series, wc.acos, std::max(wf.length, wc.length));
+  EXPECT_LT(wf.series, 1e-6);
+  EXPECT_LT(wc.series, 1e-6);
+  EXPECT_LT(std::max(wf.length, wc.length), 1e-6);
 }
 
 TEST(Transform, SlerpEndsAreTheInputsAndExtrapolationIsExact) {
