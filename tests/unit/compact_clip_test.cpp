@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -120,5 +121,30 @@ TEST(CompactClip, SparseTracksHoldTheirEndsOutsideTheClip) {
   for (int j = 0; j < 2; ++j) {  // the last key's time is start + 120 / rate, to a float's rounding
     EXPECT_NEAR(after[j].translation.x, last[j].translation.x, 1e-6f);
     EXPECT_NEAR(glm::dot(after[j].rotation, last[j].rotation), 1.0f, 1e-6f);
+  }
+}
+
+// Hints (a SamplingCursor's keys) only speed the search: sampled forward frame by frame,
+// jumping back, and with hints left by another clip, the bits are those without hints.
+TEST(CompactClip, HintsDoNotChangeTheResult) {
+  const ChainClip c = piecewiseLinearChain(9);
+  const CompactClip compact = compactClip(c.clip, c.skeleton);
+  ASSERT_FALSE(compact.empty());
+  std::vector<std::uint32_t> hints(compact.tracks.size(), 0xFFFFFFFFu);  // garbage first
+  std::vector<Transform> hinted(9), plain(9);
+  const float times[] = {0.3f, 0.31f, 0.5f, 0.7f, 0.71f, 1.3f, 0.1f, 1.99f, 2.5f, 0.0f, 1.0f, -1.0f, 0.69f, 0.7f};
+  for (int pass = 0; pass < 2; ++pass) {
+    for (const float t : times) {
+      sampleCompactClip(compact, t, c.skeleton.restPose, hinted, hints.data());
+      sampleCompactClip(compact, t, c.skeleton.restPose, plain);
+      EXPECT_EQ(std::memcmp(hinted.data(), plain.data(), plain.size() * sizeof(Transform)), 0) << t;
+    }
+    for (std::uint32_t& h : hints) h = 7;  // hints another clip left
+  }
+  for (int f = 0; f <= 240; ++f) {  // forward, as a player goes
+    const float t = static_cast<float>(f) / 120.0f;
+    sampleCompactClip(compact, t, c.skeleton.restPose, hinted, hints.data());
+    sampleCompactClip(compact, t, c.skeleton.restPose, plain);
+    ASSERT_EQ(std::memcmp(hinted.data(), plain.data(), plain.size() * sizeof(Transform)), 0) << t;
   }
 }

@@ -38,8 +38,15 @@ void sampleAnimationClip(const AnimationClip& clip, float time, bool inPlace, st
                          std::span<Transform> out, SamplingCursor* cursor, SamplingCursor* rootCursor) noexcept {
   const bool travels = inPlace && !clip.rootMotion.empty();
   if (!clip.compact.empty()) {
-    sampleCompactClip(clip.compact, time, rest, out);
-    if (travels) sampleCompactClipTracks(clip.compactInPlaceRoot, time, out.first(std::min(rest.size(), out.size())));
+    // A cursor sized for the float clip has a hint for each compact track too (a float
+    // track makes at most three of them); the compact sampler keeps its own hints there.
+    const auto hints = [](SamplingCursor* c, const Clip& floats, const CompactClip& compact) -> std::uint32_t* {
+      return c && c->clip == &floats && c->keys.size() >= compact.tracks.size() ? c->keys.data() : nullptr;
+    };
+    sampleCompactClip(clip.compact, time, rest, out, hints(cursor, clip.clip, clip.compact));
+    if (travels)
+      sampleCompactClipTracks(clip.compactInPlaceRoot, time, out.first(std::min(rest.size(), out.size())),
+                              hints(rootCursor, clip.inPlaceRoot, clip.compactInPlaceRoot));
     return;
   }
   sampleClip(clip.clip, time, rest, out, cursor);

@@ -74,33 +74,48 @@ struct KeyAt {
   bool single = true;
 };
 
-// The key interval holding `time`; NaN and times before the first key hold key 0.
-inline KeyAt locate(const CompactTrack& t, const std::uint8_t* base, float time) noexcept {
-  if (t.keys <= 1) return {};
-  if (t.times != CompactTrack::kEvenKeys && t.rate > 0.0f) {  // sparse keys: a binary search on frame numbers
-    const std::uint8_t* frames = base + t.times;
-    const float u = (time - t.start) * t.rate;
-    if (!(u > static_cast<float>(readAt<std::uint16_t>(frames)))) return {};
-    if (u >= static_cast<float>(readAt<std::uint16_t>(frames + (t.keys - 1) * 2))) return {t.keys - 1, 0.0f, true};
-    std::uint32_t lo = 0, hi = t.keys - 1;  // frames[lo] <= u < frames[hi]
-    while (hi - lo > 1) {
-      const std::uint32_t mid = (lo + hi) / 2;
-      (u >= static_cast<float>(readAt<std::uint16_t>(frames + mid * 2)) ? lo : hi) = mid;
+// The key interval [key lo, key lo + 1) holding `at` among n increasing key positions
+// (key(k) gives position k), for key(0) < at < key(n - 1): the hinted interval or the
+// next one when they hold it (a player moves forward a little each frame), else a
+// binary search. Either way the same interval; the hint is updated.
+template <class Key>
+inline std::uint32_t interval(std::uint32_t n, float at, Key key, std::uint32_t* hint) noexcept {
+  if (hint && *hint < n - 1) {  // a hint out of range (another clip's) is ignored
+    const std::uint32_t h = *hint;
+    if (key(h) <= at) {
+      if (at < key(h + 1)) return h;
+      if (h + 2 < n && at < key(h + 2)) return *hint = h + 1;
     }
-    const auto a = static_cast<float>(readAt<std::uint16_t>(frames + lo * 2));
-    const auto b = static_cast<float>(readAt<std::uint16_t>(frames + hi * 2));
+  }
+  std::uint32_t lo = 0, hi = n - 1;  // key(lo) <= at < key(hi)
+  while (hi - lo > 1) {
+    const std::uint32_t mid = (lo + hi) / 2;
+    (at >= key(mid) ? lo : hi) = mid;
+  }
+  if (hint) *hint = lo;
+  return lo;
+}
+
+// The key interval holding `time`; NaN and times before the first key hold key 0.
+inline KeyAt locate(const CompactTrack& t, const std::uint8_t* base, float time, std::uint32_t* hint) noexcept {
+  if (t.keys <= 1) return {};
+  if (t.times != CompactTrack::kEvenKeys && t.rate > 0.0f) {  // sparse keys: their frame numbers
+    const std::uint8_t* frames = base + t.times;
+    const auto frame = [frames](std::uint32_t k) { return static_cast<float>(readAt<std::uint16_t>(frames + k * 2)); };
+    const float u = (time - t.start) * t.rate;
+    if (!(u > frame(0))) return {};
+    if (u >= frame(t.keys - 1)) return {t.keys - 1, 0.0f, true};
+    const std::uint32_t lo = interval(t.keys, u, frame, hint);
+    const float a = frame(lo), b = frame(lo + 1);
     return {lo, std::clamp((u - a) / (b - a), 0.0f, 1.0f), false};
   }
-  if (t.times != CompactTrack::kEvenKeys) {  // keys at float times: a binary search, as the float sampler's
+  if (t.times != CompactTrack::kEvenKeys) {  // keys at float times, as the float sampler's
     const std::uint8_t* times = base + t.times;
-    if (!(time > readAt<float>(times))) return {};
-    if (time >= readAt<float>(times + (t.keys - 1) * 4)) return {t.keys - 1, 0.0f, true};
-    std::uint32_t lo = 0, hi = t.keys - 1;  // times[lo] <= time < times[hi]
-    while (hi - lo > 1) {
-      const std::uint32_t mid = (lo + hi) / 2;
-      (time >= readAt<float>(times + mid * 4) ? lo : hi) = mid;
-    }
-    const float a = readAt<float>(times + lo * 4), b = readAt<float>(times + hi * 4);
+    const auto timeOf = [times](std::uint32_t k) { return readAt<float>(times + k * 4); };
+    if (!(time > timeOf(0))) return {};
+    if (time >= timeOf(t.keys - 1)) return {t.keys - 1, 0.0f, true};
+    const std::uint32_t lo = interval(t.keys, time, timeOf, hint);
+    const float a = timeOf(lo), b = timeOf(lo + 1);
     return {lo, b > a ? std::clamp((time - a) / (b - a), 0.0f, 1.0f) : 0.0f, false};
   }
   const float u = (time - t.start) * t.rate;
@@ -125,9 +140,10 @@ inline void sampleVec3(const CompactTrack& t, const std::uint8_t* data, const Ke
 }
 
 // Data is 4-aligned (8 for 64-bit keys): the encoder pads each track's start.
-inline void sampleTrack(const CompactTrack& t, const std::uint8_t* base, float time, Transform& o) noexcept {
+inline void sampleTrack(const CompactTrack& t, const std::uint8_t* base, float time, Transform& o,
+                        std::uint32_t* hint = nullptr) noexcept {
   const std::uint8_t* data = base + t.offset;
-  const KeyAt k = locate(t, base, time);
+  const KeyAt k = locate(t, base, time, hint);
   if (t.property == CompactTrack::Rotation) {
     switch (t.bits) {
       case 8: return sampleRotation<8>(t, data, k, o.rotation);
@@ -163,14 +179,14 @@ using namespace simd4;
 
 template <int Bits>
 void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std::uint8_t* base, float time,
-                      std::span<Transform> out) noexcept {
+                      std::span<Transform> out, std::uint32_t* hints) noexcept {
   alignas(16) std::int32_t qa[3][4], qb[3][4];
   alignas(16) float f[4];
   alignas(16) std::uint32_t hold[4];
   for (int k = 0; k < 4; ++k) {
     const CompactTrack& t = tracks[k];
     const std::uint8_t* data = base + t.offset;
-    const KeyAt at = locate(t, base, time);
+    const KeyAt at = locate(t, base, time, hints ? hints + k : nullptr);
     const std::uint32_t i = at.i, j = at.single ? at.i : at.i + 1;
     for (int c = 0; c < 3; ++c) {
       if constexpr (Bits == 8) {
@@ -231,22 +247,24 @@ void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std
 }  // namespace
 #endif
 
-void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out) noexcept {
+void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out, std::uint32_t* hints) noexcept {
 #if MARIONETTE_SIMD4
   const std::uint8_t* data = clip.data.data();
   const CompactTrack* t = clip.tracks.data();
   const std::size_t n = out.size();
   std::size_t i = 0;
+  const auto hint = [&](std::size_t k) { return hints ? hints + k : nullptr; };
   const auto one = [&](std::size_t end) {
     for (; i < end; ++i)
-      if (t[i].joint >= 0 && static_cast<std::size_t>(t[i].joint) < n) sampleTrack(t[i], data, time, out[static_cast<std::size_t>(t[i].joint)]);
+      if (t[i].joint >= 0 && static_cast<std::size_t>(t[i].joint) < n)
+        sampleTrack(t[i], data, time, out[static_cast<std::size_t>(t[i].joint)], hint(i));
   };
   const std::size_t end16 = clip.rotations16, end8 = end16 + clip.rotations8;
   const std::size_t animated = clip.tracks.size() - clip.constants;
   const float* ranges = clip.groups.data();
-  for (; i + 4 <= end16; i += 4, ranges += 28) sampleRotations4<16>(t + i, ranges, data, time, out);
+  for (; i + 4 <= end16; i += 4, ranges += 28) sampleRotations4<16>(t + i, ranges, data, time, out, hint(i));
   one(end16);
-  for (; i + 4 <= end8; i += 4, ranges += 28) sampleRotations4<8>(t + i, ranges, data, time, out);
+  for (; i + 4 <= end8; i += 4, ranges += 28) sampleRotations4<8>(t + i, ranges, data, time, out, hint(i));
   one(end8);
   one(animated);
   for (; i < clip.tracks.size(); ++i) {  // constants: one key, floats, copied as they are
@@ -261,14 +279,16 @@ void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Tran
           glm::vec3(readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
   }
 #else
+  (void)hints;
   sampleCompactClipTracksScalar(clip, time, out);
 #endif
 }
 
-void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest, std::span<Transform> out) noexcept {
+void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest, std::span<Transform> out,
+                       std::uint32_t* hints) noexcept {
   const std::size_t n = std::min(rest.size(), out.size());
   std::copy_n(rest.begin(), n, out.begin());
-  sampleCompactClipTracks(clip, time, out.first(n));
+  sampleCompactClipTracks(clip, time, out.first(n), hints);
 }
 
 }  // namespace marionette

@@ -103,9 +103,13 @@ struct CompactClipStats {
 // As sampleClip / sampleClipTracks (sampling.hpp), from the compact keys: joints without
 // a track get `rest` (sampleCompactClip) or are left untouched (sampleCompactClipTracks).
 // Per-frame code: no allocation, never NaN, the span contract of pose.hpp.
-void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest,
-                       std::span<Transform> out) noexcept;
-void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out) noexcept;
+// `hints` (optional, one per track of the clip): the key each track with sparse or
+// timed keys was last found at, tried before a binary search and updated, as a
+// SamplingCursor does for float clips. The result does not depend on them.
+void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest, std::span<Transform> out,
+                       std::uint32_t* hints = nullptr) noexcept;
+void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out,
+                             std::uint32_t* hints = nullptr) noexcept;
 // Track after track, without the four-wide decoding: the definition, for tests (the same bits).
 void sampleCompactClipTracksScalar(const CompactClip& clip, float time, std::span<Transform> out) noexcept;
 
