@@ -145,7 +145,7 @@ TEST(SimdPose, BlendAccumulatorRereadsTheRestPoseAfterReset) {
 }
 
 // blendOver (two groups of four joints at a time, the last ones padded) against its
-// definition one joint at a time: glm::mix and slerpShortest. Poses include rotations
+// definition one joint at a time: glm::mix and slerpShortest, the layer as it is at weight 1. Poses include rotations
 // past 90 degrees apart (the halved arc) beside ones that are not, in the same group.
 TEST(SimdPose, BlendOverIsBitIdenticalToSlerpOneJointAtATime) {
   std::mt19937 rng(11);
@@ -164,12 +164,16 @@ TEST(SimdPose, BlendOverIsBitIdenticalToSlerpOneJointAtATime) {
         // No mask; a mask with zeros, fractions and values over 1; a mask shorter than the pose.
         std::vector<float> mask;
         if (masked > 0)
-          for (std::size_t j = 0; j < (masked == 1 ? n : n / 2); ++j) mask.push_back(j % 4 == 0 ? 0.0f : 1.5f * u(rng));
+          for (std::size_t j = 0; j < (masked == 1 ? n : n / 2); ++j) mask.push_back(j % 4 == 0 ? 0.0f : j % 4 == 1 ? 1.0f : 1.5f * u(rng));
         std::vector<Transform> expected = pose;
         const float lw = std::min(weight, 1.0f);
         for (std::size_t j = 0; j < n; ++j) {
           const float w = std::min(mask.empty() ? lw : (j < mask.size() ? lw * mask[j] : 0.0f), 1.0f);
           if (w <= 0.0f) continue;
+          if (w >= 1.0f) {
+            expected[j] = layer[j];
+            continue;
+          }
           expected[j].translation = glm::mix(pose[j].translation, layer[j].translation, w);
           expected[j].scale = glm::mix(pose[j].scale, layer[j].scale, w);
           expected[j].rotation = slerpShortest(pose[j].rotation, layer[j].rotation, w);

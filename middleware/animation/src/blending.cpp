@@ -284,7 +284,8 @@ constexpr std::size_t kOverJoints = 4 * kOverGroups;
 
 // blendOver of pose[0..count) (count <= kOverJoints; pose and layer hold kOverJoints),
 // operation for operation as slerpShortest and glm::mix (x (1 - w) + y w) compute it:
-// the same bits as one joint at a time. Joints at weight 0 keep their transform.
+// the same bits as one joint at a time. Joints at weight 0 keep their transform; at
+// weight 1 they take the layer's as it is.
 void blendOverJoints(Transform* pose, const Transform* layer, float lw, std::span<const float> jointWeights,
                      std::size_t first, std::size_t count) noexcept {
   const auto weightOf = [&](std::size_t k) {
@@ -312,17 +313,19 @@ void blendOverJoints(Transform* pose, const Transform* layer, float lw, std::spa
   simd4::slerpShortest4(from, to, wv, q);
   for (int g = 0; g < kOverGroups; ++g) {
     const __m128 w = wv[g], keep = _mm_sub_ps(_mm_set1_ps(1.0f), w), on = active[g];
+    const __m128 full = _mm_cmpge_ps(w, _mm_set1_ps(1.0f));  // the layer as it is
     const auto mix = [&](__m128 a, __m128 b) {
-      return simd4::select(on, _mm_add_ps(_mm_mul_ps(a, keep), _mm_mul_ps(b, w)), a);
+      return simd4::select(full, b, simd4::select(on, _mm_add_ps(_mm_mul_ps(a, keep), _mm_mul_ps(b, w)), a));
     };
+    const auto turn = [&](__m128 slerped, __m128 a, __m128 b) { return simd4::select(full, b, simd4::select(on, slerped, a)); };
     const simd4::Transforms4 &pg = p[g], &lg = l[g];
     const simd4::Transforms4 o{mix(pg.tx, lg.tx),
                                mix(pg.ty, lg.ty),
                                mix(pg.tz, lg.tz),
-                               simd4::select(on, q[g].x, pg.qx),
-                               simd4::select(on, q[g].y, pg.qy),
-                               simd4::select(on, q[g].z, pg.qz),
-                               simd4::select(on, q[g].w, pg.qw),
+                               turn(q[g].x, pg.qx, lg.qx),
+                               turn(q[g].y, pg.qy, lg.qy),
+                               turn(q[g].z, pg.qz, lg.qz),
+                               turn(q[g].w, pg.qw, lg.qw),
                                mix(pg.sx, lg.sx),
                                mix(pg.sy, lg.sy),
                                mix(pg.sz, lg.sz)};
@@ -336,6 +339,10 @@ void blendOver(std::span<Transform> pose, std::span<const Transform> layer, floa
   const float lw = std::min(sanitizeWeight(weight), 1.0f);
   if (lw <= 0.0f) return;
   const std::size_t n = std::min(pose.size(), layer.size());
+  if (lw >= 1.0f && jointWeights.empty()) {  // the layer replaces the pose
+    std::copy_n(layer.begin(), n, pose.begin());
+    return;
+  }
   std::size_t j = 0;
   for (; j + kOverJoints <= n; j += kOverJoints) blendOverJoints(&pose[j], &layer[j], lw, jointWeights, j, kOverJoints);
   if (j == n) return;

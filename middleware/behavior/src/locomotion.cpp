@@ -488,7 +488,10 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
   // The gait's weight over the posture follows the speed (exact first-order lag).
   const float target = std::clamp(gaitSpeed / (0.3f * walk.groundSpeed), 0.0f, 1.0f);
   weight_ += (target - weight_) * (1.0f - std::exp(-dt / settings_.blendTimeConstant));
+  // The lag reaches its ends (a float lag stalls an ulp short of 1): at 1 the gait
+  // replaces the posture outright, which blendOver does as a copy.
   if (weight_ < 1e-4f && target == 0.0f) weight_ = 0.0f;
+  if (weight_ > 1.0f - 1e-4f && target == 1.0f) weight_ = 1.0f;
   const glm::vec3 sway = glm::angleAxis(state_.heading, glm::vec3(0, 1, 0)) * glm::vec3(lateral * weight_, 0.0f, 0.0f);
   position.x = state_.position.x + sway.x;
   position.z = state_.position.y + sway.z;

@@ -65,7 +65,8 @@ void applyAdditive(std::span<const Transform> delta, float weight, std::span<con
                    std::span<Transform> pose) noexcept;
 
 // Blends `layer` over `pose` in place: per joint, pose = mix(pose, layer, w) with
-// w = weight * mask[j] (slerp on the shortest arc for rotations). Layers blended
+// w = min(weight * mask[j], 1) (slerp on the shortest arc for rotations); at w = 1 the
+// joint takes the layer's transform as it is (a copy, not a renormalized slerp). Layers blended
 // over one another in order give "the later wins at full weight", which is how
 // behaviors on one body channel hand over smoothly.
 void blendOver(std::span<Transform> pose, std::span<const Transform> layer, float weight,
