@@ -372,6 +372,8 @@ CompactClip compactClipOnce(const Clip& clip, const Skeleton& skeleton, const Co
       }
       using Value = typename std::decay_t<decltype(track.values)>::value_type;
       const float dt = (track.times.back() - track.times.front()) / static_cast<float>(frames - 1);
+      s.start = track.times.front();
+      s.rate = 1.0f / dt;
       if (track.times.size() * kSparseKeysPerFrame <= frames && frames <= 65536) {
         // Few keys (the optimizer removed the rest, which interpolation recovers): kept
         // as they are, with their frame numbers, rather than filling every frame.
@@ -379,24 +381,17 @@ CompactClip compactClipOnce(const Clip& clip, const Skeleton& skeleton, const Co
         for (std::size_t k = 0; k < track.times.size(); ++k)
           numbers[k] = static_cast<std::uint16_t>(std::lround((track.times[k] - track.times.front()) / dt));
         s.frames = numbers.data();
-        s.start = track.times.front();
-        s.rate = 1.0f / dt;
         ++stats.tracksSparse;
-        fastest = std::max(fastest, s.rate);
-        analyze(s);
-        sources.push_back(s);
-        return true;
+      } else {
+        std::vector<float>& grid = resampled.emplace_back(frames * static_cast<std::size_t>(width));
+        for (std::size_t f = 0; f < frames; ++f) {
+          const Value v = valueAt(track, track.times.front() + static_cast<float>(f) * dt);
+          std::memcpy(&grid[f * static_cast<std::size_t>(width)], &v, sizeof(float) * static_cast<std::size_t>(width));
+        }
+        s.values = grid.data();
+        s.keys = static_cast<std::uint32_t>(frames);
+        ++stats.tracksResampled;
       }
-      std::vector<float>& grid = resampled.emplace_back(frames * static_cast<std::size_t>(width));
-      for (std::size_t f = 0; f < frames; ++f) {
-        const Value v = valueAt(track, track.times.front() + static_cast<float>(f) * dt);
-        std::memcpy(&grid[f * static_cast<std::size_t>(width)], &v, sizeof(float) * static_cast<std::size_t>(width));
-      }
-      s.values = grid.data();
-      s.keys = static_cast<std::uint32_t>(frames);
-      s.start = track.times.front();
-      s.rate = 1.0f / dt;
-      ++stats.tracksResampled;
     }
     fastest = std::max(fastest, s.rate);
     analyze(s);
