@@ -340,7 +340,7 @@ void blendOver(std::span<Transform> pose, std::span<const Transform> layer, floa
   if (lw <= 0.0f) return;
   const std::size_t n = std::min(pose.size(), layer.size());
   if (lw >= 1.0f && jointWeights.empty()) {  // the layer replaces the pose
-    std::copy_n(layer.begin(), n, pose.begin());
+    if (pose.data() != layer.data()) std::copy_n(layer.begin(), n, pose.begin());
     return;
   }
   std::size_t j = 0;
