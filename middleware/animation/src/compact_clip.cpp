@@ -269,18 +269,20 @@ std::vector<std::uint16_t> keysToKeep(const Source& s, float tolerance) {
   };
   // Every key between a and b, and for rotations every midpoint between those keys too:
   // nlerp over a longer span moves at another pace, so matching at the keys alone
-  // would leave the reduced curve off between them.
+  // would leave the reduced curve off between them. The track's own midpoints
+  // (between keys k - 1 and k) are the same for every span: computed once.
+  const bool rotation = s.property == CompactTrack::Rotation;
+  std::vector<glm::quat> midpoint(rotation ? s.keys : 0);
+  for (std::uint32_t k = 1; k < midpoint.size(); ++k) midpoint[k] = nlerpShortest(quat(k - 1), quat(k), 0.5f);
   const auto recovered = [&](std::uint32_t a, std::uint32_t b) {
     const auto span = static_cast<float>(b - a);
+    const glm::quat qa = rotation ? quat(a) : glm::quat(), qb = rotation ? quat(b) : glm::quat();
     for (std::uint32_t k = a + 1; k < b; ++k) {
       const float u = static_cast<float>(k - a) / span;
-      if (s.property == CompactTrack::Rotation) {
-        const glm::quat qa = quat(a), qb = quat(b);
+      if (rotation) {
         if (!within(nlerpShortest(qa, qb, u), quat(k))) return false;
-        const float uMid = (static_cast<float>(k - a) - 0.5f) / span;
-        if (!within(nlerpShortest(qa, qb, uMid), nlerpShortest(quat(k - 1), quat(k), 0.5f))) return false;
-        if (k + 1 == b && !within(nlerpShortest(qa, qb, (span - 0.5f) / span), nlerpShortest(quat(k), quat(b), 0.5f)))
-          return false;
+        if (!within(nlerpShortest(qa, qb, (static_cast<float>(k - a) - 0.5f) / span), midpoint[k])) return false;
+        if (k + 1 == b && !within(nlerpShortest(qa, qb, (span - 0.5f) / span), midpoint[b])) return false;
         continue;
       }
       float err2 = 0.0f;
