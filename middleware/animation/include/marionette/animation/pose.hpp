@@ -22,24 +22,29 @@ namespace marionette {
 // Joints 0 .. min(joints, local, model) - 1 (the span contract above).
 // On x86-64 the local matrices are built four joints at a time with SSE2 (the baseline
 // of every x86-64 CPU); the result is bit-identical to localToModelScalar, which is the
-// definition and what other targets run.
+// definition and what other targets run, except on the FMA build (SimdPath, below).
 void localToModel(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept;
 void localToModelScalar(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept;
 
 // localToModel, then palette[i] = model[i] * skeleton.inverseBind[i] in the same pass
 // while the model matrix is in registers: what a character does every frame. The same
-// bits as the two calls; the palette is written for i below the shortest of the model
+// bits as the two calls (but for the FMA build); the palette is written for i below the shortest of the model
 // joints, inverseBind and palette.
 //
 // With a PaletteBasis of the skeleton's inverse binds (a Rig keeps one), the palette
 // product reads its factors ready-broadcast instead of shuffling them out of the
 // matrices, which is most of its cost on SSE2; the bits are the same either way.
-// On CPUs with AVX the function runs an AVX build of the same code, whose broadcasts
-// are loads: again the same bits, as AVX's add and multiply round as SSE2's (no FMA is
-// used, which would not). setSimdPath(Baseline) keeps to the SSE2 build.
-enum class SimdPath { Auto, Baseline };
+// The 4-wide code is built for SSE2 (the x86-64 baseline), AVX and AVX2 + FMA; each
+// process runs the fastest its CPU has (SimdPath::Auto). What is promised:
+// - Baseline (SSE2) and Portable (AVX where the CPU has it, else SSE2) give the same
+//   bits as the scalar definitions on every x86-64 CPU: for lockstep simulations.
+// - Auto on an AVX2 + FMA CPU fuses multiply-adds (one rounding instead of two): the
+//   results differ from Portable's in the last places (within 2e-6 of them, relative,
+//   in tests/unit/simd_pose_test.cpp) and are the same run after run on one machine.
+enum class SimdPath { Auto, Baseline, Portable };
 void setSimdPath(SimdPath path) noexcept;  // for the whole process; Auto by default
-[[nodiscard]] const char* activeSimdPath() noexcept;  // "avx", "sse2" or "scalar" (no SSE2: other CPUs)
+// "avx2+fma", "avx", "sse2" or "scalar" (no SSE2: other CPUs)
+[[nodiscard]] const char* activeSimdPath() noexcept;
 
 struct PaletteBasis {
   // Per joint, the 12 elements of the inverse bind's first three rows (column-major),
