@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "simd4.hpp"
+#include "simd_dispatch.hpp"
 
 namespace marionette {
 
@@ -150,6 +151,54 @@ inline void add4(float* s, std::size_t k, const Transforms4& p, const float* r, 
 }  // namespace
 #endif
 
+#if MARIONETTE_SIMD4
+namespace {
+// What the four-wide part of addNormal works on: the sums' streams (stride apart), the
+// rest rotations' streams, and joints [0, n) of the layer.
+struct AddNormalArgs {
+  float* sums;
+  std::size_t stride;
+  const float* restRotation;
+  std::span<const Transform> pose, rest;
+  float weight;
+  std::span<const float> jointWeights;
+  std::size_t n;
+};
+
+[[gnu::always_inline]] inline void addNormalBody(const AddNormalArgs& a) noexcept {
+  const std::size_t groups = a.n / 4 * 4;
+  const __m128 layerWeight = _mm_set1_ps(a.weight);
+  std::size_t j = 0;
+  for (; j < groups; j += 4) {
+    if (a.jointWeights.empty()) {
+      add4<false>(a.sums + j, a.stride, load4(&a.pose[j]), a.restRotation + j, layerWeight);
+    } else {
+      alignas(16) float m[4];
+      for (std::size_t k = 0; k < 4; ++k) m[k] = jointWeight(a.weight, a.jointWeights, j + k);
+      add4<true>(a.sums + j, a.stride, load4(&a.pose[j]), a.restRotation + j, _mm_load_ps(m));
+    }
+  }
+  if (j < a.n) {  // the last joints, padded to four with weight 0 (the streams have room)
+    Transform tail[4], restTail[4];
+    alignas(16) float m[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (std::size_t k = 0; j + k < a.n; ++k) {
+      tail[k] = a.pose[j + k];
+      restTail[k] = a.rest[j + k];
+      m[k] = jointWeight(a.weight, a.jointWeights, j + k);
+    }
+    const Transforms4 r = load4(restTail);
+    alignas(16) float restRotation[16];
+    _mm_store_ps(restRotation, r.qx), _mm_store_ps(restRotation + 4, r.qy), _mm_store_ps(restRotation + 8, r.qz);
+    _mm_store_ps(restRotation + 12, r.qw);
+    // add4 reads the rest streams 4 apart here, the sums stride apart: two strides.
+    add4<true>(a.sums + j, a.stride, load4(tail), restRotation, _mm_load_ps(m), 4);
+  }
+}
+
+MARIONETTE_SIMD_KERNEL(addNormal4, AddNormalArgs, addNormalBody)
+}  // namespace
+#endif
+
 void BlendAccumulator::addNormal(std::span<const Transform> pose, float weight, std::span<const float> jointWeights,
                                  std::span<const Transform> rest) noexcept {
   const float lw = sanitizeWeight(weight);
@@ -167,32 +216,8 @@ void BlendAccumulator::addNormal(std::span<const Transform> pose, float weight, 
     }
     restOf_ = rest.data();
   }
-  const __m128 layerWeight = _mm_set1_ps(lw);
-  for (; j < groups; j += 4) {
-    if (jointWeights.empty()) {
-      add4<false>(sums_.data() + j, stride_, load4(&pose[j]), restRotation_.data() + j, layerWeight);
-    } else {
-      alignas(16) float m[4];
-      for (std::size_t k = 0; k < 4; ++k) m[k] = jointWeight(lw, jointWeights, j + k);
-      add4<true>(sums_.data() + j, stride_, load4(&pose[j]), restRotation_.data() + j, _mm_load_ps(m));
-    }
-  }
-  if (j < n) {  // the last joints, padded to four with weight 0 (the streams have room)
-    Transform tail[4], restTail[4];
-    alignas(16) float m[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (std::size_t k = 0; j + k < n; ++k) {
-      tail[k] = pose[j + k];
-      restTail[k] = rest[j + k];
-      m[k] = jointWeight(lw, jointWeights, j + k);
-    }
-    const Transforms4 r = load4(restTail);
-    alignas(16) float restRotation[16];
-    _mm_store_ps(restRotation, r.qx), _mm_store_ps(restRotation + 4, r.qy), _mm_store_ps(restRotation + 8, r.qz);
-    _mm_store_ps(restRotation + 12, r.qw);
-    // add4 reads the rest streams 4 apart here, the sums stride_ apart: two strides.
-    add4<true>(sums_.data() + j, stride_, load4(tail), restRotation, _mm_load_ps(m), 4);
-    j = n;
-  }
+  addNormal4({sums_.data(), stride_, restRotation_.data(), pose, rest, lw, jointWeights, n});
+  j = n;
 #endif
   for (; j < n; ++j) {
     const float w = jointWeight(lw, jointWeights, j);
@@ -200,11 +225,21 @@ void BlendAccumulator::addNormal(std::span<const Transform> pose, float weight, 
   }
 }
 
-void BlendAccumulator::finish(std::span<const Transform> rest, std::span<Transform> out) const noexcept {
-  const std::size_t n = std::min({joints_, rest.size(), out.size()});
-  std::size_t j = 0;
 #if MARIONETTE_SIMD4
-  const std::size_t k = stride_;
+namespace {
+struct FinishArgs {
+  const float* sums;
+  std::size_t stride;
+  std::span<const Transform> rest;
+  std::span<Transform> out;
+  std::size_t n;
+};
+
+[[gnu::always_inline]] inline void finishBody(const FinishArgs& a) noexcept {
+  const std::size_t k = a.stride, n = a.n;
+  const std::span<const Transform> rest = a.rest;
+  const std::span<Transform> out = a.out;
+  std::size_t j = 0;
   const __m128 one = _mm_set1_ps(1.0f);
   for (; j < n; j += 4) {
     // The last joints are finished four-wide too (the streams are padded) through a
@@ -213,7 +248,7 @@ void BlendAccumulator::finish(std::span<const Transform> rest, std::span<Transfo
     Transform restTail[4], outTail[4];
     if (count < 4) std::copy_n(&rest[j], count, restTail);
     const Transform* restAt = count == 4 ? &rest[j] : restTail;
-    const float* s = sums_.data() + j;
+    const float* s = a.sums + j;
     __m128 w = _mm_loadu_ps(s + W * k);
     Transforms4 o{_mm_loadu_ps(s + TX * k), _mm_loadu_ps(s + TY * k), _mm_loadu_ps(s + TZ * k),
                   _mm_loadu_ps(s + QX * k), _mm_loadu_ps(s + QY * k), _mm_loadu_ps(s + QZ * k),
@@ -249,6 +284,18 @@ void BlendAccumulator::finish(std::span<const Transform> rest, std::span<Transfo
       std::copy_n(outTail, count, &out[j]);
     }
   }
+}
+
+MARIONETTE_SIMD_KERNEL(finish4, FinishArgs, finishBody)
+}  // namespace
+#endif
+
+void BlendAccumulator::finish(std::span<const Transform> rest, std::span<Transform> out) const noexcept {
+  const std::size_t n = std::min({joints_, rest.size(), out.size()});
+  std::size_t j = 0;
+#if MARIONETTE_SIMD4
+  finish4({sums_.data(), stride_, rest, out, n});
+  j = n;
 #endif
   for (; j < n; ++j) out[j] = finishJoint(j, rest[j]);
 }
@@ -286,7 +333,7 @@ constexpr std::size_t kOverJoints = 4 * kOverGroups;
 // operation for operation as slerpShortest and glm::mix (x (1 - w) + y w) compute it:
 // the same bits as one joint at a time. Joints at weight 0 keep their transform; at
 // weight 1 they take the layer's as it is.
-void blendOverJoints(Transform* pose, const Transform* layer, float lw, std::span<const float> jointWeights,
+[[gnu::always_inline]] inline void blendOverJoints(Transform* pose, const Transform* layer, float lw, std::span<const float> jointWeights,
                      std::size_t first, std::size_t count) noexcept {
   const auto weightOf = [&](std::size_t k) {
     return k < count ? std::min(jointWeight(lw, jointWeights, first + k), 1.0f) : 0.0f;
@@ -332,6 +379,30 @@ void blendOverJoints(Transform* pose, const Transform* layer, float lw, std::spa
     simd4::store4(o, pose + 4 * g);
   }
 }
+
+struct BlendOverArgs {
+  std::span<Transform> pose;
+  std::span<const Transform> layer;
+  float weight;
+  std::span<const float> jointWeights;
+  std::size_t n;
+};
+
+[[gnu::always_inline]] inline void blendOverBody(const BlendOverArgs& a) noexcept {
+  const std::size_t n = a.n;
+  std::size_t j = 0;
+  for (; j + kOverJoints <= n; j += kOverJoints) blendOverJoints(&a.pose[j], &a.layer[j], a.weight, a.jointWeights, j, kOverJoints);
+  if (j == n) return;
+  // The last joints, padded to a whole group (the padding has weight 0).
+  Transform p[kOverJoints], l[kOverJoints];
+  const std::size_t rest = n - j;
+  std::copy_n(&a.pose[j], rest, p);
+  std::copy_n(&a.layer[j], rest, l);
+  blendOverJoints(p, l, a.weight, a.jointWeights, j, rest);
+  std::copy_n(p, rest, &a.pose[j]);
+}
+
+MARIONETTE_SIMD_KERNEL(blendOver8, BlendOverArgs, blendOverBody)
 }  // namespace
 
 void blendOver(std::span<Transform> pose, std::span<const Transform> layer, float weight,
@@ -343,16 +414,7 @@ void blendOver(std::span<Transform> pose, std::span<const Transform> layer, floa
     if (pose.data() != layer.data()) std::copy_n(layer.begin(), n, pose.begin());
     return;
   }
-  std::size_t j = 0;
-  for (; j + kOverJoints <= n; j += kOverJoints) blendOverJoints(&pose[j], &layer[j], lw, jointWeights, j, kOverJoints);
-  if (j == n) return;
-  // The last joints, padded to a whole group (the padding has weight 0).
-  Transform p[kOverJoints], l[kOverJoints];
-  const std::size_t rest = n - j;
-  std::copy_n(&pose[j], rest, p);
-  std::copy_n(&layer[j], rest, l);
-  blendOverJoints(p, l, lw, jointWeights, j, rest);
-  std::copy_n(p, rest, &pose[j]);
+  blendOver8({pose, layer, lw, jointWeights, n});
 }
 
 }  // namespace marionette

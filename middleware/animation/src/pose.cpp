@@ -31,9 +31,18 @@ inline __m128 splatColumn(const simd4::Mat4& a, const float* b) noexcept {  // b
                     _mm_mul_ps(a.c2, _mm_loadu_ps(b + 8)));
 }
 
-[[gnu::always_inline]] inline void localToModel4Body(const Skeleton& skeleton, std::span<const Transform> local,
-                                                     std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
-                                                     const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
+// What one call of localToModel4 works on.
+struct LocalToModelArgs {
+  const Skeleton& skeleton;
+  std::span<const Transform> local;
+  std::span<glm::mat4> model;
+  std::span<const glm::mat4> inverseBind;
+  const PaletteBasis* basis;
+  std::span<glm::mat4> palette;
+};
+
+[[gnu::always_inline]] inline void localToModel4Body(const LocalToModelArgs& args) noexcept {
+  const auto& [skeleton, local, model, inverseBind, basis, palette] = args;
   const std::size_t n = std::min({skeleton.jointCount(), local.size(), model.size()});
   const std::size_t withPalette = std::min({n, inverseBind.size(), palette.size()});
   const bool splat = basis && basis->joints() >= withPalette && withPalette > 0;
@@ -74,44 +83,14 @@ inline __m128 splatColumn(const simd4::Mat4& a, const float* b) noexcept {  // b
   }
 }
 
-void localToModel4Baseline(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
-                           std::span<const glm::mat4> inverseBind, const PaletteBasis* basis,
-                           std::span<glm::mat4> palette) noexcept {
-  localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
-}
-
-#if MARIONETTE_HAS_WIDE_BUILDS
-MARIONETTE_AVX_BUILD void localToModel4Avx(const Skeleton& skeleton, std::span<const Transform> local,
-                                           std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
-                                           const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
-  localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
-}
-
-MARIONETTE_FMA_BUILD void localToModel4Fma(const Skeleton& skeleton, std::span<const Transform> local,
-                                           std::span<glm::mat4> model, std::span<const glm::mat4> inverseBind,
-                                           const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
-  localToModel4Body(skeleton, local, model, inverseBind, basis, palette);
-}
-#endif
-
-void localToModel4(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
-                   std::span<const glm::mat4> inverseBind, const PaletteBasis* basis, std::span<glm::mat4> palette) noexcept {
-#if MARIONETTE_HAS_WIDE_BUILDS
-  switch (simd::activeBuild()) {
-    case simd::Build::Fma: return localToModel4Fma(skeleton, local, model, inverseBind, basis, palette);
-    case simd::Build::Avx: return localToModel4Avx(skeleton, local, model, inverseBind, basis, palette);
-    default: break;
-  }
-#endif
-  localToModel4Baseline(skeleton, local, model, inverseBind, basis, palette);
-}
+MARIONETTE_SIMD_KERNEL(localToModel4, LocalToModelArgs, localToModel4Body)
 #endif
 
 }  // namespace
 
 void localToModel(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model) noexcept {
 #if MARIONETTE_SIMD4
-  localToModel4(skeleton, local, model, {}, nullptr, {});
+  localToModel4({skeleton, local, model, {}, nullptr, {}});
 #else
   localToModelScalar(skeleton, local, model);
 #endif
@@ -140,7 +119,7 @@ PaletteBasis PaletteBasis::of(std::span<const glm::mat4> inverseBind) {
 void localToModelAndPalette(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
                             std::span<glm::mat4> palette, const PaletteBasis* basis) noexcept {
 #if MARIONETTE_SIMD4
-  localToModel4(skeleton, local, model, skeleton.inverseBind, basis, palette);
+  localToModel4({skeleton, local, model, skeleton.inverseBind, basis, palette});
 #else
   (void)basis;
   localToModelScalar(skeleton, local, model);

@@ -28,3 +28,22 @@ enum class Build { Sse2, Avx, Fma };
 #define MARIONETTE_AVX_BUILD [[gnu::target("avx")]]
 #define MARIONETTE_FMA_BUILD [[gnu::target("avx2,fma")]]
 #endif
+
+// Defines `void name(const Args& args) noexcept`, which runs body(args) (an always_inline
+// function) as compiled for the build activeBuild() names: one source, three builds.
+#if MARIONETTE_HAS_WIDE_BUILDS
+#define MARIONETTE_SIMD_KERNEL(name, Args, body)                                         \
+  void name##Sse2(const Args& a) noexcept { body(a); }                                    \
+  MARIONETTE_AVX_BUILD void name##Avx(const Args& a) noexcept { body(a); }               \
+  MARIONETTE_FMA_BUILD void name##Fma(const Args& a) noexcept { body(a); }               \
+  void name(const Args& a) noexcept {                                                     \
+    switch (::marionette::simd::activeBuild()) {                                          \
+      case ::marionette::simd::Build::Fma: return name##Fma(a);                           \
+      case ::marionette::simd::Build::Avx: return name##Avx(a);                           \
+      default: return name##Sse2(a);                                                      \
+    }                                                                                     \
+  }
+#else
+#define MARIONETTE_SIMD_KERNEL(name, Args, body) \
+  void name(const Args& a) noexcept { body(a); }
+#endif
