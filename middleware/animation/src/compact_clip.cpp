@@ -204,30 +204,19 @@ CompactClip build(const std::vector<Source>& sources, const std::vector<int>& bi
   CompactClip c;
   c.duration = duration;
   for (std::size_t i = 0; i < sources.size(); ++i) encode(sources[i], bits[i], c);
-  // Runs of 16-bit, then 8-bit rotations first (stable: by joint within each).
+  // Runs of quantized rotations, then quantized translations and scales (stable: by joint
+  // within each), then the other animated tracks, then the constants.
   const auto rank = [](const CompactTrack& t) {
     if (t.keys == 1) return 3;
-    if (t.property == CompactTrack::Rotation && t.bits == 16) return 0;
-    return t.property == CompactTrack::Rotation && t.bits == 8 ? 1 : 2;
+    if (t.bits != 8 && t.bits != 16) return 2;
+    return t.property == CompactTrack::Rotation ? 0 : 1;
   };
   std::stable_sort(c.tracks.begin(), c.tracks.end(), [&](const CompactTrack& a, const CompactTrack& b) { return rank(a) < rank(b); });
   for (const CompactTrack& t : c.tracks) {
-    if (rank(t) == 0) ++c.rotations16;
-    if (rank(t) == 1) ++c.rotations8;
+    if (rank(t) == 0) ++c.rotations;
+    if (rank(t) == 1) ++c.vectors;
     if (rank(t) == 3) ++c.constants;
   }
-  // The ranges of each whole group of four in the two rotation runs, lane by lane.
-  const auto group = [&](std::size_t first) {
-    for (int part = 0; part < 2; ++part)
-      for (int comp = 0; comp < 3; ++comp)
-        for (std::size_t lane = 0; lane < 4; ++lane) {
-          const CompactTrack& t = c.tracks[first + lane];
-          c.groups.push_back(part == 0 ? t.min[comp] : t.scale[comp]);
-        }
-    for (std::size_t lane = 0; lane < 4; ++lane) c.groups.push_back(static_cast<float>(c.tracks[first + lane].dropped));
-  };
-  for (std::size_t i = 0; i + 4 <= c.rotations16; i += 4) group(i);
-  for (std::size_t i = c.rotations16; i + 4 <= std::size_t{c.rotations16} + c.rotations8; i += 4) group(i);
   c.data.shrink_to_fit();
   return c;
 }

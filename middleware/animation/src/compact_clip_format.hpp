@@ -21,4 +21,5 @@ constexpr float kS3Levels = 1048575.0f;  // 2^20 - 1
 // Where the three kept components of a rotation go (x, y, z, w = 0..3), by the one dropped.
 constexpr int kKept[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
 
+
 }  // namespace marionette::compact

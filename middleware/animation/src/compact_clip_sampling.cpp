@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 
 #include "compact_clip_format.hpp"
 #include "simd4.hpp"
@@ -173,102 +174,140 @@ void sampleCompactClipTracksScalar(const CompactClip& clip, float time, std::spa
 #if MARIONETTE_SIMD4
 namespace {
 
-// Four rotation tracks of the same width (8 or 16 bits) decoded and interpolated at once,
-// lane k = track k: the operations of sampleRotation, in its order, four-wide.
-// `ranges`: the group's entry of CompactClip::groups (min[3][4], scale[3][4], dropped[4]).
+// Four quantized tracks (8 or 16 bits each) decoded and interpolated at once, lane k =
+// track k: the operations of sampleRotation / sampleVec3, in their order, four-wide.
 using namespace simd4;
 
-// One key's three stored components of a track, as the low 16-bit (or 8-bit) lanes of a
-// register: read as 6 (3) bytes, never past the key.
-template <int Bits>
-inline __m128i keyLanes(const std::uint8_t* key) noexcept {
-  if constexpr (Bits == 8) {
-    return _mm_cvtsi32_si128(static_cast<int>(readAt<std::uint16_t>(key) | (std::uint32_t{key[2]} << 16)));
-  } else {
-    return _mm_cvtsi64_si128(static_cast<long long>(readAt<std::uint32_t>(key) |
-                                                     (std::uint64_t{readAt<std::uint16_t>(key + 4)} << 32)));
-  }
+// One key's three stored components as the low 16-bit lanes of a register: read as 6
+// (or 3) bytes, never past the key.
+inline __m128i keyLanes(const std::uint8_t* key, int bits) noexcept {
+  if (bits == 8)
+    return _mm_unpacklo_epi8(
+        _mm_cvtsi32_si128(static_cast<int>(readAt<std::uint16_t>(key) | (std::uint32_t{key[2]} << 16))), _mm_setzero_si128());
+  return _mm_cvtsi64_si128(
+      static_cast<long long>(readAt<std::uint32_t>(key) | (std::uint64_t{readAt<std::uint16_t>(key + 4)} << 32)));
 }
 
-// Four tracks' keys (lane k = track k) turned to components: out[c] lane k = component c
-// of track k, as 32-bit integers. A transpose in registers, not through memory.
-template <int Bits>
-inline void componentsOf(const __m128i (&key)[4], __m128i (&out)[3]) noexcept {
+// Four tracks' keys (lane k = track k) as floats per component: a transpose in registers.
+inline void componentsOf(const __m128i (&key)[4], __m128 (&out)[3]) noexcept {
   const __m128i zero = _mm_setzero_si128();
-  if constexpr (Bits == 8) {
-    // bytes: k0c0 k1c0 k0c1 k1c1 k0c2 k1c2 .. then the four tracks' c0, c1, c2 in order
-    const __m128i v = _mm_unpacklo_epi16(_mm_unpacklo_epi8(key[0], key[1]), _mm_unpacklo_epi8(key[2], key[3]));
-    const __m128i w = _mm_unpacklo_epi8(v, zero);  // c0 and c1 as 16 bits
-    out[0] = _mm_unpacklo_epi16(w, zero);
-    out[1] = _mm_unpackhi_epi16(w, zero);
-    out[2] = _mm_unpacklo_epi16(_mm_unpackhi_epi8(v, zero), zero);
-  } else {
-    const __m128i t01 = _mm_unpacklo_epi16(key[0], key[1]), t23 = _mm_unpacklo_epi16(key[2], key[3]);
-    const __m128i lo = _mm_unpacklo_epi32(t01, t23);  // c0 of the four, then c1
-    out[0] = _mm_unpacklo_epi16(lo, zero);
-    out[1] = _mm_unpackhi_epi16(lo, zero);
-    out[2] = _mm_unpacklo_epi16(_mm_unpackhi_epi32(t01, t23), zero);
-  }
+  const __m128i t01 = _mm_unpacklo_epi16(key[0], key[1]), t23 = _mm_unpacklo_epi16(key[2], key[3]);
+  const __m128i lo = _mm_unpacklo_epi32(t01, t23);  // component 0 of the four, then 1
+  out[0] = _mm_cvtepi32_ps(_mm_unpacklo_epi16(lo, zero));
+  out[1] = _mm_cvtepi32_ps(_mm_unpackhi_epi16(lo, zero));
+  out[2] = _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpackhi_epi32(t01, t23), zero));
 }
 
-template <int Bits>
-void sampleRotations4(const CompactTrack* tracks, const float* ranges, const std::uint8_t* base, float time,
-                      std::span<Transform> out, std::uint32_t* hints) noexcept {
-  constexpr std::uint32_t kStride = Bits == 8 ? 3 : 6;
-  __m128i ka[4], kb[4];
-  float f[4];
-  float hold[4];
-  for (int k = 0; k < 4; ++k) {
-    const CompactTrack& t = tracks[k];
-    const std::uint8_t* data = base + t.offset;
-    const KeyAt at = locate(t, base, time, hints ? hints + k : nullptr);
-    const std::uint32_t i = at.i, j = at.single ? at.i : at.i + 1;
-    ka[k] = keyLanes<Bits>(data + i * kStride);
-    kb[k] = keyLanes<Bits>(data + j * kStride);
-    f[k] = at.f;
-    hold[k] = at.single || t.step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
-  }
-  __m128i qa[3], qb[3];
-  componentsOf<Bits>(ka, qa);
-  componentsOf<Bits>(kb, qb);
-  const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
-  const __m128i which = _mm_cvttps_epi32(_mm_loadu_ps(ranges + 24));
-  const auto is = [&](int c) { return _mm_castsi128_ps(_mm_cmpeq_epi32(which, _mm_set1_epi32(c))); };
-  const __m128 is0 = is(0), is1 = is(1), is2 = is(2), is3 = is(3);
-  // One key of the four tracks, assembled as x, y, z, w (assemble() four-wide).
-  const auto key = [&](const __m128i (&q)[3], __m128& x, __m128& y, __m128& z, __m128& w) {
-    __m128 kept[3];
-    for (int c = 0; c < 3; ++c)
-      kept[c] = _mm_add_ps(_mm_loadu_ps(ranges + 4 * c), _mm_mul_ps(_mm_cvtepi32_ps(q[c]), _mm_loadu_ps(ranges + 12 + 4 * c)));
-    // std::max(0, v) is (0 < v ? v : 0); _mm_max_ps(v, 0) is (v > 0 ? v : 0): the same, NaN included.
-    const __m128 rebuilt = _mm_sqrt_ps(_mm_max_ps(
-        _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(one, _mm_mul_ps(kept[0], kept[0])), _mm_mul_ps(kept[1], kept[1])),
-                   _mm_mul_ps(kept[2], kept[2])),
-        zero));
-    x = select(is0, rebuilt, kept[0]);
-    y = select(is0, kept[0], select(is1, rebuilt, kept[1]));
-    z = select(_mm_or_ps(is0, is1), kept[1], select(is2, rebuilt, kept[2]));
-    w = select(is3, rebuilt, kept[2]);
+// The four tracks' ranges, min[c] and scale[c] lane by lane, read from the tracks
+// themselves (min and scale are adjacent: two loads and two transposes). Storing them
+// transposed per group beside the tracks was no faster here (Stage/Sample, same run) and
+// took 112 bytes a group.
+struct Ranges4 {
+  __m128 min[3], scale[3];
+};
+static_assert(offsetof(CompactTrack, scale) == offsetof(CompactTrack, min) + 3 * sizeof(float) &&
+                  offsetof(CompactTrack, scale) + 3 * sizeof(float) <= sizeof(CompactTrack),
+              "CompactTrack: min[3] then scale[3]");
+inline Ranges4 rangesOf(const CompactTrack* const (&t)[4]) noexcept {
+  const auto at = [&](int k, std::size_t floats) {  // min0 min1 min2 scale0, or min2 scale0 scale1 scale2
+    return _mm_loadu_ps(reinterpret_cast<const float*>(reinterpret_cast<const std::uint8_t*>(t[k]) + offsetof(CompactTrack, min)) + floats);
   };
-  __m128 ax, ay, az, aw, bx, by, bz, bw;
-  key(qa, ax, ay, az, aw);
-  key(qb, bx, by, bz, bw);
-  // nlerpShortest(a, b, f), then safeNormalize.
-  const __m128 t = _mm_setr_ps(f[0], f[1], f[2], f[3]);
-  const __m128 d = dot4(ax, ay, az, aw, bx, by, bz, bw);
-  const __m128 s = _mm_xor_ps(t, _mm_and_ps(_mm_cmplt_ps(d, zero), _mm_set1_ps(-0.0f)));
-  const __m128 u = _mm_sub_ps(one, t);
-  __m128 rw = _mm_add_ps(_mm_mul_ps(u, aw), _mm_mul_ps(s, bw)), rx = _mm_add_ps(_mm_mul_ps(u, ax), _mm_mul_ps(s, bx));
-  __m128 ry = _mm_add_ps(_mm_mul_ps(u, ay), _mm_mul_ps(s, by)), rz = _mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(s, bz));
-  safeNormalize4(rx, ry, rz, rw);
+  __m128 a0 = at(0, 0), a1 = at(1, 0), a2 = at(2, 0), a3 = at(3, 0);
+  __m128 b0 = at(0, 2), b1 = at(1, 2), b2 = at(2, 2), b3 = at(3, 2);
+  _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+  _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+  return {{a0, a1, a2}, {b1, b2, b3}};
+}
+
+// A run's last tracks make a padded group when at least this many are left; one alone is
+// cheaper by itself.
+constexpr std::size_t kLeastGroup = 2;
+
+enum class Run { Rotations, Vectors };
+
+// `count` (1..4) tracks from `first`; the missing lanes repeat the last track, unwritten.
+template <Run R>
+void sample4(const CompactTrack* first, std::size_t count, const std::uint8_t* base, float time, std::span<Transform> out,
+             std::uint32_t* hints) noexcept {
+  const CompactTrack* t[4];
+  __m128i ka[4], kb[4];
+  float f[4], hold[4];
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (k >= count) {
+      t[k] = t[k - 1], ka[k] = ka[k - 1], kb[k] = kb[k - 1], f[k] = f[k - 1], hold[k] = hold[k - 1];
+      continue;
+    }
+    const CompactTrack& track = first[k];
+    t[k] = &track;
+    const std::uint8_t* data = base + track.offset;
+    const KeyAt at = locate(track, base, time, hints ? hints + k : nullptr);
+    const std::uint32_t i = at.i, j = at.single ? at.i : at.i + 1, stride = track.bits == 8 ? 3 : 6;
+    ka[k] = keyLanes(data + i * stride, track.bits);
+    kb[k] = keyLanes(data + j * stride, track.bits);
+    f[k] = at.f;
+    hold[k] = at.single || track.step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
+  }
+  __m128 qa[3], qb[3];
+  componentsOf(ka, qa);
+  componentsOf(kb, qb);
+  const Ranges4 range = rangesOf(t);
+  __m128 a[3], b[3];
+  for (int c = 0; c < 3; ++c) {
+    a[c] = _mm_add_ps(range.min[c], _mm_mul_ps(qa[c], range.scale[c]));
+    b[c] = _mm_add_ps(range.min[c], _mm_mul_ps(qb[c], range.scale[c]));
+  }
   const __m128 held = _mm_setr_ps(hold[0], hold[1], hold[2], hold[3]);
-  // Back to one quaternion (x, y, z, w) per register, each stored whole.
-  __m128 q0 = select(held, ax, rx), q1 = select(held, ay, ry), q2 = select(held, az, rz), q3 = select(held, aw, rw);
-  _MM_TRANSPOSE4_PS(q0, q1, q2, q3);
-  const __m128 q[4] = {q0, q1, q2, q3};
-  for (int k = 0; k < 4; ++k) {
-    const auto j = static_cast<std::size_t>(tracks[k].joint);
-    if (tracks[k].joint >= 0 && j < out.size()) _mm_storeu_ps(&out[j].rotation.x, q[k]);
+  const __m128 at = _mm_setr_ps(f[0], f[1], f[2], f[3]);
+  const auto owner = [&](std::size_t k) -> Transform* {
+    const auto j = static_cast<std::size_t>(t[k]->joint);
+    return k < count && t[k]->joint >= 0 && j < out.size() ? &out[j] : nullptr;
+  };
+  if constexpr (R == Run::Vectors) {
+    // a + (b - a) * f, as sampleVec3; then one vec3 per lane, stored as 8 + 4 bytes.
+    __m128 v[4];
+    for (int c = 0; c < 3; ++c) v[c] = select(held, a[c], _mm_add_ps(a[c], _mm_mul_ps(_mm_sub_ps(b[c], a[c]), at)));
+    v[3] = _mm_setzero_ps();
+    _MM_TRANSPOSE4_PS(v[0], v[1], v[2], v[3]);
+    for (std::size_t k = 0; k < 4; ++k) {
+      Transform* o = owner(k);
+      if (!o) continue;
+      float* p = t[k]->property == CompactTrack::Translation ? &o->translation.x : &o->scale.x;
+      _mm_storel_pi(reinterpret_cast<__m64*>(p), v[k]);
+      _mm_store_ss(p + 2, _mm_movehl_ps(v[k], v[k]));
+    }
+  } else {
+    const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+    const __m128i which = _mm_setr_epi32(t[0]->dropped, t[1]->dropped, t[2]->dropped, t[3]->dropped);
+    const auto is = [&](int c) { return _mm_castsi128_ps(_mm_cmpeq_epi32(which, _mm_set1_epi32(c))); };
+    const __m128 is0 = is(0), is1 = is(1), is2 = is(2), is3 = is(3);
+    // One key of the four tracks, assembled as x, y, z, w (assemble() four-wide).
+    const auto key = [&](const __m128 (&kept)[3], __m128& x, __m128& y, __m128& z, __m128& w) {
+      // std::max(0, v) is (0 < v ? v : 0); _mm_max_ps(v, 0) is (v > 0 ? v : 0): the same, NaN included.
+      const __m128 rebuilt = _mm_sqrt_ps(_mm_max_ps(
+          _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(one, _mm_mul_ps(kept[0], kept[0])), _mm_mul_ps(kept[1], kept[1])),
+                     _mm_mul_ps(kept[2], kept[2])),
+          zero));
+      x = select(is0, rebuilt, kept[0]);
+      y = select(is0, kept[0], select(is1, rebuilt, kept[1]));
+      z = select(_mm_or_ps(is0, is1), kept[1], select(is2, rebuilt, kept[2]));
+      w = select(is3, rebuilt, kept[2]);
+    };
+    __m128 ax, ay, az, aw, bx, by, bz, bw;
+    key(a, ax, ay, az, aw);
+    key(b, bx, by, bz, bw);
+    // nlerpShortest(a, b, f), then safeNormalize.
+    const __m128 d = dot4(ax, ay, az, aw, bx, by, bz, bw);
+    const __m128 s = _mm_xor_ps(at, _mm_and_ps(_mm_cmplt_ps(d, zero), _mm_set1_ps(-0.0f)));
+    const __m128 u = _mm_sub_ps(one, at);
+    __m128 rw = _mm_add_ps(_mm_mul_ps(u, aw), _mm_mul_ps(s, bw)), rx = _mm_add_ps(_mm_mul_ps(u, ax), _mm_mul_ps(s, bx));
+    __m128 ry = _mm_add_ps(_mm_mul_ps(u, ay), _mm_mul_ps(s, by)), rz = _mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(s, bz));
+    safeNormalize4(rx, ry, rz, rw);
+    // Back to one quaternion (x, y, z, w) per register, each stored whole.
+    __m128 q0 = select(held, ax, rx), q1 = select(held, ay, ry), q2 = select(held, az, rz), q3 = select(held, aw, rw);
+    _MM_TRANSPOSE4_PS(q0, q1, q2, q3);
+    const __m128 q[4] = {q0, q1, q2, q3};
+    for (std::size_t k = 0; k < 4; ++k)
+      if (Transform* o = owner(k)) _mm_storeu_ps(&o->rotation.x, q[k]);
   }
 }
 
@@ -287,13 +326,16 @@ void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Tran
       if (t[i].joint >= 0 && static_cast<std::size_t>(t[i].joint) < n)
         sampleTrack(t[i], data, time, out[static_cast<std::size_t>(t[i].joint)], hint(i));
   };
-  const std::size_t end16 = clip.rotations16, end8 = end16 + clip.rotations8;
+  const std::size_t endRotations = clip.rotations, endVectors = endRotations + clip.vectors;
   const std::size_t animated = clip.tracks.size() - clip.constants;
-  const float* ranges = clip.groups.data();
-  for (; i + 4 <= end16; i += 4, ranges += 28) sampleRotations4<16>(t + i, ranges, data, time, out, hint(i));
-  one(end16);
-  for (; i + 4 <= end8; i += 4, ranges += 28) sampleRotations4<8>(t + i, ranges, data, time, out, hint(i));
-  one(end8);
+  // Groups of four; a run's last two or three tracks make a padded group, its last one is sampled alone.
+  for (; i + kLeastGroup <= endRotations; i += 4)
+    sample4<Run::Rotations>(t + i, std::min<std::size_t>(4, endRotations - i), data, time, out, hint(i));
+  i = std::min(i, endRotations);
+  one(endRotations);
+  for (; i + kLeastGroup <= endVectors; i += 4)
+    sample4<Run::Vectors>(t + i, std::min<std::size_t>(4, endVectors - i), data, time, out, hint(i));
+  i = std::min(i, endVectors);
   one(animated);
   for (; i < clip.tracks.size(); ++i) {  // constants: one key, floats, copied as they are
     const CompactTrack& c = t[i];

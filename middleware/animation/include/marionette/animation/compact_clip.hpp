@@ -64,19 +64,17 @@ struct CompactTrack {
 
 struct CompactClip {
   float duration = 0.0f;
-  // The 16-bit rotations first, then the 8-bit ones (the sampler decodes each run four
-  // tracks at a time), then the other animated tracks, then the constants (one key, stored
-  // as floats, copied); by joint within each.
+  // The animated rotations in 8 or 16 bits first, then the animated translations and
+  // scales in 8 or 16 bits (the sampler decodes each run four tracks at a time, whatever
+  // their widths), then the other animated tracks (floats, 64-bit rotations), then the
+  // constants (one key, stored as floats, copied); by joint within each.
   std::vector<CompactTrack> tracks;
-  std::uint32_t rotations16 = 0, rotations8 = 0, constants = 0;  // the lengths of those runs
-  // Per group of four rotations in the two runs: their ranges as the four-wide decoder loads
-  // them (min[3][4], scale[3][4], then the dropped components as floats[4]).
-  std::vector<float> groups;
+  std::uint32_t rotations = 0, vectors = 0, constants = 0;  // the lengths of those runs
   std::vector<std::uint8_t> data;    // the keys, track after track
 
   [[nodiscard]] bool empty() const noexcept { return tracks.empty(); }
   [[nodiscard]] std::size_t bytes() const noexcept {
-    return tracks.size() * sizeof(CompactTrack) + groups.size() * sizeof(float) + data.size();
+    return tracks.size() * sizeof(CompactTrack) + data.size();
   }
 };
 
