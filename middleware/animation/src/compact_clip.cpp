@@ -217,6 +217,9 @@ CompactClip build(const std::vector<Source>& sources, const std::vector<int>& bi
     if (rank(t) == 1) ++c.vectors;
     if (rank(t) == 3) ++c.constants;
   }
+  // The four-wide decoder reads a quantized key as 8 (16-bit) or 4 (8-bit) bytes: a key ends
+  // at most 2 bytes before the next track, and these 4 bytes keep the last one's read in bounds.
+  c.data.resize(c.data.size() + compact::kReadPastKey, 0);
   c.data.shrink_to_fit();
   return c;
 }

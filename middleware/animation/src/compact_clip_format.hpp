@@ -22,4 +22,7 @@ constexpr float kS3Levels = 1048575.0f;  // 2^20 - 1
 constexpr int kKept[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
 
 
+// Bytes of padding after the last track: the decoder may read this far past a key.
+constexpr std::uint32_t kReadPastKey = 4;
+
 }  // namespace marionette::compact

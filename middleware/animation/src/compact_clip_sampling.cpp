@@ -178,14 +178,46 @@ namespace {
 // track k: the operations of sampleRotation / sampleVec3, in their order, four-wide.
 using namespace simd4;
 
-// One key's three stored components as the low 16-bit lanes of a register: read as 6
-// (or 3) bytes, never past the key.
+// One key's three stored components as the low 16-bit lanes of a register: one load of
+// 8 (or 4) bytes, which the data's padding keeps in bounds (kReadPastKey); the bytes past
+// the key land in lanes that are never used.
 inline __m128i keyLanes(const std::uint8_t* key, int bits) noexcept {
   if (bits == 8)
-    return _mm_unpacklo_epi8(
-        _mm_cvtsi32_si128(static_cast<int>(readAt<std::uint16_t>(key) | (std::uint32_t{key[2]} << 16))), _mm_setzero_si128());
-  return _mm_cvtsi64_si128(
-      static_cast<long long>(readAt<std::uint32_t>(key) | (std::uint64_t{readAt<std::uint16_t>(key + 4)} << 32)));
+    return _mm_unpacklo_epi8(_mm_cvtsi32_si128(static_cast<int>(readAt<std::uint32_t>(key))), _mm_setzero_si128());
+  return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(key));
+}
+
+// locate()'s even-keys branch for four tracks at once (all evenly keyed, two keys or
+// more): the same operations, four-wide, so the same interval and fraction.
+struct Intervals4 {
+  alignas(16) std::uint32_t first[4], second[4];  // the keys interpolated (the same key when held)
+  __m128 f, hold;                                  // hold: lanes whose first key is the value
+};
+inline void evenIntervals4(const CompactTrack* const (&t)[4], float time, Intervals4& out) noexcept {
+  static_assert(offsetof(CompactTrack, offset) == offsetof(CompactTrack, keys) + 4 &&
+                    offsetof(CompactTrack, start) == offsetof(CompactTrack, keys) + 8 &&
+                    offsetof(CompactTrack, rate) == offsetof(CompactTrack, keys) + 12,
+                "CompactTrack: keys, offset, start, rate");
+  const auto row = [&](int k) {  // keys, offset, start, rate
+    return _mm_loadu_ps(reinterpret_cast<const float*>(reinterpret_cast<const std::uint8_t*>(t[k]) + offsetof(CompactTrack, keys)));
+  };
+  __m128 keys = row(0), offset = row(1), start = row(2), rate = row(3);
+  _MM_TRANSPOSE4_PS(keys, offset, start, rate);
+  (void)offset;
+  const __m128i lastKey = _mm_sub_epi32(_mm_castps_si128(keys), _mm_set1_epi32(1));
+  const __m128 u = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(time), start), rate);
+  const __m128 started = _mm_cmpgt_ps(u, _mm_setzero_ps());  // u > 0: false for NaN, which holds key 0
+  const __m128 after = _mm_cmpge_ps(u, _mm_cvtepi32_ps(lastKey));
+  const __m128 inside = _mm_andnot_ps(after, started);
+  const __m128i whole = _mm_cvttps_epi32(u);
+  const __m128i i = _mm_or_si128(_mm_and_si128(_mm_castps_si128(inside), whole),
+                                 _mm_and_si128(_mm_castps_si128(after), lastKey));  // 0 before the first key
+  out.f = _mm_and_ps(inside, _mm_sub_ps(u, _mm_cvtepi32_ps(whole)));
+  const __m128i step = _mm_setr_epi32(-static_cast<int>(t[0]->step), -static_cast<int>(t[1]->step),
+                                      -static_cast<int>(t[2]->step), -static_cast<int>(t[3]->step));
+  out.hold = _mm_or_ps(_mm_xor_ps(inside, _mm_castsi128_ps(_mm_set1_epi32(-1))), _mm_castsi128_ps(step));
+  _mm_store_si128(reinterpret_cast<__m128i*>(out.first), i);
+  _mm_store_si128(reinterpret_cast<__m128i*>(out.second), _mm_sub_epi32(i, _mm_castps_si128(inside)));  // + 1 inside
 }
 
 // Four tracks' keys (lane k = track k) as floats per component: a transpose in registers.
@@ -230,22 +262,38 @@ template <Run R>
 void sample4(const CompactTrack* first, std::size_t count, const std::uint8_t* base, float time, std::span<Transform> out,
              std::uint32_t* hints) noexcept {
   const CompactTrack* t[4];
+  for (std::size_t k = 0; k < 4; ++k) t[k] = first + std::min(k, count - 1);  // padding repeats the last
   __m128i ka[4], kb[4];
-  float f[4], hold[4];
-  for (std::size_t k = 0; k < 4; ++k) {
-    if (k >= count) {
-      t[k] = t[k - 1], ka[k] = ka[k - 1], kb[k] = kb[k - 1], f[k] = f[k - 1], hold[k] = hold[k - 1];
-      continue;
+  __m128 at, held;
+  const auto even = [](const CompactTrack* x) { return x->times == CompactTrack::kEvenKeys && x->keys > 1; };
+  if (even(t[0]) && even(t[1]) && even(t[2]) && even(t[3])) {
+    Intervals4 in;
+    evenIntervals4(t, time, in);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const std::uint8_t* data = base + t[k]->offset;
+      const std::uint32_t stride = t[k]->bits == 8 ? 3 : 6;
+      ka[k] = keyLanes(data + in.first[k] * stride, t[k]->bits);
+      kb[k] = keyLanes(data + in.second[k] * stride, t[k]->bits);
     }
-    const CompactTrack& track = first[k];
-    t[k] = &track;
-    const std::uint8_t* data = base + track.offset;
-    const KeyAt at = locate(track, base, time, hints ? hints + k : nullptr);
-    const std::uint32_t i = at.i, j = at.single ? at.i : at.i + 1, stride = track.bits == 8 ? 3 : 6;
-    ka[k] = keyLanes(data + i * stride, track.bits);
-    kb[k] = keyLanes(data + j * stride, track.bits);
-    f[k] = at.f;
-    hold[k] = at.single || track.step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
+    at = in.f, held = in.hold;
+  } else {
+    float f[4], hold[4];
+    for (std::size_t k = 0; k < 4; ++k) {
+      if (k >= count) {
+        ka[k] = ka[k - 1], kb[k] = kb[k - 1], f[k] = f[k - 1], hold[k] = hold[k - 1];
+        continue;
+      }
+      const CompactTrack& track = *t[k];
+      const std::uint8_t* data = base + track.offset;
+      const KeyAt key = locate(track, base, time, hints ? hints + k : nullptr);
+      const std::uint32_t i = key.i, j = key.single ? key.i : key.i + 1, stride = track.bits == 8 ? 3 : 6;
+      ka[k] = keyLanes(data + i * stride, track.bits);
+      kb[k] = keyLanes(data + j * stride, track.bits);
+      f[k] = key.f;
+      hold[k] = key.single || track.step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
+    }
+    at = _mm_setr_ps(f[0], f[1], f[2], f[3]);
+    held = _mm_setr_ps(hold[0], hold[1], hold[2], hold[3]);
   }
   __m128 qa[3], qb[3];
   componentsOf(ka, qa);
@@ -256,8 +304,6 @@ void sample4(const CompactTrack* first, std::size_t count, const std::uint8_t* b
     a[c] = _mm_add_ps(range.min[c], _mm_mul_ps(qa[c], range.scale[c]));
     b[c] = _mm_add_ps(range.min[c], _mm_mul_ps(qb[c], range.scale[c]));
   }
-  const __m128 held = _mm_setr_ps(hold[0], hold[1], hold[2], hold[3]);
-  const __m128 at = _mm_setr_ps(f[0], f[1], f[2], f[3]);
   const auto owner = [&](std::size_t k) -> Transform* {
     const auto j = static_cast<std::size_t>(t[k]->joint);
     return k < count && t[k]->joint >= 0 && j < out.size() ? &out[j] : nullptr;

@@ -2,9 +2,10 @@
 //
 // SSE2 is part of x86-64, the baseline the library ships with (no -march). Its add,
 // multiply, divide and square root are IEEE correctly rounded, and these helpers do
-// the same operations in the same order as the scalar code they replace (no FMA, no
-// reciprocal estimates), so results are bit-identical to the scalar forms on every
-// x86-64 CPU. tests/unit/simd_pose_test.cpp holds them to that.
+// the same operations in the same order as the scalar code they replace (no reciprocal
+// estimates), so results are bit-identical to the scalar forms on every x86-64 CPU;
+// tests/unit/simd_pose_test.cpp holds them to that. The FMA build of the loops that use
+// them (simd_dispatch.hpp) fuses their multiply-adds: the one exception, by choice.
 //
 // Poses stay arrays of Transform (what behaviors and the public API use); four joints
 // are turned into structure-of-arrays registers on load and back on store.
@@ -69,8 +70,10 @@ struct Quats4 {
 // for operation (the arc halved in the same lanes, the same series): the scalar bits.
 // The groups go through each step together: the steps are a chain of long latencies
 // (two square roots and divisions), which the groups then overlap.
+// always_inline: each build (simd_dispatch.hpp) must compile its own copy, with its own
+// instructions, rather than call one shared out-of-line copy.
 template <int N>
-inline void slerpShortest4(const Quats4 (&a)[N], const Quats4 (&b)[N], const __m128 (&t)[N], Quats4 (&r)[N]) noexcept {
+[[gnu::always_inline]] inline void slerpShortest4(const Quats4 (&a)[N], const Quats4 (&b)[N], const __m128 (&t)[N], Quats4 (&r)[N]) noexcept {
   const __m128 one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
   Quats4 p[N], q[N];
   __m128 c[N], u[N], halve[N];
