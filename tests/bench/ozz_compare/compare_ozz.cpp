@@ -700,8 +700,8 @@ void runAsset(const std::string& which, const Options& opt) {
   std::printf("%-10s %10zu %10zu %12zu %12zu %10zu", "total", total[0], total[1], total[2], total[3], total[4]);
   for (std::size_t v = 0; v < variants.size(); ++v) std::printf(" %16zu", ozzTotal[v]);
   std::printf("\n");
-  {  // The compact clips the runtime samples (CompactClip::bytes(): track headers, group ranges, data)
-    std::printf("\nCompact clips (bytes = CompactClip::bytes(): tracks * sizeof(CompactTrack) %zu + group ranges + data)\n", sizeof(mar::CompactTrack));
+  {  // The compact clips the runtime samples (CompactClip::bytes(): track headers and data)
+    std::printf("\nCompact clips (bytes = CompactClip::bytes(): tracks * sizeof(CompactTrack) %zu + data)\n", sizeof(mar::CompactTrack));
     std::printf("%-10s %10s %12s %12s %12s %12s %12s  %-22s %10s  %s\n", "clip", "compacted", "float B", "compact B", "inPl float B",
                 "inPl cmpct B", "sum compact", "tracks 8/16/32/64", "maxErr mm", "resampled/timed");
     std::size_t tf = 0, tc = 0, tif = 0, tic = 0;
