@@ -75,6 +75,13 @@ TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
         sampleCompactClipTracksScalar(ac->compact, t, scalar);
         ASSERT_EQ(std::memcmp(wide.data(), scalar.data(), wide.size() * sizeof(Transform)), 0) << f << " " << authored.name << " at " << t;
       }
+      // Played forward at 60 Hz with hints, as a Character does (the sparse tracks' hinted search).
+      std::vector<std::uint32_t> hints(ac->compact.tracks.size(), 0);
+      for (float t = -0.01f; t < authored.duration + 0.05f; t += 1.0f / 60.0f) {
+        sampleCompactClipTracks(ac->compact, t, wide, hints.data());
+        sampleCompactClipTracksScalar(ac->compact, t, scalar);
+        ASSERT_EQ(std::memcmp(wide.data(), scalar.data(), wide.size() * sizeof(Transform)), 0) << f << " " << authored.name << " at " << t << " (hinted)";
+      }
       floatBytes += st.floatBytes + ac->compactionInPlaceRoot.floatBytes;
       compactBytes += st.compactBytes + ac->compactionInPlaceRoot.compactBytes;
       csv << f << ',' << authored.name << ',' << st.floatBytes + ac->compactionInPlaceRoot.floatBytes << ','

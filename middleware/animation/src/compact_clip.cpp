@@ -204,18 +204,22 @@ CompactClip build(const std::vector<Source>& sources, const std::vector<int>& bi
   CompactClip c;
   c.duration = duration;
   for (std::size_t i = 0; i < sources.size(); ++i) encode(sources[i], bits[i], c);
-  // Runs of quantized rotations, then quantized translations and scales (stable: by joint
-  // within each), then the other animated tracks, then the constants.
+  // Runs of quantized rotations, then quantized translations and scales, then the other
+  // animated tracks, then the constants. Within each of the first two runs, the evenly
+  // keyed tracks come first (stable: by joint within each): the sampler finds the
+  // intervals of a group of four evenly keyed tracks at once, and of four sparse tracks
+  // at once when their hints hold; a group mixing the two takes each lane on its own.
   const auto rank = [](const CompactTrack& t) {
-    if (t.keys == 1) return 3;
-    if (t.bits != 8 && t.bits != 16) return 2;
-    return t.property == CompactTrack::Rotation ? 0 : 1;
+    if (t.keys == 1) return 6;
+    if (t.bits != 8 && t.bits != 16) return 4;
+    const int uneven = t.times == CompactTrack::kEvenKeys ? 0 : 1;
+    return (t.property == CompactTrack::Rotation ? 0 : 2) + uneven;
   };
   std::stable_sort(c.tracks.begin(), c.tracks.end(), [&](const CompactTrack& a, const CompactTrack& b) { return rank(a) < rank(b); });
   for (const CompactTrack& t : c.tracks) {
-    if (rank(t) == 0) ++c.rotations;
-    if (rank(t) == 1) ++c.vectors;
-    if (rank(t) == 3) ++c.constants;
+    if (rank(t) < 2) ++c.rotations;
+    else if (rank(t) < 4) ++c.vectors;
+    else if (rank(t) == 6) ++c.constants;
   }
   // The four-wide decoder reads a quantized key as 8 (16-bit) or 4 (8-bit) bytes: a key ends
   // at most 2 bytes before the next track, and these 4 bytes keep the last one's read in bounds.

@@ -193,7 +193,14 @@ struct Intervals4 {
   alignas(16) std::uint32_t first[4], second[4];  // the keys interpolated (the same key when held)
   __m128 f, hold;                                  // hold: lanes whose first key is the value
 };
-inline void evenIntervals4(const CompactTrack* const (&t)[4], float time, Intervals4& out) noexcept {
+
+// The four tracks' key counts and their times in frames, u = (time - start) * rate as
+// locate() computes it, lane k = track k.
+struct Timing4 {
+  __m128i keys;
+  __m128 u;
+};
+inline Timing4 timingOf(const CompactTrack* const (&t)[4], float time) noexcept {
   static_assert(offsetof(CompactTrack, offset) == offsetof(CompactTrack, keys) + 4 &&
                     offsetof(CompactTrack, start) == offsetof(CompactTrack, keys) + 8 &&
                     offsetof(CompactTrack, rate) == offsetof(CompactTrack, keys) + 12,
@@ -204,8 +211,18 @@ inline void evenIntervals4(const CompactTrack* const (&t)[4], float time, Interv
   __m128 keys = row(0), offset = row(1), start = row(2), rate = row(3);
   _MM_TRANSPOSE4_PS(keys, offset, start, rate);
   (void)offset;
-  const __m128i lastKey = _mm_sub_epi32(_mm_castps_si128(keys), _mm_set1_epi32(1));
-  const __m128 u = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(time), start), rate);
+  return {_mm_castps_si128(keys), _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(time), start), rate)};
+}
+
+inline __m128i stepMask(const CompactTrack* const (&t)[4]) noexcept {
+  return _mm_setr_epi32(-static_cast<int>(t[0]->step), -static_cast<int>(t[1]->step), -static_cast<int>(t[2]->step),
+                        -static_cast<int>(t[3]->step));
+}
+
+inline void evenIntervals4(const CompactTrack* const (&t)[4], float time, Intervals4& out) noexcept {
+  const Timing4 timing = timingOf(t, time);
+  const __m128i lastKey = _mm_sub_epi32(timing.keys, _mm_set1_epi32(1));
+  const __m128 u = timing.u;
   const __m128 started = _mm_cmpgt_ps(u, _mm_setzero_ps());  // u > 0: false for NaN, which holds key 0
   const __m128 after = _mm_cmpge_ps(u, _mm_cvtepi32_ps(lastKey));
   const __m128 inside = _mm_andnot_ps(after, started);
@@ -213,11 +230,58 @@ inline void evenIntervals4(const CompactTrack* const (&t)[4], float time, Interv
   const __m128i i = _mm_or_si128(_mm_and_si128(_mm_castps_si128(inside), whole),
                                  _mm_and_si128(_mm_castps_si128(after), lastKey));  // 0 before the first key
   out.f = _mm_and_ps(inside, _mm_sub_ps(u, _mm_cvtepi32_ps(whole)));
-  const __m128i step = _mm_setr_epi32(-static_cast<int>(t[0]->step), -static_cast<int>(t[1]->step),
-                                      -static_cast<int>(t[2]->step), -static_cast<int>(t[3]->step));
-  out.hold = _mm_or_ps(_mm_xor_ps(inside, _mm_castsi128_ps(_mm_set1_epi32(-1))), _mm_castsi128_ps(step));
+  out.hold = _mm_or_ps(_mm_xor_ps(inside, _mm_castsi128_ps(_mm_set1_epi32(-1))), _mm_castsi128_ps(stepMask(t)));
   _mm_store_si128(reinterpret_cast<__m128i*>(out.first), i);
   _mm_store_si128(reinterpret_cast<__m128i*>(out.second), _mm_sub_epi32(i, _mm_castps_si128(inside)));  // + 1 inside
+}
+
+// locate()'s sparse branch for four tracks at once (all sparse, two keys or more) where
+// the time lies strictly inside a track's hinted interval or the one after it, as a
+// player moving forward finds it nearly every frame: the same interval, fraction and
+// hint as interval() then. Returns the lanes it found (bit k = lane k); the others are
+// left to locate(). `count` (1..4): lanes from `count` on repeat the last track, and
+// their hints (another track's) are neither read nor written.
+inline int sparseIntervals4(const CompactTrack* const (&t)[4], std::size_t count, const std::uint8_t* base, float time,
+                            std::uint32_t* hints, Intervals4& out) noexcept {
+  const Timing4 timing = timingOf(t, time);
+  alignas(16) std::uint32_t hint[4];
+  std::uint64_t frames[4];  // frames h .. h + 3 of each lane's hint h
+  int valid = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::uint32_t h = hints[std::min(k, count - 1)];
+    const bool ok = h < t[k]->keys - 1;  // a hint out of range (another clip's) is ignored
+    hint[k] = ok ? h : 0;
+    valid |= static_cast<int>(ok) << k;
+    // 8 bytes from frame h < keys - 1: at most 4 bytes past the frame numbers, which
+    // the track's own keys follow (two keys or more: 6 bytes or more).
+    frames[k] = readAt<std::uint64_t>(base + t[k]->times + hint[k] * 2);
+  }
+  // Frames h, h + 1 and h + 2 of the four lanes, as floats lane by lane (a 16-bit transpose).
+  const __m128i w01 = _mm_set_epi64x(static_cast<long long>(frames[1]), static_cast<long long>(frames[0]));
+  const __m128i w23 = _mm_set_epi64x(static_cast<long long>(frames[3]), static_cast<long long>(frames[2]));
+  const __m128i ac = _mm_unpacklo_epi16(w01, w23), bd = _mm_unpackhi_epi16(w01, w23);
+  const __m128i f01 = _mm_unpacklo_epi16(ac, bd), f23 = _mm_unpackhi_epi16(ac, bd);
+  const __m128i zero = _mm_setzero_si128();
+  const __m128 f0 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(f01, zero)), f1 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(f01, zero));
+  const __m128 f2 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(f23, zero));
+  const __m128 u = timing.u;  // NaN fails every comparison: left to locate()
+  const __m128i h = _mm_load_si128(reinterpret_cast<const __m128i*>(hint));
+  const __m128i one = _mm_set1_epi32(1);
+  const __m128 here = _mm_and_ps(_mm_cmplt_ps(f0, u), _mm_cmplt_ps(u, f1));
+  const __m128i nextExists = _mm_cmplt_epi32(_mm_add_epi32(h, _mm_set1_epi32(2)), timing.keys);  // h + 2 < keys
+  const __m128 next = _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(f1, u), _mm_cmplt_ps(u, f2)), _mm_castsi128_ps(nextExists));
+  const int found = _mm_movemask_ps(_mm_or_ps(here, next)) & valid;
+  const __m128i lo = _mm_sub_epi32(h, _mm_castps_si128(next));  // + 1 in the next interval
+  const __m128 a = select(next, f1, f0), b = select(next, f2, f1);
+  out.f = _mm_min_ps(_mm_max_ps(_mm_div_ps(_mm_sub_ps(u, a), _mm_sub_ps(b, a)), _mm_setzero_ps()), _mm_set1_ps(1.0f));
+  out.hold = _mm_castsi128_ps(stepMask(t));
+  _mm_store_si128(reinterpret_cast<__m128i*>(out.first), lo);
+  _mm_store_si128(reinterpret_cast<__m128i*>(out.second), _mm_add_epi32(lo, one));
+  alignas(16) std::uint32_t updated[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(updated), lo);
+  for (std::size_t k = 0; k < count; ++k)
+    if (found >> k & 1) hints[k] = updated[k];
+  return found;
 }
 
 // Four tracks' keys (lane k = track k) as floats per component: a transpose in registers.
@@ -263,37 +327,41 @@ void sample4(const CompactTrack* first, std::size_t count, const std::uint8_t* b
              std::uint32_t* hints) noexcept {
   const CompactTrack* t[4];
   for (std::size_t k = 0; k < 4; ++k) t[k] = first + std::min(k, count - 1);  // padding repeats the last
-  __m128i ka[4], kb[4];
-  __m128 at, held;
   const auto even = [](const CompactTrack* x) { return x->times == CompactTrack::kEvenKeys && x->keys > 1; };
+  const auto sparse = [](const CompactTrack* x) { return x->times != CompactTrack::kEvenKeys && x->rate > 0.0f && x->keys > 1; };
+  Intervals4 in;
+  int found = 0;  // lanes whose interval is known; the rest go through locate()
   if (even(t[0]) && even(t[1]) && even(t[2]) && even(t[3])) {
-    Intervals4 in;
     evenIntervals4(t, time, in);
-    for (std::size_t k = 0; k < 4; ++k) {
-      const std::uint8_t* data = base + t[k]->offset;
-      const std::uint32_t stride = t[k]->bits == 8 ? 3 : 6;
-      ka[k] = keyLanes(data + in.first[k] * stride, t[k]->bits);
-      kb[k] = keyLanes(data + in.second[k] * stride, t[k]->bits);
-    }
+    found = 0xF;
+  } else if (hints && sparse(t[0]) && sparse(t[1]) && sparse(t[2]) && sparse(t[3])) {
+    found = sparseIntervals4(t, count, base, time, hints, in);
+  }
+  __m128 at, held;
+  if (found == 0xF) {
     at = in.f, held = in.hold;
   } else {
-    float f[4], hold[4];
+    alignas(16) float f[4], hold[4];
+    if (found) _mm_store_ps(f, in.f), _mm_store_ps(hold, in.hold);
     for (std::size_t k = 0; k < 4; ++k) {
-      if (k >= count) {
-        ka[k] = ka[k - 1], kb[k] = kb[k - 1], f[k] = f[k - 1], hold[k] = hold[k - 1];
+      if (found >> k & 1) continue;
+      if (k >= count) {  // the last track again: its lane's result
+        in.first[k] = in.first[k - 1], in.second[k] = in.second[k - 1], f[k] = f[k - 1], hold[k] = hold[k - 1];
         continue;
       }
-      const CompactTrack& track = *t[k];
-      const std::uint8_t* data = base + track.offset;
-      const KeyAt key = locate(track, base, time, hints ? hints + k : nullptr);
-      const std::uint32_t i = key.i, j = key.single ? key.i : key.i + 1, stride = track.bits == 8 ? 3 : 6;
-      ka[k] = keyLanes(data + i * stride, track.bits);
-      kb[k] = keyLanes(data + j * stride, track.bits);
+      const KeyAt key = locate(*t[k], base, time, hints ? hints + k : nullptr);
+      in.first[k] = key.i, in.second[k] = key.single ? key.i : key.i + 1;
       f[k] = key.f;
-      hold[k] = key.single || track.step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
+      hold[k] = key.single || t[k]->step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
     }
-    at = _mm_setr_ps(f[0], f[1], f[2], f[3]);
-    held = _mm_setr_ps(hold[0], hold[1], hold[2], hold[3]);
+    at = _mm_load_ps(f), held = _mm_load_ps(hold);
+  }
+  __m128i ka[4], kb[4];
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::uint8_t* data = base + t[k]->offset;
+    const std::uint32_t stride = t[k]->bits == 8 ? 3 : 6;
+    ka[k] = keyLanes(data + in.first[k] * stride, t[k]->bits);
+    kb[k] = keyLanes(data + in.second[k] * stride, t[k]->bits);
   }
   __m128 qa[3], qb[3];
   componentsOf(ka, qa);
