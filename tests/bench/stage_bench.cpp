@@ -109,7 +109,7 @@ const float kWeights[3] = {0.5f, 0.3f, 0.2f};
 
 void sampleStage(benchmark::State& state, const std::string& which) {
   perJoint(state, which, [](StageData& d, int c) {
-    sampleAnimationClip(*d.clips[0], d.time(0, c), false, d.skeleton->restPose, d.result(c), &d.cursors[static_cast<std::size_t>(c)]);
+    sampleAnimationClip(*d.clips[0], d.time(0, c), false, d.result(c), &d.cursors[static_cast<std::size_t>(c)]);
   });
 }
 

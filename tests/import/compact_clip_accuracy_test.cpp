@@ -81,6 +81,10 @@ TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
         sampleCompactClipTracks(ac->compact, t, wide, hints.data());
         sampleCompactClipTracksScalar(ac->compact, t, scalar);
         ASSERT_EQ(std::memcmp(wide.data(), scalar.data(), wide.size() * sizeof(Transform)), 0) << f << " " << authored.name << " at " << t << " (hinted)";
+        // Over the clip's pose (its constants applied at load), as the runtime plays it.
+        sampleAnimationClip(*ac, t, true, wide);
+        sampleAnimationClip(*ac, t, true, s.restPose, scalar);
+        ASSERT_EQ(std::memcmp(wide.data(), scalar.data(), wide.size() * sizeof(Transform)), 0) << f << " " << authored.name << " at " << t << " (over its pose)";
       }
       floatBytes += st.floatBytes + ac->compactionInPlaceRoot.floatBytes;
       compactBytes += st.compactBytes + ac->compactionInPlaceRoot.compactBytes;

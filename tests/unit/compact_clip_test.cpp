@@ -11,6 +11,7 @@
 #include <cstring>
 #include <vector>
 
+#include "marionette/animation/animation_clip.hpp"
 #include "marionette/animation/clip_error.hpp"
 #include "marionette/animation/compact_clip.hpp"
 #include "marionette/animation/pose.hpp"
@@ -153,6 +154,38 @@ TEST(CompactClip, HintsDoNotChangeTheResult) {
     for (int f = 0; f <= 480; ++f) {  // forward, as a player goes: between frames and on them
       const float t = static_cast<float>(f) / 240.0f;
       ASSERT_TRUE(same(t)) << joints << " joints at " << t;
+    }
+  }
+}
+
+// AnimationClip::pose holds the rest pose with the compact clip's constant tracks applied
+// once at load: sampling over it gives the bits of sampling over the skeleton's rest
+// pose, compact or float, and the constants are in it (a held scale and rotation).
+TEST(CompactClip, SamplingOverTheClipsPoseGivesTheBitsOfTheRestPose) {
+  ChainClip c = piecewiseLinearChain(9);
+  c.clip.tracks[2].scale.times = {0.0f, 2.0f};
+  c.clip.tracks[2].scale.values = {glm::vec3(1.5f), glm::vec3(1.5f)};
+  c.clip.tracks[4].rotation.times = {0.0f, 1.0f, 2.0f};
+  c.clip.tracks[4].rotation.values.assign(3, glm::angleAxis(0.4f, glm::vec3(0, 0, 1)));
+  for (const bool compact : {true, false}) {
+    AnimationClipOptions options;
+    options.compactClips = compact;
+    const auto ac = makeAnimationClip(c.clip, c.skeleton, options);
+    ASSERT_EQ(ac->compact.empty(), !compact);
+    ASSERT_EQ(ac->pose.size(), c.skeleton.jointCount());
+    if (compact) {
+      EXPECT_GE(ac->compact.constants, 2u);
+      EXPECT_EQ(ac->pose[2].scale, glm::vec3(1.5f));
+      EXPECT_NEAR(std::fabs(glm::dot(ac->pose[4].rotation, glm::angleAxis(0.4f, glm::vec3(0, 0, 1)))), 1.0f, 1e-6f);
+    }
+    std::vector<Transform> overPose(9), overRest(9);
+    SamplingCursor a, b;  // with hints over the pose, without over the rest pose
+    a.reset(ac->clip);
+    for (int f = -2; f <= 130; ++f) {
+      const float t = static_cast<float>(f) / 60.0f;
+      sampleAnimationClip(*ac, t, true, overPose, &a);
+      sampleAnimationClip(*ac, t, true, c.skeleton.restPose, overRest, &b);
+      ASSERT_EQ(std::memcmp(overPose.data(), overRest.data(), overPose.size() * sizeof(Transform)), 0) << compact << " at " << t;
     }
   }
 }

@@ -31,26 +31,49 @@ std::shared_ptr<const AnimationClip> makeAnimationClip(Clip clip, const Skeleton
       if (out->compactInPlaceRoot.empty()) out->compact = {};
     }
   }
+  out->pose = skeleton.restPose;
+  applyCompactClipConstants(out->compact, out->pose);  // none when the clip stays float
   return out;
 }
 
+namespace {
+
+// A cursor sized for the float clip has a hint for each compact track too (a float
+// track makes at most three of them); the compact sampler keeps its own hints there.
+std::uint32_t* hintsIn(SamplingCursor* c, const Clip& floats, const CompactClip& compact) noexcept {
+  return c && c->clip == &floats && c->keys.size() >= compact.tracks.size() ? c->keys.data() : nullptr;
+}
+
+// The in-place root tracks over `out`, when the clip travels and is played in place.
+void sampleInPlaceRoot(const AnimationClip& clip, float time, std::span<Transform> out, SamplingCursor* rootCursor) noexcept {
+  if (!clip.compact.empty())
+    sampleCompactClipTracks(clip.compactInPlaceRoot, time, out, hintsIn(rootCursor, clip.inPlaceRoot, clip.compactInPlaceRoot));
+  else
+    sampleClipTracks(clip.inPlaceRoot, time, out, rootCursor);
+}
+
+}  // namespace
+
 void sampleAnimationClip(const AnimationClip& clip, float time, bool inPlace, std::span<const Transform> rest,
                          std::span<Transform> out, SamplingCursor* cursor, SamplingCursor* rootCursor) noexcept {
-  const bool travels = inPlace && !clip.rootMotion.empty();
+  const std::span<Transform> sampled = out.first(std::min(rest.size(), out.size()));
+  if (!clip.compact.empty())
+    sampleCompactClip(clip.compact, time, rest, out, hintsIn(cursor, clip.clip, clip.compact));
+  else
+    sampleClip(clip.clip, time, rest, out, cursor);
+  if (inPlace && !clip.rootMotion.empty()) sampleInPlaceRoot(clip, time, sampled, rootCursor);
+}
+
+void sampleAnimationClip(const AnimationClip& clip, float time, bool inPlace, std::span<Transform> out, SamplingCursor* cursor,
+                         SamplingCursor* rootCursor) noexcept {
+  const std::span<Transform> sampled = out.first(std::min(clip.pose.size(), out.size()));
   if (!clip.compact.empty()) {
-    // A cursor sized for the float clip has a hint for each compact track too (a float
-    // track makes at most three of them); the compact sampler keeps its own hints there.
-    const auto hints = [](SamplingCursor* c, const Clip& floats, const CompactClip& compact) -> std::uint32_t* {
-      return c && c->clip == &floats && c->keys.size() >= compact.tracks.size() ? c->keys.data() : nullptr;
-    };
-    sampleCompactClip(clip.compact, time, rest, out, hints(cursor, clip.clip, clip.compact));
-    if (travels)
-      sampleCompactClipTracks(clip.compactInPlaceRoot, time, out.first(std::min(rest.size(), out.size())),
-                              hints(rootCursor, clip.inPlaceRoot, clip.compactInPlaceRoot));
-    return;
+    std::copy(clip.pose.begin(), clip.pose.begin() + static_cast<std::ptrdiff_t>(sampled.size()), sampled.begin());
+    sampleCompactClipAnimated(clip.compact, time, sampled, hintsIn(cursor, clip.clip, clip.compact));
+  } else {
+    sampleClip(clip.clip, time, clip.pose, out, cursor);
   }
-  sampleClip(clip.clip, time, rest, out, cursor);
-  if (travels) sampleClipTracks(clip.inPlaceRoot, time, out.first(std::min(rest.size(), out.size())), rootCursor);
+  if (inPlace && !clip.rootMotion.empty()) sampleInPlaceRoot(clip, time, sampled, rootCursor);
 }
 
 }  // namespace marionette

@@ -428,11 +428,11 @@ void sample4(const CompactTrack* first, std::size_t count, const std::uint8_t* b
 }  // namespace
 #endif
 
-void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out, std::uint32_t* hints) noexcept {
-#if MARIONETTE_SIMD4
+void sampleCompactClipAnimated(const CompactClip& clip, float time, std::span<Transform> out, std::uint32_t* hints) noexcept {
   const std::uint8_t* data = clip.data.data();
   const CompactTrack* t = clip.tracks.data();
   const std::size_t n = out.size();
+  const std::size_t animated = clip.tracks.size() - clip.constants;
   std::size_t i = 0;
   const auto hint = [&](std::size_t k) { return hints ? hints + k : nullptr; };
   const auto one = [&](std::size_t end) {
@@ -440,8 +440,8 @@ void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Tran
       if (t[i].joint >= 0 && static_cast<std::size_t>(t[i].joint) < n)
         sampleTrack(t[i], data, time, out[static_cast<std::size_t>(t[i].joint)], hint(i));
   };
+#if MARIONETTE_SIMD4
   const std::size_t endRotations = clip.rotations, endVectors = endRotations + clip.vectors;
-  const std::size_t animated = clip.tracks.size() - clip.constants;
   // Groups of four; a run's last two or three tracks make a padded group, its last one is sampled alone.
   for (; i + kLeastGroup <= endRotations; i += 4)
     sample4<Run::Rotations>(t + i, std::min<std::size_t>(4, endRotations - i), data, time, out, hint(i));
@@ -450,22 +450,29 @@ void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Tran
   for (; i + kLeastGroup <= endVectors; i += 4)
     sample4<Run::Vectors>(t + i, std::min<std::size_t>(4, endVectors - i), data, time, out, hint(i));
   i = std::min(i, endVectors);
+#endif
   one(animated);
-  for (; i < clip.tracks.size(); ++i) {  // constants: one key, floats, copied as they are
-    const CompactTrack& c = t[i];
+}
+
+void applyCompactClipConstants(const CompactClip& clip, std::span<Transform> pose) noexcept {
+  const std::uint8_t* data = clip.data.data();
+  const std::size_t n = pose.size();
+  for (std::size_t i = clip.tracks.size() - clip.constants; i < clip.tracks.size(); ++i) {  // one key, floats, copied as they are
+    const CompactTrack& c = clip.tracks[i];
     const auto j = static_cast<std::size_t>(c.joint);
     if (c.joint < 0 || j >= n) continue;
     const std::uint8_t* v = data + c.offset;
     if (c.property == CompactTrack::Rotation)
-      out[j].rotation = glm::quat(readAt<float>(v + 12), readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
+      pose[j].rotation = glm::quat(readAt<float>(v + 12), readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
     else
-      (c.property == CompactTrack::Translation ? out[j].translation : out[j].scale) =
+      (c.property == CompactTrack::Translation ? pose[j].translation : pose[j].scale) =
           glm::vec3(readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
   }
-#else
-  (void)hints;
-  sampleCompactClipTracksScalar(clip, time, out);
-#endif
+}
+
+void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out, std::uint32_t* hints) noexcept {
+  sampleCompactClipAnimated(clip, time, out, hints);
+  applyCompactClipConstants(clip, out);
 }
 
 void sampleCompactClip(const CompactClip& clip, float time, std::span<const Transform> rest, std::span<Transform> out,

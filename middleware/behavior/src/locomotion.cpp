@@ -418,7 +418,6 @@ void LocomotionController::setTargetPosition(const glm::vec3& world) noexcept {
 void LocomotionController::update(float dt, double clock, glm::vec3& position, float& heading,
                                   const Skeleton& skeleton, std::span<Transform> pose,
                                   std::span<Transform> scratch) noexcept {
-  const std::span<const Transform> rest = skeleton.restPose;
   if (!set_->usable() || (!plan_ && weight_ <= 0.0f && state_.speed <= 0.0f && !planter_.active())) return;
   // Someone else moved the character (setPosition, a layer's root motion): steer from there.
   if (position != drawnAt_) state_.position = {position.x, position.z};
@@ -511,10 +510,10 @@ void LocomotionController::update(float dt, double clock, glm::vec3& position, f
   // root's sway and hip turn out would move the legs away from feet that do not
   // hang from that root (RobotExpressive's IK feet went 20 cm off the shins
   // walking and 36 cm running, against the clips' own 5 and 3 cm).
-  sampleAnimationClip(*walk.clip, walkTime, walk.hasRootMotion, rest, gait, &walkCursor_, &walkRootCursor_);
+  sampleAnimationClip(*walk.clip, walkTime, walk.hasRootMotion, gait, &walkCursor_, &walkRootCursor_);
   if (runWeight_ > 0.0f) {
     const float runTime = static_cast<float>(gaitTime(run, phase_) - std::floor(phase_ + run.strikePhase) * run.duration());
-    sampleAnimationClip(*run.clip, runTime, run.hasRootMotion, rest, scratch, &runCursor_, &runRootCursor_);
+    sampleAnimationClip(*run.clip, runTime, run.hasRootMotion, scratch, &runCursor_, &runRootCursor_);
     blendOver(gait, scratch, runWeight_, {});
   }
   blendOver(pose, gait, weight_, {});

@@ -124,7 +124,7 @@ double Character::layerTime(int layer) const noexcept {
 void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
   const AnimationClip& ac = *layer.clip;
   const float t = layer.clipTime;
-  sampleAnimationClip(ac, t, layer.options.rootMotion, skeleton().restPose, out, &layer.cursor, &layer.rootCursor);
+  sampleAnimationClip(ac, t, layer.options.rootMotion, out, &layer.cursor, &layer.rootCursor);
   if (layer.options.additive) makeAdditiveDelta(out, layer.reference, out);
 }
 

@@ -587,7 +587,7 @@ bool Character::applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept {
                         ? wrapClipTime(clock_ - start, ac.clip.duration, e.request.loop ? WrapMode::Loop : WrapMode::Clamp)
                         : static_cast<float>(std::clamp((clock_ - start) / span, 0.0, 1.0) * ac.clip.duration);
     // A clip that travels is played in place: behaviors do not move the character.
-    sampleAnimationClip(ac, t, true, rest, scratch, &e.cursor, &e.rootCursor);
+    sampleAnimationClip(ac, t, true, scratch, &e.cursor, &e.rootCursor);
     blendOver(pose_, scratch, w, e.mask);
     if (!ac.clip.morphTracks.empty() && !morphs.empty()) {
       std::copy(morphs.begin(), morphs.end(), morphScratch_.begin());

@@ -3,6 +3,7 @@
 // What a Rig holds per clip and what clip layers and behaviors play.
 #pragma once
 #include <memory>
+#include <vector>
 
 #include "marionette/animation/clip.hpp"
 #include "marionette/animation/clip_optimizer.hpp"
@@ -26,6 +27,11 @@ struct AnimationClip {
   // tracks stay for load-time analysis (gait, contacts, retargeting) and as the reference.
   CompactClip compact, compactInPlaceRoot;
   CompactClipStats compaction, compactionInPlaceRoot;
+  // The rest pose of the skeleton the clip was made for, with the constant tracks of
+  // `compact` applied: what sampling without a rest pose starts from, so that those
+  // tracks are written once at load instead of every frame (half of Pab's walk and jog
+  // tracks are constant). Derived at load, like a Rig's PaletteBasis: not clip data.
+  std::vector<Transform> pose;
 };
 
 // How clips are prepared when they are loaded (a Rig's RigOptions).
@@ -49,5 +55,9 @@ struct AnimationClipOptions {
 void sampleAnimationClip(const AnimationClip& clip, float time, bool inPlace, std::span<const Transform> rest,
                          std::span<Transform> out, SamplingCursor* cursor = nullptr,
                          SamplingCursor* rootCursor = nullptr) noexcept;
+// The same with the rest pose of the skeleton the clip was made for (AnimationClip::pose):
+// the same bits as passing that skeleton's restPose, faster. What the runtime plays.
+void sampleAnimationClip(const AnimationClip& clip, float time, bool inPlace, std::span<Transform> out,
+                         SamplingCursor* cursor = nullptr, SamplingCursor* rootCursor = nullptr) noexcept;
 
 }  // namespace marionette

@@ -108,6 +108,12 @@ void sampleCompactClip(const CompactClip& clip, float time, std::span<const Tran
                        std::uint32_t* hints = nullptr) noexcept;
 void sampleCompactClipTracks(const CompactClip& clip, float time, std::span<Transform> out,
                              std::uint32_t* hints = nullptr) noexcept;
+// The two halves of sampleCompactClipTracks, for a caller that samples over one pose
+// many times (AnimationClip::pose): the constant tracks written into `pose` once, and
+// the animated tracks written each frame. Together, the bits of sampleCompactClipTracks.
+void applyCompactClipConstants(const CompactClip& clip, std::span<Transform> pose) noexcept;
+void sampleCompactClipAnimated(const CompactClip& clip, float time, std::span<Transform> out,
+                               std::uint32_t* hints = nullptr) noexcept;
 // Track after track, without the four-wide decoding: the definition, for tests (the same bits).
 void sampleCompactClipTracksScalar(const CompactClip& clip, float time, std::span<Transform> out) noexcept;
 
