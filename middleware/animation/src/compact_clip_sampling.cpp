@@ -266,7 +266,6 @@ inline int sparseIntervals4(const CompactTrack* const (&t)[4], std::size_t count
   const __m128 f2 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(f23, zero));
   const __m128 u = timing.u;  // NaN fails every comparison: left to locate()
   const __m128i h = _mm_load_si128(reinterpret_cast<const __m128i*>(hint));
-  const __m128i one = _mm_set1_epi32(1);
   const __m128 here = _mm_and_ps(_mm_cmplt_ps(f0, u), _mm_cmplt_ps(u, f1));
   const __m128i nextExists = _mm_cmplt_epi32(_mm_add_epi32(h, _mm_set1_epi32(2)), timing.keys);  // h + 2 < keys
   const __m128 next = _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(f1, u), _mm_cmplt_ps(u, f2)), _mm_castsi128_ps(nextExists));
@@ -276,11 +275,9 @@ inline int sparseIntervals4(const CompactTrack* const (&t)[4], std::size_t count
   out.f = _mm_min_ps(_mm_max_ps(_mm_div_ps(_mm_sub_ps(u, a), _mm_sub_ps(b, a)), _mm_setzero_ps()), _mm_set1_ps(1.0f));
   out.hold = _mm_castsi128_ps(stepMask(t));
   _mm_store_si128(reinterpret_cast<__m128i*>(out.first), lo);
-  _mm_store_si128(reinterpret_cast<__m128i*>(out.second), _mm_add_epi32(lo, one));
-  alignas(16) std::uint32_t updated[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(updated), lo);
+  _mm_store_si128(reinterpret_cast<__m128i*>(out.second), _mm_add_epi32(lo, _mm_set1_epi32(1)));
   for (std::size_t k = 0; k < count; ++k)
-    if (found >> k & 1) hints[k] = updated[k];
+    if (found >> k & 1) hints[k] = out.first[k];
   return found;
 }
 

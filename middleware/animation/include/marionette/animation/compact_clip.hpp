@@ -64,10 +64,10 @@ struct CompactTrack {
 
 struct CompactClip {
   float duration = 0.0f;
-  // The animated rotations in 8 or 16 bits first, then the animated translations and
-  // scales in 8 or 16 bits (the sampler decodes each run four tracks at a time, whatever
-  // their widths), then the other animated tracks (floats, 64-bit rotations), then the
-  // constants (one key, stored as floats, copied); by joint within each.
+  // The animated rotations in 8 or 16 bits, then the animated translations and scales in
+  // 8 or 16 bits (each run decoded four tracks at a time, whatever their widths; evenly
+  // keyed tracks first in each), then the other animated tracks (floats, 64-bit rotations),
+  // then the constants (one key, stored as floats, copied); by joint within each.
   std::vector<CompactTrack> tracks;
   std::uint32_t rotations = 0, vectors = 0, constants = 0;  // the lengths of those runs
   std::vector<std::uint8_t> data;    // the keys, track after track
