@@ -73,16 +73,21 @@ ScenarioRun runMarkerless(const RenderedScenario& rendered, const CameraModel& c
     run.poses.push_back(tracker->update(view, static_cast<double>(i) / rendered.scenario.fps));
     run.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     run.relocalizations += tracker->lastFrame().relocalized;
-    if (std::getenv("MN_FRAMES")) {
+    if (std::getenv("MN_FRAMES")) {  // a line per frame, for calibrating the gates (docs/tracking.md)
       const TrackedPose& p = run.poses.back();
       const auto& st = tracker->lastFrame();
-      std::fprintf(stderr, "%s %zu: %s vis %.2f err %.1f mm inl %d rms %.2f corners %d reloc %d kf %d added %d\n",
+      const glm::dmat4& truth = rendered.scenario.cameraToWorld[i];
+      const bool lost = p.state == TrackingState::Lost;
+      std::fprintf(stderr,
+                   "%s %zu: %s vis %.2f err %.1f mm %.2f deg sigma %.1f mm %.3f deg inl %d/%d rms %.2f spread %.2f "
+                   "ncc %.2f motion %.1f/%.1f mm %.2f/%.2f deg rej %d reloc %d bg %d extra %d kf %d added %d\n",
                    rendered.scenario.name.c_str(), i, std::string(trackingStateName(p.state)).c_str(),
-                   rendered.scenario.visibleFraction[i],
-                   p.state == TrackingState::Lost ? -1.0
-                                                  : 1000 * glm::length(p.position() - glm::dvec3(rendered.scenario.cameraToWorld[i][3])),
-                   st.inliers, st.rmsPx, st.corners, st.relocalized, st.keyframe, st.keyframeAdded);
-      if (std::getenv("MN_POS") && p.state != TrackingState::Lost) std::fprintf(stderr, "   est (%.3f %.3f %.3f) true (%.3f %.3f %.3f)\n", p.position().x, p.position().y, p.position().z, rendered.scenario.cameraToWorld[i][3].x, rendered.scenario.cameraToWorld[i][3].y, rendered.scenario.cameraToWorld[i][3].z);
+                   rendered.scenario.visibleFraction[i], lost ? -1.0 : 1000 * glm::length(p.position() - glm::dvec3(truth[3])),
+                   lost ? -1.0 : rotationErrorDeg(p.cameraToWorld, truth), 1000 * st.positionSigmaM, st.rotationSigmaDeg,
+                   st.inliers, st.corners, st.rmsPx, st.spread, st.ncc, 1000 * st.motionPositionM,
+                   1000 * st.motionPositionLimitM, st.motionRotationDeg, st.motionRotationLimitDeg,
+                   static_cast<int>(st.rejection), st.relocalized, st.backgroundMotion, st.extrapolated, st.keyframe,
+                   st.keyframeAdded);
     }
   }
   run.keyframes = static_cast<int>(tracker->map().keyframes.size());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/features2d.hpp>
@@ -16,6 +17,7 @@
 #include "motion_blur.hpp"
 #include "perspective_warp.hpp"
 #include "planar_geometry.hpp"
+#include "planar_pose.hpp"
 #include "pose_filter.hpp"
 
 namespace marionette::ar {
@@ -27,6 +29,13 @@ constexpr int kCornersPerKeyframe = 500;
 constexpr int kReferenceLevels = 4;  // the reference at 1, 1/2, 1/4, 1/8: warp from the nearest scale
 constexpr int kMinRelocalizationInliers = 15;
 constexpr double kMaxBlurFraction = 0.1;  // longest motion blur modelled, of the frame's width
+// How long the background's frame-to-frame motion alone may carry the pose (never given, only
+// where tracking starts): a look away and back within it tracks again without relocalizing.
+constexpr double kMaxChainSeconds = 1.5;
+constexpr int kMinBackgroundPoints = 16;
+// A keyframe seen this much larger than it was taken is replaced by a new one (map extension),
+// and counts for less when choosing the keyframe to track against.
+constexpr double kMaxMagnification = 1.6;
 
 // cv::Mat::setTo allocates a scratch buffer on every call.
 void fill(cv::Mat& image, std::uint8_t value) noexcept {
@@ -46,6 +55,79 @@ struct KeyframeData {
   bool reference = false;
 };
 
+// One measured pose and the evidence the gates judge it by.
+struct Measurement {
+  PlanarPose pose;
+  double rms = 0;
+  int inliers = 0, tried = 0;
+  double spread = 0;  // the inliers' narrowest spread over the tried corners
+  double ncc = 0;     // mean normalized cross-correlation of template and frame at the inliers
+  std::array<double, 36> covariance{};
+  double positionSigma = 0, rotationSigmaDeg = 0;
+  bool haveCovariance = false;
+};
+
+// A pose with its time and uncertainty: the history the motion model works from.
+struct StampedPose {
+  PlanarPose pose;
+  double time = 0;
+  std::array<double, 36> covariance{};
+  double positionSigma = 0, rotationSigmaDeg = 0;
+};
+
+enum class Evidence { None, Limited, Tracking };
+enum class Verdict { Rejected, Limited, Tracking, Pending };
+
+constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+// sqrt of the smaller eigenvalue of the points' covariance: their spread across the narrowest
+// direction, pixels.
+double narrowestSpread(const std::vector<cv::Point2f>& points) noexcept {
+  if (points.size() < 2) return 0;
+  double mx = 0, my = 0;
+  for (const cv::Point2f& p : points) mx += p.x, my += p.y;
+  const double n = static_cast<double>(points.size());
+  mx /= n, my /= n;
+  double sxx = 0, syy = 0, sxy = 0;
+  for (const cv::Point2f& p : points) {
+    sxx += (p.x - mx) * (p.x - mx);
+    syy += (p.y - my) * (p.y - my);
+    sxy += (p.x - mx) * (p.y - my);
+  }
+  sxx /= n, syy /= n, sxy /= n;
+  return std::sqrt(std::max(0.0, 0.5 * (sxx + syy) - std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy)));
+}
+
+// Bilinear sample of a grey image; false outside it.
+bool sample(const cv::Mat& image, float x, float y, float& out) noexcept {
+  if (!(x >= 0) || !(y >= 0) || x > static_cast<float>(image.cols - 2) || y > static_cast<float>(image.rows - 2))
+    return false;
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+  const std::uint8_t* r0 = image.ptr<std::uint8_t>(y0);
+  const std::uint8_t* r1 = image.ptr<std::uint8_t>(y0 + 1);
+  out = (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+  return true;
+}
+
+// Zero-mean normalized cross-correlation of the (2 half + 1)^2 patches around a in `templ` and
+// b in `frame`; NaN where a patch leaves its image or is flat.
+double patchNcc(const cv::Mat& templ, cv::Point2f a, const cv::Mat& frame, cv::Point2f b, int half) noexcept {
+  double st = 0, sf = 0, stt = 0, sff = 0, stf = 0;
+  int n = 0;
+  for (int dy = -half; dy <= half; ++dy)
+    for (int dx = -half; dx <= half; ++dx) {
+      float t = 0, f = 0;
+      if (!sample(templ, a.x + static_cast<float>(dx), a.y + static_cast<float>(dy), t) ||
+          !sample(frame, b.x + static_cast<float>(dx), b.y + static_cast<float>(dy), f))
+        return std::numeric_limits<double>::quiet_NaN();
+      st += t, sf += f, stt += double(t) * t, sff += double(f) * f, stf += double(t) * f;
+      ++n;
+    }
+  const double vt = stt - st * st / n, vf = sff - sf * sf / n;
+  if (!(vt > 1e-6 * n) || !(vf > 1e-6 * n)) return std::numeric_limits<double>::quiet_NaN();
+  return (stf - st * sf / n) / std::sqrt(vt * vf);
+}
 
 }  // namespace
 
@@ -61,16 +143,38 @@ struct MarkerlessTracker::Impl {
   PoseFilter filter;
   FrameStats stats;
 
-  // Pose history (world -> OpenCV camera).
-  bool havePose = false, havePrevious = false;
-  PlanarPose pose, previous;
-  double poseTime = 0, previousTime = 0, lastSeen = -1e300;
-  TrackingState lastState = TrackingState::Lost;
-  bool lastMeasured = false;  // the last frame's pose came from features, not extrapolation
+  // Pose history (world -> OpenCV camera). Confirmed poses (TRACKING, newest first) are the
+  // motion model's base: only they give a velocity. The anchor is the last measured pose
+  // given out (TRACKING or LIMITED), where the next frame's tracking starts. A pending pose is
+  // a relocalization (or a strong pose off the motion model) that the next frame must confirm
+  // before anything is given from it.
+  std::array<StampedPose, 2> confirmed{};
+  int confirmedCount = 0;
+  StampedPose anchor, pending;
+  bool haveAnchor = false, havePending = false;
+  bool gaveLast = false;  // the last frame gave a pose (the filter continues from it)
 
   // Buffers reused every frame.
   cv::Mat warped, blurred;
-  ImagePyramid framePyramid, templatePyramid;
+  ImagePyramid templatePyramid;
+  // This frame's and the last one's grey pinhole images and pyramids (alternating): the
+  // frame-to-frame motion of the whole image corrects the prediction.
+  std::array<cv::Mat, 2> frameCopies;
+  std::array<ImagePyramid, 2> pyramids;
+  int currentFrame = 0;
+  bool havePreviousFrame = false;
+  // The best estimate of the last frame's pose: the pose given, the pending one, or the
+  // background's prediction while nothing was given (chained for at most kMaxChainSeconds).
+  PlanarPose previousFramePose;
+  bool havePreviousFramePose = false;
+  // This frame's pose carried from the last given one by the image's motion alone (no anchor).
+  PlanarPose chainPrediction;
+  bool haveChainPrediction = false;
+  double lastGivenTime = -1e300;
+  std::vector<cv::Point2f> backgroundGrid, backgroundFrom, backgroundTo, backgroundFound;
+  std::vector<unsigned char> backgroundStatus, backgroundMask;
+  HomographyRansac backgroundRansac;
+  [[nodiscard]] const ImagePyramid& framePyramid() const noexcept { return pyramids[static_cast<std::size_t>(currentFrame)]; }
   LucasKanade lk;
   PlanarPoseSolver solver;
   MotionBlur blur;
@@ -91,7 +195,19 @@ struct MarkerlessTracker::Impl {
     grey.configure(c);
     blurScratch.reserve(c.width, c.height);
     // Sized once: the per-frame path allocates nothing (tracking_allocation_test).
-    framePyramid.configure(c.width, c.height, s.pyramidLevels);
+    for (std::size_t i = 0; i < 2; ++i) {
+      frameCopies[i].create(c.height, c.width, CV_8UC1);
+      pyramids[i].configure(c.width, c.height, s.pyramidLevels);
+    }
+    // A 12 x 9 grid over the frame, 24 px in from its border: the background's sample points.
+    for (int j = 0; j < 9; ++j)
+      for (int i = 0; i < 12; ++i)
+        backgroundGrid.emplace_back(static_cast<float>(24 + (c.width - 48) * (i + 0.5) / 12),
+                                    static_cast<float>(24 + (c.height - 48) * (j + 0.5) / 9));
+    for (auto* v : {&backgroundFrom, &backgroundTo, &backgroundFound}) v->reserve(backgroundGrid.size());
+    backgroundStatus.reserve(backgroundGrid.size());
+    backgroundMask.reserve(backgroundGrid.size());
+    backgroundRansac.reserve(backgroundGrid.size());
     templatePyramid.configure(c.width, c.height, s.pyramidLevels);
     const std::size_t points = static_cast<std::size_t>(std::max(s.trackedCorners, s.relocalizationFeatures) + 64);
     solver.reserve(points);
@@ -108,16 +224,32 @@ struct MarkerlessTracker::Impl {
   void matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels, const cv::Matx33d& imageToPlane,
                      bool unique, PlanarPose& out, int& bestInliers);
   PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage);
-  bool track(const PlanarPose& prediction, int keyframe, PlanarPose& out, double& rms, int& inliers);
+  bool track(const PlanarPose& prediction, int keyframe, Measurement& out);
+  [[nodiscard]] Evidence evidenceOf(const Measurement& m) const noexcept;
+  // The motion model: distance of `pose` from what the confirmed poses predict at `seconds`,
+  // and what a hand-held camera could have done since (stats' motion fields). True within it.
+  bool motionAllows(const Measurement& m, const StampedPose& base, bool withVelocity, double seconds) noexcept;
+  Verdict judge(const Measurement& m, double seconds, bool relocalized) noexcept;
+  [[nodiscard]] bool haveVelocity() const noexcept;
+  bool predict(double seconds, PlanarPose& out);
+  // The last frame's pose moved by the homography that carries the last frame's image onto
+  // this one (KLT on a grid, RANSAC), started from `guess`. False when too little agrees.
+  bool backgroundPrediction(const PlanarPose& guess, PlanarPose& out);
+  bool loadFrame(const ImageView& frame);
+  void forgetOld(double seconds) noexcept;
+  void forgetAll() noexcept;
+  void confirm(const Measurement& m, double seconds) noexcept;
   int chooseKeyframe(const PlanarPose& prediction);
   bool relocalize(PlanarPose& out);
   void maybeExtendMap(const PlanarPose& p);
+  // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
+  [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;
   // Past this the target is a few pixels wide and any homography fits it: not a pose.
   [[nodiscard]] double maxDistance() const noexcept { return 40.0 * std::max(map.targetWidth, map.targetHeight); }
   // Enough of the corners tried agree, closely: a verified pose. Blur, occlusion or a wrong
   // prediction leave fewer, looser inliers (LIMITED at best).
-  [[nodiscard]] bool isStrong(int inliers, double rms) const noexcept {
-    return inliers >= settings.minTrackingInliers && 3 * inliers >= stats.corners && rms <= settings.maxTrackingRmsPx;
+  [[nodiscard]] bool isStrong(const Measurement& m) const noexcept {
+    return m.inliers >= settings.minTrackingInliers && 3 * m.inliers >= m.tried && m.rms <= settings.maxTrackingRmsPx;
   }
   TrackedPose update(const ImageView& frame, double seconds);
 };
@@ -216,8 +348,11 @@ int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
       const double u = h[0] / h[2], v = h[1] / h[2];
       count += u >= 0 && v >= 0 && u < camera.width && v < camera.height;
     }
-    // The reference is sharper and exact: a camera keyframe must see clearly more.
-    const int score = keyframes[k].reference ? count + count / 4 : count;
+    // The reference is sharper and exact: a camera keyframe must see clearly more. A keyframe
+    // magnified past kMaxMagnification has less detail than the frame: it counts for less.
+    int score = keyframes[k].reference ? count + count / 4 : count;
+    const double magnification = keyframeMagnification(prediction, static_cast<int>(k));
+    if (magnification > kMaxMagnification) score = static_cast<int>(score * kMaxMagnification / magnification);
     if (score > bestCount) {
       bestCount = score;
       best = static_cast<int>(k);
@@ -226,13 +361,14 @@ int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
   return best;
 }
 
-bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, PlanarPose& out, double& rms,
-                                    int& inliers) {
+bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, Measurement& out) {
   const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
   const cv::Mat& frame = grey.pinhole();
   PlanarPose current = prediction;
-  inliers = 0;
-  rms = 0;
+  out = Measurement{};
+  int inliers = 0;
+  double rms = 0;
+  const cv::Mat* usedTemplate = &warped;
   for (int pass = 0; pass <= settings.refinements; ++pass) {
     const cv::Matx33d G = planeToImageHomography(K, current);
     const cv::Matx33d W0 = G * kf.imageToPlane;  // keyframe level-0 pixel -> frame pixel
@@ -318,7 +454,8 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
       lkParams.levels = pass == 0 ? settings.pyramidLevels : std::min(settings.pyramidLevels, 1);
       status.resize(predicted.size());
       if (!templatePyramid.buildRegion(*templ, region, background)) return false;
-      lk.track(templatePyramid, framePyramid, predicted, found, status, lkParams);
+      lk.track(templatePyramid, framePyramid(), predicted, found, status, lkParams);
+      usedTemplate = templ;
       inlierPlane.clear();
       inlierImage.clear();
       inlierFrom.clear();
@@ -363,7 +500,35 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
   stats.corners = static_cast<int>(predicted.size());
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) stats.planeToImage[static_cast<std::size_t>(r * 3 + c)] = homography(r, c);
-  out = current;
+  out.pose = current;
+  out.rms = rms;
+  out.inliers = inliers;
+  out.tried = static_cast<int>(predicted.size());
+  // The evidence beyond the counts. Spread: the inliers (solver.image) against the corners
+  // tried, across the narrowest direction of each.
+  const double triedSpread = narrowestSpread(predicted);
+  out.spread = triedSpread > 0 ? narrowestSpread(solver.image) / triedSpread : 0;
+  // Photometric: the template's patches against the frame's where KLT put them, at up to 48
+  // inliers spread over the list (it is interleaved over the keyframe).
+  double nccSum = 0;
+  int nccCount = 0;
+  const std::size_t step = std::max<std::size_t>(1, inlierFrom.size() / 48);
+  for (std::size_t i = 0; i < inlierFrom.size() && i < mask.size(); i += step) {
+    if (!mask[i]) continue;
+    const double c = patchNcc(*usedTemplate, inlierFrom[i], frame, inlierImage[i], 4);
+    if (std::isfinite(c)) nccSum += c, ++nccCount;
+  }
+  out.ncc = nccCount > 0 ? nccSum / nccCount : 0;
+  // The covariance from the final step's normal equations (planar_pose.hpp).
+  double covariance[36];
+  out.haveCovariance = planarPoseCovariance(K, solver.plane, solver.image, {}, current,
+                                            std::max(rms, settings.minFeatureSigmaPx), settings.effectiveFeatures,
+                                            covariance);
+  if (out.haveCovariance) {
+    std::copy(covariance, covariance + 36, out.covariance.begin());
+    out.positionSigma = std::sqrt(covariance[21] + covariance[28] + covariance[35]);
+    out.rotationSigmaDeg = std::sqrt(covariance[0] + covariance[7] + covariance[14]) * kDegrees;
+  }
   return true;
 }
 
@@ -374,7 +539,7 @@ bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
   if (frameKeypoints.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) return false;
   int bestInliers = 0;
   for (const KeyframeData& kf : keyframes) {
-    if (!kf.reference && !havePose) continue;  // floor keyframes relocalize only near the last pose (below)
+    if (!kf.reference && !haveAnchor) continue;  // floor keyframes relocalize only near the last pose (below)
     matchFeatures(kf.descriptors, kf.featurePixels, kf.imageToPlane, kf.reference, out, bestInliers);
   }
   // The tilted views only when the keyframes found nothing: a frontal view does without their cost.
@@ -406,8 +571,8 @@ void MarkerlessTracker::Impl::matchFeatures(const cv::Mat& descriptors, const st
   // wrong repeat. Only the reference is unique; a floor keyframe relocalizes only near the
   // last measured pose.
   if (!unique &&
-      !(havePose && glm::length(cameraPosition(candidate) - cameraPosition(pose)) <
-                        0.3 * std::max(0.05, glm::length(cameraPosition(pose)))))
+      !(haveAnchor && glm::length(cameraPosition(candidate) - cameraPosition(anchor.pose)) <
+                          0.3 * std::max(0.05, glm::length(cameraPosition(anchor.pose)))))
     return;
   bestInliers = inliers;
   out = candidate;
@@ -415,87 +580,364 @@ void MarkerlessTracker::Impl::matchFeatures(const cv::Mat& descriptors, const st
 
 void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p) {
   if (static_cast<int>(map.keyframes.size()) >= PlanarMap::kMaxKeyframes) return;
-  if (visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) >= settings.extendBelowVisible) return;
+  // A keyframe when the view reaches past the target, or (as PTAM and ORB-SLAM add them as the
+  // camera closes in) when the keyframe tracked against is seen much larger than it was taken:
+  // its texture, magnified, no longer matches the frame's detail.
+  const bool pastTarget = visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible;
+  // Closing in on the target itself (floor keyframes carry their pose's error: no chains of them).
+  const bool closer = stats.keyframe >= 0 && keyframes[static_cast<std::size_t>(stats.keyframe)].reference &&
+                      keyframeMagnification(p, stats.keyframe) > kMaxMagnification;
+  if (!pastTarget && !closer) return;
   const glm::dvec3 c = cameraPosition(p);
   const double distance = std::max(0.05, c.y);
-  for (const KeyframeData& k : keyframes)
-    if (!k.reference && glm::length(k.cameraPosition - c) < 0.3 * distance) return;  // one near enough
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    const KeyframeData& kf = keyframes[k];
+    if (kf.reference) continue;
+    // One near enough already, seen at about its own scale.
+    if (glm::length(kf.cameraPosition - c) < 0.3 * distance &&
+        keyframeMagnification(p, static_cast<int>(k)) <= kMaxMagnification)
+      return;
+  }
   map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p)));
   prepareKeyframe(map.keyframes.size() - 1);
   stats.keyframeAdded = true;
 }
 
+double MarkerlessTracker::Impl::keyframeMagnification(const PlanarPose& p, int keyframe) const {
+  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  const cv::Matx33d w = planeToImageHomography(K, p) * kf.imageToPlane;  // keyframe pixel -> frame pixel
+  return homographyScaleAt(w, cv::Point2f(static_cast<float>(kf.levels[0].cols) * 0.5f,
+                                          static_cast<float>(kf.levels[0].rows) * 0.5f));
+}
+
+Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcept {
+  if (!m.haveCovariance) return Evidence::None;
+  // Three standard deviations within the error a drawn pose may have (positions: an absolute
+  // bound, or a share of the viewing distance for a target seen from afar).
+  const double distance = glm::length(cameraPosition(m.pose));
+  const double drawnM = std::max(settings.maxDrawnErrorM, settings.maxDrawnErrorFraction * distance);
+  const double trackingM = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance);
+  const bool limited = m.inliers >= settings.minLimitedInliers && m.spread >= settings.minLimitedSpread &&
+                       m.ncc >= settings.minLimitedNcc && 3 * m.positionSigma <= drawnM &&
+                       3 * m.rotationSigmaDeg <= settings.maxDrawnErrorDeg;
+  if (!limited) return Evidence::None;
+  const bool tracking = isStrong(m) && m.spread >= settings.minTrackingSpread && m.ncc >= settings.minTrackingNcc &&
+                        3 * m.positionSigma <= trackingM && 3 * m.rotationSigmaDeg <= settings.maxTrackingErrorDeg;
+  return tracking ? Evidence::Tracking : Evidence::Limited;
+}
+
+bool MarkerlessTracker::Impl::haveVelocity() const noexcept {
+  // Two confirmed poses close enough in time that their difference is a velocity.
+  return confirmedCount >= 2 && confirmed[0].time > confirmed[1].time &&
+         confirmed[0].time - confirmed[1].time <= 0.2;
+}
+
+bool MarkerlessTracker::Impl::motionAllows(const Measurement& m, const StampedPose& base, bool withVelocity,
+                                           double seconds) noexcept {
+  const double dt = std::max(0.0, seconds - base.time);
+  const double aMax = settings.maxAcceleration, alphaMax = settings.maxAngularAccelerationDeg;
+  // Noise: three standard deviations of both poses.
+  double positionLimit = 3 * std::hypot(base.positionSigma, m.positionSigma);
+  double rotationLimit = 3 * std::hypot(base.rotationSigmaDeg, m.rotationSigmaDeg);
+  PlanarPose reference = base.pose;
+  if (withVelocity) {
+    // Constant velocity from the two confirmed poses: their difference is the velocity half
+    // their interval ago, so at most acceleration a gives an error a dt (dt + pair) / 2. The
+    // velocity's own error (the two poses' noise over their interval) grows with dt.
+    const StampedPose& a = confirmed[1];
+    const double pair = base.time - a.time;
+    reference = extrapolate(a.pose, a.time, base.pose, base.time, seconds);
+    positionLimit += 0.5 * aMax * dt * (dt + pair) + 3 * std::hypot(a.positionSigma, base.positionSigma) * dt / pair;
+    rotationLimit +=
+        0.5 * alphaMax * dt * (dt + pair) + 3 * std::hypot(a.rotationSigmaDeg, base.rotationSigmaDeg) * dt / pair;
+  } else {
+    positionLimit += settings.maxSpeed * dt + 0.5 * aMax * dt * dt;
+    rotationLimit += settings.maxAngularSpeedDeg * dt + 0.5 * alphaMax * dt * dt;
+  }
+  stats.motionPositionM = glm::length(cameraPosition(m.pose) - cameraPosition(reference));
+  stats.motionRotationDeg = rotationBetweenDeg(m.pose, reference);
+  stats.motionPositionLimitM = positionLimit;
+  stats.motionRotationLimitDeg = rotationLimit;
+  return stats.motionPositionM <= positionLimit && stats.motionRotationDeg <= rotationLimit;
+}
+
+Verdict MarkerlessTracker::Impl::judge(const Measurement& m, double seconds, bool relocalized) noexcept {
+  stats.inliers = m.inliers;
+  stats.rmsPx = m.rms;
+  stats.spread = m.spread;
+  stats.ncc = m.ncc;
+  stats.positionSigmaM = m.positionSigma;
+  stats.rotationSigmaDeg = m.rotationSigmaDeg;
+  stats.rejection = Rejection::None;
+  const Evidence evidence = evidenceOf(m);
+  if (evidence == Evidence::None || (relocalized && evidence != Evidence::Tracking)) {
+    stats.rejection = Rejection::Evidence;
+    return Verdict::Rejected;
+  }
+  const bool strong = evidence == Evidence::Tracking;
+  if (havePending && !relocalized) {
+    // Tracked from a pose awaiting confirmation: it is confirmed when this frame, measured from
+    // it, continues it within what the camera can do (no velocity known yet).
+    if (motionAllows(m, pending, false, seconds)) return strong ? Verdict::Tracking : Verdict::Limited;
+    stats.rejection = Rejection::Unconfirmed;
+    return strong ? Verdict::Pending : Verdict::Rejected;
+  }
+  if (confirmedCount > 0) {
+    if (motionAllows(m, confirmed[0], haveVelocity(), seconds)) return strong ? Verdict::Tracking : Verdict::Limited;
+    // Off the motion model: wrong, or the camera was jolted. A strong pose gets the next
+    // frame to confirm it, as a relocalization does.
+    stats.rejection = Rejection::Motion;
+    return strong ? Verdict::Pending : Verdict::Rejected;
+  }
+  // No recent confirmed pose. A relocalization (ORB against the map, independent of the image's
+  // motion) that agrees with the pose the image's motion carried since the last one given is
+  // confirmed by it; anything else waits for the next frame.
+  if (relocalized && haveChainPrediction && posesAgree(m.pose, chainPrediction, 0.05, 3.0)) return Verdict::Tracking;
+  stats.rejection = Rejection::Unconfirmed;
+  return strong ? Verdict::Pending : Verdict::Rejected;
+}
+
+bool MarkerlessTracker::Impl::predict(double seconds, PlanarPose& out) {
+  if (havePending) {
+    out = pending.pose;  // no velocity known yet (the image's motion is the fallback, below)
+    return true;
+  }
+  if (haveAnchor) {
+    out = haveVelocity() ? extrapolateFrom(confirmed[1].pose, confirmed[1].time, confirmed[0].pose,
+                                           confirmed[0].time, anchor.pose, anchor.time, seconds)
+                         : anchor.pose;
+    return true;
+  }
+  // Nothing given lately: the last frame's estimate carried by the image's motion, if any.
+  if (havePreviousFramePose && seconds - lastGivenTime <= kMaxChainSeconds &&
+      backgroundPrediction(previousFramePose, out)) {
+    stats.backgroundMotion = true;
+    chainPrediction = out;
+    haveChainPrediction = true;
+    return true;
+  }
+  return false;
+}
+
+bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, PlanarPose& out) {
+  if (!settings.backgroundMotion || !havePreviousFrame || !havePreviousFramePose) return false;
+  const cv::Matx33d previousG = planeToImageHomography(K, previousFramePose);
+  const cv::Matx33d guessG = planeToImageHomography(K, guess);
+  const cv::Matx33d guessMotion = guessG * previousG.inv();  // last frame's pixel -> this frame's, as guessed
+  backgroundFrom.clear();
+  backgroundTo.clear();
+  for (const cv::Point2f& p : backgroundGrid) {
+    const cv::Vec3d h = guessMotion * cv::Vec3d(p.x, p.y, 1.0);
+    if (!(h[2] > 1e-9)) continue;
+    const float u = static_cast<float>(h[0] / h[2]), v = static_cast<float>(h[1] / h[2]);
+    const auto w = static_cast<float>(camera.width), h2 = static_cast<float>(camera.height);
+    if (!(u > -0.5f * w && u < 1.5f * w && v > -0.5f * h2 && v < 1.5f * h2)) continue;
+    backgroundFrom.push_back(p);
+    backgroundTo.emplace_back(u, v);
+  }
+  if (backgroundFrom.size() < static_cast<std::size_t>(kMinBackgroundPoints)) return false;
+  backgroundStatus.resize(backgroundFrom.size());
+  LucasKanadeParams params;
+  params.window = settings.kltWindow;
+  params.levels = settings.pyramidLevels;
+  lk.track(pyramids[static_cast<std::size_t>(currentFrame ^ 1)], framePyramid(), backgroundFrom, backgroundTo,
+           backgroundStatus, params);
+  backgroundFound.clear();
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < backgroundFrom.size(); ++i)
+    if (backgroundStatus[i]) {
+      backgroundFrom[n] = backgroundFrom[i];
+      backgroundFound.push_back(backgroundTo[i]);
+      ++n;
+    }
+  backgroundFrom.resize(n);
+  if (n < static_cast<std::size_t>(kMinBackgroundPoints)) return false;
+  backgroundMask.resize(n);
+  HomographyRansacParams ransac;
+  ransac.thresholdPx = 3.0;
+  cv::Matx33d motion;
+  int inliers = 0;
+  if (!backgroundRansac.estimate(backgroundFrom, backgroundFound, ransac, motion, backgroundMask, inliers)) return false;
+  // Most of what was followed must move together, over a good part of the frame.
+  if (inliers < kMinBackgroundPoints || 2 * inliers < static_cast<int>(n)) return false;
+  backgroundTo.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (backgroundMask[i]) backgroundTo.push_back(backgroundFound[i]);
+  if (narrowestSpread(backgroundTo) < 0.1 * std::min(camera.width, camera.height)) return false;
+  PlanarPose moved;
+  if (!poseFromPlaneHomography(K, motion * previousG, moved)) return false;
+  const glm::dvec3 c = cameraPosition(moved);
+  if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;
+  out = moved;
+  return true;
+}
+
+bool MarkerlessTracker::Impl::loadFrame(const ImageView& frame) {
+  if (!grey.load(frame)) return false;
+  currentFrame ^= 1;
+  const cv::Mat& pinhole = grey.pinhole();
+  cv::Mat& copy = frameCopies[static_cast<std::size_t>(currentFrame)];
+  for (int y = 0; y < pinhole.rows; ++y)
+    std::memcpy(copy.ptr<std::uint8_t>(y), pinhole.ptr<std::uint8_t>(y), static_cast<std::size_t>(pinhole.cols));
+  if (!pyramids[static_cast<std::size_t>(currentFrame)].build(copy)) {
+    havePreviousFrame = false;
+    return false;
+  }
+  return true;
+}
+
+void MarkerlessTracker::Impl::forgetOld(double seconds) noexcept {
+  const double hold = settings.holdLimitedSeconds + 1e-9;
+  if (confirmedCount > 0 && seconds - confirmed[0].time > hold) confirmedCount = 0;
+  if (havePending && seconds - pending.time > hold) havePending = false;
+  if (haveAnchor && seconds - anchor.time > hold) {
+    haveAnchor = false;
+    blur = {};
+  }
+}
+
+void MarkerlessTracker::Impl::forgetAll() noexcept {
+  confirmedCount = 0;
+  haveAnchor = havePending = gaveLast = havePreviousFrame = havePreviousFramePose = false;
+  blur = {};
+  filter.reset();
+}
+
+void MarkerlessTracker::Impl::confirm(const Measurement& m, double seconds) noexcept {
+  const StampedPose p{m.pose, seconds, m.covariance, m.positionSigma, m.rotationSigmaDeg};
+  confirmed[1] = confirmed[0];
+  confirmed[0] = p;
+  confirmedCount = std::min(confirmedCount + 1, 2);
+  anchor = p;
+  haveAnchor = true;
+}
+
 TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double seconds) {
   stats = FrameStats{};
   TrackedPose result;
-  if (!grey.load(frame) || !framePyramid.build(grey.pinhole())) return result;
+  if (!loadFrame(frame)) return result;
+  forgetOld(seconds);
+  haveChainPrediction = false;
 
-  // Constant-velocity prediction from the last two poses.
-  PlanarPose prediction = pose;
-  if (havePose && havePrevious && poseTime > previousTime)
-    prediction = extrapolate(previous, previousTime, pose, poseTime, seconds);
-
-  PlanarPose estimate;
-  double rms = 0;
-  int inliers = 0;
-  bool tracked = false, verified = false;
-  if (havePose && seconds - lastSeen <= settings.holdLimitedSeconds + 1e-9) {
+  // Track from the prediction: the pending pose, or the anchor moved by the confirmed velocity.
+  PlanarPose prediction;
+  Measurement m;
+  Verdict verdict = Verdict::Rejected;
+  const bool havePrediction = predict(seconds, prediction);
+  if (havePrediction) {
     stats.keyframe = chooseKeyframe(prediction);
-    tracked = track(prediction, stats.keyframe, estimate, rms, inliers);
-    verified = tracked && lastState == TrackingState::Tracking && lastMeasured;
+    if (track(prediction, stats.keyframe, m)) verdict = judge(m, seconds, false);
   }
-  if (!tracked) {
-    // Relocalize; the pose counts only when tracking from it (an independent, photometric
-    // check against the keyframe) agrees.
-    PlanarPose candidate;
-    if (relocalize(candidate)) {
-      stats.keyframe = chooseKeyframe(candidate);
-      PlanarPose checked;
-      // Agreeing within 5 %; or, where the refinement is overwhelming (three times TRACKING's
-      // inliers, under 1 px), within 25 % and 10 deg: a target seen small (a 2 m floor mat from
-      // 3.4 m, docs/authoring.md) gives ORB a pose off by more than 5 % that KLT still locks onto.
-      if (track(candidate, stats.keyframe, checked, rms, inliers) && isStrong(inliers, rms) &&
-          (posesAgree(candidate, checked, 0.05) ||
-           (inliers >= 3 * settings.minTrackingInliers && rms < 1.0 && posesAgree(candidate, checked, 0.25, 10.0)))) {
-        estimate = checked;
-        tracked = verified = true;
-        filter.reset();
-        havePrevious = false;
+  // The constant-velocity prediction found nothing usable (a sudden turn, a smear hiding the
+  // corners): try again from where the whole image's motion since the last frame puts the pose.
+  if (havePrediction && verdict == Verdict::Rejected && !stats.backgroundMotion) {
+    PlanarPose moved;
+    if (backgroundPrediction(prediction, moved)) {
+      stats.backgroundMotion = true;
+      prediction = moved;
+      stats.keyframe = chooseKeyframe(prediction);
+      Measurement retried;
+      if (track(prediction, stats.keyframe, retried)) {
+        const Verdict v = judge(retried, seconds, false);
+        if (v != Verdict::Rejected) m = retried, verdict = v;
       }
     }
   }
-  stats.inliers = inliers;
-  stats.rmsPx = rms;
-  PlanarPose shown = estimate;
-  if (tracked) {
-    previous = pose;
-    previousTime = poseTime;
-    havePrevious = havePose;
-    pose = estimate;
-    poseTime = seconds;
-    havePose = true;
-    lastSeen = seconds;
-    // TRACKING: a strong pose that continues a measured one (this frame's features followed
-    // from the last frame's pose) or a relocalization the photometric check confirmed.
-    result.state = isStrong(inliers, rms) && (verified || lastMeasured) ? TrackingState::Tracking
-                                                                       : TrackingState::Limited;
-    lastMeasured = true;
-    result.inliers = inliers;
-    result.reprojectionErrorPx = rms;
-    if (result.state == TrackingState::Tracking) maybeExtendMap(pose);
-  } else if (havePose && seconds - lastSeen <= settings.holdLimitedSeconds) {
-    // Features lost for a moment (a fast turn, a hand over the target): extrapolate briefly
-    // from the last two measured poses (never from an extrapolation: that would compound).
-    shown = prediction;
-    result.state = TrackingState::Limited;
-    lastMeasured = false;
-  } else {
-    havePose = havePrevious = lastMeasured = false;
-    blur = {};
-    filter.reset();
+  const bool fromPending = havePending && (verdict == Verdict::Tracking || verdict == Verdict::Limited);
+  if (verdict == Verdict::Rejected) {
+    // Relocalize; the candidate counts only when tracking from it (an independent, photometric
+    // check against the keyframe) agrees.
+    PlanarPose candidate;
+    if (relocalize(candidate)) {
+      const int keyframe = chooseKeyframe(candidate);
+      Measurement checked;
+      // Agreeing within 5 %; or, where the refinement is overwhelming (three times TRACKING's
+      // inliers, under 1 px), within 25 % and 10 deg: a target seen small (a 2 m floor mat from
+      // 3.4 m, docs/authoring.md) gives ORB a pose off by more than 5 % that KLT still locks onto.
+      if (track(candidate, keyframe, checked) && isStrong(checked) &&
+          (posesAgree(candidate, checked.pose, 0.05) ||
+           (checked.inliers >= 3 * settings.minTrackingInliers && checked.rms < 1.0 &&
+            posesAgree(candidate, checked.pose, 0.25, 10.0)))) {
+        stats.keyframe = keyframe;
+        m = checked;
+        verdict = judge(m, seconds, true);
+      }
+    }
   }
-  lastState = result.state;
-  if (result.state == TrackingState::Lost) return result;
+
+  PlanarPose shown = m.pose;
+  if (fromPending) {
+    // A new start: the pending pose's motion is unknown, so the velocity starts here.
+    confirmedCount = 0;
+    havePending = false;
+    gaveLast = false;
+  }
+  switch (verdict) {
+    case Verdict::Tracking:
+    case Verdict::Limited:
+      // Confirmed: the motion model's base (a LIMITED pose passed the same checks, on looser evidence).
+      havePending = false;
+      confirm(m, seconds);
+      result.state = verdict == Verdict::Tracking ? TrackingState::Tracking : TrackingState::Limited;
+      break;
+    case Verdict::Pending:
+      pending = StampedPose{m.pose, seconds, m.covariance, m.positionSigma, m.rotationSigmaDeg};
+      havePending = true;
+      break;
+    case Verdict::Rejected:
+      havePending = false;
+      break;
+  }
+  if (result.state != TrackingState::Lost) {
+    result.inliers = m.inliers;
+    result.reprojectionErrorPx = m.rms;
+    result.covariance = m.covariance;
+    result.positionSigmaM = m.positionSigma;
+    result.rotationSigmaDeg = m.rotationSigmaDeg;
+    if (result.state == TrackingState::Tracking) maybeExtendMap(m.pose);
+  } else if (haveVelocity() && haveAnchor) {
+    // Nothing measured to give: continue the confirmed motion while its worst case (the
+    // largest acceleration for the time since the anchor, plus the velocity's own error)
+    // stays drawable. Hand-held, that is a frame or two.
+    const double dt = seconds - anchor.time;
+    const double pair = confirmed[0].time - confirmed[1].time;
+    const double velocityPosition = std::hypot(confirmed[0].positionSigma, confirmed[1].positionSigma) / pair;
+    const double velocityRotation = std::hypot(confirmed[0].rotationSigmaDeg, confirmed[1].rotationSigmaDeg) / pair;
+    const double worstPosition = 0.5 * settings.maxAcceleration * dt * (dt + pair) + 3 * velocityPosition * dt;
+    const double worstRotation = 0.5 * settings.maxAngularAccelerationDeg * dt * (dt + pair) + 3 * velocityRotation * dt;
+    if (dt <= settings.holdLimitedSeconds + 1e-9 && worstPosition <= settings.maxDrawnErrorM &&
+        worstRotation <= settings.maxDrawnErrorDeg) {
+      shown = extrapolateFrom(confirmed[1].pose, confirmed[1].time, confirmed[0].pose, confirmed[0].time,
+                              anchor.pose, anchor.time, seconds);
+      result.state = TrackingState::Limited;
+      stats.extrapolated = true;
+      // One standard deviation: the worst case read as three.
+      result.positionSigmaM = std::hypot(anchor.positionSigma, worstPosition / 3);
+      result.rotationSigmaDeg = std::hypot(anchor.rotationSigmaDeg, worstRotation / 3);
+      const double grow = result.positionSigmaM * result.positionSigmaM - anchor.positionSigma * anchor.positionSigma;
+      const double growRotation = (result.rotationSigmaDeg * result.rotationSigmaDeg -
+                                   anchor.rotationSigmaDeg * anchor.rotationSigmaDeg) / (kDegrees * kDegrees);
+      result.covariance = anchor.covariance;
+      for (int i = 0; i < 3; ++i) {
+        result.covariance[static_cast<std::size_t>(i * 7)] += growRotation / 3;
+        result.covariance[static_cast<std::size_t>(21 + i * 7)] += grow / 3;
+      }
+    }
+  }
+  // What the next frame's background motion starts from.
+  havePreviousFrame = true;
+  havePreviousFramePose = true;
+  if (result.state != TrackingState::Lost) previousFramePose = shown;
+  else if (havePending) previousFramePose = pending.pose;
+  else if (stats.backgroundMotion) previousFramePose = prediction;
+  else havePreviousFramePose = false;
+  if (result.state == TrackingState::Lost) {
+    gaveLast = false;
+    return result;
+  }
+  lastGivenTime = seconds;
+  if (!gaveLast) filter.reset();  // a new stretch of poses: do not blend with the last one
+  gaveLast = true;
   const glm::dmat4 raw = cameraToWorld(shown);
   const double distance = std::max(0.05, glm::length(glm::dvec3(raw[3])));
   result.cameraToWorld = settings.smoothing ? filter.filter(raw, seconds, distance) : raw;
@@ -509,22 +951,15 @@ TrackedPose MarkerlessTracker::update(const ImageView& frame, double seconds) no
   try {
     return impl_->update(frame, seconds);
   } catch (const cv::Exception&) {
-    impl_->havePose = impl_->havePrevious = false;  // OpenCV refused something: LOST, never a throw
-    impl_->lastState = TrackingState::Lost;
+    impl_->forgetAll();  // OpenCV refused something: LOST, never a throw
     return {};
   } catch (const std::bad_alloc&) {
-    impl_->havePose = impl_->havePrevious = false;
-    impl_->lastState = TrackingState::Lost;
+    impl_->forgetAll();
     return {};
   }
 }
 
-void MarkerlessTracker::reset() noexcept {
-  impl_->havePose = impl_->havePrevious = impl_->lastMeasured = false;
-  impl_->lastState = TrackingState::Lost;
-  impl_->lastSeen = -1e300;
-  impl_->filter.reset();
-}
+void MarkerlessTracker::reset() noexcept { impl_->forgetAll(); }
 
 const CameraModel& MarkerlessTracker::camera() const noexcept { return impl_->camera; }
 const PlanarMap& MarkerlessTracker::map() const noexcept { return impl_->map; }
@@ -549,6 +984,14 @@ std::string checkSettings(const MarkerlessSettings& s) {
       !std::isfinite(s.smoothingBeta))
     return "smoothing cut-off must be positive and beta non-negative";
   if (!(s.holdLimitedSeconds >= 0) || !std::isfinite(s.holdLimitedSeconds)) return "holdLimitedSeconds must be >= 0";
+  for (const double v : {s.maxSpeed, s.maxAcceleration, s.maxAngularSpeedDeg, s.maxAngularAccelerationDeg,
+                         s.maxDrawnErrorM, s.maxDrawnErrorDeg, s.maxTrackingErrorM, s.maxTrackingErrorDeg,
+                         s.minFeatureSigmaPx, s.effectiveFeatures})
+    if (!(v > 0) || !std::isfinite(v))
+      return "the motion model, drawn-error bounds, minFeatureSigmaPx and effectiveFeatures must be positive";
+  for (const double v : {s.maxDrawnErrorFraction, s.maxTrackingErrorFraction, s.minTrackingSpread, s.minLimitedSpread,
+                         s.minTrackingNcc, s.minLimitedNcc})
+    if (!(v >= 0) || !std::isfinite(v)) return "the error fractions, spreads and NCC thresholds must be >= 0";
   return {};
 }
 

@@ -172,17 +172,26 @@ double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, co
   return inside / double(kGrid * kGrid);
 }
 
-PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, double tb, double t) {
-  const double ratio = std::clamp((t - tb) / (tb - ta), 0.0, 3.0);
+PlanarPose extrapolateFrom(const PlanarPose& a, double ta, const PlanarPose& b, double tb, const PlanarPose& base,
+                           double tbase, double t) {
+  const double ratio = tb > ta ? std::clamp((t - tbase) / (tb - ta), 0.0, 8.0) : 0.0;
   const cv::Matx33d ra = rotation(a.rvec), rb = rotation(b.rvec);
   const cv::Matx33d delta = rb * ra.t();  // x_b = delta x_a + (tb - delta ta)
   const cv::Vec3d deltaRvec = rodriguesFromRotation(delta);
   const cv::Vec3d deltaT = b.tvec - delta * a.tvec;
   const cv::Matx33d step = rotation(deltaRvec * ratio);
   PlanarPose out;
-  out.rvec = rodriguesFromRotation(step * rb);
-  out.tvec = step * b.tvec + deltaT * ratio;
+  out.rvec = rodriguesFromRotation(step * rotation(base.rvec));
+  out.tvec = step * base.tvec + deltaT * ratio;
   return out;
+}
+
+PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, double tb, double t) {
+  return extrapolateFrom(a, ta, b, tb, b, tb, t);
+}
+
+double rotationBetweenDeg(const PlanarPose& a, const PlanarPose& b) {
+  return cv::norm(rodriguesFromRotation(rotation(a.rvec) * rotation(b.rvec).t())) * 180.0 / 3.14159265358979323846;
 }
 
 bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction, double degrees) {

@@ -50,8 +50,13 @@ struct PlanarPoseSolver {
 // The share of the target rectangle (width x height metres, centred) inside the image.
 [[nodiscard]] double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose,
                                            double width, double height);
-// Constant velocity: the motion from a to b continued to time t.
+// Constant velocity: the motion from a to b continued to time t (at most 8 times the a-b step).
 [[nodiscard]] PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, double tb, double t);
+// The same velocity applied to `base` (taken at tbase) instead of b.
+[[nodiscard]] PlanarPose extrapolateFrom(const PlanarPose& a, double ta, const PlanarPose& b, double tb,
+                                         const PlanarPose& base, double tbase, double t);
+// The angle between two poses' rotations, degrees (atan2 form: exact for small angles).
+[[nodiscard]] double rotationBetweenDeg(const PlanarPose& a, const PlanarPose& b);
 // Camera centres within `fraction` of the distance to the origin and rotations within `degrees`.
 [[nodiscard]] bool posesAgree(const PlanarPose& a, const PlanarPose& b, double fraction, double degrees = 3.0);
 

@@ -219,6 +219,67 @@ bool refinePlanarPose(const cv::Matx33d& k, std::span<const cv::Point2f> plane, 
   return true;
 }
 
+bool planarPoseCovariance(const cv::Matx33d& k, std::span<const cv::Point2f> plane, std::span<const cv::Point2f> image,
+                          std::span<const std::uint8_t> mask, const PlanarPose& pose, double sigmaPx,
+                          double effectivePoints, double covariance[36]) noexcept {
+  const Pairs pairs{plane, image, mask};
+  std::size_t used = 0;
+  if (!usable(pairs, used) || !finite(k) || !(sigmaPx > 0) || !(effectivePoints > 0)) return false;
+  const cv::Matx33d r = rotationFromRodrigues(pose.rvec);
+  const cv::Vec3d t = pose.tvec;
+  double jtj[36] = {};
+  for (std::size_t i = 0; i < plane.size(); ++i) {
+    if (!pairs.used(i)) continue;
+    const cv::Vec3d q = r * cv::Vec3d(plane[i].x, 0, plane[i].y), p = q + t;
+    if (!(p[2] > 1e-9)) return false;
+    const double iz = 1 / p[2], x = p[0] * iz, y = p[1] * iz;
+    // The refinement's Jacobian (refinePlanarPose): step (w, dt) with R <- exp([w]x) R, t <- t + dt.
+    const double du[3] = {k(0, 0) * iz, k(0, 1) * iz, -(k(0, 0) * x + k(0, 1) * y) * iz};
+    const double dv[3] = {0, k(1, 1) * iz, -k(1, 1) * y * iz};
+    double ju[6], jv[6];
+    ju[0] = -du[1] * q[2] + du[2] * q[1], ju[1] = du[0] * q[2] - du[2] * q[0], ju[2] = -du[0] * q[1] + du[1] * q[0];
+    jv[0] = -dv[1] * q[2] + dv[2] * q[1], jv[1] = dv[0] * q[2] - dv[2] * q[0], jv[2] = -dv[0] * q[1] + dv[1] * q[0];
+    for (int c = 0; c < 3; ++c) ju[3 + c] = du[c], jv[3 + c] = dv[c];
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) jtj[a * 6 + b] += ju[a] * ju[b] + jv[a] * jv[b];
+  }
+  const double scale = std::min(1.0, effectivePoints / double(used));
+  // Sigma = sigma^2 (scale J^T J)^-1, column by column.
+  double sigma[36];
+  for (int c = 0; c < 6; ++c) {
+    double a[36], b[6] = {};
+    for (int e = 0; e < 36; ++e) a[e] = jtj[e] * scale;
+    b[c] = sigmaPx * sigmaPx;
+    if (!solveLinear(6, a, b, 1e-14)) return false;
+    for (int row = 0; row < 6; ++row) sigma[row * 6 + c] = b[row];
+  }
+  // To the world: a step (w, dt) turns camera-to-world R^T by -R^T w (in world axes) and
+  // moves the centre c = -R^T t by dc = -R^T (dt + w x t) = R^T [t]x w - R^T dt.
+  // J = [[-R^T, 0], [R^T [t]x, -R^T]].
+  const cv::Matx33d rt = r.t();
+  const cv::Matx33d tx(0, -t[2], t[1], t[2], 0, -t[0], -t[1], t[0], 0);
+  const cv::Matx33d rtTx = rt * tx;
+  double j[36] = {};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      j[a * 6 + b] = -rt(a, b);
+      j[(a + 3) * 6 + b] = rtTx(a, b);
+      j[(a + 3) * 6 + b + 3] = -rt(a, b);
+    }
+  double js[36] = {};
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < 6; ++b)
+      for (int e = 0; e < 6; ++e) js[a * 6 + b] += j[a * 6 + e] * sigma[e * 6 + b];
+  double out[36] = {};
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < 6; ++b)
+      for (int e = 0; e < 6; ++e) out[a * 6 + b] += js[a * 6 + e] * j[b * 6 + e];
+  for (int e = 0; e < 36; ++e)
+    if (!std::isfinite(out[e])) return false;
+  std::copy(out, out + 36, covariance);
+  return true;
+}
+
 bool planarPoseFromHomography(const cv::Matx33d& k, const cv::Matx33d& planeToImage, std::span<const cv::Point2f> plane,
                               std::span<const cv::Point2f> image, std::span<const std::uint8_t> mask,
                               const PoseRefineParams& params, PlanarPose& out, double& rmsPx) noexcept {

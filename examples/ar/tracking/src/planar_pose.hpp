@@ -47,6 +47,16 @@ bool planarPoseFromHomography(const cv::Matx33d& k, const cv::Matx33d& planeToIm
                               std::span<const cv::Point2f> image, std::span<const std::uint8_t> mask,
                               const PoseRefineParams& params, PlanarPose& out, double& rmsPx) noexcept;
 
+// The covariance of `pose` fitted to the used pairs, to first order: sigmaPx^2 (J^T J)^-1 in the
+// refinement's parameters, the normal equations scaled by effectivePoints / used (feature
+// errors are correlated: blur, a misaligned template move many together), then mapped to the
+// world: row-major 6x6 of (rotation vector in world axes, radians; camera position, metres).
+// False (covariance untouched) for fewer than 4 pairs, a point behind the camera, or a
+// singular system (the pairs do not constrain the pose).
+bool planarPoseCovariance(const cv::Matx33d& k, std::span<const cv::Point2f> plane, std::span<const cv::Point2f> image,
+                          std::span<const std::uint8_t> mask, const PlanarPose& pose, double sigmaPx,
+                          double effectivePoints, double covariance[36]) noexcept;
+
 // Pixels of plane points (X, Z) under the pose; a point on or behind the camera plane gives NaN.
 void projectPlanePoints(const cv::Matx33d& k, const PlanarPose& pose, std::span<const cv::Point2f> plane,
                         std::span<cv::Point2f> out) noexcept;

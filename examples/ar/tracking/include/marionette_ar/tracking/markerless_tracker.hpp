@@ -1,21 +1,30 @@
 // Markerless tracking of a textured planar surface (the paper's case), keyframe-based in the
 // spirit of PTAM and ORB-SLAM's tracking thread, specialised to a plane:
 //
-//  - Tracking: the keyframe nearest the predicted view is warped into that view (the
-//    constant-velocity prediction of the last pose), its corners are found in the frame by
-//    pyramidal KLT from where the warp puts them, and the pose comes from a RANSAC homography
-//    then IPPE and Levenberg-Marquardt on the inliers. Every correspondence is anchored to a
-//    keyframe, never to the previous frame, so the pose does not drift. `refinements` more
-//    passes warp again with the new pose (patches then match closely).
-//  - Relocalization (at launch and when LOST): ORB features of the frame against each
-//    keyframe's, a RANSAC homography, then the tracking step from that pose as the check.
-//    TRACKING is reported only when that independent, photometric check agrees: no false poses.
-//  - Map extension: while TRACKING with less than `extendBelowVisible` of the target in view,
-//    the frame becomes a keyframe (its texture around the target lies on the same plane).
+//  - Tracking: the keyframe nearest the predicted view is warped into that view, its corners
+//    are found in the frame by pyramidal KLT from where the warp puts them, and the pose comes
+//    from a RANSAC homography then IPPE and Levenberg-Marquardt on the inliers. Every
+//    correspondence is anchored to a keyframe, never to the previous frame, so the pose does
+//    not drift. The prediction is the constant-velocity motion of the confirmed poses,
+//    corrected by how the whole image moved since the last frame (a frame-to-frame homography
+//    of the background), which still follows a fast pan whose blur hides the target's corners.
+//  - Gating: a pose leaves the tracker only when it passes every check (docs/tracking.md,
+//    "Gating"): its own evidence (inliers, their spread over the corners tried, reprojection
+//    rms, the template's photometric agreement, the pose's covariance) and the motion model
+//    (the change from the last confirmed pose within what a hand-held camera can do in that
+//    time). A pose that fails is not given (LOST) rather than drawn wrong.
+//  - Relocalization (at launch and when tracking fails): ORB features of the frame against each
+//    keyframe's, a RANSAC homography, then the tracking step from that pose as a photometric
+//    check; the pose is given only once confirmed: it agrees with the motion model of a recent
+//    confirmed pose, or the next frame tracks from it consistently.
+//  - Map extension: while TRACKING with less than `extendBelowVisible` of the target in view, or
+//    with the view much closer or farther than every keyframe's, the frame becomes a keyframe
+//    (its texture around the target lies on the same plane).
 //  - Smoothing: a one-euro filter (Casiez et al. 2012) on position and rotation, which
 //    removes jitter on a still camera and lags under a frame when it moves (docs/tracking.md).
 #pragma once
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -41,7 +50,36 @@ struct MarkerlessSettings {
   bool smoothing = true;
   double smoothingMinCutoffHz = 1.0;  // one-euro filter: cut-off at rest
   double smoothingBeta = 100.0;       // how fast the cut-off rises with speed (per m/s)
-  double holdLimitedSeconds = 0.25;   // after losing the features, extrapolate as LIMITED this long
+  // Extrapolate as LIMITED after losing the features at most this long, and only while the
+  // motion model's worst case stays within maxDrawnError* (at 30 fps hand-held: not at all; at
+  // 60 fps a frame).
+  double holdLimitedSeconds = 0.25;
+
+  // The motion model: what a hand-held camera can do (docs/tracking.md, "Gating", gives the
+  // figures that chose these). A pose farther from the accepted motion than these allow in the
+  // time since is not given.
+  double maxSpeed = 4.0;                        // m/s
+  double maxAcceleration = 20.0;                // m/s^2
+  double maxAngularSpeedDeg = 600.0;            // deg/s
+  double maxAngularAccelerationDeg = 6000.0;    // deg/s^2
+  // The worst error a drawn pose may have: a LIMITED pose's three standard deviations, and an
+  // extrapolation's worst case under the motion model, stay within these. TRACKING needs
+  // three standard deviations within the tighter pair. Positions: metres, or the fraction of
+  // the viewing distance when that is more (a poster seen from 3 m).
+  double maxDrawnErrorM = 0.05, maxDrawnErrorFraction = 0.05, maxDrawnErrorDeg = 2.0;
+  double maxTrackingErrorM = 0.02, maxTrackingErrorFraction = 0.02, maxTrackingErrorDeg = 1.5;
+  // Evidence: the inliers' spread across their narrowest direction, as a share of the corners
+  // tried (all at one edge is not a pose), and the mean normalized cross-correlation of the
+  // template's patches with the frame's at the inliers. TRACKING needs the first of each pair,
+  // LIMITED the second.
+  double minTrackingSpread = 0.3, minLimitedSpread = 0.2;
+  double minTrackingNcc = 0.6, minLimitedNcc = 0.4;
+  // The covariance's model: pixel noise at least this, and at most this many independent
+  // features (KLT's errors are correlated: blur and a misaligned template move many at once).
+  double minFeatureSigmaPx = 0.3;
+  double effectiveFeatures = 40.0;
+  // Predict from the frame-to-frame motion of the whole image (false: constant velocity alone).
+  bool backgroundMotion = true;
 };
 
 class MarkerlessTracker final : public Tracker {
@@ -74,12 +112,28 @@ class MarkerlessTracker final : public Tracker {
   // The map as it is now (the reference and any keyframes added while tracking).
   [[nodiscard]] const PlanarMap& map() const noexcept;
   // What the last update() did (for logs and the evaluation).
+  // Why the frame's measured pose was not given (the first check it failed).
+  enum class Rejection : std::uint8_t {
+    None,
+    Evidence,     // too few inliers, too loose, bunched at one edge, photometrically off, or too uncertain
+    Motion,       // farther from the confirmed motion than a hand-held camera moves
+    Unconfirmed,  // a relocalization (or a pose without a recent confirmed one) awaiting the next frame
+  };
   struct FrameStats {
     bool relocalized = false;      // ORB relocalization ran this frame
     bool keyframeAdded = false;
+    bool extrapolated = false;     // the pose given is the motion model's, not measured
+    bool backgroundMotion = false;  // the prediction used the frame-to-frame motion of the image
     int keyframe = -1;             // the keyframe tracked against
     int corners = 0, inliers = 0;  // KLT points tried, inliers of the pose
     double rmsPx = 0;
+    // The measured pose's evidence (the last one judged this frame), for logs and calibration.
+    double spread = 0;               // inliers' narrowest spread over the corners tried
+    double ncc = 0;                  // mean normalized cross-correlation at the inliers
+    double positionSigmaM = 0, rotationSigmaDeg = 0;
+    double motionPositionM = 0, motionRotationDeg = 0;  // distance from the motion model's prediction
+    double motionPositionLimitM = 0, motionRotationLimitDeg = 0;  // what it allowed
+    Rejection rejection = Rejection::None;
     // The RANSAC homography (X, Z, 1) -> pixel of the last tracking pass, row-major, before
     // the pose constrains it (a pinhole image of a plane is a homography whatever the
     // camera; the pose needs the intrinsics to be right).

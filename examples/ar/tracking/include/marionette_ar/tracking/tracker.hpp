@@ -10,6 +10,7 @@
 // settings, and runs on the calling thread (OpenCV's own parallel loops follow
 // cv::setNumThreads; marionette-ar sets 1).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string_view>
 
@@ -22,10 +23,12 @@
 
 namespace marionette::ar {
 
+// Every pose that is not Lost has passed the tracker's checks (docs/tracking.md, "Gating"): a
+// pose the tracker cannot vouch for is not given at all. Limited says it may be less accurate.
 enum class TrackingState : std::uint8_t {
-  Lost,      // no pose
-  Limited,   // a pose from few features, unverified, or extrapolated: usable, not trusted
-  Tracking,  // a verified pose
+  Lost,      // no pose to draw
+  Limited,   // a checked pose from fewer or looser features, or extrapolated briefly from confirmed ones
+  Tracking,  // a confirmed pose: strong evidence, consistent with the camera's motion
 };
 [[nodiscard]] std::string_view trackingStateName(TrackingState state) noexcept;  // "TRACKING", "LIMITED", "LOST"
 
@@ -34,6 +37,14 @@ struct TrackedPose {
   glm::dmat4 cameraToWorld{1.0};  // valid unless Lost
   int inliers = 0;                 // correspondences that support the pose
   double reprojectionErrorPx = 0;  // rms over the inliers
+  // The pose's uncertainty (one standard deviation), from the final Gauss-Newton step's
+  // normal equations, the noise inflated for correlated feature errors, and grown by the
+  // motion model while extrapolating (docs/tracking.md, "Confidence"). 0 when unknown.
+  double positionSigmaM = 0;   // camera position: sqrt of the covariance's trace, metres
+  double rotationSigmaDeg = 0;  // camera orientation: sqrt of the covariance's trace, degrees
+  // The 6x6 covariance, row-major, of (rotation vector in world axes, radians; camera
+  // position in world, metres): a small rotation w turns the pose to exp([w]x) R.
+  std::array<double, 36> covariance{};
 
   [[nodiscard]] glm::dvec3 position() const noexcept { return glm::dvec3(cameraToWorld[3]); }
   [[nodiscard]] glm::dquat orientation() const noexcept;  // camera-to-world rotation
