@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "augmentation_scene.hpp"
+#include "marionette_ar/camera_pose.hpp"
 
 namespace marionette::ar {
 
@@ -100,7 +101,7 @@ void AugmentationRestore::bind(const Scene& scene, std::vector<TimedFile>& bml) 
   });
 }
 
-void AugmentationRestore::frameDrawn(long frame, double time, bool verified, const glm::mat4& view) {
+void AugmentationRestore::frameDrawn(long frame, double time, bool verified, const glm::dmat4& view) {
   if (!active() || !verified) return;
   if (firstFrame_ < 0) {
     firstFrame_ = frame;
@@ -112,15 +113,13 @@ void AugmentationRestore::frameDrawn(long frame, double time, bool verified, con
   if (row.state == RecordedState::Lost) return;
   // Where the character appears in the true world: drawn through the estimated view, seen by the
   // true camera. The rotation of that map is the orientation error of every placement.
-  const glm::dmat4 seen = row.cameraToWorld * glm::dmat4(view);
+  const glm::dmat4 seen = row.cameraToWorld * view;
   double errorM = 0;
   for (const glm::vec3& p : positions_) {
     const glm::dvec3 at(p);
     errorM = std::max(errorM, glm::length(glm::dvec3(seen * glm::dvec4(at, 1.0)) - at));
   }
-  const glm::dmat3 r(seen);
-  const double cosine = std::clamp((r[0][0] + r[1][1] + r[2][2] - 1.0) * 0.5, -1.0, 1.0);
-  const double errorDeg = glm::degrees(std::acos(cosine));
+  const double errorDeg = viewRotationErrorDegrees(row.cameraToWorld, view);
   if (measured_++ == 0) {
     firstErrorM_ = errorM;
     firstErrorDeg_ = errorDeg;

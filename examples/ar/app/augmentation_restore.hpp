@@ -41,8 +41,9 @@ class AugmentationRestore {
   [[nodiscard]] bool drawn(std::size_t character) const noexcept { return !active() || placed_[character]; }
 
   // A frame drawn at scene `time` (frame number `frame`): `verified` when the tracker's pose is
-  // TRACKING and the characters were drawn with it, `view` the camera it drew with.
-  void frameDrawn(long frame, double time, bool verified, const glm::mat4& view);
+  // TRACKING and the characters were drawn with it, `view` the camera it drew with, in double
+  // (rounded to float, it would be off by ~1e-5 degrees before any tracking error).
+  void frameDrawn(long frame, double time, bool verified, const glm::dmat4& view);
   [[nodiscard]] long firstRegisteredFrame() const noexcept { return firstFrame_; }
   [[nodiscard]] double firstRegisteredSeconds() const noexcept { return firstSeconds_; }  // since launch; -1: none
 

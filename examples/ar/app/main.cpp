@@ -483,7 +483,7 @@ int main(int argc, char** argv) {
       const bool verified = tracked && std::strcmp(tracking.state, "TRACKING") == 0 && !args.hideCharacters &&
                             inputs.charactersVisible(scene.time());
       if (verified && restore.firstRegisteredFrame() < 0) glFinish();  // drawn, not only queued
-      restore.frameDrawn(frame, scene.time(), verified, view.view);
+      restore.frameDrawn(frame, scene.time(), verified, view.viewInDouble);
     }
     if (args.headless) {
       target.read(frameImage);
