@@ -48,6 +48,23 @@ TEST(TrackingCli, CalibrateWritesACameraWithinTenPercentOfTheReference) {
   EXPECT_NE(again.out.find("/nonexistent"), std::string::npos) << again.out;
 }
 
+// The README's calibrate line as written, on opencv-doc's folder: left*.jpg also takes left.jpg
+// (another camera's 612x459 photo, no board), which is skipped with a warning.
+TEST(TrackingCli, CalibrateTakesTheReadmesGlob) {
+  MARIONETTE_REQUIRE_FILE(opencvData("left.jpg"));
+  const fs::path out = fs::temp_directory_path() / "marionette_cli_glob_camera.yml";
+  fs::remove(out);
+  const CliRun r = runAr("calibrate --board 9x6 --square 0.025 " + opencvData("left") + "*.jpg -o " + out.string() +
+                         " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "views"), 13) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "rejected"), 1) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "width"), 640) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "height"), 480) << r.out;
+  EXPECT_NE(r.out.find(opencvData("left.jpg") + ": warning: no 9x6 chessboard found"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out));
+}
+
 TEST(TrackingCli, TracksAnAprilTagAndWritesTheCsv) {
   const std::string image = vispImage("AprilTag/benchmark/640x480/tag36_11_640x480.png");
   MARIONETTE_REQUIRE_FILE(image);
