@@ -12,6 +12,7 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "ar_cli.hpp"
 #include "marionette_ar/background_source.hpp"
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/chessboard_calibration.hpp"
@@ -32,13 +33,17 @@ bool parseNumber(const char* text, double lo, double hi, double& out) {
   return end != text && *end == 0 && out >= lo && out <= hi;
 }
 
-int calibrateUsage() {
-  std::fprintf(stderr,
+int calibrateUsage(std::FILE* to = stderr) {
+  std::fprintf(to,
                "usage: marionette-ar calibrate [--board COLSxROWS] [--square M] IMAGES... -o CAMERA.yml [--json]\n"
+               "  IMAGES     photos of the chessboard; those where it is not found are skipped\n"
                "  --board    inner corners of the chessboard (default 9x6)\n"
                "  --square   the squares' side in metres (default 0.025)\n"
+               "  -o, --out  the calibration to write (OpenCV calibration YAML)\n"
+               "  --json     print the result as JSON\n"
+               "  --help, -h this help; --version: the version\n"
                "  Writes OpenCV calibration YAML and prints the rms reprojection error.\n");
-  return 2;
+  return usageExitCode(to);
 }
 
 int calibrate(int argc, char** argv) {
@@ -49,6 +54,8 @@ int calibrate(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     const bool hasValue = i + 1 < argc;
+    if (isHelpFlag(a)) return calibrateUsage(stdout);
+    if (a == "--version") return printVersion();
     if (a == "--board" && hasValue) {
       if (std::sscanf(argv[++i], "%dx%d", &s.columns, &s.rows) != 2) return fail("calibrate", "--board needs COLSxROWS");
     } else if (a == "--square" && hasValue) {
@@ -93,8 +100,8 @@ int calibrate(int argc, char** argv) {
   return 0;
 }
 
-int trackUsage() {
-  std::fprintf(stderr,
+int trackUsage(std::FILE* to = stderr) {
+  std::fprintf(to,
                "usage: marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|VIDEO [--fps F]\n"
                "                           [--tracker markerless|apriltag] [--target IMAGE --target-width M]\n"
                "                           [--tag-size M] [--map MAP] [--save-map MAP] --poses OUT.csv [--json]\n"
@@ -105,8 +112,10 @@ int trackUsage() {
                "                or a --map saved before; apriltag: 36h11 tags of --tag-size metres\n"
                "  --poses       CSV: frame,time,state,px,py,pz,qx,qy,qz,qw (camera-to-world, camera looking\n"
                "                along -Z with +Y up; pose fields empty when LOST)\n"
-               "  --threads     OpenCV threads (default 1: the per-frame figures are for one core)\n");
-  return 2;
+               "  --threads     OpenCV threads (default 1: the per-frame figures are for one core)\n"
+               "  --json        print the counts and timings as JSON\n"
+               "  --help, -h    this help; --version: the version\n");
+  return usageExitCode(to);
 }
 
 struct TrackArgs {
@@ -147,6 +156,8 @@ int track(int argc, char** argv) {
       return true;
     };
     double n = 0;
+    if (isHelpFlag(s)) return trackUsage(stdout);
+    if (s == "--version") return printVersion();
     if (s == "--camera" && hasValue) text(a.camera);
     else if (s == "--images" && hasValue) text(a.images);
     else if (s == "--tracker" && hasValue) text(a.tracker);
