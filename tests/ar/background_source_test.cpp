@@ -128,6 +128,36 @@ TEST(BackgroundSource, SequenceFromADirectoryIsSortedByNameAndCanHold) {
   EXPECT_EQ(bg->frameAt(100.0, d).index, 2);
 }
 
+// `track --images one.png`, a scene's "sequence" of one photo: a single image file is a
+// sequence of one frame, shown at every time.
+TEST(BackgroundSource, OneImageFileIsAOneFrameSequence) {
+  const fs::path dir = tempDir("one_file");
+  const std::string path = (dir / "one.png").string();
+  writePng(path, framePixels(5));
+  writePng((dir / "other.png").string(), framePixels(6));  // the folder's other images are not taken
+  for (const Playback playback : {Playback::Loop, Playback::Hold}) {
+    Diagnostics d;
+    auto bg = openBackground(BackgroundKind::Sequence, path, 30.0, d, playback);
+    ASSERT_TRUE(bg) << d.format();
+    EXPECT_EQ(bg->frameCount(), 1);
+    EXPECT_EQ(bg->width(), kW);
+    EXPECT_EQ(bg->height(), kH);
+    for (double t : {0.0, 0.5, 100.0}) {
+      const BackgroundFrame& f = bg->frameAt(t, d);
+      EXPECT_EQ(f.index, 0);
+      EXPECT_EQ(decodedNumber(f), 5);
+    }
+    EXPECT_EQ(bg->decodedFrames(), 1);
+    EXPECT_TRUE(d.ok()) << d.format();
+  }
+  // A file that is not an image is named.
+  const std::string text = (dir / "notes.png").string();
+  { std::ofstream(text) << "not an image"; }
+  Diagnostics d;
+  EXPECT_FALSE(openBackground(BackgroundKind::Sequence, text, 30.0, d));
+  EXPECT_TRUE(mentions(d, text)) << d.format();
+}
+
 TEST(BackgroundSource, VideoFrameByTimeSequentialAndBackwards) {
   const fs::path dir = tempDir("video");
   const double fps = 25.0;

@@ -100,6 +100,29 @@ TEST(TrackingCli, TracksAnAprilTagAndWritesTheCsv) {
   EXPECT_NEAR(qn, 1.0, 1e-6);
 }
 
+// --images names one image file: a sequence of one frame.
+TEST(TrackingCli, TracksASingleImageFile) {
+  const std::string image = vispImage("AprilTag/benchmark/640x480/tag36_11_640x480.png");
+  MARIONETTE_REQUIRE_FILE(image);
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_one_image";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "camera.yml") << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                                       "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                                       "   data: [ 700., 0., 319.5, 0., 700., 239.5, 0., 0., 1. ]\n";
+  const CliRun r = runAr("track --camera " + (dir / "camera.yml").string() + " --images " + image +
+                         " --tracker apriltag --tag-size 0.2 --poses " + (dir / "poses.csv").string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "frames"), 1) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "tracked"), 1) << r.out;
+  std::ifstream csv(dir / "poses.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line.rfind("0,0.000000,TRACKING,", 0), 0u) << line;
+  EXPECT_FALSE(std::getline(csv, line)) << "a second row: " << line;
+}
+
 TEST(TrackingCli, BadInputIsNamed) {
   const fs::path dir = fs::temp_directory_path() / "marionette_cli_tracking_bad";
   fs::remove_all(dir);

@@ -102,11 +102,12 @@ int calibrate(int argc, char** argv) {
 
 int trackUsage(std::FILE* to = stderr) {
   std::fprintf(to,
-               "usage: marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|VIDEO [--fps F]\n"
+               "usage: marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|IMAGE|VIDEO [--fps F]\n"
                "                           [--tracker markerless|apriltag] [--target IMAGE --target-width M]\n"
                "                           [--tag-size M] [--map MAP] [--save-map MAP] --poses OUT.csv [--json]\n"
                "                           [--threads N] [--no-smoothing]\n"
-               "  --images      a printf pattern (frames/%%04d.png), a folder of images, or a video file\n"
+               "  --images      a printf pattern (frames/%%04d.png), a folder of images, one image (one frame),\n"
+               "                or a video file\n"
                "  --fps         frame rate of an image sequence (default 30; a video's comes from the file)\n"
                "  --tracker     markerless (default): a textured planar target, --target and --target-width,\n"
                "                or a --map saved before; apriltag: 36h11 tags of --tag-size metres\n"

@@ -262,8 +262,9 @@ bool isImageExtension(const fs::path& p) {
   return std::any_of(std::begin(known), std::end(known), [&](const char* k) { return e == k; });
 }
 
-// The files of a sequence: every image in a directory sorted by name, or the numbered files
-// matching a printf-style pattern (one %d or %0Nd in the file name), sorted by number.
+// The files of a sequence: every image in a directory sorted by name, the numbered files
+// matching a printf-style pattern (one %d or %0Nd in the file name), sorted by number, or one
+// image file.
 std::vector<std::string> sequenceFiles(const std::string& path, Diagnostics& diagnostics) {
   std::vector<std::string> files;
   std::error_code ec;
@@ -274,14 +275,21 @@ std::vector<std::string> sequenceFiles(const std::string& path, Diagnostics& dia
     if (files.empty()) diagnostics.error(path, "image sequence directory holds no image files");
     return files;
   }
+  // One file: a sequence of one frame (`track --images photo.png`); a file that is not an image
+  // is named when its size is read.
+  if (fs::is_regular_file(path, ec)) {
+    files.push_back(path);
+    return files;
+  }
   const fs::path p(path);
   const std::string name = p.filename().string();
   static const std::regex spec(R"(%(0?)(\d*)d)");
   std::smatch m;
   if (!std::regex_search(name, m, spec)) {
-    diagnostics.error(path, fs::exists(path, ec) ? "image sequence is neither a directory nor a pattern with %d"
-                                                 : "image sequence not found (neither a directory nor a pattern "
-                                                   "with %d such as frames/%04d.png)");
+    diagnostics.error(path, fs::exists(path, ec) ? "image sequence is neither a directory, an image file nor a "
+                                                   "pattern with %d"
+                                                 : "image sequence not found (neither a directory, an image file "
+                                                   "nor a pattern with %d such as frames/%04d.png)");
     return files;
   }
   const std::string prefix = m.prefix().str(), suffix = m.suffix().str();
