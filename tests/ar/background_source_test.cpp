@@ -233,6 +233,27 @@ TEST(BackgroundSource, ErrorsNameTheFile) {
   EXPECT_FALSE(openBackground(BackgroundKind::Sequence, (mixed / "%d.png").string(), 24.0, d7));
   EXPECT_TRUE(mentions(d7, (mixed / "1.png").string())) << d7.format();
 
+  // A stray image of another size in a frames folder (the target's photo) is the one named,
+  // with its size and the frames', whether it sorts after the frames or before them.
+  for (const char* frameName : {"frame_%04d.png", "view_%04d.png"}) {
+    SCOPED_TRACE(frameName);
+    const fs::path folder = tempDir("stray");
+    for (int k = 0; k < 3; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, frameName, k);
+      writePng((folder / name).string(), framePixels(k));
+    }
+    const std::string stray = (folder / "target.png").string();
+    auto out = OIIO::ImageOutput::create(stray);
+    ASSERT_TRUE(out->open(stray, OIIO::ImageSpec(8, 6, 3, OIIO::TypeDesc::UINT8)));
+    std::vector<std::uint8_t> px(8 * 6 * 3, 0);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+    out->close();
+    Diagnostics d8;
+    EXPECT_FALSE(openBackground(BackgroundKind::Sequence, folder.string(), 24.0, d8));
+    EXPECT_TRUE(mentions(d8, stray + ": error: image is 8x6 but the sequence's frames are 64x48 (3 of its 4 images")) << d8.format();
+  }
+
   EXPECT_EQ(backgroundKindFromName("Video"), BackgroundKind::Video);
   EXPECT_EQ(backgroundKindFromName("still"), BackgroundKind::Still);
   EXPECT_FALSE(backgroundKindFromName("webcam"));

@@ -123,6 +123,30 @@ TEST(TrackingCli, TracksASingleImageFile) {
   EXPECT_FALSE(std::getline(csv, line)) << "a second row: " << line;
 }
 
+// A stray image in the frames folder (the target's photo, another size) is named with its size
+// and the frames', though it sorts before them.
+TEST(TrackingCli, AStrayImageInTheFramesFolderIsNamed) {
+  MARIONETTE_REQUIRE_FILE(opencvData("graf1.png"));
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_stray_image";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "frames");
+  for (int i = 0; i < 3; ++i)
+    ASSERT_TRUE(cv::imwrite((dir / "frames" / ("view_" + std::to_string(i) + ".png")).string(),
+                            cv::Mat(240, 320, CV_8UC3, cv::Scalar(9, 9, 9))));
+  fs::copy_file(opencvData("graf1.png"), dir / "frames" / "target.png");
+  std::ofstream(dir / "camera.yml") << "%YAML:1.0\n---\nimage_width: 320\nimage_height: 240\n"
+                                       "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                                       "   data: [ 300., 0., 159.5, 0., 300., 119.5, 0., 0., 1. ]\n";
+  const CliRun r = runAr("track --camera " + (dir / "camera.yml").string() + " --images " + (dir / "frames").string() +
+                         " --target " + opencvData("graf1.png") + " --target-width 0.3 --poses " +
+                         (dir / "p.csv").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find((dir / "frames" / "target.png").string() +
+                       ": error: image is 800x640 but the sequence's frames are 320x240"),
+            std::string::npos)
+      << r.out;
+}
+
 TEST(TrackingCli, BadInputIsNamed) {
   const fs::path dir = fs::temp_directory_path() / "marionette_cli_tracking_bad";
   fs::remove_all(dir);

@@ -14,7 +14,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <regex>
+#include <utility>
 
 namespace marionette::ar {
 
@@ -110,17 +112,26 @@ class SequenceSource final : public BackgroundSource {
     playback_ = playback;
   }
   bool open(Diagnostics& diagnostics) {
-    int w = 0, h = 0;
+    // The sequence's size is the one most of its images have (the first file's on a tie): a
+    // stray image in a frames folder (the target's photo) is the one named, wherever it sorts.
+    std::vector<std::pair<int, int>> sizes(files_.size());
+    std::map<std::pair<int, int>, std::size_t> counts;
     for (std::size_t i = 0; i < files_.size(); ++i) {
-      if (!imageSize(files_[i], w, h, diagnostics)) return false;
-      if (i == 0) {
-        width_ = w, height_ = h;
-      } else if (w != width_ || h != height_) {
-        diagnostics.error(files_[i], "sequence frame is " + std::to_string(w) + "x" + std::to_string(h) +
-                                         " but the first frame (" + files_[0] + ") is " + std::to_string(width_) +
-                                         "x" + std::to_string(height_));
-        return false;
-      }
+      if (!imageSize(files_[i], sizes[i].first, sizes[i].second, diagnostics)) return false;
+      ++counts[sizes[i]];
+    }
+    std::size_t common = 0;
+    for (std::size_t i = 1; i < files_.size(); ++i)
+      if (counts[sizes[i]] > counts[sizes[common]]) common = i;
+    width_ = sizes[common].first, height_ = sizes[common].second;
+    for (std::size_t i = 0; i < files_.size(); ++i) {
+      if (sizes[i] == sizes[common]) continue;
+      diagnostics.error(files_[i], "image is " + std::to_string(sizes[i].first) + "x" + std::to_string(sizes[i].second) +
+                                       " but the sequence's frames are " + std::to_string(width_) + "x" +
+                                       std::to_string(height_) + " (" + std::to_string(counts[sizes[common]]) +
+                                       " of its " + std::to_string(files_.size()) + " images, " + files_[common] +
+                                       " the first): not a frame of this sequence?");
+      return false;
     }
     return decode(0, diagnostics);
   }
