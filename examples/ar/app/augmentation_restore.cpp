@@ -106,7 +106,7 @@ void AugmentationRestore::frameDrawn(long frame, double time, bool verified, con
   if (firstFrame_ < 0) {
     firstFrame_ = frame;
     firstSeconds_ = secondsSinceProcessStart();
-    mark("first_registered_frame");
+    mark("first_registered_frame", firstSeconds_);  // the same instant: the phases add up to it
   }
   if (!truth_ || positions_.empty()) return;
   const RecordedPose& row = truth_->atTime(time);
@@ -142,8 +142,14 @@ std::string AugmentationRestore::json(long frames) const {
                       {"placement_error_max_deg", orNull(maxErrorDeg_)},
                       {"frames_measured", measured_},
                       {"truth", truth_.has_value()}};
+  // Durations, as docs/authoring.md's table lists them: each phase from the end of the one
+  // before (the first from process start).
   nlohmann::json phases = nlohmann::json::object();
-  for (const auto& [name, seconds] : phases_) phases[name] = seconds;
+  double end = 0.0;
+  for (const auto& [name, seconds] : phases_) {
+    phases[name] = seconds - end;
+    end = seconds;
+  }
   j["launch_phases_seconds"] = phases;
   return j.dump(2);
 }
