@@ -147,6 +147,59 @@ TEST(TrackingCli, AStrayImageInTheFramesFolderIsNamed) {
       << r.out;
 }
 
+// A map of graf1.png over frames of another target relocalizes nothing: after 30 frames without
+// a pose `track` says so on stderr and in --json's "warning", and still exits 0. Over graf1's
+// own frames it says nothing.
+TEST(TrackingCli, AMapOfAnotherTargetIsWarnedAbout) {
+  MARIONETTE_REQUIRE_FILE(opencvData("graf1.png"));
+  MARIONETTE_REQUIRE_FILE(opencvData("baboon.jpg"));
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_foreign_map";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string camera = sourceFile("assets/cameras/synthetic_640x480.yml");
+  auto sequence = [&](const std::string& target, const std::string& name) {
+    const fs::path out = dir / name;
+    const CliRun r = runCommand(programPath("marionette_write_sequence") + " --target " + opencvData(target) +
+                                " --target-width 0.3 --camera " + camera + " --scenario orbit --frames 40 --out " +
+                                out.string());
+    EXPECT_EQ(r.status, 0) << r.out;
+    return out.string();
+  };
+  const std::string graf = sequence("graf1.png", "graf"), baboon = sequence("baboon.jpg", "baboon");
+  const std::string map = (dir / "graf.map").string();
+  const CliRun made = runAr("track --camera " + camera + " --images " + graf + " --target " + opencvData("graf1.png") +
+                            " --target-width 0.3 --poses " + (dir / "made.csv").string() + " --save-map " + map);
+  ASSERT_EQ(made.status, 0) << made.out;
+
+  // stdout (the JSON) to a file, stderr in `out`.
+  struct Run {
+    CliRun r;
+    std::string json;
+  };
+  auto track = [&](const std::string& frames, const std::string& name) {
+    const fs::path json = dir / (name + ".json");
+    Run run{runCommand("( " + programPath("marionette-ar") + " track --camera " + camera + " --images " + frames +
+                       " --map " + map + " --poses " + (dir / (name + ".csv")).string() + " --json > " + json.string() +
+                       " )"),
+            ""};
+    run.json = readFile(json.string());
+    return run;
+  };
+  const std::string says = "no frame matched the map's keyframes in 30 frames: is this the map of this target?";
+  const Run foreign = track(baboon, "baboon");
+  EXPECT_EQ(foreign.r.status, 0) << foreign.r.out;  // a warning, not an error
+  EXPECT_EQ(jsonNumber(foreign.json, "tracked") + jsonNumber(foreign.json, "limited"), 0) << foreign.json;
+  EXPECT_NE(foreign.r.out.find("marionette-ar track: warning: " + map + ": " + says), std::string::npos)
+      << foreign.r.out;
+  EXPECT_NE(foreign.json.find("\"warning\": \"" + map + ": " + says + "\""), std::string::npos) << foreign.json;
+
+  const Run own = track(graf, "graf");
+  EXPECT_EQ(own.r.status, 0) << own.r.out;
+  EXPECT_GT(jsonNumber(own.json, "tracked"), 30) << own.json;
+  EXPECT_EQ(own.r.out.find("warning"), std::string::npos) << own.r.out;
+  EXPECT_NE(own.json.find("\"warning\": null"), std::string::npos) << own.json;
+}
+
 TEST(TrackingCli, BadInputIsNamed) {
   const fs::path dir = fs::temp_directory_path() / "marionette_cli_tracking_bad";
   fs::remove_all(dir);

@@ -114,8 +114,9 @@ int trackUsage(std::FILE* to = stderr) {
                "  --poses       CSV: frame,time,state,px,py,pz,qx,qy,qz,qw (camera-to-world, camera looking\n"
                "                along -Z with +Y up; pose fields empty when LOST)\n"
                "  --threads     OpenCV threads (default 1: the per-frame figures are for one core)\n"
-               "  --json        print the counts and timings as JSON\n"
-               "  --help, -h    this help; --version: the version\n");
+               "  --json        print the counts and timings as JSON (and \"warning\")\n"
+               "  --help, -h    this help; --version: the version\n"
+               "  Exit status 0 whatever the tracker found (no pose in the first 30 frames is a warning), 2 bad input.\n");
   return usageExitCode(to);
 }
 
@@ -132,6 +133,25 @@ bool isVideo(const std::string& path) {
   for (const char* v : {".avi", ".mp4", ".mov", ".mkv", ".webm", ".m4v", ".mpg", ".mpeg"})
     if (ext == v) return true;
   return false;
+}
+
+// Frames without a pose after which `track` warns that the map (or target) may not be the one
+// these frames show: 1 s at 30 fps. A map relocalizes within a frame or two of its target coming
+// into view (docs/tracking.md), so a whole second of nothing is more likely a wrong map.
+constexpr std::int64_t kNoPoseWarningFrames = 30;
+
+// `text` as a JSON string, quoted.
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += escaped;
+    } else out += c;
+  }
+  return out + "\"";
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -234,6 +254,8 @@ int track(int argc, char** argv) {
   std::fprintf(csv, "frame,time,state,px,py,pz,qx,qy,qz,qw\n");
   std::vector<double> ms;
   long tracked = 0, limited = 0, relocalizations = 0;
+  std::string warning;     // no pose in the first kNoPoseWarningFrames frames
+  bool foundLate = false;  // a pose came after the warning
   const std::int64_t frames = source->frameCount();
   for (std::int64_t k = 0; k < frames; ++k) {
     const double t = static_cast<double>(k) / fps;
@@ -250,6 +272,16 @@ int track(int argc, char** argv) {
     if (markerless && markerless->lastFrame().relocalized) ++relocalizations;
     tracked += p.state == TrackingState::Tracking;
     limited += p.state == TrackingState::Limited;
+    if (markerless && k + 1 == kNoPoseWarningFrames && tracked + limited == 0) {
+      warning = a.map.empty() ? a.target + ": no frame matched the target image in " +
+                                    std::to_string(kNoPoseWarningFrames) + " frames: do these frames show this target?"
+                              : a.map + ": no frame matched the map's keyframes in " +
+                                    std::to_string(kNoPoseWarningFrames) + " frames: is this the map of this target?";
+      std::fprintf(stderr, "marionette-ar track: warning: %s\n", warning.c_str());
+    } else if (!warning.empty() && !foundLate && tracked + limited > 0) {
+      foundLate = true;  // the warning was early: said, and taken back in the report
+      std::fprintf(stderr, "marionette-ar track: frame %lld has a pose after all\n", static_cast<long long>(k));
+    }
     const std::string_view state = trackingStateName(p.state);
     if (p.state == TrackingState::Lost) {
       std::fprintf(csv, "%lld,%.6f,%.*s,,,,,,,\n", static_cast<long long>(k), t, static_cast<int>(state.size()),
@@ -269,9 +301,10 @@ int track(int argc, char** argv) {
   if (a.json) {
     std::printf("{\"frames\": %lld, \"tracked\": %ld, \"limited\": %ld, \"lost\": %lld, \"relocalizations\": %ld, "
                 "\"keyframes\": %zu, \"ms_per_frame_median\": %.3f, \"ms_per_frame_p95\": %.3f, \"threads\": %d, "
-                "\"tracker\": \"%s\", \"poses\": \"%s\"}\n",
+                "\"tracker\": \"%s\", \"poses\": \"%s\", \"warning\": %s}\n",
                 static_cast<long long>(frames), tracked, limited, static_cast<long long>(frames) - tracked - limited,
-                relocalizations, keyframes, median, p95, a.threads, a.tracker.c_str(), a.poses.c_str());
+                relocalizations, keyframes, median, p95, a.threads, a.tracker.c_str(), a.poses.c_str(),
+                warning.empty() || foundLate ? "null" : jsonString(warning).c_str());
   } else {
     std::printf("marionette-ar track: %lld frames, %ld TRACKING, %ld LIMITED, %lld LOST; %.2f ms per frame median, "
                 "%.2f p95 (%d thread%s) -> %s\n",
