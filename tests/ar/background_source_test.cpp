@@ -251,7 +251,8 @@ TEST(BackgroundSource, ErrorsNameTheFile) {
     out->close();
     Diagnostics d8;
     EXPECT_FALSE(openBackground(BackgroundKind::Sequence, folder.string(), 24.0, d8));
-    EXPECT_TRUE(mentions(d8, stray + ": error: image is 8x6 but the sequence's frames are 64x48 (3 of its 4 images")) << d8.format();
+    EXPECT_TRUE(mentions(d8, stray + ": error: image is 8x6 but the sequence's frames are 64x48 (3 of its 4 images"))
+        << d8.format();
   }
 
   EXPECT_EQ(backgroundKindFromName("Video"), BackgroundKind::Video);

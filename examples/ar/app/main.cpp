@@ -73,7 +73,7 @@ int usage(std::FILE* to = stderr) {
                "                     [--author OUT.json [--input-script EVENTS.json]]\n"
 #if MARIONETTE_AR_HAS_TRACKING
                "       marionette-ar calibrate [--board COLSxROWS] [--square M] IMAGES... -o CAMERA.yml [--json]\n"
-               "       marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|IMAGE|VIDEO ... (docs/tracking.md)\n"
+               "       marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|IMAGE|VIDEO ...\n"
                "       marionette-ar author SCENE.json --actions ACTIONS.json -o AUGMENTATION.json [--json]\n"
                "       marionette-ar COMMAND --help   a command's options\n"
 #endif

@@ -116,7 +116,8 @@ int trackUsage(std::FILE* to = stderr) {
                "  --threads     OpenCV threads (default 1: the per-frame figures are for one core)\n"
                "  --json        print the counts and timings as JSON (and \"warning\")\n"
                "  --help, -h    this help; --version: the version\n"
-               "  Exit status 0 whatever the tracker found (no pose in the first 30 frames is a warning), 2 bad input.\n");
+               "  Exit status 0 whatever the tracker found (no pose in the first 30 frames is a warning),\n"
+               "  2 bad input.\n");
   return usageExitCode(to);
 }
 

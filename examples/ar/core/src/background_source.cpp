@@ -126,8 +126,8 @@ class SequenceSource final : public BackgroundSource {
     width_ = sizes[common].first, height_ = sizes[common].second;
     for (std::size_t i = 0; i < files_.size(); ++i) {
       if (sizes[i] == sizes[common]) continue;
-      diagnostics.error(files_[i], "image is " + std::to_string(sizes[i].first) + "x" + std::to_string(sizes[i].second) +
-                                       " but the sequence's frames are " + std::to_string(width_) + "x" +
+      const std::string size = std::to_string(sizes[i].first) + "x" + std::to_string(sizes[i].second);
+      diagnostics.error(files_[i], "image is " + size + " but the sequence's frames are " + std::to_string(width_) + "x" +
                                        std::to_string(height_) + " (" + std::to_string(counts[sizes[common]]) +
                                        " of its " + std::to_string(files_.size()) + " images, " + files_[common] +
                                        " the first): not a frame of this sequence?");

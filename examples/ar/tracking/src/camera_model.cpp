@@ -338,8 +338,8 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
       }
     }
   } catch (const cv::Exception& e) {
-    diagnostics.error(file, std::string("OpenCV cannot parse it: ") + e.what() +
-                                (withoutHeader ? " (its line numbers count a %YAML:1.0 line put before the file)" : ""));
+    const char* shifted = withoutHeader ? " (its line numbers count a %YAML:1.0 line put before the file)" : "";
+    diagnostics.error(file, std::string("OpenCV cannot parse it: ") + e.what() + shifted);
     return std::nullopt;
   } catch (const std::exception& e) {
     // OpenCV's parsers let the standard library's exceptions out too: a YAML key with no name
