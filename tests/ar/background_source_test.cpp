@@ -128,6 +128,36 @@ TEST(BackgroundSource, SequenceFromADirectoryIsSortedByNameAndCanHold) {
   EXPECT_EQ(bg->frameAt(100.0, d).index, 2);
 }
 
+// `track --images one.png`, a scene's "sequence" of one photo: a single image file is a
+// sequence of one frame, shown at every time.
+TEST(BackgroundSource, OneImageFileIsAOneFrameSequence) {
+  const fs::path dir = tempDir("one_file");
+  const std::string path = (dir / "one.png").string();
+  writePng(path, framePixels(5));
+  writePng((dir / "other.png").string(), framePixels(6));  // the folder's other images are not taken
+  for (const Playback playback : {Playback::Loop, Playback::Hold}) {
+    Diagnostics d;
+    auto bg = openBackground(BackgroundKind::Sequence, path, 30.0, d, playback);
+    ASSERT_TRUE(bg) << d.format();
+    EXPECT_EQ(bg->frameCount(), 1);
+    EXPECT_EQ(bg->width(), kW);
+    EXPECT_EQ(bg->height(), kH);
+    for (double t : {0.0, 0.5, 100.0}) {
+      const BackgroundFrame& f = bg->frameAt(t, d);
+      EXPECT_EQ(f.index, 0);
+      EXPECT_EQ(decodedNumber(f), 5);
+    }
+    EXPECT_EQ(bg->decodedFrames(), 1);
+    EXPECT_TRUE(d.ok()) << d.format();
+  }
+  // A file that is not an image is named.
+  const std::string text = (dir / "notes.png").string();
+  { std::ofstream(text) << "not an image"; }
+  Diagnostics d;
+  EXPECT_FALSE(openBackground(BackgroundKind::Sequence, text, 30.0, d));
+  EXPECT_TRUE(mentions(d, text)) << d.format();
+}
+
 TEST(BackgroundSource, VideoFrameByTimeSequentialAndBackwards) {
   const fs::path dir = tempDir("video");
   const double fps = 25.0;
@@ -202,6 +232,28 @@ TEST(BackgroundSource, ErrorsNameTheFile) {
   Diagnostics d7;
   EXPECT_FALSE(openBackground(BackgroundKind::Sequence, (mixed / "%d.png").string(), 24.0, d7));
   EXPECT_TRUE(mentions(d7, (mixed / "1.png").string())) << d7.format();
+
+  // A stray image of another size in a frames folder (the target's photo) is the one named,
+  // with its size and the frames', whether it sorts after the frames or before them.
+  for (const char* frameName : {"frame_%04d.png", "view_%04d.png"}) {
+    SCOPED_TRACE(frameName);
+    const fs::path folder = tempDir("stray");
+    for (int k = 0; k < 3; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, frameName, k);
+      writePng((folder / name).string(), framePixels(k));
+    }
+    const std::string stray = (folder / "target.png").string();
+    auto out = OIIO::ImageOutput::create(stray);
+    ASSERT_TRUE(out->open(stray, OIIO::ImageSpec(8, 6, 3, OIIO::TypeDesc::UINT8)));
+    std::vector<std::uint8_t> px(8 * 6 * 3, 0);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+    out->close();
+    Diagnostics d8;
+    EXPECT_FALSE(openBackground(BackgroundKind::Sequence, folder.string(), 24.0, d8));
+    EXPECT_TRUE(mentions(d8, stray + ": error: image is 8x6 but the sequence's frames are 64x48 (3 of its 4 images"))
+        << d8.format();
+  }
 
   EXPECT_EQ(backgroundKindFromName("Video"), BackgroundKind::Video);
   EXPECT_EQ(backgroundKindFromName("still"), BackgroundKind::Still);

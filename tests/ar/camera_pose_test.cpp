@@ -1,10 +1,13 @@
-// StaticCameraPose: the view matrix and the validation of its inputs.
+// StaticCameraPose: the view matrix and the validation of its inputs. The angle of a rotation and
+// of a view's error, from a ten-millionth of a degree to a half turn.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "marionette_ar/camera_pose.hpp"
 
@@ -52,5 +55,34 @@ TEST(CameraPose, InvalidInputsAreErrorsNamingTheFile) {
     ASSERT_FALSE(d.ok());
     EXPECT_EQ(d.items[0].file, "scenes/ar.json");
     EXPECT_NE(d.format().find(c.expect), std::string::npos) << d.format();
+  }
+}
+
+TEST(CameraPose, RotationAngleFromATenMillionthOfADegreeToAHalfTurn) {
+  // acos of the trace read 0 below ~1e-6 degrees in double (its cosine rounds to 1).
+  const glm::dvec3 axes[] = {{0, 0, 1}, glm::normalize(glm::dvec3(1, -2, 0.5)), glm::normalize(glm::dvec3(-0.3, 0.2, 0.9))};
+  for (const double degrees : {1e-7, 1e-6, 1e-4, 0.01, 1.0, 45.0, 90.0, 179.0, 179.9999, 180.0})
+    for (const glm::dvec3& axis : axes) {
+      const glm::dmat3 r = glm::mat3_cast(glm::angleAxis(glm::radians(degrees), axis));
+      const double got = rotationAngleDegrees(r);
+      EXPECT_NEAR(got, degrees, 1e-9) << degrees << " degrees";
+      EXPECT_NEAR(got / degrees, 1.0, 1e-6) << degrees << " degrees";
+    }
+  EXPECT_EQ(rotationAngleDegrees(glm::dmat3(1.0)), 0.0);
+}
+
+TEST(CameraPose, ViewRotationErrorResolvesATenThousandthOfADegree) {
+  // A camera 2.4 m from the origin looking at it, rolled: its camera-to-world matrix, and views
+  // turned from it by tiny angles about an oblique axis of the camera. The restore's
+  // placement_error_deg printed exactly 0 for such views (acos of the trace of a float matrix
+  // cannot resolve a few hundredths of a degree).
+  const glm::dmat4 worldToCamera = glm::lookAt(glm::dvec3(0.3, 1.2, 2.0), glm::dvec3(0.0), glm::dvec3(0.2, 1, 0));
+  const glm::dmat4 cameraToWorld = glm::inverse(worldToCamera);
+  EXPECT_NEAR(viewRotationErrorDegrees(cameraToWorld, worldToCamera), 0.0, 1e-9);
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(0.4, -1, 0.7));
+  for (const double degrees : {1e-4, 1e-3, 0.02, 0.5, 5.0}) {
+    const glm::dmat4 turned = glm::mat4_cast(glm::angleAxis(glm::radians(degrees), axis));
+    const glm::dmat4 view = glm::inverse(cameraToWorld * turned);
+    EXPECT_NEAR(viewRotationErrorDegrees(cameraToWorld, view), degrees, 1e-6 * degrees) << degrees << " degrees";
   }
 }

@@ -48,6 +48,23 @@ TEST(TrackingCli, CalibrateWritesACameraWithinTenPercentOfTheReference) {
   EXPECT_NE(again.out.find("/nonexistent"), std::string::npos) << again.out;
 }
 
+// The README's calibrate line as written, on opencv-doc's folder: left*.jpg also takes left.jpg
+// (another camera's 612x459 photo, no board), which is skipped with a warning.
+TEST(TrackingCli, CalibrateTakesTheReadmesGlob) {
+  MARIONETTE_REQUIRE_FILE(opencvData("left.jpg"));
+  const fs::path out = fs::temp_directory_path() / "marionette_cli_glob_camera.yml";
+  fs::remove(out);
+  const CliRun r = runAr("calibrate --board 9x6 --square 0.025 " + opencvData("left") + "*.jpg -o " + out.string() +
+                         " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "views"), 13) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "rejected"), 1) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "width"), 640) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "height"), 480) << r.out;
+  EXPECT_NE(r.out.find(opencvData("left.jpg") + ": warning: no 9x6 chessboard found"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out));
+}
+
 TEST(TrackingCli, TracksAnAprilTagAndWritesTheCsv) {
   const std::string image = vispImage("AprilTag/benchmark/640x480/tag36_11_640x480.png");
   MARIONETTE_REQUIRE_FILE(image);
@@ -81,6 +98,106 @@ TEST(TrackingCli, TracksAnAprilTagAndWritesTheCsv) {
   const double qn = std::hypot(std::hypot(std::atof(f[6].c_str()), std::atof(f[7].c_str())),
                                std::hypot(std::atof(f[8].c_str()), std::atof(f[9].c_str())));
   EXPECT_NEAR(qn, 1.0, 1e-6);
+}
+
+// --images names one image file: a sequence of one frame.
+TEST(TrackingCli, TracksASingleImageFile) {
+  const std::string image = vispImage("AprilTag/benchmark/640x480/tag36_11_640x480.png");
+  MARIONETTE_REQUIRE_FILE(image);
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_one_image";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "camera.yml") << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                                       "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                                       "   data: [ 700., 0., 319.5, 0., 700., 239.5, 0., 0., 1. ]\n";
+  const CliRun r = runAr("track --camera " + (dir / "camera.yml").string() + " --images " + image +
+                         " --tracker apriltag --tag-size 0.2 --poses " + (dir / "poses.csv").string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "frames"), 1) << r.out;
+  EXPECT_EQ(jsonNumber(r.out, "tracked"), 1) << r.out;
+  std::ifstream csv(dir / "poses.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line.rfind("0,0.000000,TRACKING,", 0), 0u) << line;
+  EXPECT_FALSE(std::getline(csv, line)) << "a second row: " << line;
+}
+
+// A stray image in the frames folder (the target's photo, another size) is named with its size
+// and the frames', though it sorts before them.
+TEST(TrackingCli, AStrayImageInTheFramesFolderIsNamed) {
+  MARIONETTE_REQUIRE_FILE(opencvData("graf1.png"));
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_stray_image";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "frames");
+  for (int i = 0; i < 3; ++i)
+    ASSERT_TRUE(cv::imwrite((dir / "frames" / ("view_" + std::to_string(i) + ".png")).string(),
+                            cv::Mat(240, 320, CV_8UC3, cv::Scalar(9, 9, 9))));
+  fs::copy_file(opencvData("graf1.png"), dir / "frames" / "target.png");
+  std::ofstream(dir / "camera.yml") << "%YAML:1.0\n---\nimage_width: 320\nimage_height: 240\n"
+                                       "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                                       "   data: [ 300., 0., 159.5, 0., 300., 119.5, 0., 0., 1. ]\n";
+  const CliRun r = runAr("track --camera " + (dir / "camera.yml").string() + " --images " + (dir / "frames").string() +
+                         " --target " + opencvData("graf1.png") + " --target-width 0.3 --poses " +
+                         (dir / "p.csv").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find((dir / "frames" / "target.png").string() +
+                       ": error: image is 800x640 but the sequence's frames are 320x240"),
+            std::string::npos)
+      << r.out;
+}
+
+// A map of graf1.png over frames of another target relocalizes nothing: after 30 frames without
+// a pose `track` says so on stderr and in --json's "warning", and still exits 0. Over graf1's
+// own frames it says nothing.
+TEST(TrackingCli, AMapOfAnotherTargetIsWarnedAbout) {
+  MARIONETTE_REQUIRE_FILE(opencvData("graf1.png"));
+  MARIONETTE_REQUIRE_FILE(opencvData("baboon.jpg"));
+  const fs::path dir = fs::temp_directory_path() / "marionette_cli_foreign_map";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string camera = sourceFile("assets/cameras/synthetic_640x480.yml");
+  auto sequence = [&](const std::string& target, const std::string& name) {
+    const fs::path out = dir / name;
+    const CliRun r = runCommand(programPath("marionette_write_sequence") + " --target " + opencvData(target) +
+                                " --target-width 0.3 --camera " + camera + " --scenario orbit --frames 40 --out " +
+                                out.string());
+    EXPECT_EQ(r.status, 0) << r.out;
+    return out.string();
+  };
+  const std::string graf = sequence("graf1.png", "graf"), baboon = sequence("baboon.jpg", "baboon");
+  const std::string map = (dir / "graf.map").string();
+  const CliRun made = runAr("track --camera " + camera + " --images " + graf + " --target " + opencvData("graf1.png") +
+                            " --target-width 0.3 --poses " + (dir / "made.csv").string() + " --save-map " + map);
+  ASSERT_EQ(made.status, 0) << made.out;
+
+  // stdout (the JSON) to a file, stderr in `out`.
+  struct Run {
+    CliRun r;
+    std::string json;
+  };
+  auto track = [&](const std::string& frames, const std::string& name) {
+    const fs::path json = dir / (name + ".json");
+    Run run{runCommand("( " + programPath("marionette-ar") + " track --camera " + camera + " --images " + frames +
+                       " --map " + map + " --poses " + (dir / (name + ".csv")).string() + " --json > " + json.string() +
+                       " )"),
+            ""};
+    run.json = readFile(json.string());
+    return run;
+  };
+  const std::string says = "no frame matched the map's keyframes in 30 frames: is this the map of this target?";
+  const Run foreign = track(baboon, "baboon");
+  EXPECT_EQ(foreign.r.status, 0) << foreign.r.out;  // a warning, not an error
+  EXPECT_EQ(jsonNumber(foreign.json, "tracked") + jsonNumber(foreign.json, "limited"), 0) << foreign.json;
+  EXPECT_NE(foreign.r.out.find("marionette-ar track: warning: " + map + ": " + says), std::string::npos)
+      << foreign.r.out;
+  EXPECT_NE(foreign.json.find("\"warning\": \"" + map + ": " + says + "\""), std::string::npos) << foreign.json;
+
+  const Run own = track(graf, "graf");
+  EXPECT_EQ(own.r.status, 0) << own.r.out;
+  EXPECT_GT(jsonNumber(own.json, "tracked"), 30) << own.json;
+  EXPECT_EQ(own.r.out.find("warning"), std::string::npos) << own.r.out;
+  EXPECT_NE(own.json.find("\"warning\": null"), std::string::npos) << own.json;
 }
 
 TEST(TrackingCli, BadInputIsNamed) {

@@ -185,6 +185,19 @@ TEST(AuthoringDemo, ShippedActionsPlaceALifeSizeCharacterThatRestoresWhereItWasA
   EXPECT_LE(r["placement_error_max_m"].get<double>(), 0.01);
   EXPECT_LE(r["placement_error_max_deg"].get<double>(), 0.5);
   EXPECT_GT(r["launch_to_registered_seconds"].get<double>(), 0.0);
+  // The launch's phases are durations (docs/authoring.md's table): each >= 0, and together the
+  // launch to the first registered frame.
+  const Json& phases = r["launch_phases_seconds"];
+  double sum = 0;
+  for (const char* name : {"main_and_augmentation", "environment_and_background", "gl_context", "scene_and_characters",
+                           "gpu_models_and_prt", "shaders_and_targets", "frame0_bml_and_scene",
+                           "frame0_background_and_tracking", "first_registered_frame"}) {
+    ASSERT_TRUE(phases.contains(name)) << name << ": " << phases.dump();
+    EXPECT_GE(phases[name].get<double>(), 0.0) << name;
+    sum += phases[name].get<double>();
+  }
+  EXPECT_EQ(phases.size(), 9u) << phases.dump();
+  EXPECT_NEAR(sum, r["launch_to_registered_seconds"].get<double>(), 1e-6) << phases.dump();
   // The restored character is drawn: the frame differs from one without it.
   ASSERT_EQ(runAr(scene.string() + " --restore " + augmentation.string() + " --headless --frames 20 --hide-characters --out " +
                   (dir / "without").string()).status, 0);

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "augmentation_scene.hpp"
+#include "marionette_ar/camera_pose.hpp"
 
 namespace marionette::ar {
 
@@ -100,27 +101,25 @@ void AugmentationRestore::bind(const Scene& scene, std::vector<TimedFile>& bml) 
   });
 }
 
-void AugmentationRestore::frameDrawn(long frame, double time, bool verified, const glm::mat4& view) {
+void AugmentationRestore::frameDrawn(long frame, double time, bool verified, const glm::dmat4& view) {
   if (!active() || !verified) return;
   if (firstFrame_ < 0) {
     firstFrame_ = frame;
     firstSeconds_ = secondsSinceProcessStart();
-    mark("first_registered_frame");
+    mark("first_registered_frame", firstSeconds_);  // the same instant: the phases add up to it
   }
   if (!truth_ || positions_.empty()) return;
   const RecordedPose& row = truth_->atTime(time);
   if (row.state == RecordedState::Lost) return;
   // Where the character appears in the true world: drawn through the estimated view, seen by the
   // true camera. The rotation of that map is the orientation error of every placement.
-  const glm::dmat4 seen = row.cameraToWorld * glm::dmat4(view);
+  const glm::dmat4 seen = row.cameraToWorld * view;
   double errorM = 0;
   for (const glm::vec3& p : positions_) {
     const glm::dvec3 at(p);
     errorM = std::max(errorM, glm::length(glm::dvec3(seen * glm::dvec4(at, 1.0)) - at));
   }
-  const glm::dmat3 r(seen);
-  const double cosine = std::clamp((r[0][0] + r[1][1] + r[2][2] - 1.0) * 0.5, -1.0, 1.0);
-  const double errorDeg = glm::degrees(std::acos(cosine));
+  const double errorDeg = viewRotationErrorDegrees(row.cameraToWorld, view);
   if (measured_++ == 0) {
     firstErrorM_ = errorM;
     firstErrorDeg_ = errorDeg;
@@ -143,8 +142,14 @@ std::string AugmentationRestore::json(long frames) const {
                       {"placement_error_max_deg", orNull(maxErrorDeg_)},
                       {"frames_measured", measured_},
                       {"truth", truth_.has_value()}};
+  // Durations, as docs/authoring.md's table lists them: each phase from the end of the one
+  // before (the first from process start).
   nlohmann::json phases = nlohmann::json::object();
-  for (const auto& [name, seconds] : phases_) phases[name] = seconds;
+  double end = 0.0;
+  for (const auto& [name, seconds] : phases_) {
+    phases[name] = seconds - end;
+    end = seconds;
+  }
   j["launch_phases_seconds"] = phases;
   return j.dump(2);
 }

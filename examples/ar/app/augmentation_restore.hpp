@@ -41,16 +41,20 @@ class AugmentationRestore {
   [[nodiscard]] bool drawn(std::size_t character) const noexcept { return !active() || placed_[character]; }
 
   // A frame drawn at scene `time` (frame number `frame`): `verified` when the tracker's pose is
-  // TRACKING and the characters were drawn with it, `view` the camera it drew with.
-  void frameDrawn(long frame, double time, bool verified, const glm::mat4& view);
+  // TRACKING and the characters were drawn with it, `view` the camera it drew with, in double
+  // (rounded to float, it would be off by ~1e-5 degrees before any tracking error).
+  void frameDrawn(long frame, double time, bool verified, const glm::dmat4& view);
   [[nodiscard]] long firstRegisteredFrame() const noexcept { return firstFrame_; }
   [[nodiscard]] double firstRegisteredSeconds() const noexcept { return firstSeconds_; }  // since launch; -1: none
 
-  // The launch's phases (seconds since process start at the end of each), for the report.
-  void mark(const char* phase) { phases_.emplace_back(phase, secondsSinceProcessStart()); }
+  // The end of a launch phase (now, or `seconds` since process start). The report gives each
+  // phase's duration: from the end of the one before (the first from process start).
+  void mark(const char* phase) { mark(phase, secondsSinceProcessStart()); }
+  void mark(const char* phase, double seconds) { phases_.emplace_back(phase, seconds); }
 
   // The --json report (restored, error, first_registered_frame, launch_to_registered_seconds,
-  // placement_error_m / _deg at the first registered frame, their maxima over the run).
+  // placement_error_m / _deg at the first registered frame, their maxima over the run, and
+  // launch_phases_seconds: each phase's duration, which add up to launch_to_registered_seconds).
   [[nodiscard]] std::string json(long frames) const;
 
  private:
@@ -64,7 +68,7 @@ class AugmentationRestore {
   double firstSeconds_ = -1;
   double firstErrorM_ = -1, firstErrorDeg_ = -1, maxErrorM_ = -1, maxErrorDeg_ = -1;
   long measured_ = 0;
-  std::vector<std::pair<const char*, double>> phases_;
+  std::vector<std::pair<const char*, double>> phases_;  // each phase's end, seconds since process start
 };
 
 }  // namespace marionette::ar

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ar_cli.hpp"
 #include "ar_scene_file.hpp"
 #include "augmentation_scene.hpp"
 #include "marionette/scene/scene_file.hpp"
@@ -21,13 +22,16 @@ namespace marionette::ar {
 
 namespace {
 
-int usage() {
-  std::fprintf(stderr,
+int usage(std::FILE* to = stderr) {
+  std::fprintf(to,
                "usage: marionette-ar author SCENE.json --actions ACTIONS.json -o AUGMENTATION.json [--json]\n"
                "  Replays an authoring session's actions (docs/authoring.md) over the scene's recorded camera\n"
                "  sequence, tracked with the scene's tracker and saved map, and writes the augmentation.\n"
-               "  --json  prints the actions' count, the modelled authoring time and the placements\n");
-  return 2;
+               "  --actions     the session's actions (an authoring window's OUT.actions.json)\n"
+               "  -o            the augmentation to write\n"
+               "  --json        prints the actions' count, the modelled authoring time and the placements\n"
+               "  --help, -h    this help; --version: the version\n");
+  return usageExitCode(to);
 }
 
 // The recorded sequence played forwards then backwards, as a user sweeping a phone to and fro:
@@ -47,7 +51,8 @@ int runAuthorCommand(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--json") json = true;
     else if ((a == "--actions" || a == "-o") && i + 1 < argc) (a == "-o" ? outPath : actionsPath) = argv[++i];
-    else if (a == "--help" || a == "-h") return usage(), 0;
+    else if (isHelpFlag(a)) return usage(stdout);
+    else if (a == "--version") return printVersion();
     else if (!a.empty() && a[0] != '-' && scenePath.empty()) scenePath = a;
     else {
       std::fprintf(stderr, "marionette-ar author: unexpected argument '%s'\n", a.c_str());

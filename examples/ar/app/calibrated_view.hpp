@@ -41,7 +41,8 @@ class PoseHold {
   [[nodiscard]] bool charactersVisible(double seconds) const noexcept {
     return hasPose(seconds) || (everPosed_ && !hideWhenLost_);
   }
-  [[nodiscard]] glm::mat4 view() const noexcept { return glm::mat4(glm::inverse(held_)); }
+  [[nodiscard]] glm::dmat4 viewInDouble() const noexcept { return glm::inverse(held_); }
+  [[nodiscard]] glm::mat4 view() const noexcept { return glm::mat4(viewInDouble()); }
 
  private:
   double holdSeconds_;

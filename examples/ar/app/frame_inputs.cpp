@@ -190,7 +190,10 @@ CameraView FrameInputs::camera(double time, int width, int height) {
   CameraView v;
 #if MARIONETTE_AR_HAS_TRACKING
   if (const TrackedCamera* t = sources_->tracked.get()) {
-    if (t->hasPose(time)) v.view = t->view();
+    if (t->hasPose(time)) {
+      v.viewInDouble = t->viewInDouble();
+      v.view = glm::mat4(v.viewInDouble);
+    }
     v.projection = t->projection(width, height, nearPlane_, farPlane_);
     return v;
   }
@@ -200,7 +203,10 @@ CameraView FrameInputs::camera(double time, int width, int height) {
       sources_->stateChanged = r->state() != sources_->previousRecorded;
       sources_->previousRecorded = r->state();
     }
-    if (r->hasPose(time)) v.view = r->view();
+    if (r->hasPose(time)) {
+      v.viewInDouble = r->viewInDouble();
+      v.view = glm::mat4(v.viewInDouble);
+    }
     v.projection = r->projection(width, height, nearPlane_, farPlane_);
     return v;
   }
@@ -208,6 +214,7 @@ CameraView FrameInputs::camera(double time, int width, int height) {
   const float aspect = static_cast<float>(width) / static_cast<float>(height);
   const CameraPose pose = sources_->camera->poseAt(time);
   v.view = pose.view;
+  v.viewInDouble = glm::dmat4(pose.view);
   v.projection = glm::perspective(glm::radians(pose.fovYDegrees), aspect, nearPlane_, farPlane_);
   return v;
 }

@@ -24,6 +24,7 @@ struct TrackingStateReport {
 
 struct CameraView {
   glm::mat4 view{1.0f}, projection{1.0f};
+  glm::dmat4 viewInDouble{1.0};  // `view` before its rounding to float: measurements use it
 };
 
 class FrameInputs {

@@ -8,6 +8,7 @@
 //                 [--restore AUGMENTATION.json [--truth CSV]] [--json]
 //   marionette-ar calibrate ... | track ...   (camera tracking: tracking_commands.hpp)
 //   marionette-ar author SCENE.json --actions ACTIONS.json -o AUGMENTATION.json  (author_command.hpp)
+//   marionette-ar [COMMAND] --help | --version   (ar_cli.hpp)
 //
 // Headless renders offscreen into DIR/frame_0000.png ... (still needs an X
 // display: run it under xvfb-run; docs/ar-renderer.md).
@@ -28,6 +29,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "ar_cli.hpp"
 #include "ar_scene_file.hpp"
 #include "augmentation_restore.hpp"
 #include "augmentation_scene.hpp"
@@ -53,7 +55,7 @@ using namespace marionette::ar;
 
 struct Args {
   std::string scene, outDir, screenshot, audioDir, restore, truth, author, inputScript;
-  bool headless = false, hideCharacters = false, json = false;
+  bool headless = false, hideCharacters = false, json = false, help = false, version = false;
   long frames = -1;  // headless default: 5 s of scene time
   float exposure = -1.0f;
   int width = 0, height = 0;
@@ -61,15 +63,30 @@ struct Args {
   int prtBands = 0, prtRays = 0;  // 0: as the scene file says
 };
 
-int usage() {
-  std::fprintf(stderr,
+// To stdout for --help (exit 0), to stderr after a bad command line (exit 2).
+int usage(std::FILE* to = stderr) {
+  std::fprintf(to,
                "usage: marionette-ar SCENE.json [--headless] [--frames N] [--out DIR] [--screenshot FILE]\n"
                "                     [--exposure E] [--width W] [--height H] [--hide-characters] [--audio-dir DIR]\n"
                "                     [--prt shadowed|unshadowed|off] [--prt-bands N] [--prt-rays R] [--prt-cache DIR]\n"
                "                     [--restore AUGMENTATION.json [--truth CSV]] [--json]\n"
                "                     [--author OUT.json [--input-script EVENTS.json]]\n"
+#if MARIONETTE_AR_HAS_TRACKING
+               "       marionette-ar calibrate [--board COLSxROWS] [--square M] IMAGES... -o CAMERA.yml [--json]\n"
+               "       marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|IMAGE|VIDEO ...\n"
                "       marionette-ar author SCENE.json --actions ACTIONS.json -o AUGMENTATION.json [--json]\n"
-               "       marionette-ar calibrate ... | track ...   (docs/tracking.md)\n"
+               "       marionette-ar COMMAND --help   a command's options\n"
+#endif
+               "       marionette-ar --help | --version\n"
+               "  The renderer draws SCENE.json's characters over its camera background (docs/ar-renderer.md).\n"
+               "  --headless       render offscreen into --out DIR (frame_0000.png ...; still needs an X display)\n"
+               "  --frames N       frames to run (default: 5 s of scene time headless, until closed in a window)\n"
+               "  --out DIR        where --headless writes the frames\n"
+               "  --screenshot F   the last frame (with --author: the window, with its panel) as an image\n"
+               "  --exposure E     the environment's exposure (default: the scene's)\n"
+               "  --width W, --height H  the frame size (default: the scene's)\n"
+               "  --hide-characters  the background alone\n"
+               "  --audio-dir DIR  each spoken line as a WAV, named by its scene start time\n"
                "  --restore FILE   put an authored augmentation back (docs/authoring.md): its map, tracker,\n"
                "                   exposure, environment, characters' placements and BML\n"
                "  --author OUT     the authoring window (docs/authoring.md): place, move, turn, size the scene's\n"
@@ -85,8 +102,10 @@ int usage() {
                "  --prt-rays R     visibility rays per vertex when shadowed, 1..65536 (default 1024)\n"
                "  --prt-cache DIR  where transfers are cached (default $MARIONETTE_PRT_CACHE,\n"
                "                   else ~/.cache/marionette/prt)\n"
-               "  PRT needs an \"environment\" in the scene; without one the light is a neutral grey sky.\n");
-  return 2;
+               "  --help, -h       this help; --version: the version\n"
+               "  PRT needs an \"environment\" in the scene; without one the light is a neutral grey sky.\n"
+               "  Exit status: 0 success, 1 errors in the scene's BML or the restore, 2 bad input, 3 no OpenGL.\n");
+  return usageExitCode(to);
 }
 
 bool parseArgs(int argc, char** argv, Args& a) {
@@ -111,6 +130,10 @@ bool parseArgs(int argc, char** argv, Args& a) {
       return true;
     };
     double n = 0;
+    if (isHelpFlag(s) || s == "--version") {  // the rest is not read
+      (s == "--version" ? a.version : a.help) = true;
+      return true;
+    }
     if (s == "--headless") a.headless = true;
     else if (s == "--json") a.json = true;
     else if (s == "--restore" || s == "--truth" || s == "--author" || s == "--input-script") {
@@ -236,6 +259,8 @@ int main(int argc, char** argv) {
 #endif
   Args args;
   if (!parseArgs(argc, argv, args)) return usage();
+  if (args.help) return usage(stdout);
+  if (args.version) return printVersion();
   std::FILE* info = args.json ? stderr : stdout;  // with --json, stdout holds the report alone
   ArScene ar;
   const Diagnostics arDiag = readArScene(args.scene, ar);
@@ -483,7 +508,7 @@ int main(int argc, char** argv) {
       const bool verified = tracked && std::strcmp(tracking.state, "TRACKING") == 0 && !args.hideCharacters &&
                             inputs.charactersVisible(scene.time());
       if (verified && restore.firstRegisteredFrame() < 0) glFinish();  // drawn, not only queued
-      restore.frameDrawn(frame, scene.time(), verified, view.view);
+      restore.frameDrawn(frame, scene.time(), verified, view.viewInDouble);
     }
     if (args.headless) {
       target.read(frameImage);

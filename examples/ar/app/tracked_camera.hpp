@@ -29,6 +29,7 @@ class TrackedCamera {
   [[nodiscard]] bool hasPose(double seconds) const noexcept { return hold_.hasPose(seconds); }
   [[nodiscard]] bool charactersVisible(double seconds) const noexcept { return hold_.charactersVisible(seconds); }
   [[nodiscard]] glm::mat4 view() const noexcept { return hold_.view(); }
+  [[nodiscard]] glm::dmat4 viewInDouble() const noexcept { return hold_.viewInDouble(); }  // for measuring
   // OpenGL projection of the calibrated camera for a viewport the frame covers (viewportProjection).
   [[nodiscard]] glm::mat4 projection(int viewportWidth, int viewportHeight, float nearZ, float farZ) const noexcept {
     return viewportProjection(tracker_->camera(), viewportWidth, viewportHeight, nearZ, farZ);

@@ -12,6 +12,7 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "ar_cli.hpp"
 #include "marionette_ar/background_source.hpp"
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/chessboard_calibration.hpp"
@@ -32,13 +33,17 @@ bool parseNumber(const char* text, double lo, double hi, double& out) {
   return end != text && *end == 0 && out >= lo && out <= hi;
 }
 
-int calibrateUsage() {
-  std::fprintf(stderr,
+int calibrateUsage(std::FILE* to = stderr) {
+  std::fprintf(to,
                "usage: marionette-ar calibrate [--board COLSxROWS] [--square M] IMAGES... -o CAMERA.yml [--json]\n"
+               "  IMAGES     photos of the chessboard; those where it is not found are skipped\n"
                "  --board    inner corners of the chessboard (default 9x6)\n"
                "  --square   the squares' side in metres (default 0.025)\n"
+               "  -o, --out  the calibration to write (OpenCV calibration YAML)\n"
+               "  --json     print the result as JSON\n"
+               "  --help, -h this help; --version: the version\n"
                "  Writes OpenCV calibration YAML and prints the rms reprojection error.\n");
-  return 2;
+  return usageExitCode(to);
 }
 
 int calibrate(int argc, char** argv) {
@@ -49,6 +54,8 @@ int calibrate(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     const bool hasValue = i + 1 < argc;
+    if (isHelpFlag(a)) return calibrateUsage(stdout);
+    if (a == "--version") return printVersion();
     if (a == "--board" && hasValue) {
       if (std::sscanf(argv[++i], "%dx%d", &s.columns, &s.rows) != 2) return fail("calibrate", "--board needs COLSxROWS");
     } else if (a == "--square" && hasValue) {
@@ -93,20 +100,25 @@ int calibrate(int argc, char** argv) {
   return 0;
 }
 
-int trackUsage() {
-  std::fprintf(stderr,
-               "usage: marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|VIDEO [--fps F]\n"
+int trackUsage(std::FILE* to = stderr) {
+  std::fprintf(to,
+               "usage: marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|IMAGE|VIDEO [--fps F]\n"
                "                           [--tracker markerless|apriltag] [--target IMAGE --target-width M]\n"
                "                           [--tag-size M] [--map MAP] [--save-map MAP] --poses OUT.csv [--json]\n"
                "                           [--threads N] [--no-smoothing]\n"
-               "  --images      a printf pattern (frames/%%04d.png), a folder of images, or a video file\n"
+               "  --images      a printf pattern (frames/%%04d.png), a folder of images, one image (one frame),\n"
+               "                or a video file\n"
                "  --fps         frame rate of an image sequence (default 30; a video's comes from the file)\n"
                "  --tracker     markerless (default): a textured planar target, --target and --target-width,\n"
                "                or a --map saved before; apriltag: 36h11 tags of --tag-size metres\n"
                "  --poses       CSV: frame,time,state,px,py,pz,qx,qy,qz,qw (camera-to-world, camera looking\n"
                "                along -Z with +Y up; pose fields empty when LOST)\n"
-               "  --threads     OpenCV threads (default 1: the per-frame figures are for one core)\n");
-  return 2;
+               "  --threads     OpenCV threads (default 1: the per-frame figures are for one core)\n"
+               "  --json        print the counts and timings as JSON (and \"warning\")\n"
+               "  --help, -h    this help; --version: the version\n"
+               "  Exit status 0 whatever the tracker found (no pose in the first 30 frames is a warning),\n"
+               "  2 bad input.\n");
+  return usageExitCode(to);
 }
 
 struct TrackArgs {
@@ -122,6 +134,25 @@ bool isVideo(const std::string& path) {
   for (const char* v : {".avi", ".mp4", ".mov", ".mkv", ".webm", ".m4v", ".mpg", ".mpeg"})
     if (ext == v) return true;
   return false;
+}
+
+// Frames without a pose after which `track` warns that the map (or target) may not be the one
+// these frames show: 1 s at 30 fps. A map relocalizes within a frame or two of its target coming
+// into view (docs/tracking.md), so a whole second of nothing is more likely a wrong map.
+constexpr std::int64_t kNoPoseWarningFrames = 30;
+
+// `text` as a JSON string, quoted.
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += escaped;
+    } else out += c;
+  }
+  return out + "\"";
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -147,6 +178,8 @@ int track(int argc, char** argv) {
       return true;
     };
     double n = 0;
+    if (isHelpFlag(s)) return trackUsage(stdout);
+    if (s == "--version") return printVersion();
     if (s == "--camera" && hasValue) text(a.camera);
     else if (s == "--images" && hasValue) text(a.images);
     else if (s == "--tracker" && hasValue) text(a.tracker);
@@ -222,6 +255,8 @@ int track(int argc, char** argv) {
   std::fprintf(csv, "frame,time,state,px,py,pz,qx,qy,qz,qw\n");
   std::vector<double> ms;
   long tracked = 0, limited = 0, relocalizations = 0;
+  std::string warning;     // no pose in the first kNoPoseWarningFrames frames
+  bool foundLate = false;  // a pose came after the warning
   const std::int64_t frames = source->frameCount();
   for (std::int64_t k = 0; k < frames; ++k) {
     const double t = static_cast<double>(k) / fps;
@@ -238,6 +273,16 @@ int track(int argc, char** argv) {
     if (markerless && markerless->lastFrame().relocalized) ++relocalizations;
     tracked += p.state == TrackingState::Tracking;
     limited += p.state == TrackingState::Limited;
+    if (markerless && k + 1 == kNoPoseWarningFrames && tracked + limited == 0) {
+      warning = a.map.empty() ? a.target + ": no frame matched the target image in " +
+                                    std::to_string(kNoPoseWarningFrames) + " frames: do these frames show this target?"
+                              : a.map + ": no frame matched the map's keyframes in " +
+                                    std::to_string(kNoPoseWarningFrames) + " frames: is this the map of this target?";
+      std::fprintf(stderr, "marionette-ar track: warning: %s\n", warning.c_str());
+    } else if (!warning.empty() && !foundLate && tracked + limited > 0) {
+      foundLate = true;  // the warning was early: said, and taken back in the report
+      std::fprintf(stderr, "marionette-ar track: frame %lld has a pose after all\n", static_cast<long long>(k));
+    }
     const std::string_view state = trackingStateName(p.state);
     if (p.state == TrackingState::Lost) {
       std::fprintf(csv, "%lld,%.6f,%.*s,,,,,,,\n", static_cast<long long>(k), t, static_cast<int>(state.size()),
@@ -257,9 +302,10 @@ int track(int argc, char** argv) {
   if (a.json) {
     std::printf("{\"frames\": %lld, \"tracked\": %ld, \"limited\": %ld, \"lost\": %lld, \"relocalizations\": %ld, "
                 "\"keyframes\": %zu, \"ms_per_frame_median\": %.3f, \"ms_per_frame_p95\": %.3f, \"threads\": %d, "
-                "\"tracker\": \"%s\", \"poses\": \"%s\"}\n",
+                "\"tracker\": \"%s\", \"poses\": \"%s\", \"warning\": %s}\n",
                 static_cast<long long>(frames), tracked, limited, static_cast<long long>(frames) - tracked - limited,
-                relocalizations, keyframes, median, p95, a.threads, a.tracker.c_str(), a.poses.c_str());
+                relocalizations, keyframes, median, p95, a.threads, a.tracker.c_str(), a.poses.c_str(),
+                warning.empty() || foundLate ? "null" : jsonString(warning).c_str());
   } else {
     std::printf("marionette-ar track: %lld frames, %ld TRACKING, %ld LIMITED, %lld LOST; %.2f ms per frame median, "
                 "%.2f p95 (%d thread%s) -> %s\n",

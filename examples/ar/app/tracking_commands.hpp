@@ -1,6 +1,6 @@
 // marionette-ar's tracking commands (docs/tracking.md):
 //   marionette-ar calibrate --board COLSxROWS --square M IMAGES... -o CAMERA.yml [--json]
-//   marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|VIDEO [--fps F]
+//   marionette-ar track --camera CAMERA.yml --images PATTERN|FOLDER|IMAGE|VIDEO [--fps F]
 //                       [--tracker markerless|apriltag] [--target IMAGE --target-width M]
 //                       [--tag-size M] [--map MAP] [--save-map MAP] --poses OUT.csv [--json]
 #pragma once

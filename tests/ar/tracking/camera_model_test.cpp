@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include <glm/glm.hpp>
 
@@ -79,7 +80,7 @@ TEST(CameraModel, BadFilesAreErrorsNamingTheFileAndField) {
     return s;
   };
   const Case cases[] = {
-      {"empty", "", "cannot"},
+      {"empty", "", "empty"},
       {"garbage", "\x01\x02 not yaml {{{", "OpenCV"},
       {"no_width", replace("image_width: 640\n", ""), "image_width"},
       {"zero_width", replace("image_width: 640", "image_width: 0"), "image_width"},
@@ -94,6 +95,18 @@ TEST(CameraModel, BadFilesAreErrorsNamingTheFileAndField) {
                              "rows: 3\n   cols: 1\n   dt: d\n   data: [ -0.2, 0.05, 0.001 ]"), "4, 5, 8, 12 or 14"},
       {"dist_huge", replace("-0.2, 0.05", "-1e9, 0.05"), "beyond"},
       {"truncated", good.substr(0, good.size() / 2), ""},
+      // A word among the numbers: the field and the value, not OpenCV's "readRawData can only be
+      // used to read plain sequences of numbers".
+      {"k_word", replace("600., 0., 319.5", "600., zero, 319.5"),
+       "'camera_matrix': data[1] is \"zero\", not a number"},
+      {"dist_word", replace("-0.2, 0.05", "-0.2, k2"), "'distortion_coefficients': data[1] is \"k2\", not a number"},
+      {"k_nested", replace("600., 0., 319.5", "600., [ 0. ], 319.5"),
+       "'camera_matrix': data[1] is a list, not a number"},
+      {"k_no_data", replace("   data: [ 600., 0., 319.5, 0., 610., 239.5, 0., 0., 1. ]\n", ""),
+       "'camera_matrix': 'data' is missing or not a list of numbers"},
+      {"k_short", replace("0., 0., 1. ]", "0., 0. ]"), "'camera_matrix': 'data' has 8 numbers but rows x cols is 9"},
+      // Neither YAML (header or keys), XML nor JSON: what is expected is said.
+      {"prose", "My camera: a phone, 640 by 480.\nfx is about 600.\n", "not OpenCV calibration YAML"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
@@ -108,6 +121,28 @@ TEST(CameraModel, BadFilesAreErrorsNamingTheFileAndField) {
   Diagnostics d;
   EXPECT_FALSE(readCameraModel("/nonexistent/camera.yml", d));
   EXPECT_NE(d.format().find("does not exist"), std::string::npos);
+}
+
+// YAML written by hand often starts with its keys: without "%YAML:1.0" (and "---") OpenCV says
+// "Unsupported file storage format"; the reader takes it as YAML 1.0.
+TEST(CameraModel, YamlWithoutItsHeaderIsRead) {
+  const std::string good = kGood;
+  const std::string body = good.substr(good.find("---\n") + 4);
+  for (const auto& [name, text] : {std::pair{"no_directive.yml", good.substr(good.find("---"))},
+                                   std::pair{"keys_only.yml", body},
+                                   std::pair{"comment_first.yml", "# my phone\n\n" + body}}) {
+    SCOPED_TRACE(name);
+    Diagnostics d;
+    const auto c = readCameraModel(tempFile(name, text), d);
+    ASSERT_TRUE(c) << d.format();
+    EXPECT_EQ(c->width, 640);
+    EXPECT_EQ(c->fy, 610.0);
+    EXPECT_EQ(c->distortion[4], 0.01);
+  }
+  // The shape checks apply to it too, with the file's own line numbers.
+  Diagnostics d;
+  EXPECT_FALSE(readCameraModel(tempFile("keys_two_documents.yml", body + "---\nimage_width: 1\n"), d));
+  EXPECT_NE(d.format().find("a second YAML document (line 13)"), std::string::npos) << d.format();
 }
 
 TEST(CameraModel, GlProjectionPutsPointsWherePinholeDoes) {

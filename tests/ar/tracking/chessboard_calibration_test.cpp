@@ -2,6 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "marionette_ar/tracking/chessboard_calibration.hpp"
 #include "test_data.hpp"
@@ -65,10 +69,36 @@ TEST(ChessboardCalibration, BadInputIsAClearError) {
   Diagnostics d5;
   EXPECT_FALSE(calibrateChessboard(leftImages(), {.columns = 7, .rows = 7}, d5));
   EXPECT_NE(d5.format().find("found in 0 images"), std::string::npos) << d5.format();
-  // Images of two sizes.
+  // Board images of two sizes: the second is named. left.jpg between them (612x459, no board)
+  // is skipped and sets no size.
+  const std::string larger = (std::filesystem::temp_directory_path() / "marionette_left02_800x600.png").string();
+  cv::Mat grown;
+  cv::resize(cv::imread(test::opencvData("left02.jpg"), cv::IMREAD_GRAYSCALE), grown, cv::Size(800, 600));
+  ASSERT_TRUE(cv::imwrite(larger, grown));
   Diagnostics d6;
-  EXPECT_FALSE(calibrateChessboard({test::opencvData("left01.jpg"), test::opencvData("graf1.png")}, {}, d6));
-  EXPECT_NE(d6.format().find("one camera, one size"), std::string::npos) << d6.format();
+  EXPECT_FALSE(calibrateChessboard({test::opencvData("left01.jpg"), test::opencvData("left.jpg"), larger}, {}, d6));
+  EXPECT_NE(d6.format().find(larger + ": error: is 800x600 but the first image with the board (" +
+                             test::opencvData("left01.jpg") + ") is 640x480: one camera, one size"),
+            std::string::npos)
+      << d6.format();
+}
+
+// `left*.jpg` (the README's line) takes left.jpg first: 612x459 and no board. It is skipped and
+// its size is not the calibration's: the size comes from the first image with the board.
+TEST(ChessboardCalibration, AnImageWithoutTheBoardSetsNoSize) {
+  std::vector<std::string> files = leftImages();
+  files.insert(files.begin(), test::opencvData("left.jpg"));
+  for (const auto& f : files) MARIONETTE_REQUIRE_FILE(f);
+  Diagnostics d;
+  const auto cal = calibrateChessboard(files, {.columns = 9, .rows = 6, .squareSize = 0.025}, d);
+  ASSERT_TRUE(cal) << d.format();
+  EXPECT_EQ(cal->usedImages.size(), 13u);
+  ASSERT_EQ(cal->rejectedImages.size(), 1u);
+  EXPECT_EQ(cal->rejectedImages[0], files[0]);
+  EXPECT_NE(d.format().find(files[0] + ": warning: no 9x6 chessboard found: image skipped"), std::string::npos)
+      << d.format();
+  EXPECT_EQ(cal->camera.width, 640);
+  EXPECT_EQ(cal->camera.height, 480);
 }
 
 }  // namespace

@@ -14,7 +14,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <regex>
+#include <utility>
 
 namespace marionette::ar {
 
@@ -110,17 +112,26 @@ class SequenceSource final : public BackgroundSource {
     playback_ = playback;
   }
   bool open(Diagnostics& diagnostics) {
-    int w = 0, h = 0;
+    // The sequence's size is the one most of its images have (the first file's on a tie): a
+    // stray image in a frames folder (the target's photo) is the one named, wherever it sorts.
+    std::vector<std::pair<int, int>> sizes(files_.size());
+    std::map<std::pair<int, int>, std::size_t> counts;
     for (std::size_t i = 0; i < files_.size(); ++i) {
-      if (!imageSize(files_[i], w, h, diagnostics)) return false;
-      if (i == 0) {
-        width_ = w, height_ = h;
-      } else if (w != width_ || h != height_) {
-        diagnostics.error(files_[i], "sequence frame is " + std::to_string(w) + "x" + std::to_string(h) +
-                                         " but the first frame (" + files_[0] + ") is " + std::to_string(width_) +
-                                         "x" + std::to_string(height_));
-        return false;
-      }
+      if (!imageSize(files_[i], sizes[i].first, sizes[i].second, diagnostics)) return false;
+      ++counts[sizes[i]];
+    }
+    std::size_t common = 0;
+    for (std::size_t i = 1; i < files_.size(); ++i)
+      if (counts[sizes[i]] > counts[sizes[common]]) common = i;
+    width_ = sizes[common].first, height_ = sizes[common].second;
+    for (std::size_t i = 0; i < files_.size(); ++i) {
+      if (sizes[i] == sizes[common]) continue;
+      const std::string size = std::to_string(sizes[i].first) + "x" + std::to_string(sizes[i].second);
+      diagnostics.error(files_[i], "image is " + size + " but the sequence's frames are " + std::to_string(width_) + "x" +
+                                       std::to_string(height_) + " (" + std::to_string(counts[sizes[common]]) +
+                                       " of its " + std::to_string(files_.size()) + " images, " + files_[common] +
+                                       " the first): not a frame of this sequence?");
+      return false;
     }
     return decode(0, diagnostics);
   }
@@ -262,8 +273,9 @@ bool isImageExtension(const fs::path& p) {
   return std::any_of(std::begin(known), std::end(known), [&](const char* k) { return e == k; });
 }
 
-// The files of a sequence: every image in a directory sorted by name, or the numbered files
-// matching a printf-style pattern (one %d or %0Nd in the file name), sorted by number.
+// The files of a sequence: every image in a directory sorted by name, the numbered files
+// matching a printf-style pattern (one %d or %0Nd in the file name), sorted by number, or one
+// image file.
 std::vector<std::string> sequenceFiles(const std::string& path, Diagnostics& diagnostics) {
   std::vector<std::string> files;
   std::error_code ec;
@@ -274,14 +286,21 @@ std::vector<std::string> sequenceFiles(const std::string& path, Diagnostics& dia
     if (files.empty()) diagnostics.error(path, "image sequence directory holds no image files");
     return files;
   }
+  // One file: a sequence of one frame (`track --images photo.png`); a file that is not an image
+  // is named when its size is read.
+  if (fs::is_regular_file(path, ec)) {
+    files.push_back(path);
+    return files;
+  }
   const fs::path p(path);
   const std::string name = p.filename().string();
   static const std::regex spec(R"(%(0?)(\d*)d)");
   std::smatch m;
   if (!std::regex_search(name, m, spec)) {
-    diagnostics.error(path, fs::exists(path, ec) ? "image sequence is neither a directory nor a pattern with %d"
-                                                 : "image sequence not found (neither a directory nor a pattern "
-                                                   "with %d such as frames/%04d.png)");
+    diagnostics.error(path, fs::exists(path, ec) ? "image sequence is neither a directory, an image file nor a "
+                                                   "pattern with %d"
+                                                 : "image sequence not found (neither a directory, an image file "
+                                                   "nor a pattern with %d such as frames/%04d.png)");
     return files;
   }
   const std::string prefix = m.prefix().str(), suffix = m.suffix().str();

@@ -49,4 +49,14 @@ std::optional<StaticCameraPose> StaticCameraPose::create(const glm::vec3& positi
   return StaticCameraPose(pose, position);
 }
 
+double rotationAngleDegrees(const glm::dmat3& r) noexcept {
+  // R - R^T = 2 sin(angle) [axis]x and trace(R) - 1 = 2 cos(angle): twice the sine and cosine.
+  const glm::dvec3 twiceSine(r[1][2] - r[2][1], r[2][0] - r[0][2], r[0][1] - r[1][0]);
+  return glm::degrees(std::atan2(glm::length(twiceSine), r[0][0] + r[1][1] + r[2][2] - 1.0));
+}
+
+double viewRotationErrorDegrees(const glm::dmat4& trueCameraToWorld, const glm::dmat4& view) noexcept {
+  return rotationAngleDegrees(glm::dmat3(trueCameraToWorld * view));
+}
+
 }  // namespace marionette::ar

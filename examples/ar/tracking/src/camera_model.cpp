@@ -43,6 +43,46 @@ bool smallMatrix(const cv::FileNode& n, int maxSide) {
   return true;
 }
 
+// Whether text that does not start as OpenCV's formats do ("%YAML", "<?xml", "{") is YAML keys
+// without the header, as calibrations written by hand often are: its first line that is not
+// blank or a comment is a "---" or a "key:" at column 0.
+bool headerlessYaml(std::string_view text) {
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view l = text.substr(at, end - at);
+    at = end + 1;
+    const std::size_t content = l.find_first_not_of(" \t\r");
+    if (content == std::string_view::npos || l[content] == '#') continue;
+    if (l.substr(0, 3) == "---") return true;
+    std::size_t key = 0;
+    while (key < l.size() && (std::isalnum(static_cast<unsigned char>(l[key])) || l[key] == '_')) ++key;
+    return key > 0 && key < l.size() && l[key] == ':';
+  }
+  return false;
+}
+
+// What is wrong with the 'data' of an !!opencv-matrix whose rows and cols are checked, empty
+// when nothing is. cv::read throws "readRawData can only be used to read plain sequences of
+// numbers" for a word among them, and asserts on a missing 'data' or a count that is not
+// rows x cols, naming neither the field nor the value.
+std::string matrixDataProblem(const cv::FileNode& matrix) {
+  const cv::FileNode data = matrix["data"];
+  if (data.empty() || !data.isSeq()) return "'data' is missing or not a list of numbers";
+  const std::size_t expected = static_cast<std::size_t>(matrix["rows"].real() * matrix["cols"].real());
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const cv::FileNode v = data[static_cast<int>(i)];
+    if (v.isInt() || v.isReal()) continue;
+    const std::string what = v.isString() ? "\"" + v.string() + "\""
+                             : v.isSeq()  ? std::string("a list")
+                             : v.isMap()  ? std::string("a map")
+                                          : std::string("empty");
+    return "data[" + std::to_string(i) + "] is " + what + ", not a number";
+  }
+  if (data.size() != expected)
+    return "'data' has " + std::to_string(data.size()) + " numbers but rows x cols is " + std::to_string(expected);
+  return {};
+}
+
 // OpenCV's YAML parser (4.6) loops forever, or reads stale bytes of its line buffer, when
 // text follows the end of the first document: a "..." line then a line starting with '-',
 // or a root collection that does not start at column 0 ("-----0" then a shorter line). A
@@ -86,7 +126,7 @@ std::string yamlShapeProblem(const std::string& text) {
 // text) overflow an 8 MiB stack. A calibration nests three levels; the count here takes
 // every bracket and tag, in strings too, so it can only overstate.
 constexpr int kMaxNesting = 64;
-std::string textProblem(const std::string& text) {
+std::string textProblem(const std::string& text, bool yamlWithoutHeader) {
   if (const std::size_t nul = text.find('\0'); nul != std::string::npos)
     return "a NUL byte at byte " + std::to_string(nul) + ": not a YAML, XML or JSON text file";
   // Base64 blocks (YAML "!!binary", JSON "$base64$", XML type_id="binary"): OpenCV writes
@@ -96,7 +136,7 @@ std::string textProblem(const std::string& text) {
       return std::string("base64 data (") + base64 + " at byte " + std::to_string(at) +
              "): write the calibration as text numbers";
   const std::size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;  // OpenCV skips one, then looks
-  if (text.compare(bom, 5, "%YAML") == 0) {
+  if (text.compare(bom, 5, "%YAML") == 0 || yamlWithoutHeader) {
     if (std::string why = yamlShapeProblem(text.substr(bom)); !why.empty()) return why;
   } else if (text.compare(bom, 5, "<?xml") == 0) {
     if (text[text.find_last_not_of(" \t\r\n")] != '>')
@@ -192,10 +232,27 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
       return std::nullopt;
     }
   }
-  if (const std::string why = textProblem(text); !why.empty()) {
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+    diagnostics.error(file, "camera file is empty: not a calibration");
+    return std::nullopt;
+  }
+  // OpenCV tells its formats by their first bytes and calls anything else "Unsupported file
+  // storage format". YAML keys without "%YAML:1.0" are read as YAML 1.0 (the header is put
+  // before them); other text is refused saying what is expected.
+  const std::size_t bom = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  const bool known = text.compare(bom, 5, "%YAML") == 0 || text.compare(bom, 5, "<?xml") == 0 ||
+                     text.compare(bom, 1, "{") == 0;
+  const bool withoutHeader = !known && headerlessYaml(std::string_view(text).substr(bom));
+  if (!known && !withoutHeader) {
+    diagnostics.error(file, "not OpenCV calibration YAML, XML or JSON: YAML must start with %YAML:1.0 (or with "
+                            "its keys, image_width: ...), XML with <?xml, JSON with {");
+    return std::nullopt;
+  }
+  if (const std::string why = textProblem(text, withoutHeader); !why.empty()) {
     diagnostics.error(file, why);
     return std::nullopt;
   }
+  if (withoutHeader) text = "%YAML:1.0\n" + text.substr(bom);
   CameraModel c;
   try {
     cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_AUTO);
@@ -228,6 +285,10 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
       diagnostics.error(file, "'camera_matrix' has no whole-number rows and cols of 1 to 3: not a 3x3 !!opencv-matrix");
       return std::nullopt;
     }
+    if (const std::string why = matrixDataProblem(kn); !why.empty()) {
+      diagnostics.error(file, "'camera_matrix': " + why);
+      return std::nullopt;
+    }
     kn >> k;
     if (k.rows != 3 || k.cols != 3 || k.channels() != 1) {
       diagnostics.error(file, "'camera_matrix' is " + std::to_string(k.rows) + "x" + std::to_string(k.cols) +
@@ -254,6 +315,10 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
                                 "1xN or Nx1 !!opencv-matrix of OpenCV's models (4, 5, 8, 12 or 14 values)");
         return std::nullopt;
       }
+      if (const std::string why = matrixDataProblem(dn); !why.empty()) {
+        diagnostics.error(file, "'distortion_coefficients': " + why);
+        return std::nullopt;
+      }
       dn >> d;
       const int n = static_cast<int>(d.total());
       if (d.channels() != 1 || (d.rows != 1 && d.cols != 1) || !(n == 4 || n == 5 || n == 8 || n == 12 || n == 14)) {
@@ -273,7 +338,8 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
       }
     }
   } catch (const cv::Exception& e) {
-    diagnostics.error(file, std::string("OpenCV cannot parse it: ") + e.what());
+    const char* shifted = withoutHeader ? " (its line numbers count a %YAML:1.0 line put before the file)" : "";
+    diagnostics.error(file, std::string("OpenCV cannot parse it: ") + e.what() + shifted);
     return std::nullopt;
   } catch (const std::exception& e) {
     // OpenCV's parsers let the standard library's exceptions out too: a YAML key with no name

@@ -36,13 +36,6 @@ std::optional<ChessboardCalibration> calibrateChessboard(const std::vector<std::
         diagnostics.error(file, "cannot be read as an image");
         return std::nullopt;
       }
-      if (size.area() == 0) size = grey.size();
-      else if (grey.size() != size) {
-        diagnostics.error(file, "is " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
-                                    " but the first image is " + std::to_string(size.width) + "x" +
-                                    std::to_string(size.height) + ": one camera, one size");
-        return std::nullopt;
-      }
       std::vector<cv::Point2f> corners;
       const bool found = cv::findChessboardCorners(
           grey, board, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
@@ -51,6 +44,16 @@ std::optional<ChessboardCalibration> calibrateChessboard(const std::vector<std::
                                       " chessboard found: image skipped");
         out.rejectedImages.push_back(file);
         continue;
+      }
+      // The size is the first used image's: a skipped one may be another camera's (opencv-doc's
+      // left.jpg, 612x459, which `left*.jpg` takes first).
+      if (size.area() == 0) size = grey.size();
+      else if (grey.size() != size) {
+        diagnostics.error(file, "is " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
+                                    " but the first image with the board (" + out.usedImages.front() + ") is " +
+                                    std::to_string(size.width) + "x" + std::to_string(size.height) +
+                                    ": one camera, one size");
+        return std::nullopt;
       }
       // The sample's 11x11 window: corners to a tenth of a pixel.
       cv::cornerSubPix(grey, corners, cv::Size(11, 11), cv::Size(-1, -1),

@@ -59,8 +59,8 @@ class BackgroundSource {
 
 enum class BackgroundKind {
   Still,     // one image, any format OpenImageIO reads
-  Sequence,  // a printf-style pattern ("frames/%04d.png": the files that exist, by number)
-             // or a directory (every image file in it, sorted by name)
+  Sequence,  // a printf-style pattern ("frames/%04d.png": the files that exist, by number),
+             // a directory (every image file in it, sorted by name) or one image file (one frame)
   Video,     // a video file OpenCV's VideoCapture opens with its FFmpeg backend (fps from the file)
 };
 

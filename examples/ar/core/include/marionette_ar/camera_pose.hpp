@@ -4,6 +4,7 @@
 // Convention: +Y up, right-handed; the view matrix maps world to camera space, the camera
 // looking along its -Z (OpenGL).
 #pragma once
+#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -45,5 +46,16 @@ class StaticCameraPose final : public CameraPoseSource {
   CameraPose pose_;
   glm::vec3 position_{0.0f};
 };
+
+// The angle of rotation `r`, degrees in [0, 180]: atan2 of its axis-angle sine and cosine, which
+// resolves 1e-7 degrees (acos of the trace reads 0 below ~1e-6 degrees in double, and a float
+// matrix's trace cannot resolve a few hundredths of a degree).
+[[nodiscard]] double rotationAngleDegrees(const glm::dmat3& r) noexcept;
+
+// How far `view` (world -> camera) turns the world from the true camera's: the angle of the
+// rotation of trueCameraToWorld * view, 0 for an exact view. The orientation error of anything
+// drawn with `view` (the restore's placement_error_deg, docs/authoring.md). Both in double: a
+// view rounded to float is already off by ~1e-5 degrees.
+[[nodiscard]] double viewRotationErrorDegrees(const glm::dmat4& trueCameraToWorld, const glm::dmat4& view) noexcept;
 
 }  // namespace marionette::ar

@@ -37,7 +37,8 @@ struct CameraModel {
 };
 
 // Reads `file`. Errors name the file and the field: not YAML/XML OpenCV can read, a
-// missing or malformed field, values problem() refuses.
+// missing or malformed field (a word among a matrix's numbers by its place), values
+// problem() refuses. YAML keys without the "%YAML:1.0" header are read as YAML 1.0.
 [[nodiscard]] std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics& diagnostics);
 
 // Extra facts `marionette-ar calibrate` records beside the model.

@@ -28,10 +28,11 @@ struct ChessboardCalibration {
   std::vector<std::string> rejectedImages;  // the board was not found (a warning names each)
 };
 
-// Errors (nothing returned) name the image or the setting: an unreadable image, images of
-// different sizes, fewer than 3 views where the whole board was found, a board below 2x2
-// inner corners or a square size that is not positive and finite. Images where the board is
-// not found are skipped with a warning.
+// Errors (nothing returned) name the image or the setting: an unreadable image, images with
+// the board of different sizes, fewer than 3 views where the whole board was found, a board
+// below 2x2 inner corners or a square size that is not positive and finite. Images where the
+// board is not found are skipped with a warning, whatever their size: the calibration's size
+// is the first image's where the board is found.
 [[nodiscard]] std::optional<ChessboardCalibration> calibrateChessboard(const std::vector<std::string>& images,
                                                                        const ChessboardSettings& settings,
                                                                        Diagnostics& diagnostics);
