@@ -1,6 +1,6 @@
-// The stress sequences' generator (tests/support/tracking/stress_scenarios.hpp): what each
-// class promises, and exposures averaged from sub-frames. Not the tracker's accuracy on them
-// (that is an accuracy test's).
+// The stress sequences' generator and harness (tests/support/tracking/stress_scenarios.hpp,
+// stress_run.hpp): what each class promises, exposures averaged from sub-frames, and the
+// worst-case summary. Not the tracker's accuracy on them (that is an accuracy test's).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/scenario_run.hpp"
+#include "tracking/stress_run.hpp"
 #include "tracking/stress_scenarios.hpp"
 #include "tracking/trajectory_metrics.hpp"
 
@@ -335,6 +336,93 @@ TEST(StressSequence, PhotometricStepsAndDefocusComeAndGo) {
   EXPECT_GT(b[0], 1.15 * a[0]);
   EXPECT_NEAR(b[1], a[1], 0.5);
   EXPECT_LT(b[2], 0.8 * a[2]);
+}
+
+// The summary keeps the worst drawn errors with where they happened; LOST frames are not drawn.
+TEST(StressRun, ReportKeepsTheWorstDrawnPosesWithSeedAndFrame) {
+  Scenario truth;
+  for (int i = 0; i < 5; ++i) {
+    glm::dmat4 m = lookingDown(0.6);
+    m[3].x = 0.01 * i;
+    truth.cameraToWorld.push_back(m);
+    truth.visibleFraction.push_back(i == 4 ? 0.0 : 1.0);
+  }
+  auto pose = [&](int i, TrackingState state, glm::dvec3 offset, double rollDeg = 0) {
+    TrackedPose p;
+    p.state = state;
+    const double a = rollDeg * 3.14159265358979323846 / 180;
+    const glm::dmat3 roll(glm::dvec3(std::cos(a), std::sin(a), 0), glm::dvec3(-std::sin(a), std::cos(a), 0), glm::dvec3(0, 0, 1));
+    p.cameraToWorld = glm::dmat4(glm::dmat3(truth.cameraToWorld[static_cast<std::size_t>(i)]) * roll);
+    p.cameraToWorld[3] = truth.cameraToWorld[static_cast<std::size_t>(i)][3] + glm::dvec4(offset, 0);
+    return p;
+  };
+  const std::vector<TrackedPose> first = {pose(0, TrackingState::Tracking, {}),
+                                          pose(1, TrackingState::Limited, {0.03, 0, 0}),
+                                          pose(2, TrackingState::Lost, {1, 0, 0}),
+                                          pose(3, TrackingState::Tracking, {}, 3),
+                                          pose(4, TrackingState::Tracking, {0, 0.01, 0})};
+  const std::vector<TrackedPose> second = {pose(0, TrackingState::Tracking, {}), pose(1, TrackingState::Tracking, {}),
+                                           pose(2, TrackingState::Limited, {0, 0, 0.1}), pose(3, TrackingState::Lost, {}),
+                                           pose(4, TrackingState::Lost, {})};
+  StressReport report;
+  addStressRun(report, StressClass::Reentry, 9, truth, second, std::vector<double>(5, 2.0));
+  addStressRun(report, StressClass::Pan, 7, truth, first, std::vector<double>(5, 1.0));
+  finishStressReport(report);
+  ASSERT_EQ(report.classes.size(), 2u);
+  EXPECT_EQ(report.classes[0].kind, StressClass::Pan) << "kept in the classes' order";
+  const StressClassReport& pan = report.classes[0];
+  EXPECT_EQ(pan.sequences, 1);
+  EXPECT_EQ(pan.frames, 5);
+  EXPECT_EQ(pan.visibleFrames, 4);
+  EXPECT_EQ(pan.drawnFrames, 4);
+  EXPECT_EQ(pan.trackingFrames, 3);
+  EXPECT_EQ(pan.within2cm, 2);  // frames 0 and 3 (frame 4 is out of view)
+  EXPECT_EQ(pan.falsePoses, 1);  // frame 3, 3 deg off
+  EXPECT_NEAR(pan.worstPosition.value, 0.03, 1e-12);
+  EXPECT_EQ(pan.worstPosition.seed, 7u);
+  EXPECT_EQ(pan.worstPosition.frame, 1);
+  EXPECT_NEAR(pan.worstRotation.value, 3.0, 1e-9);
+  EXPECT_EQ(pan.worstRotation.frame, 3);
+  EXPECT_NEAR(pan.trackingRmsM, std::sqrt(0.01 * 0.01 / 3), 1e-12);
+  EXPECT_DOUBLE_EQ(pan.msMedian, 1.0);
+  const StressClassReport& reentry = report.classes[1];
+  EXPECT_NEAR(reentry.worstPosition.value, 0.1, 1e-12);
+  EXPECT_EQ(reentry.worstPosition.seed, 9u);
+  EXPECT_EQ(reentry.worstPosition.frame, 2);
+  EXPECT_EQ(reentry.falsePoses, 1);
+  const std::string table = stressTable(report);
+  EXPECT_NE(table.find("| pan | 1 | 5 | 4 | 4 | 50.0 % | 3.00 (seed 7, frame 1) | 3.00 (seed 7, frame 3) | 1 |"), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("10.00 (seed 9, frame 2)"), std::string::npos) << table;
+  EXPECT_THROW(addStressRun(report, StressClass::Pan, 1, truth, {first[0]}, {1.0}), std::invalid_argument);
+
+  // The plans: every class's seeds, or the seeds split over the classes.
+  const std::vector<StressCase> split = stressCases(20, true);
+  ASSERT_EQ(split.size(), 20u);
+  for (StressClass k : kStressClasses)
+    EXPECT_EQ(std::count_if(split.begin(), split.end(), [k](const StressCase& c) { return c.kind == k; }), 5) << stressClassName(k);
+  EXPECT_EQ(split[5].seed, 6u);
+  EXPECT_EQ(split[5].kind, StressClass::Reentry);
+  EXPECT_EQ(stressCases(3, false).size(), 12u);
+}
+
+// The harness end to end on one short sequence: a row whose worst case is a frame of it.
+TEST(StressRun, RunsTheTrackerOverASequence) {
+  cv::setNumThreads(1);
+  const StressReport report = runStressSeeds(standard(), {{StressClass::Photometric, 2, 30}}, MarkerlessSettings{});
+  ASSERT_EQ(report.classes.size(), 1u);
+  const StressClassReport& c = report.classes[0];
+  EXPECT_EQ(c.sequences, 1);
+  EXPECT_EQ(c.frames, 30);
+  EXPECT_EQ(report.renderedFrames, 30);
+  EXPECT_GT(report.renderMsMean, 0);
+  EXPECT_EQ(c.ms.size(), 30u);
+  if (c.drawnFrames > 0) {
+    EXPECT_EQ(c.worstPosition.seed, 2u);
+    EXPECT_GE(c.worstPosition.frame, 0);
+    EXPECT_LT(c.worstPosition.frame, 30);
+  }
+  std::printf("%s", stressTable(report).c_str());
 }
 
 }  // namespace
