@@ -2,10 +2,16 @@
 // truth; tests/support/tracking), one thread, as docs/tracking.md reports it.
 //
 //   marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]
+//   marionette_tracking_eval --stress SEEDS [--split] [--frames N] [--no-smoothing] [--verbose]
 //
 // Without --sweep: one row per scenario with the default settings. With --sweep: the
 // work-precision grid (corners x pyramid levels x refinements) over orbit, occluder and partial,
-// ATE against ms per frame.
+// ATE against ms per frame. With --stress: seeds 1..SEEDS of every stress class
+// (stress_scenarios.hpp; with --split, seed s of class (s - 1) % 4 only, the accuracy test's
+// plan), a row per class of its worst cases (stress_run.hpp), and the time spent rendering;
+// --frames sets every sequence's length (default: the class's), --verbose a line per sequence.
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +22,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "tracking/scenario_run.hpp"
+#include "tracking/stress_run.hpp"
 
 using namespace marionette::ar;
 using namespace marionette::ar::synthetic;
@@ -34,21 +41,46 @@ void row(const std::string& name, const ScenarioRun& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int frames = 150;
-  bool sweep = false, smoothing = true;
+  int frames = 0, stressSeeds = 0;
+  bool sweep = false, smoothing = true, split = false, verbose = false;
   std::vector<std::string> names;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--scenario") && i + 1 < argc) names.emplace_back(argv[++i]);
     else if (!std::strcmp(argv[i], "--sweep")) sweep = true;
     else if (!std::strcmp(argv[i], "--no-smoothing")) smoothing = false;
+    else if (!std::strcmp(argv[i], "--stress") && i + 1 < argc) stressSeeds = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--split")) split = true;
+    else if (!std::strcmp(argv[i], "--verbose")) verbose = true;
     else {
-      std::fprintf(stderr, "usage: marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]\n");
+      std::fprintf(stderr, "usage: marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]\n"
+                           "       marionette_tracking_eval --stress SEEDS [--split] [--frames N] [--no-smoothing] [--verbose]\n");
       return 2;
     }
   }
   cv::setNumThreads(1);
   const SequenceRenderer renderer = standardRenderer();
+  if (stressSeeds > 0) {
+    if (frames > 0 && frames < 30) {
+      std::fprintf(stderr, "marionette_tracking_eval: a stress sequence needs --frames 30 or more\n");
+      return 2;
+    }
+    MarkerlessSettings settings;
+    settings.smoothing = smoothing;
+    StressRunOptions options;
+    options.log = verbose ? stderr : nullptr;
+    const auto start = std::chrono::steady_clock::now();
+    const StressReport report = runStressSeeds(renderer, stressCases(stressSeeds, split, frames), settings, options);
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%s\n", stressTable(report).c_str());
+    std::printf("%d frames: rendering %.1f ms a frame (mean on its thread; median %.1f; %.1f ms of CPU), %.1f s on %d "
+                "threads; tracking %.1f s; %.1f s in all\n",
+                report.renderedFrames, report.renderMsMean, report.renderMsMedian,
+                1000 * report.renderCpuSeconds / std::max(1, report.renderedFrames), report.renderSeconds,
+                options.renderThreads, report.trackSeconds, total);
+    return 0;
+  }
+  if (frames <= 0) frames = 150;
   if (sweep && names.empty()) names = {"orbit", "occluder", "partial"};
   const auto scenarios = renderScenarios(renderer, frames, names);
   if (!sweep) {

@@ -70,12 +70,12 @@ struct Lens {
 };
 
 // Bilinear fetch at (x, y) (pixel centres at integers), edges replicated or wrapped.
-cv::Vec3f fetch(const cv::Mat& img, double x, double y, bool wrap) {
+inline cv::Vec3f fetch(const cv::Mat& img, double x, double y, bool wrap) {
   const int w = img.cols, h = img.rows;
-  if (wrap) {
-    x = std::fmod(x, w);
+  if (wrap) {  // fmod returns x itself when |x| < w: the call only when it does more
+    if (!(std::abs(x) < w)) x = std::fmod(x, w);
     if (x < 0) x += w;
-    y = std::fmod(y, h);
+    if (!(std::abs(y) < h)) y = std::fmod(y, h);
     if (y < 0) y += h;
   } else {
     x = std::clamp(x, 0.0, w - 1.0);
@@ -84,8 +84,11 @@ cv::Vec3f fetch(const cv::Mat& img, double x, double y, bool wrap) {
   int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
   const float ax = static_cast<float>(x - x0), ay = static_cast<float>(y - y0);
   int x1 = x0 + 1, y1 = y0 + 1;
-  if (wrap) {
-    x0 %= w, x1 %= w, y0 %= h, y1 %= h;
+  if (wrap) {  // x0 in [0, w] and x1 in [1, w + 1] (x + w may round up to w): at most one wrap
+    if (x0 >= w) x0 -= w;
+    if (x1 >= w) x1 -= w;
+    if (y0 >= h) y0 -= h;
+    if (y1 >= h) y1 -= h;
   } else {
     x1 = std::min(x1, w - 1);
     y1 = std::min(y1, h - 1);
@@ -105,7 +108,7 @@ cv::Vec3f fetchFiltered(const std::vector<cv::Mat>& levels, const cv::Vec3f& mea
   const int l0 = std::min(static_cast<int>(lod), last);
   const int l1 = std::min(l0 + 1, last);
   const float a = static_cast<float>(std::clamp(lod - l0, 0.0, 1.0));
-  const double s0 = std::ldexp(1.0, -l0), s1 = std::ldexp(1.0, -l1);
+  const double s0 = 1.0 / (1 << l0), s1 = 1.0 / (1 << l1);  // exact, as ldexp; cheaper
   cv::Vec3f c = fetch(levels[l0], x * s0, y * s0, wrap) * (1 - a);
   if (a > 0) c += fetch(levels[l1], x * s1, y * s1, wrap) * a;
   if (fadeLevels > 0 && lod > last) {  // past the coarsest level: fade into the mean
@@ -138,7 +141,40 @@ cv::Mat lineKernel(double length, double angleDeg) {
   return k / cv::sum(k)[0];
 }
 
+// A disk of `radius` pixels, its edge pixels weighted by about the share the disk covers.
+cv::Mat diskKernel(double radius) {
+  const int half = static_cast<int>(std::ceil(radius + 0.5));
+  cv::Mat k(2 * half + 1, 2 * half + 1, CV_32F);
+  for (int y = -half; y <= half; ++y)
+    for (int x = -half; x <= half; ++x)
+      k.at<float>(y + half, x + half) = static_cast<float>(std::clamp(radius + 0.5 - std::hypot(x, y), 0.0, 1.0));
+  return k / cv::sum(k)[0];
+}
+
+// Bilinear fetch of a CV_32FC4 texture at (a, b), transparent (all zero) outside it.
+cv::Vec4f fetchClear(const cv::Mat& t, double a, double b) {
+  if (!(a > -1 && b > -1 && a < t.cols && b < t.rows)) return {};
+  const int a0 = static_cast<int>(std::floor(a)), b0 = static_cast<int>(std::floor(b));
+  const float fa = static_cast<float>(a - a0), fb = static_cast<float>(b - b0);
+  auto at = [&t](int i, int j) {
+    return i < 0 || j < 0 || i >= t.cols || j >= t.rows ? cv::Vec4f() : t.at<cv::Vec4f>(j, i);
+  };
+  return (at(a0, b0) * (1 - fa) + at(a0 + 1, b0) * fa) * (1 - fb) + (at(a0, b0 + 1) * (1 - fa) + at(a0 + 1, b0 + 1) * fa) * fb;
+}
+
 }  // namespace
+
+cv::Mat premultipliedTexture(const cv::Mat& rgba8) {
+  if (rgba8.empty() || rgba8.type() != CV_8UC4) throw std::invalid_argument("an occluder picture must be RGBA8");
+  cv::Mat out(rgba8.size(), CV_32FC4);
+  for (int y = 0; y < rgba8.rows; ++y)
+    for (int x = 0; x < rgba8.cols; ++x) {
+      const cv::Vec4b c = rgba8.at<cv::Vec4b>(y, x);
+      const float a = c[3] / 255.0f;
+      out.at<cv::Vec4f>(y, x) = {c[0] * a, c[1] * a, c[2] * a, a};
+    }
+  return out;
+}
 
 SequenceRenderer::SequenceRenderer(PlanarScene scene, CameraModel camera)
     : scene_(std::move(scene)), camera_(camera) {
@@ -190,20 +226,30 @@ SequenceRenderer::SequenceRenderer(PlanarScene scene, CameraModel camera)
     }
   }
   const int sw = camera_.width * kSupersample, sh = camera_.height * kSupersample;
+  auto normalized = [&](int x, int y) {
+    const double px = (x + 0.5) / kSupersample - 0.5, py = (y + 0.5) / kSupersample - 0.5;
+    return cv::Vec2d((px - camera_.cx) / camera_.fx, (py - camera_.cy) / camera_.fy);
+  };
+  if (!camera_.hasDistortion()) {
+    // A pinhole's ray is separable: a column's x and a row's y (small enough to stay in cache).
+    for (int x = 0; x < sw; ++x) columnRays_.push_back(normalized(x, 0)[0]);
+    for (int y = 0; y < sh; ++y) rowRays_.push_back(normalized(0, y)[1]);
+    return;
+  }
   rays_.resize(static_cast<std::size_t>(sw) * sh);
-  const bool distorted = camera_.hasDistortion();
   for (int y = 0; y < sh; ++y)
     for (int x = 0; x < sw; ++x) {
-      const double px = (x + 0.5) / kSupersample - 0.5, py = (y + 0.5) / kSupersample - 0.5;
-      const double xd = (px - camera_.cx) / camera_.fx, yd = (py - camera_.cy) / camera_.fy;
-      cv::Vec2d& ray = rays_[static_cast<std::size_t>(y) * sw + x];
-      if (!distorted) {
-        ray = {xd, yd};
-      } else {
-        double xu, yu;
-        ray = lens.undistort(xd, yd, maxUndistortedRadius_, xu, yu) ? cv::Vec2d(xu, yu) : cv::Vec2d(kNaN, kNaN);
-      }
+      const cv::Vec2d d = normalized(x, y);
+      double xu, yu;
+      rays_[static_cast<std::size_t>(y) * sw + x] =
+          lens.undistort(d[0], d[1], maxUndistortedRadius_, xu, yu) ? cv::Vec2d(xu, yu) : cv::Vec2d(kNaN, kNaN);
     }
+}
+
+inline cv::Vec2d SequenceRenderer::ray(int x, int y) const noexcept {
+  const auto ux = static_cast<std::size_t>(x), uy = static_cast<std::size_t>(y);
+  return rays_.empty() ? cv::Vec2d(columnRays_[ux], rowRays_[uy])
+                       : rays_[uy * static_cast<std::size_t>(camera_.width * kSupersample) + ux];
 }
 
 double SequenceRenderer::targetDepth() const noexcept {
@@ -215,88 +261,155 @@ glm::dvec3 SequenceRenderer::targetPixelToWorld(double u, double v) const noexce
   return {(u + 0.5 - 0.5 * scene_.target.cols) * s, 0.0, (v + 0.5 - 0.5 * scene_.target.rows) * s};
 }
 
-void SequenceRenderer::shade(const glm::dmat4& cameraToWorld, const FrameEffects& fx, cv::Mat& out) const {
+struct SequenceRenderer::View {
+  glm::dmat3 toGround, toOccluder;
+  bool groundOk = false;
+  double occW = 0, occX0 = 0;
+  double targetDepth = 0, texel = 0, floorTexel = 0;  // per sample otherwise
+  struct Plane {
+    glm::dmat3 toTexture;  // OpenCV camera ray -> texel (a, b, 1) / depth
+    const cv::Mat* texture;
+  };
+  std::vector<Plane> occluders;
+};
+
+SequenceRenderer::View SequenceRenderer::view(const glm::dmat4& cameraToWorld, const FrameEffects& fx,
+                                              const std::vector<Occluder>& occluders) const {
   glm::dmat3 r;
   glm::dvec3 t;
   worldToOpenCvCamera(cameraToWorld, r, t);
+  View v;
   // Plane point (X, Z) -> OpenCV camera: X r1 + Z r3 + t (the homography without K, whose
   // inverse is applied to the undistorted ray); w = 1 / depth, so w > 0 is in front.
-  const glm::dmat3 toGround = glm::inverse(glm::dmat3(r[0], r[2], t));
-  const glm::dmat3 toOccluder = glm::inverse(glm::dmat3(r[0], r[2], t + kOccluderHeight * r[1]));
-  const bool groundOk = std::abs(glm::determinant(glm::dmat3(r[0], r[2], t))) > 1e-12;
+  v.toGround = glm::inverse(glm::dmat3(r[0], r[2], t));
+  v.toOccluder = glm::inverse(glm::dmat3(r[0], r[2], t + kOccluderHeight * r[1]));
+  v.groundOk = std::abs(glm::determinant(glm::dmat3(r[0], r[2], t))) > 1e-12;
+  const double tw = scene_.targetWidth;
+  v.occW = std::clamp(fx.occluderFraction, 0.0, 1.0) * tw;
+  v.occX0 = -0.5 * tw + std::clamp(fx.occluderPhase, 0.0, 1.0) * (tw - v.occW);
+  v.targetDepth = targetDepth();
+  v.texel = tw / scene_.target.cols;
+  v.floorTexel = std::min(floorPeriodX_ / floor_.levels[0].cols, floorPeriodZ_ / floor_.levels[0].rows);
+  for (const Occluder& o : occluders) {
+    if (o.texture.empty() || o.texture.type() != CV_32FC4)
+      throw std::invalid_argument("an occluder's texture must be a non-empty CV_32FC4 image");
+    // Texel (a, b) -> OpenCV camera, the same way as the ground's.
+    const glm::dvec3 origin = o.centre - 0.5 * (o.texture.cols - 1) * o.axisU - 0.5 * (o.texture.rows - 1) * o.axisV;
+    const glm::dmat3 toCamera(r * o.axisU, r * o.axisV, r * origin + t);
+    if (!(std::abs(glm::determinant(toCamera)) > 1e-18)) continue;  // seen edge-on: invisible
+    v.occluders.push_back({glm::inverse(toCamera), &o.texture});
+  }
+  return v;
+}
 
+cv::Vec3f SequenceRenderer::sceneSample(const View& v, int x, int y) const {
   const int sw = camera_.width * kSupersample, sh = camera_.height * kSupersample;
-  const double tw = scene_.targetWidth, td = targetDepth();
-  const double texel = tw / scene_.target.cols;
-  const double floorTexel = std::min(floorPeriodX_ / floor_.levels[0].cols, floorPeriodZ_ / floor_.levels[0].rows);
-  const double occW = std::clamp(fx.occluderFraction, 0.0, 1.0) * tw;
-  const double occX0 = -0.5 * tw + std::clamp(fx.occluderPhase, 0.0, 1.0) * (tw - occW);
-  const cv::Vec3f sky = toVec3f(kSkyRgb), occluder = toVec3f(kOccluderRgb), invalid = toVec3f(kInvalidLensRgb);
-  const bool flatFloor = scene_.floor.empty();
-
-  auto hit = [&](const glm::dmat3& h, int x, int y, glm::dvec2& p) {
-    const cv::Vec2d& ray = rays_[static_cast<std::size_t>(y) * sw + x];
-    if (std::isnan(ray[0])) return false;
-    const glm::dvec3 q = h * glm::dvec3(ray[0], ray[1], 1.0);
+  if (std::isnan(ray(x, y)[0])) return toVec3f(kInvalidLensRgb);
+  auto hit = [&](const glm::dmat3& h, int hx, int hy, glm::dvec2& p) {
+    const cv::Vec2d r = ray(hx, hy);
+    if (std::isnan(r[0])) return false;
+    const glm::dvec3 q = h * glm::dvec3(r[0], r[1], 1.0);
     if (!(q.z > 0)) return false;
     p = {q.x / q.z, q.y / q.z};
     return true;
   };
+  const double tw = scene_.targetWidth, td = v.targetDepth;
+  glm::dvec2 p, o;
+  if (v.occW > 0 && hit(v.toOccluder, x, y, o) && o.x >= v.occX0 && o.x < v.occX0 + v.occW && std::abs(o.y) < 0.5 * td)
+    return toVec3f(kOccluderRgb);
+  if (!v.groundOk || !hit(v.toGround, x, y, p)) return toVec3f(kSkyRgb);
+  // The sample's footprint on the plane from its steps to the next sample across and
+  // down (the previous one at the last column or row). Filtering for the longer step
+  // alone would blur grazing views across too; the 2x2 supersampling covers half of it.
+  double major = 0, minor = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 2 && !std::isinf(major); ++axis) {
+    const int nx = axis == 0 ? (x + 1 < sw ? x + 1 : x - 1) : x;
+    const int ny = axis == 1 ? (y + 1 < sh ? y + 1 : y - 1) : y;
+    glm::dvec2 pn;
+    const double step = hit(v.toGround, nx, ny, pn) ? glm::length(pn - p) : std::numeric_limits<double>::infinity();
+    major = std::max(major, step);
+    minor = std::min(minor, step);
+  }
+  const double footprint = std::max(minor, 0.5 * major);
+  const bool onTarget = std::abs(p.x) < 0.5 * tw && std::abs(p.y) < 0.5 * td;
+  if (onTarget) {
+    const double texel = v.texel;
+    const double u = p.x / texel + 0.5 * scene_.target.cols - 0.5;
+    const double w = p.y / texel + 0.5 * scene_.target.rows - 0.5;
+    return fetchFiltered(target_.levels, target_.mean, u, w, footprint / texel, false, 0);
+  }
+  if (scene_.floor.empty()) return floor_.mean;
+  const double a = p.x / floorPeriodX_ * floor_.levels[0].cols;
+  const double b = p.y / floorPeriodZ_ * floor_.levels[0].rows;
+  return fetchFiltered(floor_.levels, floor_.mean, a, b, footprint / v.floorTexel, true, 2);
+}
 
+cv::Vec3f SequenceRenderer::sample(const View& v, int x, int y) const {
+  if (v.occluders.empty()) return sceneSample(v, x, y);
+  const cv::Vec2d r = ray(x, y);
+  if (std::isnan(r[0])) return toVec3f(kInvalidLensRgb);
+  // Front to back: the nearest occluder first (the largest 1 / depth), the scene behind only
+  // when light still passes.
+  struct Hit {
+    double inverseDepth;
+    cv::Vec4f texel;
+  };
+  constexpr std::size_t kMaxLayers = 8;
+  Hit hits[kMaxLayers];
+  std::size_t n = 0;
+  for (const View::Plane& plane : v.occluders) {
+    const glm::dvec3 q = plane.toTexture * glm::dvec3(r[0], r[1], 1.0);
+    if (!(q.z > 0)) continue;
+    const cv::Vec4f c = fetchClear(*plane.texture, q.x / q.z, q.y / q.z);
+    if (c[3] <= 0) continue;
+    if (n == kMaxLayers) break;
+    std::size_t i = n++;  // insertion by depth, nearest first
+    for (; i > 0 && hits[i - 1].inverseDepth < q.z; --i) hits[i] = hits[i - 1];
+    hits[i] = {q.z, c};
+  }
+  cv::Vec3f colour(0, 0, 0);
+  float through = 1;
+  for (std::size_t i = 0; i < n && through > 0; ++i) {
+    colour += through * cv::Vec3f(hits[i].texel[0], hits[i].texel[1], hits[i].texel[2]);
+    through *= 1 - std::min(hits[i].texel[3], 1.0f);
+  }
+  if (through > 0) colour += through * sceneSample(v, x, y);
+  return colour;
+}
+
+void SequenceRenderer::shade(const View& v, cv::Mat& out) const {
+  const int sw = camera_.width * kSupersample, sh = camera_.height * kSupersample;
   out.create(sh, sw, CV_32FC3);
   cv::parallel_for_(cv::Range(0, sh), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       auto* row = out.ptr<cv::Vec3f>(y);
-      for (int x = 0; x < sw; ++x) {
-        if (std::isnan(rays_[static_cast<std::size_t>(y) * sw + x][0])) {
-          row[x] = invalid;
-          continue;
-        }
-        glm::dvec2 p, o;
-        if (occW > 0 && hit(toOccluder, x, y, o) && o.x >= occX0 && o.x < occX0 + occW && std::abs(o.y) < 0.5 * td) {
-          row[x] = occluder;
-          continue;
-        }
-        if (!groundOk || !hit(toGround, x, y, p)) {
-          row[x] = sky;
-          continue;
-        }
-        // The sample's footprint on the plane from its steps to the next sample across and
-        // down (the previous one at the last column or row). Filtering for the longer step
-        // alone would blur grazing views across too; the 2x2 supersampling covers half of it.
-        double major = 0, minor = std::numeric_limits<double>::infinity();
-        for (int axis = 0; axis < 2 && !std::isinf(major); ++axis) {
-          const int nx = axis == 0 ? (x + 1 < sw ? x + 1 : x - 1) : x;
-          const int ny = axis == 1 ? (y + 1 < sh ? y + 1 : y - 1) : y;
-          glm::dvec2 pn;
-          const double step = hit(toGround, nx, ny, pn) ? glm::length(pn - p) : std::numeric_limits<double>::infinity();
-          major = std::max(major, step);
-          minor = std::min(minor, step);
-        }
-        const double footprint = std::max(minor, 0.5 * major);
-        const bool onTarget = std::abs(p.x) < 0.5 * tw && std::abs(p.y) < 0.5 * td;
-        if (onTarget) {
-          const double u = p.x / texel + 0.5 * scene_.target.cols - 0.5;
-          const double v = p.y / texel + 0.5 * scene_.target.rows - 0.5;
-          row[x] = fetchFiltered(target_.levels, target_.mean, u, v, footprint / texel, false, 0);
-        } else if (flatFloor) {
-          row[x] = floor_.mean;
-        } else {
-          const double a = p.x / floorPeriodX_ * floor_.levels[0].cols;
-          const double b = p.y / floorPeriodZ_ * floor_.levels[0].rows;
-          row[x] = fetchFiltered(floor_.levels, floor_.mean, a, b, footprint / floorTexel, true, 2);
-        }
+      for (int x = 0; x < sw; ++x) row[x] = sample(v, x, y);
+    }
+  });
+}
+
+void SequenceRenderer::accumulatePhase(const View& v, int dx, int dy, cv::Mat& sum) const {
+  // In tiles, so that neighbouring samples' texels are still in the cache.
+  constexpr int kTile = 32;
+  const int across = (camera_.width + kTile - 1) / kTile, down = (camera_.height + kTile - 1) / kTile;
+  cv::parallel_for_(cv::Range(0, across * down), [&](const cv::Range& tiles) {
+    for (int tile = tiles.start; tile < tiles.end; ++tile) {
+      const int x0 = tile % across * kTile, y0 = tile / across * kTile;
+      for (int y = y0; y < std::min(y0 + kTile, camera_.height); ++y) {
+        auto* row = sum.ptr<cv::Vec3f>(y);
+        for (int x = x0; x < std::min(x0 + kTile, camera_.width); ++x)
+          row[x] += sample(v, kSupersample * x + dx, kSupersample * y + dy);
       }
     }
   });
 }
 
-void SequenceRenderer::render(const glm::dmat4& cameraToWorld, const FrameEffects& fx, cv::Mat& outRgb) const {
-  cv::Mat super, image;
-  shade(cameraToWorld, fx, super);
-  cv::resize(super, image, cv::Size(camera_.width, camera_.height), 0, 0, cv::INTER_AREA);
+void SequenceRenderer::finish(cv::Mat& image, const FrameEffects& fx, cv::Mat& outRgb) const {
+  if (fx.defocusPx >= 0.5) cv::filter2D(image, image, -1, diskKernel(fx.defocusPx));
   if (fx.motionBlurPx > 1) cv::filter2D(image, image, -1, lineKernel(fx.motionBlurPx, fx.motionBlurAngleDeg));
   if (fx.gainEv != 0) image *= std::exp2(fx.gainEv);
+  if (fx.channelGain != cv::Vec3d(1, 1, 1))
+    cv::multiply(image, cv::Scalar(fx.channelGain[0], fx.channelGain[1], fx.channelGain[2]), image);
   if (fx.noiseSigma > 0) {
     cv::Mat noise(image.size(), CV_32FC3);
     cv::RNG rng(fx.noiseSeed);
@@ -313,9 +426,34 @@ void SequenceRenderer::render(const glm::dmat4& cameraToWorld, const FrameEffect
   }
 }
 
-double SequenceRenderer::visibleTargetFraction(const glm::dmat4& cameraToWorld) const {
+void SequenceRenderer::render(const glm::dmat4& cameraToWorld, const FrameEffects& fx, cv::Mat& outRgb) const {
+  renderExposure({SubFrame{cameraToWorld, {}}}, fx, outRgb);
+}
+
+void SequenceRenderer::renderExposure(const std::vector<SubFrame>& subFrames, const FrameEffects& fx,
+                                      cv::Mat& outRgb) const {
+  if (subFrames.empty()) throw std::invalid_argument("renderExposure: no sub-frame");
+  cv::Mat image;
+  if (subFrames.size() == 1) {
+    cv::Mat super;
+    shade(view(subFrames[0].cameraToWorld, fx, subFrames[0].occluders), super);
+    cv::resize(super, image, cv::Size(camera_.width, camera_.height), 0, 0, cv::INTER_AREA);
+  } else {
+    // The 2x2 positions in an order whose first two are already a diagonal pair.
+    constexpr int kPhase[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+    image = cv::Mat::zeros(camera_.height, camera_.width, CV_32FC3);
+    for (std::size_t k = 0; k < subFrames.size(); ++k)
+      accumulatePhase(view(subFrames[k].cameraToWorld, fx, subFrames[k].occluders), kPhase[k % 4][0],
+                      kPhase[k % 4][1], image);
+    image *= 1.0 / static_cast<double>(subFrames.size());
+  }
+  finish(image, fx, outRgb);
+}
+
+std::vector<glm::dvec3> SequenceRenderer::targetPointsInView(const glm::dmat4& cameraToWorld, int& gridPoints) const {
   constexpr int kAcross = 96;
   const int down = std::max(1, static_cast<int>(std::lround(kAcross * targetDepth() / scene_.targetWidth)));
+  gridPoints = kAcross * down;
   glm::dmat3 r;
   glm::dvec3 t;
   worldToOpenCvCamera(cameraToWorld, r, t);
@@ -331,7 +469,8 @@ double SequenceRenderer::visibleTargetFraction(const glm::dmat4& cameraToWorld) 
       if (x * x + y * y > maxUndistortedRadius_ * maxUndistortedRadius_) continue;
       inFront.emplace_back(p.x, p.y, p.z);
     }
-  if (inFront.empty()) return 0.0;
+  std::vector<glm::dvec3> out;
+  if (inFront.empty()) return out;
   std::vector<cv::Point2d> pixels;
   const cv::Matx33d k(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
   const cv::Matx33d rcv(r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], r[0][2], r[1][2], r[2][2]);
@@ -339,10 +478,39 @@ double SequenceRenderer::visibleTargetFraction(const glm::dmat4& cameraToWorld) 
   cv::Rodrigues(rcv, rvec);
   cv::projectPoints(inFront, rvec, cv::Vec3d(t.x, t.y, t.z), k, std::vector<double>(camera_.distortion.begin(), camera_.distortion.end()),
                     pixels);
-  int inside = 0;
-  for (const cv::Point2d& q : pixels)
-    if (q.x >= -0.5 && q.y >= -0.5 && q.x < camera_.width - 0.5 && q.y < camera_.height - 0.5) ++inside;
-  return static_cast<double>(inside) / (static_cast<double>(kAcross) * down);
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const cv::Point2d& q = pixels[i];
+    if (q.x >= -0.5 && q.y >= -0.5 && q.x < camera_.width - 0.5 && q.y < camera_.height - 0.5)
+      out.emplace_back(inFront[i].x, inFront[i].y, inFront[i].z);
+  }
+  return out;
+}
+
+double SequenceRenderer::visibleTargetFraction(const glm::dmat4& cameraToWorld) const {
+  int grid = 0;
+  const std::size_t inside = targetPointsInView(cameraToWorld, grid).size();
+  return static_cast<double>(inside) / static_cast<double>(grid);
+}
+
+double SequenceRenderer::occludedTargetFraction(const glm::dmat4& cameraToWorld,
+                                                const std::vector<Occluder>& occluders) const {
+  int grid = 0;
+  const std::vector<glm::dvec3> points = targetPointsInView(cameraToWorld, grid);
+  const glm::dvec3 eye(cameraToWorld[3]);
+  int hidden = 0;
+  for (const glm::dvec3& p : points)
+    for (const Occluder& o : occluders) {
+      // eye + s (p - eye) = origin + a axisU + b axisV, for s in (0, 1): the line of sight crosses it.
+      const glm::dvec3 origin = o.centre - 0.5 * (o.texture.cols - 1) * o.axisU - 0.5 * (o.texture.rows - 1) * o.axisV;
+      const glm::dmat3 m(o.axisU, o.axisV, eye - p);
+      if (!(std::abs(glm::determinant(m)) > 1e-18)) continue;
+      const glm::dvec3 abs = glm::inverse(m) * (eye - origin);
+      if (abs.z > 0 && abs.z < 1 && fetchClear(o.texture, abs.x, abs.y)[3] > 0.5f) {
+        ++hidden;
+        break;
+      }
+    }
+  return static_cast<double>(hidden) / static_cast<double>(grid);
 }
 
 glm::dmat4 lookAtCameraToWorld(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up) {

@@ -13,6 +13,12 @@
 // or the tiled floor texture, trilinearly from a Gaussian pyramid chosen by the sample's
 // footprint (no shimmer at grazing angles; the floor fades to its mean colour toward the
 // horizon). Rays that miss the plane in front of the camera see the sky colour.
+//
+// Exposures (renderExposure): the sharp renders of sub-frames (the camera and the occluders at
+// instants spread over the exposure) averaged in float before the effects and the quantization,
+// so that motion blur varies across the image as a real camera's does; occluders of any shape
+// (a hand and its forearm: a picture with alpha on a plane above the floor) composited over the
+// scene with parallax.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -33,7 +39,8 @@ struct PlanarScene {
   double floorMetresPerPixel = 0.002;
 };
 
-// Applied in this order after the geometric rendering: blur, gain, noise, JPEG.
+// Applied in this order after the geometric rendering: defocus, blur, gain, channel gains,
+// noise, JPEG.
 struct FrameEffects {
   double motionBlurPx = 0;        // length of a normalized line kernel, pixels (<= 1: none)
   double motionBlurAngleDeg = 0;  // 0 along +x (image right), 90 along +y (image down)
@@ -48,6 +55,30 @@ struct FrameEffects {
   double occluderFraction = 0;
   double occluderPhase = 0;
   std::uint32_t noiseSeed = 1;    // cv::RNG seed: the same seed gives the same noise
+  // The stress sequences' (stress_scenarios.hpp); the defaults change nothing.
+  cv::Vec3d channelGain{1, 1, 1};  // R, G, B multipliers after gainEv (a white balance), saturated
+  double defocusPx = 0;            // radius of a disk blur (a defocused lens), pixels; < 0.5: none
+};
+
+// An opaque shape between the camera and the floor (a hand and its forearm): a picture with
+// alpha lying on a plane anywhere above the floor (Y > 0 wherever alpha > 0, so that it is
+// always in front of the floor). Texel (a, b) (centres at integers) is at
+//   centre + (a - (cols - 1) / 2) axisU + (b - (rows - 1) / 2) axisV,
+// fetched bilinearly (no mip-mapping: made for shapes seen at about their texel size or larger).
+struct Occluder {
+  cv::Mat texture;  // CV_32FC4: R, G, B premultiplied by alpha (0..255 levels), alpha 0..1
+  glm::dvec3 centre{0.0};
+  glm::dvec3 axisU{0.001, 0, 0};  // world step of one texel along the columns
+  glm::dvec3 axisV{0, 0, 0.001};  // along the rows
+};
+
+// An RGBA8 picture (straight alpha) as an Occluder's texture.
+[[nodiscard]] cv::Mat premultipliedTexture(const cv::Mat& rgba8);
+
+// One instant of an exposure: the camera and the occluders then.
+struct SubFrame {
+  glm::dmat4 cameraToWorld{1.0};
+  std::vector<Occluder> occluders;
 };
 
 inline constexpr double kOccluderHeight = 0.003;  // metres above Y = 0
@@ -64,9 +95,21 @@ class SequenceRenderer {
   // outRgb becomes CV_8UC3, camera.width x camera.height, RGB order.
   void render(const glm::dmat4& cameraToWorld, const FrameEffects& fx, cv::Mat& outRgb) const;
 
+  // One exposure: the sub-frames' renders averaged in float, then fx's effects, then rounded.
+  // One sub-frame is render() with its occluders (2x2 supersampled). With several, sub-frame k
+  // takes one sample a pixel, at position k % 4 of the 2x2 pattern (the average antialiases, at
+  // a quarter of the cost per sub-frame): 4, 8, 12 ... sub-frames of a still camera give
+  // render()'s picture within rounding. Throws std::invalid_argument without a sub-frame or for
+  // an occluder texture that is not CV_32FC4.
+  void renderExposure(const std::vector<SubFrame>& subFrames, const FrameEffects& fx, cv::Mat& outRgb) const;
+
   // Share of the target's area (a 96 x ~72 grid of points over it) that is in front of the
   // camera and projects inside the image through the lens. The occluder does not count.
   [[nodiscard]] double visibleTargetFraction(const glm::dmat4& cameraToWorld) const;
+  // Share of the target's area (the same grid) in view but hidden behind an occluder (alpha
+  // above one half on the line of sight): visibleTargetFraction minus this is what shows.
+  [[nodiscard]] double occludedTargetFraction(const glm::dmat4& cameraToWorld,
+                                              const std::vector<Occluder>& occluders) const;
 
   [[nodiscard]] const CameraModel& camera() const noexcept { return camera_; }
   [[nodiscard]] double targetWidth() const noexcept { return scene_.targetWidth; }
@@ -85,10 +128,22 @@ class SequenceRenderer {
   double floorPeriodX_ = 0, floorPeriodZ_ = 0;  // metres one floor tile covers
   double maxUndistortedRadius_ = 0;  // normalized radius where the radial model folds back
   // Per supersample, row-major: the undistorted normalized ray (x, y) of the OpenCV camera;
-  // NaN where the lens model has no inverse.
+  // NaN where the lens model has no inverse. Without distortion, per column and per row instead.
   std::vector<cv::Vec2d> rays_;
+  std::vector<double> columnRays_, rowRays_;
+  [[nodiscard]] cv::Vec2d ray(int x, int y) const noexcept;  // supersample (x, y)'s
 
-  void shade(const glm::dmat4& cameraToWorld, const FrameEffects& fx, cv::Mat& supersampled) const;
+  struct View;  // one pose's plane mappings (synthetic_sequence.cpp)
+  [[nodiscard]] View view(const glm::dmat4& cameraToWorld, const FrameEffects& fx,
+                          const std::vector<Occluder>& occluders) const;
+  [[nodiscard]] cv::Vec3f sceneSample(const View& v, int x, int y) const;  // supersample (x, y) without occluders
+  [[nodiscard]] cv::Vec3f sample(const View& v, int x, int y) const;       // with them
+  void shade(const View& v, cv::Mat& supersampled) const;
+  // Supersample (2x + dx, 2y + dy) of every pixel (x, y), added to a camera-sized sum.
+  void accumulatePhase(const View& v, int dx, int dy, cv::Mat& sum) const;
+  void finish(cv::Mat& image, const FrameEffects& fx, cv::Mat& outRgb) const;  // the effects, rounding
+  // The target's grid points (the visibility grid) that are in view, and the grid's size.
+  [[nodiscard]] std::vector<glm::dvec3> targetPointsInView(const glm::dmat4& cameraToWorld, int& gridPoints) const;
 };
 
 // Camera-to-world (OpenGL camera axes) of a camera at `eye` looking at `target`, with `up`

@@ -1,0 +1,142 @@
+#include "tracking/stress_run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <stdexcept>
+
+#include "tracking/scenario_run.hpp"
+#include "tracking/trajectory_metrics.hpp"
+
+namespace marionette::ar::synthetic {
+
+namespace {
+
+bool drawn(const TrackedPose& p) { return p.state == TrackingState::Tracking || p.state == TrackingState::Limited; }
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+StressClassReport& classReport(StressReport& report, StressClass kind) {
+  for (StressClassReport& c : report.classes)
+    if (c.kind == kind) return c;
+  StressClassReport c;
+  c.kind = kind;
+  // Kept in kStressClasses order.
+  const auto rank = [](StressClass k) { return std::find(kStressClasses.begin(), kStressClasses.end(), k) - kStressClasses.begin(); };
+  const auto at = std::find_if(report.classes.begin(), report.classes.end(),
+                               [&](const StressClassReport& other) { return rank(other.kind) > rank(kind); });
+  return *report.classes.insert(at, c);
+}
+
+}  // namespace
+
+std::vector<StressCase> stressCases(int seeds, bool splitOverClasses, int frames) {
+  std::vector<StressCase> cases;
+  if (splitOverClasses) {
+    for (int s = 1; s <= seeds; ++s)
+      cases.push_back({kStressClasses[static_cast<std::size_t>(s - 1) % kStressClasses.size()], static_cast<std::uint64_t>(s), frames});
+  } else {
+    for (StressClass k : kStressClasses)
+      for (int s = 1; s <= seeds; ++s) cases.push_back({k, static_cast<std::uint64_t>(s), frames});
+  }
+  return cases;
+}
+
+void addStressRun(StressReport& report, StressClass kind, std::uint64_t seed, const Scenario& truth,
+                  const std::vector<TrackedPose>& poses, const std::vector<double>& ms) {
+  if (poses.size() != truth.cameraToWorld.size() || truth.visibleFraction.size() != poses.size())
+    throw std::invalid_argument("addStressRun: the poses and the truth differ in length");
+  StressClassReport& c = classReport(report, kind);
+  ++c.sequences;
+  c.frames += static_cast<int>(poses.size());
+  c.ms.insert(c.ms.end(), ms.begin(), ms.end());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const bool visible = truth.visibleFraction[i] > 0;
+    c.visibleFrames += visible;
+    if (!drawn(poses[i])) continue;
+    ++c.drawnFrames;
+    const double position = glm::length(poses[i].position() - glm::dvec3(truth.cameraToWorld[i][3]));
+    const double rotation = rotationErrorDeg(poses[i].cameraToWorld, truth.cameraToWorld[i]);
+    if (visible && position <= 0.02) ++c.within2cm;
+    if (position >= kStressFalsePositionM || rotation >= kStressFalseRotationDeg) ++c.falsePoses;
+    if (poses[i].state == TrackingState::Tracking) {
+      ++c.trackingFrames;
+      c.sumSqTracking += position * position;
+    }
+    // The first frame of the worst error keeps it; a NaN pose is the worst of all.
+    auto keep = [&](StressWorst& w, double value) {
+      if (w.frame < 0 || (std::isnan(value) && !std::isnan(w.value)) || value > w.value)
+        w = {value, seed, static_cast<int>(i)};
+    };
+    keep(c.worstPosition, position);
+    keep(c.worstRotation, rotation);
+  }
+}
+
+void finishStressReport(StressReport& report) {
+  for (StressClassReport& c : report.classes) {
+    c.trackingRmsM = c.trackingFrames > 0 ? std::sqrt(c.sumSqTracking / c.trackingFrames)
+                                          : std::numeric_limits<double>::quiet_NaN();
+    c.msMedian = percentile(c.ms, 0.5);
+    c.msP95 = percentile(c.ms, 0.95);
+  }
+  report.renderedFrames = static_cast<int>(report.renderMs.size());
+  double sum = 0;
+  for (double v : report.renderMs) sum += v;
+  report.renderMsMean = report.renderMs.empty() ? 0.0 : sum / static_cast<double>(report.renderMs.size());
+  report.renderMsMedian = percentile(report.renderMs, 0.5);
+}
+
+StressReport runStressSeeds(const SequenceRenderer& renderer, const std::vector<StressCase>& cases,
+                            const MarkerlessSettings& settings, const StressRunOptions& options) {
+  StressReport report;
+  for (const StressCase& k : cases) {
+    const auto begin = std::chrono::steady_clock::now();
+    const std::clock_t cpu = std::clock();
+    const StressSequence sequence = stressSequence(renderer, k.kind, k.seed, k.frames > 0 ? k.frames : defaultStressFrames(k.kind),
+                                                   options.stress);
+    std::vector<double> renderMs;
+    const RenderedScenario rendered = renderStress(renderer, sequence, options.renderThreads, &renderMs);
+    report.renderSeconds += seconds(begin);
+    report.renderCpuSeconds += static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
+    report.renderMs.insert(report.renderMs.end(), renderMs.begin(), renderMs.end());
+    const auto tracking = std::chrono::steady_clock::now();
+    const ScenarioRun run = runMarkerless(rendered, renderer.camera(), settings);
+    report.trackSeconds += seconds(tracking);
+    addStressRun(report, k.kind, k.seed, sequence.scenario, run.poses, run.ms);
+    if (options.log) {
+      std::fprintf(options.log, "%-16s %s\n", sequence.scenario.name.c_str(), formatReport(run.report).c_str());
+      std::fflush(options.log);
+    }
+  }
+  finishStressReport(report);
+  return report;
+}
+
+std::string stressTable(const StressReport& report) {
+  auto worst = [](const StressWorst& w, double scale) {
+    if (w.frame < 0) return std::string("-");
+    char b[64];
+    std::snprintf(b, sizeof b, "%.2f (seed %llu, frame %d)", w.value * scale, static_cast<unsigned long long>(w.seed), w.frame);
+    return std::string(b);
+  };
+  std::string out =
+      "| class | sequences | frames | visible | drawn | visible within 2 cm | worst drawn position cm | "
+      "worst drawn rotation deg | false poses | TRACKING rms cm | ms median | ms p95 |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const StressClassReport& c : report.classes) {
+    char line[512];
+    std::snprintf(line, sizeof line, "| %s | %d | %d | %d | %d | %.1f %% | %s | %s | %d | %.2f | %.2f | %.2f |\n",
+                  std::string(stressClassName(c.kind)).c_str(), c.sequences, c.frames, c.visibleFrames, c.drawnFrames,
+                  c.visibleFrames > 0 ? 100.0 * c.within2cm / c.visibleFrames : 0.0, worst(c.worstPosition, 100).c_str(),
+                  worst(c.worstRotation, 1).c_str(), c.falsePoses, c.trackingRmsM * 100, c.msMedian, c.msP95);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace marionette::ar::synthetic
