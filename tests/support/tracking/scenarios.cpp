@@ -153,8 +153,8 @@ std::vector<Scenario> standardScenarios(const SequenceRenderer& renderer, int fr
         const glm::dvec3 right(base[0]);
         const double band = 0.35 + 0.15 * std::sin(kTwoPi * t / 4);
         auto ramp = [](double x) { return x <= 0 ? 0.0 : x >= 1 ? 1.0 : x * x * (3 - 2 * x); };
-        const double in = ramp((s - 0.1) / 0.15), out = ramp((s - 0.85) / 0.15);
-        const double wanted = 1.0 + (band - 1.0) * in * (1 - out);
+        const double in = ramp((s - 0.1) / 0.15), back = ramp((s - 0.85) / 0.15);
+        const double wanted = 1.0 + (band - 1.0) * in * (1 - back);
         if (wanted >= 0.999) {
           pose = base;
           return;

@@ -170,6 +170,9 @@ struct MarkerlessTracker::Impl {
   // This frame's pose carried from the last given one by the image's motion alone (no anchor).
   PlanarPose chainPrediction;
   bool haveChainPrediction = false;
+  // The last frame-to-frame homography measured (kept while consecutive frames measure one).
+  cv::Matx33d lastImageMotion = cv::Matx33d::eye();
+  bool haveLastImageMotion = false, imageMotionFound = false;
   double lastGivenTime = -1e300;
   std::vector<cv::Point2f> backgroundGrid, backgroundFrom, backgroundTo, backgroundFound;
   std::vector<unsigned char> backgroundStatus, backgroundMask;
@@ -234,7 +237,7 @@ struct MarkerlessTracker::Impl {
   bool predict(double seconds, PlanarPose& out);
   // The last frame's pose moved by the homography that carries the last frame's image onto
   // this one (KLT on a grid, RANSAC), started from `guess`. False when too little agrees.
-  bool backgroundPrediction(const PlanarPose& guess, PlanarPose& out);
+  bool backgroundPrediction(const PlanarPose& guess, PlanarPose& out, bool guessHasVelocity = true);
   bool loadFrame(const ImageView& frame);
   void forgetOld(double seconds) noexcept;
   void forgetAll() noexcept;
@@ -519,10 +522,14 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
     if (std::isfinite(c)) nccSum += c, ++nccCount;
   }
   out.ncc = nccCount > 0 ? nccSum / nccCount : 0;
-  // The covariance from the final step's normal equations (planar_pose.hpp).
+  // The covariance from the final step's normal equations (planar_pose.hpp), the independent
+  // features scaled by the share of the corners tried that agree with the pose: where many
+  // disagree (a smear the template does not match, a prediction KLT could not follow), the ones
+  // that agree share one bias (calibrated on the stress sequences: docs/tracking.md).
   double covariance[36];
   out.haveCovariance = planarPoseCovariance(K, solver.plane, solver.image, {}, current,
-                                            std::max(rms, settings.minFeatureSigmaPx), settings.effectiveFeatures,
+                                            std::max(rms, settings.minFeatureSigmaPx),
+                                            settings.effectiveFeatures * inliers / std::max(1, out.tried),
                                             covariance);
   if (out.haveCovariance) {
     std::copy(covariance, covariance + 36, out.covariance.begin());
@@ -617,7 +624,10 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
   const double distance = glm::length(cameraPosition(m.pose));
   const double drawnM = std::max(settings.maxDrawnErrorM, settings.maxDrawnErrorFraction * distance);
   const double trackingM = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance);
-  const bool limited = m.inliers >= settings.minLimitedInliers && m.spread >= settings.minLimitedSpread &&
+  // A pose that a quarter of the corners tried or fewer support is not one (the covariance's
+  // scaling by that share, above, covers the rest).
+  const bool limited = m.inliers >= settings.minLimitedInliers && m.inliers >= settings.minInlierShare * m.tried &&
+                       m.spread >= settings.minLimitedSpread &&
                        m.ncc >= settings.minLimitedNcc && 3 * m.positionSigma <= drawnM &&
                        3 * m.rotationSigmaDeg <= settings.maxDrawnErrorDeg;
   if (!limited) return Evidence::None;
@@ -670,11 +680,17 @@ Verdict MarkerlessTracker::Impl::judge(const Measurement& m, double seconds, boo
   stats.rotationSigmaDeg = m.rotationSigmaDeg;
   stats.rejection = Rejection::None;
   const Evidence evidence = evidenceOf(m);
-  if (evidence == Evidence::None || (relocalized && evidence != Evidence::Tracking)) {
+  if (evidence == Evidence::None) {
     stats.rejection = Rejection::Evidence;
     return Verdict::Rejected;
   }
   const bool strong = evidence == Evidence::Tracking;
+  if (relocalized && !strong) {
+    // Counted strong by relocalization's own check, less certain by its covariance (a target
+    // partly hidden at launch): the next frame must confirm it.
+    stats.rejection = Rejection::Unconfirmed;
+    return Verdict::Pending;
+  }
   if (havePending && !relocalized) {
     // Tracked from a pose awaiting confirmation: it is confirmed when this frame, measured from
     // it, continues it within what the camera can do (no velocity known yet).
@@ -710,7 +726,7 @@ bool MarkerlessTracker::Impl::predict(double seconds, PlanarPose& out) {
   }
   // Nothing given lately: the last frame's estimate carried by the image's motion, if any.
   if (havePreviousFramePose && seconds - lastGivenTime <= kMaxChainSeconds &&
-      backgroundPrediction(previousFramePose, out)) {
+      backgroundPrediction(previousFramePose, out, false)) {
     stats.backgroundMotion = true;
     chainPrediction = out;
     haveChainPrediction = true;
@@ -719,11 +735,14 @@ bool MarkerlessTracker::Impl::predict(double seconds, PlanarPose& out) {
   return false;
 }
 
-bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, PlanarPose& out) {
+bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, PlanarPose& out, bool guessHasVelocity) {
   if (!settings.backgroundMotion || !havePreviousFrame || !havePreviousFramePose) return false;
   const cv::Matx33d previousG = planeToImageHomography(K, previousFramePose);
   const cv::Matx33d guessG = planeToImageHomography(K, guess);
-  const cv::Matx33d guessMotion = guessG * previousG.inv();  // last frame's pixel -> this frame's, as guessed
+  // Last frame's pixel -> this frame's, as guessed; a guess without a velocity (a chain through a
+  // look away) starts from the image's own last motion instead (a pan goes on).
+  const cv::Matx33d guessMotion =
+      !guessHasVelocity && haveLastImageMotion ? lastImageMotion : cv::Matx33d(guessG * previousG.inv());
   backgroundFrom.clear();
   backgroundTo.clear();
   for (const cv::Point2f& p : backgroundGrid) {
@@ -764,6 +783,9 @@ bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, Plan
   for (std::size_t i = 0; i < n; ++i)
     if (backgroundMask[i]) backgroundTo.push_back(backgroundFound[i]);
   if (narrowestSpread(backgroundTo) < 0.1 * std::min(camera.width, camera.height)) return false;
+  lastImageMotion = motion;
+  haveLastImageMotion = true;
+  imageMotionFound = true;
   PlanarPose moved;
   if (!poseFromPlaneHomography(K, motion * previousG, moved)) return false;
   const glm::dvec3 c = cameraPosition(moved);
@@ -798,7 +820,7 @@ void MarkerlessTracker::Impl::forgetOld(double seconds) noexcept {
 
 void MarkerlessTracker::Impl::forgetAll() noexcept {
   confirmedCount = 0;
-  haveAnchor = havePending = gaveLast = havePreviousFrame = havePreviousFramePose = false;
+  haveAnchor = havePending = gaveLast = havePreviousFrame = havePreviousFramePose = haveLastImageMotion = false;
   blur = {};
   filter.reset();
 }
@@ -818,6 +840,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   if (!loadFrame(frame)) return result;
   forgetOld(seconds);
   haveChainPrediction = false;
+  imageMotionFound = false;
 
   // Track from the prediction: the pending pose, or the anchor moved by the confirmed velocity.
   PlanarPose prediction;
@@ -844,7 +867,11 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     }
   }
   const bool fromPending = havePending && (verdict == Verdict::Tracking || verdict == Verdict::Limited);
-  if (verdict == Verdict::Rejected) {
+  // Relocalize when tracking found nothing, or had nothing to start from. A measurement that
+  // failed only its gates while the anchor is recent saw the target: ORB on the same frame (a
+  // smear, a hand) finds no better, and costs 12 ms.
+  const bool measuredNearAnchor = stats.corners > 0 && haveAnchor && stats.rejection == Rejection::Evidence;
+  if (verdict == Verdict::Rejected && !measuredNearAnchor) {
     // Relocalize; the candidate counts only when tracking from it (an independent, photometric
     // check against the keyframe) agrees.
     PlanarPose candidate;
@@ -925,6 +952,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     }
   }
   // What the next frame's background motion starts from.
+  haveLastImageMotion = haveLastImageMotion && imageMotionFound;
   havePreviousFrame = true;
   havePreviousFramePose = true;
   if (result.state != TrackingState::Lost) previousFramePose = shown;
@@ -990,7 +1018,7 @@ std::string checkSettings(const MarkerlessSettings& s) {
     if (!(v > 0) || !std::isfinite(v))
       return "the motion model, drawn-error bounds, minFeatureSigmaPx and effectiveFeatures must be positive";
   for (const double v : {s.maxDrawnErrorFraction, s.maxTrackingErrorFraction, s.minTrackingSpread, s.minLimitedSpread,
-                         s.minTrackingNcc, s.minLimitedNcc})
+                         s.minTrackingNcc, s.minLimitedNcc, s.minInlierShare})
     if (!(v >= 0) || !std::isfinite(v)) return "the error fractions, spreads and NCC thresholds must be >= 0";
   return {};
 }
