@@ -1,0 +1,43 @@
+// The markerless tracker on 20 fresh stress sequences (tests/support/tracking/stress_scenarios.hpp:
+// random hand-held pans to 180 deg/s, re-entries from each image edge, hands crossing, gain,
+// white-balance and defocus jumps; every frame an exposure averaged from sub-frames), judged by
+// its WORST drawn pose, not the mean (issue 40). About a minute on two cores, most of it
+// rendering. The table in docs/tracking.md is `marionette_tracking_eval --stress 20 --split`.
+#include <gtest/gtest.h>
+
+#include <opencv2/core/utility.hpp>
+
+#include "tracking/scenario_run.hpp"
+#include "tracking/stress_run.hpp"
+
+namespace {
+
+using namespace marionette::ar;
+using namespace marionette::ar::synthetic;
+
+TEST(TrackingStress, NoDrawnPoseIsWildlyWrongOnTwentySeeds) {
+  cv::setNumThreads(1);
+  const SequenceRenderer renderer = standardRenderer();
+  const StressReport report = runStressSeeds(renderer, stressCases(20, true), MarkerlessSettings{});
+  std::printf("%s\n", stressTable(report).c_str());
+  ASSERT_EQ(report.classes.size(), 4u);
+  for (const StressClassReport& c : report.classes) {
+    const std::string name(stressClassName(c.kind));
+    ASSERT_EQ(c.sequences, 5) << name;
+    ASSERT_GT(c.visibleFrames, 0) << name;
+    // The promise: no drawn pose (TRACKING or LIMITED) 5 cm or 2 degrees off, on any frame.
+    EXPECT_EQ(c.falsePoses, 0) << name;
+    EXPECT_LT(c.worstPosition.value, 0.05) << name << " seed " << c.worstPosition.seed << " frame " << c.worstPosition.frame;
+    EXPECT_LT(c.worstRotation.value, 2.0) << name << " seed " << c.worstRotation.seed << " frame " << c.worstRotation.frame;
+    EXPECT_LT(c.trackingRmsM, 0.005) << name;
+  }
+  // Coverage: issue 40's goal is 95 % of the visible frames within 2 cm. Measured 63, 54, 84 and
+  // 92 % (docs/tracking.md): these bounds catch a regression, they are not the goal.
+  const double minimum[4] = {0.55, 0.45, 0.75, 0.85};
+  for (const StressClassReport& c : report.classes) {
+    EXPECT_GE(double(c.within2cm) / c.visibleFrames, minimum[static_cast<std::size_t>(c.kind)])
+        << stressClassName(c.kind);
+  }
+}
+
+}  // namespace
