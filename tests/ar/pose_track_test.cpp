@@ -61,6 +61,30 @@ TEST(PoseTrack, ReadsWhatTrackWritesRowsByFrameAndTime) {
   EXPECT_EQ(track->atTime(100).frame, 4);
 }
 
+// Since issue 40, track writes the pose's standard deviations too (empty when unknown).
+TEST(PoseTrack, ReadsTheSigmaColumns) {
+  const std::string text = "frame,time,state,px,py,pz,qx,qy,qz,qw,sigma_position_m,sigma_rotation_deg\n"
+                           "0,0,TRACKING,0,0,2,0,0,0,1,0.0012,0.08\n"
+                           "1,0.033333,LIMITED,0,0,2,0,0,0,1,,\n"
+                           "2,0.066667,LOST,,,,,,,,,\n";
+  Diagnostics d;
+  const auto track = parsePoseTrack(text, "poses.csv", d);
+  ASSERT_TRUE(track) << d.format();
+  ASSERT_EQ(track->rows().size(), 3u);
+  EXPECT_DOUBLE_EQ(track->rows()[0].positionSigmaM, 0.0012);
+  EXPECT_DOUBLE_EQ(track->rows()[0].rotationSigmaDeg, 0.08);
+  EXPECT_EQ(track->rows()[1].positionSigmaM, 0.0);  // unknown
+  EXPECT_EQ(track->rows()[1].state, RecordedState::Limited);
+  // A bad sigma is named; a row must have as many fields as the header.
+  const std::string h = "frame,time,state,px,py,pz,qx,qy,qz,qw,sigma_position_m,sigma_rotation_deg\n";
+  EXPECT_NE(errorOf(h + "0,0,TRACKING,0,0,2,0,0,0,1,-1,0\n").find("'sigma_position_m': not a number >= 0"),
+            std::string::npos);
+  EXPECT_NE(errorOf(h + "0,0,TRACKING,0,0,2,0,0,0,1,0,nan\n").find("'sigma_rotation_deg'"), std::string::npos);
+  EXPECT_NE(errorOf(h + "0,0,TRACKING,0,0,2,0,0,0,1\n").find("10 fields, expected 12"), std::string::npos);
+  EXPECT_NE(errorOf("frame,time,state,px,py,pz,qx,qy,qz,qw,sigma_position_m\n0,0,LOST,,,,,,,,\n").find("header"),
+            std::string::npos);
+}
+
 TEST(PoseTrack, BadFilesNameTheFileLineAndField) {
   const std::string h = kHeader;
   struct Case {

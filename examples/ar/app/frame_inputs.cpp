@@ -228,6 +228,15 @@ bool FrameInputs::charactersVisible(double time) const noexcept {
   return true;
 }
 
+float FrameInputs::characterOpacity(double time) const noexcept {
+#if MARIONETTE_AR_HAS_TRACKING
+  if (const TrackedCamera* t = sources_->tracked.get()) return t->opacity(time);
+  if (const ReplayedCamera* r = sources_->replayed.get()) return r->opacity(time);
+#endif
+  (void)time;
+  return 1.0f;
+}
+
 bool FrameInputs::trackingState(TrackingStateReport& out) const noexcept {
 #if MARIONETTE_AR_HAS_TRACKING
   if (const TrackedCamera* t = sources_->tracked.get()) {

@@ -63,6 +63,9 @@ class FrameInputs {
   // False while a tracked camera has no pose to draw the characters with (LOST past
   // "holdSeconds", unless "hideWhenLost" is false).
   [[nodiscard]] bool charactersVisible(double time) const noexcept;
+  // How opaque to draw them: 1 without tracking; with it, by the pose's state and confidence,
+  // eased, fading out after a loss (marionette_ar/pose_hold.hpp).
+  [[nodiscard]] float characterOpacity(double time) const noexcept;
   // The tracker's (or replayed trajectory's) state, and whether it changed with the last
   // frame; false with neither.
   [[nodiscard]] bool trackingState(TrackingStateReport& out) const noexcept;

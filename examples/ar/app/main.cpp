@@ -491,7 +491,7 @@ int main(int argc, char** argv) {
           ++prtUpdates;
         }
         drawCharacter(characterProgram, *drawn[i], *poses[i], world, view.projection * view.view, lighting,
-                      prtBuffers[i].get());
+                      prtBuffers[i].get(), inputs.characterOpacity(scene.time()));
       }
     }
     if (tracked && !tracking.replayed) {  // the tracking state in the top-left corner: green, amber, red

@@ -33,7 +33,9 @@ void ReplayedCamera::update(std::int64_t frame, double seconds) noexcept {
   ++frames_;
   const bool posed = state_ != RecordedState::Lost;
   posed_ += posed ? 1 : 0;
-  hold_.update(posed, posed ? row->cameraToWorld : glm::dmat4(1.0), seconds);
+  hold_.update(posed, posed ? row->cameraToWorld : glm::dmat4(1.0), seconds,
+               posed ? PoseQuality{state_ == RecordedState::Limited, row->positionSigmaM, row->rotationSigmaDeg}
+                     : PoseQuality{});
 }
 
 const char* recordedStateName(RecordedState state) noexcept {

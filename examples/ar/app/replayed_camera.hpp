@@ -33,6 +33,7 @@ class ReplayedCamera {
   [[nodiscard]] RecordedState state() const noexcept { return state_; }
   [[nodiscard]] bool hasPose(double seconds) const noexcept { return hold_.hasPose(seconds); }
   [[nodiscard]] bool charactersVisible(double seconds) const noexcept { return hold_.charactersVisible(seconds); }
+  [[nodiscard]] float opacity(double seconds) const noexcept { return hold_.opacity(seconds); }
   [[nodiscard]] glm::mat4 view() const noexcept { return hold_.view(); }
   [[nodiscard]] glm::dmat4 viewInDouble() const noexcept { return hold_.viewInDouble(); }  // for measuring
   [[nodiscard]] glm::mat4 projection(int viewportWidth, int viewportHeight, float nearZ, float farZ) const noexcept {

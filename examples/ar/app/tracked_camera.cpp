@@ -52,7 +52,8 @@ void TrackedCamera::update(const ImageView& frame, double seconds) noexcept {
   if (ms_.size() < ms_.capacity())
     ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   ++frames_;
-  hold_.update(last_.state != TrackingState::Lost, last_.cameraToWorld, seconds);
+  hold_.update(last_.state != TrackingState::Lost, last_.cameraToWorld, seconds,
+               {last_.state == TrackingState::Limited, last_.positionSigmaM, last_.rotationSigmaDeg});
   if (last_.state != TrackingState::Lost) ++tracked_;
 }
 

@@ -28,6 +28,7 @@ class TrackedCamera {
   // A pose to draw with: tracked now, or held after a loss for at most holdSeconds.
   [[nodiscard]] bool hasPose(double seconds) const noexcept { return hold_.hasPose(seconds); }
   [[nodiscard]] bool charactersVisible(double seconds) const noexcept { return hold_.charactersVisible(seconds); }
+  [[nodiscard]] float opacity(double seconds) const noexcept { return hold_.opacity(seconds); }
   [[nodiscard]] glm::mat4 view() const noexcept { return hold_.view(); }
   [[nodiscard]] glm::dmat4 viewInDouble() const noexcept { return hold_.viewInDouble(); }  // for measuring
   // OpenGL projection of the calibrated camera for a viewport the frame covers (viewportProjection).

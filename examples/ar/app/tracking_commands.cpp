@@ -111,8 +111,9 @@ int trackUsage(std::FILE* to = stderr) {
                "  --fps         frame rate of an image sequence (default 30; a video's comes from the file)\n"
                "  --tracker     markerless (default): a textured planar target, --target and --target-width,\n"
                "                or a --map saved before; apriltag: 36h11 tags of --tag-size metres\n"
-               "  --poses       CSV: frame,time,state,px,py,pz,qx,qy,qz,qw (camera-to-world, camera looking\n"
-               "                along -Z with +Y up; pose fields empty when LOST)\n"
+               "  --poses       CSV: frame,time,state,px,py,pz,qx,qy,qz,qw,sigma_position_m,sigma_rotation_deg\n"
+               "                (camera-to-world, camera looking along -Z with +Y up; the pose's standard\n"
+               "                deviations; pose fields empty when LOST, sigmas empty when unknown)\n"
                "  --threads     OpenCV threads (default 1: the per-frame figures are for one core)\n"
                "  --json        print the counts and timings as JSON (and \"warning\")\n"
                "  --help, -h    this help; --version: the version\n"
@@ -162,6 +163,14 @@ double percentile(std::vector<double> v, double p) {
   const auto lo = static_cast<std::size_t>(std::floor(pos));
   const std::size_t hi = std::min(v.size() - 1, lo + 1);
   return v[lo] + (v[hi] - v[lo]) * (pos - static_cast<double>(lo));
+}
+
+// The percentile as JSON: null when there are no values.
+std::string percentileJson(const std::vector<double>& v, double p) {
+  if (v.empty()) return "null";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", percentile(v, p));
+  return text;
 }
 
 int track(int argc, char** argv) {
@@ -252,8 +261,8 @@ int track(int argc, char** argv) {
 
   std::FILE* csv = std::fopen(a.poses.c_str(), "w");
   if (!csv) return fail("track", a.poses + ": cannot be written");
-  std::fprintf(csv, "frame,time,state,px,py,pz,qx,qy,qz,qw\n");
-  std::vector<double> ms;
+  std::fprintf(csv, "frame,time,state,px,py,pz,qx,qy,qz,qw,sigma_position_m,sigma_rotation_deg\n");
+  std::vector<double> ms, positionSigmas, rotationSigmas;
   long tracked = 0, limited = 0, relocalizations = 0;
   std::string warning;     // no pose in the first kNoPoseWarningFrames frames
   bool foundLate = false;  // a pose came after the warning
@@ -285,13 +294,20 @@ int track(int argc, char** argv) {
     }
     const std::string_view state = trackingStateName(p.state);
     if (p.state == TrackingState::Lost) {
-      std::fprintf(csv, "%lld,%.6f,%.*s,,,,,,,\n", static_cast<long long>(k), t, static_cast<int>(state.size()),
+      std::fprintf(csv, "%lld,%.6f,%.*s,,,,,,,,,\n", static_cast<long long>(k), t, static_cast<int>(state.size()),
                    state.data());
     } else {
       const glm::dvec3 pos = p.position();
       const glm::dquat q = p.orientation();
-      std::fprintf(csv, "%lld,%.6f,%.*s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", static_cast<long long>(k), t,
+      std::fprintf(csv, "%lld,%.6f,%.*s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,", static_cast<long long>(k), t,
                    static_cast<int>(state.size()), state.data(), pos.x, pos.y, pos.z, q.x, q.y, q.z, q.w);
+      if (p.positionSigmaM > 0) {  // 0: the tracker gives none (AprilTag)
+        std::fprintf(csv, "%.6g,%.6g\n", p.positionSigmaM, p.rotationSigmaDeg);
+        positionSigmas.push_back(p.positionSigmaM);
+        rotationSigmas.push_back(p.rotationSigmaDeg);
+      } else {
+        std::fputs(",\n", csv);
+      }
     }
   }
   std::fclose(csv);
@@ -302,10 +318,13 @@ int track(int argc, char** argv) {
   if (a.json) {
     std::printf("{\"frames\": %lld, \"tracked\": %ld, \"limited\": %ld, \"lost\": %lld, \"relocalizations\": %ld, "
                 "\"keyframes\": %zu, \"ms_per_frame_median\": %.3f, \"ms_per_frame_p95\": %.3f, \"threads\": %d, "
-                "\"tracker\": \"%s\", \"poses\": \"%s\", \"warning\": %s}\n",
+                "\"tracker\": \"%s\", \"poses\": \"%s\", \"warning\": %s, \"sigma_position_m_median\": %s, "
+                "\"sigma_position_m_max\": %s, \"sigma_rotation_deg_median\": %s, \"sigma_rotation_deg_max\": %s}\n",
                 static_cast<long long>(frames), tracked, limited, static_cast<long long>(frames) - tracked - limited,
                 relocalizations, keyframes, median, p95, a.threads, a.tracker.c_str(), a.poses.c_str(),
-                warning.empty() || foundLate ? "null" : jsonString(warning).c_str());
+                warning.empty() || foundLate ? "null" : jsonString(warning).c_str(),
+                percentileJson(positionSigmas, 0.5).c_str(), percentileJson(positionSigmas, 1.0).c_str(),
+                percentileJson(rotationSigmas, 0.5).c_str(), percentileJson(rotationSigmas, 1.0).c_str());
   } else {
     std::printf("marionette-ar track: %lld frames, %ld TRACKING, %ld LIMITED, %lld LOST; %.2f ms per frame median, "
                 "%.2f p95 (%d thread%s) -> %s\n",

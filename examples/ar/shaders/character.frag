@@ -15,6 +15,7 @@ uniform int uHasTexture;
 uniform float uExposure;
 uniform int uPrt;         // 1: vPrtIrradiance is the irradiance
 uniform int uOutputMode;  // 0: lit; 1: unlit base colour (tests); 2: normals (tests)
+uniform float uOpacity;   // < 1 while the camera's pose is less certain (blended over the background)
 
 vec3 irradiance(vec3 n);
 vec3 toneMap(vec3 linear);
@@ -31,5 +32,5 @@ void main() {
   // keeps the SH9 light of the side seen (thin parts; cracks between meshes show no bright seam).
   vec3 e = uPrt != 0 && gl_FrontFacing ? vPrtIrradiance : irradiance(n);
   vec3 radiance = base.rgb / 3.14159265 * max(e, vec3(0.0));
-  fragColor = vec4(toneMap(radiance * uExposure), 1.0);
+  fragColor = vec4(toneMap(radiance * uExposure), uOpacity);
 }

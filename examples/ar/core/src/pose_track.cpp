@@ -13,8 +13,10 @@ namespace marionette::ar {
 
 namespace {
 
-constexpr std::array<std::string_view, 10> kColumns = {"frame", "time", "state", "px", "py",
-                                                       "pz",    "qx",   "qy",    "qz", "qw"};
+constexpr std::array<std::string_view, 12> kColumns = {"frame", "time", "state", "px", "py", "pz",
+                                                       "qx",    "qy",   "qz",    "qw", "sigma_position_m",
+                                                       "sigma_rotation_deg"};
+constexpr std::size_t kPoseColumns = 10;  // the two sigma columns are optional (older files lack them)
 
 std::string_view trimmed(std::string_view s) {
   while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
@@ -23,7 +25,7 @@ std::string_view trimmed(std::string_view s) {
 }
 
 // Splits `line` at commas into `fields` (up to its size); the number of fields found.
-std::size_t split(std::string_view line, std::array<std::string_view, 11>& fields) {
+std::size_t split(std::string_view line, std::array<std::string_view, 13>& fields) {
   std::size_t n = 0;
   while (true) {
     const std::size_t comma = line.find(',');
@@ -74,7 +76,8 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
     lineNumber = lineColumnAt(text, static_cast<std::ptrdiff_t>(nul)).first;
     return fail("", "a NUL byte: not a CSV text file");
   }
-  std::array<std::string_view, 11> f{};
+  std::array<std::string_view, 13> f{};
+  std::size_t columns = 0;  // the header's: 10, or 12 with the sigmas
   while (!text.empty()) {
     const std::size_t eol = text.find('\n');
     const std::string_view line = trimmed(text.substr(0, eol));
@@ -83,14 +86,16 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
     if (line.empty()) continue;
     const std::size_t n = split(line, f);
     if (!header) {
-      bool same = n == kColumns.size();
-      for (std::size_t i = 0; same && i < kColumns.size(); ++i) same = f[i] == kColumns[i];
-      if (!same) return fail("", "the header is not 'frame,time,state,px,py,pz,qx,qy,qz,qw' (a pose CSV of marionette-ar track)");
+      bool same = n == kPoseColumns || n == kColumns.size();
+      for (std::size_t i = 0; same && i < n; ++i) same = f[i] == kColumns[i];
+      if (!same)
+        return fail("", "the header is not 'frame,time,state,px,py,pz,qx,qy,qz,qw' (optionally followed by "
+                        "',sigma_position_m,sigma_rotation_deg'): a pose CSV of marionette-ar track");
+      columns = n;
       header = true;
       continue;
     }
-    if (n != kColumns.size())
-      return fail("", std::to_string(n) + " fields, expected " + std::to_string(kColumns.size()));
+    if (n != columns) return fail("", std::to_string(n) + " fields, expected " + std::to_string(columns));
     if (rows.size() >= kMaxPoseRows) return fail("", "more than " + std::to_string(kMaxPoseRows) + " rows");
     RecordedPose r;
     if (!parseInteger(f[0], r.frame) || r.frame < 0) return fail("frame", "expected a whole number >= 0");
@@ -102,8 +107,15 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
     else if (f[2] == "LIMITED") r.state = RecordedState::Limited;
     else if (f[2] == "LOST") r.state = RecordedState::Lost;
     else return fail("state", "'" + std::string(f[2].substr(0, 32)) + "' is none of TRACKING, LIMITED, LOST");
+    // The sigmas: empty (unknown) or numbers >= 0.
+    for (std::size_t i = kPoseColumns; i < columns; ++i) {
+      double sigma = 0;
+      if (f[i].empty()) continue;
+      if (!parseDouble(f[i], sigma) || sigma < 0) return fail(std::string(kColumns[i]), "not a number >= 0");
+      (i == kPoseColumns ? r.positionSigmaM : r.rotationSigmaDeg) = sigma;
+    }
     bool allEmpty = true;
-    for (std::size_t i = 3; i < kColumns.size(); ++i) allEmpty = allEmpty && f[i].empty();
+    for (std::size_t i = 3; i < kPoseColumns; ++i) allEmpty = allEmpty && f[i].empty();
     if (r.state == RecordedState::Lost && allEmpty) {
       rows.push_back(r);
       continue;

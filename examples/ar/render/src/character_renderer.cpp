@@ -262,8 +262,11 @@ void PrtIrradiance::upload(std::span<const glm::vec3> irradiance) noexcept {
 
 void drawCharacter(const ShaderProgram& program, const CharacterModel& model, const CharacterPose& pose,
                    const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting,
-                   const PrtIrradiance* prt) {
+                   const PrtIrradiance* prt, float opacity) {
   program.use();
+  const float alpha = std::clamp(opacity, 0.0f, 1.0f);
+  if (!(alpha > 0.0f)) return;
+  program.set("uOpacity", alpha);
   program.set("uWorld", world);
   program.set("uViewProjection", viewProjection);
   program.set("uExposure", lighting.exposure);
@@ -275,58 +278,76 @@ void drawCharacter(const ShaderProgram& program, const CharacterModel& model, co
   program.set("uBaseColorTexture", 1);
   program.set("uMorphPositions", 2);
   program.set("uMorphNormals", 3);
-  const bool usePrt = prt && prt->slices_.size() == model.primitives_.size();
-  for (std::size_t primitive = 0; primitive < model.primitives_.size(); ++primitive) {
-    const CharacterModel::Primitive& p = model.primitives_[primitive];
-    program.set("uSkinned", p.skinned ? 1 : 0);
-    const bool rigid = p.rigidJoint >= 0 && static_cast<std::size_t>(p.rigidJoint) < pose.model_.size();
-    program.set("uRigid", rigid ? pose.model_[static_cast<std::size_t>(p.rigidJoint)] : glm::mat4(1.0f));
-    program.set("uBaseColor", p.baseColor);
-    program.set("uHasTexture", p.texture >= 0 ? 1 : 0);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, p.texture >= 0 ? model.textures_[static_cast<std::size_t>(p.texture)] : 0);
-    // The strongest morphs of this primitive (at most kMaxActiveMorphs).
-    int indices[kMaxActiveMorphs] = {};
-    float weights[kMaxActiveMorphs] = {};
-    int active = 0;
-    for (std::size_t local = 0; local < p.morphs.size(); ++local) {
-      const auto global = static_cast<std::size_t>(p.morphs[local]);
-      const float w = global < pose.morphWeights_.size() ? pose.morphWeights_[global] : 0.0f;
-      if (!(std::abs(w) > 1e-4f)) continue;
-      int slot = active < kMaxActiveMorphs ? active++ : -1;
-      if (slot < 0) {  // full: replace the weakest if this one is stronger
-        slot = static_cast<int>(std::min_element(weights, weights + kMaxActiveMorphs,
-                                                 [](float a, float b) { return std::abs(a) < std::abs(b); }) - weights);
-        if (std::abs(weights[slot]) >= std::abs(w)) continue;
+  // Every primitive once (twice when faded: depth, then colour).
+  auto drawPrimitives = [&]() {
+    const bool usePrt = prt && prt->slices_.size() == model.primitives_.size();
+    for (std::size_t primitive = 0; primitive < model.primitives_.size(); ++primitive) {
+      const CharacterModel::Primitive& p = model.primitives_[primitive];
+      program.set("uSkinned", p.skinned ? 1 : 0);
+      const bool rigid = p.rigidJoint >= 0 && static_cast<std::size_t>(p.rigidJoint) < pose.model_.size();
+      program.set("uRigid", rigid ? pose.model_[static_cast<std::size_t>(p.rigidJoint)] : glm::mat4(1.0f));
+      program.set("uBaseColor", p.baseColor);
+      program.set("uHasTexture", p.texture >= 0 ? 1 : 0);
+      glActiveTexture(GL_TEXTURE1);
+      glBindTexture(GL_TEXTURE_2D, p.texture >= 0 ? model.textures_[static_cast<std::size_t>(p.texture)] : 0);
+      // The strongest morphs of this primitive (at most kMaxActiveMorphs).
+      int indices[kMaxActiveMorphs] = {};
+      float weights[kMaxActiveMorphs] = {};
+      int active = 0;
+      for (std::size_t local = 0; local < p.morphs.size(); ++local) {
+        const auto global = static_cast<std::size_t>(p.morphs[local]);
+        const float w = global < pose.morphWeights_.size() ? pose.morphWeights_[global] : 0.0f;
+        if (!(std::abs(w) > 1e-4f)) continue;
+        int slot = active < kMaxActiveMorphs ? active++ : -1;
+        if (slot < 0) {  // full: replace the weakest if this one is stronger
+          slot = static_cast<int>(std::min_element(weights, weights + kMaxActiveMorphs,
+                                                   [](float a, float b) { return std::abs(a) < std::abs(b); }) - weights);
+          if (std::abs(weights[slot]) >= std::abs(w)) continue;
+        }
+        indices[slot] = static_cast<int>(local);
+        weights[slot] = w;
       }
-      indices[slot] = static_cast<int>(local);
-      weights[slot] = w;
+      program.set("uActiveMorphs", active);
+      glUniform1iv(program.location("uMorphIndex"), kMaxActiveMorphs, indices);
+      glUniform1fv(program.location("uMorphWeight"), kMaxActiveMorphs, weights);
+      program.set("uVertexCount", p.vertexCount);
+      program.set("uMorphTextureWidth", p.morphTextureWidth);
+      glActiveTexture(GL_TEXTURE2);
+      glBindTexture(GL_TEXTURE_2D, p.morphPositions);
+      glActiveTexture(GL_TEXTURE3);
+      glBindTexture(GL_TEXTURE_2D, p.morphNormals);
+      glBindVertexArray(p.vao);
+      // Attribute 5 is this character's PRT irradiance (the VAO is shared by every character
+      // of the asset, so the buffer is attached per draw); off: the per-fragment SH9 light.
+      const unsigned prtBuffer = usePrt ? prt->slices_[primitive].buffer : 0u;
+      program.set("uPrt", prtBuffer ? 1 : 0);
+      if (prtBuffer) {
+        glBindBuffer(GL_ARRAY_BUFFER, prtBuffer);
+        glEnableVertexAttribArray(5);
+        glVertexAttribPointer(5, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+      } else {
+        glDisableVertexAttribArray(5);
+      }
+      glDrawElements(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT, nullptr);
     }
-    program.set("uActiveMorphs", active);
-    glUniform1iv(program.location("uMorphIndex"), kMaxActiveMorphs, indices);
-    glUniform1fv(program.location("uMorphWeight"), kMaxActiveMorphs, weights);
-    program.set("uVertexCount", p.vertexCount);
-    program.set("uMorphTextureWidth", p.morphTextureWidth);
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, p.morphPositions);
-    glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_2D, p.morphNormals);
-    glBindVertexArray(p.vao);
-    // Attribute 5 is this character's PRT irradiance (the VAO is shared by every character
-    // of the asset, so the buffer is attached per draw); off: the per-fragment SH9 light.
-    const unsigned prtBuffer = usePrt ? prt->slices_[primitive].buffer : 0u;
-    program.set("uPrt", prtBuffer ? 1 : 0);
-    if (prtBuffer) {
-      glBindBuffer(GL_ARRAY_BUFFER, prtBuffer);
-      glEnableVertexAttribArray(5);
-      glVertexAttribPointer(5, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
-    } else {
-      glDisableVertexAttribArray(5);
-    }
-    glDrawElements(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+    glActiveTexture(GL_TEXTURE0);
+  };
+  if (alpha >= 1.0f) {
+    drawPrimitives();
+    return;
   }
-  glBindVertexArray(0);
-  glActiveTexture(GL_TEXTURE0);
+  // Faded: the nearest surface's depth first, then its colour blended over the background.
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  drawPrimitives();
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthFunc(GL_LEQUAL);
+  drawPrimitives();
+  glDepthFunc(GL_LESS);
+  glDisable(GL_BLEND);
 }
+
 
 }  // namespace marionette::ar

@@ -36,6 +36,7 @@ constexpr int kMinBackgroundPoints = 16;
 // A keyframe seen this much larger than it was taken is replaced by a new one (map extension),
 // and counts for less when choosing the keyframe to track against.
 constexpr double kMaxMagnification = 1.6;
+constexpr double kLooseFitPx = 0.75;  // inliers' rms past which the fit is a smeared template's
 
 // cv::Mat::setTo allocates a scratch buffer on every call.
 void fill(cv::Mat& image, std::uint8_t value) noexcept {
@@ -522,14 +523,18 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
     if (std::isfinite(c)) nccSum += c, ++nccCount;
   }
   out.ncc = nccCount > 0 ? nccSum / nccCount : 0;
-  // The covariance from the final step's normal equations (planar_pose.hpp), the independent
-  // features scaled by the share of the corners tried that agree with the pose: where many
-  // disagree (a smear the template does not match, a prediction KLT could not follow), the ones
-  // that agree share one bias (calibrated on the stress sequences: docs/tracking.md).
+  // The covariance from the final step's normal equations (planar_pose.hpp). Where the inliers
+  // themselves fit loosely (rms over kLooseFitPx: the template does not match the frame, as under
+  // a smear longer than the blur model) and few of the corners tried agree, the ones that agree
+  // share one bias: the independent features shrink with the square of that share under 60 %
+  // (calibrated on the stress sequences: docs/tracking.md). An occluder leaves the inliers tight
+  // and costs nothing here.
+  const double share = static_cast<double>(inliers) / std::max(1, out.tried);
+  const double looseFit = rms > kLooseFitPx ? std::pow(std::min(1.0, share / 0.6), 2.0) : 1.0;
   double covariance[36];
   out.haveCovariance = planarPoseCovariance(K, solver.plane, solver.image, {}, current,
                                             std::max(rms, settings.minFeatureSigmaPx),
-                                            settings.effectiveFeatures * inliers / std::max(1, out.tried),
+                                            settings.effectiveFeatures * looseFit,
                                             covariance);
   if (out.haveCovariance) {
     std::copy(covariance, covariance + 36, out.covariance.begin());
@@ -624,10 +629,7 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
   const double distance = glm::length(cameraPosition(m.pose));
   const double drawnM = std::max(settings.maxDrawnErrorM, settings.maxDrawnErrorFraction * distance);
   const double trackingM = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance);
-  // A pose that a quarter of the corners tried or fewer support is not one (the covariance's
-  // scaling by that share, above, covers the rest).
-  const bool limited = m.inliers >= settings.minLimitedInliers && m.inliers >= settings.minInlierShare * m.tried &&
-                       m.spread >= settings.minLimitedSpread &&
+  const bool limited = m.inliers >= settings.minLimitedInliers && m.spread >= settings.minLimitedSpread &&
                        m.ncc >= settings.minLimitedNcc && 3 * m.positionSigma <= drawnM &&
                        3 * m.rotationSigmaDeg <= settings.maxDrawnErrorDeg;
   if (!limited) return Evidence::None;
@@ -1018,7 +1020,7 @@ std::string checkSettings(const MarkerlessSettings& s) {
     if (!(v > 0) || !std::isfinite(v))
       return "the motion model, drawn-error bounds, minFeatureSigmaPx and effectiveFeatures must be positive";
   for (const double v : {s.maxDrawnErrorFraction, s.maxTrackingErrorFraction, s.minTrackingSpread, s.minLimitedSpread,
-                         s.minTrackingNcc, s.minLimitedNcc, s.minInlierShare})
+                         s.minTrackingNcc, s.minLimitedNcc})
     if (!(v >= 0) || !std::isfinite(v)) return "the error fractions, spreads and NCC thresholds must be >= 0";
   return {};
 }

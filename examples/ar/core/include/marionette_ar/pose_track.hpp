@@ -6,7 +6,9 @@
 //   0,0.000000,TRACKING,0.1,0.5,0.6,-0.3,0.1,0.0,0.94
 //   1,0.033333,LOST,,,,,,,
 //
-// One header line (exactly those ten column names), then one row per camera frame: `frame` a
+// One header line (exactly those ten column names, or those and `sigma_position_m,
+// sigma_rotation_deg`: the pose's standard deviations, empty when unknown, as marionette-ar
+// track writes them since issue 40), then one row per camera frame: `frame` a
 // whole number >= 0, `time` seconds >= 0, both strictly increasing; `state` TRACKING, LIMITED or
 // LOST; the camera-to-world position (metres) and rotation quaternion, the camera looking along
 // -Z with +Y up (tracker.hpp's convention). A LOST row's seven pose fields are empty, or numbers
@@ -37,6 +39,7 @@ struct RecordedPose {
   double time = 0;
   RecordedState state = RecordedState::Lost;
   glm::dmat4 cameraToWorld{1.0};  // identity when Lost
+  double positionSigmaM = 0, rotationSigmaDeg = 0;  // the pose's standard deviations; 0 when unknown
 };
 
 inline constexpr std::size_t kMaxPoseRows = 1'000'000;

@@ -51,7 +51,7 @@ class CharacterModel {
   friend class CharacterPose;
   friend class PrtIrradiance;
   friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const class CharacterPose&, const glm::mat4&,
-                            const glm::mat4&, const Lighting&, const class PrtIrradiance*);
+                            const glm::mat4&, const Lighting&, const class PrtIrradiance*, float);
   struct Primitive {
     std::size_t assetPrimitive = 0;  // index over the asset's primitives, mesh-major, primitive-minor
     unsigned vao = 0, vertexBuffer = 0, indexBuffer = 0;
@@ -85,7 +85,7 @@ class CharacterPose {
 
  private:
   friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const CharacterPose&, const glm::mat4&,
-                            const glm::mat4&, const Lighting&, const PrtIrradiance*);
+                            const glm::mat4&, const Lighting&, const PrtIrradiance*, float);
   void upload();
   bridge::PaletteBinding binding_;
   std::vector<float> palette_;        // joints x 12 floats
@@ -118,7 +118,7 @@ class PrtIrradiance {
 
  private:
   friend void drawCharacter(const ShaderProgram&, const CharacterModel&, const CharacterPose&, const glm::mat4&,
-                            const glm::mat4&, const Lighting&, const PrtIrradiance*);
+                            const glm::mat4&, const Lighting&, const PrtIrradiance*, float);
   struct Slice {
     unsigned buffer = 0;  // 0: this primitive is lit per fragment
     std::size_t first = 0, count = 0;
@@ -129,8 +129,10 @@ class PrtIrradiance {
 
 // Draws one character with `program` (character.vert + character.frag): lit by
 // `prt` when given (per-vertex irradiance), else by lighting.irradianceSH per fragment.
+// `opacity` < 1 fades the whole character over what is behind it (a depth pass first, so it
+// fades as one surface: its far side never shows through its near side).
 void drawCharacter(const ShaderProgram& program, const CharacterModel& model, const CharacterPose& pose,
                    const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting,
-                   const PrtIrradiance* prt = nullptr);
+                   const PrtIrradiance* prt = nullptr, float opacity = 1.0f);
 
 }  // namespace marionette::ar

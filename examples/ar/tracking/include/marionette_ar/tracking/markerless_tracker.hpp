@@ -73,8 +73,6 @@ struct MarkerlessSettings {
   // template's patches with the frame's at the inliers. TRACKING needs the first of each pair,
   // LIMITED the second.
   double minTrackingSpread = 0.3, minLimitedSpread = 0.2;
-  // Any pose needs this share of the corners tried among its inliers (TRACKING also a third).
-  double minInlierShare = 0.25;
   double minTrackingNcc = 0.6, minLimitedNcc = 0.4;
   // The covariance's model: pixel noise at least this, and at most this many independent
   // features (KLT's errors are correlated: blur and a misaligned template move many at once).
