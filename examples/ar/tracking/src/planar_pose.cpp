@@ -143,6 +143,18 @@ double cost(const cv::Matx33d& k, const cv::Matx33d& r, const cv::Vec3d& t, cons
   return sum;
 }
 
+// The Jacobian of one pair's pixel (u, v) with respect to the step (w, dt) that turns R to
+// exp([w]x) R and moves t to t + dt; q = R X is the plane point turned, p = q + t in the camera.
+void pairJacobian(const cv::Matx33d& k, const cv::Vec3d& q, const cv::Vec3d& p, double ju[6], double jv[6]) noexcept {
+  const double iz = 1 / p[2], x = p[0] * iz, y = p[1] * iz;
+  // d(u, v)/dp, then dp/dw = -[q]x and dp/dt = I.
+  const double du[3] = {k(0, 0) * iz, k(0, 1) * iz, -(k(0, 0) * x + k(0, 1) * y) * iz};
+  const double dv[3] = {0, k(1, 1) * iz, -k(1, 1) * y * iz};
+  ju[0] = -du[1] * q[2] + du[2] * q[1], ju[1] = du[0] * q[2] - du[2] * q[0], ju[2] = -du[0] * q[1] + du[1] * q[0];
+  jv[0] = -dv[1] * q[2] + dv[2] * q[1], jv[1] = dv[0] * q[2] - dv[2] * q[0], jv[2] = -dv[0] * q[1] + dv[1] * q[0];
+  for (int c = 0; c < 3; ++c) ju[3 + c] = du[c], jv[3 + c] = dv[c];
+}
+
 bool usable(const Pairs& pairs, std::size_t& used) noexcept {
   used = 0;
   if (pairs.plane.size() != pairs.image.size() || (!pairs.mask.empty() && pairs.mask.size() < pairs.plane.size()))
@@ -176,13 +188,8 @@ bool refinePlanarPose(const cv::Matx33d& k, std::span<const cv::Point2f> plane, 
       const cv::Vec3d q = r * cv::Vec3d(plane[i].x, 0, plane[i].y), p = q + t;
       const double iz = 1 / p[2], x = p[0] * iz, y = p[1] * iz;
       const double ru = k(0, 0) * x + k(0, 1) * y + k(0, 2) - image[i].x, rv = k(1, 1) * y + k(1, 2) - image[i].y;
-      // d(u, v)/dp, then dp/dw = -[q]x and dp/dt = I.
-      const double du[3] = {k(0, 0) * iz, k(0, 1) * iz, -(k(0, 0) * x + k(0, 1) * y) * iz};
-      const double dv[3] = {0, k(1, 1) * iz, -k(1, 1) * y * iz};
       double ju[6], jv[6];
-      ju[0] = -du[1] * q[2] + du[2] * q[1], ju[1] = du[0] * q[2] - du[2] * q[0], ju[2] = -du[0] * q[1] + du[1] * q[0];
-      jv[0] = -dv[1] * q[2] + dv[2] * q[1], jv[1] = dv[0] * q[2] - dv[2] * q[0], jv[2] = -dv[0] * q[1] + dv[1] * q[0];
-      for (int c = 0; c < 3; ++c) ju[3 + c] = du[c], jv[3 + c] = dv[c];
+      pairJacobian(k, q, p, ju, jv);
       for (int a = 0; a < 6; ++a) {
         jtr[a] += ju[a] * ru + jv[a] * rv;
         for (int b = a; b < 6; ++b) jtj[a * 6 + b] += ju[a] * ju[b] + jv[a] * jv[b];
@@ -232,14 +239,8 @@ bool planarPoseCovariance(const cv::Matx33d& k, std::span<const cv::Point2f> pla
     if (!pairs.used(i)) continue;
     const cv::Vec3d q = r * cv::Vec3d(plane[i].x, 0, plane[i].y), p = q + t;
     if (!(p[2] > 1e-9)) return false;
-    const double iz = 1 / p[2], x = p[0] * iz, y = p[1] * iz;
-    // The refinement's Jacobian (refinePlanarPose): step (w, dt) with R <- exp([w]x) R, t <- t + dt.
-    const double du[3] = {k(0, 0) * iz, k(0, 1) * iz, -(k(0, 0) * x + k(0, 1) * y) * iz};
-    const double dv[3] = {0, k(1, 1) * iz, -k(1, 1) * y * iz};
     double ju[6], jv[6];
-    ju[0] = -du[1] * q[2] + du[2] * q[1], ju[1] = du[0] * q[2] - du[2] * q[0], ju[2] = -du[0] * q[1] + du[1] * q[0];
-    jv[0] = -dv[1] * q[2] + dv[2] * q[1], jv[1] = dv[0] * q[2] - dv[2] * q[0], jv[2] = -dv[0] * q[1] + dv[1] * q[0];
-    for (int c = 0; c < 3; ++c) ju[3 + c] = du[c], jv[3 + c] = dv[c];
+    pairJacobian(k, q, p, ju, jv);  // the refinement's (refinePlanarPose)
     for (int a = 0; a < 6; ++a)
       for (int b = 0; b < 6; ++b) jtj[a * 6 + b] += ju[a] * ju[b] + jv[a] * jv[b];
   }
