@@ -245,7 +245,7 @@ struct MarkerlessTracker::Impl {
   void confirm(const Measurement& m, double seconds) noexcept;
   int chooseKeyframe(const PlanarPose& prediction);
   bool relocalize(PlanarPose& out);
-  void maybeExtendMap(const PlanarPose& p);
+  void maybeExtendMap(const PlanarPose& p, int inliers, int tried, double rms);
   // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
   [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;
   // Past this the target is a few pixels wide and any homography fits it: not a pose.
@@ -330,6 +330,9 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
     // The camera centre from the plane-to-image homography K [r1 r3 t].
     PlanarPose p;
     if (poseFromPlaneHomography(K, d.planeToImage, p)) d.cameraPosition = cameraPosition(p);
+  } else {
+    // The reference as a camera would take it: square on, one of its pixels to one of the frame's.
+    d.cameraPosition = glm::dvec3(0, K(0, 0) * map.targetWidth / k.width, 0);
   }
   // From the half-size level: the views serve a target seen small (a frontal or near one is the
   // reference's), and they cost a quarter (130 ms at launch from the full size, on this machine class).
@@ -590,7 +593,7 @@ void MarkerlessTracker::Impl::matchFeatures(const cv::Mat& descriptors, const st
   out = candidate;
 }
 
-void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p) {
+void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p, int inliers, int tried, double rms) {
   if (static_cast<int>(map.keyframes.size()) >= PlanarMap::kMaxKeyframes) return;
   // A keyframe when the view reaches past the target, or (as PTAM and ORB-SLAM add them as the
   // camera closes in) when the keyframe tracked against is seen much larger than it was taken:
@@ -599,10 +602,19 @@ void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p) {
   // Closing in on the target itself (floor keyframes carry their pose's error: no chains of them).
   const bool closer = stats.keyframe >= 0 && keyframes[static_cast<std::size_t>(stats.keyframe)].reference &&
                       keyframeMagnification(p, stats.keyframe) > kMaxMagnification;
-  if (!pastTarget && !closer) return;
+  // Or, as PTAM adds them, when tracking still holds but the keyframe matches less and less (a
+  // surface not quite flat, things standing on it seen from elsewhere) and the camera has moved
+  // away from every keyframe's viewpoint.
   const glm::dvec3 c = cameraPosition(p);
   const double distance = std::max(0.05, c.y);
-  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+  double nearest = HUGE_VAL;
+  for (const KeyframeData& kf : keyframes) nearest = std::min(nearest, glm::length(kf.cameraPosition - c));
+  // Fewer inliers, or looser ones, on a frame without a smear (a smear does both too, and would
+  // make a blurred keyframe).
+  const bool fading = (10 * inliers < 7 * tried || rms > 0.5 * settings.maxTrackingRmsPx) && !blur.any() &&
+                      nearest > 0.05 * distance;
+  if (!pastTarget && !closer && !fading) return;
+  for (std::size_t k = 0; k < keyframes.size() && !fading; ++k) {
     const KeyframeData& kf = keyframes[k];
     if (kf.reference) continue;
     // One near enough already, seen at about its own scale.
@@ -923,7 +935,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     result.covariance = m.covariance;
     result.positionSigmaM = m.positionSigma;
     result.rotationSigmaDeg = m.rotationSigmaDeg;
-    if (result.state == TrackingState::Tracking) maybeExtendMap(m.pose);
+    if (result.state == TrackingState::Tracking) maybeExtendMap(m.pose, m.inliers, m.tried, m.rms);
   } else if (haveVelocity() && haveAnchor) {
     // Nothing measured to give: continue the confirmed motion while its worst case (the
     // largest acceleration for the time since the anchor, plus the velocity's own error)
