@@ -245,7 +245,7 @@ struct MarkerlessTracker::Impl {
   void confirm(const Measurement& m, double seconds) noexcept;
   int chooseKeyframe(const PlanarPose& prediction);
   bool relocalize(PlanarPose& out);
-  void maybeExtendMap(const PlanarPose& p, int inliers, int tried, double rms);
+  void maybeExtendMap(const PlanarPose& p, double rms, int inliers, int tried);
   // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
   [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;
   // Past this the target is a few pixels wide and any homography fits it: not a pose.
@@ -593,7 +593,7 @@ void MarkerlessTracker::Impl::matchFeatures(const cv::Mat& descriptors, const st
   out = candidate;
 }
 
-void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p, int inliers, int tried, double rms) {
+void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p, double rms, int inliers, int tried) {
   if (static_cast<int>(map.keyframes.size()) >= PlanarMap::kMaxKeyframes) return;
   // A keyframe when the view reaches past the target, or (as PTAM and ORB-SLAM add them as the
   // camera closes in) when the keyframe tracked against is seen much larger than it was taken:
@@ -609,9 +609,10 @@ void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p, int inliers, i
   const double distance = std::max(0.05, c.y);
   double nearest = HUGE_VAL;
   for (const KeyframeData& kf : keyframes) nearest = std::min(nearest, glm::length(kf.cameraPosition - c));
-  // Fewer inliers, or looser ones, on a frame without a smear (a smear does both too, and would
-  // make a blurred keyframe).
-  const bool fading = (10 * inliers < 7 * tried || rms > 0.5 * settings.maxTrackingRmsPx) && !blur.any() &&
+  // Looser inliers, most of the corners still agreeing, on a frame without a smear (a smear
+  // loosens them too, and would make a blurred keyframe; an occluder takes corners away, and a
+  // keyframe of it would keep the occluder).
+  const bool fading = rms > 0.5 * settings.maxTrackingRmsPx && 5 * inliers >= 4 * tried && !blur.any() &&
                       nearest > 0.05 * distance;
   if (!pastTarget && !closer && !fading) return;
   for (std::size_t k = 0; k < keyframes.size() && !fading; ++k) {
@@ -935,7 +936,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     result.covariance = m.covariance;
     result.positionSigmaM = m.positionSigma;
     result.rotationSigmaDeg = m.rotationSigmaDeg;
-    if (result.state == TrackingState::Tracking) maybeExtendMap(m.pose, m.inliers, m.tried, m.rms);
+    if (result.state == TrackingState::Tracking) maybeExtendMap(m.pose, m.rms, m.inliers, m.tried);
   } else if (haveVelocity() && haveAnchor) {
     // Nothing measured to give: continue the confirmed motion while its worst case (the
     // largest acceleration for the time since the anchor, plus the velocity's own error)
