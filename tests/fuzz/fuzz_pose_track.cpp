@@ -18,8 +18,12 @@ using fuzz::require;
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   if (const char* dir = std::getenv("MARIONETTE_FUZZ_WRITE_SEED")) {
     std::ofstream(std::string(dir) + "/poses.csv", std::ios::binary) << fuzz::kSeedPoseTrack;
+    std::ofstream(std::string(dir) + "/poses_sigmas.csv", std::ios::binary) << fuzz::kSeedPoseTrackWithSigmas;
     Diagnostics d;
-    std::exit(ar::parsePoseTrack(fuzz::kSeedPoseTrack, "seed", d) ? 0 : 1);
+    std::exit(ar::parsePoseTrack(fuzz::kSeedPoseTrack, "seed", d) &&
+                      ar::parsePoseTrack(fuzz::kSeedPoseTrackWithSigmas, "seed", d)
+                  ? 0
+                  : 1);
   }
   return 0;
 }

@@ -386,11 +386,13 @@ TEST(Fuzz, ActionFiles) {
 }
 
 TEST(Fuzz, PoseTracks) {
-  const std::string original = fuzz::kSeedPoseTrack;
   std::mt19937 rng(12);
   int rejected = 0, accepted = 0;
   const int count = iterations(300);
+  // Both formats track has written: without and with the standard deviations.
+  for (const char* seed : {fuzz::kSeedPoseTrack, fuzz::kSeedPoseTrackWithSigmas})
   for (int i = 0; i < count; ++i) {  // case 0: the seed itself, which reads
+    const std::string original = seed;
     const std::string text = i == 0 ? original : mutate(original, rng);
     Diagnostics d;
     const auto track = ar::parsePoseTrack(text, "fuzz.csv", d);
@@ -406,6 +408,8 @@ TEST(Fuzz, PoseTracks) {
     for (std::size_t r = 0; r < track->rows().size(); ++r) {
       const ar::RecordedPose& row = track->rows()[r];
       ASSERT_TRUE(std::isfinite(row.time) && row.time >= 0) << "case " << i;
+      ASSERT_TRUE(std::isfinite(row.positionSigmaM) && row.positionSigmaM >= 0) << "case " << i;
+      ASSERT_TRUE(std::isfinite(row.rotationSigmaDeg) && row.rotationSigmaDeg >= 0) << "case " << i;
       if (r > 0) {
         ASSERT_GT(row.frame, track->rows()[r - 1].frame) << "case " << i;
       }
@@ -416,7 +420,7 @@ TEST(Fuzz, PoseTracks) {
       ASSERT_EQ(track->atFrame(row.frame), &row) << "case " << i;
     }
   }
-  std::printf("pose tracks: %d mutations, %d rejected, %d accepted\n", count - 1, rejected, accepted);
+  std::printf("pose tracks: %d mutations, %d rejected, %d accepted\n", 2 * (count - 1), rejected, accepted);
   EXPECT_GT(rejected, 0);
-  EXPECT_GT(accepted, 2) << "no mutation got past the checks";
+  EXPECT_GT(accepted, 2) << "no mutation got past the checks";  // the two seeds and more
 }
