@@ -3,6 +3,8 @@
 //
 //   marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]
 //   marionette_tracking_eval --stress SEEDS [--split] [--frames N] [--no-smoothing] [--verbose]
+//   marionette_tracking_eval --case CLASS/SEED [--frames N]     (one stress sequence: a worst case again;
+//                                                                MN_FRAMES=1 prints its frames' gates)
 //
 // Without --sweep: one row per scenario with the default settings. With --sweep: the
 // work-precision grid (corners x pyramid levels x refinements) over orbit, occluder and partial,
@@ -43,6 +45,7 @@ void row(const std::string& name, const ScenarioRun& r) {
 int main(int argc, char** argv) {
   int frames = 0, stressSeeds = 0;
   bool sweep = false, smoothing = true, split = false, verbose = false;
+  std::string oneCase;  // --case CLASS/SEED
   std::vector<std::string> names;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
@@ -52,14 +55,27 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--stress") && i + 1 < argc) stressSeeds = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--split")) split = true;
     else if (!std::strcmp(argv[i], "--verbose")) verbose = true;
+    else if (!std::strcmp(argv[i], "--case") && i + 1 < argc) oneCase = argv[++i];
     else {
       std::fprintf(stderr, "usage: marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]\n"
-                           "       marionette_tracking_eval --stress SEEDS [--split] [--frames N] [--no-smoothing] [--verbose]\n");
+                           "       marionette_tracking_eval --stress SEEDS [--split] [--frames N] [--no-smoothing] [--verbose]\n"
+                           "       marionette_tracking_eval --case CLASS/SEED [--frames N]\n");
       return 2;
     }
   }
   cv::setNumThreads(1);
   const SequenceRenderer renderer = standardRenderer();
+  std::vector<StressCase> cases;
+  if (!oneCase.empty()) {  // CLASS/SEED
+    const std::size_t slash = oneCase.find('/');
+    const auto kind = stressClassNamed(oneCase.substr(0, slash));
+    if (slash == std::string::npos || !kind || std::atoll(oneCase.c_str() + slash + 1) <= 0) {
+      std::fprintf(stderr, "marionette_tracking_eval: --case needs CLASS/SEED, e.g. pan/14\n");
+      return 2;
+    }
+    cases.push_back({*kind, static_cast<std::uint64_t>(std::atoll(oneCase.c_str() + slash + 1)), frames});
+    stressSeeds = 1;
+  }
   if (stressSeeds > 0) {
     if (frames > 0 && frames < 30) {
       std::fprintf(stderr, "marionette_tracking_eval: a stress sequence needs --frames 30 or more\n");
@@ -70,7 +86,8 @@ int main(int argc, char** argv) {
     StressRunOptions options;
     options.log = verbose ? stderr : nullptr;
     const auto start = std::chrono::steady_clock::now();
-    const StressReport report = runStressSeeds(renderer, stressCases(stressSeeds, split, frames), settings, options);
+    if (cases.empty()) cases = stressCases(stressSeeds, split, frames);
+    const StressReport report = runStressSeeds(renderer, cases, settings, options);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s\n", stressTable(report).c_str());
     std::printf("%d frames: rendering %.1f ms a frame (mean on its thread; median %.1f; %.1f ms of CPU), %.1f s on %d "
