@@ -631,12 +631,28 @@ int defaultStressFrames(StressClass kind) noexcept {
   }
 }
 
-StressSequence panSequence(const SequenceRenderer& renderer, std::uint64_t seed, int frames, const StressOptions& options) {
+namespace {
+
+// What every class starts with: the frame count checked, the hand-held base path and the
+// exposure from the class's path stream, and the stream its moves are planned from.
+struct Start {
+  HandHeldPath path;
+  double exposure = 0;
+  Random moves;
+};
+
+Start start(const SequenceRenderer& renderer, std::uint64_t seed, StressClass kind, int frames) {
   checkFrames(frames);
-  Random rng(seed, StressClass::Pan, Random::kPath);
+  Random rng(seed, kind, Random::kPath);
   HandHeldPath path = basePath(rng, renderer.targetWidth());
   const double exposure = 1 / rng.uniform(30, 60);
-  Random moves(seed, StressClass::Pan, Random::kMoves);
+  return {std::move(path), exposure, Random(seed, kind, Random::kMoves)};
+}
+
+}  // namespace
+
+StressSequence panSequence(const SequenceRenderer& renderer, std::uint64_t seed, int frames, const StressOptions& options) {
+  auto [path, exposure, moves] = start(renderer, seed, StressClass::Pan, frames);
   planPan(renderer, path, moves, frames / kFps);
   return assemble(renderer, StressClass::Pan, seed, frames, path, exposure, {}, nullptr, options,
                   "hand-held pans and turns, the target out of view and back");
@@ -649,11 +665,7 @@ StressSequence reentrySequence(const SequenceRenderer& renderer, std::uint64_t s
 
 StressSequence reentrySequence(const SequenceRenderer& renderer, std::uint64_t seed, int frames, ImageEdge edge,
                                const StressOptions& options) {
-  checkFrames(frames);
-  Random rng(seed, StressClass::Reentry, Random::kPath);
-  HandHeldPath path = basePath(rng, renderer.targetWidth());
-  const double exposure = 1 / rng.uniform(30, 60);
-  Random moves(seed, StressClass::Reentry, Random::kMoves);
+  auto [path, exposure, moves] = start(renderer, seed, StressClass::Reentry, frames);
   planReentry(renderer, path, moves, frames / kFps, edge);
   StressSequence s = assemble(renderer, StressClass::Reentry, seed, frames, path, exposure, {}, nullptr, options,
                               "away and back, the target re-entering partly by the " + std::string(imageEdgeName(edge)) +
@@ -663,11 +675,7 @@ StressSequence reentrySequence(const SequenceRenderer& renderer, std::uint64_t s
 }
 
 StressSequence handsSequence(const SequenceRenderer& renderer, std::uint64_t seed, int frames, const StressOptions& options) {
-  checkFrames(frames);
-  Random rng(seed, StressClass::Hands, Random::kPath);
-  HandHeldPath path = basePath(rng, renderer.targetWidth());
-  const double exposure = 1 / rng.uniform(30, 60);
-  Random moves(seed, StressClass::Hands, Random::kMoves);
+  auto [path, exposure, moves] = start(renderer, seed, StressClass::Hands, frames);
   planModerate(path, moves, frames / kFps);
   Random handRng(seed, StressClass::Hands, Random::kHands);
   const std::vector<HandMove> hands = planHands(renderer, path, handRng, seed);
@@ -677,11 +685,7 @@ StressSequence handsSequence(const SequenceRenderer& renderer, std::uint64_t see
 
 StressSequence photometricSequence(const SequenceRenderer& renderer, std::uint64_t seed, int frames,
                                    const StressOptions& options) {
-  checkFrames(frames);
-  Random rng(seed, StressClass::Photometric, Random::kPath);
-  HandHeldPath path = basePath(rng, renderer.targetWidth());
-  const double exposure = 1 / rng.uniform(30, 60);
-  Random moves(seed, StressClass::Photometric, Random::kMoves);
+  auto [path, exposure, moves] = start(renderer, seed, StressClass::Photometric, frames);
   planModerate(path, moves, frames / kFps);
   Random photo(seed, StressClass::Photometric, Random::kPhotometric);
   const Photometric ph = planPhotometric(photo, frames);
