@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <ctime>
 #include <limits>
 #include <stdexcept>
@@ -30,6 +32,42 @@ StressClassReport& classReport(StressReport& report, StressClass kind) {
   const auto at = std::find_if(report.classes.begin(), report.classes.end(),
                                [&](const StressClassReport& other) { return rank(other.kind) > rank(kind); });
   return *report.classes.insert(at, c);
+}
+
+// MN_STRESS_CACHE=DIR keeps each sequence's frames there (raw RGB8, one file a sequence) and
+// reads them back the next time: for calibrating the tracker, where rendering is 3/4 of a run.
+// The frames are a function of the class, seed and frame count alone (stress_scenarios.hpp).
+RenderedScenario cachedRender(const SequenceRenderer& renderer, const StressSequence& sequence, int threads,
+                              std::vector<double>& renderMs) {
+  const char* dir = std::getenv("MN_STRESS_CACHE");
+  if (!dir || !*dir) return renderStress(renderer, sequence, threads, &renderMs);
+  const CameraModel& camera = renderer.camera();
+  std::string name = sequence.scenario.name;
+  std::replace(name.begin(), name.end(), '/', '_');
+  const std::string path = std::string(dir) + "/" + name + "_" + std::to_string(sequence.frames.size()) + "_" +
+                           std::to_string(camera.width) + "x" + std::to_string(camera.height) + ".rgb";
+  const std::size_t bytes = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height) * 3;
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+    RenderedScenario r;
+    r.scenario = sequence.scenario;
+    bool ok = true;
+    for (std::size_t i = 0; i < sequence.frames.size() && ok; ++i) {
+      cv::Mat m(camera.height, camera.width, CV_8UC3);
+      ok = std::fread(m.data, 1, bytes, f) == bytes;
+      r.frames.push_back(m);
+    }
+    std::fclose(f);
+    if (ok) return r;
+  }
+  RenderedScenario r = renderStress(renderer, sequence, threads, &renderMs);
+  if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
+    for (const cv::Mat& m : r.frames) {
+      const cv::Mat c = m.isContinuous() ? m : m.clone();
+      std::fwrite(c.data, 1, bytes, f);
+    }
+    std::fclose(f);
+  }
+  return r;
 }
 
 }  // namespace
@@ -100,7 +138,7 @@ StressReport runStressSeeds(const SequenceRenderer& renderer, const std::vector<
     const StressSequence sequence = stressSequence(renderer, k.kind, k.seed, k.frames > 0 ? k.frames : defaultStressFrames(k.kind),
                                                    options.stress);
     std::vector<double> renderMs;
-    const RenderedScenario rendered = renderStress(renderer, sequence, options.renderThreads, &renderMs);
+    const RenderedScenario rendered = cachedRender(renderer, sequence, options.renderThreads, renderMs);
     report.renderSeconds += seconds(begin);
     report.renderCpuSeconds += static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
     report.renderMs.insert(report.renderMs.end(), renderMs.begin(), renderMs.end());

@@ -124,6 +124,7 @@ class MarkerlessTracker final : public Tracker {
     bool keyframeAdded = false;
     bool extrapolated = false;     // the pose given is the motion model's, not measured
     bool backgroundMotion = false;  // the prediction used the frame-to-frame motion of the image
+    bool imageShift = false;        // that motion came from the whole image's shift (a smear defeated the grid)
     int keyframe = -1;             // the keyframe tracked against
     int corners = 0, inliers = 0;  // KLT points tried, inliers of the pose
     double rmsPx = 0;
@@ -134,6 +135,11 @@ class MarkerlessTracker final : public Tracker {
     double motionPositionM = 0, motionRotationDeg = 0;  // distance from the motion model's prediction
     double motionPositionLimitM = 0, motionRotationLimitDeg = 0;  // what it allowed
     Rejection rejection = Rejection::None;
+    // The last pose judged this frame, given or not (camera to target frame), to weigh the gates.
+    glm::dmat4 judgedCameraToWorld{1.0};
+    // The prediction tracking started from last (identity: none), to weigh the predictions.
+    glm::dmat4 predictedCameraToWorld{1.0};
+    bool predicted = false;
     // The RANSAC homography (X, Z, 1) -> pixel of the last tracking pass, row-major, before
     // the pose constrains it (a pinhole image of a plane is a homography whatever the
     // camera; the pose needs the intrinsics to be right).

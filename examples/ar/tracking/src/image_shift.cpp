@@ -1,0 +1,167 @@
+#include "image_shift.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace marionette::ar {
+
+namespace {
+
+constexpr int kMaxRadius = 16;
+constexpr int kRefineRadius = 2;
+
+// A block of `previous` and its statistics (zero-mean: the ZNCC needs them once per level).
+struct Block {
+  int x0 = 0, y0 = 0, w = 0, h = 0;
+  double mean = 0, norm = 0;  // norm: sqrt of the sum of squared deviations
+};
+
+// The central block that stays inside `current` for every offset within radius of (gx, gy).
+bool centralBlock(const GreyLevel& previous, const GreyLevel& current, int gx, int gy, int radius, Block& b) noexcept {
+  const int mx = radius + std::abs(gx) + 1, my = radius + std::abs(gy) + 1;
+  b.x0 = mx;
+  b.y0 = my;
+  b.w = std::min(previous.width, current.width) - 2 * mx;
+  b.h = std::min(previous.height, current.height) - 2 * my;
+  if (b.w < 16 || b.h < 12) return false;
+  double sum = 0, sumSq = 0;
+  for (int y = 0; y < b.h; ++y) {
+    const std::uint8_t* p = previous.row(b.y0 + y) + b.x0;
+    for (int x = 0; x < b.w; ++x) {
+      const double v = p[x];
+      sum += v;
+      sumSq += v * v;
+    }
+  }
+  const double n = static_cast<double>(b.w) * b.h;
+  b.mean = sum / n;
+  const double var = sumSq - sum * sum / n;
+  b.norm = var > 0 ? std::sqrt(var) : 0;
+  return b.norm > 2.0 * std::sqrt(n);  // a standard deviation of 2 grey levels at least: texture
+}
+
+// ZNCC of the block against `current` offset by (dx, dy).
+double zncc(const GreyLevel& previous, const GreyLevel& current, const Block& b, int dx, int dy) noexcept {
+  double sum = 0, sumSq = 0, cross = 0;
+  for (int y = 0; y < b.h; ++y) {
+    const std::uint8_t* p = previous.row(b.y0 + y) + b.x0;
+    const std::uint8_t* c = current.row(b.y0 + y + dy) + b.x0 + dx;
+    for (int x = 0; x < b.w; ++x) {
+      const double v = c[x];
+      sum += v;
+      sumSq += v * v;
+      cross += (p[x] - b.mean) * v;
+    }
+  }
+  const double n = static_cast<double>(b.w) * b.h;
+  const double var = sumSq - sum * sum / n;
+  if (!(var > 0) || !(b.norm > 0)) return -1;
+  return cross / (b.norm * std::sqrt(var));  // the block's deviations sum to zero: no mean term
+}
+
+// The vertex of the parabola through (-1, a), (0, b), (1, c), within +-0.5.
+double parabolaPeak(double a, double b, double c) noexcept {
+  const double d = a - 2 * b + c;
+  if (!(d < 0)) return 0;
+  return std::clamp(0.5 * (a - c) / d, -0.5, 0.5);
+}
+
+}  // namespace
+
+bool estimateImageShift(const ImagePyramid& previous, const ImagePyramid& current, cv::Point2f guess,
+                        const ImageShiftParams& params, ImageShift& out) noexcept {
+  const int top = params.coarseLevel;
+  const int radius = params.radius;
+  if (top < 0 || top > previous.levels() || top > current.levels() || radius < 1 || radius > kMaxRadius ||
+      !std::isfinite(guess.x) || !std::isfinite(guess.y))
+    return false;
+  const float coarse = 1.0f / static_cast<float>(1 << top);
+  const int gx = static_cast<int>(std::lround(guess.x * coarse)), gy = static_cast<int>(std::lround(guess.y * coarse));
+  const GreyLevel& p0 = previous.level(top);
+  const GreyLevel& c0 = current.level(top);
+  if (!p0.data || !c0.data) return false;
+  Block b;
+  if (!centralBlock(p0, c0, gx, gy, radius, b)) return false;
+  // Every offset within the radius: the best, and the best 2 px or more away from it.
+  constexpr int kSide = 2 * kMaxRadius + 1;
+  std::array<double, kSide * kSide> scores{};
+  int bx = 0, by = 0;
+  double best = -2;
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) {
+      const double s = zncc(p0, c0, b, gx + dx, gy + dy);
+      scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)] = s;
+      if (s > best) best = s, bx = dx, by = dy;
+    }
+  // The runner-up is another local maximum, not the main peak's shoulder (a smear stretches
+  // the peak along itself).
+  auto score = [&](int dx, int dy) { return scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)]; };
+  double second = -2;
+  for (int dy = -radius + 1; dy < radius; ++dy)
+    for (int dx = -radius + 1; dx < radius; ++dx) {
+      if (dx == bx && dy == by) continue;
+      const double v = score(dx, dy);
+      bool peak = true;
+      for (int ny = -1; ny <= 1 && peak; ++ny)
+        for (int nx = -1; nx <= 1 && peak; ++nx)
+          if ((nx || ny) && score(dx + nx, dy + ny) > v) peak = false;
+      if (peak) second = std::max(second, v);
+    }
+  if (!(best >= params.minScore) || !(best - second >= params.minMargin)) return false;
+  // Finer levels: +-2 px around twice the coarser result; the parabola at the last one.
+  int sx = gx + bx, sy = gy + by;
+  int level = top;
+  const int last = std::max(0, top - 2);
+  double fx = 0, fy = 0, final = best;
+  while (level > last) {
+    --level;
+    sx *= 2;
+    sy *= 2;
+    const GreyLevel& p = previous.level(level);
+    const GreyLevel& c = current.level(level);
+    if (!p.data || !c.data || !centralBlock(p, c, sx, sy, kRefineRadius, b)) return false;
+    std::array<double, (2 * kRefineRadius + 1) * (2 * kRefineRadius + 1)> s{};
+    constexpr int kRefineSide = 2 * kRefineRadius + 1;
+    int rx = 0, ry = 0;
+    double top2 = -2;
+    for (int dy = -kRefineRadius; dy <= kRefineRadius; ++dy)
+      for (int dx = -kRefineRadius; dx <= kRefineRadius; ++dx) {
+        const double v = zncc(p, c, b, sx + dx, sy + dy);
+        s[static_cast<std::size_t>((dy + kRefineRadius) * kRefineSide + dx + kRefineRadius)] = v;
+        if (v > top2) top2 = v, rx = dx, ry = dy;
+      }
+    auto at = [&](int dx, int dy) {
+      return s[static_cast<std::size_t>((dy + kRefineRadius) * kRefineSide + dx + kRefineRadius)];
+    };
+    fx = fy = 0;
+    if (std::abs(rx) < kRefineRadius) fx = parabolaPeak(at(rx - 1, ry), top2, at(rx + 1, ry));
+    if (std::abs(ry) < kRefineRadius) fy = parabolaPeak(at(rx, ry - 1), top2, at(rx, ry + 1));
+    sx += rx;
+    sy += ry;
+    final = top2;
+  }
+  if (!(final >= params.minScore)) return false;
+  const float scale = static_cast<float>(1 << level);
+  out.shift = cv::Point2f(static_cast<float>((sx + fx) * scale), static_cast<float>((sy + fy) * scale));
+  out.score = final;
+  return true;
+}
+
+cv::Matx33d rotationShiftHomography(const cv::Matx33d& K, cv::Point2f shift) noexcept {
+  // The ray through the principal point moved by the shift, in camera coordinates.
+  const cv::Vec3d r(shift.x / K(0, 0), shift.y / K(1, 1), 1.0);
+  const cv::Vec3d a(0, 0, 1), b = r / cv::norm(r);
+  // Rodrigues for the rotation taking a to b about a x b.
+  const cv::Vec3d axis = a.cross(b);
+  const double s = cv::norm(axis), c = a.dot(b);
+  cv::Matx33d R = cv::Matx33d::eye();
+  if (s > 1e-12) {
+    const cv::Vec3d k = axis / s;
+    const cv::Matx33d kx(0, -k[2], k[1], k[2], 0, -k[0], -k[1], k[0], 0);
+    R = cv::Matx33d::eye() + s * kx + (1 - c) * kx * kx;
+  }
+  return K * R * K.inv();
+}
+
+}  // namespace marionette::ar
