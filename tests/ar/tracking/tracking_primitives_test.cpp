@@ -32,16 +32,7 @@ const cv::Matx33d kK(600, 0, 319.5, 0, 600, 239.5, 0, 0, 1);
 const float kNan = std::numeric_limits<float>::quiet_NaN();
 
 // graf1 in grey, 640x480 (INTER_AREA), the scene of all the image tests.
-cv::Mat graf640() {
-  const std::string path = marionette::test::opencvData("graf1.png");
-  cv::Mat g = cv::imread(path, cv::IMREAD_GRAYSCALE), out;
-  if (g.empty()) {
-    ADD_FAILURE() << "test data missing: " << path << " (Debian opencv-doc)";
-    return cv::Mat(480, 640, CV_8UC1, cv::Scalar(0));
-  }
-  cv::resize(g, out, cv::Size(640, 480), 0, 0, cv::INTER_AREA);
-  return out;
-}
+cv::Mat graf640() { return synthetic::standardTargetGrey(cv::Size(640, 480)); }
 
 cv::Point2f apply(const cv::Matx33d& h, cv::Point2f p) {
   const cv::Vec3d q = h * cv::Vec3d(p.x, p.y, 1);

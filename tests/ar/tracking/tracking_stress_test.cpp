@@ -31,9 +31,10 @@ TEST(TrackingStress, NoDrawnPoseIsWildlyWrongOnTwentySeeds) {
     EXPECT_LT(c.worstRotation.value, 2.0) << name << " seed " << c.worstRotation.seed << " frame " << c.worstRotation.frame;
     EXPECT_LT(c.trackingRmsM, 0.005) << name;
   }
-  // Coverage: issue 40's goal is 95 % of the visible frames within 2 cm. Measured 63, 54, 84 and
-  // 92 % (docs/tracking.md): these bounds catch a regression, they are not the goal.
-  const double minimum[4] = {0.55, 0.45, 0.75, 0.85};
+  // Coverage: issue 40's goal is 95 % of the visible frames within 2 cm. Measured 69.5, 65.3,
+  // 84.5 and 95.0 % (docs/tracking.md; 63, 54, 84 and 92 % before the image's shift carried the
+  // pose through smears): these bounds catch a regression, they are not the goal.
+  const double minimum[4] = {0.63, 0.59, 0.78, 0.89};
   for (const StressClassReport& c : report.classes) {
     EXPECT_GE(double(c.within2cm) / c.visibleFrames, minimum[static_cast<std::size_t>(c.kind)])
         << stressClassName(c.kind);

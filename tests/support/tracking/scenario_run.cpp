@@ -27,6 +27,14 @@ cv::Mat readRgb(const std::string& file) {
 
 std::string standardTargetImage() { return ::marionette::test::opencvDataDir() + "/graf1.png"; }
 
+cv::Mat standardTargetGrey(cv::Size size) {
+  const cv::Mat g = cv::imread(standardTargetImage(), cv::IMREAD_GRAYSCALE);
+  if (g.empty()) throw std::runtime_error(standardTargetImage() + ": test data missing (Debian opencv-doc)");
+  cv::Mat out;
+  cv::resize(g, out, size, 0, 0, cv::INTER_AREA);
+  return out;
+}
+
 SequenceRenderer standardRenderer() {
   PlanarScene scene;
   scene.target = readRgb(standardTargetImage());

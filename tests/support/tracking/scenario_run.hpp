@@ -22,6 +22,9 @@ struct RenderedScenario {
 // baboon.jpg (2 mm a pixel), seen by a 640x480 camera with fx = fy = 600.
 [[nodiscard]] SequenceRenderer standardRenderer();
 [[nodiscard]] std::string standardTargetImage();  // graf1.png's path
+// The standard target in grey, resized (INTER_AREA) to `size`: the scene of the image tests.
+// std::runtime_error naming the file when it is missing (Debian opencv-doc).
+[[nodiscard]] cv::Mat standardTargetGrey(cv::Size size);
 inline constexpr double kStandardTargetWidth = 0.30;
 
 // Renders the named scenarios (all when `names` is empty).

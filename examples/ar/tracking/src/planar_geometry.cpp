@@ -156,8 +156,11 @@ bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plan
   return true;
 }
 
-double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width,
-                             double height) {
+namespace {
+
+// The target's 10 x 10 sample points (cell centres) that land within the image grown by margin.
+int targetSamplesInView(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width,
+                        double height, double margin) {
   const cv::Matx33d g = planeToImageHomography(k, pose);
   constexpr int kGrid = 10;
   int inside = 0;
@@ -167,9 +170,21 @@ double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, co
       const cv::Vec3d q = g * cv::Vec3d(x, z, 1.0);
       if (q[2] <= 0) continue;
       const double u = q[0] / q[2], v = q[1] / q[2];
-      inside += u >= 0 && v >= 0 && u < camera.width && v < camera.height;
+      inside += u >= -margin && v >= -margin && u < camera.width + margin && v < camera.height + margin;
     }
-  return inside / double(kGrid * kGrid);
+  return inside;
+}
+
+}  // namespace
+
+double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width,
+                             double height) {
+  return targetSamplesInView(k, camera, pose, width, height, 0.0) / 100.0;
+}
+
+bool targetNearView(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width, double height,
+                    double marginPx) {
+  return targetSamplesInView(k, camera, pose, width, height, marginPx) > 0;
 }
 
 PlanarPose extrapolateFrom(const PlanarPose& a, double ta, const PlanarPose& b, double tb, const PlanarPose& base,

@@ -50,6 +50,9 @@ struct PlanarPoseSolver {
 // The share of the target rectangle (width x height metres, centred) inside the image.
 [[nodiscard]] double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose,
                                            double width, double height);
+// Whether any of those sample points lands within the image grown by marginPx on every side.
+[[nodiscard]] bool targetNearView(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width,
+                                  double height, double marginPx);
 // Constant velocity: the motion from a to b continued to time t (at most 8 times the a-b step).
 [[nodiscard]] PlanarPose extrapolate(const PlanarPose& a, double ta, const PlanarPose& b, double tb, double t);
 // The same velocity applied to `base` (taken at tbase) instead of b.

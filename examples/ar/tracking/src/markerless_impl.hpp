@@ -1,0 +1,235 @@
+// The markerless tracker's state and its steps (a private header of examples/ar/tracking/src):
+// markerless_tracker.cpp runs a frame (predict, track, judge, relocalize) and builds trackers,
+// markerless_track.cpp measures a pose from a prediction (KLT against the keyframe, the blur
+// model, the evidence), markerless_gates.cpp judges a measurement (evidence, motion model,
+// confirmation), markerless_image_motion.cpp carries the pose by the image's own motion, and
+// markerless_map.cpp keeps the keyframes (relocalization, map growth).
+#pragma once
+#include "marionette_ar/tracking/markerless_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "grey_frame.hpp"
+#include "hamming_matcher.hpp"
+#include "image_shift.hpp"
+#include "tilted_views.hpp"
+#include "lucas_kanade.hpp"
+#include "motion_blur.hpp"
+#include "perspective_warp.hpp"
+#include "planar_geometry.hpp"
+#include "planar_pose.hpp"
+#include "pose_filter.hpp"
+
+namespace marionette::ar::markerless {
+
+inline constexpr int kMaxReferenceSide = 1024;  // larger references are scaled down (KLT works at camera scale)
+inline constexpr int kCornersPerKeyframe = 500;
+inline constexpr int kReferenceLevels = 4;  // the reference at 1, 1/2, 1/4, 1/8: warp from the nearest scale
+inline constexpr int kMinRelocalizationInliers = 15;
+inline constexpr double kMaxBlurFraction = 0.1;  // longest motion blur modelled, of the frame's width
+// How long the background's frame-to-frame motion alone may carry the pose (never given, only
+// where tracking starts): a look away and back within it tracks again without relocalizing.
+inline constexpr double kMaxChainSeconds = 1.5;
+inline constexpr int kMinBackgroundPoints = 16;
+inline constexpr int kMaxRelocalizationSkips = 3;
+inline constexpr double kAwayMarginFraction = 0.25;  // of the image's larger side
+// A keyframe seen this much larger than it was taken is replaced by a new one (map extension),
+// and counts for less when choosing the keyframe to track against.
+inline constexpr double kMaxMagnification = 1.6;
+inline constexpr double kLooseFitPx = 0.75;  // inliers' rms past which the fit is a smeared template's
+
+// cv::Mat::setTo allocates a scratch buffer on every call: this does not.
+void fill(cv::Mat& image, std::uint8_t value) noexcept;
+
+// What the map keeps per keyframe for the per-frame path, prepared once.
+struct KeyframeData {
+  std::vector<cv::Mat> levels;  // grey image pyramid (level 0 views the map's bytes)
+  cv::Matx33d planeToImage, imageToPlane;
+  std::vector<cv::Point2f> corners;       // level-0 pixels
+  std::vector<cv::Point2f> cornerPlane;   // (X, Z) metres
+  cv::Mat descriptors;                    // ORB, one row per feature
+  std::vector<cv::Point2f> featurePixels;
+  glm::dvec3 cameraPosition{0.0};  // the camera that took it (keyframe 0: none)
+  double meanGrey = 128;
+  bool reference = false;
+};
+
+// One measured pose and the evidence the gates judge it by.
+struct Measurement {
+  PlanarPose pose;
+  double rms = 0;
+  int inliers = 0, tried = 0;
+  double spread = 0;  // the inliers' narrowest spread over the tried corners
+  double ncc = 0;     // mean normalized cross-correlation of template and frame at the inliers
+  std::array<double, 36> covariance{};
+  double positionSigma = 0, rotationSigmaDeg = 0;
+  bool haveCovariance = false;
+};
+
+// A pose with its time and uncertainty: the history the motion model works from.
+struct StampedPose {
+  PlanarPose pose;
+  double time = 0;
+  std::array<double, 36> covariance{};
+  double positionSigma = 0, rotationSigmaDeg = 0;
+};
+
+enum class Evidence { None, Limited, Tracking };
+enum class Verdict { Rejected, Limited, Tracking, Pending };
+
+inline constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+// sqrt of the smaller eigenvalue of the points' covariance: their spread across the narrowest
+// direction, pixels.
+[[nodiscard]] double narrowestSpread(const std::vector<cv::Point2f>& points) noexcept;
+
+}  // namespace marionette::ar::markerless
+
+namespace marionette::ar {
+
+// Only the markerless_*.cpp files include this header: the names above are theirs.
+using namespace markerless;  // NOLINT(google-build-using-namespace)
+
+struct MarkerlessTracker::Impl {
+  CameraModel camera;
+  MarkerlessSettings settings;
+  PlanarMap map;
+  std::vector<KeyframeData> keyframes;
+  std::vector<TiltedView> tiltedViews;  // of keyframe 0, the reference
+  cv::Matx33d K;
+  cv::Ptr<cv::ORB> orb;
+  GreyFrame grey;
+  PoseFilter filter;
+  FrameStats stats;
+
+  // Pose history (world -> OpenCV camera). Confirmed poses (TRACKING, newest first) are the
+  // motion model's base: only they give a velocity. The anchor is the last measured pose
+  // given out (TRACKING or LIMITED), where the next frame's tracking starts. A pending pose is
+  // a relocalization (or a strong pose off the motion model) that the next frame must confirm
+  // before anything is given from it.
+  std::array<StampedPose, 2> confirmed{};
+  int confirmedCount = 0;
+  StampedPose anchor, pending;
+  bool haveAnchor = false, havePending = false;
+  bool gaveLast = false;  // the last frame gave a pose (the filter continues from it)
+
+  // Buffers reused every frame.
+  cv::Mat warped, blurred;
+  ImagePyramid templatePyramid;
+  // This frame's and the last one's grey pinhole images and pyramids (alternating): the
+  // frame-to-frame motion of the whole image corrects the prediction.
+  std::array<cv::Mat, 2> frameCopies;
+  std::array<ImagePyramid, 2> pyramids;
+  int currentFrame = 0;
+  bool havePreviousFrame = false;
+  // The best estimate of the last frame's pose: the pose given, the pending one, or the
+  // background's prediction while nothing was given (chained for at most kMaxChainSeconds).
+  PlanarPose previousFramePose;
+  bool havePreviousFramePose = false;
+  bool previousFrameChained = false;  // that pose is the image motion's, nothing measured
+  int relocalizationSkips = 0;        // consecutive frames not relocalized: the target away from the view
+  // This frame's pose carried from the last given one by the image's motion alone (no anchor).
+  PlanarPose chainPrediction;
+  bool haveChainPrediction = false;
+  // The last frame-to-frame homography measured (kept while consecutive frames measure one).
+  cv::Matx33d lastImageMotion = cv::Matx33d::eye();
+  bool haveLastImageMotion = false, imageMotionFound = false;
+  double lastGivenTime = -1e300;
+  std::vector<cv::Point2f> backgroundGrid, backgroundFrom, backgroundTo, backgroundFound;
+  std::vector<unsigned char> backgroundStatus, backgroundMask;
+  HomographyRansac backgroundRansac;
+  [[nodiscard]] const ImagePyramid& framePyramid() const noexcept { return pyramids[static_cast<std::size_t>(currentFrame)]; }
+  LucasKanade lk;
+  PlanarPoseSolver solver;
+  MotionBlur blur;
+  MotionBlurScratch blurScratch;
+  std::vector<cv::Point2f> levelPoints;
+  std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage, inlierFrom, blurFrom, blurTo;
+  std::vector<int> cornerIndex;
+  std::vector<unsigned char> status, mask;
+  std::vector<cv::KeyPoint> frameKeypoints;
+  cv::Mat frameDescriptors;
+  std::vector<HammingMatch> matches;
+  cv::Matx33d homography;
+
+  Impl(const CameraModel& c, const MarkerlessSettings& s)
+      : camera(c), settings(s), filter(s.smoothingMinCutoffHz, s.smoothingBeta) {
+    K = cv::Matx33d(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
+    orb = cv::ORB::create(s.relocalizationFeatures, 1.2f, 6, 19, 0, 2, cv::ORB::FAST_SCORE, 19, 15);
+    grey.configure(c);
+    blurScratch.reserve(c.width, c.height);
+    // Sized once: the per-frame path allocates nothing (tracking_allocation_test).
+    for (std::size_t i = 0; i < 2; ++i) {
+      frameCopies[i].create(c.height, c.width, CV_8UC1);
+      pyramids[i].configure(c.width, c.height, s.pyramidLevels);
+    }
+    // A 12 x 9 grid over the frame, 24 px in from its border: the background's sample points.
+    for (int j = 0; j < 9; ++j)
+      for (int i = 0; i < 12; ++i)
+        backgroundGrid.emplace_back(static_cast<float>(24 + (c.width - 48) * (i + 0.5) / 12),
+                                    static_cast<float>(24 + (c.height - 48) * (j + 0.5) / 9));
+    for (auto* v : {&backgroundFrom, &backgroundTo, &backgroundFound}) v->reserve(backgroundGrid.size());
+    backgroundStatus.reserve(backgroundGrid.size());
+    backgroundMask.reserve(backgroundGrid.size());
+    backgroundRansac.reserve(backgroundGrid.size());
+    templatePyramid.configure(c.width, c.height, s.pyramidLevels);
+    const std::size_t points = static_cast<std::size_t>(std::max(s.trackedCorners, s.relocalizationFeatures) + 64);
+    solver.reserve(points);
+    matches.reserve(static_cast<std::size_t>(s.relocalizationFeatures) + 64);
+    mask.reserve(points);
+    status.reserve(points);
+    for (auto* v : {&predicted, &found, &planePoints, &inlierPlane, &inlierImage, &inlierFrom, &blurFrom, &blurTo, &levelPoints})
+      v->reserve(points);
+  }
+
+  void prepareKeyframe(std::size_t i);
+  // Matches this frame's ORB features to a feature set; the pose from the best match so far goes
+  // to `out` when it has more inliers than `bestInliers`.
+  void matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels, const cv::Matx33d& imageToPlane,
+                     bool unique, PlanarPose& out, int& bestInliers);
+  PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage);
+  bool track(const PlanarPose& prediction, int keyframe, Measurement& out);
+  [[nodiscard]] Evidence evidenceOf(const Measurement& m) const noexcept;
+  // The motion model: distance of `pose` from what the confirmed poses predict at `seconds`,
+  // and what a hand-held camera could have done since (stats' motion fields). True within it.
+  bool motionAllows(const Measurement& m, const StampedPose& base, bool withVelocity, double seconds) noexcept;
+  Verdict judge(const Measurement& m, double seconds, bool relocalized) noexcept;
+  [[nodiscard]] bool haveVelocity() const noexcept;
+  bool predict(double seconds, PlanarPose& out);
+  // The last frame's pose moved by the homography that carries the last frame's image onto
+  // this one (KLT on a grid, RANSAC), started from `guess`. False when too little agrees.
+  bool backgroundPrediction(const PlanarPose& guess, PlanarPose& out, bool guessHasVelocity = true);
+  // The last frame's pixel -> this frame's: KLT on the grid and RANSAC, or (where a smear
+  // defeats the grid) the whole image's shift read as a turn of the camera (image_shift.hpp).
+  bool gridImageMotion(const cv::Matx33d& guessMotion, cv::Matx33d& motion);
+  bool shiftImageMotion(const cv::Matx33d& guessMotion, cv::Matx33d& motion);
+  bool loadFrame(const ImageView& frame);
+  void forgetOld(double seconds) noexcept;
+  void forgetAll() noexcept;
+  void confirm(const Measurement& m, double seconds) noexcept;
+  int chooseKeyframe(const PlanarPose& prediction);
+  bool relocalize(PlanarPose& out);
+  void maybeExtendMap(const PlanarPose& p, double rms, int inliers, int tried);
+  // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
+  [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;
+  // Past this the target is a few pixels wide and any homography fits it: not a pose.
+  [[nodiscard]] double maxDistance() const noexcept { return 40.0 * std::max(map.targetWidth, map.targetHeight); }
+  // Enough of the corners tried agree, closely: a verified pose. Blur, occlusion or a wrong
+  // prediction leave fewer, looser inliers (LIMITED at best).
+  [[nodiscard]] bool isStrong(const Measurement& m) const noexcept {
+    return m.inliers >= settings.minTrackingInliers && 3 * m.inliers >= m.tried && m.rms <= settings.maxTrackingRmsPx;
+  }
+  TrackedPose update(const ImageView& frame, double seconds);
+};
+
+}  // namespace marionette::ar

@@ -1,0 +1,206 @@
+#include "markerless_impl.hpp"
+
+// The keyframes: prepared once, chosen per frame, matched by ORB to relocalize, and added as the
+// view moves past what the map holds.
+
+namespace marionette::ar {
+
+PlanarKeyframe MarkerlessTracker::Impl::makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage) {
+  PlanarKeyframe k;
+  k.width = image.cols;
+  k.height = image.rows;
+  k.grey.assign(image.datastart, image.datastart + image.total());
+  if (!image.isContinuous()) {
+    k.grey.clear();
+    for (int r = 0; r < image.rows; ++r) k.grey.insert(k.grey.end(), image.ptr(r), image.ptr(r) + image.cols);
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) k.planeToImage[static_cast<std::size_t>(r * 3 + c)] = planeToImage(r, c);
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(image, corners, kCornersPerKeyframe, 0.01, 8, cv::noArray(), 5);
+  for (const auto& c : corners) k.corners.push_back({c.x, c.y});
+  // 12 levels (a 7.4x range of scales): a keyframe is matched from close up and from afar.
+  auto detector = cv::ORB::create(settings.referenceFeatures, 1.2f, 12, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
+  std::vector<cv::KeyPoint> kps;
+  cv::Mat desc;
+  detector->detectAndCompute(image, cv::noArray(), kps, desc);
+  for (std::size_t i = 0; i < kps.size(); ++i) {
+    PlanarFeature f;
+    f.x = kps[i].pt.x;
+    f.y = kps[i].pt.y;
+    f.size = kps[i].size;
+    f.angle = kps[i].angle;
+    f.response = kps[i].response;
+    f.octave = kps[i].octave;
+    std::copy_n(desc.ptr<std::uint8_t>(static_cast<int>(i)), 32, f.descriptor.begin());
+    k.features.push_back(f);
+  }
+  return k;
+}
+
+void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
+  PlanarKeyframe& k = map.keyframes[i];
+  KeyframeData d;
+  d.reference = i == 0;
+  d.levels.push_back(cv::Mat(k.height, k.width, CV_8UC1, k.grey.data()));
+  const int levels = d.reference ? kReferenceLevels : 1;
+  for (int l = 1; l < levels && d.levels.back().cols >= 32 && d.levels.back().rows >= 32; ++l) {
+    cv::Mat down;
+    cv::pyrDown(d.levels.back(), down);
+    d.levels.push_back(down);
+  }
+  d.meanGrey = cv::mean(d.levels[0])[0];
+  d.planeToImage = cv::Matx33d(k.planeToImage.data());
+  d.imageToPlane = d.planeToImage.inv();
+  // Corners interleaved over an 8x8 grid (the strongest of each cell, then the second...),
+  // so that the first N in view spread over all of it: an occluder or the image border then
+  // takes its share of the points, not all of the strongest ones.
+  constexpr int kCells = 8;
+  std::vector<int> perCell(kCells * kCells, 0);
+  std::vector<std::pair<int, std::size_t>> order;
+  for (std::size_t c = 0; c < k.corners.size(); ++c) {
+    const int cx = std::clamp(static_cast<int>(k.corners[c][0] * kCells / static_cast<float>(k.width)), 0, kCells - 1);
+    const int cy = std::clamp(static_cast<int>(k.corners[c][1] * kCells / static_cast<float>(k.height)), 0, kCells - 1);
+    order.emplace_back(perCell[static_cast<std::size_t>(cy * kCells + cx)]++, c);
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [rank, c] : order) {
+    d.corners.emplace_back(k.corners[c][0], k.corners[c][1]);
+    d.cornerPlane.push_back(applyHomography(d.imageToPlane, d.corners.back()));
+  }
+  d.descriptors.create(static_cast<int>(k.features.size()), 32, CV_8UC1);
+  for (std::size_t f = 0; f < k.features.size(); ++f) {
+    std::copy_n(k.features[f].descriptor.begin(), 32, d.descriptors.ptr<std::uint8_t>(static_cast<int>(f)));
+    d.featurePixels.emplace_back(k.features[f].x, k.features[f].y);
+  }
+  if (!d.reference) {
+    // The camera centre from the plane-to-image homography K [r1 r3 t].
+    PlanarPose p;
+    if (poseFromPlaneHomography(K, d.planeToImage, p)) d.cameraPosition = cameraPosition(p);
+  } else {
+    // The reference as a camera would take it: square on, one of its pixels to one of the frame's.
+    d.cameraPosition = glm::dvec3(0, K(0, 0) * map.targetWidth / k.width, 0);
+  }
+  // From the half-size level: the views serve a target seen small (a frontal or near one is the
+  // reference's), and they cost a quarter (130 ms at launch from the full size, on this machine class).
+  if (d.reference)
+    tiltedViews = makeTiltedViews(d.levels[std::min<std::size_t>(1, d.levels.size() - 1)], d.levels[0].cols,
+                                  settings.tiltedViewFeatures);
+  if (i < keyframes.size()) keyframes[i] = std::move(d);
+  else keyframes.push_back(std::move(d));
+}
+
+
+int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
+  const cv::Matx33d G = planeToImageHomography(K, prediction);
+  int best = 0, bestCount = -1;
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    int count = 0;
+    for (const cv::Point2f& p : keyframes[k].cornerPlane) {
+      const cv::Vec3d h = G * cv::Vec3d(p.x, p.y, 1.0);
+      if (h[2] <= 1e-9) continue;
+      const double u = h[0] / h[2], v = h[1] / h[2];
+      count += u >= 0 && v >= 0 && u < camera.width && v < camera.height;
+    }
+    // The reference is sharper and exact: a camera keyframe must see clearly more. A keyframe
+    // magnified past kMaxMagnification has less detail than the frame: it counts for less.
+    int score = keyframes[k].reference ? count + count / 4 : count;
+    const double magnification = keyframeMagnification(prediction, static_cast<int>(k));
+    if (magnification > kMaxMagnification) score = static_cast<int>(score * kMaxMagnification / magnification);
+    if (score > bestCount) {
+      bestCount = score;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
+  stats.relocalized = true;
+  const cv::Mat& frame = grey.pinhole();
+  orb->detectAndCompute(frame, cv::noArray(), frameKeypoints, frameDescriptors);
+  if (frameKeypoints.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) return false;
+  int bestInliers = 0;
+  for (const KeyframeData& kf : keyframes) {
+    if (!kf.reference && !haveAnchor) continue;  // floor keyframes relocalize only near the last pose (below)
+    matchFeatures(kf.descriptors, kf.featurePixels, kf.imageToPlane, kf.reference, out, bestInliers);
+  }
+  // The tilted views only when the keyframes found nothing: a frontal view does without their cost.
+  if (bestInliers == 0)
+    for (const TiltedView& v : tiltedViews)
+      matchFeatures(v.descriptors, v.featurePixels, keyframes[0].imageToPlane, true, out, bestInliers);
+  return bestInliers > 0;
+}
+
+void MarkerlessTracker::Impl::matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels,
+                                            const cv::Matx33d& imageToPlane, bool unique, PlanarPose& out,
+                                            int& bestInliers) {
+  if (descriptors.rows < 2) return;
+  matchNearestTwo(frameDescriptors, descriptors, matches);
+  inlierPlane.clear();
+  inlierImage.clear();
+  for (const HammingMatch& m : matches)
+    if (m.distance < 0.8 * m.second && m.distance < 64) {
+      inlierPlane.push_back(applyHomography(imageToPlane, pixels[static_cast<std::size_t>(m.train)]));
+      inlierImage.push_back(frameKeypoints[static_cast<std::size_t>(m.query)].pt);
+    }
+  if (inlierPlane.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) return;
+  PlanarPose candidate;
+  double rms = 0;
+  int inliers = 0;
+  if (!robustPlanarPose(K, inlierPlane, inlierImage, 4.0, maxDistance(), solver, mask, candidate, rms, inliers)) return;
+  if (inliers < kMinRelocalizationInliers || inliers <= bestInliers) return;
+  // The floor around a target may repeat (tiles, carpet): a keyframe of it can match the
+  // wrong repeat. Only the reference is unique; a floor keyframe relocalizes only near the
+  // last measured pose.
+  if (!unique &&
+      !(haveAnchor && glm::length(cameraPosition(candidate) - cameraPosition(anchor.pose)) <
+                          0.3 * std::max(0.05, glm::length(cameraPosition(anchor.pose)))))
+    return;
+  bestInliers = inliers;
+  out = candidate;
+}
+
+void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p, double rms, int inliers, int tried) {
+  if (static_cast<int>(map.keyframes.size()) >= PlanarMap::kMaxKeyframes) return;
+  // A keyframe when the view reaches past the target, or (as PTAM and ORB-SLAM add them as the
+  // camera closes in) when the keyframe tracked against is seen much larger than it was taken:
+  // its texture, magnified, no longer matches the frame's detail.
+  const bool pastTarget = visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible;
+  // Closing in on the target itself (floor keyframes carry their pose's error: no chains of them).
+  const bool closer = stats.keyframe >= 0 && keyframes[static_cast<std::size_t>(stats.keyframe)].reference &&
+                      keyframeMagnification(p, stats.keyframe) > kMaxMagnification;
+  // Or, as PTAM adds them, when tracking still holds but the keyframe matches less and less (a
+  // surface not quite flat, things standing on it seen from elsewhere) and the camera has moved
+  // away from every keyframe's viewpoint.
+  const glm::dvec3 c = cameraPosition(p);
+  const double distance = std::max(0.05, c.y);
+  double nearest = HUGE_VAL;
+  for (const KeyframeData& kf : keyframes) nearest = std::min(nearest, glm::length(kf.cameraPosition - c));
+  // Looser inliers, most of the corners still agreeing, on a frame without a smear (a smear
+  // loosens them too, and would make a blurred keyframe; an occluder takes corners away, and a
+  // keyframe of it would keep the occluder).
+  const bool fading = rms > 0.5 * settings.maxTrackingRmsPx && 5 * inliers >= 4 * tried && !blur.any() &&
+                      nearest > 0.05 * distance;
+  if (!pastTarget && !closer && !fading) return;
+  for (std::size_t k = 0; k < keyframes.size() && !fading; ++k) {
+    const KeyframeData& kf = keyframes[k];
+    if (kf.reference) continue;
+    // One near enough already, seen at about its own scale.
+    if (glm::length(kf.cameraPosition - c) < 0.3 * distance &&
+        keyframeMagnification(p, static_cast<int>(k)) <= kMaxMagnification)
+      return;
+  }
+  map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p)));
+  prepareKeyframe(map.keyframes.size() - 1);
+  stats.keyframeAdded = true;
+}
+
+double MarkerlessTracker::Impl::keyframeMagnification(const PlanarPose& p, int keyframe) const {
+  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  const cv::Matx33d w = planeToImageHomography(K, p) * kf.imageToPlane;  // keyframe pixel -> frame pixel
+  return homographyScaleAt(w, cv::Point2f(static_cast<float>(kf.levels[0].cols) * 0.5f,
+                                          static_cast<float>(kf.levels[0].rows) * 0.5f));
+}
+
+}  // namespace marionette::ar
