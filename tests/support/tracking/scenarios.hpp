@@ -33,6 +33,7 @@ struct Scenario {
   std::vector<glm::dmat4> cameraToWorld;
   std::vector<FrameEffects> effects;
   std::vector<double> visibleFraction;  // renderer.visibleTargetFraction of each pose
+  std::vector<double> smearPx;  // stress sequences: the target centre's smear per frame (else empty)
 };
 
 // All of the above, framesPerScenario frames each (>= 2). Speeds are per second, so fewer

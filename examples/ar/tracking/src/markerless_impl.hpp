@@ -62,6 +62,13 @@ struct KeyframeData {
   glm::dvec3 cameraPosition{0.0};  // the camera that took it (keyframe 0: none)
   double meanGrey = 128;
   bool reference = false;
+  // The error the keyframe's own pose left in its plane mapping (rotation vector in world axes,
+  // then the camera position; zero for the reference): a pose measured against it carries that
+  // error too, whatever its own inliers say.
+  std::array<double, 36> covariance{};
+  // From its camera to the floor at its image's centre, metres: the lever through which an
+  // error of its orientation moves the floor points it maps (and so a pose measured from them).
+  glm::dvec3 lever{0.0};
 };
 
 // One measured pose and the evidence the gates judge it by.
@@ -219,7 +226,7 @@ struct MarkerlessTracker::Impl {
   void confirm(const Measurement& m, double seconds) noexcept;
   int chooseKeyframe(const PlanarPose& prediction);
   bool relocalize(PlanarPose& out);
-  void maybeExtendMap(const PlanarPose& p, double rms, int inliers, int tried);
+  void maybeExtendMap(const Measurement& m);
   // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
   [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;
   // Past this the target is a few pixels wide and any homography fits it: not a pose.

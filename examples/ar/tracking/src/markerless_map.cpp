@@ -76,7 +76,27 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
   if (!d.reference) {
     // The camera centre from the plane-to-image homography K [r1 r3 t].
     PlanarPose p;
-    if (poseFromPlaneHomography(K, d.planeToImage, p)) d.cameraPosition = cameraPosition(p);
+    const bool havePose = poseFromPlaneHomography(K, d.planeToImage, p);
+    if (havePose) d.cameraPosition = cameraPosition(p);
+    const cv::Point2f centre = applyHomography(d.imageToPlane, cv::Point2f(static_cast<float>(k.width) * 0.5f,
+                                                                           static_cast<float>(k.height) * 0.5f));
+    d.lever = glm::dvec3(centre.x, 0.0, centre.y) - d.cameraPosition;
+    if (!std::isfinite(d.lever.x) || !std::isfinite(d.lever.y) || !std::isfinite(d.lever.z)) d.lever = glm::dvec3(0.0);
+    // A keyframe of the floor (the view past the target) keeps its pose's error, which reaches
+    // far through the lever: 13 times sigma at the 99th percentile on fast_turn without it. It is
+    // taken from a TRACKING pose only, whose three standard deviations were within TRACKING's
+    // bounds: a map read from disk (no covariance kept) gets those bounds as its error; one added
+    // while tracking gets its pose's own covariance instead (maybeExtendMap). A keyframe of the
+    // target itself (closing in) is left out: its error is small and near (docs/tracking.md).
+    if (havePose && visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible) {
+      const double distance = glm::length(d.cameraPosition);
+      const double position = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance) / 3;
+      const double rotation = settings.maxTrackingErrorDeg / 3 / kDegrees;
+      for (int a = 0; a < 3; ++a) {
+        d.covariance[static_cast<std::size_t>(a * 7)] = rotation * rotation / 3;
+        d.covariance[static_cast<std::size_t>(21 + a * 7)] = position * position / 3;
+      }
+    }
   } else {
     // The reference as a camera would take it: square on, one of its pixels to one of the frame's.
     d.cameraPosition = glm::dvec3(0, K(0, 0) * map.targetWidth / k.width, 0);
@@ -161,7 +181,10 @@ void MarkerlessTracker::Impl::matchFeatures(const cv::Mat& descriptors, const st
   out = candidate;
 }
 
-void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p, double rms, int inliers, int tried) {
+void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
+  const PlanarPose& p = m.pose;
+  const double rms = m.rms;
+  const int inliers = m.inliers, tried = m.tried;
   if (static_cast<int>(map.keyframes.size()) >= PlanarMap::kMaxKeyframes) return;
   // A keyframe when the view reaches past the target, or (as PTAM and ORB-SLAM add them as the
   // camera closes in) when the keyframe tracked against is seen much larger than it was taken:
@@ -193,6 +216,8 @@ void MarkerlessTracker::Impl::maybeExtendMap(const PlanarPose& p, double rms, in
   }
   map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p)));
   prepareKeyframe(map.keyframes.size() - 1);
+  // A keyframe of the floor keeps the error of the pose it was taken from (prepareKeyframe).
+  if (pastTarget) keyframes.back().covariance = m.covariance;
   stats.keyframeAdded = true;
 }
 

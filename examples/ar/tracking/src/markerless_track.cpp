@@ -161,6 +161,7 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
       if (!templatePyramid.buildRegion(*templ, region, background)) return false;
       lk.track(templatePyramid, framePyramid(), predicted, found, status, lkParams);
       usedTemplate = templ;
+      stats.blurPx = blur.any() ? blur.lengthPx : 0.0;
       inlierPlane.clear();
       inlierImage.clear();
       inlierFrom.clear();
@@ -238,6 +239,22 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
                                             settings.effectiveFeatures * looseFit,
                                             covariance);
   if (out.haveCovariance) {
+    // Against a keyframe other than the reference, its own error adds (independent of this
+    // frame's noise, and no number of inliers averages it away): its position error as it is,
+    // its orientation error as it is and through its lever to the floor it saw (an error of
+    // 0.3 deg moves floor points 3 m away by 16 mm, and the pose measured from them with them).
+    // First order: a rotation error w moves the floor point at lever v by w x v = -[v]x w, so the
+    // position block gains [v]x S [v]x^T with S the keyframe's rotation block.
+    for (std::size_t i = 0; i < 36; ++i) covariance[i] += kf.covariance[i];
+    const glm::dvec3& v = kf.lever;
+    const double vx[3][3] = {{0, -v.z, v.y}, {v.z, 0, -v.x}, {-v.y, v.x, 0}};
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        double sum = 0;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) sum += vx[a][i] * kf.covariance[static_cast<std::size_t>(i * 6 + j)] * vx[b][j];
+        covariance[static_cast<std::size_t>((3 + a) * 6 + 3 + b)] += sum;
+      }
     std::copy(covariance, covariance + 36, out.covariance.begin());
     out.positionSigma = std::sqrt(covariance[21] + covariance[28] + covariance[35]);
     out.rotationSigmaDeg = std::sqrt(covariance[0] + covariance[7] + covariance[14]) * kDegrees;

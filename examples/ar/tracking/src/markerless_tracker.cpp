@@ -173,7 +173,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     result.covariance = m.covariance;
     result.positionSigmaM = m.positionSigma;
     result.rotationSigmaDeg = m.rotationSigmaDeg;
-    if (result.state == TrackingState::Tracking) maybeExtendMap(m.pose, m.rms, m.inliers, m.tried);
+    if (result.state == TrackingState::Tracking) maybeExtendMap(m);
   } else if (haveVelocity() && haveAnchor) {
     // Nothing measured to give: continue the confirmed motion while its worst case (the
     // largest acceleration for the time since the anchor, plus the velocity's own error)

@@ -128,6 +128,7 @@ class MarkerlessTracker final : public Tracker {
     int keyframe = -1;             // the keyframe tracked against
     int corners = 0, inliers = 0;  // KLT points tried, inliers of the pose
     double rmsPx = 0;
+    double blurPx = 0;  // the smear the template was blurred by in the last track (0: none)
     // The measured pose's evidence (the last one judged this frame), for logs and calibration.
     double spread = 0;               // inliers' narrowest spread over the corners tried
     double ncc = 0;                  // mean normalized cross-correlation at the inliers
