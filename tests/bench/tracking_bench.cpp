@@ -47,6 +47,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "homography_ransac.hpp"
+#include "image_shift.hpp"
 #include "lucas_kanade.hpp"
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
@@ -365,6 +366,39 @@ void kltOwn(benchmark::State& state, bool regionOnly) {
   state.counters["found"] = found;
 }
 
+// The whole image's shift between two frames of the orbit (image_shift.hpp): what the markerless
+// tracker falls back on when a smear defeats KLT on its grid. Smeared: both frames blurred along
+// x by 41 px, as a pan smears them. The pyramids are the tracker's, built anyway: not timed.
+void imageShift(benchmark::State& state, int smear) {
+  cv::setNumThreads(1);
+  const Orbit& o = orbit();
+  if (!o.error.empty()) {
+    state.SkipWithError(o.error.c_str());
+    return;
+  }
+  cv::Mat a, b;
+  cv::cvtColor(o.frames[9], a, cv::COLOR_RGB2GRAY);
+  cv::cvtColor(o.frames[10], b, cv::COLOR_RGB2GRAY);
+  if (smear > 1) {
+    cv::blur(a, a, cv::Size(smear, 1));
+    cv::blur(b, b, cv::Size(smear, 1));
+  }
+  ImagePyramid pa, pb;
+  pa.configure(640, 480, 3);
+  pb.configure(640, 480, 3);
+  pa.build(a);
+  pb.build(b);
+  ImageShift shift;
+  bool found = false;
+  for (auto _ : state) {
+    found = estimateImageShift(pa, pb, {0, 0}, ImageShiftParams{}, shift);
+    benchmark::DoNotOptimize(shift);
+  }
+  state.counters["found"] = found;
+  state.counters["shift_px"] = std::hypot(shift.shift.x, shift.shift.y);
+  state.counters["score"] = shift.score;
+}
+
 void kltOpenCv(benchmark::State& state) {
   MN_PRIMITIVES_DATA(d)
   std::vector<cv::Point2f> to;
@@ -468,6 +502,8 @@ BENCHMARK(warpOpenCv)->Name("Tracking/WarpOpenCv")->Unit(benchmark::kMicrosecond
 BENCHMARK_CAPTURE(kltOwn, full, false)->Name("Tracking/KltOwn")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kltOwn, region, true)->Name("Tracking/KltOwnRegion")->Unit(benchmark::kMicrosecond);
 BENCHMARK(kltOpenCv)->Name("Tracking/KltOpenCv")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(imageShift, sharp, 0)->Name("Tracking/ImageShift")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(imageShift, smeared, 41)->Name("Tracking/ImageShiftSmeared")->Unit(benchmark::kMicrosecond);
 BENCHMARK(ransacOwn)->Name("Tracking/RansacOwn")->Unit(benchmark::kMicrosecond);
 BENCHMARK(ransacOpenCv)->Name("Tracking/RansacOpenCv")->Unit(benchmark::kMicrosecond);
 BENCHMARK(poseOwn)->Name("Tracking/PoseOwn")->Unit(benchmark::kMicrosecond);
