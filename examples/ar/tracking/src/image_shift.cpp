@@ -83,35 +83,49 @@ bool estimateImageShift(const ImagePyramid& previous, const ImagePyramid& curren
   if (top < 0 || top > previous.levels() || top > current.levels() || radius < 1 || radius > kMaxRadius ||
       !std::isfinite(guess.x) || !std::isfinite(guess.y))
     return false;
+  // A guess past the image is no guess (and would overflow the integer offsets).
+  if (std::abs(guess.x) > static_cast<float>(previous.level(0).width) ||
+      std::abs(guess.y) > static_cast<float>(previous.level(0).height))
+    return false;
   const float coarse = 1.0f / static_cast<float>(1 << top);
-  const int gx = static_cast<int>(std::lround(guess.x * coarse)), gy = static_cast<int>(std::lround(guess.y * coarse));
+  int gx = static_cast<int>(std::lround(guess.x * coarse)), gy = static_cast<int>(std::lround(guess.y * coarse));
   const GreyLevel& p0 = previous.level(top);
   const GreyLevel& c0 = current.level(top);
   if (!p0.data || !c0.data) return false;
   Block b;
-  if (!centralBlock(p0, c0, gx, gy, radius, b)) return false;
-  // Every offset within the radius: the best, and the best 2 px or more away from it.
+  // Every offset within the radius: the best. A best on the search's border is the slope of a
+  // peak beyond it: the search moves there once (a turn faster than the guess), and a best on
+  // the border again is no shift (the search would return a clipped one with a high score).
   constexpr int kSide = 2 * kMaxRadius + 1;
   std::array<double, kSide * kSide> scores{};
   int bx = 0, by = 0;
   double best = -2;
-  for (int dy = -radius; dy <= radius; ++dy)
-    for (int dx = -radius; dx <= radius; ++dx) {
-      const double s = zncc(p0, c0, b, gx + dx, gy + dy);
-      scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)] = s;
-      if (s > best) best = s, bx = dx, by = dy;
-    }
-  // The runner-up is another local maximum, not the main peak's shoulder (a smear stretches
-  // the peak along itself).
+  for (int search = 0;; ++search) {
+    if (!centralBlock(p0, c0, gx, gy, radius, b)) return false;
+    bx = by = 0;
+    best = -2;
+    for (int dy = -radius; dy <= radius; ++dy)
+      for (int dx = -radius; dx <= radius; ++dx) {
+        const double s = zncc(p0, c0, b, gx + dx, gy + dy);
+        scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)] = s;
+        if (s > best) best = s, bx = dx, by = dy;
+      }
+    if (std::abs(bx) < radius && std::abs(by) < radius) break;
+    if (search > 0 || !(best >= params.minScore)) return false;
+    gx += bx;
+    gy += by;
+  }
+  // The runner-up is another local maximum (the border's included), not the main peak's
+  // shoulder (a smear stretches the peak along itself).
   auto score = [&](int dx, int dy) { return scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)]; };
   double second = -2;
-  for (int dy = -radius + 1; dy < radius; ++dy)
-    for (int dx = -radius + 1; dx < radius; ++dx) {
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) {
       if (dx == bx && dy == by) continue;
       const double v = score(dx, dy);
       bool peak = true;
-      for (int ny = -1; ny <= 1 && peak; ++ny)
-        for (int nx = -1; nx <= 1 && peak; ++nx)
+      for (int ny = std::max(-1, -radius - dy); ny <= std::min(1, radius - dy) && peak; ++ny)
+        for (int nx = std::max(-1, -radius - dx); nx <= std::min(1, radius - dx) && peak; ++nx)
           if ((nx || ny) && score(dx + nx, dy + ny) > v) peak = false;
       if (peak) second = std::max(second, v);
     }
@@ -141,9 +155,11 @@ bool estimateImageShift(const ImagePyramid& previous, const ImagePyramid& curren
     auto at = [&](int dx, int dy) {
       return s[static_cast<std::size_t>((dy + kRefineRadius) * kRefineSide + dx + kRefineRadius)];
     };
-    fx = fy = 0;
-    if (std::abs(rx) < kRefineRadius) fx = parabolaPeak(at(rx - 1, ry), top2, at(rx + 1, ry));
-    if (std::abs(ry) < kRefineRadius) fy = parabolaPeak(at(rx, ry - 1), top2, at(rx, ry + 1));
+    // The coarser level's integer peak is within a pixel of this level's: one at the border of
+    // +-2 is no peak of this search.
+    if (std::abs(rx) == kRefineRadius || std::abs(ry) == kRefineRadius) return false;
+    fx = parabolaPeak(at(rx - 1, ry), top2, at(rx + 1, ry));
+    fy = parabolaPeak(at(rx, ry - 1), top2, at(rx, ry + 1));
     sx += rx;
     sy += ry;
     final = top2;

@@ -19,10 +19,11 @@ struct ImageShift {
 
 struct ImageShiftParams {
   int coarseLevel = 3;    // the search level (80 x 60 for a 640 x 480 frame)
-  int radius = 12;        // search radius at the coarse level, pixels (96 px of level 0 at level 3)
+  int radius = 16;        // search radius at the coarse level, pixels (128 px of level 0 at level 3: 12 deg a frame at fx 600)
   double minScore = 0.6;  // a peak lower than this is no shift (a blank wall, a scene that changed)
-  // The peak must stand out: the best score 2 coarse pixels or more away must be lower by this
-  // much (a repeating texture has several peaks; the nearest-to-guess is not to be trusted).
+  // The peak must stand out: every other local maximum of the search (its border included) must
+  // be lower by this much (a repeating texture has several peaks; none is to be trusted). A peak
+  // on the search's border, at any level, is refused: the true one lies beyond.
   double minMargin = 0.05;
 };
 

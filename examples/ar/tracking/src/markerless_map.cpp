@@ -78,20 +78,38 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
     PlanarPose p;
     const bool havePose = poseFromPlaneHomography(K, d.planeToImage, p);
     if (havePose) d.cameraPosition = cameraPosition(p);
-    const cv::Point2f centre = applyHomography(d.imageToPlane, cv::Point2f(static_cast<float>(k.width) * 0.5f,
-                                                                           static_cast<float>(k.height) * 0.5f));
-    d.lever = glm::dvec3(centre.x, 0.0, centre.y) - d.cameraPosition;
-    if (!std::isfinite(d.lever.x) || !std::isfinite(d.lever.y) || !std::isfinite(d.lever.z)) d.lever = glm::dvec3(0.0);
+    // The lever: from the camera to the floor at the image's centre; where that ray misses the
+    // floor in front (a view at or past the horizon) or reaches past the tracker's range, the
+    // mean of the floor points its corners map (the points tracking uses).
+    const cv::Vec3d h = d.imageToPlane * cv::Vec3d(k.width * 0.5, k.height * 0.5, 1.0);
+    const cv::Vec3d onFloor(h[0] / h[2], 0.0, h[1] / h[2]);  // object coordinates (X, 0, Z)
+    const glm::dvec3 centre = glm::dvec3(onFloor[0], 0.0, onFloor[2]) - d.cameraPosition;
+    cv::Matx33d rotationMatrix;
+    cv::Rodrigues(p.rvec, rotationMatrix);
+    const double depth = (rotationMatrix * onFloor + p.tvec)[2];  // in front of the camera: > 0
+    if (havePose && std::isfinite(centre.x) && std::isfinite(centre.z) && depth > 0 &&
+        glm::length(centre) <= maxDistance()) {
+      d.lever = centre;
+    } else {
+      glm::dvec3 sum(0.0);
+      int counted = 0;
+      for (const cv::Point2f& q : d.cornerPlane) {
+        const glm::dvec3 v = glm::dvec3(q.x, 0.0, q.y) - d.cameraPosition;
+        if (std::isfinite(v.x) && std::isfinite(v.z) && glm::length(v) <= maxDistance()) sum += v, ++counted;
+      }
+      d.lever = counted > 0 ? sum / static_cast<double>(counted) : glm::dvec3(0.0);
+    }
     // A keyframe of the floor (the view past the target) keeps its pose's error, which reaches
-    // far through the lever: 13 times sigma at the 99th percentile on fast_turn without it. It is
-    // taken from a TRACKING pose only, whose three standard deviations were within TRACKING's
-    // bounds: a map read from disk (no covariance kept) gets those bounds as its error; one added
-    // while tracking gets its pose's own covariance instead (maybeExtendMap). A keyframe of the
-    // target itself (closing in) is left out: its error is small and near (docs/tracking.md).
+    // far through the lever: 13 times sigma at the 99th percentile on fast_turn without it. One
+    // added while tracking gets its pose's own covariance (maybeExtendMap). A map read from disk
+    // keeps none: it was taken from a TRACKING pose, whose three standard deviations were within
+    // TRACKING's bounds; half of them is taken (the whole bound would leave a pose measured
+    // against it no room for its own error, never TRACKING again after a relaunch). A keyframe
+    // of the target itself (closing in) is left out: its error is small and near (docs/tracking.md).
     if (havePose && visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible) {
       const double distance = glm::length(d.cameraPosition);
-      const double position = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance) / 3;
-      const double rotation = settings.maxTrackingErrorDeg / 3 / kDegrees;
+      const double position = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance) / 6;
+      const double rotation = settings.maxTrackingErrorDeg / 6 / kDegrees;
       for (int a = 0; a < 3; ++a) {
         d.covariance[static_cast<std::size_t>(a * 7)] = rotation * rotation / 3;
         d.covariance[static_cast<std::size_t>(21 + a * 7)] = position * position / 3;
