@@ -67,6 +67,30 @@ double zncc(const GreyLevel& previous, const GreyLevel& current, const Block& b,
   return (static_cast<double>(cross) - b.mean * static_cast<double>(sum)) / (b.norm * std::sqrt(var));
 }
 
+// The ZNCC at every offset within a radius of (cx, cy), kept for the runner-up and the parabola.
+struct ScoreGrid {
+  static constexpr int kSide = 2 * kMaxRadius + 1;
+  std::array<double, kSide * kSide> scores{};
+  int radius = 0, bx = 0, by = 0;  // the best's offset from (cx, cy)
+  double best = -2;
+
+  [[nodiscard]] double at(int dx, int dy) const noexcept {
+    return scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)];
+  }
+  [[nodiscard]] bool bestOnBorder() const noexcept { return std::abs(bx) == radius || std::abs(by) == radius; }
+  void search(const GreyLevel& previous, const GreyLevel& current, const Block& b, int cx, int cy, int r) noexcept {
+    radius = r;
+    bx = by = 0;
+    best = -2;
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx) {
+        const double v = zncc(previous, current, b, cx + dx, cy + dy);
+        scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)] = v;
+        if (v > best) best = v, bx = dx, by = dy;
+      }
+  }
+};
+
 // The vertex of the parabola through (-1, a), (0, b), (1, c), within +-0.5.
 double parabolaPeak(double a, double b, double c) noexcept {
   const double d = a - 2 * b + c;
@@ -96,45 +120,34 @@ bool estimateImageShift(const ImagePyramid& previous, const ImagePyramid& curren
   // Every offset within the radius: the best. A best on the search's border is the slope of a
   // peak beyond it: the search moves there once (a turn faster than the guess), and a best on
   // the border again is no shift (the search would return a clipped one with a high score).
-  constexpr int kSide = 2 * kMaxRadius + 1;
-  std::array<double, kSide * kSide> scores{};
-  int bx = 0, by = 0;
-  double best = -2;
+  ScoreGrid grid;
   for (int search = 0;; ++search) {
     if (!centralBlock(p0, c0, gx, gy, radius, b)) return false;
-    bx = by = 0;
-    best = -2;
-    for (int dy = -radius; dy <= radius; ++dy)
-      for (int dx = -radius; dx <= radius; ++dx) {
-        const double s = zncc(p0, c0, b, gx + dx, gy + dy);
-        scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)] = s;
-        if (s > best) best = s, bx = dx, by = dy;
-      }
-    if (std::abs(bx) < radius && std::abs(by) < radius) break;
-    if (search > 0 || !(best >= params.minScore)) return false;
-    gx += bx;
-    gy += by;
+    grid.search(p0, c0, b, gx, gy, radius);
+    if (!grid.bestOnBorder()) break;
+    if (search > 0 || !(grid.best >= params.minScore)) return false;
+    gx += grid.bx;
+    gy += grid.by;
   }
   // The runner-up is another local maximum (the border's included), not the main peak's
   // shoulder (a smear stretches the peak along itself).
-  auto score = [&](int dx, int dy) { return scores[static_cast<std::size_t>((dy + kMaxRadius) * kSide + dx + kMaxRadius)]; };
   double second = -2;
   for (int dy = -radius; dy <= radius; ++dy)
     for (int dx = -radius; dx <= radius; ++dx) {
-      if (dx == bx && dy == by) continue;
-      const double v = score(dx, dy);
+      if (dx == grid.bx && dy == grid.by) continue;
+      const double v = grid.at(dx, dy);
       bool peak = true;
       for (int ny = std::max(-1, -radius - dy); ny <= std::min(1, radius - dy) && peak; ++ny)
         for (int nx = std::max(-1, -radius - dx); nx <= std::min(1, radius - dx) && peak; ++nx)
-          if ((nx || ny) && score(dx + nx, dy + ny) > v) peak = false;
+          if ((nx || ny) && grid.at(dx + nx, dy + ny) > v) peak = false;
       if (peak) second = std::max(second, v);
     }
-  if (!(best >= params.minScore) || !(best - second >= params.minMargin)) return false;
+  if (!(grid.best >= params.minScore) || !(grid.best - second >= params.minMargin)) return false;
   // Finer levels: +-2 px around twice the coarser result; the parabola at the last one.
-  int sx = gx + bx, sy = gy + by;
+  int sx = gx + grid.bx, sy = gy + grid.by;
   int level = top;
   const int last = std::max(0, top - 2);
-  double fx = 0, fy = 0, final = best;
+  double fx = 0, fy = 0, final = grid.best;
   while (level > last) {
     --level;
     sx *= 2;
@@ -142,27 +155,15 @@ bool estimateImageShift(const ImagePyramid& previous, const ImagePyramid& curren
     const GreyLevel& p = previous.level(level);
     const GreyLevel& c = current.level(level);
     if (!p.data || !c.data || !centralBlock(p, c, sx, sy, kRefineRadius, b)) return false;
-    std::array<double, (2 * kRefineRadius + 1) * (2 * kRefineRadius + 1)> s{};
-    constexpr int kRefineSide = 2 * kRefineRadius + 1;
-    int rx = 0, ry = 0;
-    double top2 = -2;
-    for (int dy = -kRefineRadius; dy <= kRefineRadius; ++dy)
-      for (int dx = -kRefineRadius; dx <= kRefineRadius; ++dx) {
-        const double v = zncc(p, c, b, sx + dx, sy + dy);
-        s[static_cast<std::size_t>((dy + kRefineRadius) * kRefineSide + dx + kRefineRadius)] = v;
-        if (v > top2) top2 = v, rx = dx, ry = dy;
-      }
-    auto at = [&](int dx, int dy) {
-      return s[static_cast<std::size_t>((dy + kRefineRadius) * kRefineSide + dx + kRefineRadius)];
-    };
+    grid.search(p, c, b, sx, sy, kRefineRadius);
     // The coarser level's integer peak is within a pixel of this level's: one at the border of
     // +-2 is no peak of this search.
-    if (std::abs(rx) == kRefineRadius || std::abs(ry) == kRefineRadius) return false;
-    fx = parabolaPeak(at(rx - 1, ry), top2, at(rx + 1, ry));
-    fy = parabolaPeak(at(rx, ry - 1), top2, at(rx, ry + 1));
-    sx += rx;
-    sy += ry;
-    final = top2;
+    if (grid.bestOnBorder()) return false;
+    fx = parabolaPeak(grid.at(grid.bx - 1, grid.by), grid.best, grid.at(grid.bx + 1, grid.by));
+    fy = parabolaPeak(grid.at(grid.bx, grid.by - 1), grid.best, grid.at(grid.bx, grid.by + 1));
+    sx += grid.bx;
+    sy += grid.by;
+    final = grid.best;
   }
   if (!(final >= params.minScore)) return false;
   const float scale = static_cast<float>(1 << level);

@@ -12,11 +12,16 @@ bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, Plan
   // Last frame's pixel -> this frame's, as guessed; a guess without a velocity (a chain through a
   // look away), or one older than the image's last measured motion, starts from that motion
   // instead (a pan goes on).
-  const cv::Matx33d guessMotion =
-      (!guessHasVelocity || previousFrameChained) && haveLastImageMotion ? lastImageMotion
-                                                                       : cv::Matx33d(guessG * previousG.inv());
+  const bool fromLastMotion = (!guessHasVelocity || previousFrameChained) && haveLastImageMotion;
+  const cv::Matx33d guessMotion = fromLastMotion ? lastImageMotion : cv::Matx33d(guessG * previousG.inv());
+  // Started from the last motion, a second call this frame (the chain's prediction, then the
+  // fallback after tracking failed) would repeat a failed search to the bit.
+  if (fromLastMotion && lastMotionFailed) return false;
   cv::Matx33d motion;
-  if (!gridImageMotion(guessMotion, motion) && !shiftImageMotion(guessMotion, motion)) return false;
+  if (!gridImageMotion(guessMotion, motion) && !shiftImageMotion(guessMotion, motion)) {
+    lastMotionFailed = lastMotionFailed || fromLastMotion;
+    return false;
+  }
   lastImageMotion = motion;
   haveLastImageMotion = true;
   imageMotionFound = true;

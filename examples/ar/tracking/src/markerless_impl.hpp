@@ -151,6 +151,7 @@ struct MarkerlessTracker::Impl {
   // The last frame-to-frame homography measured (kept while consecutive frames measure one).
   cv::Matx33d lastImageMotion = cv::Matx33d::eye();
   bool haveLastImageMotion = false, imageMotionFound = false;
+  bool lastMotionFailed = false;  // this frame's search from lastImageMotion found nothing
   double lastGivenTime = -1e300;
   std::vector<cv::Point2f> backgroundGrid, backgroundFrom, backgroundTo, backgroundFound;
   std::vector<unsigned char> backgroundStatus, backgroundMask;

@@ -84,9 +84,7 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
     const cv::Vec3d h = d.imageToPlane * cv::Vec3d(k.width * 0.5, k.height * 0.5, 1.0);
     const cv::Vec3d onFloor(h[0] / h[2], 0.0, h[1] / h[2]);  // object coordinates (X, 0, Z)
     const glm::dvec3 centre = glm::dvec3(onFloor[0], 0.0, onFloor[2]) - d.cameraPosition;
-    cv::Matx33d rotationMatrix;
-    cv::Rodrigues(p.rvec, rotationMatrix);
-    const double depth = (rotationMatrix * onFloor + p.tvec)[2];  // in front of the camera: > 0
+    const double depth = (rotationFromRodrigues(p.rvec) * onFloor + p.tvec)[2];  // in front of the camera: > 0
     if (havePose && std::isfinite(centre.x) && std::isfinite(centre.z) && depth > 0 &&
         glm::length(centre) <= maxDistance()) {
       d.lever = centre;

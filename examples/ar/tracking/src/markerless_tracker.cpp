@@ -7,29 +7,22 @@ bool MarkerlessTracker::Impl::predict(double seconds, PlanarPose& out) {
     out = pending.pose;  // no velocity known yet (the image's motion is the fallback, below)
     return true;
   }
-  // The last frame was carried by the image's motion (nothing measured since the anchor): the
-  // image's motion goes on carrying it; the anchor's velocity, older, would overshoot a turn.
-  if (haveAnchor && previousFrameChained && backgroundPrediction(previousFramePose, out, false)) {
+  // The last frame's estimate carried by the image's motion: while the anchor is recent, once
+  // the last frame was itself carried so (nothing measured since; the anchor's velocity, older,
+  // would overshoot a turn); without an anchor, for kMaxChainSeconds after the last pose given.
+  const bool chain = haveAnchor ? previousFrameChained
+                                : havePreviousFramePose && seconds - lastGivenTime <= kMaxChainSeconds;
+  if (chain && backgroundPrediction(previousFramePose, out, false)) {
     stats.backgroundMotion = true;
     chainPrediction = out;
     haveChainPrediction = true;
     return true;
   }
-  if (haveAnchor) {
-    out = haveVelocity() ? extrapolateFrom(confirmed[1].pose, confirmed[1].time, confirmed[0].pose,
-                                           confirmed[0].time, anchor.pose, anchor.time, seconds)
-                         : anchor.pose;
-    return true;
-  }
-  // Nothing given lately: the last frame's estimate carried by the image's motion, if any.
-  if (havePreviousFramePose && seconds - lastGivenTime <= kMaxChainSeconds &&
-      backgroundPrediction(previousFramePose, out, false)) {
-    stats.backgroundMotion = true;
-    chainPrediction = out;
-    haveChainPrediction = true;
-    return true;
-  }
-  return false;
+  if (!haveAnchor) return false;
+  out = haveVelocity() ? extrapolateFrom(confirmed[1].pose, confirmed[1].time, confirmed[0].pose,
+                                         confirmed[0].time, anchor.pose, anchor.time, seconds)
+                       : anchor.pose;
+  return true;
 }
 
 bool MarkerlessTracker::Impl::loadFrame(const ImageView& frame) {
@@ -78,7 +71,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   if (!loadFrame(frame)) return result;
   forgetOld(seconds);
   haveChainPrediction = false;
-  imageMotionFound = false;
+  imageMotionFound = lastMotionFailed = false;
 
   // The smear is the last accepted measurement's: an attempt judged wrong leaves it as it was
   // (a smear proposed on a wrong prediction would blur the template of every later attempt).
