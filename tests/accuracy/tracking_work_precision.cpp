@@ -2,7 +2,7 @@
 // truth; tests/support/tracking), one thread, as docs/tracking.md reports it.
 //
 //   marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]
-//   marionette_tracking_eval --stress SEEDS [--split] [--frames N] [--no-smoothing] [--verbose]
+//   marionette_tracking_eval --stress SEEDS [--first-seed S] [--split] [--frames N] [--no-smoothing] [--verbose]
 //   marionette_tracking_eval --case CLASS/SEED [--frames N]     (one stress sequence: a worst case again;
 //                                                                MN_FRAMES=1 prints its frames' gates)
 //
@@ -43,7 +43,7 @@ void row(const std::string& name, const ScenarioRun& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int frames = 0, stressSeeds = 0;
+  int frames = 0, stressSeeds = 0, firstSeed = 1;
   bool sweep = false, smoothing = true, split = false, verbose = false;
   std::string oneCase;  // --case CLASS/SEED
   std::vector<std::string> names;
@@ -54,11 +54,12 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--no-smoothing")) smoothing = false;
     else if (!std::strcmp(argv[i], "--stress") && i + 1 < argc) stressSeeds = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--split")) split = true;
+    else if (!std::strcmp(argv[i], "--first-seed") && i + 1 < argc) firstSeed = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--verbose")) verbose = true;
     else if (!std::strcmp(argv[i], "--case") && i + 1 < argc) oneCase = argv[++i];
     else {
       std::fprintf(stderr, "usage: marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]\n"
-                           "       marionette_tracking_eval --stress SEEDS [--split] [--frames N] [--no-smoothing] [--verbose]\n"
+                           "       marionette_tracking_eval --stress SEEDS [--first-seed S] [--split] [--frames N] [--no-smoothing] [--verbose]\n"
                            "       marionette_tracking_eval --case CLASS/SEED [--frames N]\n");
       return 2;
     }
@@ -86,7 +87,7 @@ int main(int argc, char** argv) {
     StressRunOptions options;
     options.log = verbose ? stderr : nullptr;
     const auto start = std::chrono::steady_clock::now();
-    if (cases.empty()) cases = stressCases(stressSeeds, split, frames);
+    if (cases.empty()) cases = stressCases(stressSeeds, split, frames, firstSeed);
     const StressReport report = runStressSeeds(renderer, cases, settings, options);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s\n", stressTable(report).c_str());

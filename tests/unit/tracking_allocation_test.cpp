@@ -41,6 +41,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
+#include "dense_alignment.hpp"
 #include "homography_ransac.hpp"
 #include "lucas_kanade.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
@@ -438,6 +439,61 @@ TEST(TrackingAllocation, PrimitivesAllocateNothingPerFrame) {
   std::printf("[ primitives ] warp + pyramids + KLT + RANSAC + pose per frame, frames 3..29: %.1f operator new, "
               "%.1f malloc family%s\n",
               perFrame(news, counts.size()), perFrame(mallocs, counts.size()),
+              MN_COUNT_MALLOC ? "" : " (not counted in this build)");
+}
+
+// The dense alignment (what the tracker falls back on under a smear), with a smear being
+// estimated (12 parameters), from the true pose moved a degree: nothing allocated once reserved.
+TEST(TrackingAllocation, DenseAlignmentAllocatesNothingPerFrame) {
+  cv::setNumThreads(1);
+  const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+  const auto rendered = synthetic::renderScenarios(renderer, 12, {"orbit"});
+  ASSERT_EQ(rendered.size(), 1u);
+  const cv::Mat reference = cv::imread(synthetic::standardTargetImage(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(reference.empty());
+  std::vector<cv::Mat> levels{reference};
+  for (int l = 1; l < 7; ++l) {
+    cv::Mat down;
+    cv::pyrDown(levels.back(), down);
+    levels.push_back(down);
+  }
+  const double metresPerPixel = synthetic::kStandardTargetWidth / reference.cols;
+  const DenseTarget target{levels, cv::Matx33d(1 / metresPerPixel, 0, reference.cols * 0.5 - 0.5, 0, 1 / metresPerPixel,
+                                               reference.rows * 0.5 - 0.5, 0, 0, 1)};
+  const CameraModel& c = renderer.camera();
+  const cv::Matx33d k(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
+  DenseAligner aligner;
+  DenseAlignmentParams params;
+  aligner.reserve(params);
+  ImagePyramid pyramid;
+  ASSERT_TRUE(pyramid.configure(c.width, c.height, 3));
+  std::vector<cv::Mat> grey(rendered[0].frames.size());
+  for (std::size_t i = 0; i < grey.size(); ++i) cv::cvtColor(rendered[0].frames[i], grey[i], cv::COLOR_RGB2GRAY);
+  long news = 0, mallocs = 0;
+  for (std::size_t i = 0; i < grey.size(); ++i) {
+    glm::dmat3 r;
+    glm::dvec3 t;
+    synthetic::worldToOpenCvCamera(rendered[0].scenario.cameraToWorld[i], r, t);
+    const cv::Matx33d m(r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], r[0][2], r[1][2], r[2][2]);
+    PlanarPose start{rodriguesFromRotation(rotationFromRodrigues(cv::Vec3d(0.012, -0.01, 0.004)) * m),
+                     cv::Vec3d(t.x, t.y, t.z)};
+    ASSERT_TRUE(pyramid.build(grey[i]));
+    DenseAlignment result;
+    const Counts c0 = now();
+    const bool aligned = aligner.align(k, target, pyramid, cv::Vec3d(0.0, 0.01, 0.0), start, params, result);
+    const Counts used = since(c0);
+    EXPECT_TRUE(aligned) << "frame " << i;
+    EXPECT_GT(result.zncc, 0.9) << "frame " << i;
+    if (i < 2) continue;  // warm-up
+    EXPECT_EQ(used.news, 0) << "frame " << i;
+#if MN_COUNT_MALLOC
+    EXPECT_EQ(used.mallocs, 0) << "frame " << i;
+#endif
+    news += used.news;
+    mallocs += used.mallocs;
+  }
+  std::printf("[ dense ] align per frame, frames 2..11: %.1f operator new, %.1f malloc family%s\n",
+              perFrame(news, grey.size() - 2), perFrame(mallocs, grey.size() - 2),
               MN_COUNT_MALLOC ? "" : " (not counted in this build)");
 }
 

@@ -72,14 +72,15 @@ RenderedScenario cachedRender(const SequenceRenderer& renderer, const StressSequ
 
 }  // namespace
 
-std::vector<StressCase> stressCases(int seeds, bool splitOverClasses, int frames) {
+std::vector<StressCase> stressCases(int seeds, bool splitOverClasses, int frames, int firstSeed) {
   std::vector<StressCase> cases;
+  const int last = firstSeed + seeds - 1;
   if (splitOverClasses) {
-    for (int s = 1; s <= seeds; ++s)
+    for (int s = firstSeed; s <= last; ++s)
       cases.push_back({kStressClasses[static_cast<std::size_t>(s - 1) % kStressClasses.size()], static_cast<std::uint64_t>(s), frames});
   } else {
     for (StressClass k : kStressClasses)
-      for (int s = 1; s <= seeds; ++s) cases.push_back({k, static_cast<std::uint64_t>(s), frames});
+      for (int s = firstSeed; s <= last; ++s) cases.push_back({k, static_cast<std::uint64_t>(s), frames});
   }
   return cases;
 }

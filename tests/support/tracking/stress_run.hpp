@@ -21,7 +21,8 @@ struct StressCase {
 
 // Seeds 1..seeds of every class; or, split, seed s of class (s - 1) % 4 only (the accuracy
 // test's plan: 20 seeds are five sequences of each class).
-[[nodiscard]] std::vector<StressCase> stressCases(int seeds, bool splitOverClasses, int frames = 0);
+// Seeds firstSeed .. firstSeed + seeds - 1 (of every class, or split over the classes).
+[[nodiscard]] std::vector<StressCase> stressCases(int seeds, bool splitOverClasses, int frames = 0, int firstSeed = 1);
 
 // A drawn pose off by this much or more counts as false.
 inline constexpr double kStressFalsePositionM = 0.05;

@@ -7,6 +7,16 @@ namespace marionette::ar {
 
 Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcept {
   if (!m.haveCovariance) return Evidence::None;
+  const double distance = glm::length(cameraPosition(m.pose));
+  const double drawnM = std::max(settings.maxDrawnErrorM, settings.maxDrawnErrorFraction * distance);
+  if (m.dense) {
+    // The whole target's pixels explained by the blurred keyframe: LIMITED at best (the smear
+    // leaves the pose less certain along it, and the model is the frame's motion's, not seen).
+    const bool limited = m.ncc >= settings.minDenseZncc && m.inlierShare >= settings.minDenseInlierShare &&
+                         m.visibleShare >= settings.minDenseVisibleShare &&
+                         3 * m.positionSigma <= drawnM && 3 * m.rotationSigmaDeg <= settings.maxDrawnErrorDeg;
+    return limited ? Evidence::Limited : Evidence::None;
+  }
   // A loose fit that fewer than half of the corners tried support is no pose: on the stress
   // sequences such poses (13-43 % agreeing, rms 1.1-1.4 px) were 5-11 cm and 2.5-7 deg off, while
   // smeared frames the blur model follows keep 55-70 % (docs/tracking.md).
@@ -17,8 +27,6 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
   if (10 * m.inliers < m.tried) return Evidence::None;
   // Three standard deviations within the error a drawn pose may have (positions: an absolute
   // bound, or a share of the viewing distance for a target seen from afar).
-  const double distance = glm::length(cameraPosition(m.pose));
-  const double drawnM = std::max(settings.maxDrawnErrorM, settings.maxDrawnErrorFraction * distance);
   const double trackingM = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance);
   const bool limited = m.inliers >= settings.minLimitedInliers && m.spread >= settings.minLimitedSpread &&
                        m.ncc >= settings.minLimitedNcc && 3 * m.positionSigma <= drawnM &&

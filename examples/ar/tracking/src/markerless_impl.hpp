@@ -21,6 +21,7 @@
 
 #include "grey_frame.hpp"
 #include "hamming_matcher.hpp"
+#include "dense_alignment.hpp"
 #include "image_shift.hpp"
 #include "tilted_views.hpp"
 #include "lucas_kanade.hpp"
@@ -46,7 +47,21 @@ inline constexpr double kAwayMarginFraction = 0.25;  // of the image's larger si
 // A keyframe seen this much larger than it was taken is replaced by a new one (map extension),
 // and counts for less when choosing the keyframe to track against.
 inline constexpr double kMaxMagnification = 1.6;
-inline constexpr double kLooseFitPx = 0.75;  // inliers' rms past which the fit is a smeared template's
+inline constexpr double kLooseFitPx = 0.75;
+// A dense pose's error is at least this (standard deviations): on a sharp view the alignment is
+// 2 mm and 0.12 deg off (dense_alignment_test), however many pixels agree.
+inline constexpr double kDenseFloorPositionM = 0.0025;
+// Past this smear KLT on corners rarely gives a pose (docs/tracking.md: 13 % at 25-40 px): after a
+// dense pose with such a smear, the next frame aligns densely first.
+inline constexpr double kDenseFirstSmearPx = 25;
+// The dense alignment's turn over the exposure against the image's measured motion over the frame
+// interval: at most this share of it (an exposure is at most the interval, and the turn's speed
+// changes a little within it), about an axis within acos(this) of it.
+inline constexpr double kMaxExposureShare = 1.3;
+inline constexpr double kMinSmearAxisCosine = 0.8;
+// A LIMITED KLT pose with the template blurred this much or more is checked by the dense alignment.
+inline constexpr double kDenseCheckBlurPx = 10;
+inline constexpr double kDenseFloorRotationRad = 0.15 * 3.14159265358979323846 / 180;  // inliers' rms past which the fit is a smeared template's
 
 // cv::Mat::setTo allocates a scratch buffer on every call: this does not.
 void fill(cv::Mat& image, std::uint8_t value) noexcept;
@@ -54,6 +69,7 @@ void fill(cv::Mat& image, std::uint8_t value) noexcept;
 // What the map keeps per keyframe for the per-frame path, prepared once.
 struct KeyframeData {
   std::vector<cv::Mat> levels;  // grey image pyramid (level 0 views the map's bytes)
+  std::vector<cv::Mat> denseLevels;  // the same and coarser, down to 16 px: the dense alignment's
   cv::Matx33d planeToImage, imageToPlane;
   std::vector<cv::Point2f> corners;       // level-0 pixels
   std::vector<cv::Point2f> cornerPlane;   // (X, Z) metres
@@ -81,6 +97,10 @@ struct Measurement {
   std::array<double, 36> covariance{};
   double positionSigma = 0, rotationSigmaDeg = 0;
   bool haveCovariance = false;
+  bool dense = false;        // from the dense alignment: ncc over all the target's pixels
+  double inlierShare = 0;    // dense: the pixels within Huber's threshold
+  double visibleShare = 0;   // dense: the keyframe's area in view
+  double smearPx = 0;        // dense: the mean smear over the target, pixels
 };
 
 // A pose with its time and uncertainty: the history the motion model works from.
@@ -161,6 +181,12 @@ struct MarkerlessTracker::Impl {
   PlanarPoseSolver solver;
   MotionBlur blur;
   MotionBlurScratch blurScratch;
+  DenseAligner dense;
+  DenseAlignmentParams denseParams;
+  // The exposure's share of the frame interval, as the dense alignment last measured it.
+  double exposure = 0.5;
+  double denseExposure = 0.5;
+  double lastDenseSmearPx = 0;  // the last frame's pose was dense, under this smear  // the last dense alignment's choice, kept once its pose is accepted
   std::vector<cv::Point2f> levelPoints;
   std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage, inlierFrom, blurFrom, blurTo;
   std::vector<int> cornerIndex;
@@ -176,6 +202,9 @@ struct MarkerlessTracker::Impl {
     orb = cv::ORB::create(s.relocalizationFeatures, 1.2f, 6, 19, 0, 2, cv::ORB::FAST_SCORE, 19, 15);
     grey.configure(c);
     blurScratch.reserve(c.width, c.height);
+    denseParams.coarseLevel = std::min(denseParams.coarseLevel, s.pyramidLevels);
+    denseParams.fineLevel = std::min(denseParams.fineLevel, denseParams.coarseLevel);
+    dense.reserve(denseParams);
     // Sized once: the per-frame path allocates nothing (tracking_allocation_test).
     for (std::size_t i = 0; i < 2; ++i) {
       frameCopies[i].create(c.height, c.width, CV_8UC1);
@@ -207,6 +236,8 @@ struct MarkerlessTracker::Impl {
                      bool unique, PlanarPose& out, int& bestInliers);
   PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage);
   bool track(const PlanarPose& prediction, int keyframe, Measurement& out);
+  // The pose by the dense alignment of the keyframe from `prediction` (markerless_dense.cpp).
+  bool alignDense(const PlanarPose& prediction, int keyframe, Measurement& out);
   [[nodiscard]] Evidence evidenceOf(const Measurement& m) const noexcept;
   // The motion model: distance of `pose` from what the confirmed poses predict at `seconds`,
   // and what a hand-held camera could have done since (stats' motion fields). True within it.

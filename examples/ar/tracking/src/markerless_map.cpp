@@ -49,6 +49,12 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
     cv::pyrDown(d.levels.back(), down);
     d.levels.push_back(down);
   }
+  d.denseLevels = d.levels;
+  while (d.denseLevels.size() < 8 && d.denseLevels.back().cols >= 32 && d.denseLevels.back().rows >= 32) {
+    cv::Mat down;
+    cv::pyrDown(d.denseLevels.back(), down);
+    d.denseLevels.push_back(down);
+  }
   d.meanGrey = cv::mean(d.levels[0])[0];
   d.planeToImage = cv::Matx33d(k.planeToImage.data());
   d.imageToPlane = d.planeToImage.inv();

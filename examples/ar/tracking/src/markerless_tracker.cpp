@@ -53,6 +53,7 @@ void MarkerlessTracker::Impl::forgetAll() noexcept {
   confirmedCount = 0;
   haveAnchor = havePending = gaveLast = havePreviousFrame = havePreviousFramePose = haveLastImageMotion = previousFrameChained = false;
   blur = {};
+  lastDenseSmearPx = 0;
   filter.reset();
 }
 
@@ -81,9 +82,29 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   Measurement m;
   Verdict verdict = Verdict::Rejected;
   const bool havePrediction = predict(seconds, prediction);
+  // The dense alignment from `from`: taken when its verdict is not a rejection.
+  bool denseTried = false;
+  auto tryDense = [&](const PlanarPose& from) {
+    denseTried = true;
+    Measurement aligned;
+    if (!alignDense(from, stats.keyframe, aligned)) return false;
+    const Verdict v = judge(aligned, seconds, false);
+    if (v == Verdict::Rejected) return false;
+    m = aligned, verdict = v, exposure = denseExposure;
+    return true;
+  };
+  // A smear past what KLT on corners follows (the grid could not follow the image's motion, or
+  // the last frame's dense alignment measured one): the dense alignment goes first.
+  const bool smeared = settings.denseAlignment && (stats.imageShift || lastDenseSmearPx >= kDenseFirstSmearPx);
+  if (havePrediction && smeared && !stats.backgroundMotion) {
+    // The smear and the start from the image's own motion, measured: a smear extrapolated from
+    // the last poses' velocity left a dense pose 2.4 deg off on the stress sequences.
+    PlanarPose moved;
+    if (backgroundPrediction(prediction, moved)) prediction = moved, stats.backgroundMotion = true;
+  }
   if (havePrediction) {
     stats.keyframe = chooseKeyframe(prediction);
-    if (track(prediction, stats.keyframe, m)) verdict = judge(m, seconds, false);
+    if (!(smeared && tryDense(prediction)) && track(prediction, stats.keyframe, m)) verdict = judge(m, seconds, false);
   }
   // The constant-velocity prediction found nothing usable (a sudden turn, a smear hiding the
   // corners): try again from where the whole image's motion since the last frame puts the pose.
@@ -94,13 +115,26 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       stats.backgroundMotion = true;
       prediction = moved;
       stats.keyframe = chooseKeyframe(prediction);
+      denseTried = false;
       Measurement retried;
-      if (track(prediction, stats.keyframe, retried)) {
+      // Where the grid failed (the image's shift carried the pose), so would KLT: 2 of 35 such
+      // retries gave a pose on the stress sequences.
+      if ((!stats.imageShift || !settings.denseAlignment) && track(prediction, stats.keyframe, retried)) {
         const Verdict v = judge(retried, seconds, false);
         if (v != Verdict::Rejected) m = retried, verdict = v;
       }
     }
   }
+  // Still nothing: the dense alignment of the whole keyframe (a smear that KLT cannot follow).
+  if (havePrediction && verdict == Verdict::Rejected && settings.denseAlignment && !denseTried) (void)tryDense(prediction);
+  // A LIMITED pose of KLT under a smear (loose fits that a bare majority of corners support) is
+  // checked against all of the target's pixels: the dense pose replaces it where it passes.
+  if (verdict == Verdict::Limited && !m.dense && stats.blurPx >= kDenseCheckBlurPx && settings.denseAlignment) {
+    const Measurement klt = m;
+    const Verdict kltVerdict = verdict;
+    if (!tryDense(klt.pose)) m = klt, verdict = kltVerdict;
+  }
+  lastDenseSmearPx = m.dense && verdict != Verdict::Rejected ? m.smearPx : 0.0;
   const bool fromPending = havePending && (verdict == Verdict::Tracking || verdict == Verdict::Limited);
   // Relocalize when tracking found nothing, or had nothing to start from. A measurement that
   // failed only its gates while the anchor is recent saw the target: ORB on the same frame (a
@@ -260,11 +294,12 @@ std::string checkSettings(const MarkerlessSettings& s) {
   if (!(s.holdLimitedSeconds >= 0) || !std::isfinite(s.holdLimitedSeconds)) return "holdLimitedSeconds must be >= 0";
   for (const double v : {s.maxSpeed, s.maxAcceleration, s.maxAngularSpeedDeg, s.maxAngularAccelerationDeg,
                          s.maxDrawnErrorM, s.maxDrawnErrorDeg, s.maxTrackingErrorM, s.maxTrackingErrorDeg,
-                         s.minFeatureSigmaPx, s.effectiveFeatures})
+                         s.minFeatureSigmaPx, s.effectiveFeatures, s.denseCovarianceScale})
     if (!(v > 0) || !std::isfinite(v))
-      return "the motion model, drawn-error bounds, minFeatureSigmaPx and effectiveFeatures must be positive";
+      return "the motion model, drawn-error bounds, minFeatureSigmaPx, effectiveFeatures and denseCovarianceScale must be "
+             "positive";
   for (const double v : {s.maxDrawnErrorFraction, s.maxTrackingErrorFraction, s.minTrackingSpread, s.minLimitedSpread,
-                         s.minTrackingNcc, s.minLimitedNcc})
+                         s.minTrackingNcc, s.minLimitedNcc, s.minDenseZncc, s.minDenseInlierShare, s.minDenseVisibleShare})
     if (!(v >= 0) || !std::isfinite(v)) return "the error fractions, spreads and NCC thresholds must be >= 0";
   return {};
 }

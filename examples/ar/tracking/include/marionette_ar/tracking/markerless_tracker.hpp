@@ -80,6 +80,16 @@ struct MarkerlessSettings {
   double effectiveFeatures = 40.0;
   // Predict from the frame-to-frame motion of the whole image (false: constant velocity alone).
   bool backgroundMotion = true;
+  // Where KLT on corners gives no pose, align the whole keyframe, blurred along the image's
+  // motion, to the frame (dense_alignment.hpp): what follows a smear of 25-60 px. Such a pose is
+  // LIMITED at best, and needs the model to explain the frame this well (ZNCC over the
+  // target's pixels) with this share of them within Huber's threshold, and this share of the
+  // keyframe in view (a sliver at the image's edge fits poses 4 deg apart alike).
+  bool denseAlignment = true;
+  double minDenseZncc = 0.8, minDenseInlierShare = 0.6, minDenseVisibleShare = 0.3;
+  // Neighbouring pixels' errors are correlated beyond the smear's length: the covariance of a
+  // dense pose is multiplied by this (calibrated on the stress sequences: docs/tracking.md).
+  double denseCovarianceScale = 0.5;
 };
 
 class MarkerlessTracker final : public Tracker {
@@ -125,6 +135,7 @@ class MarkerlessTracker final : public Tracker {
     bool extrapolated = false;     // the pose given is the motion model's, not measured
     bool backgroundMotion = false;  // the prediction used the frame-to-frame motion of the image
     bool imageShift = false;        // that motion came from the whole image's shift (a smear defeated the grid)
+    bool dense = false;             // the pose judged last came from the dense alignment (KLT gave none)
     int keyframe = -1;             // the keyframe tracked against
     int corners = 0, inliers = 0;  // KLT points tried, inliers of the pose
     double rmsPx = 0;

@@ -1,0 +1,479 @@
+#include "dense_alignment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "perspective_warp.hpp"
+#include "planar_pose.hpp"
+
+namespace marionette::ar {
+
+namespace {
+
+// Bilinear sample of a grey level and its gradient (the bilinear patch's, from the same four
+// pixels); the caller keeps (u, v) within [0, w - 2] x [0, h - 2].
+inline float bilinear(const GreyLevel& g, float u, float v, float& du, float& dv) noexcept {
+  const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
+  const float fx = u - static_cast<float>(x0), fy = v - static_cast<float>(y0);
+  const std::uint8_t* r0 = g.row(y0) + x0;
+  const std::uint8_t* r1 = r0 + g.stride;
+  const float a = r0[0], b = r0[1], c = r1[0], d = r1[1];
+  du = (1 - fy) * (b - a) + fy * (d - c);
+  dv = (1 - fx) * (c - a) + fx * (d - b);
+  return (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * c + fx * d);
+}
+
+GreyLevel viewOf(const cv::Mat& m) noexcept {
+  return GreyLevel{m.ptr<std::uint8_t>(0), m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step)};
+}
+
+// Level pixel (centre convention) <-> level-0 pixel: x_l = (x_0 + 0.5) s - 0.5.
+cv::Matx33d baseToLevel(int level) noexcept {
+  const double s = 1.0 / (1 << level);
+  return {s, 0, 0.5 * s - 0.5, 0, s, 0.5 * s - 0.5, 0, 0, 1};
+}
+
+// The pose moved by a step (rotation w, then translation v, both in the camera's axes).
+PlanarPose applyStep(const PlanarPose& pose, const cv::Vec<double, 6>& step) noexcept {
+  const cv::Matx33d dr = rotationFromRodrigues(cv::Vec3d(step[0], step[1], step[2]));
+  const cv::Matx33d r = dr * rotationFromRodrigues(pose.rvec);
+  PlanarPose out;
+  out.rvec = rodriguesFromRotation(r);
+  out.tvec = dr * pose.tvec + cv::Vec3d(step[3], step[4], step[5]);
+  return out;
+}
+
+double huberLoss(double r, double threshold) noexcept {
+  const double a = std::abs(r);
+  return a <= threshold ? 0.5 * r * r : threshold * (a - 0.5 * threshold);
+}
+
+}  // namespace
+
+struct DenseAligner::Level {
+  int index = 0;
+  cv::Matx33d k;              // intrinsics at the level
+  GreyLevel frame;
+  int keyframeLevel = 0;
+  cv::Matx33d planeToKeyframe;  // plane -> keyframe-level pixel
+  GreyLevel keyframe;
+  int count = 0;              // samples
+  double stride = 1;
+  double area = 0;            // of the keyframe's projection, level pixels
+};
+
+void DenseAligner::reserve(const DenseAlignmentParams& params) {
+  capacity_ = static_cast<std::size_t>(std::max(16, params.maxSamples)) * 2;
+  samples_.resize(capacity_);
+  scratch_.resize(capacity_);
+}
+
+bool DenseAligner::prepareLevel(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
+                                const PlanarPose& pose, int level, const DenseAlignmentParams& params,
+                                Level& out) noexcept {
+  if (level < 0 || level > frame.levels() || target.levels.empty() || capacity_ == 0) return false;
+  out.index = level;
+  const double s = 1.0 / (1 << level);
+  out.k = cv::Matx33d(K(0, 0) * s, 0, (K(0, 2) + 0.5) * s - 0.5, 0, K(1, 1) * s, (K(1, 2) + 0.5) * s - 0.5, 0, 0, 1);
+  out.frame = frame.level(level);
+  if (out.frame.width < 16 || out.frame.height < 16) return false;
+  const cv::Matx33d g = planeToImage(out.k, pose);
+  cv::Matx33d imageToPlane;
+  if (!invertHomography(target.planeToImage, imageToPlane)) return false;
+  // The keyframe's corners in the frame level: the box the samples cover.
+  const cv::Mat& base = target.levels[0];
+  const double cw = base.cols - 1.0, ch = base.rows - 1.0;
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  std::array<cv::Point2d, 4> quad;
+  const cv::Vec3d corners[4] = {cv::Vec3d(0, 0, 1), cv::Vec3d(cw, 0, 1), cv::Vec3d(cw, ch, 1), cv::Vec3d(0, ch, 1)};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const cv::Vec3d h = g * (imageToPlane * corners[i]);
+    if (!(h[2] > 1e-9)) return false;  // the target crosses the camera's plane
+    quad[i] = cv::Point2d(h[0] / h[2], h[1] / h[2]);
+    x0 = std::min(x0, quad[i].x), x1 = std::max(x1, quad[i].x);
+    y0 = std::min(y0, quad[i].y), y1 = std::max(y1, quad[i].y);
+  }
+  // The keyframe's whole area in the level (shoelace), in or out of view.
+  out.area = 0;
+  for (std::size_t i = 0; i < 4; ++i) out.area += quad[i].x * quad[(i + 1) % 4].y - quad[(i + 1) % 4].x * quad[i].y;
+  out.area = 0.5 * std::abs(out.area);
+  x0 = std::max(x0, 1.0), y0 = std::max(y0, 1.0);
+  x1 = std::min(x1, out.frame.width - 2.0), y1 = std::min(y1, out.frame.height - 2.0);
+  if (!(x1 - x0 >= 4) || !(y1 - y0 >= 4)) return false;
+  // The keyframe level whose pixels are about the frame level's (no aliasing, no waste).
+  cv::Matx33d frameToPlane;
+  if (!invertHomography(g, frameToPlane)) return false;
+  const cv::Matx33d frameToKeyframe0 = target.planeToImage * frameToPlane;
+  const double scale = homographyScaleAt(frameToKeyframe0, cv::Point2f(static_cast<float>(0.5 * (x0 + x1)),
+                                                                       static_cast<float>(0.5 * (y0 + y1))));
+  if (!std::isfinite(scale) || !(scale > 0)) return false;
+  int kl = 0;
+  while (kl + 1 < static_cast<int>(target.levels.size()) && scale / (1 << kl) > 1.5) ++kl;
+  out.keyframeLevel = kl;
+  out.planeToKeyframe = baseToLevel(kl) * target.planeToImage;
+  out.keyframe = viewOf(target.levels[static_cast<std::size_t>(kl)]);
+  // Samples on a grid, as many as params.maxSamples allows.
+  const double area = (x1 - x0 + 1) * (y1 - y0 + 1);
+  const std::size_t most = std::min(capacity_, static_cast<std::size_t>(std::max(16, params.maxSamples)));
+  out.stride = std::max(1.0, std::ceil(std::sqrt(area / static_cast<double>(most))));
+  const double fx = out.k(0, 0), fy = out.k(1, 1), cx = out.k(0, 2), cy = out.k(1, 2);
+  const cv::Matx33d r = rotationFromRodrigues(pose.rvec);
+  const cv::Vec3d normal(r(0, 1), r(1, 1), r(2, 1));  // the plane's normal (world Y) in camera axes
+  const double offset = normal.dot(pose.tvec);
+  out.count = 0;
+  for (double y = y0; y <= y1 && static_cast<std::size_t>(out.count) < capacity_; y += out.stride)
+    for (double x = x0; x <= x1 && static_cast<std::size_t>(out.count) < capacity_; x += out.stride) {
+      Sample& sm = samples_[static_cast<std::size_t>(out.count)];
+      const int xi = static_cast<int>(std::lround(x)), yi = static_cast<int>(std::lround(y));
+      sm.x = static_cast<float>(xi);
+      sm.y = static_cast<float>(yi);
+      sm.frame = out.frame.row(yi)[xi];
+      // The plane point seen here, at depth Z: a turn w moves its pixel by
+      // fx (-x y, 1 + x^2, -y) w, fy (-(1 + y^2), x y, x) w (normalized x, y), a move v by
+      // fx (1, 0, -x) v / Z, fy (0, 1, -y) v / Z.
+      const double nx = (xi - cx) / fx, ny = (yi - cy) / fy;
+      const double along = normal.dot(cv::Vec3d(nx, ny, 1));
+      if (!(std::abs(along) > 1e-12)) continue;
+      const double z = offset / along;
+      if (!(z > 1e-6)) continue;
+      sm.motion = {static_cast<float>(-fx * nx * ny), static_cast<float>(fx * (1 + nx * nx)), static_cast<float>(-fx * ny),
+                   static_cast<float>(fx / z), 0.0f, static_cast<float>(-fx * nx / z),
+                   static_cast<float>(-fy * (1 + ny * ny)), static_cast<float>(fy * nx * ny), static_cast<float>(fy * nx),
+                   0.0f, static_cast<float>(fy / z), static_cast<float>(-fy * ny / z)};
+      ++out.count;
+    }
+  return out.count >= 16;
+}
+
+int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::Vec<double, 6>& smear, int maxTaps) noexcept {
+  cv::Matx33d frameToPlane;
+  if (!invertHomography(planeToImage(level.k, pose), frameToPlane)) return 0;
+  const cv::Matx33d a = level.planeToKeyframe * frameToPlane;  // frame-level pixel -> keyframe-level pixel
+  const GreyLevel& t = level.keyframe;
+  const float umax = static_cast<float>(t.width - 3), vmax = static_cast<float>(t.height - 3);
+  int valid = 0;
+  float w[6];
+  for (int i = 0; i < 6; ++i) w[i] = static_cast<float>(smear[i]);
+  for (int i = 0; i < level.count; ++i) {
+    Sample& sm = samples_[static_cast<std::size_t>(i)];
+    sm.valid = false;
+    sm.dx = sm.dy = 0;
+    for (std::size_t k = 0; k < 6; ++k) sm.dx += sm.motion[k] * w[k], sm.dy += sm.motion[6 + k] * w[k];
+    const double length = std::hypot(sm.dx, sm.dy);
+    const int taps = length < 0.5 ? 1 : std::clamp(static_cast<int>(std::ceil(length)) + 1, 2, std::max(2, maxTaps));
+    float sum = 0, gu = 0, gv = 0, mu = 0, mv = 0;
+    bool inside = true;
+    for (int k = 0; k < taps && inside; ++k) {
+      const double c = (k + 0.5) / taps - 0.5;
+      const double x = sm.x + c * sm.dx, y = sm.y + c * sm.dy;
+      const double hz = a(2, 0) * x + a(2, 1) * y + a(2, 2);
+      if (!(hz > 1e-12)) {
+        inside = false;
+        break;
+      }
+      const auto u = static_cast<float>((a(0, 0) * x + a(0, 1) * y + a(0, 2)) / hz);
+      const auto v = static_cast<float>((a(1, 0) * x + a(1, 1) * y + a(1, 2)) / hz);
+      if (!(u >= 1.0f && v >= 1.0f && u <= umax && v <= vmax)) {
+        inside = false;
+        break;
+      }
+      float du = 0, dv = 0;
+      sum += bilinear(t, u, v, du, dv);
+      gu += du, gv += dv;
+      mu += static_cast<float>(c) * du, mv += static_cast<float>(c) * dv;
+    }
+    if (!inside) continue;
+    const float inv = 1.0f / static_cast<float>(taps);
+    sm.model = sum * inv;
+    gu *= inv, gv *= inv, mu *= inv, mv *= inv;
+    // Through the mapping's Jacobian at the pixel: the gradient per frame-level pixel.
+    const double hx = a(0, 0) * sm.x + a(0, 1) * sm.y + a(0, 2), hy = a(1, 0) * sm.x + a(1, 1) * sm.y + a(1, 2);
+    const double hz = a(2, 0) * sm.x + a(2, 1) * sm.y + a(2, 2);
+    const double u = hx / hz, v = hy / hz;
+    const double dudx = (a(0, 0) - u * a(2, 0)) / hz, dudy = (a(0, 1) - u * a(2, 1)) / hz;
+    const double dvdx = (a(1, 0) - v * a(2, 0)) / hz, dvdy = (a(1, 1) - v * a(2, 1)) / hz;
+    sm.gx = static_cast<float>(gu * dudx + gv * dvdx);
+    sm.gy = static_cast<float>(gu * dudy + gv * dvdy);
+    sm.mx = static_cast<float>(mu * dudx + mv * dvdx);
+    sm.my = static_cast<float>(mu * dudy + mv * dvdy);
+    sm.valid = true;
+    ++valid;
+  }
+  return valid;
+}
+
+bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose) noexcept {
+  if (radius <= 0) return true;
+  const GreyLevel& f = level.frame;
+  double best = -2, cx = 0, cy = 0;
+  int bestX = 0, bestY = 0, n = 0;
+  for (int i = 0; i < level.count; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.valid) cx += s.x, cy += s.y, ++n;
+  }
+  if (n < 16) return false;
+  cx /= n, cy /= n;
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) {
+      double sm = 0, sf = 0, smm = 0, sff = 0, smf = 0;
+      int m = 0;
+      for (int i = 0; i < level.count; ++i) {
+        const Sample& s = samples_[static_cast<std::size_t>(i)];
+        if (!s.valid) continue;
+        const int x = static_cast<int>(s.x) + dx, y = static_cast<int>(s.y) + dy;
+        if (x < 0 || y < 0 || x >= f.width || y >= f.height) continue;
+        const double v = f.row(y)[x];
+        sm += s.model, sf += v, smm += double(s.model) * s.model, sff += v * v, smf += s.model * v;
+        ++m;
+      }
+      if (4 * m < 3 * n) continue;  // most of the target must stay in the frame
+      const double vm = smm - sm * sm / m, vf = sff - sf * sf / m;
+      if (!(vm > 1e-3 * m) || !(vf > 1e-3 * m)) continue;
+      const double score = (smf - sm * sf / m) / std::sqrt(vm * vf);
+      // Ties go to the smaller shift (the start's).
+      if (score > best + 1e-9 || (std::abs(score - best) <= 1e-9 && dx * dx + dy * dy < bestX * bestX + bestY * bestY))
+        best = score, bestX = dx, bestY = dy;
+    }
+  if (!(best > 0.3)) return false;
+  if (bestX == 0 && bestY == 0) return true;
+  // The turn about the camera's centre that moves the samples' centre by the shift.
+  const cv::Matx33d kInverse = level.k.inv();
+  const cv::Vec3d a = cv::normalize(kInverse * cv::Vec3d(cx, cy, 1));
+  const cv::Vec3d b = cv::normalize(kInverse * cv::Vec3d(cx + bestX, cy + bestY, 1));
+  const cv::Vec3d axis = a.cross(b);
+  const double angle = std::atan2(cv::norm(axis), a.dot(b));
+  if (!(cv::norm(axis) > 1e-12)) return true;
+  const cv::Matx33d turn = rotationFromRodrigues(axis * (angle / cv::norm(axis)));
+  pose.rvec = rodriguesFromRotation(turn * rotationFromRodrigues(pose.rvec));
+  pose.tvec = turn * pose.tvec;
+  return true;
+}
+
+namespace {
+
+// The fit of the frame by gain * model + bias over the valid samples, the residuals' robust
+// standard deviation, and the Huber cost at `sigmaForCost` (or at the new sigma when 0).
+struct Fit {
+  double gain = 1, bias = 0, sigma = 0, cost = 0, zncc = 0;
+  int valid = 0;
+};
+
+}  // namespace
+
+bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
+                         const cv::Vec3d& smearTurn, const PlanarPose& start, const DenseAlignmentParams& params,
+                         DenseAlignment& out) noexcept {
+  if (capacity_ == 0 || params.fineLevel < 0 || params.coarseLevel < params.fineLevel) return false;
+  constexpr int kAll = 12;
+  using Vec9 = cv::Vec<double, kAll>;
+  using Mat9 = cv::Matx<double, kAll, kAll>;
+  PlanarPose pose = start;
+  const double startTurn = cv::norm(smearTurn);
+  const double turnScale = startTurn > params.maxSmearTurn ? params.maxSmearTurn / startTurn : 1.0;
+  cv::Vec<double, 6> turn(smearTurn[0] * turnScale, smearTurn[1] * turnScale, smearTurn[2] * turnScale, 0, 0, 0);
+  bool searched = false;
+  // A sharp start stays sharp: the model's derivative along a smear of zero is zero.
+  const int parameters = cv::norm(smearTurn) > 0 ? kAll : 6;
+
+  auto fitOf = [&](const Level& lv, double sigmaForCost, Fit& f) {
+    double sm = 0, sf = 0, smm = 0, smf = 0, sff = 0;
+    int n = 0;
+    for (int i = 0; i < lv.count; ++i) {
+      const Sample& s = samples_[static_cast<std::size_t>(i)];
+      if (!s.valid) continue;
+      sm += s.model, sf += s.frame, smm += double(s.model) * s.model, smf += double(s.model) * s.frame;
+      sff += double(s.frame) * s.frame;
+      ++n;
+    }
+    f.valid = n;
+    if (n < 16) return false;
+    const double vm = smm - sm * sm / n, vf = sff - sf * sf / n, c = smf - sm * sf / n;
+    if (!(vm > 1e-3 * n) || !(vf > 1e-3 * n)) return false;  // a flat model or frame
+    f.gain = c / vm;
+    f.bias = (sf - f.gain * sm) / n;
+    f.zncc = c / std::sqrt(vm * vf);
+    std::size_t m = 0;
+    for (int i = 0; i < lv.count; ++i) {
+      const Sample& s = samples_[static_cast<std::size_t>(i)];
+      if (s.valid) scratch_[m++] = static_cast<float>(std::abs(s.frame - f.gain * s.model - f.bias));
+    }
+    std::nth_element(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(m / 2),
+                     scratch_.begin() + static_cast<std::ptrdiff_t>(m));
+    f.sigma = std::max(0.5, 1.4826 * scratch_[m / 2]);
+    const double threshold = params.huber * (sigmaForCost > 0 ? sigmaForCost : f.sigma);
+    double cost = 0;
+    for (int i = 0; i < lv.count; ++i) {
+      const Sample& s = samples_[static_cast<std::size_t>(i)];
+      if (s.valid) cost += huberLoss(s.frame - f.gain * s.model - f.bias, threshold);
+    }
+    f.cost = cost / n;
+    return f.gain > 0;
+  };
+
+  // The normal equations at the rendered pose. The residual r = frame - gain model - bias; a
+  // pose step moves a plane point's pixel by J_pix step, so the model by -gradient . that; a
+  // change of the turn moves a tap at offset c along the smear by c J_turn change.
+  auto normalEquations = [&](const Level& lv, const PlanarPose& p, const Fit& f, Mat9& h, Vec9& b, int& inliers) {
+    h = Mat9::zeros();
+    b = Vec9::all(0);
+    inliers = 0;
+    const cv::Matx33d r = rotationFromRodrigues(p.rvec);
+    const cv::Vec3d n(r(0, 1), r(1, 1), r(2, 1));  // the plane's normal (world Y) in camera axes
+    const double d = n.dot(p.tvec);
+    const double fx = lv.k(0, 0), fy = lv.k(1, 1), cx = lv.k(0, 2), cy = lv.k(1, 2);
+    const double threshold = params.huber * f.sigma;
+    for (int i = 0; i < lv.count; ++i) {
+      const Sample& s = samples_[static_cast<std::size_t>(i)];
+      if (!s.valid) continue;
+      const cv::Vec3d ray((s.x - cx) / fx, (s.y - cy) / fy, 1.0);
+      const double along = n.dot(ray);
+      if (!(std::abs(along) > 1e-12)) continue;
+      const double lambda = d / along;
+      const double X = lambda * ray[0], Y = lambda * ray[1], Z = lambda;
+      if (!(Z > 1e-6)) continue;
+      // d(pixel)/d(X_c), then d(X_c)/d(w, v) = [-[X]x | I].
+      const double iz = 1 / Z;
+      const double ux = fx * iz, uz = -fx * X * iz * iz, vy = fy * iz, vz = -fy * Y * iz * iz;
+      const double gx = f.gain * s.gx, gy = f.gain * s.gy;
+      const double ex = gx * ux, ey = gy * vy, ez = gx * uz + gy * vz;
+      Vec9 j = Vec9::all(0);
+      j[0] = -ey * Z + ez * Y, j[1] = ex * Z - ez * X, j[2] = -ex * Y + ey * X, j[3] = ex, j[4] = ey, j[5] = ez;
+      if (parameters == kAll) {
+        const double mx = -f.gain * s.mx, my = -f.gain * s.my;
+        for (std::size_t a = 0; a < 6; ++a) j[static_cast<int>(6 + a)] = mx * s.motion[a] + my * s.motion[6 + a];
+      }
+      const double res = s.frame - f.gain * s.model - f.bias;
+      const double w = std::abs(res) <= threshold ? 1.0 : threshold / std::abs(res);
+      if (std::abs(res) <= threshold) ++inliers;
+      for (int a = 0; a < parameters; ++a) {
+        b[a] += w * j[a] * res;
+        for (int c = a; c < parameters; ++c) h(a, c) += w * j[a] * j[c];
+      }
+    }
+    for (int a = 0; a < kAll; ++a)
+      for (int c = 0; c < a; ++c) h(a, c) = h(c, a);
+    // Unused parameters: an identity block, so that the system stays solvable.
+    for (int a = parameters; a < kAll; ++a) h(a, a) = 1;
+  };
+
+  Level lv;
+  Fit fit;
+  Mat9 h;
+  Vec9 b;
+  int inliers = 0;
+  for (int level = params.coarseLevel; level >= params.fineLevel; --level) {
+    if (level > frame.levels()) continue;
+    if (!prepareLevel(K, target, frame, pose, level, params, lv)) {
+      if (level == params.fineLevel) return false;
+      continue;
+    }
+    if (render(lv, pose, turn, params.maxTaps) < 16) return false;
+    if (!searched) {  // the first level that shows the target
+      searched = true;
+      if (!searchShift(lv, params.searchRadius, pose)) return false;
+      if (render(lv, pose, turn, params.maxTaps) < 16) return false;
+    }
+    if (!fitOf(lv, 0, fit)) return false;
+    double mu = 1e-3;
+    for (int it = 0; it < params.iterations; ++it) {
+      normalEquations(lv, pose, fit, h, b, inliers);
+      bool accepted = false;
+      Vec9 step;
+      for (int attempt = 0; attempt < 4 && !accepted; ++attempt) {
+        Mat9 damped = h;
+        for (int a = 0; a < parameters; ++a) damped(a, a) += mu * std::max(h(a, a), 1e-12);
+        bool solved = false;
+        const Mat9 dampedInverse = damped.inv(cv::DECOMP_CHOLESKY, &solved);
+        if (!solved) {
+          mu *= 10;
+          continue;
+        }
+        // The residual grows with the model's drop: r(step) = r + J step, so the step is -H^-1 b.
+        step = -(dampedInverse * b);
+        const PlanarPose candidate = applyStep(pose, cv::Vec<double, 6>(step.val));
+        const cv::Vec<double, 6> candidateTurn = turn + cv::Vec<double, 6>(step.val + 6);
+        Fit trial;
+        if (cv::norm(cv::Vec3d(candidateTurn[0], candidateTurn[1], candidateTurn[2])) <= params.maxSmearTurn &&
+            render(lv, candidate, candidateTurn, params.maxTaps) >= 16 && fitOf(lv, fit.sigma, trial) &&
+            trial.cost < fit.cost) {
+          pose = candidate;
+          turn = candidateTurn;
+          mu = std::max(mu * 0.1, 1e-7);
+          (void)fitOf(lv, 0, fit);  // the weights follow the new residuals
+          accepted = true;
+        } else {
+          mu *= 10;
+        }
+      }
+      if (!accepted) {
+        // The samples hold the last rejected candidate: render the pose again.
+        if (render(lv, pose, turn, params.maxTaps) < 16 || !fitOf(lv, 0, fit)) return false;
+        break;
+      }
+      const double rotation = std::sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]);
+      const double translation = std::sqrt(step[3] * step[3] + step[4] * step[4] + step[5] * step[5]);
+      if (rotation < 2e-5 && translation < 2e-5 * cv::norm(pose.tvec)) break;
+    }
+  }
+  if (lv.count == 0 || fit.valid < 16) return false;
+  // The evidence and the covariance at the final pose (the samples hold its render).
+  normalEquations(lv, pose, fit, h, b, inliers);
+  bool invertible = false;
+  const Mat9 hInverse = h.inv(cv::DECOMP_CHOLESKY, &invertible);
+  if (!invertible) return false;
+  double smearSum = 0;
+  for (int i = 0; i < lv.count; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.valid) smearSum += std::hypot(s.dx, s.dy);
+  }
+  const double meanSmear = smearSum / fit.valid;
+  // Neighbouring samples see much the same pixels: along the smear over its length, across it
+  // over the pyramid's smoothing (about 2 level pixels).
+  const double along = std::max(1.0, (meanSmear + 1.0) / lv.stride);
+  const double across = std::max(1.0, 2.0 / lv.stride);
+  const double scale = fit.sigma * fit.sigma * along * across;
+  const cv::Matx33d r = rotationFromRodrigues(pose.rvec);
+  const cv::Matx33d rt = r.t();
+  // The pose block of the inverse (the turn marginalized), in world axes: the orientation error
+  // is R^T w, the camera centre's -R^T v (first order).
+  for (int bi = 0; bi < 2; ++bi)
+    for (int bj = 0; bj < 2; ++bj) {
+      cv::Matx33d block;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) block(i, j) = hInverse(bi * 3 + i, bj * 3 + j) * scale;
+      const cv::Matx33d world = rt * block * r;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out.covariance[static_cast<std::size_t>((bi * 3 + i) * 6 + bj * 3 + j)] = world(i, j);
+    }
+  out.pose = pose;
+  out.smearTurn = cv::Vec3d(turn[0], turn[1], turn[2]);
+  out.smearMove = cv::Vec3d(turn[3], turn[4], turn[5]);
+  out.zncc = fit.zncc;
+  out.sigma = fit.sigma;
+  out.gain = fit.gain;
+  out.bias = fit.bias;
+  out.samples = fit.valid;
+  out.visibleShare = std::min(1.0, fit.valid * lv.stride * lv.stride / std::max(lv.area, 1.0));
+  out.inlierShare = static_cast<double>(inliers) / fit.valid;
+  out.smearPx = meanSmear * (1 << lv.index);
+  const auto& c = out.covariance;
+  out.rotationSigmaDeg = std::sqrt(c[0] + c[7] + c[14]) * 180.0 / 3.14159265358979323846;
+  out.positionSigma = std::sqrt(c[21] + c[28] + c[35]);
+  for (const double v : c)
+    if (!std::isfinite(v)) return false;
+  return std::isfinite(pose.rvec[0] + pose.rvec[1] + pose.rvec[2] + pose.tvec[0] + pose.tvec[1] + pose.tvec[2] +
+                       cv::norm(turn));
+}
+
+cv::Vec3d smearTurnFromMotion(const cv::Matx33d& K, const cv::Matx33d& imageMotion, double exposure) noexcept {
+  const cv::Matx33d m = K.inv() * imageMotion * K;
+  const double det = cv::determinant(m);
+  if (!std::isfinite(det) || !(std::abs(det) > 1e-12)) return {0, 0, 0};
+  // Scaled to unit determinant, then the nearest rotation.
+  const cv::Vec3d w = rodriguesFromRotation(nearestRotation(m * (1.0 / std::cbrt(det))));
+  return std::isfinite(w[0] + w[1] + w[2]) ? w * exposure : cv::Vec3d(0, 0, 0);
+}
+
+}  // namespace marionette::ar

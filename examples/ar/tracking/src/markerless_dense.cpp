@@ -1,0 +1,77 @@
+#include "markerless_impl.hpp"
+
+// Measuring a pose where KLT on corners gave none: the whole keyframe, blurred along the image's
+// motion since the last frame, aligned to the frame (dense_alignment.hpp).
+
+namespace marionette::ar {
+
+bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out) {
+  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  // The image's motion over the last frame interval: measured this frame, else the one the
+  // last frame's pose and the prediction imply for the plane (the smear is the plane's).
+  cv::Matx33d motion = cv::Matx33d::eye();
+  bool haveMotion = imageMotionFound && haveLastImageMotion;
+  if (haveMotion) {
+    motion = lastImageMotion;
+  } else if (havePreviousFramePose) {
+    cv::Matx33d previousInverse;
+    haveMotion = invertHomography(planeToImage(K, previousFramePose), previousInverse);
+    if (haveMotion) motion = planeToImage(K, prediction) * previousInverse;
+  }
+  const cv::Vec3d frameTurn = haveMotion ? smearTurnFromMotion(K, motion, 1.0) : cv::Vec3d(0, 0, 0);
+  DenseAlignment result;
+  const DenseTarget target{kf.denseLevels, kf.planeToImage};
+  // The turn over the exposure is at most the interval's as measured (kMaxExposureShare of it,
+  // and a pixel's worth): otherwise a hand crossing a still target is explained as a smear of
+  // everything.
+  DenseAlignmentParams params = denseParams;
+  if (imageMotionFound && haveMotion)
+    params.maxSmearTurn = std::min(params.maxSmearTurn, kMaxExposureShare * cv::norm(frameTurn) + 1.0 / K(0, 0));
+  if (!dense.align(K, target, framePyramid(), frameTurn * exposure, prediction, params, result)) return false;
+  const glm::dvec3 c = cameraPosition(result.pose);
+  if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;
+  // The exposure the frame's blur shows (its turn against the frame interval's), where the turn
+  // is long enough to tell: cameras keep an exposure for many frames, the next smeared frame
+  // starts from it.
+  denseExposure = exposure;
+  const double frameAngle = cv::norm(frameTurn);
+  if (frameAngle * K(0, 0) >= 8) {
+    // The turn the blur shows must be about the axis of the image's measured one (either sense:
+    // a smear has no direction); otherwise the alignment explained the blur by another pose.
+    const double turnAngle = cv::norm(result.smearTurn);
+    const double ratio = turnAngle / frameAngle;
+    if (imageMotionFound && std::abs(result.smearTurn.dot(frameTurn)) < kMinSmearAxisCosine * turnAngle * frameAngle)
+      return false;
+    denseExposure = std::clamp(ratio, 0.1, 1.0);
+  }
+  out = Measurement{};
+  out.pose = result.pose;
+  out.dense = true;
+  out.ncc = result.zncc;
+  out.inlierShare = result.inlierShare;
+  out.visibleShare = result.visibleShare;
+  out.smearPx = result.smearPx;
+  out.rms = result.sigma;
+  // As counts (the per-frame logs show them as inliers/tried): the samples within Huber's
+  // threshold of the samples.
+  out.tried = result.samples;
+  out.inliers = static_cast<int>(std::lround(result.inlierShare * result.samples));
+  out.spread = 1;
+  for (std::size_t i = 0; i < 36; ++i) out.covariance[i] = result.covariance[i] * settings.denseCovarianceScale;
+  // The model's own error (line smears of a turn, no camera translation over the exposure, the
+  // pyramid's smoothing): a floor under the pixels' statistics.
+  for (int i = 0; i < 3; ++i) {
+    out.covariance[static_cast<std::size_t>(i * 7)] += kDenseFloorRotationRad * kDenseFloorRotationRad / 3;
+    out.covariance[static_cast<std::size_t>(21 + i * 7)] += kDenseFloorPositionM * kDenseFloorPositionM / 3;
+  }
+  // Against a keyframe other than the reference, its own error adds as in track().
+  for (std::size_t i = 0; i < 36; ++i) out.covariance[i] += kf.covariance[i];
+  out.positionSigma = std::sqrt(out.covariance[21] + out.covariance[28] + out.covariance[35]);
+  out.rotationSigmaDeg = std::sqrt(out.covariance[0] + out.covariance[7] + out.covariance[14]) * kDegrees;
+  out.haveCovariance = std::isfinite(out.positionSigma) && std::isfinite(out.rotationSigmaDeg);
+  stats.dense = true;
+  stats.blurPx = result.smearPx;
+  return out.haveCovariance;
+}
+
+}  // namespace marionette::ar
