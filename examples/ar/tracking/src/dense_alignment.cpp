@@ -162,36 +162,44 @@ int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::V
     sm.dx = sm.dy = 0;
     for (std::size_t k = 0; k < 6; ++k) sm.dx += sm.motion[k] * w[k], sm.dy += sm.motion[6 + k] * w[k];
     const double length = std::hypot(sm.dx, sm.dy);
-    const int taps = length < 0.5 ? 1 : std::clamp(static_cast<int>(std::ceil(length)) + 1, 2, std::max(2, maxTaps));
+    // A tap every 1.5 px of the level: the keyframe's level is about as sharp as the frame's,
+    // and the line's box filter smooths more than that spacing loses.
+    const int taps = length < 0.5 ? 1 : std::clamp(static_cast<int>(std::ceil(length / 1.5)) + 1, 2, std::max(2, maxTaps));
     float sum = 0, gu = 0, gv = 0, mu = 0, mv = 0;
     bool inside = true;
-    for (int k = 0; k < taps && inside; ++k) {
-      const double c = (k + 0.5) / taps - 0.5;
-      const double x = sm.x + c * sm.dx, y = sm.y + c * sm.dy;
-      const double hz = a(2, 0) * x + a(2, 1) * y + a(2, 2);
-      if (!(hz > 1e-12)) {
+    // The taps lie on a line, so their homogeneous images do too: the first tap's, then a
+    // constant step (one division a tap).
+    const double step = 1.0 / taps;
+    const double x0 = sm.x + (0.5 * step - 0.5) * sm.dx, y0 = sm.y + (0.5 * step - 0.5) * sm.dy;
+    double hx = a(0, 0) * x0 + a(0, 1) * y0 + a(0, 2), hy = a(1, 0) * x0 + a(1, 1) * y0 + a(1, 2);
+    double hw = a(2, 0) * x0 + a(2, 1) * y0 + a(2, 2);
+    const double sx = step * sm.dx, sy = step * sm.dy;
+    const double dhx = a(0, 0) * sx + a(0, 1) * sy, dhy = a(1, 0) * sx + a(1, 1) * sy, dhw = a(2, 0) * sx + a(2, 1) * sy;
+    for (int k = 0; k < taps; ++k, hx += dhx, hy += dhy, hw += dhw) {
+      if (!(hw > 1e-12)) {
         inside = false;
         break;
       }
-      const auto u = static_cast<float>((a(0, 0) * x + a(0, 1) * y + a(0, 2)) / hz);
-      const auto v = static_cast<float>((a(1, 0) * x + a(1, 1) * y + a(1, 2)) / hz);
+      const double iw = 1.0 / hw;
+      const auto u = static_cast<float>(hx * iw), v = static_cast<float>(hy * iw);
       if (!(u >= 1.0f && v >= 1.0f && u <= umax && v <= vmax)) {
         inside = false;
         break;
       }
       float du = 0, dv = 0;
       sum += bilinear(t, u, v, du, dv);
+      const auto c = static_cast<float>((k + 0.5) * step - 0.5);
       gu += du, gv += dv;
-      mu += static_cast<float>(c) * du, mv += static_cast<float>(c) * dv;
+      mu += c * du, mv += c * dv;
     }
     if (!inside) continue;
     const float inv = 1.0f / static_cast<float>(taps);
     sm.model = sum * inv;
     gu *= inv, gv *= inv, mu *= inv, mv *= inv;
     // Through the mapping's Jacobian at the pixel: the gradient per frame-level pixel.
-    const double hx = a(0, 0) * sm.x + a(0, 1) * sm.y + a(0, 2), hy = a(1, 0) * sm.x + a(1, 1) * sm.y + a(1, 2);
+    const double px = a(0, 0) * sm.x + a(0, 1) * sm.y + a(0, 2), py = a(1, 0) * sm.x + a(1, 1) * sm.y + a(1, 2);
     const double hz = a(2, 0) * sm.x + a(2, 1) * sm.y + a(2, 2);
-    const double u = hx / hz, v = hy / hz;
+    const double u = px / hz, v = py / hz;
     const double dudx = (a(0, 0) - u * a(2, 0)) / hz, dudy = (a(0, 1) - u * a(2, 1)) / hz;
     const double dvdx = (a(1, 0) - v * a(2, 0)) / hz, dvdy = (a(1, 1) - v * a(2, 1)) / hz;
     sm.gx = static_cast<float>(gu * dudx + gv * dvdx);
@@ -262,6 +270,16 @@ struct Fit {
 
 }  // namespace
 
+double DenseAligner::meanSmearOf(const Level& level) const noexcept {
+  double sum = 0;
+  int n = 0;
+  for (int i = 0; i < level.count; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.valid) sum += std::hypot(s.dx, s.dy), ++n;
+  }
+  return n > 0 ? sum / n : 0.0;
+}
+
 bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
                          const cv::Vec3d& smearTurn, const PlanarPose& start, const DenseAlignmentParams& params,
                          DenseAlignment& out) noexcept {
@@ -270,6 +288,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   using Vec9 = cv::Vec<double, kAll>;
   using Mat9 = cv::Matx<double, kAll, kAll>;
   PlanarPose pose = start;
+  out.renders = 0;
   const double startTurn = cv::norm(smearTurn);
   const double turnScale = startTurn > params.maxSmearTurn ? params.maxSmearTurn / startTurn : 1.0;
   cv::Vec<double, 6> turn(smearTurn[0] * turnScale, smearTurn[1] * turnScale, smearTurn[2] * turnScale, 0, 0, 0);
@@ -369,16 +388,18 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
       if (level == params.fineLevel) return false;
       continue;
     }
-    if (render(lv, pose, turn, params.maxTaps) < 16) return false;
+    if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16) return false;
     if (!searched) {  // the first level that shows the target
       searched = true;
       if (!searchShift(lv, params.searchRadius, pose)) return false;
-      if (render(lv, pose, turn, params.maxTaps) < 16) return false;
+      if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16) return false;
     }
     if (!fitOf(lv, 0, fit)) return false;
     double mu = 1e-3;
     for (int it = 0; it < params.iterations; ++it) {
       normalEquations(lv, pose, fit, h, b, inliers);
+      const double previousCost = fit.cost;
+      double acceptedCost = previousCost;
       bool accepted = false;
       Vec9 step;
       for (int attempt = 0; attempt < 4 && !accepted; ++attempt) {
@@ -396,10 +417,11 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
         const cv::Vec<double, 6> candidateTurn = turn + cv::Vec<double, 6>(step.val + 6);
         Fit trial;
         if (cv::norm(cv::Vec3d(candidateTurn[0], candidateTurn[1], candidateTurn[2])) <= params.maxSmearTurn &&
-            render(lv, candidate, candidateTurn, params.maxTaps) >= 16 && fitOf(lv, fit.sigma, trial) &&
+            (++out.renders, render(lv, candidate, candidateTurn, params.maxTaps)) >= 16 && fitOf(lv, fit.sigma, trial) &&
             trial.cost < fit.cost) {
           pose = candidate;
           turn = candidateTurn;
+          acceptedCost = trial.cost;
           mu = std::max(mu * 0.1, 1e-7);
           (void)fitOf(lv, 0, fit);  // the weights follow the new residuals
           accepted = true;
@@ -409,13 +431,20 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
       }
       if (!accepted) {
         // The samples hold the last rejected candidate: render the pose again.
-        if (render(lv, pose, turn, params.maxTaps) < 16 || !fitOf(lv, 0, fit)) return false;
+        if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16 || !fitOf(lv, 0, fit)) return false;
         break;
       }
       const double rotation = std::sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]);
       const double translation = std::sqrt(step[3] * step[3] + step[4] * step[4] + step[5] * step[5]);
-      if (rotation < 2e-5 && translation < 2e-5 * cv::norm(pose.tvec)) break;
+      // Converged: the pose moves by less than a hundredth of a level pixel, or the cost by
+      // less than 0.1 %.
+      const double pixel = (1 << level) / K(0, 0);
+      if ((rotation < 0.01 * pixel && translation < 0.01 * pixel * cv::norm(pose.tvec)) ||
+          previousCost - acceptedCost < 1e-3 * previousCost)
+        break;
     }
+    // A smear this long at this level leaves the finer one little to add but cost.
+    if (level > params.fineLevel && meanSmearOf(lv) >= params.coarseEnoughSmearPx) break;
   }
   if (lv.count == 0 || fit.valid < 16) return false;
   // The evidence and the covariance at the final pose (the samples hold its render).
@@ -423,12 +452,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   bool invertible = false;
   const Mat9 hInverse = h.inv(cv::DECOMP_CHOLESKY, &invertible);
   if (!invertible) return false;
-  double smearSum = 0;
-  for (int i = 0; i < lv.count; ++i) {
-    const Sample& s = samples_[static_cast<std::size_t>(i)];
-    if (s.valid) smearSum += std::hypot(s.dx, s.dy);
-  }
-  const double meanSmear = smearSum / fit.valid;
+  const double meanSmear = meanSmearOf(lv);
   // Neighbouring samples see much the same pixels: along the smear over its length, across it
   // over the pyramid's smoothing (about 2 level pixels).
   const double along = std::max(1.0, (meanSmear + 1.0) / lv.stride);

@@ -35,7 +35,7 @@ struct DenseAlignmentParams {
   int fineLevel = 1;      // the last one
   int iterations = 10;    // Gauss-Newton steps per level at most
   int maxSamples = 2500;  // frame pixels per level (sampled on a grid with a stride to keep to it)
-  int maxTaps = 16;       // samples of the keyframe along a pixel's smear
+  int maxTaps = 24;       // samples of the keyframe along a pixel's smear (one every 1.5 px up to 34 px)
   double huber = 1.5;     // Huber's threshold, in robust standard deviations of the residual
   // Before the first level's steps, the target's shift is searched this far around the start
   // (pixels of that level; 6 at 80 x 60 is +-48 px, 5 deg at fx 525): Gauss-Newton's basin on
@@ -44,6 +44,9 @@ struct DenseAlignmentParams {
   // The longest turn over an exposure believed (radians; 0.15 is 9 deg, 270 deg/s over 1/30 s):
   // a step past it is refused (a hand over the target can be explained by a smear of everything).
   double maxSmearTurn = 0.15;
+  // A level whose samples are smeared this much (its pixels) on average ends the alignment: the
+  // finer level's detail is gone along the smear, and it costs four times as much.
+  double coarseEnoughSmearPx = 1e9;
 };
 
 // The keyframe: its grey pyramid (level l is level 0 halved l times) and the mapping from the
@@ -64,6 +67,7 @@ struct DenseAlignment {
   cv::Vec3d smearTurn;   // the camera's turn over the exposure, as the frame's blur shows it
   cv::Vec3d smearMove;   // and its move (metres, camera axes): a turn about a wrist moves it too
   double smearPx = 0;    // the mean smear over the samples, level-0 pixels
+  int renders = 0;       // of the model (its cost: one pass over the samples and their taps)
   // First order, from the last step's normal equations: sigma^2 H^-1 times the samples that one
   // independent measurement spans (the smear correlates neighbours), then mapped to the world:
   // row-major 6x6 of (rotation vector in world axes, radians; camera position, metres).
@@ -113,6 +117,7 @@ class DenseAligner {
   // The rendered samples' best integer shift against the frame (ZNCC), applied to `pose` as a
   // turn of the camera about its centre. False when no shift correlates.
   bool searchShift(const Level& level, int radius, PlanarPose& pose) noexcept;
+  [[nodiscard]] double meanSmearOf(const Level& level) const noexcept;  // over the valid samples, level pixels
 };
 
 }  // namespace marionette::ar

@@ -7,6 +7,8 @@ namespace marionette::ar {
 
 bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out) {
   const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  stats.predicted = true;
+  stats.predictedCameraToWorld = cameraToWorld(prediction);
   // The image's motion over the last frame interval: measured this frame, else the one the
   // last frame's pose and the prediction imply for the plane (the smear is the plane's).
   cv::Matx33d motion = cv::Matx33d::eye();
@@ -25,8 +27,12 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   // and a pixel's worth): otherwise a hand crossing a still target is explained as a smear of
   // everything.
   DenseAlignmentParams params = denseParams;
-  if (imageMotionFound && haveMotion)
+  if (imageMotionFound && haveMotion) {
     params.maxSmearTurn = std::min(params.maxSmearTurn, kMaxExposureShare * cv::norm(frameTurn) + 1.0 / K(0, 0));
+    // The start is the image's measured motion's (within a degree or so): a wide search would
+    // only find a wrong peak along a long smear, where the correlation is flat.
+    params.searchRadius = std::min(params.searchRadius, kMeasuredStartSearchRadius);
+  }
   if (!dense.align(K, target, framePyramid(), frameTurn * exposure, prediction, params, result)) return false;
   const glm::dvec3 c = cameraPosition(result.pose);
   if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;

@@ -59,6 +59,9 @@ inline constexpr double kDenseFirstSmearPx = 25;
 // changes a little within it), about an axis within acos(this) of it.
 inline constexpr double kMaxExposureShare = 1.3;
 inline constexpr double kMinSmearAxisCosine = 0.8;
+// The dense alignment's shift search (pixels of its coarse level) from a start the image's motion
+// measured this frame.
+inline constexpr int kMeasuredStartSearchRadius = 2;
 // A LIMITED KLT pose with the template blurred this much or more is checked by the dense alignment.
 inline constexpr double kDenseCheckBlurPx = 10;
 inline constexpr double kDenseFloorRotationRad = 0.15 * 3.14159265358979323846 / 180;  // inliers' rms past which the fit is a smeared template's
