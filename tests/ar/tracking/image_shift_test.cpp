@@ -75,23 +75,33 @@ TEST(ImageShift, RefusesABlankViewAShiftBeyondTheSearchAndANewScene) {
   }
   // At and past the 128 px the default search covers from its guess, sharp and smeared: the
   // right shift or none, never a clipped one (a review found 110-130 px returned as 108 px, with
-  // scores of 0.8-0.94, by the first version's 96 px search). Near its guess, each up to 126 px
-  // is found (beyond, the central block left at 80 x 60 is too small: 360 deg/s at 30 fps).
-  int refused = 0;
-  for (const double dx : {110.0, 126.0, 135.0, 150.0, 200.0})
+  // scores of 0.8-0.94, by the first version's 96 px search). A peak on the border moves the
+  // search once (to 256 px); the block lies on the side the shift comes from, so 150 px from a
+  // guess of zero is found (in two of the three smears at least). Near its guess, each up to 126 px is found. Past the moved search
+  // (300 px: half the view gone), none.
+  int refused = 0, refusedFar = 0, found150 = 0;
+  for (const double dx : {110.0, 126.0, 135.0, 150.0, 300.0})
     for (const int smear : {0, 25, 51}) {
       Pair p;
       p.a = frameAt(scene, 0, 0, smear);
       p.b = frameAt(scene, dx, 0, smear);
       build(p);
       ImageShift s;
-      if (estimateImageShift(p.pa, p.pb, {0, 0}, {}, s)) EXPECT_NEAR(s.shift.x, dx, 0.6) << "smear " << smear;
-      else ++refused;
+      const bool found = estimateImageShift(p.pa, p.pb, {0, 0}, {}, s);
+      if (found) {
+        EXPECT_NEAR(s.shift.x, dx, 0.6) << dx << " smear " << smear;
+      } else {
+        ++refused;
+        refusedFar += dx > 256 ? 1 : 0;
+      }
+      found150 += dx == 150.0 && found ? 1 : 0;
       if (dx > 126) continue;
       EXPECT_TRUE(estimateImageShift(p.pa, p.pb, {static_cast<float>(dx) - 10, 0}, {}, s)) << dx << " near its guess";
       EXPECT_NEAR(s.shift.x, dx, 0.6);
     }
-  EXPECT_GE(refused, 6) << "150 and 200 px are past any search from zero";
+  EXPECT_EQ(refusedFar, 3) << "300 px is past the moved search";
+  EXPECT_GE(found150, 2) << "150 px from a guess of zero (the centred block of the first version: none)";
+  std::printf("shifts of 110-300 px from a guess of zero: %d of 15 refused\n", refused);
   {  // the view changed (another picture): no peak stands out
     Pair p;
     p.a = frameAt(scene, 0, 0, 0);
