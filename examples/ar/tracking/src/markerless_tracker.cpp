@@ -127,9 +127,11 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   }
   // Still nothing: the dense alignment of the whole keyframe (a smear that KLT cannot follow).
   if (havePrediction && verdict == Verdict::Rejected && settings.denseAlignment && !denseTried) (void)tryDense(prediction);
-  // A LIMITED pose of KLT under a smear (loose fits that a bare majority of corners support) is
-  // checked against all of the target's pixels: the dense pose replaces it where it passes.
-  if (verdict == Verdict::Limited && !m.dense && stats.blurPx >= kDenseCheckBlurPx && settings.denseAlignment) {
+  // A LIMITED pose of KLT under a smear, from a loose fit (that a bare majority of corners
+  // supports), is checked against all of the target's pixels: the dense pose replaces it where it
+  // passes.
+  if (verdict == Verdict::Limited && !m.dense && stats.blurPx >= kDenseCheckBlurPx && m.rms > kLooseFitPx &&
+      settings.denseAlignment) {
     const Measurement klt = m;
     const Verdict kltVerdict = verdict;
     if (!tryDense(klt.pose)) m = klt, verdict = kltVerdict;
@@ -139,7 +141,8 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   // Relocalize when tracking found nothing, or had nothing to start from. A measurement that
   // failed only its gates while the anchor is recent saw the target: ORB on the same frame (a
   // smear, a hand) finds no better, and costs 12 ms.
-  const bool measuredNearAnchor = stats.corners > 0 && haveAnchor && stats.rejection == Rejection::Evidence;
+  // (A dense alignment that saw the target counts too: ORB finds nothing in a smear.)
+  const bool measuredNearAnchor = (stats.corners > 0 || stats.dense) && haveAnchor && stats.rejection == Rejection::Evidence;
   // Nor when the image's motion, measured this frame, puts the target well outside the view (a
   // look away): ORB would find nothing there. A chain may drift (5 deg at worst on the stress
   // sequences, 50 px), hence the margin, and every kMaxRelocalizationSkips-th frame tries anyway.
