@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
     }
     MarkerlessSettings settings;
     settings.smoothing = smoothing;
+    if (std::getenv("MN_NO_DENSE")) settings.denseAlignment = false;  // KLT on corners alone
     StressRunOptions options;
     options.log = verbose ? stderr : nullptr;
     const auto start = std::chrono::steady_clock::now();
@@ -107,6 +108,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("MN_RELOC")) settings.relocalizationFeatures = std::atoi(v);
     if (const char* v = std::getenv("MN_REF")) settings.referenceFeatures = std::atoi(v);
     if (std::getenv("MN_NO_BACKGROUND")) settings.backgroundMotion = false;  // the prediction without the image's motion
+    if (std::getenv("MN_NO_DENSE")) settings.denseAlignment = false;  // KLT on corners alone
     std::printf("| scenario | frames | visible | TRACKING | visible within 2 cm | ATE rms cm | ATE max cm | rot mean deg "
                 "| false poses | jitter mm | frames to relocalize | ms median | ms p95 | keyframes |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");

@@ -40,6 +40,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   // is long enough to tell: cameras keep an exposure for many frames, the next smeared frame
   // starts from it.
   denseExposure = exposure;
+  denseExposureMeasured = false;
   const double frameAngle = cv::norm(frameTurn);
   if (frameAngle * K(0, 0) >= 8) {
     // The turn the blur shows must be about the axis of the image's measured one (either sense:
@@ -49,6 +50,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
     if (imageMotionFound && std::abs(result.smearTurn.dot(frameTurn)) < kMinSmearAxisCosine * turnAngle * frameAngle)
       return false;
     denseExposure = std::clamp(ratio, 0.1, 1.0);
+    denseExposureMeasured = imageMotionFound;
   }
   out = Measurement{};
   out.pose = result.pose;

@@ -188,7 +188,9 @@ struct MarkerlessTracker::Impl {
   DenseAlignmentParams denseParams;
   // The exposure's share of the frame interval, as the dense alignment last measured it.
   double exposure = 0.5;
-  double denseExposure = 0.5;
+  double denseExposure = 0.5;  // the last dense alignment's choice, kept once its pose is accepted
+  // The exposure was measured (a dense pose under a smear, with the image's motion measured).
+  bool exposureMeasured = false, denseExposureMeasured = false;
   double lastDenseSmearPx = 0;  // the last frame's pose was dense, under this smear  // the last dense alignment's choice, kept once its pose is accepted
   std::vector<cv::Point2f> levelPoints;
   std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage, inlierFrom, blurFrom, blurTo;
@@ -239,6 +241,12 @@ struct MarkerlessTracker::Impl {
                      bool unique, PlanarPose& out, int& bestInliers);
   PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage);
   bool track(const PlanarPose& prediction, int keyframe, Measurement& out);
+  // The smear the image's motion measured this frame makes over the exposure a dense pose
+  // measured (0: either unknown; a camera with a short exposure smears nothing, whatever its turn).
+  [[nodiscard]] double expectedSmearPx() const noexcept {
+    return imageMotionFound && exposureMeasured ? cv::norm(smearTurnFromMotion(K, lastImageMotion, exposure)) * K(0, 0)
+                                                : 0.0;
+  }
   // The pose by the dense alignment of the keyframe from `prediction` (markerless_dense.cpp).
   bool alignDense(const PlanarPose& prediction, int keyframe, Measurement& out);
   [[nodiscard]] Evidence evidenceOf(const Measurement& m) const noexcept;

@@ -91,11 +91,14 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     const Verdict v = judge(aligned, seconds, false);
     if (v == Verdict::Rejected) return false;
     m = aligned, verdict = v, exposure = denseExposure;
+    exposureMeasured = exposureMeasured || denseExposureMeasured;
     return true;
   };
-  // A smear past what KLT on corners follows (the grid could not follow the image's motion, or
-  // the last frame's dense alignment measured one): the dense alignment goes first.
-  const bool smeared = settings.denseAlignment && (stats.imageShift || lastDenseSmearPx >= kDenseFirstSmearPx);
+  // A smear past what KLT on corners follows (the image's motion measured this frame, over the
+  // exposure, makes one; or the last frame's dense alignment measured one): the dense alignment
+  // goes first.
+  const bool smeared =
+      settings.denseAlignment && (expectedSmearPx() >= kDenseFirstSmearPx || lastDenseSmearPx >= kDenseFirstSmearPx);
   if (havePrediction && smeared && !stats.backgroundMotion) {
     // The smear and the start from the image's own motion, measured: a smear extrapolated from
     // the last poses' velocity left a dense pose 2.4 deg off on the stress sequences.
@@ -117,9 +120,11 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       stats.keyframe = chooseKeyframe(prediction);
       denseTried = false;
       Measurement retried;
-      // Where the grid failed (the image's shift carried the pose), so would KLT: 2 of 35 such
-      // retries gave a pose on the stress sequences.
-      if ((!stats.imageShift || !settings.denseAlignment) && track(prediction, stats.keyframe, retried)) {
+      // Where the image's motion makes a long smear, so would KLT: 2 of 35 retries where the
+      // grid failed gave a pose on the stress sequences (but a fast turn that only outran the
+      // grid is no smear: fast_turn needs the retry).
+      if ((expectedSmearPx() < kDenseFirstSmearPx || !settings.denseAlignment) &&
+          track(prediction, stats.keyframe, retried)) {
         const Verdict v = judge(retried, seconds, false);
         if (v != Verdict::Rejected) m = retried, verdict = v;
       }
