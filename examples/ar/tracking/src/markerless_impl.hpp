@@ -48,6 +48,7 @@ inline constexpr double kAwayMarginFraction = 0.25;  // of the image's larger si
 // and counts for less when choosing the keyframe to track against.
 inline constexpr double kMaxMagnification = 1.6;
 inline constexpr double kLooseFitPx = 0.75;
+inline constexpr double kFewAgreeShare = 0.3;  // of the corners tried: fewer agreeing weaken a tight fit
 // A dense pose's error is at least this (standard deviations): on a sharp view the alignment is
 // 2 mm and 0.12 deg off (dense_alignment_test), however many pixels agree.
 inline constexpr double kDenseFloorPositionM = 0.0025;

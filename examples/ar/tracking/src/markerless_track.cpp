@@ -230,9 +230,13 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
   // a smear longer than the blur model) and few of the corners tried agree, the ones that agree
   // share one bias: the independent features shrink with the square of that share under 60 %
   // (calibrated on the stress sequences: docs/tracking.md). An occluder leaves the inliers tight
-  // and costs nothing here.
+  // and costs nothing here unless it leaves under kFewAgreeShare of them.
   const double share = static_cast<double>(inliers) / std::max(1, out.tried);
-  const double looseFit = rms > kLooseFitPx ? std::pow(std::min(1.0, share / 0.6), 2.0) : 1.0;
+  // A tight fit that few agree with (a hand over most of the target) counts for less too, below
+  // kFewAgreeShare: the corners left bunch around the hand's edge (a pose from 19 % of them, rms
+  // 0.6 px, was 2.0 deg off on a fresh stress seed with 0.6 deg of standard deviation).
+  const double looseFit = rms > kLooseFitPx ? std::pow(std::min(1.0, share / 0.6), 2.0)
+                                            : std::pow(std::min(1.0, share / kFewAgreeShare), 2.0);
   double covariance[36];
   out.haveCovariance = planarPoseCovariance(K, solver.plane, solver.image, {}, current,
                                             std::max(rms, settings.minFeatureSigmaPx),
