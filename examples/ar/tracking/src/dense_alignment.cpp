@@ -29,10 +29,11 @@ GreyLevel viewOf(const cv::Mat& m) noexcept {
   return GreyLevel{m.ptr<std::uint8_t>(0), m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step)};
 }
 
-// Level pixel (centre convention) <-> level-0 pixel: x_l = (x_0 + 0.5) s - 0.5.
+// Level-0 pixel -> level pixel: x_l = x_0 s. Both pyramids are pyrDown's (level l + 1's pixel x
+// is centred on level l's 2x), not an area resize's ((x + 0.5) s - 0.5).
 cv::Matx33d baseToLevel(int level) noexcept {
   const double s = 1.0 / (1 << level);
-  return {s, 0, 0.5 * s - 0.5, 0, s, 0.5 * s - 0.5, 0, 0, 1};
+  return {s, 0, 0, 0, s, 0, 0, 0, 1};
 }
 
 // The pose moved by a step (rotation w, then translation v, both in the camera's axes).
@@ -75,8 +76,7 @@ bool DenseAligner::prepareLevel(const cv::Matx33d& K, const DenseTarget& target,
                                 Level& out) noexcept {
   if (level < 0 || level > frame.levels() || target.levels.empty() || capacity_ == 0) return false;
   out.index = level;
-  const double s = 1.0 / (1 << level);
-  out.k = cv::Matx33d(K(0, 0) * s, 0, (K(0, 2) + 0.5) * s - 0.5, 0, K(1, 1) * s, (K(1, 2) + 0.5) * s - 0.5, 0, 0, 1);
+  out.k = baseToLevel(level) * K;
   out.frame = frame.level(level);
   if (out.frame.width < 16 || out.frame.height < 16) return false;
   const cv::Matx33d g = planeToImage(out.k, pose);
@@ -161,7 +161,7 @@ int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::V
     sm.valid = false;
     sm.dx = sm.dy = 0;
     for (std::size_t k = 0; k < 6; ++k) sm.dx += sm.motion[k] * w[k], sm.dy += sm.motion[6 + k] * w[k];
-    const double length = std::hypot(sm.dx, sm.dy);
+    const double length = std::min(4096.0, static_cast<double>(std::hypot(sm.dx, sm.dy)));
     // A tap every 1.5 px of the level: the keyframe's level is about as sharp as the frame's,
     // and the line's box filter smooths more than that spacing loses.
     const int taps = length < 0.5 ? 1 : std::clamp(static_cast<int>(std::ceil(length / 1.5)) + 1, 2, std::max(2, maxTaps));
@@ -416,7 +416,11 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
         const PlanarPose candidate = applyStep(pose, cv::Vec<double, 6>(step.val));
         const cv::Vec<double, 6> candidateTurn = turn + cv::Vec<double, 6>(step.val + 6);
         Fit trial;
+        // The move is bounded as the turn is (a move v smears a plane at distance Z about as a
+        // turn v / Z does): otherwise the smear's bound could be dodged through the move.
         if (cv::norm(cv::Vec3d(candidateTurn[0], candidateTurn[1], candidateTurn[2])) <= params.maxSmearTurn &&
+            cv::norm(cv::Vec3d(candidateTurn[3], candidateTurn[4], candidateTurn[5])) <=
+                params.maxSmearTurn * cv::norm(candidate.tvec) &&
             (++out.renders, render(lv, candidate, candidateTurn, params.maxTaps)) >= 16 && fitOf(lv, fit.sigma, trial) &&
             trial.cost < fit.cost) {
           pose = candidate;

@@ -42,15 +42,14 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   denseExposure = exposure;
   denseExposureMeasured = false;
   const double frameAngle = cv::norm(frameTurn);
-  if (frameAngle * K(0, 0) >= 8) {
+  if (imageMotionFound && frameAngle * K(0, 0) >= 8) {
     // The turn the blur shows must be about the axis of the image's measured one (either sense:
     // a smear has no direction); otherwise the alignment explained the blur by another pose.
     const double turnAngle = cv::norm(result.smearTurn);
     const double ratio = turnAngle / frameAngle;
-    if (imageMotionFound && std::abs(result.smearTurn.dot(frameTurn)) < kMinSmearAxisCosine * turnAngle * frameAngle)
-      return false;
+    if (std::abs(result.smearTurn.dot(frameTurn)) < kMinSmearAxisCosine * turnAngle * frameAngle) return false;
     denseExposure = std::clamp(ratio, 0.1, 1.0);
-    denseExposureMeasured = imageMotionFound;
+    denseExposureMeasured = true;
   }
   out = Measurement{};
   out.pose = result.pose;
@@ -77,7 +76,6 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   out.positionSigma = std::sqrt(out.covariance[21] + out.covariance[28] + out.covariance[35]);
   out.rotationSigmaDeg = std::sqrt(out.covariance[0] + out.covariance[7] + out.covariance[14]) * kDegrees;
   out.haveCovariance = std::isfinite(out.positionSigma) && std::isfinite(out.rotationSigmaDeg);
-  stats.dense = true;
   stats.blurPx = result.smearPx;
   return out.haveCovariance;
 }

@@ -78,6 +78,7 @@ Verdict MarkerlessTracker::Impl::judge(const Measurement& m, double seconds, boo
   stats.spread = m.spread;
   stats.judgedCameraToWorld = cameraToWorld(m.pose);
   stats.ncc = m.ncc;
+  stats.dense = m.dense;
   stats.positionSigmaM = m.positionSigma;
   stats.rotationSigmaDeg = m.rotationSigmaDeg;
   stats.rejection = Rejection::None;

@@ -131,7 +131,9 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     }
   }
   // Still nothing: the dense alignment of the whole keyframe (a smear that KLT cannot follow).
-  if (havePrediction && verdict == Verdict::Rejected && settings.denseAlignment && !denseTried) (void)tryDense(prediction);
+  // (A smear proposed by the KLT attempts that failed is not kept: the dense pose measured its own.)
+  if (havePrediction && verdict == Verdict::Rejected && settings.denseAlignment && !denseTried && tryDense(prediction))
+    blur = blurBefore;
   // A LIMITED pose of KLT under a smear, from a loose fit (that a bare majority of corners
   // supports), is checked against all of the target's pixels: the dense pose replaces it where it
   // passes.
@@ -139,7 +141,9 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       settings.denseAlignment) {
     const Measurement klt = m;
     const Verdict kltVerdict = verdict;
-    if (!tryDense(klt.pose)) m = klt, verdict = kltVerdict;
+    const MotionBlur kltBlur = blur;
+    const FrameStats kltStats = stats;  // the logs describe the pose given
+    if (!tryDense(klt.pose)) m = klt, verdict = kltVerdict, blur = kltBlur, stats = kltStats;
   }
   lastDenseSmearPx = m.dense && verdict != Verdict::Rejected ? m.smearPx : 0.0;
   const bool fromPending = havePending && (verdict == Verdict::Tracking || verdict == Verdict::Limited);
