@@ -82,6 +82,9 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   Measurement m;
   Verdict verdict = Verdict::Rejected;
   const bool havePrediction = predict(seconds, prediction);
+  // A pending pose has no velocity: the image's motion is searched from its last measured one,
+  // not from no motion at all (a pan goes on while a relocalization waits for confirmation).
+  const bool predictionHasVelocity = !havePending;
   // The dense alignment from `from`: taken when its verdict is not a rejection.
   bool denseTried = false;
   auto tryDense = [&](const PlanarPose& from) {
@@ -103,7 +106,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     // The smear and the start from the image's own motion, measured: a smear extrapolated from
     // the last poses' velocity left a dense pose 2.4 deg off on the stress sequences.
     PlanarPose moved;
-    if (backgroundPrediction(prediction, moved)) prediction = moved, stats.backgroundMotion = true;
+    if (backgroundPrediction(prediction, moved, predictionHasVelocity)) prediction = moved, stats.backgroundMotion = true;
   }
   if (havePrediction) {
     stats.keyframe = chooseKeyframe(prediction);
@@ -113,7 +116,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   // corners): try again from where the whole image's motion since the last frame puts the pose.
   if (havePrediction && verdict == Verdict::Rejected && !stats.backgroundMotion) {
     PlanarPose moved;
-    if (backgroundPrediction(prediction, moved)) {
+    if (backgroundPrediction(prediction, moved, predictionHasVelocity)) {
       blur = blurBefore;
       stats.backgroundMotion = true;
       prediction = moved;
