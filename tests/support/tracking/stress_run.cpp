@@ -36,16 +36,22 @@ StressClassReport& classReport(StressReport& report, StressClass kind) {
 
 // MN_STRESS_CACHE=DIR keeps each sequence's frames there (raw RGB8, one file a sequence) and
 // reads them back the next time: for calibrating the tracker, where rendering is 3/4 of a run.
-// The frames are a function of the class, seed and frame count alone (stress_scenarios.hpp).
-RenderedScenario cachedRender(const SequenceRenderer& renderer, const StressSequence& sequence, int threads,
-                              std::vector<double>& renderMs) {
+// The frames are a function of the class, seed, frame count and sub-frame options alone
+// (stress_scenarios.hpp): options other than the defaults are part of the file's name.
+RenderedScenario cachedRender(const SequenceRenderer& renderer, const StressSequence& sequence,
+                              const StressOptions& stress, int threads, std::vector<double>& renderMs) {
   const char* dir = std::getenv("MN_STRESS_CACHE");
   if (!dir || !*dir) return renderStress(renderer, sequence, threads, &renderMs);
   const CameraModel& camera = renderer.camera();
   std::string name = sequence.scenario.name;
   std::replace(name.begin(), name.end(), '/', '_');
+  const StressOptions defaults;
+  char variant[96] = "";
+  if (stress.pxPerSubFrame != defaults.pxPerSubFrame || stress.minSubFrames != defaults.minSubFrames ||
+      stress.maxSubFrames != defaults.maxSubFrames)
+    std::snprintf(variant, sizeof variant, "_sub%g-%d-%d", stress.pxPerSubFrame, stress.minSubFrames, stress.maxSubFrames);
   const std::string path = std::string(dir) + "/" + name + "_" + std::to_string(sequence.frames.size()) + "_" +
-                           std::to_string(camera.width) + "x" + std::to_string(camera.height) + ".rgb";
+                           std::to_string(camera.width) + "x" + std::to_string(camera.height) + variant + ".rgb";
   const std::size_t bytes = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height) * 3;
   if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
     RenderedScenario r;
@@ -139,7 +145,7 @@ StressReport runStressSeeds(const SequenceRenderer& renderer, const std::vector<
     const StressSequence sequence = stressSequence(renderer, k.kind, k.seed, k.frames > 0 ? k.frames : defaultStressFrames(k.kind),
                                                    options.stress);
     std::vector<double> renderMs;
-    const RenderedScenario rendered = cachedRender(renderer, sequence, options.renderThreads, renderMs);
+    const RenderedScenario rendered = cachedRender(renderer, sequence, options.stress, options.renderThreads, renderMs);
     report.renderSeconds += seconds(begin);
     report.renderCpuSeconds += static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
     report.renderMs.insert(report.renderMs.end(), renderMs.begin(), renderMs.end());
