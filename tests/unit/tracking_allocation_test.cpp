@@ -49,6 +49,7 @@
 #include "planar_pose.hpp"
 #include "test_data.hpp"
 #include "tracking/scenario_run.hpp"
+#include "tracking/stress_scenarios.hpp"
 #include "tracking/visp_benchmark.hpp"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -439,6 +440,41 @@ TEST(TrackingAllocation, PrimitivesAllocateNothingPerFrame) {
   std::printf("[ primitives ] warp + pyramids + KLT + RANSAC + pose per frame, frames 3..29: %.1f operator new, "
               "%.1f malloc family%s\n",
               perFrame(news, counts.size()), perFrame(mallocs, counts.size()),
+              MN_COUNT_MALLOC ? "" : " (not counted in this build)");
+}
+
+// The tracker's own dense path (the dense alignment inside update(), under a real smear: a
+// stress pan, seed 10, whose frames 8-11 and 25-28 are smeared 40-80 px): the frames it measures
+// densely allocate nothing either (frames that relocalize are left out: ORB allocates).
+TEST(TrackingAllocation, MarkerlessDensePathAllocatesNothingPerFrame) {
+  cv::setNumThreads(1);
+  const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+  const synthetic::StressSequence sequence = synthetic::stressSequence(renderer, synthetic::StressClass::Pan, 10, 30);
+  const synthetic::RenderedScenario rendered = synthetic::renderStress(renderer, sequence);
+  Diagnostics d;
+  auto tracker = MarkerlessTracker::fromTarget(renderer.camera(), synthetic::standardTargetImage(),
+                                               synthetic::kStandardTargetWidth, MarkerlessSettings{}, d);
+  ASSERT_TRUE(tracker) << d.format();
+  int denseFrames = 0;
+  long news = 0, mallocs = 0;
+  for (std::size_t i = 0; i < rendered.frames.size(); ++i) {
+    const Counts c0 = now();
+    (void)tracker->update(view(rendered.frames[i]), static_cast<double>(i) / rendered.scenario.fps);
+    const Counts used = since(c0);
+    const auto& st = tracker->lastFrame();
+    if (i < 3 || !st.dense || st.relocalized || st.keyframeAdded) continue;
+    ++denseFrames;
+    EXPECT_EQ(used.news, 0) << "frame " << i;
+#if MN_COUNT_MALLOC
+    EXPECT_EQ(used.mallocs, 0) << "frame " << i;
+#endif
+    news += used.news;
+    mallocs += used.mallocs;
+  }
+  EXPECT_GE(denseFrames, 3) << "the dense path must run on this pan";
+  std::printf("[ markerless dense ] %d frames measured densely: %.1f operator new, %.1f malloc family a frame%s\n",
+              denseFrames, perFrame(news, static_cast<std::size_t>(std::max(1, denseFrames))),
+              perFrame(mallocs, static_cast<std::size_t>(std::max(1, denseFrames))),
               MN_COUNT_MALLOC ? "" : " (not counted in this build)");
 }
 
