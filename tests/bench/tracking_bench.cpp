@@ -418,16 +418,8 @@ void denseAlignment(benchmark::State& state, int smear) {
   ImagePyramid pyramid;
   pyramid.configure(frame.cols, frame.rows, 3);
   pyramid.build(frame);
-  const cv::Mat reference = cv::imread(synthetic::standardTargetImage(), cv::IMREAD_GRAYSCALE);
-  std::vector<cv::Mat> levels{reference};
-  while (levels.size() < 8 && levels.back().cols >= 32 && levels.back().rows >= 32) {
-    cv::Mat down;
-    cv::pyrDown(levels.back(), down);
-    levels.push_back(down);
-  }
-  const double s = synthetic::kStandardTargetWidth / reference.cols;
-  const DenseTarget target{levels, cv::Matx33d(1 / s, 0, reference.cols * 0.5 - 0.5, 0, 1 / s, reference.rows * 0.5 - 0.5,
-                                               0, 0, 1)};
+  const synthetic::TargetPyramid reference = synthetic::standardTargetPyramid();
+  const DenseTarget target{reference.levels, reference.planeToImage};
   const cv::Matx33d k(o.camera.fx, 0, o.camera.cx, 0, o.camera.fy, o.camera.cy, 0, 0, 1);
   glm::dmat3 r;
   glm::dvec3 t;

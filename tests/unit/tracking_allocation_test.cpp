@@ -485,17 +485,8 @@ TEST(TrackingAllocation, DenseAlignmentAllocatesNothingPerFrame) {
   const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
   const auto rendered = synthetic::renderScenarios(renderer, 12, {"orbit"});
   ASSERT_EQ(rendered.size(), 1u);
-  const cv::Mat reference = cv::imread(synthetic::standardTargetImage(), cv::IMREAD_GRAYSCALE);
-  ASSERT_FALSE(reference.empty());
-  std::vector<cv::Mat> levels{reference};
-  for (int l = 1; l < 7; ++l) {
-    cv::Mat down;
-    cv::pyrDown(levels.back(), down);
-    levels.push_back(down);
-  }
-  const double metresPerPixel = synthetic::kStandardTargetWidth / reference.cols;
-  const DenseTarget target{levels, cv::Matx33d(1 / metresPerPixel, 0, reference.cols * 0.5 - 0.5, 0, 1 / metresPerPixel,
-                                               reference.rows * 0.5 - 0.5, 0, 0, 1)};
+  const synthetic::TargetPyramid reference = synthetic::standardTargetPyramid();
+  const DenseTarget target{reference.levels, reference.planeToImage};
   const CameraModel& c = renderer.camera();
   const cv::Matx33d k(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
   DenseAligner aligner;

@@ -27,6 +27,21 @@ cv::Mat readRgb(const std::string& file) {
 
 std::string standardTargetImage() { return ::marionette::test::opencvDataDir() + "/graf1.png"; }
 
+TargetPyramid standardTargetPyramid() {
+  TargetPyramid p;
+  const cv::Mat g = cv::imread(standardTargetImage(), cv::IMREAD_GRAYSCALE);
+  if (g.empty()) throw std::runtime_error(standardTargetImage() + ": test data missing (Debian opencv-doc)");
+  p.levels.push_back(g);
+  while (p.levels.size() < 8 && p.levels.back().cols >= 32 && p.levels.back().rows >= 32) {
+    cv::Mat down;
+    cv::pyrDown(p.levels.back(), down);
+    p.levels.push_back(down);
+  }
+  const double s = kStandardTargetWidth / g.cols;
+  p.planeToImage = cv::Matx33d(1 / s, 0, g.cols * 0.5 - 0.5, 0, 1 / s, g.rows * 0.5 - 0.5, 0, 0, 1);
+  return p;
+}
+
 cv::Mat standardTargetGrey(cv::Size size) {
   const cv::Mat g = cv::imread(standardTargetImage(), cv::IMREAD_GRAYSCALE);
   if (g.empty()) throw std::runtime_error(standardTargetImage() + ": test data missing (Debian opencv-doc)");

@@ -25,6 +25,14 @@ struct RenderedScenario {
 // The standard target in grey, resized (INTER_AREA) to `size`: the scene of the image tests.
 // std::runtime_error naming the file when it is missing (Debian opencv-doc).
 [[nodiscard]] cv::Mat standardTargetGrey(cv::Size size);
+// The standard target's grey image at its own size and its pyrDown levels down to about 16 px
+// (as the tracker keeps a keyframe for its dense alignment), with the plane (X, Z metres) ->
+// level-0 pixel mapping, kStandardTargetWidth wide and centred.
+struct TargetPyramid {
+  std::vector<cv::Mat> levels;
+  cv::Matx33d planeToImage;
+};
+[[nodiscard]] TargetPyramid standardTargetPyramid();
 inline constexpr double kStandardTargetWidth = 0.30;
 
 // Renders the named scenarios (all when `names` is empty).

@@ -46,6 +46,38 @@ PlanarPose applyStep(const PlanarPose& pose, const cv::Vec<double, 6>& step) noe
   return out;
 }
 
+// Sums of a sample set's model m and frame f values: their means, variances and covariance.
+struct Moments {
+  double m = 0, f = 0, mm = 0, ff = 0, mf = 0;
+  int n = 0;
+  void add(double model, double frame) noexcept {
+    m += model, f += frame, mm += model * model, ff += frame * frame, mf += model * frame;
+    ++n;
+  }
+  [[nodiscard]] double varianceM() const noexcept { return mm - m * m / n; }  // times n
+  [[nodiscard]] double varianceF() const noexcept { return ff - f * f / n; }
+  [[nodiscard]] double covariance() const noexcept { return mf - m * f / n; }
+  // Both sides vary (neither a flat model nor a flat frame).
+  [[nodiscard]] bool textured() const noexcept { return n > 0 && varianceM() > 1e-3 * n && varianceF() > 1e-3 * n; }
+  [[nodiscard]] double zncc() const noexcept { return covariance() / std::sqrt(varianceM() * varianceF()); }
+};
+
+// The ground plane (world Y = 0) in the camera's axes: the depth of the plane point on a ray.
+struct PlaneInCamera {
+  cv::Vec3d normal;
+  double offset = 0;
+  explicit PlaneInCamera(const PlanarPose& pose) noexcept {
+    const cv::Matx33d r = rotationFromRodrigues(pose.rvec);
+    normal = cv::Vec3d(r(0, 1), r(1, 1), r(2, 1));
+    offset = normal.dot(pose.tvec);
+  }
+  // Z of the plane point on the ray (x, y, 1); not positive where the ray misses the plane ahead.
+  [[nodiscard]] double depth(double x, double y) const noexcept {
+    const double along = normal.dot(cv::Vec3d(x, y, 1));
+    return std::abs(along) > 1e-12 ? offset / along : -1.0;
+  }
+};
+
 double huberLoss(double r, double threshold) noexcept {
   const double a = std::abs(r);
   return a <= threshold ? 0.5 * r * r : threshold * (a - 0.5 * threshold);
@@ -119,9 +151,7 @@ bool DenseAligner::prepareLevel(const cv::Matx33d& K, const DenseTarget& target,
   const std::size_t most = std::min(capacity_, static_cast<std::size_t>(std::max(16, params.maxSamples)));
   out.stride = std::max(1.0, std::ceil(std::sqrt(area / static_cast<double>(most))));
   const double fx = out.k(0, 0), fy = out.k(1, 1), cx = out.k(0, 2), cy = out.k(1, 2);
-  const cv::Matx33d r = rotationFromRodrigues(pose.rvec);
-  const cv::Vec3d normal(r(0, 1), r(1, 1), r(2, 1));  // the plane's normal (world Y) in camera axes
-  const double offset = normal.dot(pose.tvec);
+  const PlaneInCamera plane(pose);
   out.count = 0;
   for (double y = y0; y <= y1 && static_cast<std::size_t>(out.count) < capacity_; y += out.stride)
     for (double x = x0; x <= x1 && static_cast<std::size_t>(out.count) < capacity_; x += out.stride) {
@@ -134,9 +164,7 @@ bool DenseAligner::prepareLevel(const cv::Matx33d& K, const DenseTarget& target,
       // fx (-x y, 1 + x^2, -y) w, fy (-(1 + y^2), x y, x) w (normalized x, y), a move v by
       // fx (1, 0, -x) v / Z, fy (0, 1, -y) v / Z.
       const double nx = (xi - cx) / fx, ny = (yi - cy) / fy;
-      const double along = normal.dot(cv::Vec3d(nx, ny, 1));
-      if (!(std::abs(along) > 1e-12)) continue;
-      const double z = offset / along;
+      const double z = plane.depth(nx, ny);
       if (!(z > 1e-6)) continue;
       sm.motion = {static_cast<float>(-fx * nx * ny), static_cast<float>(fx * (1 + nx * nx)), static_cast<float>(-fx * ny),
                    static_cast<float>(fx / z), 0.0f, static_cast<float>(-fx * nx / z),
@@ -225,21 +253,16 @@ bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose)
   cx /= n, cy /= n;
   for (int dy = -radius; dy <= radius; ++dy)
     for (int dx = -radius; dx <= radius; ++dx) {
-      double sm = 0, sf = 0, smm = 0, sff = 0, smf = 0;
-      int m = 0;
+      Moments moments;
       for (int i = 0; i < level.count; ++i) {
         const Sample& s = samples_[static_cast<std::size_t>(i)];
         if (!s.valid) continue;
         const int x = static_cast<int>(s.x) + dx, y = static_cast<int>(s.y) + dy;
         if (x < 0 || y < 0 || x >= f.width || y >= f.height) continue;
-        const double v = f.row(y)[x];
-        sm += s.model, sf += v, smm += double(s.model) * s.model, sff += v * v, smf += s.model * v;
-        ++m;
+        moments.add(s.model, f.row(y)[x]);
       }
-      if (4 * m < 3 * n) continue;  // most of the target must stay in the frame
-      const double vm = smm - sm * sm / m, vf = sff - sf * sf / m;
-      if (!(vm > 1e-3 * m) || !(vf > 1e-3 * m)) continue;
-      const double score = (smf - sm * sf / m) / std::sqrt(vm * vf);
+      if (4 * moments.n < 3 * n || !moments.textured()) continue;  // most of the target must stay in the frame
+      const double score = moments.zncc();
       // Ties go to the smaller shift (the start's).
       if (score > best + 1e-9 || (std::abs(score - best) <= 1e-9 && dx * dx + dy * dy < bestX * bestX + bestY * bestY))
         best = score, bestX = dx, bestY = dy;
@@ -285,8 +308,8 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
                          DenseAlignment& out) noexcept {
   if (capacity_ == 0 || params.fineLevel < 0 || params.coarseLevel < params.fineLevel) return false;
   constexpr int kAll = 12;
-  using Vec9 = cv::Vec<double, kAll>;
-  using Mat9 = cv::Matx<double, kAll, kAll>;
+  using Vec12 = cv::Vec<double, kAll>;
+  using Mat12 = cv::Matx<double, kAll, kAll>;
   PlanarPose pose = start;
   out.renders = 0;
   const double startTurn = cv::norm(smearTurn);
@@ -297,22 +320,17 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   const int parameters = cv::norm(smearTurn) > 0 ? kAll : 6;
 
   auto fitOf = [&](const Level& lv, double sigmaForCost, Fit& f) {
-    double sm = 0, sf = 0, smm = 0, smf = 0, sff = 0;
-    int n = 0;
+    Moments moments;
     for (int i = 0; i < lv.count; ++i) {
       const Sample& s = samples_[static_cast<std::size_t>(i)];
-      if (!s.valid) continue;
-      sm += s.model, sf += s.frame, smm += double(s.model) * s.model, smf += double(s.model) * s.frame;
-      sff += double(s.frame) * s.frame;
-      ++n;
+      if (s.valid) moments.add(s.model, s.frame);
     }
+    const int n = moments.n;
     f.valid = n;
-    if (n < 16) return false;
-    const double vm = smm - sm * sm / n, vf = sff - sf * sf / n, c = smf - sm * sf / n;
-    if (!(vm > 1e-3 * n) || !(vf > 1e-3 * n)) return false;  // a flat model or frame
-    f.gain = c / vm;
-    f.bias = (sf - f.gain * sm) / n;
-    f.zncc = c / std::sqrt(vm * vf);
+    if (n < 16 || !moments.textured()) return false;  // too few samples, a flat model or frame
+    f.gain = moments.covariance() / moments.varianceM();
+    f.bias = (moments.f - f.gain * moments.m) / n;
+    f.zncc = moments.zncc();
     std::size_t m = 0;
     for (int i = 0; i < lv.count; ++i) {
       const Sample& s = samples_[static_cast<std::size_t>(i)];
@@ -334,30 +352,26 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   // The normal equations at the rendered pose. The residual r = frame - gain model - bias; a
   // pose step moves a plane point's pixel by J_pix step, so the model by -gradient . that; a
   // change of the turn moves a tap at offset c along the smear by c J_turn change.
-  auto normalEquations = [&](const Level& lv, const PlanarPose& p, const Fit& f, Mat9& h, Vec9& b, int& inliers) {
-    h = Mat9::zeros();
-    b = Vec9::all(0);
+  auto normalEquations = [&](const Level& lv, const PlanarPose& p, const Fit& f, Mat12& h, Vec12& b, int& inliers) {
+    h = Mat12::zeros();
+    b = Vec12::all(0);
     inliers = 0;
-    const cv::Matx33d r = rotationFromRodrigues(p.rvec);
-    const cv::Vec3d n(r(0, 1), r(1, 1), r(2, 1));  // the plane's normal (world Y) in camera axes
-    const double d = n.dot(p.tvec);
+    const PlaneInCamera plane(p);
     const double fx = lv.k(0, 0), fy = lv.k(1, 1), cx = lv.k(0, 2), cy = lv.k(1, 2);
     const double threshold = params.huber * f.sigma;
     for (int i = 0; i < lv.count; ++i) {
       const Sample& s = samples_[static_cast<std::size_t>(i)];
       if (!s.valid) continue;
-      const cv::Vec3d ray((s.x - cx) / fx, (s.y - cy) / fy, 1.0);
-      const double along = n.dot(ray);
-      if (!(std::abs(along) > 1e-12)) continue;
-      const double lambda = d / along;
-      const double X = lambda * ray[0], Y = lambda * ray[1], Z = lambda;
+      const double rx = (s.x - cx) / fx, ry = (s.y - cy) / fy;
+      const double Z = plane.depth(rx, ry);
       if (!(Z > 1e-6)) continue;
+      const double X = Z * rx, Y = Z * ry;
       // d(pixel)/d(X_c), then d(X_c)/d(w, v) = [-[X]x | I].
       const double iz = 1 / Z;
       const double ux = fx * iz, uz = -fx * X * iz * iz, vy = fy * iz, vz = -fy * Y * iz * iz;
       const double gx = f.gain * s.gx, gy = f.gain * s.gy;
       const double ex = gx * ux, ey = gy * vy, ez = gx * uz + gy * vz;
-      Vec9 j = Vec9::all(0);
+      Vec12 j = Vec12::all(0);
       j[0] = -ey * Z + ez * Y, j[1] = ex * Z - ez * X, j[2] = -ex * Y + ey * X, j[3] = ex, j[4] = ey, j[5] = ez;
       if (parameters == kAll) {
         const double mx = -f.gain * s.mx, my = -f.gain * s.my;
@@ -379,8 +393,8 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
 
   Level lv;
   Fit fit;
-  Mat9 h;
-  Vec9 b;
+  Mat12 h;
+  Vec12 b;
   int inliers = 0;
   for (int level = params.coarseLevel; level >= params.fineLevel; --level) {
     if (level > frame.levels()) continue;
@@ -401,12 +415,12 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
       const double previousCost = fit.cost;
       double acceptedCost = previousCost;
       bool accepted = false;
-      Vec9 step;
+      Vec12 step;
       for (int attempt = 0; attempt < 4 && !accepted; ++attempt) {
-        Mat9 damped = h;
+        Mat12 damped = h;
         for (int a = 0; a < parameters; ++a) damped(a, a) += mu * std::max(h(a, a), 1e-12);
         bool solved = false;
-        const Mat9 dampedInverse = damped.inv(cv::DECOMP_CHOLESKY, &solved);
+        const Mat12 dampedInverse = damped.inv(cv::DECOMP_CHOLESKY, &solved);
         if (!solved) {
           mu *= 10;
           continue;
@@ -447,14 +461,12 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
           previousCost - acceptedCost < 1e-3 * previousCost)
         break;
     }
-    // A smear this long at this level leaves the finer one little to add but cost.
-    if (level > params.fineLevel && meanSmearOf(lv) >= params.coarseEnoughSmearPx) break;
   }
   if (lv.count == 0 || fit.valid < 16) return false;
   // The evidence and the covariance at the final pose (the samples hold its render).
   normalEquations(lv, pose, fit, h, b, inliers);
   bool invertible = false;
-  const Mat9 hInverse = h.inv(cv::DECOMP_CHOLESKY, &invertible);
+  const Mat12 hInverse = h.inv(cv::DECOMP_CHOLESKY, &invertible);
   if (!invertible) return false;
   const double meanSmear = meanSmearOf(lv);
   // Neighbouring samples see much the same pixels: along the smear over its length, across it
@@ -477,19 +489,14 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
     }
   out.pose = pose;
   out.smearTurn = cv::Vec3d(turn[0], turn[1], turn[2]);
-  out.smearMove = cv::Vec3d(turn[3], turn[4], turn[5]);
   out.zncc = fit.zncc;
   out.sigma = fit.sigma;
-  out.gain = fit.gain;
-  out.bias = fit.bias;
   out.samples = fit.valid;
   out.visibleShare = std::min(1.0, fit.valid * lv.stride * lv.stride / std::max(lv.area, 1.0));
   out.inlierShare = static_cast<double>(inliers) / fit.valid;
   out.smearPx = meanSmear * (1 << lv.index);
-  const auto& c = out.covariance;
-  out.rotationSigmaDeg = std::sqrt(c[0] + c[7] + c[14]) * 180.0 / 3.14159265358979323846;
-  out.positionSigma = std::sqrt(c[21] + c[28] + c[35]);
-  for (const double v : c)
+  covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
+  for (const double v : out.covariance)
     if (!std::isfinite(v)) return false;
   return std::isfinite(pose.rvec[0] + pose.rvec[1] + pose.rvec[2] + pose.tvec[0] + pose.tvec[1] + pose.tvec[2] +
                        cv::norm(turn));

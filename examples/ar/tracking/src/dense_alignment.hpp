@@ -44,9 +44,6 @@ struct DenseAlignmentParams {
   // The longest turn over an exposure believed (radians; 0.15 is 9 deg, 270 deg/s over 1/30 s):
   // a step past it is refused (a hand over the target can be explained by a smear of everything).
   double maxSmearTurn = 0.15;
-  // A level whose samples are smeared this much (its pixels) on average ends the alignment: the
-  // finer level's detail is gone along the smear, and it costs four times as much.
-  double coarseEnoughSmearPx = 1e9;
 };
 
 // The keyframe: its grey pyramid (level l is level 0 halved l times) and the mapping from the
@@ -60,12 +57,10 @@ struct DenseAlignment {
   PlanarPose pose;
   double zncc = 0;       // model against frame over the samples at the fine level, -1..1
   double sigma = 0;      // robust standard deviation of the residual, grey levels
-  double gain = 1, bias = 0;
   int samples = 0;       // at the fine level
   double inlierShare = 0;  // of the samples with a full Huber weight
   double visibleShare = 0;  // of the keyframe's area, seen (in the image) by the samples
   cv::Vec3d smearTurn;   // the camera's turn over the exposure, as the frame's blur shows it
-  cv::Vec3d smearMove;   // and its move (metres, camera axes): a turn about a wrist moves it too
   double smearPx = 0;    // the mean smear over the samples, level-0 pixels
   int renders = 0;       // of the model (its cost: one pass over the samples and their taps)
   // First order, from the last step's normal equations: sigma^2 H^-1 times the samples that one

@@ -39,8 +39,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   // The exposure the frame's blur shows (its turn against the frame interval's), where the turn
   // is long enough to tell: cameras keep an exposure for many frames, the next smeared frame
   // starts from it.
-  denseExposure = exposure;
-  denseExposureMeasured = false;
+  double measuredExposure = 0;
   const double frameAngle = cv::norm(frameTurn);
   if (imageMotionFound && frameAngle * K(0, 0) >= 8) {
     // The turn the blur shows must be about the axis of the image's measured one (either sense:
@@ -48,8 +47,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
     const double turnAngle = cv::norm(result.smearTurn);
     const double ratio = turnAngle / frameAngle;
     if (std::abs(result.smearTurn.dot(frameTurn)) < kMinSmearAxisCosine * turnAngle * frameAngle) return false;
-    denseExposure = std::clamp(ratio, 0.1, 1.0);
-    denseExposureMeasured = true;
+    measuredExposure = std::clamp(ratio, 0.1, 1.0);
   }
   out = Measurement{};
   out.pose = result.pose;
@@ -58,6 +56,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   out.inlierShare = result.inlierShare;
   out.visibleShare = result.visibleShare;
   out.smearPx = result.smearPx;
+  out.exposure = measuredExposure;
   out.rms = result.sigma;
   // As counts (the per-frame logs show them as inliers/tried): the samples within Huber's
   // threshold of the samples.
@@ -73,8 +72,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   }
   // Against a keyframe other than the reference, its own error adds as in track().
   for (std::size_t i = 0; i < 36; ++i) out.covariance[i] += kf.covariance[i];
-  out.positionSigma = std::sqrt(out.covariance[21] + out.covariance[28] + out.covariance[35]);
-  out.rotationSigmaDeg = std::sqrt(out.covariance[0] + out.covariance[7] + out.covariance[14]) * kDegrees;
+  covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
   out.haveCovariance = std::isfinite(out.positionSigma) && std::isfinite(out.rotationSigmaDeg);
   stats.blurPx = result.smearPx;
   return out.haveCovariance;

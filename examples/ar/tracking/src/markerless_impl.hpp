@@ -105,6 +105,7 @@ struct Measurement {
   double inlierShare = 0;    // dense: the pixels within Huber's threshold
   double visibleShare = 0;   // dense: the keyframe's area in view
   double smearPx = 0;        // dense: the mean smear over the target, pixels
+  double exposure = 0;       // dense: the exposure's share of the frame interval it measured (0: none)
 };
 
 // A pose with its time and uncertainty: the history the motion model works from.
@@ -189,10 +190,8 @@ struct MarkerlessTracker::Impl {
   DenseAlignmentParams denseParams;
   // The exposure's share of the frame interval, as the dense alignment last measured it.
   double exposure = 0.5;
-  double denseExposure = 0.5;  // the last dense alignment's choice, kept once its pose is accepted
-  // The exposure was measured (a dense pose under a smear, with the image's motion measured).
-  bool exposureMeasured = false, denseExposureMeasured = false;
-  double lastDenseSmearPx = 0;  // the last frame's pose was dense, under this smear  // the last dense alignment's choice, kept once its pose is accepted
+  bool exposureMeasured = false;  // by an accepted dense pose (0.5 until then: a guess)
+  double lastDenseSmearPx = 0;    // the last frame's pose was dense, under this smear
   std::vector<cv::Point2f> levelPoints;
   std::vector<cv::Point2f> predicted, found, planePoints, inlierPlane, inlierImage, inlierFrom, blurFrom, blurTo;
   std::vector<int> cornerIndex;

@@ -260,8 +260,7 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
         covariance[static_cast<std::size_t>((3 + a) * 6 + 3 + b)] += sum;
       }
     std::copy(covariance, covariance + 36, out.covariance.begin());
-    out.positionSigma = std::sqrt(covariance[21] + covariance[28] + covariance[35]);
-    out.rotationSigmaDeg = std::sqrt(covariance[0] + covariance[7] + covariance[14]) * kDegrees;
+    covarianceSigmas(covariance, out.positionSigma, out.rotationSigmaDeg);
   }
   return true;
 }

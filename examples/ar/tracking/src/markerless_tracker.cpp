@@ -93,8 +93,8 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     if (!alignDense(from, stats.keyframe, aligned)) return false;
     const Verdict v = judge(aligned, seconds, false);
     if (v == Verdict::Rejected) return false;
-    m = aligned, verdict = v, exposure = denseExposure;
-    exposureMeasured = exposureMeasured || denseExposureMeasured;
+    m = aligned, verdict = v;
+    if (aligned.exposure > 0) exposure = aligned.exposure, exposureMeasured = true;
     return true;
   };
   // A smear past what KLT on corners follows (the image's motion measured this frame, over the

@@ -333,4 +333,9 @@ double reprojectionRms(const cv::Matx33d& k, const PlanarPose& pose, std::span<c
   return std::isfinite(c) ? std::sqrt(c / double(used)) : std::numeric_limits<double>::quiet_NaN();
 }
 
+void covarianceSigmas(const double covariance[36], double& positionM, double& rotationDeg) noexcept {
+  positionM = std::sqrt(covariance[21] + covariance[28] + covariance[35]);
+  rotationDeg = std::sqrt(covariance[0] + covariance[7] + covariance[14]) * (180.0 / 3.14159265358979323846);
+}
+
 }  // namespace marionette::ar

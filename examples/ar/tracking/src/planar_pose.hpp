@@ -57,6 +57,10 @@ bool planarPoseCovariance(const cv::Matx33d& k, std::span<const cv::Point2f> pla
                           std::span<const std::uint8_t> mask, const PlanarPose& pose, double sigmaPx,
                           double effectivePoints, double covariance[36]) noexcept;
 
+// The square roots of the traces of a covariance in that layout: the camera position's
+// standard deviation (metres) and the orientation's (degrees).
+void covarianceSigmas(const double covariance[36], double& positionM, double& rotationDeg) noexcept;
+
 // Pixels of plane points (X, Z) under the pose; a point on or behind the camera plane gives NaN.
 void projectPlanePoints(const cv::Matx33d& k, const PlanarPose& pose, std::span<const cv::Point2f> plane,
                         std::span<cv::Point2f> out) noexcept;
