@@ -70,8 +70,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
     out.covariance[static_cast<std::size_t>(i * 7)] += kDenseFloorRotationRad * kDenseFloorRotationRad / 3;
     out.covariance[static_cast<std::size_t>(21 + i * 7)] += kDenseFloorPositionM * kDenseFloorPositionM / 3;
   }
-  // Against a keyframe other than the reference, its own error adds as in track().
-  for (std::size_t i = 0; i < 36; ++i) out.covariance[i] += kf.covariance[i];
+  addKeyframeError(kf, out.covariance.data());
   covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
   out.haveCovariance = std::isfinite(out.positionSigma) && std::isfinite(out.rotationSigmaDeg);
   stats.blurPx = result.smearPx;

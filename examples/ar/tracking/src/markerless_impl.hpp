@@ -91,6 +91,11 @@ struct KeyframeData {
   glm::dvec3 lever{0.0};
 };
 
+// A pose measured against a keyframe other than the reference carries that keyframe's own error
+// (independent of the frame's noise: no number of inliers or pixels averages it away). Adds it,
+// with its lever's term, to a covariance in planar_pose.hpp's layout (markerless_track.cpp).
+void addKeyframeError(const KeyframeData& kf, double covariance[36]) noexcept;
+
 // One measured pose and the evidence the gates judge it by.
 struct Measurement {
   PlanarPose pose;

@@ -42,6 +42,24 @@ double patchNcc(const cv::Mat& templ, cv::Point2f a, const cv::Mat& frame, cv::P
 
 namespace markerless {
 
+void addKeyframeError(const KeyframeData& kf, double covariance[36]) noexcept {
+  // Its position error as it is, its orientation error as it is and through its lever to the
+  // floor it saw (an error of 0.3 deg moves floor points 3 m away by 16 mm, and the pose
+  // measured from them with them). First order: a rotation error w moves the floor point at
+  // lever v by w x v = -[v]x w, so the position block gains [v]x S [v]x^T with S the keyframe's
+  // rotation block.
+  for (std::size_t i = 0; i < 36; ++i) covariance[i] += kf.covariance[i];
+  const glm::dvec3& v = kf.lever;
+  const double vx[3][3] = {{0, -v.z, v.y}, {v.z, 0, -v.x}, {-v.y, v.x, 0}};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double sum = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) sum += vx[a][i] * kf.covariance[static_cast<std::size_t>(i * 6 + j)] * vx[b][j];
+      covariance[static_cast<std::size_t>((3 + a) * 6 + 3 + b)] += sum;
+    }
+}
+
 void fill(cv::Mat& image, std::uint8_t value) noexcept {
   for (int y = 0; y < image.rows; ++y) std::memset(image.ptr<std::uint8_t>(y), value, static_cast<std::size_t>(image.cols));
 }
@@ -243,22 +261,7 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
                                             settings.effectiveFeatures * looseFit,
                                             covariance);
   if (out.haveCovariance) {
-    // Against a keyframe other than the reference, its own error adds (independent of this
-    // frame's noise, and no number of inliers averages it away): its position error as it is,
-    // its orientation error as it is and through its lever to the floor it saw (an error of
-    // 0.3 deg moves floor points 3 m away by 16 mm, and the pose measured from them with them).
-    // First order: a rotation error w moves the floor point at lever v by w x v = -[v]x w, so the
-    // position block gains [v]x S [v]x^T with S the keyframe's rotation block.
-    for (std::size_t i = 0; i < 36; ++i) covariance[i] += kf.covariance[i];
-    const glm::dvec3& v = kf.lever;
-    const double vx[3][3] = {{0, -v.z, v.y}, {v.z, 0, -v.x}, {-v.y, v.x, 0}};
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        double sum = 0;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) sum += vx[a][i] * kf.covariance[static_cast<std::size_t>(i * 6 + j)] * vx[b][j];
-        covariance[static_cast<std::size_t>((3 + a) * 6 + 3 + b)] += sum;
-      }
+    addKeyframeError(kf, covariance);
     std::copy(covariance, covariance + 36, out.covariance.begin());
     covarianceSigmas(covariance, out.positionSigma, out.rotationSigmaDeg);
   }
