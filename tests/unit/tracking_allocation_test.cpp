@@ -197,6 +197,16 @@ Counts since(const Counts& c0) {
 }
 double perFrame(long total, std::size_t frames) { return static_cast<double>(total) / static_cast<double>(frames); }
 
+// A frame that must allocate nothing: asserted (malloc where this build counts it) and summed.
+void expectNoAllocation(const Counts& used, std::size_t frame, long& news, long& mallocs) {
+  EXPECT_EQ(used.news, 0) << "frame " << frame;
+#if MN_COUNT_MALLOC
+  EXPECT_EQ(used.mallocs, 0) << "frame " << frame;
+#endif
+  news += used.news;
+  mallocs += used.mallocs;
+}
+
 // AprilTag's per-frame ceilings, about 1.25x what Debian 12's libapriltag 3.3 and OpenCV 4.6
 // measure on the development VM (the printed figures; docs/benchmarks.md): libapriltag's
 // working images, quads and detections, by malloc.
@@ -464,12 +474,7 @@ TEST(TrackingAllocation, MarkerlessDensePathAllocatesNothingPerFrame) {
     const auto& st = tracker->lastFrame();
     if (i < 3 || !st.dense || st.relocalized || st.keyframeAdded) continue;
     ++denseFrames;
-    EXPECT_EQ(used.news, 0) << "frame " << i;
-#if MN_COUNT_MALLOC
-    EXPECT_EQ(used.mallocs, 0) << "frame " << i;
-#endif
-    news += used.news;
-    mallocs += used.mallocs;
+    expectNoAllocation(used, i, news, mallocs);
   }
   EXPECT_GE(denseFrames, 3) << "the dense path must run on this pan";
   std::printf("[ markerless dense ] %d frames measured densely: %.1f operator new, %.1f malloc family a frame%s\n",
@@ -512,12 +517,7 @@ TEST(TrackingAllocation, DenseAlignmentAllocatesNothingPerFrame) {
     EXPECT_TRUE(aligned) << "frame " << i;
     EXPECT_GT(result.zncc, 0.9) << "frame " << i;
     if (i < 2) continue;  // warm-up
-    EXPECT_EQ(used.news, 0) << "frame " << i;
-#if MN_COUNT_MALLOC
-    EXPECT_EQ(used.mallocs, 0) << "frame " << i;
-#endif
-    news += used.news;
-    mallocs += used.mallocs;
+    expectNoAllocation(used, i, news, mallocs);
   }
   std::printf("[ dense ] align per frame, frames 2..11: %.1f operator new, %.1f malloc family%s\n",
               perFrame(news, grey.size() - 2), perFrame(mallocs, grey.size() - 2),
