@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "dense_alignment.hpp"
+#include "marionette_ar/tracking/markerless_tracker.hpp"
 #include "planar_pose.hpp"
 #include "tracking/scenario_run.hpp"
 
@@ -145,6 +146,67 @@ TEST(DenseAlignment, RecoversThePoseSharpAndUnderASmearFromTwoDegreesOff) {
     } else {
       EXPECT_EQ(cv::norm(result.smearTurn), 0.0) << c.name << ": a sharp start stays sharp";
     }
+  }
+}
+
+// A hand over the target: a textured occluder over ~40 % of its projection. The fit must hold on
+// the rest, and the parts the hand leaves must agree on their own while the whole does not
+// (what lets the tracker draw such a frame, docs/tracking.md); a frame of another picture must
+// leave no such agreement.
+TEST(DenseAlignment, AHandOverTheTargetLeavesTheOtherPartsAgreeing) {
+  const PlanarPose truth = lookAt(cv::Vec3d(0.05, 0.5, 0.35), cv::Vec3d(0.0, 0, -0.02));
+  cv::setRNGSeed(11);
+  DenseAligner aligner;
+  DenseAlignmentParams params;
+  aligner.reserve(params);
+  View v;
+  render(v, truth, {0, 1, 0}, 0.0, 0.0);
+  // The target's projection, and a "hand" over its left 40 %: skin grey with the coarse texture
+  // of its own (not the target's), from the top edge down past the middle.
+  const cv::Matx33d g = planeToImage(kK, truth) * v.planeToImage.inv();
+  std::vector<cv::Point2f> corners{{0, 0}, {799, 0}, {799, 599}, {0, 599}}, projected;
+  cv::perspectiveTransform(corners, projected, cv::Matx33f(g));
+  const cv::Rect box = cv::boundingRect(projected) & cv::Rect(0, 0, 640, 480);
+  ASSERT_GT(box.area(), 200 * 150);
+  const cv::Rect hand(box.x, box.y, box.width * 2 / 5, box.height * 4 / 5);
+  cv::Mat skin(hand.size(), CV_8U);
+  cv::randu(skin, 90, 200);
+  cv::GaussianBlur(skin, skin, cv::Size(0, 0), 3);
+  skin.copyTo(v.frame(hand));
+  ASSERT_TRUE(v.pyramid.build(v.frame));
+  PlanarPose start = turned(truth, {1, -0.6, 0.2}, 1.5 * kPi / 180);
+  start.tvec += cv::Vec3d(0.01, 0, 0);
+  DenseAlignment result;
+  const DenseTarget target{v.levels, v.planeToImage};
+  ASSERT_TRUE(aligner.align(kK, target, v.pyramid, {0, 0, 0}, start, params, result));
+  const double position = positionErrorM(result.pose, truth), rotation = rotationErrorDeg(result.pose, truth);
+  std::printf("hand over 32 %%: %.2f mm %.3f deg (sigma %.2f mm %.3f deg), zncc %.3f, parts %d of %d agree, span %.2f\n",
+              position * 1e3, rotation, result.positionSigma * 1e3, result.rotationSigmaDeg, result.zncc,
+              result.agreeingParts, result.parts, result.agreeingSpan);
+  EXPECT_LT(position, 0.01);
+  EXPECT_LT(rotation, 0.6);
+  // The whole no longer agrees as the tracker asks of it (else this case tests nothing), the
+  // parts do as its by-parts gate asks (markerless_tracker.hpp's defaults).
+  const MarkerlessSettings gates;
+  EXPECT_LT(result.zncc, gates.minDenseZncc);
+  EXPECT_GE(result.agreeingParts, gates.minDenseAgreeingParts);
+  EXPECT_GE(result.agreeingParts, gates.minDenseAgreeingShare * result.parts);
+  EXPECT_GE(result.agreeingSpan, gates.minDenseAgreeingSpan);
+  EXPECT_LT(result.agreeingParts, result.parts) << "the parts under the hand do not agree";
+
+  // Another picture where the target should be (the view turned upside down): whatever pose the fit ends at, its parts do not agree.
+  View other;
+  render(other, truth, {0, 1, 0}, 0.0, 0.0);
+  cv::flip(other.frame, other.frame, -1);  // the same texture's statistics, turned half round
+  ASSERT_TRUE(other.pyramid.build(other.frame));
+  // (The fit may also fail outright: that is as good.)
+  DenseAlignment wrong;
+  const bool aligned = aligner.align(kK, target, other.pyramid, {0, 0, 0}, start, params, wrong);
+  std::printf("another picture: %s, zncc %.3f, parts %d of %d agree\n", aligned ? "aligned" : "no fit", wrong.zncc,
+              wrong.agreeingParts, wrong.parts);
+  if (aligned) {
+    EXPECT_LT(wrong.agreeingParts, 2);
+    EXPECT_LT(wrong.zncc, 0.5);
   }
 }
 

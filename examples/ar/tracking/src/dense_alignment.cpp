@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 
 #include "perspective_warp.hpp"
@@ -81,6 +82,34 @@ struct PlaneInCamera {
 double huberLoss(double r, double threshold) noexcept {
   const double a = std::abs(r);
   return a <= threshold ? 0.5 * r * r : threshold * (a - 0.5 * threshold);
+}
+
+// The valid samples' extent cut into kPartGrid x kPartGrid parts: which part a sample falls in.
+struct PartGrid {
+  static constexpr int g = DenseAlignment::kPartGrid;
+  float x0 = 0, y0 = 0, sx = 0, sy = 0;
+  bool valid = false;
+  [[nodiscard]] std::size_t of(float x, float y) const noexcept {
+    const int px = std::clamp(static_cast<int>((x - x0) * sx), 0, g - 1);
+    const int py = std::clamp(static_cast<int>((y - y0) * sy), 0, g - 1);
+    return static_cast<std::size_t>(py * g + px);
+  }
+};
+
+template <class Sample>
+PartGrid partGridOf(const Sample* samples, int count) noexcept {
+  float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+  for (int i = 0; i < count; ++i) {
+    const Sample& s = samples[i];
+    if (!s.valid) continue;
+    x0 = std::min(x0, s.x), x1 = std::max(x1, s.x), y0 = std::min(y0, s.y), y1 = std::max(y1, s.y);
+  }
+  PartGrid grid;
+  grid.valid = x1 > x0 && y1 > y0;
+  if (!grid.valid) return grid;
+  grid.x0 = x0, grid.y0 = y0;
+  grid.sx = PartGrid::g / (x1 - x0 + 1e-3f), grid.sy = PartGrid::g / (y1 - y0 + 1e-3f);
+  return grid;
 }
 
 }  // namespace
@@ -243,6 +272,7 @@ int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::V
 bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose) noexcept {
   if (radius <= 0) return true;
   const GreyLevel& f = level.frame;
+  constexpr int g = DenseAlignment::kPartGrid;
   double best = -2, cx = 0, cy = 0;
   int bestX = 0, bestY = 0, n = 0;
   for (int i = 0; i < level.count; ++i) {
@@ -251,18 +281,36 @@ bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose)
   }
   if (n < 16) return false;
   cx /= n, cy /= n;
+  // Scored by parts, not as a whole: a hand over a third of the target pulls the whole's ZNCC
+  // under any threshold while the parts it leaves still peak at the true shift. The score is
+  // the mean of the better half of the textured parts' ZNCC (the whole's where parts are few).
+  const PartGrid grid = partGridOf(samples_.data(), level.count);
   for (int dy = -radius; dy <= radius; ++dy)
     for (int dx = -radius; dx <= radius; ++dx) {
       Moments moments;
+      std::array<Moments, g * g> parts{};
       for (int i = 0; i < level.count; ++i) {
         const Sample& s = samples_[static_cast<std::size_t>(i)];
         if (!s.valid) continue;
         const int x = static_cast<int>(s.x) + dx, y = static_cast<int>(s.y) + dy;
         if (x < 0 || y < 0 || x >= f.width || y >= f.height) continue;
-        moments.add(s.model, f.row(y)[x]);
+        const double v = f.row(y)[x];
+        moments.add(s.model, v);
+        parts[grid.of(s.x, s.y)].add(s.model, v);
       }
       if (4 * moments.n < 3 * n || !moments.textured()) continue;  // most of the target must stay in the frame
-      const double score = moments.zncc();
+      std::array<double, g * g> scores{};
+      int textured = 0;
+      for (const Moments& m : parts)
+        if (m.n >= 8 && m.textured()) scores[static_cast<std::size_t>(textured++)] = m.zncc();
+      double score = moments.zncc();
+      if (textured >= 4) {
+        const int half = (textured + 1) / 2;
+        std::partial_sort(scores.begin(), scores.begin() + half, scores.begin() + textured, std::greater<>());
+        score = 0;
+        for (int k = 0; k < half; ++k) score += scores[static_cast<std::size_t>(k)];
+        score /= half;
+      }
       // Ties go to the smaller shift (the start's).
       if (score > best + 1e-9 || (std::abs(score - best) <= 1e-9 && dx * dx + dy * dy < bestX * bestX + bestY * bestY))
         best = score, bestX = dx, bestY = dy;
@@ -303,6 +351,35 @@ double DenseAligner::meanSmearOf(const Level& level) const noexcept {
   return n > 0 ? sum / n : 0.0;
 }
 
+void DenseAligner::judgeParts(const Level& level, DenseAlignment& out) const noexcept {
+  constexpr int g = DenseAlignment::kPartGrid;
+  // A part's ZNCC past which its texture is taken as aligned, and the least it must hold: a few
+  // samples correlate by chance, a flat part (sky of a poster, a smear along its only edge) not at all.
+  constexpr double kPartAgreement = 0.85;
+  constexpr int kMinPartSamples = 12;
+  constexpr double kMinPartModelStd = 3.0;  // grey levels
+  out.parts = out.agreeingParts = 0;
+  out.agreeingSpan = 0;
+  const PartGrid grid = partGridOf(samples_.data(), level.count);
+  if (!grid.valid) return;
+  std::array<Moments, g * g> parts{};
+  for (int i = 0; i < level.count; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.valid) parts[grid.of(s.x, s.y)].add(s.model, s.frame);
+  }
+  int ax0 = g, ax1 = -1, ay0 = g, ay1 = -1;
+  for (int py = 0; py < g; ++py)
+    for (int px = 0; px < g; ++px) {
+      const Moments& m = parts[static_cast<std::size_t>(py * g + px)];
+      if (m.n < kMinPartSamples || m.varianceM() < kMinPartModelStd * kMinPartModelStd * m.n) continue;
+      ++out.parts;
+      if (!m.textured() || m.zncc() < kPartAgreement) continue;
+      ++out.agreeingParts;
+      ax0 = std::min(ax0, px), ax1 = std::max(ax1, px), ay0 = std::min(ay0, py), ay1 = std::max(ay1, py);
+    }
+  if (out.agreeingParts > 0) out.agreeingSpan = std::min(ax1 - ax0 + 1, ay1 - ay0 + 1) / static_cast<double>(g);
+}
+
 bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
                          const cv::Vec3d& smearTurn, const PlanarPose& start, const DenseAlignmentParams& params,
                          DenseAlignment& out) noexcept {
@@ -317,7 +394,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   cv::Vec<double, 6> turn(smearTurn[0] * turnScale, smearTurn[1] * turnScale, smearTurn[2] * turnScale, 0, 0, 0);
   bool searched = false;
   // A sharp start stays sharp: the model's derivative along a smear of zero is zero.
-  const int parameters = cv::norm(smearTurn) > 0 ? kAll : 6;
+  const int parameters = cv::norm(smearTurn) > 0 && params.fitSmear ? kAll : 6;
 
   auto fitOf = [&](const Level& lv, double sigmaForCost, Fit& f) {
     Moments moments;
@@ -494,6 +571,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   out.samples = fit.valid;
   out.visibleShare = std::min(1.0, fit.valid * lv.stride * lv.stride / std::max(lv.area, 1.0));
   out.inlierShare = static_cast<double>(inliers) / fit.valid;
+  judgeParts(lv, out);
   out.smearPx = meanSmear * (1 << lv.index);
   covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
   for (const double v : out.covariance)

@@ -44,6 +44,9 @@ struct DenseAlignmentParams {
   // The longest turn over an exposure believed (radians; 0.15 is 9 deg, 270 deg/s over 1/30 s):
   // a step past it is refused (a hand over the target can be explained by a smear of everything).
   double maxSmearTurn = 0.15;
+  // The turn over the exposure fitted with the pose (true), or kept as given (false: the pose
+  // alone, under the smear the image's measured motion makes).
+  bool fitSmear = true;
 };
 
 // The keyframe: its grey pyramid (level l is level 0 halved l times) and the mapping from the
@@ -60,6 +63,14 @@ struct DenseAlignment {
   int samples = 0;       // at the fine level
   double inlierShare = 0;  // of the samples with a full Huber weight
   double visibleShare = 0;  // of the keyframe's area, seen (in the image) by the samples
+  // Agreement by parts: the samples' extent cut into kPartGrid x kPartGrid parts; a part counts
+  // when its model varies (texture to judge by) and agrees when its own ZNCC (its own gain and
+  // bias) is high. A hand hides some parts and leaves the rest agreeing; a wrong pose
+  // misaligns the texture everywhere.
+  static constexpr int kPartGrid = 4;
+  int parts = 0;             // textured parts with enough samples
+  int agreeingParts = 0;     // of them, ZNCC >= kPartAgreement
+  double agreeingSpan = 0;   // the agreeing parts' extent over the grid, narrower axis, 0..1
   cv::Vec3d smearTurn;   // the camera's turn over the exposure, as the frame's blur shows it
   double smearPx = 0;    // the mean smear over the samples, level-0 pixels
   int renders = 0;       // of the model (its cost: one pass over the samples and their taps)
@@ -113,6 +124,7 @@ class DenseAligner {
   // turn of the camera about its centre. False when no shift correlates.
   bool searchShift(const Level& level, int radius, PlanarPose& pose) noexcept;
   [[nodiscard]] double meanSmearOf(const Level& level) const noexcept;  // over the valid samples, level pixels
+  void judgeParts(const Level& level, DenseAlignment& out) const noexcept;
 };
 
 }  // namespace marionette::ar

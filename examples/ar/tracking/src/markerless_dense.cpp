@@ -34,8 +34,6 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
     params.searchRadius = std::min(params.searchRadius, kMeasuredStartSearchRadius);
   }
   if (!dense.align(K, target, framePyramid(), frameTurn * exposure, prediction, params, result)) return false;
-  const glm::dvec3 c = cameraPosition(result.pose);
-  if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;
   // The exposure the frame's blur shows (its turn against the frame interval's), where the turn
   // is long enough to tell: cameras keep an exposure for many frames, the next smeared frame
   // starts from it.
@@ -43,18 +41,29 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   const double frameAngle = cv::norm(frameTurn);
   if (imageMotionFound && frameAngle * K(0, 0) >= 8) {
     // The turn the blur shows must be about the axis of the image's measured one (either sense:
-    // a smear has no direction); otherwise the alignment explained the blur by another pose.
+    // a smear has no direction); otherwise the alignment explained the blur by another pose, or
+    // by something else moving (a hand crossing in its own direction): aligned again under the
+    // measured smear, kept as it is.
     const double turnAngle = cv::norm(result.smearTurn);
     const double ratio = turnAngle / frameAngle;
-    if (std::abs(result.smearTurn.dot(frameTurn)) < kMinSmearAxisCosine * turnAngle * frameAngle) return false;
-    measuredExposure = std::clamp(ratio, 0.1, 1.0);
+    if (std::abs(result.smearTurn.dot(frameTurn)) >= kMinSmearAxisCosine * turnAngle * frameAngle) {
+      measuredExposure = std::clamp(ratio, 0.1, 1.0);
+    } else {
+      params.fitSmear = false;
+      if (!dense.align(K, target, framePyramid(), frameTurn * exposure, prediction, params, result)) return false;
+    }
   }
+  const glm::dvec3 c = cameraPosition(result.pose);
+  if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;
   out = Measurement{};
   out.pose = result.pose;
   out.dense = true;
   out.ncc = result.zncc;
   out.inlierShare = result.inlierShare;
   out.visibleShare = result.visibleShare;
+  out.parts = result.parts;
+  out.agreeingParts = result.agreeingParts;
+  out.agreeingSpan = result.agreeingSpan;
   out.smearPx = result.smearPx;
   out.exposure = measuredExposure;
   out.rms = result.sigma;

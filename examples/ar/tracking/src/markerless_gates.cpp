@@ -12,9 +12,16 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
   if (m.dense) {
     // The whole target's pixels explained by the blurred keyframe: LIMITED at best (the smear
     // leaves the pose less certain along it, and the model is the frame's motion's, not seen).
-    const bool limited = m.ncc >= settings.minDenseZncc && m.inlierShare >= settings.minDenseInlierShare &&
-                         m.visibleShare >= settings.minDenseVisibleShare &&
-                         3 * m.positionSigma <= drawnM && 3 * m.rotationSigmaDeg <= settings.maxDrawnErrorDeg;
+    // Explained as a whole, or by parts where something covers the rest (docs/tracking.md).
+    const bool whole = m.ncc >= settings.minDenseZncc && m.inlierShare >= settings.minDenseInlierShare;
+    const bool byParts = m.agreeingParts >= settings.minDenseAgreeingParts &&
+                         m.agreeingParts >= settings.minDenseAgreeingShare * m.parts &&
+                         m.agreeingSpan >= settings.minDenseAgreeingSpan;
+    const bool inView = m.visibleShare >= settings.minDenseVisibleShare;
+    const bool sliver = m.visibleShare >= settings.minDenseSliverShare && m.parts >= settings.minDenseSliverParts &&
+                        m.agreeingParts == m.parts && whole;
+    const bool limited = ((inView && (whole || byParts)) || sliver) && 3 * m.positionSigma <= drawnM &&
+                         3 * m.rotationSigmaDeg <= settings.maxDrawnErrorDeg;
     return limited ? Evidence::Limited : Evidence::None;
   }
   // A loose fit that fewer than half of the corners tried support is no pose: on the stress
@@ -79,6 +86,11 @@ Verdict MarkerlessTracker::Impl::judge(const Measurement& m, double seconds, boo
   stats.judgedCameraToWorld = cameraToWorld(m.pose);
   stats.ncc = m.ncc;
   stats.dense = m.dense;
+  stats.inlierShare = m.inlierShare;
+  stats.visibleShare = m.visibleShare;
+  stats.parts = m.parts;
+  stats.agreeingParts = m.agreeingParts;
+  stats.agreeingSpan = m.agreeingSpan;
   stats.positionSigmaM = m.positionSigma;
   stats.rotationSigmaDeg = m.rotationSigmaDeg;
   stats.rejection = Rejection::None;

@@ -109,6 +109,8 @@ struct Measurement {
   bool dense = false;        // from the dense alignment: ncc over all the target's pixels
   double inlierShare = 0;    // dense: the pixels within Huber's threshold
   double visibleShare = 0;   // dense: the keyframe's area in view
+  int parts = 0, agreeingParts = 0;  // dense: textured parts of the target, and those that agree
+  double agreeingSpan = 0;   // dense: the agreeing parts' extent, narrower axis, 0..1
   double smearPx = 0;        // dense: the mean smear over the target, pixels
   double exposure = 0;       // dense: the exposure's share of the frame interval it measured (0: none)
 };

@@ -153,8 +153,11 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   // Relocalize when tracking found nothing, or had nothing to start from. A measurement that
   // failed only its gates while the anchor is recent saw the target: ORB on the same frame (a
   // smear, a hand) finds no better, and costs 12 ms.
-  // (A dense alignment that saw the target counts too: ORB finds nothing in a smear.)
-  const bool measuredNearAnchor = (stats.corners > 0 || stats.dense) && haveAnchor && stats.rejection == Rejection::Evidence;
+  // (A dense alignment that saw the target counts too: ORB finds nothing in a smear. Saw it:
+  // the whole or enough of its parts agree; a fit that ends anywhere, after a cut, saw nothing.)
+  const bool denseSawTarget = stats.dense && (stats.ncc >= settings.minDenseZncc ||
+                                              stats.agreeingParts >= settings.minDenseAgreeingParts);
+  const bool measuredNearAnchor = (stats.corners > 0 || denseSawTarget) && haveAnchor && stats.rejection == Rejection::Evidence;
   // Nor when the image's motion, measured this frame, puts the target well outside the view (a
   // look away): ORB would find nothing there. A chain may drift (5 deg at worst on the stress
   // sequences, 50 px), hence the margin, and every kMaxRelocalizationSkips-th frame tries anyway.
@@ -300,6 +303,7 @@ std::string checkSettings(const MarkerlessSettings& s) {
     return "tiltedViewFeatures must be 0..20000";
   if (s.referenceFeatures < 50 || s.referenceFeatures > PlanarMap::kMaxPointsPerKeyframe)
     return "referenceFeatures must be 50..20000";
+  if (s.minDenseAgreeingParts < 1 || s.minDenseSliverParts < 1) return "minDenseAgreeingParts and minDenseSliverParts must be >= 1";
   if (s.minLimitedInliers < 6 || s.minTrackingInliers < s.minLimitedInliers)
     return "need 6 <= minLimitedInliers <= minTrackingInliers";
   if (!(s.maxTrackingRmsPx > 0) || !std::isfinite(s.maxTrackingRmsPx)) return "maxTrackingRmsPx must be positive";
@@ -314,7 +318,8 @@ std::string checkSettings(const MarkerlessSettings& s) {
       return "the motion model, drawn-error bounds, minFeatureSigmaPx, effectiveFeatures and denseCovarianceScale must be "
              "positive";
   for (const double v : {s.maxDrawnErrorFraction, s.maxTrackingErrorFraction, s.minTrackingSpread, s.minLimitedSpread,
-                         s.minTrackingNcc, s.minLimitedNcc, s.minDenseZncc, s.minDenseInlierShare, s.minDenseVisibleShare})
+                         s.minTrackingNcc, s.minLimitedNcc, s.minDenseZncc, s.minDenseInlierShare, s.minDenseVisibleShare,
+                         s.minDenseAgreeingShare, s.minDenseAgreeingSpan, s.minDenseSliverShare})
     if (!(v >= 0) || !std::isfinite(v)) return "the error fractions, spreads and NCC thresholds must be >= 0";
   return {};
 }

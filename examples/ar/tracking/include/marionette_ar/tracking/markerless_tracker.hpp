@@ -87,6 +87,15 @@ struct MarkerlessSettings {
   // keyframe in view (a sliver at the image's edge fits poses 4 deg apart alike).
   bool denseAlignment = true;
   double minDenseZncc = 0.8, minDenseInlierShare = 0.6, minDenseVisibleShare = 0.3;
+  // Or, where something covers part of the target (a hand), its parts (a 4 x 4 grid over the
+  // pixels in view) that agree on their own (ZNCC >= 0.85): at least this many, this share of
+  // the textured parts, spanning this share of the grid both ways (not one corner's parts).
+  // And a sliver at the edge under minDenseVisibleShare, down to minDenseSliverShare, when every
+  // textured part agrees and there are minDenseSliverParts of them.
+  int minDenseAgreeingParts = 4;
+  double minDenseAgreeingShare = 0.3, minDenseAgreeingSpan = 0.5;
+  double minDenseSliverShare = 0.15;
+  int minDenseSliverParts = 6;
   // Neighbouring pixels' errors are correlated beyond the smear's length: the covariance of a
   // dense pose is multiplied by this (calibrated on the stress sequences: docs/tracking.md).
   double denseCovarianceScale = 0.5;
@@ -143,6 +152,11 @@ class MarkerlessTracker final : public Tracker {
     // The measured pose's evidence (the last one judged this frame), for logs and calibration.
     double spread = 0;               // inliers' narrowest spread over the corners tried
     double ncc = 0;                  // mean normalized cross-correlation at the inliers
+    // Dense poses: the share of the target's pixels within Huber's threshold, of its area in
+    // view, and its textured parts that agree of those it has.
+    double inlierShare = 0, visibleShare = 0;
+    int parts = 0, agreeingParts = 0;
+    double agreeingSpan = 0;
     double positionSigmaM = 0, rotationSigmaDeg = 0;
     double motionPositionM = 0, motionRotationDeg = 0;  // distance from the motion model's prediction
     double motionPositionLimitM = 0, motionRotationLimitDeg = 0;  // what it allowed
