@@ -346,6 +346,7 @@ TEST(StressRun, ReportKeepsTheWorstDrawnPosesWithSeedAndFrame) {
     m[3].x = 0.01 * i;
     truth.cameraToWorld.push_back(m);
     truth.visibleFraction.push_back(i == 4 ? 0.0 : 1.0);
+    truth.hiddenFraction.push_back(i == 1 ? 0.6 : 0.0);  // a hand over 60 % of it in frame 1
   }
   auto pose = [&](int i, TrackingState state, glm::dvec3 offset, double rollDeg = 0) {
     TrackedPose p;
@@ -377,6 +378,8 @@ TEST(StressRun, ReportKeepsTheWorstDrawnPosesWithSeedAndFrame) {
   EXPECT_EQ(pan.drawnFrames, 4);
   EXPECT_EQ(pan.trackingFrames, 3);
   EXPECT_EQ(pan.within2cm, 2);  // frames 0 and 3 (frame 4 is out of view)
+  EXPECT_EQ(pan.halfShownFrames, 3);  // frames 0, 2 and 3 (frame 1 40 % shown, frame 4 none)
+  EXPECT_EQ(pan.halfShownWithin2cm, 2);  // frames 0 and 3 (frame 2 LOST)
   EXPECT_EQ(pan.falsePoses, 1);  // frame 3, 3 deg off
   EXPECT_NEAR(pan.worstPosition.value, 0.03, 1e-12);
   EXPECT_EQ(pan.worstPosition.seed, 7u);
@@ -391,7 +394,7 @@ TEST(StressRun, ReportKeepsTheWorstDrawnPosesWithSeedAndFrame) {
   EXPECT_EQ(reentry.worstPosition.frame, 2);
   EXPECT_EQ(reentry.falsePoses, 1);
   const std::string table = stressTable(report);
-  EXPECT_NE(table.find("| pan | 1 | 5 | 4 | 4 | 50.0 % | 3.00 (seed 7, frame 1) | 3.00 (seed 7, frame 3) | 1 |"), std::string::npos)
+  EXPECT_NE(table.find("| pan | 1 | 5 | 4 | 4 | 50.0 % | 66.7 % of 3 | 3.00 (seed 7, frame 1) | 3.00 (seed 7, frame 3) | 1 |"), std::string::npos)
       << table;
   EXPECT_NE(table.find("10.00 (seed 9, frame 2)"), std::string::npos) << table;
   EXPECT_THROW(addStressRun(report, StressClass::Pan, 1, truth, {first[0]}, {1.0}), std::invalid_argument);

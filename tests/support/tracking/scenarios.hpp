@@ -34,6 +34,7 @@ struct Scenario {
   std::vector<FrameEffects> effects;
   std::vector<double> visibleFraction;  // renderer.visibleTargetFraction of each pose
   std::vector<double> smearPx;  // stress sequences: the target centre's smear per frame (else empty)
+  std::vector<double> hiddenFraction;  // stress sequences: the target's share hidden by hands (else empty)
 };
 
 // All of the above, framesPerScenario frames each (>= 2). Speeds are per second, so fewer

@@ -41,6 +41,10 @@ struct StressClassReport {
   int drawnFrames = 0;     // TRACKING or LIMITED, the target in view or not
   int trackingFrames = 0;  // TRACKING
   int within2cm = 0;       // visible frames drawn within 2 cm
+  // Frames where at least half of the target shows (in view and not hidden by a hand), and
+  // those of them drawn within 2 cm: how coverage splits between a target that is there to be
+  // seen and slivers at the edge or hands over most of it.
+  int halfShownFrames = 0, halfShownWithin2cm = 0;
   int falsePoses = 0;      // drawn frames off by >= 5 cm or >= 2 deg
   StressWorst worstPosition, worstRotation;  // over the drawn frames
   double trackingRmsM = 0;  // position error over the TRACKING frames; NaN without one

@@ -583,6 +583,7 @@ StressSequence assemble(const SequenceRenderer& r, StressClass kind, std::uint64
     s.scenario.effects.push_back(fx);
     s.scenario.visibleFraction.push_back(r.visibleTargetFraction(pose));
     s.scenario.smearPx.push_back(f.blurPx);
+    s.scenario.hiddenFraction.push_back(f.handsCover);
     s.frames.push_back(std::move(f));
   }
   char line[160];

@@ -6,6 +6,7 @@
 namespace marionette::ar {
 
 bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out) {
+  const StageTimer timer(stats.denseMs);
   const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
   stats.predicted = true;
   stats.predictedCameraToWorld = cameraToWorld(prediction);

@@ -6,6 +6,7 @@
 namespace marionette::ar {
 
 bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, PlanarPose& out, bool guessHasVelocity) {
+  const StageTimer timer(stats.motionMs);
   if (!settings.backgroundMotion || !havePreviousFrame || !havePreviousFramePose) return false;
   const cv::Matx33d previousG = planeToImageHomography(K, previousFramePose);
   const cv::Matx33d guessG = planeToImageHomography(K, guess);

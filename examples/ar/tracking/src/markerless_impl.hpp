@@ -8,6 +8,7 @@
 #include "marionette_ar/tracking/markerless_tracker.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -97,6 +98,19 @@ struct KeyframeData {
 void addKeyframeError(const KeyframeData& kf, double covariance[36]) noexcept;
 
 // One measured pose and the evidence the gates judge it by.
+// Adds the time from construction to destruction to `ms` (the per-stage times of FrameStats).
+class StageTimer {
+ public:
+  explicit StageTimer(double& ms) noexcept : ms_(ms), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() { ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count(); }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  double& ms_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 struct Measurement {
   PlanarPose pose;
   double rms = 0;

@@ -158,6 +158,7 @@ int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
 }
 
 bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
+  const StageTimer timer(stats.relocalizationMs);
   stats.relocalized = true;
   const cv::Mat& frame = grey.pinhole();
   orb->detectAndCompute(frame, cv::noArray(), frameKeypoints, frameDescriptors);

@@ -83,6 +83,7 @@ double narrowestSpread(const std::vector<cv::Point2f>& points) noexcept {
 }  // namespace markerless
 
 bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, Measurement& out) {
+  const StageTimer timer(stats.kltMs);
   stats.predicted = true;
   stats.predictedCameraToWorld = cameraToWorld(prediction);
   const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];

@@ -157,6 +157,9 @@ class MarkerlessTracker final : public Tracker {
     double inlierShare = 0, visibleShare = 0;
     int parts = 0, agreeingParts = 0;
     double agreeingSpan = 0;
+    // Where the frame's time went (milliseconds, summed over the attempts): the image's motion,
+    // KLT on corners, the dense alignment, ORB relocalization.
+    double motionMs = 0, kltMs = 0, denseMs = 0, relocalizationMs = 0;
     double positionSigmaM = 0, rotationSigmaDeg = 0;
     double motionPositionM = 0, motionRotationDeg = 0;  // distance from the motion model's prediction
     double motionPositionLimitM = 0, motionRotationLimitDeg = 0;  // what it allowed
