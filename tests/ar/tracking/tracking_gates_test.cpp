@@ -4,6 +4,7 @@
 // carries its uncertainty.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/core/utility.hpp>
@@ -166,6 +167,55 @@ TEST(TrackingGates, PosesCarryTheirUncertainty) {
   }
   EXPECT_GT(nearSigma, 0.0);
   EXPECT_GT(farSigma, 1.5 * nearSigma);
+}
+
+// A hand over part of the target under motion blur: where nothing measured passes, the pose
+// carried by the image's motion is given when the target's parts agree at it, with a
+// covariance that covers its error; with the whole target hidden, nothing is carried.
+TEST(TrackingGates, APartlyHiddenTargetIsCarriedOnlyWhereItsPartsAgree) {
+  cv::setNumThreads(1);
+  const SequenceRenderer renderer = standardRenderer();
+  auto run = [&](double hidden, int& given, int& carried, double& worstSigmas, double& worstCm) {
+    // Without the dense alignment KLT finds nothing under this blur and hand, so every pose
+    // given after frame 10 is a carried one.
+    MarkerlessSettings settings;
+    settings.denseAlignment = false;
+    auto tracker = standardTracker(renderer, settings);
+    given = carried = 0;
+    worstSigmas = worstCm = 0;
+    cv::Mat frame;
+    for (int i = 0; i < 40; ++i) {
+      const glm::dmat4 truth = orbitPose(1.2 * i, 50, 0.6);
+      FrameEffects fx;
+      if (i >= 10) {
+        fx.occluderFraction = hidden;
+        fx.occluderPhase = 0.01 * (i - 10);
+        fx.motionBlurPx = 12;
+      }
+      renderer.render(truth, fx, frame);
+      const TrackedPose p = tracker->update(view(frame), i / 30.0);
+      if (i < 10 || p.state == TrackingState::Lost) continue;
+      ++given;
+      if (!tracker->lastFrame().carried) continue;
+      ++carried;
+      worstCm = std::max(worstCm, 100 * positionError(p, truth));
+      worstSigmas = std::max({worstSigmas, positionError(p, truth) / p.positionSigmaM,
+                              rotationErrorDeg(p.cameraToWorld, truth) / p.rotationSigmaDeg});
+    }
+  };
+  int given = 0, carried = 0;
+  double worstSigmas = 0, worstCm = 0;
+  run(0.45, given, carried, worstSigmas, worstCm);
+  std::printf("45 %% hidden: %d of 30 frames given, %d carried; worst carried %.2f cm, %.2f sigma\n", given, carried,
+              worstCm, worstSigmas);
+  // Carried while its covariance (the last pose's plus 6 mm a frame) stays drawable: 7 frames.
+  EXPECT_GE(carried, 5);
+  EXPECT_EQ(carried, given) << "nothing else passes here";
+  EXPECT_LT(worstSigmas, 3.0);
+  EXPECT_LT(worstCm, 1.0);
+  run(1.0, given, carried, worstSigmas, worstCm);
+  std::printf("all hidden: %d of 30 frames given, %d carried\n", given, carried);
+  EXPECT_EQ(carried, 0) << "nothing of the target shows: nothing to carry";
 }
 
 }  // namespace

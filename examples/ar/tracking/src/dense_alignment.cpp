@@ -580,6 +580,32 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
                        cv::norm(turn));
 }
 
+bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
+                          const cv::Vec3d& smearTurn, const PlanarPose& pose, const DenseAlignmentParams& params,
+                          DenseAlignment& out) noexcept {
+  if (capacity_ == 0 || params.fineLevel < 0 || params.fineLevel > frame.levels()) return false;
+  Level lv;
+  if (!prepareLevel(K, target, frame, pose, params.fineLevel, params, lv)) return false;
+  const cv::Vec<double, 6> smear(smearTurn[0], smearTurn[1], smearTurn[2], 0, 0, 0);
+  out = DenseAlignment{};
+  out.renders = 1;
+  if (render(lv, pose, smear, params.maxTaps) < 16) return false;
+  Moments moments;
+  for (int i = 0; i < lv.count; ++i) {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    if (s.valid) moments.add(s.model, s.frame);
+  }
+  if (moments.n < 16 || !moments.textured()) return false;
+  out.pose = pose;
+  out.smearTurn = smearTurn;
+  out.zncc = moments.zncc();
+  out.samples = moments.n;
+  out.visibleShare = std::min(1.0, moments.n * lv.stride * lv.stride / std::max(lv.area, 1.0));
+  out.smearPx = meanSmearOf(lv) * (1 << lv.index);
+  judgeParts(lv, out);
+  return std::isfinite(out.zncc);
+}
+
 cv::Vec3d smearTurnFromMotion(const cv::Matx33d& K, const cv::Matx33d& imageMotion, double exposure) noexcept {
   const cv::Matx33d m = K.inv() * imageMotion * K;
   const double det = cv::determinant(m);

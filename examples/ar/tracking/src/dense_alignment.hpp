@@ -99,6 +99,13 @@ class DenseAligner {
   bool align(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const cv::Vec3d& smearTurn,
              const PlanarPose& start, const DenseAlignmentParams& params, DenseAlignment& out) noexcept;
 
+  // The evidence at `pose` as it is (nothing fitted but gain and bias): the keyframe blurred by
+  // `smearTurn`, rendered at params.fineLevel, against the frame. Fills zncc, sigma, samples,
+  // visibleShare and the parts' agreement (out.pose = pose, no covariance). False when the target
+  // shows too few pixels there. Allocates nothing once reserved.
+  bool verify(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const cv::Vec3d& smearTurn,
+              const PlanarPose& pose, const DenseAlignmentParams& params, DenseAlignment& out) noexcept;
+
  private:
   struct Sample {
     float x = 0, y = 0;        // frame-level pixel

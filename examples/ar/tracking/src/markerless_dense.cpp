@@ -5,15 +5,11 @@
 
 namespace marionette::ar {
 
-bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out) {
-  const StageTimer timer(stats.denseMs);
-  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
-  stats.predicted = true;
-  stats.predictedCameraToWorld = cameraToWorld(prediction);
+cv::Vec3d MarkerlessTracker::Impl::frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion) const noexcept {
   // The image's motion over the last frame interval: measured this frame, else the one the
   // last frame's pose and the prediction imply for the plane (the smear is the plane's).
   cv::Matx33d motion = cv::Matx33d::eye();
-  bool haveMotion = imageMotionFound && haveLastImageMotion;
+  haveMotion = imageMotionFound && haveLastImageMotion;
   if (haveMotion) {
     motion = lastImageMotion;
   } else if (havePreviousFramePose) {
@@ -21,7 +17,35 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
     haveMotion = invertHomography(planeToImage(K, previousFramePose), previousInverse);
     if (haveMotion) motion = planeToImage(K, prediction) * previousInverse;
   }
-  const cv::Vec3d frameTurn = haveMotion ? smearTurnFromMotion(K, motion, 1.0) : cv::Vec3d(0, 0, 0);
+  return haveMotion ? smearTurnFromMotion(K, motion, 1.0) : cv::Vec3d(0, 0, 0);
+}
+
+bool MarkerlessTracker::Impl::carriedPoseShows(const PlanarPose& pose, int keyframe) {
+  const StageTimer timer(stats.denseMs);
+  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  bool haveMotion = false;
+  const cv::Vec3d turn = frameIntervalTurn(pose, haveMotion) * exposure;
+  DenseAlignment at;
+  if (!dense.verify(K, DenseTarget{kf.denseLevels, kf.planeToImage}, framePyramid(), turn, pose, denseParams, at))
+    return false;
+  stats.ncc = at.zncc;
+  stats.visibleShare = at.visibleShare;
+  stats.parts = at.parts;
+  stats.agreeingParts = at.agreeingParts;
+  stats.agreeingSpan = at.agreeingSpan;
+  // The by-parts gate of a dense pose (markerless_gates.cpp), at the pose as carried: what shows
+  // of the target is where the pose puts it.
+  return at.visibleShare >= settings.minDenseVisibleShare && at.agreeingParts >= settings.minDenseAgreeingParts &&
+         at.agreeingParts >= settings.minDenseAgreeingShare * at.parts && at.agreeingSpan >= settings.minDenseAgreeingSpan;
+}
+
+bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out) {
+  const StageTimer timer(stats.denseMs);
+  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  stats.predicted = true;
+  stats.predictedCameraToWorld = cameraToWorld(prediction);
+  bool haveMotion = false;
+  const cv::Vec3d frameTurn = frameIntervalTurn(prediction, haveMotion);
   DenseAlignment result;
   const DenseTarget target{kf.denseLevels, kf.planeToImage};
   // The turn over the exposure is at most the interval's as measured (kMaxExposureShare of it,

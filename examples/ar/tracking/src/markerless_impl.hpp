@@ -175,6 +175,10 @@ struct MarkerlessTracker::Impl {
   StampedPose anchor, pending;
   bool haveAnchor = false, havePending = false;
   bool gaveLast = false;  // the last frame gave a pose (the filter continues from it)
+  // The pose given last frame with its uncertainty: where a carried pose starts (the image's
+  // motion moves it, and its covariance grows by the carry's error).
+  StampedPose lastGiven;
+  int carriedFrames = 0;  // consecutive frames given as carried
 
   // Buffers reused every frame.
   cv::Mat warped, blurred;
@@ -270,6 +274,12 @@ struct MarkerlessTracker::Impl {
   }
   // The pose by the dense alignment of the keyframe from `prediction` (markerless_dense.cpp).
   bool alignDense(const PlanarPose& prediction, int keyframe, Measurement& out);
+  // The camera's turn over the last frame interval: from the image's motion measured this
+  // frame, else from the last frame's pose to `prediction` (haveMotion false: neither).
+  [[nodiscard]] cv::Vec3d frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion) const noexcept;
+  // Whether the target shows where the pose carried by the image's motion puts it: enough of
+  // its parts agree there, as the dense gate asks (markerless_dense.cpp).
+  bool carriedPoseShows(const PlanarPose& pose, int keyframe);
   [[nodiscard]] Evidence evidenceOf(const Measurement& m) const noexcept;
   // The motion model: distance of `pose` from what the confirmed poses predict at `seconds`,
   // and what a hand-held camera could have done since (stats' motion fields). True within it.

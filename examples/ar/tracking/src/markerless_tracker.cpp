@@ -189,7 +189,36 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   }
 
   if (verdict == Verdict::Rejected) blur = blurBefore;
-  PlanarPose shown = m.pose;
+  // Nothing measured passed. The image's motion, measured this frame over the whole view,
+  // carried the pose given last frame here (the prediction); where the target's parts agree at
+  // that pose (a hand over part of it, a smear KLT cannot follow), it is given LIMITED with the
+  // carry's error added to the last pose's (docs/tracking.md, "Carried poses").
+  bool carried = false;
+  std::array<double, 36> carriedCovariance{};
+  double carriedPositionSigma = 0, carriedRotationSigmaDeg = 0;
+  // (Not across a smear: the image's motion then comes from the whole image's shift, or from a
+  // grid on smeared texture, 1-2 deg off on the stress pans, and parts agree along a smear
+  // wherever they are put on it.)
+  bool haveTurn = false;
+  const double smearPx = havePrediction ? cv::norm(frameIntervalTurn(prediction, haveTurn)) * K(0, 0) * exposure : 0.0;
+  if (verdict == Verdict::Rejected && settings.carryPoses && havePrediction && stats.backgroundMotion &&
+      imageMotionFound && !stats.imageShift && smearPx < kDenseFirstSmearPx && gaveLast &&
+      carriedFrames < settings.maxCarriedFrames) {
+    carriedCovariance = lastGiven.covariance;
+    const double rotation = settings.carryRotationSigmaDeg / kDegrees, position = settings.carryPositionSigmaM;
+    for (int i = 0; i < 3; ++i) {
+      carriedCovariance[static_cast<std::size_t>(i * 7)] += rotation * rotation / 3;
+      carriedCovariance[static_cast<std::size_t>(21 + i * 7)] += position * position / 3;
+    }
+    covarianceSigmas(carriedCovariance.data(), carriedPositionSigma, carriedRotationSigmaDeg);
+    const double drawnM = std::max(settings.maxDrawnErrorM,
+                                   settings.maxDrawnErrorFraction * glm::length(cameraPosition(prediction)));
+    carried = 3 * carriedPositionSigma <= drawnM && 3 * carriedRotationSigmaDeg <= settings.maxDrawnErrorDeg &&
+              carriedPoseShows(prediction, chooseKeyframe(prediction));
+  }
+  carriedFrames = carried ? carriedFrames + 1 : 0;
+  stats.carried = carried;
+  PlanarPose shown = carried ? prediction : m.pose;
   if (fromPending) {
     // A new start: the pending pose's motion is unknown, so the velocity starts here.
     confirmedCount = 0;
@@ -212,7 +241,12 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       havePending = false;
       break;
   }
-  if (result.state != TrackingState::Lost) {
+  if (carried) {
+    result.state = TrackingState::Limited;
+    result.covariance = carriedCovariance;
+    result.positionSigmaM = carriedPositionSigma;
+    result.rotationSigmaDeg = carriedRotationSigmaDeg;
+  } else if (result.state != TrackingState::Lost) {
     result.inliers = m.inliers;
     result.reprojectionErrorPx = m.rms;
     result.covariance = m.covariance;
@@ -253,8 +287,11 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   havePreviousFrame = true;
   havePreviousFramePose = true;
   previousFrameChained = false;
-  if (result.state != TrackingState::Lost) previousFramePose = shown;
-  else if (havePending) previousFramePose = pending.pose;
+  if (result.state != TrackingState::Lost) {
+    previousFramePose = shown;
+    previousFrameChained = carried;  // the next frame carries it on (nothing measured)
+    lastGiven = StampedPose{shown, seconds, result.covariance, result.positionSigmaM, result.rotationSigmaDeg};
+  } else if (havePending) previousFramePose = pending.pose;
   else if (stats.backgroundMotion) previousFramePose = prediction, previousFrameChained = true;
   else havePreviousFramePose = false;
   if (result.state == TrackingState::Lost) {

@@ -96,6 +96,14 @@ struct MarkerlessSettings {
   double minDenseAgreeingShare = 0.3, minDenseAgreeingSpan = 0.5;
   double minDenseSliverShare = 0.15;
   int minDenseSliverParts = 6;
+  // Where nothing measured passes, the pose given last frame carried by the image's motion
+  // (measured this frame over the whole view) is given LIMITED when the target's parts agree at
+  // it as the by-parts gate asks; its covariance is the last pose's plus the carry's error per
+  // frame (calibrated on the stress sequences: docs/tracking.md), and it stops once 3 sigma
+  // leaves the drawable bounds, or after maxCarriedFrames in a row.
+  bool carryPoses = true;
+  double carryRotationSigmaDeg = 0.2, carryPositionSigmaM = 0.006;
+  int maxCarriedFrames = 10;
   // Neighbouring pixels' errors are correlated beyond the smear's length: the covariance of a
   // dense pose is multiplied by this (calibrated on the stress sequences: docs/tracking.md).
   double denseCovarianceScale = 0.5;
@@ -142,6 +150,7 @@ class MarkerlessTracker final : public Tracker {
     bool relocalized = false;      // ORB relocalization ran this frame
     bool keyframeAdded = false;
     bool extrapolated = false;     // the pose given is the motion model's, not measured
+    bool carried = false;          // the pose given is the last one carried by the image's motion, checked by parts
     bool backgroundMotion = false;  // the prediction used the frame-to-frame motion of the image
     bool imageShift = false;        // that motion came from the whole image's shift (a smear defeated the grid)
     bool dense = false;             // the pose judged last came from the dense alignment (KLT gave none)
