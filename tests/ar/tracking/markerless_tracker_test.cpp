@@ -140,6 +140,21 @@ TEST(MarkerlessTracker, BadSetupIsAClearError) {
   Diagnostics h;
   EXPECT_FALSE(MarkerlessTracker::fromTarget(kCamera, graf(1), 0.3, bad, h));
   EXPECT_NE(h.format().find("trackedCorners"), std::string::npos) << h.format();
+  // Session 25's settings: the by-parts gate and the carried poses.
+  auto refused = [&](MarkerlessSettings s, const char* name) {
+    Diagnostics refusal;
+    EXPECT_FALSE(MarkerlessTracker::fromTarget(kCamera, graf(1), 0.3, s, refusal)) << name;
+    EXPECT_NE(refusal.format().find(name), std::string::npos) << refusal.format();
+  };
+  MarkerlessSettings parts;
+  parts.minDenseAgreeingParts = 0;
+  refused(parts, "minDenseAgreeingParts");
+  MarkerlessSettings carry;
+  carry.carryRotationSigmaDeg = std::nan("");
+  refused(carry, "carryRotationSigmaDeg");
+  carry = {};
+  carry.maxCarriedFrames = -1;
+  refused(carry, "maxCarriedFrames");
 }
 
 std::vector<cv::Mat> orbitFrames(const synthetic::SequenceRenderer& r, int count, std::vector<glm::dmat4>& truth) {

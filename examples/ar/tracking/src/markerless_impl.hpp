@@ -280,6 +280,10 @@ struct MarkerlessTracker::Impl {
   // Whether the target shows where the pose carried by the image's motion puts it: enough of
   // its parts agree there, as the dense gate asks (markerless_dense.cpp).
   bool carriedPoseShows(const PlanarPose& pose, int keyframe);
+  // Where nothing measured passed: the prediction (the last pose given, carried by the image's
+  // motion measured this frame) as a pose to give, with its covariance, when the target's parts
+  // agree at it and three sigma stay drawable (markerless_dense.cpp).
+  bool carry(const PlanarPose& prediction, StampedPose& out);
   [[nodiscard]] Evidence evidenceOf(const Measurement& m) const noexcept;
   // The motion model: distance of `pose` from what the confirmed poses predict at `seconds`,
   // and what a hand-held camera could have done since (stats' motion fields). True within it.

@@ -189,33 +189,10 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   }
 
   if (verdict == Verdict::Rejected) blur = blurBefore;
-  // Nothing measured passed. The image's motion, measured this frame over the whole view,
-  // carried the pose given last frame here (the prediction); where the target's parts agree at
-  // that pose (a hand over part of it, a smear KLT cannot follow), it is given LIMITED with the
-  // carry's error added to the last pose's (docs/tracking.md, "Carried poses").
-  bool carried = false;
-  std::array<double, 36> carriedCovariance{};
-  double carriedPositionSigma = 0, carriedRotationSigmaDeg = 0;
-  // (Not across a smear: the image's motion then comes from the whole image's shift, or from a
-  // grid on smeared texture, 1-2 deg off on the stress pans, and parts agree along a smear
-  // wherever they are put on it.)
-  bool haveTurn = false;
-  const double smearPx = havePrediction ? cv::norm(frameIntervalTurn(prediction, haveTurn)) * K(0, 0) * exposure : 0.0;
-  if (verdict == Verdict::Rejected && settings.carryPoses && havePrediction && stats.backgroundMotion &&
-      imageMotionFound && !stats.imageShift && smearPx < kDenseFirstSmearPx && gaveLast &&
-      carriedFrames < settings.maxCarriedFrames) {
-    carriedCovariance = lastGiven.covariance;
-    const double rotation = settings.carryRotationSigmaDeg / kDegrees, position = settings.carryPositionSigmaM;
-    for (int i = 0; i < 3; ++i) {
-      carriedCovariance[static_cast<std::size_t>(i * 7)] += rotation * rotation / 3;
-      carriedCovariance[static_cast<std::size_t>(21 + i * 7)] += position * position / 3;
-    }
-    covarianceSigmas(carriedCovariance.data(), carriedPositionSigma, carriedRotationSigmaDeg);
-    const double drawnM = std::max(settings.maxDrawnErrorM,
-                                   settings.maxDrawnErrorFraction * glm::length(cameraPosition(prediction)));
-    carried = 3 * carriedPositionSigma <= drawnM && 3 * carriedRotationSigmaDeg <= settings.maxDrawnErrorDeg &&
-              carriedPoseShows(prediction, chooseKeyframe(prediction));
-  }
+  // Nothing measured passed: the last pose carried by the image's motion, where the target's
+  // parts agree at it (docs/tracking.md, "Partly hidden targets").
+  StampedPose carriedPose;
+  const bool carried = verdict == Verdict::Rejected && havePrediction && carry(prediction, carriedPose);
   carriedFrames = carried ? carriedFrames + 1 : 0;
   stats.carried = carried;
   PlanarPose shown = carried ? prediction : m.pose;
@@ -243,9 +220,9 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   }
   if (carried) {
     result.state = TrackingState::Limited;
-    result.covariance = carriedCovariance;
-    result.positionSigmaM = carriedPositionSigma;
-    result.rotationSigmaDeg = carriedRotationSigmaDeg;
+    result.covariance = carriedPose.covariance;
+    result.positionSigmaM = carriedPose.positionSigma;
+    result.rotationSigmaDeg = carriedPose.rotationSigmaDeg;
   } else if (result.state != TrackingState::Lost) {
     result.inliers = m.inliers;
     result.reprojectionErrorPx = m.rms;
@@ -341,6 +318,9 @@ std::string checkSettings(const MarkerlessSettings& s) {
   if (s.referenceFeatures < 50 || s.referenceFeatures > PlanarMap::kMaxPointsPerKeyframe)
     return "referenceFeatures must be 50..20000";
   if (s.minDenseAgreeingParts < 1 || s.minDenseSliverParts < 1) return "minDenseAgreeingParts and minDenseSliverParts must be >= 1";
+  if (s.maxCarriedFrames < 0 || !(s.carryRotationSigmaDeg >= 0) || !std::isfinite(s.carryRotationSigmaDeg) ||
+      !(s.carryPositionSigmaM >= 0) || !std::isfinite(s.carryPositionSigmaM))
+    return "maxCarriedFrames, carryRotationSigmaDeg and carryPositionSigmaM must be >= 0";
   if (s.minLimitedInliers < 6 || s.minTrackingInliers < s.minLimitedInliers)
     return "need 6 <= minLimitedInliers <= minTrackingInliers";
   if (!(s.maxTrackingRmsPx > 0) || !std::isfinite(s.maxTrackingRmsPx)) return "maxTrackingRmsPx must be positive";
