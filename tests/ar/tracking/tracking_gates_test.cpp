@@ -175,7 +175,9 @@ TEST(TrackingGates, PosesCarryTheirUncertainty) {
 TEST(TrackingGates, APartlyHiddenTargetIsCarriedOnlyWhereItsPartsAgree) {
   cv::setNumThreads(1);
   const SequenceRenderer renderer = standardRenderer();
-  auto run = [&](double hidden, int& given, int& carried, double& worstSigmas, double& worstCm) {
+  // `gap`: a frame where the whole target is hidden (nothing carried there; the chain of the
+  // image's motions goes on through it).
+  auto run = [&](double hidden, int gap, int& given, int& carried, double& worstSigmas, double& worstCm) {
     // Without the dense alignment KLT finds nothing under this blur and hand, so every pose
     // given after frame 10 is a carried one.
     MarkerlessSettings settings;
@@ -188,12 +190,15 @@ TEST(TrackingGates, APartlyHiddenTargetIsCarriedOnlyWhereItsPartsAgree) {
       const glm::dmat4 truth = orbitPose(1.2 * i, 50, 0.6);
       FrameEffects fx;
       if (i >= 10) {
-        fx.occluderFraction = hidden;
+        fx.occluderFraction = i == gap ? 1.0 : hidden;
         fx.occluderPhase = 0.01 * (i - 10);
         fx.motionBlurPx = 12;
       }
       renderer.render(truth, fx, frame);
       const TrackedPose p = tracker->update(view(frame), i / 30.0);
+      if (i == gap) {
+        EXPECT_EQ(p.state, TrackingState::Lost) << "the gap";
+      }
       if (i < 10 || p.state == TrackingState::Lost) continue;
       ++given;
       if (!tracker->lastFrame().carried) continue;
@@ -205,7 +210,7 @@ TEST(TrackingGates, APartlyHiddenTargetIsCarriedOnlyWhereItsPartsAgree) {
   };
   int given = 0, carried = 0;
   double worstSigmas = 0, worstCm = 0;
-  run(0.45, given, carried, worstSigmas, worstCm);
+  run(0.45, -1, given, carried, worstSigmas, worstCm);
   std::printf("45 %% hidden: %d of 30 frames given, %d carried; worst carried %.2f cm, %.2f sigma\n", given, carried,
               worstCm, worstSigmas);
   // Carried while its covariance (the last pose's plus 6 mm a frame) stays drawable: 7 frames.
@@ -213,7 +218,15 @@ TEST(TrackingGates, APartlyHiddenTargetIsCarriedOnlyWhereItsPartsAgree) {
   EXPECT_EQ(carried, given) << "nothing else passes here";
   EXPECT_LT(worstSigmas, 3.0);
   EXPECT_LT(worstCm, 1.0);
-  run(1.0, given, carried, worstSigmas, worstCm);
+  // A frame with all of it hidden after the third carried one: the carry resumes after it (the
+  // chain of the image's motions went on through it), its covariance grown by that frame too.
+  const int before = carried;
+  run(0.45, 13, given, carried, worstSigmas, worstCm);
+  std::printf("45 %% hidden, all of it in frame 13: %d carried\n", carried);
+  EXPECT_GT(carried, 3) << "resumed after the gap";
+  EXPECT_LT(carried, before) << "the gap's frame counts against the covariance";
+  EXPECT_LT(worstSigmas, 3.0);
+  run(1.0, -1, given, carried, worstSigmas, worstCm);
   std::printf("all hidden: %d of 30 frames given, %d carried\n", given, carried);
   EXPECT_EQ(carried, 0) << "nothing of the target shows: nothing to carry";
 }

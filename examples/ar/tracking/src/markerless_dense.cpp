@@ -44,18 +44,21 @@ bool MarkerlessTracker::Impl::carry(const PlanarPose& prediction, StampedPose& o
   // background grid measured this frame. Not across a smear: the motion then comes from the
   // whole image's shift, or from a grid on smeared texture (1-2 deg off on the stress pans), and
   // parts agree along a smear wherever they are put on it.
-  if (!settings.carryPoses || !stats.backgroundMotion || !imageMotionFound || stats.imageShift || !gaveLast ||
-      carriedFrames >= settings.maxCarriedFrames)
+  // Carried from the last pose given, through the frames since (LOST ones too, where the chain
+  // of measured motions held): each adds the carry's error.
+  if (!settings.carryPoses || !stats.backgroundMotion || !imageMotionFound || stats.imageShift ||
+      chainedSinceGiven < 0 || carriedFrames + chainedSinceGiven >= settings.maxCarriedFrames)
     return false;
   bool haveTurn = false;
   const double smearPx = cv::norm(frameIntervalTurn(prediction, haveTurn)) * K(0, 0) * exposure;
   if (!(smearPx < kDenseFirstSmearPx)) return false;
   // The last pose's covariance and the carry's error a frame: given while three sigma stay drawable.
   out = StampedPose{prediction, lastGiven.time, lastGiven.covariance, 0, 0};
+  const double steps = chainedSinceGiven + 1;
   const double rotation = settings.carryRotationSigmaDeg / kDegrees, position = settings.carryPositionSigmaM;
   for (int i = 0; i < 3; ++i) {
-    out.covariance[static_cast<std::size_t>(i * 7)] += rotation * rotation / 3;
-    out.covariance[static_cast<std::size_t>(21 + i * 7)] += position * position / 3;
+    out.covariance[static_cast<std::size_t>(i * 7)] += steps * rotation * rotation / 3;
+    out.covariance[static_cast<std::size_t>(21 + i * 7)] += steps * position * position / 3;
   }
   covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
   const double drawnM = std::max(settings.maxDrawnErrorM,

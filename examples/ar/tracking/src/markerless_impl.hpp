@@ -179,6 +179,9 @@ struct MarkerlessTracker::Impl {
   // motion moves it, and its covariance grows by the carry's error).
   StampedPose lastGiven;
   int carriedFrames = 0;  // consecutive frames given as carried
+  // Frames since the last pose given through which the image's motion carried it (nothing
+  // given, LOST): -1 once that chain broke (no motion measured, a pending pose in between).
+  int chainedSinceGiven = -1;
 
   // Buffers reused every frame.
   cv::Mat warped, blurred;

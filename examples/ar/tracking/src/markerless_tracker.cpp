@@ -52,6 +52,8 @@ void MarkerlessTracker::Impl::forgetOld(double seconds) noexcept {
 void MarkerlessTracker::Impl::forgetAll() noexcept {
   confirmedCount = 0;
   haveAnchor = havePending = gaveLast = havePreviousFrame = havePreviousFramePose = haveLastImageMotion = previousFrameChained = false;
+  chainedSinceGiven = -1;
+  carriedFrames = 0;
   blur = {};
   lastDenseSmearPx = 0;
   filter.reset();
@@ -268,9 +270,17 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     previousFramePose = shown;
     previousFrameChained = carried;  // the next frame carries it on (nothing measured)
     lastGiven = StampedPose{shown, seconds, result.covariance, result.positionSigmaM, result.rotationSigmaDeg};
-  } else if (havePending) previousFramePose = pending.pose;
-  else if (stats.backgroundMotion) previousFramePose = prediction, previousFrameChained = true;
-  else havePreviousFramePose = false;
+    chainedSinceGiven = 0;
+  } else if (havePending) {
+    previousFramePose = pending.pose;
+    chainedSinceGiven = -1;
+  } else if (stats.backgroundMotion && imageMotionFound) {
+    previousFramePose = prediction, previousFrameChained = true;
+    if (chainedSinceGiven >= 0) ++chainedSinceGiven;
+  } else {
+    havePreviousFramePose = false;
+    chainedSinceGiven = -1;
+  }
   if (result.state == TrackingState::Lost) {
     gaveLast = false;
     return result;
