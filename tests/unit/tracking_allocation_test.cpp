@@ -483,6 +483,36 @@ TEST(TrackingAllocation, MarkerlessDensePathAllocatesNothingPerFrame) {
               MN_COUNT_MALLOC ? "" : " (not counted in this build)");
 }
 
+// Carried poses (a hand over part of the target; docs/tracking.md "Partly hidden targets"): the
+// check at the carried pose renders the keyframe into the aligner's reserved samples, nothing else.
+TEST(TrackingAllocation, MarkerlessCarriedPosesAllocateNothingPerFrame) {
+  cv::setNumThreads(1);
+  const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+  // Hands seed 20: 8 carried frames (marionette_tracking_eval --stress 20, session 25).
+  const synthetic::StressSequence sequence = synthetic::stressSequence(renderer, synthetic::StressClass::Hands, 20, 40);
+  const synthetic::RenderedScenario rendered = synthetic::renderStress(renderer, sequence);
+  Diagnostics d;
+  auto tracker = MarkerlessTracker::fromTarget(renderer.camera(), synthetic::standardTargetImage(),
+                                               synthetic::kStandardTargetWidth, MarkerlessSettings{}, d);
+  ASSERT_TRUE(tracker) << d.format();
+  int carriedFrames = 0;
+  long news = 0, mallocs = 0;
+  for (std::size_t i = 0; i < rendered.frames.size(); ++i) {
+    const Counts c0 = now();
+    (void)tracker->update(view(rendered.frames[i]), static_cast<double>(i) / rendered.scenario.fps);
+    const Counts used = since(c0);
+    const auto& st = tracker->lastFrame();
+    if (i < 3 || !st.carried || st.relocalized || st.keyframeAdded) continue;
+    ++carriedFrames;
+    expectNoAllocation(used, i, news, mallocs);
+  }
+  EXPECT_GE(carriedFrames, 3) << "the carried path must run on this sequence";
+  std::printf("[ markerless carried ] %d frames carried: %.1f operator new, %.1f malloc family a frame%s\n",
+              carriedFrames, perFrame(news, static_cast<std::size_t>(std::max(1, carriedFrames))),
+              perFrame(mallocs, static_cast<std::size_t>(std::max(1, carriedFrames))),
+              MN_COUNT_MALLOC ? "" : " (not counted in this build)");
+}
+
 // The dense alignment (what the tracker falls back on under a smear), with a smear being
 // estimated (12 parameters), from the true pose moved a degree: nothing allocated once reserved.
 TEST(TrackingAllocation, DenseAlignmentAllocatesNothingPerFrame) {
