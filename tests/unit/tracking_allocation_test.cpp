@@ -453,64 +453,55 @@ TEST(TrackingAllocation, PrimitivesAllocateNothingPerFrame) {
               MN_COUNT_MALLOC ? "" : " (not counted in this build)");
 }
 
-// The tracker's own dense path (the dense alignment inside update(), under a real smear: a
-// stress pan, seed 10, whose frames 8-11 and 25-28 are smeared 40-80 px): the frames it measures
-// densely allocate nothing either (frames that relocalize are left out: ORB allocates).
-TEST(TrackingAllocation, MarkerlessDensePathAllocatesNothingPerFrame) {
+// The markerless tracker over a stress sequence from the standard target: the allocations of the
+// frames (from the fourth) whose stats `counted` picks, leaving out frames that relocalize or add
+// a keyframe (ORB allocates). Returns how many were counted, and prints the per-frame means.
+template <class Pick>
+int expectNoAllocationOnStressFrames(synthetic::StressClass kind, std::uint64_t seed, int frames, const char* what,
+                                     Pick counted) {
   cv::setNumThreads(1);
   const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
-  const synthetic::StressSequence sequence = synthetic::stressSequence(renderer, synthetic::StressClass::Pan, 10, 30);
+  const synthetic::StressSequence sequence = synthetic::stressSequence(renderer, kind, seed, frames);
   const synthetic::RenderedScenario rendered = synthetic::renderStress(renderer, sequence);
   Diagnostics d;
   auto tracker = MarkerlessTracker::fromTarget(renderer.camera(), synthetic::standardTargetImage(),
                                                synthetic::kStandardTargetWidth, MarkerlessSettings{}, d);
-  ASSERT_TRUE(tracker) << d.format();
-  int denseFrames = 0;
+  EXPECT_TRUE(tracker) << d.format();
+  if (!tracker) return 0;
+  int count = 0;
   long news = 0, mallocs = 0;
   for (std::size_t i = 0; i < rendered.frames.size(); ++i) {
     const Counts c0 = now();
     (void)tracker->update(view(rendered.frames[i]), static_cast<double>(i) / rendered.scenario.fps);
     const Counts used = since(c0);
     const auto& st = tracker->lastFrame();
-    if (i < 3 || !st.dense || st.relocalized || st.keyframeAdded) continue;
-    ++denseFrames;
+    if (i < 3 || !counted(st) || st.relocalized || st.keyframeAdded) continue;
+    ++count;
     expectNoAllocation(used, i, news, mallocs);
   }
-  EXPECT_GE(denseFrames, 3) << "the dense path must run on this pan";
-  std::printf("[ markerless dense ] %d frames measured densely: %.1f operator new, %.1f malloc family a frame%s\n",
-              denseFrames, perFrame(news, static_cast<std::size_t>(std::max(1, denseFrames))),
-              perFrame(mallocs, static_cast<std::size_t>(std::max(1, denseFrames))),
+  std::printf("[ markerless %s ] %d frames: %.1f operator new, %.1f malloc family a frame%s\n", what, count,
+              perFrame(news, static_cast<std::size_t>(std::max(1, count))),
+              perFrame(mallocs, static_cast<std::size_t>(std::max(1, count))),
               MN_COUNT_MALLOC ? "" : " (not counted in this build)");
+  return count;
+}
+
+// The tracker's own dense path (the dense alignment inside update(), under a real smear: a
+// stress pan, seed 10, whose frames 8-11 and 25-28 are smeared 40-80 px): the frames it measures
+// densely allocate nothing either.
+TEST(TrackingAllocation, MarkerlessDensePathAllocatesNothingPerFrame) {
+  const int dense = expectNoAllocationOnStressFrames(synthetic::StressClass::Pan, 10, 30, "dense",
+                                                     [](const MarkerlessTracker::FrameStats& st) { return st.dense; });
+  EXPECT_GE(dense, 3) << "the dense path must run on this pan";
 }
 
 // Carried poses (a hand over part of the target; docs/tracking.md "Partly hidden targets"): the
 // check at the carried pose renders the keyframe into the aligner's reserved samples, nothing else.
 TEST(TrackingAllocation, MarkerlessCarriedPosesAllocateNothingPerFrame) {
-  cv::setNumThreads(1);
-  const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
   // Hands seed 20: 8 carried frames (marionette_tracking_eval --stress 20, session 25).
-  const synthetic::StressSequence sequence = synthetic::stressSequence(renderer, synthetic::StressClass::Hands, 20, 40);
-  const synthetic::RenderedScenario rendered = synthetic::renderStress(renderer, sequence);
-  Diagnostics d;
-  auto tracker = MarkerlessTracker::fromTarget(renderer.camera(), synthetic::standardTargetImage(),
-                                               synthetic::kStandardTargetWidth, MarkerlessSettings{}, d);
-  ASSERT_TRUE(tracker) << d.format();
-  int carriedFrames = 0;
-  long news = 0, mallocs = 0;
-  for (std::size_t i = 0; i < rendered.frames.size(); ++i) {
-    const Counts c0 = now();
-    (void)tracker->update(view(rendered.frames[i]), static_cast<double>(i) / rendered.scenario.fps);
-    const Counts used = since(c0);
-    const auto& st = tracker->lastFrame();
-    if (i < 3 || !st.carried || st.relocalized || st.keyframeAdded) continue;
-    ++carriedFrames;
-    expectNoAllocation(used, i, news, mallocs);
-  }
-  EXPECT_GE(carriedFrames, 3) << "the carried path must run on this sequence";
-  std::printf("[ markerless carried ] %d frames carried: %.1f operator new, %.1f malloc family a frame%s\n",
-              carriedFrames, perFrame(news, static_cast<std::size_t>(std::max(1, carriedFrames))),
-              perFrame(mallocs, static_cast<std::size_t>(std::max(1, carriedFrames))),
-              MN_COUNT_MALLOC ? "" : " (not counted in this build)");
+  const int carried = expectNoAllocationOnStressFrames(synthetic::StressClass::Hands, 20, 40, "carried",
+                                                       [](const MarkerlessTracker::FrameStats& st) { return st.carried; });
+  EXPECT_GE(carried, 3) << "the carried path must run on this sequence";
 }
 
 // The dense alignment (what the tracker falls back on under a smear), with a smear being

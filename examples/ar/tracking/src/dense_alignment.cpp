@@ -96,6 +96,15 @@ struct PartGrid {
   }
 };
 
+// The model's and the frame's moments over the valid samples.
+template <class Sample>
+Moments momentsOf(const Sample* samples, int count) noexcept {
+  Moments moments;
+  for (int i = 0; i < count; ++i)
+    if (samples[i].valid) moments.add(samples[i].model, samples[i].frame);
+  return moments;
+}
+
 template <class Sample>
 PartGrid partGridOf(const Sample* samples, int count) noexcept {
   float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
@@ -397,11 +406,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   const int parameters = cv::norm(smearTurn) > 0 && params.fitSmear ? kAll : 6;
 
   auto fitOf = [&](const Level& lv, double sigmaForCost, Fit& f) {
-    Moments moments;
-    for (int i = 0; i < lv.count; ++i) {
-      const Sample& s = samples_[static_cast<std::size_t>(i)];
-      if (s.valid) moments.add(s.model, s.frame);
-    }
+    const Moments moments = momentsOf(samples_.data(), lv.count);
     const int n = moments.n;
     f.valid = n;
     if (n < 16 || !moments.textured()) return false;  // too few samples, a flat model or frame
@@ -590,11 +595,7 @@ bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const
   out = DenseAlignment{};
   out.renders = 1;
   if (render(lv, pose, smear, params.maxTaps) < 16) return false;
-  Moments moments;
-  for (int i = 0; i < lv.count; ++i) {
-    const Sample& s = samples_[static_cast<std::size_t>(i)];
-    if (s.valid) moments.add(s.model, s.frame);
-  }
+  const Moments moments = momentsOf(samples_.data(), lv.count);
   if (moments.n < 16 || !moments.textured()) return false;
   out.pose = pose;
   out.smearTurn = smearTurn;

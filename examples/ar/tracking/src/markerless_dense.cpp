@@ -20,51 +20,56 @@ cv::Vec3d MarkerlessTracker::Impl::frameIntervalTurn(const PlanarPose& predictio
   return haveMotion ? smearTurnFromMotion(K, motion, 1.0) : cv::Vec3d(0, 0, 0);
 }
 
-bool MarkerlessTracker::Impl::carriedPoseShows(const PlanarPose& pose, int keyframe) {
-  const StageTimer timer(stats.denseMs);
-  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
-  bool haveMotion = false;
-  const cv::Vec3d turn = frameIntervalTurn(pose, haveMotion) * exposure;
-  DenseAlignment at;
-  if (!dense.verify(K, DenseTarget{kf.denseLevels, kf.planeToImage}, framePyramid(), turn, pose, denseParams, at))
-    return false;
-  stats.ncc = at.zncc;
-  stats.visibleShare = at.visibleShare;
-  stats.parts = at.parts;
-  stats.agreeingParts = at.agreeingParts;
-  stats.agreeingSpan = at.agreeingSpan;
-  // The by-parts gate of a dense pose (markerless_gates.cpp), at the pose as carried: what shows
-  // of the target is where the pose puts it.
-  return at.visibleShare >= settings.minDenseVisibleShare && at.agreeingParts >= settings.minDenseAgreeingParts &&
-         at.agreeingParts >= settings.minDenseAgreeingShare * at.parts && at.agreeingSpan >= settings.minDenseAgreeingSpan;
+Measurement MarkerlessTracker::Impl::denseEvidence(const DenseAlignment& a) noexcept {
+  Measurement m;
+  m.pose = a.pose;
+  m.dense = true;
+  m.ncc = a.zncc;
+  m.inlierShare = a.inlierShare;
+  m.visibleShare = a.visibleShare;
+  m.parts = a.parts;
+  m.agreeingParts = a.agreeingParts;
+  m.agreeingSpan = a.agreeingSpan;
+  m.smearPx = a.smearPx;
+  return m;
 }
 
-bool MarkerlessTracker::Impl::carry(const PlanarPose& prediction, StampedPose& out) {
+bool MarkerlessTracker::Impl::carriedPoseShows(const PlanarPose& pose, int keyframe, const cv::Vec3d& smearTurn) {
+  const StageTimer timer(stats.denseMs);
+  const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
+  DenseAlignment at;
+  if (!dense.verify(K, DenseTarget{kf.denseLevels, kf.planeToImage}, framePyramid(), smearTurn, pose, denseParams, at))
+    return false;
+  const Measurement seen = denseEvidence(at);
+  notePhotometricEvidence(seen);
+  // The by-parts gate of a dense pose, at the pose as carried: what shows of the target is where
+  // the pose puts it.
+  return seen.visibleShare >= settings.minDenseVisibleShare && agreesByParts(seen);
+}
+
+bool MarkerlessTracker::Impl::carry(const PlanarPose& prediction, double seconds, StampedPose& out) {
   // The prediction is the last pose given, carried by the image's motion that KLT on the
-  // background grid measured this frame. Not across a smear: the motion then comes from the
-  // whole image's shift, or from a grid on smeared texture (1-2 deg off on the stress pans), and
-  // parts agree along a smear wherever they are put on it.
-  // Carried from the last pose given, through the frames since (LOST ones too, where the chain
-  // of measured motions held): each adds the carry's error.
+  // background grid measured this frame, through the frames since (LOST ones too, where the
+  // chain of measured motions held). Not across a smear: the motion then comes from the whole
+  // image's shift, or from a grid on smeared texture (1-2 deg off on the stress pans), and parts
+  // agree along a smear wherever they are put on it.
   if (!settings.carryPoses || !stats.backgroundMotion || !imageMotionFound || stats.imageShift ||
       chainedSinceGiven < 0 || carriedFrames + chainedSinceGiven >= settings.maxCarriedFrames)
     return false;
   bool haveTurn = false;
-  const double smearPx = cv::norm(frameIntervalTurn(prediction, haveTurn)) * K(0, 0) * exposure;
-  if (!(smearPx < kDenseFirstSmearPx)) return false;
-  // The last pose's covariance and the carry's error a frame: given while three sigma stay drawable.
-  out = StampedPose{prediction, lastGiven.time, lastGiven.covariance, 0, 0};
+  const cv::Vec3d smearTurn = frameIntervalTurn(prediction, haveTurn) * exposure;
+  if (!(cv::norm(smearTurn) * K(0, 0) < kDenseFirstSmearPx)) return false;
+  // The last pose's covariance plus the carry's error for each frame since: given while three
+  // sigma stay drawable.
+  out = StampedPose{prediction, seconds, lastGiven.covariance, 0, 0};
   const double steps = chainedSinceGiven + 1;
   const double rotation = settings.carryRotationSigmaDeg / kDegrees, position = settings.carryPositionSigmaM;
-  for (int i = 0; i < 3; ++i) {
-    out.covariance[static_cast<std::size_t>(i * 7)] += steps * rotation * rotation / 3;
-    out.covariance[static_cast<std::size_t>(21 + i * 7)] += steps * position * position / 3;
-  }
+  addIsotropicVariance(out.covariance.data(), steps * rotation * rotation, steps * position * position);
   covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
   const double drawnM = std::max(settings.maxDrawnErrorM,
                                  settings.maxDrawnErrorFraction * glm::length(cameraPosition(prediction)));
   return 3 * out.positionSigma <= drawnM && 3 * out.rotationSigmaDeg <= settings.maxDrawnErrorDeg &&
-         carriedPoseShows(prediction, chooseKeyframe(prediction));
+         carriedPoseShows(prediction, chooseKeyframe(prediction), smearTurn);
 }
 
 bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out) {
@@ -108,16 +113,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   }
   const glm::dvec3 c = cameraPosition(result.pose);
   if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;
-  out = Measurement{};
-  out.pose = result.pose;
-  out.dense = true;
-  out.ncc = result.zncc;
-  out.inlierShare = result.inlierShare;
-  out.visibleShare = result.visibleShare;
-  out.parts = result.parts;
-  out.agreeingParts = result.agreeingParts;
-  out.agreeingSpan = result.agreeingSpan;
-  out.smearPx = result.smearPx;
+  out = denseEvidence(result);
   out.exposure = measuredExposure;
   out.rms = result.sigma;
   // As counts (the per-frame logs show them as inliers/tried): the samples within Huber's
@@ -128,10 +124,8 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   for (std::size_t i = 0; i < 36; ++i) out.covariance[i] = result.covariance[i] * settings.denseCovarianceScale;
   // The model's own error (line smears of a turn, no camera translation over the exposure, the
   // pyramid's smoothing): a floor under the pixels' statistics.
-  for (int i = 0; i < 3; ++i) {
-    out.covariance[static_cast<std::size_t>(i * 7)] += kDenseFloorRotationRad * kDenseFloorRotationRad / 3;
-    out.covariance[static_cast<std::size_t>(21 + i * 7)] += kDenseFloorPositionM * kDenseFloorPositionM / 3;
-  }
+  addIsotropicVariance(out.covariance.data(), kDenseFloorRotationRad * kDenseFloorRotationRad,
+                       kDenseFloorPositionM * kDenseFloorPositionM);
   addKeyframeError(kf, out.covariance.data());
   covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
   out.haveCovariance = std::isfinite(out.positionSigma) && std::isfinite(out.rotationSigmaDeg);

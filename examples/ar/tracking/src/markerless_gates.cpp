@@ -14,9 +14,7 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
     // leaves the pose less certain along it, and the model is the frame's motion's, not seen).
     // Explained as a whole, or by parts where something covers the rest (docs/tracking.md).
     const bool whole = m.ncc >= settings.minDenseZncc && m.inlierShare >= settings.minDenseInlierShare;
-    const bool byParts = m.agreeingParts >= settings.minDenseAgreeingParts &&
-                         m.agreeingParts >= settings.minDenseAgreeingShare * m.parts &&
-                         m.agreeingSpan >= settings.minDenseAgreeingSpan;
+    const bool byParts = agreesByParts(m);
     const bool inView = m.visibleShare >= settings.minDenseVisibleShare;
     const bool sliver = m.visibleShare >= settings.minDenseSliverShare && m.parts >= settings.minDenseSliverParts &&
                         m.agreeingParts == m.parts && whole;
@@ -42,6 +40,20 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
   const bool tracking = isStrong(m) && m.spread >= settings.minTrackingSpread && m.ncc >= settings.minTrackingNcc &&
                         3 * m.positionSigma <= trackingM && 3 * m.rotationSigmaDeg <= settings.maxTrackingErrorDeg;
   return tracking ? Evidence::Tracking : Evidence::Limited;
+}
+
+bool MarkerlessTracker::Impl::agreesByParts(const Measurement& m) const noexcept {
+  return m.agreeingParts >= settings.minDenseAgreeingParts && m.agreeingParts >= settings.minDenseAgreeingShare * m.parts &&
+         m.agreeingSpan >= settings.minDenseAgreeingSpan;
+}
+
+void MarkerlessTracker::Impl::notePhotometricEvidence(const Measurement& m) noexcept {
+  stats.ncc = m.ncc;
+  stats.inlierShare = m.inlierShare;
+  stats.visibleShare = m.visibleShare;
+  stats.parts = m.parts;
+  stats.agreeingParts = m.agreeingParts;
+  stats.agreeingSpan = m.agreeingSpan;
 }
 
 bool MarkerlessTracker::Impl::haveVelocity() const noexcept {
@@ -84,13 +96,8 @@ Verdict MarkerlessTracker::Impl::judge(const Measurement& m, double seconds, boo
   stats.rmsPx = m.rms;
   stats.spread = m.spread;
   stats.judgedCameraToWorld = cameraToWorld(m.pose);
-  stats.ncc = m.ncc;
   stats.dense = m.dense;
-  stats.inlierShare = m.inlierShare;
-  stats.visibleShare = m.visibleShare;
-  stats.parts = m.parts;
-  stats.agreeingParts = m.agreeingParts;
-  stats.agreeingSpan = m.agreeingSpan;
+  notePhotometricEvidence(m);  // the ncc too (KLT's measurements leave the dense fields at 0)
   stats.positionSigmaM = m.positionSigma;
   stats.rotationSigmaDeg = m.rotationSigmaDeg;
   stats.rejection = Rejection::None;

@@ -280,13 +280,21 @@ struct MarkerlessTracker::Impl {
   // The camera's turn over the last frame interval: from the image's motion measured this
   // frame, else from the last frame's pose to `prediction` (haveMotion false: neither).
   [[nodiscard]] cv::Vec3d frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion) const noexcept;
-  // Whether the target shows where the pose carried by the image's motion puts it: enough of
-  // its parts agree there, as the dense gate asks (markerless_dense.cpp).
-  bool carriedPoseShows(const PlanarPose& pose, int keyframe);
+  // A dense alignment's pose and evidence as a measurement (no covariance yet).
+  [[nodiscard]] static Measurement denseEvidence(const DenseAlignment& a) noexcept;
+  // Whether the target shows where the pose carried by the image's motion puts it (blurred by
+  // `smearTurn`): enough of its parts agree there, as the dense gate asks (markerless_dense.cpp).
+  bool carriedPoseShows(const PlanarPose& pose, int keyframe, const cv::Vec3d& smearTurn);
   // Where nothing measured passed: the prediction (the last pose given, carried by the image's
-  // motion measured this frame) as a pose to give, with its covariance, when the target's parts
-  // agree at it and three sigma stay drawable (markerless_dense.cpp).
-  bool carry(const PlanarPose& prediction, StampedPose& out);
+  // motion measured this frame) as a pose to give at `seconds`, with its covariance, when the
+  // target's parts agree at it and three sigma stay drawable (markerless_dense.cpp).
+  bool carry(const PlanarPose& prediction, double seconds, StampedPose& out);
+  // The dense gate's agreement by parts: enough of the target's textured parts agree on their own,
+  // spread over it (markerless_gates.cpp).
+  [[nodiscard]] bool agreesByParts(const Measurement& m) const noexcept;
+  // A measurement's photometric evidence (its ncc; a dense one's shares and parts) into this
+  // frame's stats, for the logs and calibration.
+  void notePhotometricEvidence(const Measurement& m) noexcept;
   [[nodiscard]] Evidence evidenceOf(const Measurement& m) const noexcept;
   // The motion model: distance of `pose` from what the confirmed poses predict at `seconds`,
   // and what a hand-held camera could have done since (stats' motion fields). True within it.

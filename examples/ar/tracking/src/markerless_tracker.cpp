@@ -194,7 +194,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   // Nothing measured passed: the last pose carried by the image's motion, where the target's
   // parts agree at it (docs/tracking.md, "Partly hidden targets").
   StampedPose carriedPose;
-  const bool carried = verdict == Verdict::Rejected && havePrediction && carry(prediction, carriedPose);
+  const bool carried = verdict == Verdict::Rejected && havePrediction && carry(prediction, seconds, carriedPose);
   carriedFrames = carried ? carriedFrames + 1 : 0;
   stats.carried = carried;
   PlanarPose shown = carried ? prediction : m.pose;
@@ -255,10 +255,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       const double growRotation = (result.rotationSigmaDeg * result.rotationSigmaDeg -
                                    anchor.rotationSigmaDeg * anchor.rotationSigmaDeg) / (kDegrees * kDegrees);
       result.covariance = anchor.covariance;
-      for (int i = 0; i < 3; ++i) {
-        result.covariance[static_cast<std::size_t>(i * 7)] += growRotation / 3;
-        result.covariance[static_cast<std::size_t>(21 + i * 7)] += grow / 3;
-      }
+      addIsotropicVariance(result.covariance.data(), growRotation, grow);
     }
   }
   // What the next frame's background motion starts from.

@@ -333,6 +333,13 @@ double reprojectionRms(const cv::Matx33d& k, const PlanarPose& pose, std::span<c
   return std::isfinite(c) ? std::sqrt(c / double(used)) : std::numeric_limits<double>::quiet_NaN();
 }
 
+void addIsotropicVariance(double covariance[36], double rotationRad2, double positionM2) noexcept {
+  for (int i = 0; i < 3; ++i) {
+    covariance[i * 7] += rotationRad2 / 3;
+    covariance[21 + i * 7] += positionM2 / 3;
+  }
+}
+
 void covarianceSigmas(const double covariance[36], double& positionM, double& rotationDeg) noexcept {
   positionM = std::sqrt(covariance[21] + covariance[28] + covariance[35]);
   rotationDeg = std::sqrt(covariance[0] + covariance[7] + covariance[14]) * (180.0 / 3.14159265358979323846);

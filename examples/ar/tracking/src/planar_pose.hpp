@@ -60,6 +60,9 @@ bool planarPoseCovariance(const cv::Matx33d& k, std::span<const cv::Point2f> pla
 // The square roots of the traces of a covariance in that layout: the camera position's
 // standard deviation (metres) and the orientation's (degrees).
 void covarianceSigmas(const double covariance[36], double& positionM, double& rotationDeg) noexcept;
+// Adds a rotation variance (radians^2) and a position variance (metres^2) spread evenly over the
+// three axes: the traces, so covarianceSigmas' squares, grow by exactly those.
+void addIsotropicVariance(double covariance[36], double rotationRad2, double positionM2) noexcept;
 
 // Pixels of plane points (X, Z) under the pose; a point on or behind the camera plane gives NaN.
 void projectPlanePoints(const cv::Matx33d& k, const PlanarPose& pose, std::span<const cv::Point2f> plane,
