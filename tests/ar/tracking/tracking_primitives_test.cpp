@@ -177,7 +177,8 @@ KltScore score(const std::vector<cv::Point2f>& found, const std::vector<unsigned
   return s;
 }
 
-KltScore runOurs(const KltCase& c, LkGradient gradient, std::vector<cv::Point2f>* out = nullptr) {
+KltScore runOurs(const KltCase& c, LkGradient gradient, std::vector<cv::Point2f>* out = nullptr, bool simd = true,
+                 std::vector<unsigned char>* outStatus = nullptr, int window = 15) {
   ImagePyramid a, b;
   a.configure(c.prev.cols, c.prev.rows, 3);
   b.configure(c.next.cols, c.next.rows, 3);
@@ -188,8 +189,11 @@ KltScore runOurs(const KltCase& c, LkGradient gradient, std::vector<cv::Point2f>
   std::vector<unsigned char> status(to.size());
   LucasKanadeParams params;
   params.gradient = gradient;
+  params.simd = simd;
+  params.window = window;
   lk.track(a, b, c.from, to, status, params);
   if (out) *out = to;
+  if (outStatus) *outStatus = status;
   return score(to, status, c.truth);
 }
 
@@ -220,6 +224,33 @@ TEST(TrackingPrimitives, KltRecoversKnownMotionAsWellAsOpenCv) {
       EXPECT_LT(ours.medianError, 0.05);
       EXPECT_GE(ours.within005, static_cast<int>(0.8 * static_cast<double>(c.from.size())));
     }
+  }
+}
+
+// KLT's arithmetic is integer (fixed point, as OpenCV's): the SSE2 loops and the portable ones
+// give the same bits, at the windows the tracker uses and at the image's border.
+TEST(TrackingPrimitives, KltSimdAndPortableLoopsGiveTheSameBits) {
+  KltCase c = knownMotion(motion(1, 1.01, 9.2, 3.1, 1e-5));
+  ASSERT_GT(c.from.size(), 150u);
+  // Points at and past the border too: the reflect-101 copy.
+  for (const cv::Point2f p : {cv::Point2f(1.5f, 1.5f), cv::Point2f(638.2f, 240.7f), cv::Point2f(320.3f, 478.9f)}) {
+    c.from.push_back(p);
+    c.guess.push_back(p + cv::Point2f(0.7f, -0.4f));
+    c.truth.push_back(p);
+  }
+  for (int window : {15, 25, 61}) {
+    std::vector<cv::Point2f> simd, portable;
+    std::vector<unsigned char> simdStatus, portableStatus;
+    runOurs(c, LkGradient::Scharr, &simd, true, &simdStatus, window);
+    runOurs(c, LkGradient::Scharr, &portable, false, &portableStatus, window);
+    ASSERT_EQ(simd.size(), portable.size());
+    int found = 0;
+    for (std::size_t i = 0; i < simd.size(); ++i) {
+      EXPECT_EQ(simdStatus[i], portableStatus[i]) << "window " << window << " point " << i;
+      EXPECT_EQ(std::memcmp(&simd[i], &portable[i], sizeof(cv::Point2f)), 0) << "window " << window << " point " << i;
+      found += simdStatus[i];
+    }
+    EXPECT_GT(found, 150) << "window " << window;
   }
 }
 

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace marionette::ar {
 
 namespace {
@@ -106,48 +110,156 @@ void ImagePyramid::downsample(int level, cv::Rect dstRegion) noexcept {
 }
 
 LucasKanade::LucasKanade()
-    : patch_(static_cast<std::size_t>((kMaxWindow + 2) * (kMaxWindow + 2))),
+    : patch_(static_cast<std::size_t>((kMaxWindow + 2) * padded(kMaxWindow + 2))),
       values_(static_cast<std::size_t>(kMaxWindow) * padded(kMaxWindow)),
       gx_(values_.size()),
       gy_(values_.size()),
-      diff_(values_.size()) {}
+      samples_(values_.size()),
+      border_(static_cast<std::size_t>((kMaxWindow + 3) * (padded(kMaxWindow + 2) + 1))) {}
 
 namespace {
 
-// Bilinear samples of `img` over a cols x rows grid whose first sample is at (x + ax, y + ay).
-// Fixed-width rows of 16 (the window of 15 padded) get a loop the compiler vectorizes.
-template <int kCols>
-void sampleRows(const GreyLevel& img, int x, int y, float w00, float w01, float w10, float w11, int cols, int rows,
-                float* out) noexcept {
-  const int n = kCols > 0 ? kCols : cols;
+// Fixed point, as cv::calcOpticalFlowPyrLK: bilinear weights in 1/2^14, samples with 5
+// fractional bits (0..8160), gradients 32 times the grey levels' per pixel (+-4080). Products
+// of a difference and a gradient (+-2^25) sum exactly in 32 bits over a row of up to 64 pixels
+// (two products per lane and 8-pixel group), and rows sum in 64 bits: the same bits with or
+// without SIMD, on any machine.
+constexpr int kWeightBits = 14, kFraction = 5, kShift = kWeightBits - kFraction;
+
+struct Weights {
+  std::int16_t w00, w01, w10, w11;
+};
+
+Weights weightsOf(float ax, float ay) noexcept {
+  const float scale = static_cast<float>(1 << kWeightBits);
+  const auto w00 = static_cast<int>(std::lround((1 - ax) * (1 - ay) * scale));
+  const auto w01 = static_cast<int>(std::lround(ax * (1 - ay) * scale));
+  const auto w10 = static_cast<int>(std::lround((1 - ax) * ay * scale));
+  const int w11 = (1 << kWeightBits) - w00 - w01 - w10;
+  return {static_cast<std::int16_t>(w00), static_cast<std::int16_t>(w01), static_cast<std::int16_t>(w10),
+          static_cast<std::int16_t>(w11)};
+}
+
+// rows x cols8 samples (cols8 a multiple of 8) of a u8 image whose rows start at `first` and are
+// `stride` bytes apart, the sample (r, c) from pixels (r, c), (r, c + 1), (r + 1, c), (r + 1, c + 1).
+// Reads columns up to cols8 and rows up to `rows`.
+void sampleFixedPortable(const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,
+                         std::int16_t* out) noexcept {
   for (int r = 0; r < rows; ++r) {
-    const std::uint8_t* a = img.row(y + r) + x;
-    const std::uint8_t* b = a + img.stride;
-    float* o = out + r * n;
-    for (int c = 0; c < n; ++c) o[c] = w00 * a[c] + w01 * a[c + 1] + w10 * b[c] + w11 * b[c + 1];
+    const std::uint8_t* a = first + r * stride;
+    const std::uint8_t* b = a + stride;
+    std::int16_t* o = out + r * cols8;
+    for (int c = 0; c < cols8; ++c)
+      o[c] = static_cast<std::int16_t>((a[c] * w.w00 + a[c + 1] * w.w01 + b[c] * w.w10 + b[c + 1] * w.w11 +
+                                        (1 << (kShift - 1))) >> kShift);
   }
 }
 
-void sampleGrid(const GreyLevel& img, int x, int y, float ax, float ay, int cols, int rows, float* out) noexcept {
-  const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
-  if (x >= 0 && y >= 0 && x + cols < img.width && y + rows < img.height) {
-    if (cols == 16) sampleRows<16>(img, x, y, w00, w01, w10, w11, cols, rows, out);
-    else sampleRows<0>(img, x, y, w00, w01, w10, w11, cols, rows, out);
-    return;
-  }
-  // Near or past the border: reflect-101, as OpenCV's padded pyramids.
+// Sums over rows x cols8 of d * gx and d * gy, d = samples - values (all rows cols8 apart).
+void sumProductsPortable(const std::int16_t* samples, const std::int16_t* values, const std::int16_t* gx,
+                         const std::int16_t* gy, int cols8, int rows, std::int64_t& sx, std::int64_t& sy) noexcept {
+  sx = 0, sy = 0;
   for (int r = 0; r < rows; ++r) {
-    const std::uint8_t* a = img.row(reflect101(y + r, img.height));
-    const std::uint8_t* b = img.row(reflect101(y + r + 1, img.height));
-    float* o = out + r * cols;
-    for (int c = 0; c < cols; ++c) {
-      const int c0 = reflect101(x + c, img.width), c1 = reflect101(x + c + 1, img.width);
-      o[c] = w00 * a[c0] + w01 * a[c1] + w10 * b[c0] + w11 * b[c1];
+    for (int c = 0; c < cols8; ++c) {
+      const std::ptrdiff_t i = static_cast<std::ptrdiff_t>(r) * cols8 + c;
+      const int d = samples[i] - values[i];
+      sx += d * gx[i];
+      sy += d * gy[i];
     }
   }
 }
 
+#if defined(__SSE2__)
+void sampleFixedSse2(const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,
+                     std::int16_t* out) noexcept {
+  const __m128i top = _mm_set1_epi32(static_cast<int>(static_cast<std::uint16_t>(w.w00)) |
+                                     (static_cast<int>(static_cast<std::uint16_t>(w.w01)) << 16));
+  const __m128i bottom = _mm_set1_epi32(static_cast<int>(static_cast<std::uint16_t>(w.w10)) |
+                                        (static_cast<int>(static_cast<std::uint16_t>(w.w11)) << 16));
+  const __m128i round = _mm_set1_epi32(1 << (kShift - 1));
+  const __m128i zero = _mm_setzero_si128();
+  for (int r = 0; r < rows; ++r) {
+    const std::uint8_t* a = first + r * stride;
+    const std::uint8_t* b = a + stride;
+    std::int16_t* o = out + r * cols8;
+    for (int c = 0; c < cols8; c += 8) {
+      // Pixel pairs (c, c + 1) as 16-bit lanes, then one multiply-add per row of the pair.
+      const __m128i pa = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a + c)),
+                                           _mm_loadl_epi64(reinterpret_cast<const __m128i*>(a + c + 1)));
+      const __m128i pb = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(b + c)),
+                                           _mm_loadl_epi64(reinterpret_cast<const __m128i*>(b + c + 1)));
+      const __m128i lo = _mm_add_epi32(_mm_madd_epi16(_mm_unpacklo_epi8(pa, zero), top),
+                                       _mm_madd_epi16(_mm_unpacklo_epi8(pb, zero), bottom));
+      const __m128i hi = _mm_add_epi32(_mm_madd_epi16(_mm_unpackhi_epi8(pa, zero), top),
+                                       _mm_madd_epi16(_mm_unpackhi_epi8(pb, zero), bottom));
+      const __m128i v = _mm_packs_epi32(_mm_srai_epi32(_mm_add_epi32(lo, round), kShift),
+                                        _mm_srai_epi32(_mm_add_epi32(hi, round), kShift));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(o + c), v);
+    }
+  }
+}
+
+void sumProductsSse2(const std::int16_t* samples, const std::int16_t* values, const std::int16_t* gx,
+                     const std::int16_t* gy, int cols8, int rows, std::int64_t& sx, std::int64_t& sy) noexcept {
+  sx = 0, sy = 0;
+  for (int r = 0; r < rows; ++r) {
+    // Per lane at most cols8 / 4 products of +-2^25: exact in 32 bits for rows up to 64.
+    __m128i ax = _mm_setzero_si128(), ay = _mm_setzero_si128();
+    const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(r) * cols8;
+    for (int c = 0; c < cols8; c += 8) {
+      const std::ptrdiff_t i = row + c;
+      const __m128i d = _mm_sub_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(samples + i)),
+                                      _mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i)));
+      ax = _mm_add_epi32(ax, _mm_madd_epi16(d, _mm_loadu_si128(reinterpret_cast<const __m128i*>(gx + i))));
+      ay = _mm_add_epi32(ay, _mm_madd_epi16(d, _mm_loadu_si128(reinterpret_cast<const __m128i*>(gy + i))));
+    }
+    alignas(16) std::int32_t lx[4], ly[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(lx), ax);
+    _mm_store_si128(reinterpret_cast<__m128i*>(ly), ay);
+    sx += std::int64_t{lx[0]} + lx[1] + lx[2] + lx[3];
+    sy += std::int64_t{ly[0]} + ly[1] + ly[2] + ly[3];
+  }
+}
+#endif
+
+void sampleFixed(bool simd, const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,
+                 std::int16_t* out) noexcept {
+#if defined(__SSE2__)
+  if (simd) return sampleFixedSse2(first, stride, w, cols8, rows, out);
+#endif
+  static_cast<void>(simd);
+  sampleFixedPortable(first, stride, w, cols8, rows, out);
+}
+
+void sumProducts(bool simd, const std::int16_t* samples, const std::int16_t* values, const std::int16_t* gx,
+                 const std::int16_t* gy, int cols8, int rows, std::int64_t& sx, std::int64_t& sy) noexcept {
+#if defined(__SSE2__)
+  if (simd) return sumProductsSse2(samples, values, gx, gy, cols8, rows, sx, sy);
+#endif
+  static_cast<void>(simd);
+  sumProductsPortable(samples, values, gx, gy, cols8, rows, sx, sy);
+}
+
 }  // namespace
+
+// Samples of `img` over a rows x cols8 grid whose first sample is at (x + ax, y + ay): read in
+// place, or near the border from a reflect-101 copy (as OpenCV's padded pyramids).
+void LucasKanade::sample(const GreyLevel& img, int x, int y, float ax, float ay, int cols8, int rows,
+                         std::int16_t* out, bool simd) noexcept {
+  const Weights w = weightsOf(ax, ay);
+  if (x >= 0 && y >= 0 && x + cols8 < img.width && y + rows < img.height) {
+    sampleFixed(simd, img.row(y) + x, img.stride, w, cols8, rows, out);
+    return;
+  }
+  const int width = cols8 + 1;
+  for (int r = 0; r <= rows; ++r) {
+    const std::uint8_t* src = img.row(reflect101(y + r, img.height));
+    std::uint8_t* dst = border_.data() + static_cast<std::ptrdiff_t>(r) * width;
+    for (int c = 0; c < width; ++c) dst[c] = src[reflect101(x + c, img.width)];
+  }
+  // The SIMD loads read up to 8 bytes from the last pair's start: the buffer has room.
+  sampleFixed(simd, border_.data(), width, w, cols8, rows, out);
+}
 
 bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f prev, cv::Point2f& next, int n,
                            const LucasKanadeParams& params) noexcept {
@@ -159,45 +271,47 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
   // sampling at a fixed offset commutes with the gradient filter: the gradient of the samples is
   // the sampled gradient).
   const int m = n + 2;
+  const int patchStride = static_cast<int>(padded(m));
   // Rows of the window padded to whole lanes: the padding has zero gradient, so it adds
   // exactly nothing to the sums whatever the frame's samples there.
   const int stride = static_cast<int>(padded(n));
   const auto lanes = static_cast<std::size_t>(n * stride);
-  std::fill_n(values_.begin(), lanes, 0.f);
-  std::fill_n(gx_.begin(), lanes, 0.f);
-  std::fill_n(gy_.begin(), lanes, 0.f);
-  sampleGrid(t, ix - 1, iy - 1, p.x - static_cast<float>(ix), p.y - static_cast<float>(iy), m, m, patch_.data());
-  const float* P = patch_.data();
+  std::fill_n(values_.begin(), lanes, std::int16_t{0});
+  std::fill_n(gx_.begin(), lanes, std::int16_t{0});
+  std::fill_n(gy_.begin(), lanes, std::int16_t{0});
+  sample(t, ix - 1, iy - 1, p.x - static_cast<float>(ix), p.y - static_cast<float>(iy), patchStride, m, patch_.data(), params.simd);
+  const std::int16_t* P = patch_.data();
+  std::int64_t a11i = 0, a12i = 0, a22i = 0;
   for (int r = 0; r < n; ++r) {
-    const float* up = P + r * m + 1;
-    const float* mid = up + m;
-    const float* down = mid + m;
-    float* v = values_.data() + r * stride;
-    float* gx = gx_.data() + r * stride;
-    float* gy = gy_.data() + r * stride;
-    if (params.gradient == LkGradient::Scharr) {
-      for (int c = 0; c < n; ++c) {
-        gx[c] = (3 * (up[c + 1] - up[c - 1] + down[c + 1] - down[c - 1]) + 10 * (mid[c + 1] - mid[c - 1])) * (1.f / 32);
-        gy[c] = (3 * (down[c - 1] - up[c - 1] + down[c + 1] - up[c + 1]) + 10 * (down[c] - up[c])) * (1.f / 32);
+    const std::int16_t* up = P + r * patchStride + 1;
+    const std::int16_t* mid = up + patchStride;
+    const std::int16_t* down = mid + patchStride;
+    std::int16_t* v = values_.data() + r * stride;
+    std::int16_t* gx = gx_.data() + r * stride;
+    std::int16_t* gy = gy_.data() + r * stride;
+    std::int32_t s11 = 0, s12 = 0, s22 = 0;  // a row: at most 64 * 4080^2 < 2^31
+    for (int c = 0; c < n; ++c) {
+      int x, y;
+      if (params.gradient == LkGradient::Scharr) {
+        x = 3 * (up[c + 1] - up[c - 1] + down[c + 1] - down[c - 1]) + 10 * (mid[c + 1] - mid[c - 1]);
+        y = 3 * (down[c - 1] - up[c - 1] + down[c + 1] - up[c + 1]) + 10 * (down[c] - up[c]);
+      } else {
+        x = 16 * (mid[c + 1] - mid[c - 1]);
+        y = 16 * (down[c] - up[c]);
       }
-    } else {
-      for (int c = 0; c < n; ++c) {
-        gx[c] = (mid[c + 1] - mid[c - 1]) * 0.5f;
-        gy[c] = (down[c] - up[c]) * 0.5f;
-      }
+      // 32 times the gradient per pixel: the Scharr sum is 32 times it, the samples 32 times.
+      gx[c] = static_cast<std::int16_t>((x + 16) >> kFraction);
+      gy[c] = static_cast<std::int16_t>((y + 16) >> kFraction);
+      v[c] = mid[c];
+      s11 += gx[c] * gx[c];
+      s12 += gx[c] * gy[c];
+      s22 += gy[c] * gy[c];
     }
-    for (int c = 0; c < n; ++c) v[c] = mid[c];
+    a11i += s11, a12i += s12, a22i += s22;
   }
-  float s11[kLanes] = {}, s12[kLanes] = {}, s22[kLanes] = {};
-  for (std::size_t k = 0; k < lanes; k += kLanes)
-    for (int l = 0; l < kLanes; ++l) {
-      const std::size_t i = k + static_cast<std::size_t>(l);
-      s11[l] += gx_[i] * gx_[i];
-      s12[l] += gx_[i] * gy_[i];
-      s22[l] += gy_[i] * gy_[i];
-    }
-  double a11 = 0, a12 = 0, a22 = 0;
-  for (int l = 0; l < kLanes; ++l) a11 += s11[l], a12 += s12[l], a22 += s22[l];
+  // The gradient matrix per grey level (the gradients are 32 times).
+  const double a11 = static_cast<double>(a11i) / 1024.0, a12 = static_cast<double>(a12i) / 1024.0,
+               a22 = static_cast<double>(a22i) / 1024.0;
   const int count = n * n;
   // OpenCV's units: its gradients are 32x, its sums scaled by 2^-20.
   const double minEig = (a11 + a22 - std::sqrt((a11 - a22) * (a11 - a22) + 4 * a12 * a12)) / (2.0 * count * 1024.0);
@@ -211,20 +325,11 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
     if (!std::isfinite(q.x) || !std::isfinite(q.y)) return false;
     const int jx = static_cast<int>(std::floor(q.x)), jy = static_cast<int>(std::floor(q.y));
     if (jx < -n || jx >= f.width || jy < -n || jy >= f.height) return false;  // left the image
-    sampleGrid(f, jx, jy, q.x - static_cast<float>(jx), q.y - static_cast<float>(jy), stride, n, diff_.data());
-    float s1[kLanes] = {}, s2[kLanes] = {};
-    for (std::size_t k = 0; k < lanes; k += kLanes)
-      for (int l = 0; l < kLanes; ++l) {
-        const std::size_t i = k + static_cast<std::size_t>(l);
-        const float d = diff_[i] - values_[i];
-        s1[l] += d * gx_[i];
-        s2[l] += d * gy_[i];
-      }
-    double b1 = 0, b2 = 0;
-    for (int l = 0; l < kLanes; ++l) {
-      b1 += s1[l];
-      b2 += s2[l];
-    }
+    sample(f, jx, jy, q.x - static_cast<float>(jx), q.y - static_cast<float>(jy), stride, n, samples_.data(), params.simd);
+    std::int64_t sx = 0, sy = 0;
+    sumProducts(params.simd, samples_.data(), values_.data(), gx_.data(), gy_.data(), stride, n, sx, sy);
+    // Per grey level: the differences are 32 times, the gradients 32 times.
+    const double b1 = static_cast<double>(sx) / 1024.0, b2 = static_cast<double>(sy) / 1024.0;
     const cv::Point2f delta(static_cast<float>((a12 * b2 - a22 * b1) * inv), static_cast<float>((a12 * b1 - a11 * b2) * inv));
     q += delta;
     next = q + cv::Point2f(half, half);

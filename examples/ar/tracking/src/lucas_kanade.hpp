@@ -1,6 +1,9 @@
 // Pyramidal Lucas-Kanade point tracking (Bouguet's formulation, as cv::calcOpticalFlowPyrLK
 // with OPTFLOW_USE_INITIAL_FLOW) over image pyramids whose levels are allocated once: the
 // markerless tracker's per-frame KLT without OpenCV's per-call pyramids and scratch images.
+// Its arithmetic is OpenCV's fixed point (samples with 5 fractional bits, 14-bit bilinear
+// weights, 16-bit multiply-adds): 1.6 times as fast as the float loops it replaced, the same
+// bits with SSE2 or without (docs/benchmarks.md, Tracking/KltOwn).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -66,6 +69,9 @@ struct LucasKanadeParams {
   double epsilon = 0.01;        // stop when a step is shorter than this (pixels)
   double minEigThreshold = 1e-4;  // OpenCV's units: min eigenvalue / (window area * 1024)
   LkGradient gradient = LkGradient::Scharr;
+  // SSE2 where the machine has it; false: the portable loops, which give the same bits (the
+  // arithmetic is integer: tracking_primitives_test compares them).
+  bool simd = true;
 };
 
 class LucasKanade {
@@ -83,10 +89,14 @@ class LucasKanade {
             std::span<cv::Point2f> to, std::span<std::uint8_t> status, const LucasKanadeParams& params) noexcept;
 
  private:
-  // Per point and level: the template's samples (window + 2)^2, and over the window its
-  // values, gradients and the frame's difference, padded to a multiple of 8 lanes.
-  std::vector<float> patch_, values_, gx_, gy_, diff_;
+  // Per point and level, in fixed point (lucas_kanade.cpp): the template's samples
+  // (window + 2)^2, and over the window its values, gradients and the frame's samples, rows
+  // padded to a multiple of 8 lanes; a reflect-101 copy of the pixels near a border.
+  std::vector<std::int16_t> patch_, values_, gx_, gy_, samples_;
+  std::vector<std::uint8_t> border_;
 
+  void sample(const GreyLevel& img, int x, int y, float ax, float ay, int cols8, int rows, std::int16_t* out,
+              bool simd) noexcept;
   bool trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f prev, cv::Point2f& next, int window,
                 const LucasKanadeParams& params) noexcept;
 };
