@@ -152,7 +152,9 @@ TEST(BehaviorsOnRealCharacters, RobotGazeHoldsOverItsIdle) {
   auto idle = rig->findClip("Idle");
   ASSERT_TRUE(idle);
   const float worst = worstGazeOverClip(rig, idle, {1.5f, 1.0f, 3.0f}, "RobotExpressive over Idle");
-  EXPECT_LE(worst, 3.0f);
+  EXPECT_LE(worst, 3.0f);  // goal
+  // regression: docs/accuracy.md ("Gaze holding") publishes 0.87 degrees; 1.5x.
+  EXPECT_LE(worst, 1.3f);
   RecordProperty("worst_head_forward_error_degrees", std::to_string(worst));
 }
 
@@ -164,6 +166,8 @@ TEST(BehaviorsOnRealCharacters, GodetteGazeHoldsOverAHeadTurn) {
   ASSERT_GE(rig->joints().head, 0);
   const float worst = worstGazeOverClip(rig, headTurnClip(rig->skeleton(), rig->joints().head, 150.0f, 4.0f),
                                         {-1.0f, 1.2f, 2.5f}, "Godette over a 150-degree head turn");
-  EXPECT_LE(worst, 3.0f);
+  EXPECT_LE(worst, 3.0f);  // goal
+  // regression: docs/accuracy.md ("Gaze holding") publishes 0.35 degrees; 1.5x.
+  EXPECT_LE(worst, 0.53f);
   RecordProperty("worst_head_forward_error_degrees", std::to_string(worst));
 }

@@ -5,6 +5,7 @@
 // Writes a CSV (clip, keys, error) that docs/accuracy.md reports.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "marionette/animation/clip_optimizer.hpp"
@@ -21,6 +22,7 @@ TEST(ClipOptimizerAccuracy, RealClipsStayWithinATenthOfAMillimetre) {
   std::ofstream csv(::testing::TempDir() + "clip_optimizer_error.csv");
   csv << "file,clip,keys_before,keys_after,max_error_m,p99_error_m\n";
   std::size_t totalBefore = 0, totalAfter = 0, pabBefore = 0, pabAfter = 0;
+  float worst = 0.0f;
   for (const std::string& f : files) {
     MARIONETTE_REQUIRE_FILE(sharedAsset(f));
     ImportResult r = importAccuracyClips(sharedAsset(f));
@@ -38,9 +40,13 @@ TEST(ClipOptimizerAccuracy, RealClipsStayWithinATenthOfAMillimetre) {
       }
       csv << f << ',' << authored.name << ',' << st.keysBefore << ',' << st.keysAfter << ',' << e.max << ','
           << e.percentile(0.99) << '\n';
-      EXPECT_LT(e.max, 1e-4f) << f << " " << authored.name;  // 0.1 mm at 10 cm from any joint
+      EXPECT_LT(e.max, 1e-4f) << f << " " << authored.name;  // goal: 0.1 mm at 10 cm from any joint
+      worst = std::max(worst, e.max);
     }
   }
+  std::printf("clip optimizer: worst error %.1f um\n", 1e6 * static_cast<double>(worst));
+  // regression: docs/accuracy.md ("Load-time clip optimizer") publishes 16 um as the largest; 1.5x.
+  EXPECT_LT(worst, 24e-6f);
   // The optimization does something on sampled FBX exports (Pab: T, R, S on every joint).
 #ifdef MARIONETTE_HAS_ASSIMP
   EXPECT_LT(pabAfter, pabBefore / 3);

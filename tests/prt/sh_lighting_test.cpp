@@ -155,7 +155,9 @@ TEST(ShLighting, BandLimitedMapIsReproducedByNineCoefficients) {
   const ShCoefficients sh = projectRadiance(map);
   const auto stats = errorStats(shIrradiance(sh, normals), bruteForceIrradiance(map, normals));
   std::printf("  band-limited map: mean %.2e  max %.2e\n", stats.mean, stats.max);
-  EXPECT_LT(stats.max, 1e-4);
+  EXPECT_LT(stats.max, 1e-4);  // goal: the brute force's quadrature error, not the method's
+  // regression: docs/accuracy.md ("Environment lighting") publishes 3.4e-6; 1.5x.
+  EXPECT_LT(stats.max, 5e-6);
 }
 
 TEST(ShLighting, ConstantMapHasOnlyTheDcTermAndIrradiancePiL) {
@@ -248,7 +250,7 @@ TEST(ShLighting, RotationAboutYEqualsReprojectingTheRotatedMap) {
 // Bounds: the figures measured in docs/accuracy.md ("Environment lighting") plus 25 %. The
 // errors are SH9's truncation (the cosine kernel's band 4 and up, -pi/24 ...), largest in
 // relative terms on normals facing away from a sun (little irradiance, the sun's ringing).
-// The band-limited test above shows the implementation itself is exact to 1e-5.
+// The band-limited test above shows the implementation itself is exact to 5e-6.
 TEST(ShLighting, Sh9MatchesBruteForceOnTheSharedMaps) {
   std::printf("SH9 vs brute force, relative irradiance error over 1000 normals:\n");
   checkRealMap(mt::sharedAsset("envmaps/blender_studiolight_forest.exr"), 0.080, 0.55);

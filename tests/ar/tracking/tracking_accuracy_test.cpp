@@ -62,10 +62,18 @@ TEST(TrackingAccuracy, StandardScenariosMeetTheGoals) {
   EXPECT_EQ(orbit.verifiedFrames, orbit.frames - 1);
   EXPECT_LT(orbit.ateRmsM, 0.005);
   EXPECT_LT(orbit.rotationMeanDeg, 0.5);
+  // regression: docs/tracking.md's table (150 frames) publishes orbit ATE rms 0.11 cm and rotation
+  // mean 0.06 degrees (these 60 frames: the same); 1.5x.
+  EXPECT_LT(orbit.ateRmsM, 0.00165);
+  EXPECT_LT(orbit.rotationMeanDeg, 0.09);
   // A still camera does not jitter.
   const TrajectoryReport& still = runs.at("static").report;
   EXPECT_EQ(still.verifiedFrames, still.frames - 1);
+  std::printf("static jitter %.4f mm (smoothed)\n", still.jitterMm);
   EXPECT_LT(still.jitterMm, 0.5);
+  // regression: docs/tracking.md publishes 0.039 mm, smoothed as here (the default; 0.12 mm
+  // unsmoothed), over 150 frames; 1.5x.
+  EXPECT_LT(still.jitterMm, 0.06);
   // Motion blur of 9..25 px, noise and JPEG 30, +-1 EV gain, an occluder over 20..60 %, 50..80 %
   // of the target out of view, grazing views to 70 degrees, fast turns: at least 95 % of the
   // visible frames.
@@ -85,6 +93,9 @@ TEST(TrackingAccuracy, StandardScenariosMeetTheGoals) {
   for (const auto& [name, run] : runs) {
     EXPECT_LT(run.report.ateMaxM, 0.05) << name;
     EXPECT_LT(run.report.rotationMaxDeg, 2.0) << name;
+    // regression: docs/tracking.md publishes 2.33 cm as the worst ATE max (fast_turn, 150
+    // frames); 1.5x.
+    EXPECT_LT(run.report.ateMaxM, 0.035) << name;
   }
   // Relocalized within ten frames of the target coming back.
   const TrajectoryReport& lost = runs.at("lost_regained").report;
