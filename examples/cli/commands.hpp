@@ -42,6 +42,7 @@ struct RetargetCommandOptions {
   std::string source, target, sourceMap, targetMap, clip, output;
   float fps = 0.0f;
   bool feet = false, hands = false, report = false, json = false;
+  bool allowPartial = false;  // retarget onto (or from) a character that is not a full humanoid
   std::vector<std::string> jointMapFolders;  // where the shipped maps are looked up: jointMapFolders()
 };
 // $MARIONETTE_JOINTMAPS, the installed share/marionette/jointmaps beside this executable's

@@ -166,6 +166,9 @@ int parseAndRun(int argc, char** argv) {
   retargetCmd->add_flag("--report", retarget.report,
                         "Print the error (end-effector, limb directions, foot skating) as a Markdown table");
   retargetCmd->add_flag("--json", retarget.json, "Print the result and its error as JSON");
+  retargetCmd->add_flag("--allow-partial", retarget.allowPartial,
+                        "Retarget onto (or from) a character that is not a full humanoid (a quadruped, missing "
+                        "bones): what maps is retargeted, the report says what it covers, the exit status is 1");
 
 #ifdef MARIONETTE_CLI_HAS_PRT
   CLI::App* prtCmd = app.add_subcommand("prt", "Precomputed radiance transfer: lighting error, precompute, report");

@@ -120,9 +120,11 @@ int main(int argc, char** argv) {
   std::ofstream wp(dir + "/retarget_work_precision.dat");
   wp << "# target ik(0 none, 1 feet, 2 feet+hands) us_per_frame ee_mean skate_ratio\n";
   csv << "source,target,ik,frames,seconds,us_per_frame,ee_mean,ee_max,skate_source,skate_target,skate_ratio,"
-         "dir_mean_deg,dir_p95_deg\n";
-  std::printf("| source | target | IK | frames | us/frame | end-effector mean | max | segment directions mean | p95 | skating ratio |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+         "dir_mean_deg,dir_p95_deg,effectors,segments\n";
+  // Every figure with what it covers: the effectors (of hands, feet, head) and segments (of 10)
+  // both maps have; a figure over none is n/a.
+  std::printf("| source | target | IK | frames | us/frame | end-effector mean | max | effectors | segment directions mean | p95 | segments | skating ratio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& src : sources) {
     const Clip& clip = src.asset.clips.front();
     for (const auto& dst : targets) {
@@ -145,12 +147,21 @@ int main(int argc, char** argv) {
         const double us = frames ? seconds * 1e6 / static_cast<double>(frames) : 0.0;
         csv << src.name << ',' << dst.name << ',' << mode << ',' << frames << ',' << seconds << ',' << us << ','
             << e.mean << ',' << e.max << ',' << sk.source << ',' << sk.target << ',' << sk.ratio << ',' << d.meanDegrees
-            << ',' << d.p95Degrees << '\n';
+            << ',' << d.p95Degrees << ',' << e.effectors.size() << ',' << d.segments.size() << '\n';
         if (&src == &sources.front())
           wp << dst.name << ' ' << ik << ' ' << us << ' ' << e.mean << ' ' << sk.ratio << (ik == 2 ? "\n\n\n" : "\n");
-        std::printf("| %s | %s | %s | %zu | %.2f | %.1f %% | %.1f %% | %.2f deg | %.2f deg | %.2f |\n", src.name.c_str(),
-                    dst.name.c_str(), mode, frames, us, 100.0 * e.mean, 100.0 * e.max, d.meanDegrees, d.p95Degrees,
-                    sk.ratio);
+        auto figure = [](bool measured, const char* format, double v) {
+          char b[48];
+          std::snprintf(b, sizeof b, format, v);
+          return measured ? std::string(b) : std::string("n/a");
+        };
+        const std::size_t segmentCount = d.segments.size() + d.missing.size();
+        std::printf("| %s | %s | %s | %zu | %.2f | %s | %s | %zu of 5 | %s | %s | %zu of %zu | %s |\n", src.name.c_str(),
+                    dst.name.c_str(), mode, frames, us, figure(e.samples > 0, "%.1f %%", 100.0 * e.mean).c_str(),
+                    figure(e.samples > 0, "%.1f %%", 100.0 * e.max).c_str(), e.effectors.size(),
+                    figure(d.samples > 0, "%.2f deg", d.meanDegrees).c_str(),
+                    figure(d.samples > 0, "%.2f deg", d.p95Degrees).c_str(), d.segments.size(), segmentCount,
+                    figure(sk.contacts > 0 && sk.source > 0.0, "%.2f", sk.ratio).c_str());
       }
     }
   }

@@ -37,7 +37,12 @@ TEST(RetargetCli, CmuWalkOntoRobotAsBvhWithReport) {
                           sourceFile("assets/jointmaps/RobotExpressive.json") + " -o " + file + " --report");
   ASSERT_LE(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("| skating ratio (output / source) |"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("| end-effector error, mean |"), std::string::npos);
+  // Every figure says what it covers: RobotExpressive has no hand joints (its palms hang from the
+  // forearms), so the hands are named as left out.
+  EXPECT_NE(r.out.find("| end-effector error (3 of 5 effectors: leftFoot, rightFoot, head; not leftHand, rightHand), mean |"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("| target | humanoid |"), std::string::npos) << r.out;
   // The file reads back as the target's skeleton with the whole motion.
   ImportOptions o;
   o.loadMeshes = false;
@@ -145,4 +150,48 @@ TEST(RetargetCli, WithoutClipItSaysWhichClipItTook) {
       << r.out;
   const CliRun named = runCli("retarget " + robot + " --to " + robot + " --clip Wave -o " + out("robot_wave.bvh"));
   EXPECT_EQ(named.out.find("no --clip"), std::string::npos) << named.out;
+}
+
+// Targets retargeting cannot serve are errors with a reason, and no file is written (issue 41):
+// a quadruped (unless --allow-partial, which says what it covers), a mesh without a skeleton.
+TEST(RetargetCli, AQuadrupedOrAMeshWithoutASkeletonIsRefusedAndNothingIsWritten) {
+  MARIONETTE_REQUIRE_FILE(kWalk);
+  const std::string wuson = assimpModel("X/Testwuson.X"), human = assimpModel("Collada/human.zae");
+  const std::string file = out("walk_wuson.glb");
+  std::filesystem::remove(file);
+  const CliRun quadruped = runCli("retarget " + kWalk + " --to " + wuson + " -o " + file + " --report");
+  EXPECT_EQ(quadruped.status, 2) << quadruped.out;
+  EXPECT_NE(quadruped.out.find("error: target " + wuson + ": a quadruped or many-legged body: 4 legs reach the ground"),
+            std::string::npos)
+      << quadruped.out;
+  EXPECT_NE(quadruped.out.find("--allow-partial"), std::string::npos) << quadruped.out;
+  EXPECT_FALSE(std::filesystem::exists(file));
+
+  const CliRun partial = runCli("retarget " + kWalk + " --to " + wuson + " -o " + file + " --allow-partial --report --json");
+  EXPECT_EQ(partial.status, 1) << partial.out;
+  EXPECT_TRUE(std::filesystem::exists(file));
+  const nlohmann::json j = lastJson(partial.out);
+  EXPECT_EQ(j["targetClass"], "quadruped or many-legged");
+  // Over nothing: null, never 0. What is measured is named, and what is not.
+  EXPECT_TRUE(j["endEffectorMean"].is_null()) << j.dump();
+  EXPECT_EQ(j["endEffectors"].size(), 0u);
+  EXPECT_EQ(j["endEffectorsMissing"].size(), 5u);
+  EXPECT_EQ(j["segments"].size() + j["segmentsMissing"].size(), 10u);
+  EXPECT_GT(j["segments"].size(), 0u);
+  EXPECT_LT(j["segments"].size(), 10u);
+  const CliRun table = runCli("retarget " + kWalk + " --to " + wuson + " -o " + file + " --allow-partial --report");
+  EXPECT_NE(table.out.find("| end-effector error (0 of 5 effectors: not leftHand, rightHand, leftFoot, rightFoot, head), mean | n/a |"),
+            std::string::npos)
+      << table.out;
+
+  const std::string glb = out("walk_human.glb");
+  std::filesystem::remove(glb);
+  for (const std::string extra : {"", " --allow-partial"}) {
+    const CliRun mesh = runCli("retarget " + kWalk + " --to " + human + " -o " + glb + " --report" + extra);
+    EXPECT_EQ(mesh.status, 2) << mesh.out;
+    EXPECT_NE(mesh.out.find("error: target " + human + ": no skeleton: none of its 2 meshes is skinned to a joint"),
+              std::string::npos)
+        << mesh.out;
+    EXPECT_FALSE(std::filesystem::exists(glb));
+  }
 }

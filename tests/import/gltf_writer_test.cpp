@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "marionette/animation/sampling.hpp"
+#include "marionette/io/embedded_images.hpp"
 #include "marionette/io/gltf_writer.hpp"
 #include "marionette/io/import.hpp"
 #include "synthetic.hpp"
@@ -197,6 +198,45 @@ TEST(GltfWriter, GodetteVrmRoundTrip) { roundTrip(sharedAsset("characters/Godett
 #ifdef MARIONETTE_HAS_ASSIMP
 TEST(GltfWriter, PabFbxRoundTrip) { roundTrip(sharedAsset("characters/pab_arnaud.fbx"), "pab.glb"); }
 TEST(GltfWriter, EpilepticXRoundTrip) { roundTrip(assimpModel("X/BCN_Epileptic.X"), "bcn.glb"); }
+
+// Textures embedded in an Assimp format (a .zae's, an FBX's) survive into the written glTF,
+// byte for byte (issue 41: they were dropped as unreadable from the source file).
+TEST(GltfWriter, EmbeddedTexturesOfAssimpFormatsSurvive) {
+  for (const std::string& source : {assimpModel("Collada/human.zae"), assimpModel("FBX/embedded_ascii/box.FBX")}) {
+    MARIONETTE_REQUIRE_FILE(source);
+    const Asset original = importOk(source);
+    EmbeddedImages originalImages(original);
+    std::size_t embedded = 0;
+    for (const Material& m : original.materials)
+      if (EmbeddedImages::indexOf(m.baseColorTexture) >= 0) {
+        ++embedded;
+        const std::vector<unsigned char>* bytes = originalImages.find(EmbeddedImages::indexOf(m.baseColorTexture));
+        ASSERT_NE(bytes, nullptr) << source << " " << m.baseColorTexture;
+      }
+    ASSERT_GT(embedded, 0u) << source << ": no embedded texture to carry";
+    const std::string out = outputPath(fs::path(source).stem().string() + "_textured.glb");
+    const Diagnostics d = writeGltf(out, original, {});
+    ASSERT_TRUE(d.ok()) << d.format();
+    EXPECT_EQ(d.format().find("dropped"), std::string::npos) << d.format();
+    expectValid(out);
+    const ImportResult back = importGltf(out, {});
+    ASSERT_TRUE(back.ok()) << back.diagnostics.format();
+    EmbeddedImages written(*back.asset);
+    std::size_t carried = 0;
+    for (std::size_t i = 0; i < original.materials.size() && i < back.asset->materials.size(); ++i) {
+      const int a = EmbeddedImages::indexOf(original.materials[i].baseColorTexture);
+      const int b = EmbeddedImages::indexOf(back.asset->materials[i].baseColorTexture);
+      if (a < 0) continue;
+      ASSERT_GE(b, 0) << source << " material " << i;
+      const std::vector<unsigned char>* was = originalImages.find(a);
+      const std::vector<unsigned char>* now = written.find(b);
+      ASSERT_NE(now, nullptr) << source << " material " << i;
+      EXPECT_EQ(*now, *was) << source << " material " << i;
+      ++carried;
+    }
+    EXPECT_EQ(carried, embedded) << source;
+  }
+}
 #endif
 
 // Morph-weight tracks over every target of the character (VRM face parts share

@@ -24,7 +24,21 @@ namespace fs = std::filesystem;
 std::string texturePath(Importing& im, const std::string& raw) {
   if (raw.empty()) return {};
   const auto [texture, index] = im.scene.GetEmbeddedTextureAndIndex(raw.c_str());
-  if (texture) return "embedded:" + std::to_string(index);
+  if (texture) {
+    // Compressed (mHeight 0): the file's bytes, kept for a writer or renderer. Raw texels are
+    // not encoded here.
+    if (texture->mHeight != 0 || !texture->pcData || index < 0) {
+      im.warning("texture '" + raw + "' is stored as raw texels, which are not kept; the texture is dropped");
+      return {};
+    }
+    auto& images = im.asset.embeddedImages;
+    if (images.size() <= static_cast<std::size_t>(index)) images.resize(static_cast<std::size_t>(index) + 1);
+    if (images[static_cast<std::size_t>(index)].empty()) {
+      const auto* bytes = reinterpret_cast<const unsigned char*>(texture->pcData);
+      images[static_cast<std::size_t>(index)].assign(bytes, bytes + texture->mWidth);
+    }
+    return "embedded:" + std::to_string(index);
+  }
   if (raw[0] == '*') {
     im.warning("texture '" + raw + "' refers to an embedded texture the file does not have");
     return {};

@@ -20,6 +20,8 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
 }  // namespace
 
 EmbeddedImages::EmbeddedImages(std::string sourcePath) : source_(std::move(sourcePath)) {}
+EmbeddedImages::EmbeddedImages(const Asset& asset)
+    : source_(asset.sourcePath), kept_(asset.embeddedImages.empty() ? nullptr : &asset.embeddedImages) {}
 EmbeddedImages::~EmbeddedImages() = default;
 
 int EmbeddedImages::indexOf(std::string_view reference) noexcept {
@@ -33,6 +35,11 @@ int EmbeddedImages::indexOf(std::string_view reference) noexcept {
 }
 
 const std::vector<unsigned char>* EmbeddedImages::find(int index) {
+  if (kept_) {
+    if (index < 0 || static_cast<std::size_t>(index) >= kept_->size() || (*kept_)[static_cast<std::size_t>(index)].empty())
+      return nullptr;
+    return &(*kept_)[static_cast<std::size_t>(index)];
+  }
   if (!tried_) {
     tried_ = true;
     const std::string ext = detail::lowerExtension(source_);

@@ -116,7 +116,7 @@ bool Writer::checkSkeleton() {
 // ---- nodes
 
 // One node per joint, same index; the root space as a parent node when it is
-// not the identity. Mesh nodes come after.
+// not the identity or there are several roots. Mesh nodes come after.
 void Writer::writeNodes() {
   const std::size_t n = skeleton_.jointCount();
   std::vector<Json> children(n, Json::array());
@@ -138,7 +138,10 @@ void Writer::writeNodes() {
     nodes_.push_back(std::move(node));
   }
   if (n == 0) return;
-  if (maxDifference(skeleton_.rootTransform, glm::mat4(1.0f)) < 1e-7f) {
+  // Several root joints (a file of separate rigid nodes) get the root space above them even
+  // where it is the identity: a skin's joints need a common root (the Khronos validator's
+  // SKIN_NO_COMMON_ROOT).
+  if (roots.size() == 1 && maxDifference(skeleton_.rootTransform, glm::mat4(1.0f)) < 1e-7f) {
     for (const Json& r : roots) sceneNodes_.push_back(r);
     return;
   }

@@ -28,7 +28,7 @@ class Writer {
   Writer(const std::string& path, const Asset& asset, std::span<const Clip> clips, const GltfWriteOptions& options,
          Diagnostics& diag)
       : path_(path), asset_(asset), skeleton_(asset.skeleton), clips_(clips), options_(options), diag_(diag),
-        images_(asset.sourcePath) {}
+        images_(asset) {}
 
   void run();
 

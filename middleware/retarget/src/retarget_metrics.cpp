@@ -107,13 +107,17 @@ EffectorError endEffectorError(const Skeleton& source, const JointMap& sourceMap
                                const glm::quat& facing, float rate) {
   EffectorError e;
   const float hs = characterHeight(source, sourceMap), ht = characterHeight(target, targetMap);
+  // (Without the heights, hips or valid clips nothing is measured: every effector is missing.)
   const int sh = sourceMap.joint(Bone::Hips), th = targetMap.joint(Bone::Hips);
   if (!(hs > 0.0f) || !(ht > 0.0f) || sh < 0 || th < 0 || !(rate > 0.0f) ||
-      !sourceClip.validate(source.jointCount()).empty() || !targetClip.validate(target.jointCount()).empty())
+      !sourceClip.validate(source.jointCount()).empty() || !targetClip.validate(target.jointCount()).empty()) {
+    e.missing = {Bone::LeftHand, Bone::RightHand, Bone::LeftFoot, Bone::RightFoot, Bone::Head};
     return e;
+  }
+  constexpr Bone kEffectors[] = {Bone::LeftHand, Bone::RightHand, Bone::LeftFoot, Bone::RightFoot, Bone::Head};
+  for (Bone eb : kEffectors) (sourceMap.joint(eb) >= 0 && targetMap.joint(eb) >= 0 ? e.effectors : e.missing).push_back(eb);
   const float duration = std::min(sourceClip.duration, targetClip.duration);
   const Sampled a = sample(source, sourceClip, rate, duration), b = sample(target, targetClip, rate, duration);
-  constexpr Bone kEffectors[] = {Bone::LeftHand, Bone::RightHand, Bone::LeftFoot, Bone::RightFoot, Bone::Head};
   double sum = 0.0;
   for (std::size_t f = 0; f < a.frames.size() && f < b.frames.size(); ++f)
     for (Bone eb : kEffectors) {
@@ -146,6 +150,9 @@ SegmentDirectionError segmentDirectionError(const Skeleton& source, const JointM
     Bone from, to;
     bool fromNeck, toNeck;
   };
+  constexpr const char* kSegmentNames[] = {"spine", "neck", "leftUpperArm", "leftLowerArm", "rightUpperArm",
+                                            "rightLowerArm", "leftUpperLeg", "leftLowerLeg", "rightUpperLeg",
+                                            "rightLowerLeg"};
   constexpr Segment kSegments[] = {
       {Bone::Hips, Bone::Head, false, true},   {Bone::Head, Bone::Head, true, false},
       {Bone::LeftUpperArm, Bone::LeftLowerArm, false, false}, {Bone::LeftLowerArm, Bone::LeftHand, false, false},
@@ -153,6 +160,13 @@ SegmentDirectionError segmentDirectionError(const Skeleton& source, const JointM
       {Bone::LeftUpperLeg, Bone::LeftLowerLeg, false, false}, {Bone::LeftLowerLeg, Bone::LeftFoot, false, false},
       {Bone::RightUpperLeg, Bone::RightLowerLeg, false, false}, {Bone::RightLowerLeg, Bone::RightFoot, false, false},
   };
+  for (std::size_t k = 0; k < std::size(kSegments); ++k) {
+    const Segment& seg = kSegments[k];
+    const int s0 = end(sourceMap, seg.from, seg.fromNeck), s1 = end(sourceMap, seg.to, seg.toNeck);
+    const int t0 = end(targetMap, seg.from, seg.fromNeck), t1 = end(targetMap, seg.to, seg.toNeck);
+    const bool both = s0 >= 0 && s1 >= 0 && t0 >= 0 && t1 >= 0 && s0 != s1 && t0 != t1;
+    (both ? out.segments : out.missing).emplace_back(kSegmentNames[k]);
+  }
   const float duration = std::min(sourceClip.duration, targetClip.duration);
   const Sampled a = sample(source, sourceClip, rate, duration), b = sample(target, targetClip, rate, duration);
   std::vector<double> angles;
@@ -200,6 +214,7 @@ SkatingComparison compareSkating(const Skeleton& source, const JointMap& sourceM
   for (Bone foot : {Bone::LeftFoot, Bone::RightFoot}) {
     const int js = sourceMap.joint(foot), jt = targetMap.joint(foot);
     if (js < 0 || jt < 0) continue;
+    ++out.feet;
     float lowest = std::numeric_limits<float>::infinity();
     for (std::size_t f = 0; f < n; ++f) lowest = std::min(lowest, at(a.frames[f], js).y);
     for (std::size_t f = 1; f + 1 < n; ++f) {
@@ -213,6 +228,7 @@ SkatingComparison compareSkating(const Skeleton& source, const JointMap& sourceM
       ++contacts;
     }
   }
+  out.contacts = contacts;
   if (contacts == 0) return out;
   out.source = sumS / contacts;
   out.target = sumT / contacts;

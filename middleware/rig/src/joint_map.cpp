@@ -37,6 +37,13 @@ Entry entryOf(Bone b) { return {static_cast<int>(b), -1, -1}; }
 
 }  // namespace
 
+std::vector<Bone> missingRequiredBones(const JointMap& map) {
+  std::vector<Bone> missing;
+  for (Bone b : kRequired)
+    if (map.joint(b) < 0) missing.push_back(b);
+  return missing;
+}
+
 namespace joint_map_detail {
 
 std::string entryName(const Entry& e) {
@@ -46,8 +53,7 @@ std::string entryName(const Entry& e) {
 
 std::string missingRequired(const JointMap& m) {
   std::string missing;
-  for (Bone b : kRequired)
-    if (m.joint(b) < 0) missing += (missing.empty() ? "" : ", ") + std::string(boneName(b));
+  for (Bone b : missingRequiredBones(m)) missing += (missing.empty() ? "" : ", ") + std::string(boneName(b));
   return missing;
 }
 

@@ -87,7 +87,7 @@ std::size_t CharacterModel::triangleCount() const noexcept {
 bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnings, std::string& error) {
   morphCount_ = asset.morphTargets.size();
   jointCount_ = asset.skeleton.jointCount();
-  EmbeddedImages embedded(asset.sourcePath);
+  EmbeddedImages embedded(asset);
   std::map<std::string, int> textureOf;  // texture reference -> textures_ index (-1: unreadable)
   auto texture = [&](const Material& m) -> int {
     if (m.baseColorTexture.empty()) return -1;

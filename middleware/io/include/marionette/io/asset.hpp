@@ -58,6 +58,10 @@ struct Asset {
   bool hasHumanoid = false;
   Humanoid humanoid;
   float unitScale = 1.0f;  // metres per file unit, including ImportOptions::extraScale
+  // The encoded bytes (PNG, JPEG, ...) of the "embedded:N" textures of formats whose images
+  // only the importer can read (Assimp's: a .zae's or FBX's embedded textures), index N; empty
+  // for glTF / GLB / VRM, whose images embedded_images.hpp reads from the file when needed.
+  std::vector<std::vector<unsigned char>> embeddedImages;
 };
 
 }  // namespace marionette

@@ -1,25 +1,30 @@
 // Images stored inside a character's source file: the "embedded:N" base-colour
-// textures of a glTF / GLB / VRM (io/asset.hpp). A renderer decodes them, a
-// writer copies them; both need the encoded bytes, which the importer does not
-// keep (a headless runtime never needs pixels).
+// textures (io/asset.hpp). A renderer decodes them, a writer copies them; both need
+// the encoded bytes. Those of Assimp's formats the importer keeps in the asset
+// (Asset::embeddedImages); those of a glTF / GLB / VRM it does not (a headless runtime
+// never needs pixels), and they are read from the file on first use.
 #pragma once
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "marionette/io/asset.hpp"
 
 namespace marionette {
 
 class EmbeddedImages {
  public:
   explicit EmbeddedImages(std::string sourcePath);
+  // The asset's kept images when it has them (it must outlive this), else its file's.
+  explicit EmbeddedImages(const Asset& asset);
   ~EmbeddedImages();
   EmbeddedImages(const EmbeddedImages&) = delete;
   EmbeddedImages& operator=(const EmbeddedImages&) = delete;
 
   // The image index of an "embedded:N" reference, or -1 for anything else.
   [[nodiscard]] static int indexOf(std::string_view textureReference) noexcept;
-  // The encoded bytes (PNG, JPEG, ...) of image `index`, or nullptr when the file
-  // has no such image or is not a glTF / GLB / VRM. Reads the file once, on first use.
+  // The encoded bytes (PNG, JPEG, ...) of image `index`, or nullptr when neither the
+  // asset nor its file (a glTF / GLB / VRM) has such an image. Reads the file once, on first use.
   [[nodiscard]] const std::vector<unsigned char>* find(int index);
 
  private:
@@ -27,6 +32,7 @@ class EmbeddedImages {
   std::string source_;
   bool tried_ = false;
   std::vector<std::vector<unsigned char>> images_;
+  const std::vector<std::vector<unsigned char>>* kept_ = nullptr;
 };
 
 }  // namespace marionette

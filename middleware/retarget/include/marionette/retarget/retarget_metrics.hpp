@@ -9,6 +9,8 @@
 //    contacts, in its own leg lengths per second; the target's over the source's.
 #pragma once
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "marionette/animation/clip.hpp"
 #include "marionette/rig/joint_map.hpp"
@@ -33,9 +35,12 @@ namespace marionette::retarget {
                                                              const Clip& clip, const Skeleton& target,
                                                              const JointMap& targetMap);
 
+// Every figure says what it covers: the effectors or segments both maps have, and those left
+// out. With samples == 0 the figures are over nothing (a report prints "n/a", never 0).
 struct EffectorError {
   double mean = 0.0, max = 0.0;  // fraction of character height
   int samples = 0;
+  std::vector<Bone> effectors, missing;  // of hands, feet and head: measured, and not
 };
 // Sampled at `rate` frames per second over the shorter clip. `facing`: the
 // retargeter's facingAlignment(), applied to the source.
@@ -52,6 +57,9 @@ struct EffectorError {
 struct SegmentDirectionError {
   double meanDegrees = 0.0, p95Degrees = 0.0, maxDegrees = 0.0;
   int samples = 0;  // segment-frames compared
+  // Of the 10 segments ("spine", "neck", "leftUpperArm" for the upper arm, ...): compared,
+  // and not (an end missing from a map).
+  std::vector<std::string> segments, missing;
 };
 [[nodiscard]] SegmentDirectionError segmentDirectionError(const Skeleton& source, const JointMap& sourceMap,
                                                           const Clip& sourceClip, const Skeleton& target,
@@ -67,6 +75,8 @@ struct SegmentDirectionError {
 struct SkatingComparison {
   double source = 0.0, target = 0.0, ratio = 0.0;
   double contactFraction = 0.0;  // of foot-frames
+  int feet = 0;                  // of the two, compared (both maps have it, with legs to measure by)
+  int contacts = 0;              // foot-frames in contact: 0, the figures are over nothing
 };
 [[nodiscard]] SkatingComparison compareSkating(const Skeleton& source, const JointMap& sourceMap,
                                                const Clip& sourceClip, const Skeleton& target,

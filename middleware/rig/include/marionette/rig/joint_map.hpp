@@ -63,6 +63,10 @@ struct JointMapResult {
   Diagnostics diagnostics;  // each names the file, line:column where known, and the entry
 };
 
+// The bones a humanoid motion needs that `map` lacks (hips, head, upper and lower arms and
+// legs, hands, feet), in canonical order.
+[[nodiscard]] std::vector<Bone> missingRequiredBones(const JointMap& map);
+
 // Reads a joint-map JSON file for a skeleton. Joint names must exist in the skeleton; "#N"
 // names joint N (for skeletons without names, e.g. CesiumMan). Missing required bones
 // (hips, head, upper/lower arms and legs, hands, feet) and joints mapped twice are warnings
