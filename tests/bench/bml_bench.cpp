@@ -7,6 +7,9 @@
 
 #include "marionette/bml/realizer.hpp"
 #include "synthetic_rig.hpp"
+#ifdef MARIONETTE_HAS_TTS
+#include "marionette/tts_espeak/espeak_backend.hpp"
+#endif
 
 namespace {
 const char* kTypicalBlock = R"(<bml xmlns="http://www.bml-initiative.org/bml/bml-1.0" id="greeting" characterId="robot">
@@ -61,6 +64,7 @@ BENCHMARK(BmlPerform)->Name("BML/Perform/typical10")->Unit(benchmark::kMicroseco
 // is drained outside the timed part.
 static void BmlPerformNewLine(benchmark::State& state) {
   marionette::Scene scene;
+  marionette::speech::useEspeak(scene.speech());  // a scene has no synthesizer of its own (issue 23)
   scene.addCharacter("robot", marionette::test::makeSyntheticRig());
   marionette::bml::Realizer realizer(scene);
   realizer.setForwardWarningsToScene(false);

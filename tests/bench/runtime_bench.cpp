@@ -163,4 +163,4 @@ BENCHMARK_CAPTURE(memcpyBaseline, Pab, std::string("Pab"))->Name("Baseline/Memcp
 BENCHMARK_CAPTURE(memcpyBaseline, Robot, std::string("RobotExpressive"))->Name("Baseline/Memcpy/RobotExpressive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(jointScaling)->Name("Scaling/Joints")->RangeMultiplier(10)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(characterScaling)->Name("Scaling/Characters")->Arg(1)->Arg(10)->Arg(100)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecond);
-BENCHMARK_MAIN();
+// main() is in bench_main.cpp: it fails the run when any benchmark reports an error.

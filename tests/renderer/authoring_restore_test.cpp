@@ -5,14 +5,18 @@
 // authoring spot; bad augmentations and maps; and the authoring window driven by synthetic input,
 // whose recorded actions replayed headless must give the same file bit for bit.
 //
-// The sweep is rendered once into the temporary folder and reused by the tests after it.
+// The sweep is rendered once into this build's folder (MARIONETTE_AUTHORING_TEST_DIR) and
+// reused by the tests after it while the programs and data that made it are the same.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <tuple>
 
 #include <fcntl.h>
@@ -42,12 +46,30 @@ constexpr double kMatWidth = 2.0;   // metres: graf1.png printed as a floor mat 
 constexpr double kFloorMpp = 0.008;
 constexpr int kSweepFrames = 150;
 
-fs::path root() { return fs::temp_directory_path() / "marionette_authoring_test"; }
+// This build's folder (MARIONETTE_AUTHORING_TEST_DIR, which ctest sets to a folder in the
+// build tree), else one made afresh for this process: never a folder another build wrote.
+fs::path root() {
+  static const fs::path dir = [] {
+    if (const char* d = std::getenv("MARIONETTE_AUTHORING_TEST_DIR"); d && *d) return fs::path(d);
+    std::string pattern = (fs::temp_directory_path() / "marionette_authoring_test.XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) ADD_FAILURE() << "cannot make a temporary folder " << pattern;
+    return fs::path(pattern);
+  }();
+  return dir;
+}
 std::string camera() { return sourceFile("assets/cameras/synthetic_640x480.yml"); }
+
+// FNV-1a, continued from h over the bytes.
+std::uint64_t fnv1a(std::uint64_t h, const std::string& bytes) {
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
 
 // The demo's sweep and its map, as scripts/demo makes them; rendered once, then reused.
 // ctest runs this file's tests in parallel processes: the first renders while the others
-// wait on a lock file (else one would remove the folder another is writing).
+// wait on a lock file (else one would remove the folder another is writing). A sweep is
+// reused only if its key matches: the commands, and the bytes of the two programs that made
+// it and of their inputs. A rebuilt program or other data renders the sweep again.
 struct Sweep {
   fs::path frames, map;
 };
@@ -62,22 +84,36 @@ struct FileLock {
 };
 const Sweep& sweep() {
   static const Sweep s = [] {
-    const FileLock lock(fs::temp_directory_path() / "marionette_authoring_test.lock");
+    fs::create_directories(root().parent_path());
+    const FileLock lock(root().string() + ".lock");
     Sweep out{root() / "sweep", root() / "sweep.map"};
+    const std::string writeCommand = ::marionette::test::programPath("marionette_write_sequence") + " --target " +
+                                     opencvData("graf1.png") + " --target-width 2.0 --camera " + camera() +
+                                     " --scenario authoring_sweep --frames " + std::to_string(kSweepFrames) +
+                                     " --floor " + opencvData("baboon.jpg") + " --floor-mpp 0.008 --out " +
+                                     out.frames.string();
+    const std::string trackArgs = "track --camera " + camera() + " --images " + out.frames.string() + " --target " +
+                                  opencvData("graf1.png") + " --target-width 2.0 --poses " +
+                                  (root() / "sweep_poses.csv").string() + " --save-map " + out.map.string();
+    std::uint64_t key = fnv1a(14695981039346656037ull, writeCommand + "\n" + trackArgs);
+    for (const std::string& file : {::marionette::test::programPath("marionette_write_sequence"),
+                                    ::marionette::test::programPath("marionette-ar"), opencvData("graf1.png"),
+                                    opencvData("baboon.jpg"), camera()})  // a missing file: its name alone
+      key = fnv1a(fnv1a(key, file), fs::exists(file) ? readFile(file) : std::string());
+    const fs::path keyFile = root() / "sweep.key";
+    const std::string keyText = std::to_string(key);
     const bool have = fs::exists(out.map) && fs::exists(out.frames / "truth.csv") &&
-                      fs::exists(out.frames / "frame_0149.png");
+                      fs::exists(out.frames / "frame_0149.png") && fs::exists(keyFile) &&
+                      readFile(keyFile.string()) == keyText;
     if (!have) {
       fs::remove_all(root());
       fs::create_directories(root());
-      const CliRun write = runCommand(::marionette::test::programPath("marionette_write_sequence") + " --target " + opencvData("graf1.png") +
-                                      " --target-width 2.0 --camera " + camera() + " --scenario authoring_sweep --frames " +
-                                      std::to_string(kSweepFrames) + " --floor " + opencvData("baboon.jpg") +
-                                      " --floor-mpp 0.008 --out " + out.frames.string());
+      const CliRun write = runCommand(writeCommand);
       EXPECT_EQ(write.status, 0) << write.out;
-      const CliRun track = runAr("track --camera " + camera() + " --images " + out.frames.string() + " --target " +
-                                 opencvData("graf1.png") + " --target-width 2.0 --poses " +
-                                 (root() / "sweep_poses.csv").string() + " --save-map " + out.map.string());
+      const CliRun track = runAr(trackArgs);
       EXPECT_EQ(track.status, 0) << track.out;
+      // Written last: a sweep cut short is not taken for a finished one.
+      if (write.status == 0 && track.status == 0) std::ofstream(keyFile) << keyText;
     }
     return out;
   }();

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "determinism_digest.hpp"
 #include "marionette/behavior/behavior_timeline.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic_rig.hpp"
@@ -240,5 +241,7 @@ TEST(BehaviorTimeline, ExtremeStepsAndTimesStayFiniteAndDeterministic) {
     }
     return out;
   };
-  EXPECT_EQ(run(), run());
+  const std::vector<float> first = run();
+  EXPECT_EQ(first, run());
+  marionette::test::recordDigest(first);  // and across two processes: determinism.two_processes
 }

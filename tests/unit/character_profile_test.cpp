@@ -259,13 +259,52 @@ TEST(CharacterProfileGuess, NothingToFindGivesEmptyFieldsAndNotes) {
   (void)guessCharacterProfile(Asset{});  // empty asset: no crash
 }
 
-TEST(CharacterProfileGuess, MalformedSkeletonDoesNotCrash) {
+namespace {
+// Every joint a profile names (body fields only).
+std::vector<std::string> namedJoints(const CharacterProfile& p) {
+  std::vector<std::string> all = {p.hips, p.neck, p.head, p.leftEye, p.rightEye, p.jaw, p.leftToe, p.rightToe};
+  all.insert(all.end(), p.spine.begin(), p.spine.end());
+  for (const Limb* l : {&p.leftLeg, &p.rightLeg, &p.leftArm, &p.rightArm}) all.insert(all.end(), {l->upper, l->lower, l->end});
+  all.erase(std::remove(all.begin(), all.end(), std::string()), all.end());
+  return all;
+}
+}  // namespace
+
+// A malformed skeleton is guessed as the tree it is: a joint whose parent is not before it
+// is a root, joints without a parent entry are left out; nothing is invented.
+TEST(CharacterProfileGuess, MalformedSkeletonIsGuessedAsTheTreeItIs) {
   Asset a;
   a.skeleton.names = {"Head", "Neck", "Hips"};
   a.skeleton.parents = {2, 0, 7};  // parents after children and out of range
-  (void)guessCharacterProfile(a);
-  a.skeleton.parents = {-1};  // fewer parents than names
-  (void)guessCharacterProfile(a);
+  CharacterProfile p = guessCharacterProfile(a);
+  EXPECT_FALSE(hasNote(p, "guess failed")) << notes(p);
+  for (const char* field : {"hips:", "spine:", "neck:", "head:", "face:", "idle:", "walk:", "run:", "gestures:"})
+    EXPECT_TRUE(hasNote(p, field)) << field << '\n' << notes(p);
+  for (const std::string& n : namedJoints(p))
+    EXPECT_NE(std::find(a.skeleton.names.begin(), a.skeleton.names.end(), n), a.skeleton.names.end()) << n;
+  // "Neck" hangs from "Head" (the only parent that comes first) and "Hips" is a root alone:
+  // "Head" is above the neck and not below the hips, so it is not the head.
+  EXPECT_EQ(p.hips, "Hips") << notes(p);
+  EXPECT_EQ(p.head, "") << notes(p);
+  EXPECT_EQ(p.neck, "") << notes(p);
+  EXPECT_TRUE(hasNote(p, "'Head' rejected")) << notes(p);
+
+  a.skeleton.parents = {-1};  // fewer parents than names: only "Head" is a joint here
+  p = guessCharacterProfile(a);
+  EXPECT_FALSE(hasNote(p, "guess failed")) << notes(p);
+  EXPECT_EQ(namedJoints(p), std::vector<std::string>{"Head"}) << notes(p);
+
+  // One bad parent in a whole body: the rest is found as in a well-formed one.
+  Asset body1 = makeAsset(body("Hips", {"Spine", "Chest"}, "Neck", "Head", "Left", "Right"));
+  body1.skeleton.parents[static_cast<std::size_t>(body1.skeleton.findJoint("RightLeg"))] = 99;  // out of range
+  p = guessCharacterProfile(body1);
+  EXPECT_EQ(p.neck, "Neck") << notes(p);
+  EXPECT_EQ(p.head, "Head") << notes(p);
+  EXPECT_EQ(p.spine, (std::vector<std::string>{"Spine", "Chest"})) << notes(p);
+  EXPECT_EQ(p.hips, "Hips") << notes(p);
+  EXPECT_EQ(p.leftLeg.upper, "LeftUpLeg") << notes(p);
+  EXPECT_EQ(p.leftLeg.lower, "LeftLeg") << notes(p);
+  EXPECT_NE(p.rightLeg.lower, "RightLeg") << notes(p);  // a root now, not below the right hip
 }
 
 // ---- guessing: topology checks ----------------------------------------------------

@@ -6,6 +6,7 @@
 
 #include "marionette/animation/pose.hpp"
 #include "marionette/behavior/procedural_controllers.hpp"
+#include "determinism_digest.hpp"
 #include "joint_rotation.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic.hpp"
@@ -212,5 +213,7 @@ TEST(HeadMotion, ExtremeStepsStayFiniteAndDeterministic) {
     }
     return out;
   };
-  EXPECT_EQ(run(), run());
+  const std::vector<float> first = run();
+  EXPECT_EQ(first, run());
+  marionette::test::recordDigest(first);  // and across two processes: determinism.two_processes
 }

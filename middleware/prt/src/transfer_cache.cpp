@@ -10,11 +10,15 @@
 #include <filesystem>
 #include <fstream>
 
+#include "prt_code_hash.hpp"  // generated: a hash of this library's sources
+
 namespace marionette::prt {
 
 namespace {
 constexpr char kMagic[8] = {'M', 'N', 'P', 'R', 'T', '\0', '\0', '\1'};
-constexpr std::uint64_t kFormatVersion = 1;  // bump when the estimator changes
+constexpr std::uint64_t kFormatVersion = 1;  // bump when the file layout changes
+// Any change to the PRT code changes the key: a transfer another build computed is not read.
+constexpr std::uint64_t kCodeHash = MARIONETTE_PRT_CODE_HASH;
 
 struct Fnv1a {
   std::uint64_t h = 0xcbf29ce484222325ull;
@@ -37,6 +41,7 @@ struct Header {
 std::uint64_t transferCacheKey(const TransferMesh& mesh, const TransferSettings& s) noexcept {
   Fnv1a f;
   f.value(kFormatVersion);
+  f.value(kCodeHash);
   f.value(mesh.positions.size());
   f.bytes(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
   f.bytes(mesh.normals.data(), mesh.normals.size() * sizeof(glm::vec3));

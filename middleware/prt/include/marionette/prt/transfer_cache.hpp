@@ -1,8 +1,9 @@
 // Transfer vectors cached on disk, so that a relaunch skips the precompute.
 //
 // The key hashes everything the result depends on: the mesh's positions, normals and
-// triangles (bytes), the settings (bands, rays, shadowed, origin offset, seed) and the
-// format version. The file is <directory>/<key as 16 hex digits>.mprt:
+// triangles (bytes), the settings (bands, rays, shadowed, origin offset, seed), the
+// format version and the code (a hash of marionette::prt's sources, made at build time), so
+// a file cached by another build of the library is computed again. The file is <directory>/<key as 16 hex digits>.mprt:
 //   "MNPRT\0\0\1" | u64 key | u32 bands | u32 shadowed | u64 vertices | u64 rays per vertex |
 //   float coefficients[vertices * bands^2] | float occluded[vertices]      (little-endian)
 // It is written to a temporary name and renamed, so a crash never leaves half a file. A file
