@@ -94,9 +94,10 @@ TEST(RealSequence, StillCameraOverAPosterWallWithAHandHeldBoxInFront) {
   }
   ASSERT_GT(samples, 0);
   ASSERT_GT(compared, 0);
-  std::printf("[ mire-2 ] %d frames: %d TRACKING (%d of the first %d), %d with a pose; wall points off the first "
-              "frame's: mean %.3f px, worst %.3f px; against phase correlation: mean %.3f px, worst %.3f px (%d frames)\n",
-              kFrames, tracking, trackingEarly, kBoxCoversMost, posed, sum / samples, worst,
+  std::printf("[ mire-2 ] %d frames: %d TRACKING (%d of the first %d), %d with a pose (%d of the first %d); wall "
+              "points off the first frame's: mean %.3f px, worst %.3f px; against phase correlation: mean %.3f px, worst "
+              "%.3f px (%d frames)\n",
+              kFrames, tracking, trackingEarly, kBoxCoversMost, posed, posedEarly, kBoxCoversMost, sum / samples, worst,
               sumDisagreement / compared, worstDisagreement, compared);
   // A pose (the first frame's once the second confirms it) in 95 % of the early frames; TRACKING
   // in 40 % or more: with the guessed focal length and a 1 m reference seen from about 1.3 m,
@@ -106,10 +107,12 @@ TEST(RealSequence, StillCameraOverAPosterWallWithAHandHeldBoxInFront) {
   // The camera moved about 0.3 px (phase correlation): the wall's points stay within a pixel
   // or so of the first frame's (the worst, 3.4 px, at the frame's corner while the box hides
   // most of the reference: the inliers bunch on one side), and the tracker moves with the wall.
+  // Regression bounds, about 1.5x docs/tracking.md's figures (session 26: 0.44 / 1.02 px off the
+  // first frame, 0.13 / 0.23 px against phase correlation).
   EXPECT_LT(sum / samples, 0.6);
-  EXPECT_LT(worst, 4.0);
-  EXPECT_LT(sumDisagreement / compared, 0.25);
-  EXPECT_LT(worstDisagreement, 0.6);
+  EXPECT_LT(worst, 1.55);
+  EXPECT_LT(sumDisagreement / compared, 0.2);
+  EXPECT_LT(worstDisagreement, 0.35);
 }
 
 // ViSP's `cube`: 80 frames at 384x288 from a hand-held camera closing in on a magazine collage
@@ -154,7 +157,7 @@ TEST(RealSequence, HandHeldCameraClosingInOnACollageKeepsTrackingWithNewKeyframe
               kFrames, tracking, keyframes, worstStep * 1000, start.y * 1000, last.y * 1000);
   EXPECT_GE(tracking, kFrames - 2);
   EXPECT_GE(keyframes, 3u);
-  EXPECT_LT(worstStep, 0.01);        // a hand-held camera at 30 fps, no jump
+  EXPECT_LT(worstStep, 0.0053);      // a hand-held camera at 30 fps, no jump (regression: 3.5 mm published)
   EXPECT_LT(last.y, 0.8 * start.y);  // it did close in
   // The map saved and read back keeps them (what --save-map writes).
   const std::string file = ::testing::TempDir() + "marionette_cube.map";
