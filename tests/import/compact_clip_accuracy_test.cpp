@@ -11,7 +11,11 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "marionette/animation/animation_clip.hpp"
 #include "marionette/animation/clip_error.hpp"
@@ -113,6 +117,21 @@ TEST(CompactClipAccuracy, RealClipsCompactWithinTheBudget) {
 // measured every 1/120 s against the authored clip. Each budget must be met (the
 // optimizer's 1e-5 tolerances add to it), and a looser budget must not take more bytes.
 TEST(CompactClipAccuracy, SizeFallsAsTheBudgetGrows) {
+  // Regression bounds (issue 41): each row's size and max error against the published table
+  // (docs/data/compact_clip_budget.csv): at most 1.2 times its bytes and 1.5 times its error.
+  std::map<std::string, std::pair<double, double>> published;  // "set,budget" -> bytes, max error
+  {
+    std::ifstream in(sourceFile("docs/data/compact_clip_budget.csv"));
+    ASSERT_TRUE(in) << sourceFile("docs/data/compact_clip_budget.csv");
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::vector<std::string> f;
+      std::stringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) f.push_back(cell);
+      if (f.size() >= 5) published[f[0] + "," + f[1]] = {std::stod(f[2]), std::stod(f[4])};
+    }
+  }
   struct Set {
     std::string file;
     std::vector<std::string> clips;
@@ -167,6 +186,14 @@ TEST(CompactClipAccuracy, SizeFallsAsTheBudgetGrows) {
       previous = bytes;
       csv << names[kind] << ',' << budget << ',' << bytes << ',' << floats << ',' << all.max << ','
           << all.percentile(0.99) << '\n';
+      std::ostringstream key;
+      key << names[kind] << ',' << budget;
+      const auto it = published.find(key.str());
+      EXPECT_NE(it, published.end()) << key.str() << " is not in docs/data/compact_clip_budget.csv";
+      if (it != published.end()) {
+        EXPECT_LE(static_cast<double>(bytes), 1.2 * it->second.first) << key.str() << " (regression: published bytes)";
+        EXPECT_LE(all.max, 1.5 * it->second.second + 1e-7) << key.str() << " (regression: published max error)";
+      }
       std::printf("%-16s budget %.3f mm: %7zu bytes (float %7zu)  max %.4f mm  p99 %.4f mm\n", names[kind],
                   budget * 1e3, bytes, floats, all.max * 1e3, all.percentile(0.99) * 1e3);
     }
