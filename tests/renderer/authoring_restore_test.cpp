@@ -334,7 +334,11 @@ TEST(AuthoringRestore, TenRelaunchesAroundTheAuthoringSpotRestoreWithinACentimet
   }
   std::printf("%d of 10 relaunches restored within 1 cm and 0.5 deg (worst %.1f mm, %.3f deg)\n", restored,
               worstM * 1000, worstDeg);
-  EXPECT_GE(restored, 9);
+  EXPECT_GE(restored, 9);  // the goal
+  // Regression bounds (issue 41): docs/authoring.md publishes 10 of 10, 5.3 mm and 0.018 deg at worst.
+  EXPECT_EQ(restored, 10);
+  EXPECT_LE(worstM, 0.008);
+  EXPECT_LE(worstDeg, 0.027);
 }
 
 TEST(AuthoringRestore, BadAugmentationsAndMapsAreNamedAndTheSceneStillRuns) {
