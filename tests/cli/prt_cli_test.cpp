@@ -51,6 +51,33 @@ double number(const std::map<std::string, std::string>& row, const std::string& 
   const auto it = row.find(key);
   return it == row.end() ? std::nan("") : std::strtod(it->second.c_str(), nullptr);
 }
+
+// Regression bound (issue 41): each error of a quick-report row that the published full report
+// (docs/data/prt/<table>.csv) also has stays within 1.5x the published figure. The quick run
+// uses fewer pixels and samples, and its rows come out at 0.69-1.45x the published ones
+// (deterministic); a change that doubles an error fails. Returns how many rows were compared.
+int expectWithinPublished(const std::string& quickCsv, const std::string& table, const std::vector<std::string>& keys,
+                          const std::vector<std::string>& errors) {
+  const auto published = readCsv(sourceFile("docs/data/prt/" + table + ".csv"));
+  EXPECT_FALSE(published.empty()) << "docs/data/prt/" << table << ".csv";
+  const auto keyOf = [&](const std::map<std::string, std::string>& row) {
+    std::string k;
+    for (const auto& name : keys) k += (row.count(name) ? row.at(name) : "?") + "/";
+    return k;
+  };
+  std::map<std::string, std::map<std::string, std::string>> byKey;
+  for (const auto& row : published) byKey[keyOf(row)] = row;
+  int compared = 0;
+  for (const auto& row : readCsv(quickCsv)) {
+    const auto it = byKey.find(keyOf(row));
+    if (it == byKey.end()) continue;
+    ++compared;
+    for (const auto& e : errors)
+      EXPECT_LE(number(row, e), 1.5 * number(it->second, e))
+          << table << " row " << keyOf(row) << " column " << e << ": published " << it->second.at(e);
+  }
+  return compared;
+}
 }  // namespace
 
 TEST(PrtCli, LightingErrorJsonFallsWithTheBandCount) {
@@ -178,6 +205,16 @@ TEST(PrtCli, QuickReportWritesSaneTablesCsvsAndPlots) {
   ASSERT_EQ(forestEnd.size(), 7u);
   EXPECT_LT(forestEnd[4], forestEnd[2]);  // shadowed forest at N = 64: about 0.1 against 0.28
   EXPECT_LT(forestEnd[4], 0.2);
+  // Regression bounds against the published full report.
+  EXPECT_EQ(expectWithinPublished((data / "lighting_truncation.csv").string(), "lighting_truncation", {"map", "n"},
+                                  {"mean_rel_error", "max_rel_error"}),
+            14);
+  EXPECT_EQ(expectWithinPublished((data / "transfer_sampling.csv").string(), "transfer_sampling",
+                                  {"half_angle_deg", "N"}, {"mean_rel_l2_error", "max_rel_l2_error"}),
+            16);
+  EXPECT_EQ(expectWithinPublished((data / "end_to_end.csv").string(), "end_to_end", {"map", "n", "N"},
+                                  {"mean_worst", "p95_worst"}),
+            14);  // N = 64 (N = 16 is the quick run's own)
   // 4. Every stiff and extreme case passes.
   const std::string extremes = readFile((data / "extremes.csv").string());
   EXPECT_NE(extremes.find("pass"), std::string::npos);
