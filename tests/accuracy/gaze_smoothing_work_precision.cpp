@@ -7,7 +7,10 @@
 // steps of at most 10 microseconds against the continuous target; none of the
 // methods under test (DampedAngle's closed forms) takes part in it.
 //   marionette_gaze_work_precision OUT.csv
-// Columns: method, dt_s, max_error_rad, ns_per_step, ns_per_simulated_second;
+// Columns: method, dt_s, max_error_rad, ns_per_step, ns_per_simulated_second,
+// frames_compared (the frames the error is over), frames (the run's), diverged (1 when
+// the method left the reference by more than 1e3 rad or became non-finite; its
+// max_error_rad is then "inf", over the frames before it diverged: not a figure);
 // one block per method, separated by two blank lines (gnuplot's `index`).
 #include <algorithm>
 #include <chrono>
@@ -84,19 +87,31 @@ void integrateSpring(Exact& s, double t0, double dt) {
   }
 }
 
-// Max |x - reference| at the frame times; 1e3 when the method diverged.
-double maxError(const Step& step, double dt) {
+// Max |x - reference| at the frame times, and over how many frames it was taken.
+struct Error {
+  double max = 0.0;
+  int framesCompared = 0, frames = 0;
+  bool diverged = false;
+};
+Error maxError(const Step& step, double dt) {
   State s;
   Exact ref;
-  double worst = 0.0;
-  for (double t = 0.0; t < kSeconds; t += dt) {
+  Error error;
+  error.frames = static_cast<int>(std::ceil(kSeconds / dt - 1e-9));
+  for (int i = 0; i < error.frames; ++i) {
+    const double t = i * dt;
     step(s, static_cast<float>(target(t)), static_cast<float>(target(t + dt)), static_cast<float>(dt));
     integrateSpring(ref, t, dt);
     const double e = std::fabs(static_cast<double>(s.x) - ref.x);
-    if (!std::isfinite(e) || e > 1e3) return 1e3;
-    worst = std::max(worst, e);
+    if (!std::isfinite(e) || e > 1e3) {
+      error.diverged = true;
+      error.max = HUGE_VAL;
+      return error;
+    }
+    ++error.framesCompared;
+    error.max = std::max(error.max, e);
   }
-  return worst;
+  return error;
 }
 
 double nsPerStep(const Step& step) {
@@ -123,7 +138,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("reference: RK4 of the spring ODE in double, steps <= 1e-5 s, continuous target\n");
-  std::fprintf(out, "method,dt_s,max_error_rad,ns_per_step,ns_per_simulated_second\n");
+  std::fprintf(out, "method,dt_s,max_error_rad,ns_per_step,ns_per_simulated_second,frames_compared,frames,diverged\n");
   const std::pair<const char*, Step> methods[] = {
       {"exact (target ramp)", exactRamp},
       {"exact (target held)", exactHold},
@@ -135,9 +150,16 @@ int main(int argc, char** argv) {
     first = false;
     const double ns = nsPerStep(step);
     for (double dt : {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 0.1, 0.25, 0.5}) {
-      const double e = maxError(step, dt);
-      std::fprintf(out, "%s,%.6f,%.6g,%.3f,%.1f\n", name, dt, e, ns, ns / dt);
-      std::printf("%-20s dt %.4f s  max error %.3g rad%s  %.2f ns/step\n", name, dt, e, e >= 1e3 ? " (diverged)" : "", ns);
+      const Error e = maxError(step, dt);
+      char error[32] = "inf";
+      if (!e.diverged) std::snprintf(error, sizeof error, "%.6g", e.max);
+      std::fprintf(out, "%s,%.6f,%s,%.3f,%.1f,%d,%d,%d\n", name, dt, error, ns, ns / dt, e.framesCompared, e.frames,
+                   e.diverged ? 1 : 0);
+      if (e.diverged)
+        std::printf("%-20s dt %.4f s  diverged after %d of %d frames  %.2f ns/step\n", name, dt, e.framesCompared,
+                    e.frames, ns);
+      else
+        std::printf("%-20s dt %.4f s  max error %.3g rad over %d frames  %.2f ns/step\n", name, dt, e.max, e.frames, ns);
     }
   }
   std::fclose(out);
