@@ -14,12 +14,15 @@
       error              the benchmark's SkipWithError message, if any repetition reported one
                          (when all did, the other columns are empty)
   bench_counters.csv  every counter of every benchmark: benchmark,counter,repetitions,median,min,max
+  bench_current.md    the same medians as a Markdown table (docs/benchmarks.md links it: the
+                      current figure of every benchmark, with its spread and the run's date)
   scaling_joints.csv, scaling_characters.csv
                       the two scaling series scripts/plot_scaling.gp plots (us_per_char: median,
                       min, max)
 
 Usage: bench_to_csv.py BENCH.json OUT_DIR
 """
+import csv
 import json
 import statistics
 import sys
@@ -88,10 +91,29 @@ for name, reps in runs.items():
         chars.append(f"{name.rsplit('/', 1)[1]},{','.join(per_char)}")
 
 (out / "bench_medians.csv").write_text("\n".join(rows) + "\n")
+
+# The Markdown view: one row per benchmark, the program's order.
+ctx = data.get("context", {})
+md = ["# Every benchmark, current figures", "",
+      f"Written by `scripts/benchmarks` (scripts/bench_to_csv.py) on {ctx.get('date', '?')}: "
+      f"{ctx.get('num_cpus', '?')} CPUs, pinned to one. Median over the repetitions, and the spread "
+      "(fastest to slowest repetition, in percent of the median); between runs of different days "
+      "the figures move by more (docs/benchmarks.md, \"Does a rerun reproduce\").", "",
+      "| benchmark | repetitions | median | spread | µs per character |", "|---|---|---|---|---|"]
+unit_name = {"ns": "ns", "us": "µs", "ms": "ms", "s": "s"}
+for r in rows[1:]:
+    cells = next(csv.reader([r]))
+    name, reps, unit, median, _, _, spread, per_char = cells[:8]
+    if not median:
+        md.append(f"| `{name}` | 0 | error: {cells[10]} | | |")
+        continue
+    md.append(f"| `{name}` | {reps} | {float(median):.4g} {unit_name.get(unit, unit)} | {spread} % | "
+              f"{float(per_char):.3g} |" if per_char else
+              f"| `{name}` | {reps} | {float(median):.4g} {unit_name.get(unit, unit)} | {spread} % | |")
+(out / "bench_current.md").write_text("\n".join(md) + "\n")
 (out / "bench_counters.csv").write_text("\n".join(counters) + "\n")
 (out / "scaling_joints.csv").write_text("\n".join(joints) + "\n")
 (out / "scaling_characters.csv").write_text("\n".join(chars) + "\n")
-ctx = data.get("context", {})
 print(f"{ctx.get('host_name', '?')}: {ctx.get('num_cpus', '?')} cpus @ {ctx.get('mhz_per_cpu', '?')} MHz, "
       f"{len(runs)} benchmarks, {len(errors)} with errors")
 for r in rows[1:]:
