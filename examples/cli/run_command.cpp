@@ -9,7 +9,7 @@
 #include "commands.hpp"
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/core/transform.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #ifdef MARIONETTE_CLI_HAS_BML
 #include <fstream>
 #include <sstream>

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "marionette/animation/clip_binding.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
 #include "pose_error.hpp"

@@ -21,7 +21,7 @@
 #include "marionette_ar/authoring/authoring_actions.hpp"
 #include "marionette_ar/pose_track.hpp"
 #include "pose_track_seed.hpp"  // tests/fuzz: the fuzz target's seed
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "test_data.hpp"
 #ifdef MARIONETTE_HAS_BML
 #include "marionette/bml/document.hpp"

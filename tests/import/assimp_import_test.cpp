@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "marionette/animation/clip_binding.hpp"
 #include "marionette/io/import.hpp"
 #include "test_data.hpp"
 

@@ -18,7 +18,7 @@
 #include "marionette/scene/listener.hpp"
 #include "marionette/rig/rig.hpp"
 #include "marionette/scene/scene.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "test_data.hpp"
 #ifdef MARIONETTE_HAS_BML
 #include "marionette/bml/realizer.hpp"

@@ -20,6 +20,7 @@
 #include "marionette/animation/animation_clip.hpp"
 #include "marionette/animation/clip_error.hpp"
 #include "marionette/animation/pose.hpp"
+#include "marionette/animation/clip_binding.hpp"
 #include "marionette/io/import.hpp"
 #include "pose_error.hpp"
 #include "test_data.hpp"

@@ -12,7 +12,7 @@
 #include "marionette/rig/joint_map.hpp"
 #include "marionette/rig/character_profile.hpp"
 #include "marionette/scene/scene.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "marionette/rig/detail/json_places.hpp"
 #include "test_data.hpp"
 

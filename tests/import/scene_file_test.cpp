@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;

@@ -5,7 +5,7 @@
 #pragma once
 #include <memory>
 
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 #include "marionette/rig/rig.hpp"
 
 namespace marionette::test {

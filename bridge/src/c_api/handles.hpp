@@ -12,7 +12,7 @@
 #include "marionette/bridge/palette_binding.hpp"
 #include "marionette/marionette.h"
 #include "marionette/scene/scene.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #ifdef MARIONETTE_C_HAS_BML
 #include "marionette/bml/realizer.hpp"
 #endif

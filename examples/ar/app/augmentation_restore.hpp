@@ -14,7 +14,7 @@
 
 #include "ar_scene_file.hpp"
 #include "marionette/scene/scene.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "marionette_ar/authoring/augmentation.hpp"
 #include "marionette_ar/pose_track.hpp"
 

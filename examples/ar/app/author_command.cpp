@@ -13,7 +13,7 @@
 #include "ar_cli.hpp"
 #include "ar_scene_file.hpp"
 #include "augmentation_scene.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "marionette_ar/authoring/authoring_session.hpp"
 #include "marionette_ar/background_source.hpp"
 #include "tracked_camera.hpp"

@@ -42,7 +42,7 @@
 #endif
 #include "marionette/bml/realizer.hpp"
 #include "marionette/bml/timed_files.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "marionette_ar/render/background_renderer.hpp"
 #include "marionette_ar/render/character_renderer.hpp"
 #include "marionette_ar/render/gl_context.hpp"

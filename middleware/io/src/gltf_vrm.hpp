@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "gltf_skeleton.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 
 namespace marionette::gltf_detail {
 

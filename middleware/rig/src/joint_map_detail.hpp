@@ -11,7 +11,7 @@
 
 #include "marionette/rig/joint_map.hpp"
 #include "marionette/skeleton/skeleton.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 #include "marionette/rig/character_profile.hpp"
 #include "profile_skeleton.hpp"
 

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 #include "marionette/rig/character_profile.hpp"
 #include "profile_skeleton.hpp"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <optional>
 
-#include "marionette/io/import.hpp"
+#include "marionette/animation/clip_binding.hpp"
 #include "marionette/speech/lipsync.hpp"
 
 namespace marionette {

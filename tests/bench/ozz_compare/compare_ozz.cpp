@@ -29,6 +29,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include <marionette/animation/clip_binding.hpp>
 #include <marionette/animation/pose.hpp>
 #include <marionette/animation/sampling.hpp>
 #include <marionette/io/import.hpp>

@@ -8,7 +8,7 @@
 
 #include "marionette/bml/realizer.hpp"
 #include "marionette/core/diagnostic.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 
 namespace marionette::bml {
 

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "marionette/core/diagnostic.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 
 namespace marionette {
 

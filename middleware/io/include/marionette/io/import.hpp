@@ -7,7 +7,7 @@
 #include <string>
 
 #include "marionette/core/diagnostic.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 
 namespace marionette {
 
@@ -46,11 +46,5 @@ struct ImportResult {
 #ifdef MARIONETTE_HAS_ASSIMP
 [[nodiscard]] ImportResult importWithAssimp(const std::string& path, const ImportOptions& options);
 #endif
-
-// Re-targets a clip's joint indices from one skeleton to another by exact joint
-// name (same naming, e.g. a Pab motion file onto the Pab character). Tracks of
-// joints the target lacks are dropped and counted in `unmatched` when given.
-[[nodiscard]] Clip bindClipByName(const Clip& clip, const Skeleton& from, const Skeleton& to,
-                                  int* unmatched = nullptr);
 
 }  // namespace marionette

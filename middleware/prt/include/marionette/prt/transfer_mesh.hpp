@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "marionette/core/diagnostic.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 
 namespace marionette::prt {
 

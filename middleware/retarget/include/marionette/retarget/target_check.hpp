@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 #include "marionette/rig/joint_map.hpp"
 
 namespace marionette::retarget {

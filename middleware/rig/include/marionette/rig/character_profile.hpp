@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "marionette/core/diagnostic.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 #include "marionette/rig/joint_map.hpp"
 
 namespace marionette {

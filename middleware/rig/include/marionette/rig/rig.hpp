@@ -9,7 +9,7 @@
 
 #include "marionette/animation/animation_clip.hpp"
 #include "marionette/animation/pose.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 #include "marionette/rig/character_profile.hpp"
 
 namespace marionette {

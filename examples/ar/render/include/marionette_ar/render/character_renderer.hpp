@@ -18,7 +18,7 @@
 #include <glm/glm.hpp>
 
 #include "marionette/bridge/palette_binding.hpp"
-#include "marionette/io/asset.hpp"
+#include "marionette/asset/asset.hpp"
 #include "marionette/scene/transform_buffer.hpp"
 #include "marionette_ar/render/shader_program.hpp"
 

@@ -1,5 +1,5 @@
 #include "marionette/core/text_file.hpp"
-#include "marionette/scene/scene_file.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +14,7 @@
 
 #include "marionette/rig/detail/json_places.hpp"
 #include "marionette/animation/cycle.hpp"
+#include "marionette/animation/clip_binding.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/retarget/retarget_metrics.hpp"
 #include "marionette/retarget/retargeter.hpp"
