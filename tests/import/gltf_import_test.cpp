@@ -413,6 +413,21 @@ TEST(GltfImport, CesiumManSkeletonIsZUpInANodeTransform) {
   expectMeshesConsistent(*r.asset);
   EXPECT_EQ(r.asset->materials.size(), 1u);
   EXPECT_EQ(r.asset->materials[0].baseColorTexture, "embedded:0");
+  // The image inside the GLB is kept, encoded, for a renderer (asset/asset.hpp); not without meshes.
+  ASSERT_EQ(r.asset->embeddedImages.size(), 1u);
+  const std::vector<unsigned char>& image = r.asset->embeddedImages[0];
+  ASSERT_GT(image.size(), 1000u);
+  const bool png = image[1] == 'P' && image[2] == 'N' && image[3] == 'G';
+  const bool jpeg = image[0] == 0xFF && image[1] == 0xD8;
+  EXPECT_TRUE(png || jpeg);
+  EXPECT_EQ(embeddedImageIndex(r.asset->materials[0].baseColorTexture), 0);
+  EXPECT_EQ(embeddedImageIndex("embedded:x"), -1);
+  EXPECT_EQ(embeddedImageIndex("textures/skin.png"), -1);
+  ImportOptions noMeshes;
+  noMeshes.loadMeshes = false;
+  const ImportResult bare = importOk(path, noMeshes);
+  ASSERT_TRUE(bare.asset);
+  EXPECT_TRUE(bare.asset->embeddedImages.empty());
 }
 
 TEST(GltfImport, CesiumManPerJointAnimationsAndMergedClip) {

@@ -24,15 +24,7 @@ EmbeddedImages::EmbeddedImages(const Asset& asset)
     : source_(asset.sourcePath), kept_(asset.embeddedImages.empty() ? nullptr : &asset.embeddedImages) {}
 EmbeddedImages::~EmbeddedImages() = default;
 
-int EmbeddedImages::indexOf(std::string_view reference) noexcept {
-  constexpr std::string_view prefix = "embedded:";
-  if (reference.substr(0, prefix.size()) != prefix) return -1;
-  int index = -1;
-  const char* first = reference.data() + prefix.size();
-  const char* last = reference.data() + reference.size();
-  auto [end, ec] = std::from_chars(first, last, index);
-  return ec == std::errc{} && end == last && index >= 0 ? index : -1;
-}
+int EmbeddedImages::indexOf(std::string_view reference) noexcept { return embeddedImageIndex(reference); }
 
 const std::vector<unsigned char>* EmbeddedImages::find(int index) {
   if (kept_) {

@@ -25,9 +25,11 @@ namespace {
 
 using namespace gltf_detail;
 
-// tinygltf would decode every image; we only record texture references.
-bool keepImageUndecoded(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                        void*) {
+// tinygltf would decode every image; we keep the encoded bytes (for the asset's
+// embeddedImages) when meshes are loaded, and nothing otherwise.
+bool keepImageUndecoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                        const unsigned char* bytes, int size, void* keep) {
+  if (keep && *static_cast<const bool*>(keep) && bytes && size > 0) image->image.assign(bytes, bytes + size);
   return true;
 }
 
@@ -219,7 +221,7 @@ struct FolderGuard {
 bool loadModel(const std::string& path, const Source& src, const ImportOptions& options, tinygltf::Model& model,
                Diagnostics& diag) {
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(keepImageUndecoded, nullptr);
+  loader.SetImageLoader(keepImageUndecoded, const_cast<bool*>(&options.loadMeshes));
   std::string err, warn;
   const std::string baseDir = std::filesystem::path(path).parent_path().string();
   FolderGuard guard;
@@ -422,6 +424,13 @@ std::optional<Asset> buildAsset(const Context& ctx) {
   if (ctx.options.loadMeshes) {
     if (!MeshBuilder(ctx, reader, graph, asset.skeleton, map, morphs).build(asset.meshes)) return std::nullopt;
     asset.materials = buildMaterials(ctx);
+    // The images inside the file ("embedded:N", gltf_mesh.hpp's textureReference); an image
+    // that is a file of its own stays empty here.
+    asset.embeddedImages.reserve(ctx.model.images.size());
+    for (const tinygltf::Image& image : ctx.model.images) {
+      const bool inside = image.bufferView >= 0 || image.uri.empty() || image.uri.rfind("data:", 0) == 0;
+      asset.embeddedImages.push_back(inside ? image.image : std::vector<unsigned char>{});
+    }
   }
   if (ctx.options.loadAnimations) asset.clips = buildClips(ctx, reader, map, morphs);
   HumanoidReader(ctx, asset.skeleton, map, morphs).read(asset);

@@ -6,7 +6,6 @@
 #include <cstring>
 #include <map>
 
-#include "marionette/io/embedded_images.hpp"
 #include "marionette_ar/render/image.hpp"
 
 namespace marionette::ar {
@@ -87,7 +86,6 @@ std::size_t CharacterModel::triangleCount() const noexcept {
 bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnings, std::string& error) {
   morphCount_ = asset.morphTargets.size();
   jointCount_ = asset.skeleton.jointCount();
-  EmbeddedImages embedded(asset);
   std::map<std::string, int> textureOf;  // texture reference -> textures_ index (-1: unreadable)
   auto texture = [&](const Material& m) -> int {
     if (m.baseColorTexture.empty()) return -1;
@@ -95,10 +93,11 @@ bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnin
     Image8 image;
     std::string why;
     bool ok = false;
-    if (const int index = EmbeddedImages::indexOf(m.baseColorTexture); index >= 0) {
-      const std::vector<unsigned char>* bytes = embedded.find(index);
-      ok = bytes && readImage(*bytes, asset.sourcePath + " image " + std::to_string(index), image, why);
-      if (!bytes) why = "the image is inside the file and cannot be read from there";
+    if (const int index = embeddedImageIndex(m.baseColorTexture); index >= 0) {
+      const auto n = static_cast<std::size_t>(index);
+      const bool have = n < asset.embeddedImages.size() && !asset.embeddedImages[n].empty();
+      ok = have && readImage(asset.embeddedImages[n], asset.sourcePath + " image " + std::to_string(index), image, why);
+      if (!have) why = "the image is inside the file and the asset has no bytes for it (imported without meshes?)";
     } else {
       ok = readImage(m.baseColorTexture, image, why);
     }

@@ -1,9 +1,12 @@
 // What an importer produces: a skeleton, its clips, meshes and materials.
 // Plain data; the runtime only needs the skeleton and the clips.
 #pragma once
+#include <charconv>
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <vector>
 
 #include "marionette/animation/clip.hpp"
@@ -58,10 +61,22 @@ struct Asset {
   bool hasHumanoid = false;
   Humanoid humanoid;
   float unitScale = 1.0f;  // metres per file unit, including ImportOptions::extraScale
-  // The encoded bytes (PNG, JPEG, ...) of the "embedded:N" textures of formats whose images
-  // only the importer can read (Assimp's: a .zae's or FBX's embedded textures), index N; empty
-  // for glTF / GLB / VRM, whose images embedded_images.hpp reads from the file when needed.
+  // The encoded bytes (PNG, JPEG, ...) of the "embedded:N" textures (Material::baseColorTexture),
+  // index N: images inside the file (a GLB's buffer views, data URIs, a .zae's or FBX's
+  // embedded textures). Kept when the asset was imported with meshes (ImportOptions::loadMeshes);
+  // an entry is empty for an image that is a file of its own (the material names its path).
   std::vector<std::vector<unsigned char>> embeddedImages;
 };
+
+// The image index N of an "embedded:N" texture reference, or -1 for anything else.
+[[nodiscard]] inline int embeddedImageIndex(std::string_view reference) noexcept {
+  constexpr std::string_view prefix = "embedded:";
+  if (reference.substr(0, prefix.size()) != prefix) return -1;
+  int index = -1;
+  const char* first = reference.data() + prefix.size();
+  const char* last = reference.data() + reference.size();
+  auto [end, ec] = std::from_chars(first, last, index);
+  return ec == std::errc{} && end == last && index >= 0 ? index : -1;
+}
 
 }  // namespace marionette

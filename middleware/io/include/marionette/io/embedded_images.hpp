@@ -1,8 +1,8 @@
 // Images stored inside a character's source file: the "embedded:N" base-colour
-// textures (io/asset.hpp). A renderer decodes them, a writer copies them; both need
-// the encoded bytes. Those of Assimp's formats the importer keeps in the asset
-// (Asset::embeddedImages); those of a glTF / GLB / VRM it does not (a headless runtime
-// never needs pixels), and they are read from the file on first use.
+// textures (asset/asset.hpp). A writer copies them. An asset imported with meshes keeps
+// them (Asset::embeddedImages, what a renderer reads); one imported without (a headless
+// runtime never needs pixels) does not, and this reads them from its glTF / GLB / VRM file
+// on first use.
 #pragma once
 #include <string>
 #include <string_view>
