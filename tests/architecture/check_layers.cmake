@@ -1,20 +1,65 @@
-# The middleware's layers hold (cmake -P; tests/CMakeLists.txt passes the arguments):
-#   1. each module's public headers preprocess with only its own include folder and those
-#      of the modules below it (a header that reaches up fails here as it would in a build);
-#   2. a header of any module above or beside a module is NOT found from it: the build
-#      itself rejects a backward #include (the positive control in 1 shows the same
-#      command finds what is allowed);
-#   3. no middleware source reaches another module's files by a relative path ("../").
-# Arguments: -DCXX=compiler -DROOT=middleware folder -DLAYERS=file (written at configure
-# time: one "set(ALLOWED_<module> ...)" per module, itself and everything below it).
-include(${LAYERS})
+cmake_minimum_required(VERSION 3.22)  # IN_LIST and the other policies of the project
+# The project's layers hold (cmake -P; tests/CMakeLists.txt passes the arguments). For every
+# layer declared with marionette_layer (cmake/MarionetteLayers.cmake): the middleware's
+# modules, prt, tts_espeak, bml, bridge, the C API, the examples' parts and programs.
+#   1. each of its public headers preprocesses with the include folders its target really
+#      compiles with (a header that reaches up fails here as it would in a build);
+#   2. a header of every layer that is not below it is NOT found with those folders: the
+#      build itself rejects a backward #include (1 is the positive control: the same command
+#      finds what is allowed);
+#   3. none of its files reaches another layer's files by a relative path ("../");
+#   4. it includes something of every layer it declares it uses: it links nothing it does
+#      not include.
+# The layers are declared lowest first and may only use layers declared before them, so
+# the layer graph has no cycle (cmake/MarionetteLayers.cmake refuses anything else).
+# Arguments: -DCXX=compiler -DLAYERS=file (written at generate time by
+# marionette_write_layers). -DSELFTEST=folder instead builds a small broken tree there
+# and checks that each of the four checks reports it (the check can fail).
+if(SELFTEST)
+  # low: its header reaches up into high (1, and high's folder given to low: 2);
+  # high: declares it uses low and includes nothing of it (4), and reaches by "../" (3).
+  file(REMOVE_RECURSE ${SELFTEST})
+  file(WRITE ${SELFTEST}/low/include/t/low/low.hpp "#pragma once\n#include \"t/high/high.hpp\"\n")
+  file(WRITE ${SELFTEST}/high/include/t/high/high.hpp "#pragma once\n")
+  file(WRITE ${SELFTEST}/high/src/high.cpp "#include \"../include/t/high/high.hpp\"\n")
+  file(WRITE ${SELFTEST}/other/include/t/other/other.hpp "#pragma once\n")
+  set(LAYERS low high other)
+  set(ROOT_low ${SELFTEST}/low)
+  set(INCLUDE_low ${SELFTEST}/low/include)
+  set(HEADERS_low ${SELFTEST}/low/include/t/low/low.hpp)
+  set(USES_low "")
+  set(ALLOWED_low low)
+  set(DIRS_low ${SELFTEST}/low/include ${SELFTEST}/other/include)  # sees other without using it
+  set(ROOT_high ${SELFTEST}/high)
+  set(INCLUDE_high ${SELFTEST}/high/include)
+  set(HEADERS_high ${SELFTEST}/high/include/t/high/high.hpp)
+  set(USES_high low)
+  set(ALLOWED_high high low)
+  set(DIRS_high ${SELFTEST}/high/include ${SELFTEST}/low/include)
+  set(ROOT_other ${SELFTEST}/other)
+  set(INCLUDE_other ${SELFTEST}/other/include)
+  set(HEADERS_other ${SELFTEST}/other/include/t/other/other.hpp)
+  set(USES_other "")
+  set(ALLOWED_other other)
+  set(DIRS_other ${SELFTEST}/other/include)
+else()
+  include(${LAYERS})
+endif()
+
 set(failures "")
 set(checks 0)
-set(snippet ${CMAKE_CURRENT_BINARY_DIR}/layer_check.cpp)
-function(preprocess module header result out)
+if(SELFTEST)  # its own file: the two tests may run at the same time
+  set(snippet ${SELFTEST}/layer_check.cpp)
+else()
+  set(snippet ${CMAKE_CURRENT_BINARY_DIR}/layer_check.cpp)
+endif()
+
+function(preprocess layer header result out)
   set(flags "")
-  foreach(m IN LISTS ALLOWED_${module})
-    list(APPEND flags -I${ROOT}/${m}/include)
+  foreach(d IN LISTS DIRS_${layer})
+    if(d)
+      list(APPEND flags -I${d})
+    endif()
   endforeach()
   file(WRITE ${snippet} "#include \"${header}\"\n")
   execute_process(COMMAND ${CXX} -std=c++20 -E -o /dev/null ${flags} ${snippet}
@@ -23,47 +68,105 @@ function(preprocess module header result out)
   set(${out} "${err}" PARENT_SCOPE)
 endfunction()
 
-foreach(module IN LISTS MODULES)
-  # 1. its own headers, with what it may see
-  file(GLOB headers RELATIVE ${ROOT}/${module}/include ${ROOT}/${module}/include/marionette/${module}/*.hpp)
-  foreach(h IN LISTS headers)
-    preprocess(${module} ${h} rc err)
-    math(EXPR checks "${checks} + 1")
-    if(NOT rc EQUAL 0)
-      string(REGEX MATCH "[^\n]*fatal error[^\n]*" why "${err}")
-      list(APPEND failures "${module}: its header ${h} reaches outside its layers: ${why}")
-    endif()
+# A header as the other layers include it: its path under its layer's include root.
+function(include_names layer out)
+  set(names "")
+  foreach(h IN LISTS HEADERS_${layer})
+    file(RELATIVE_PATH r ${INCLUDE_${layer}} ${h})
+    list(APPEND names ${r})
   endforeach()
-  # 2. one header of each module it must not see
-  foreach(other IN LISTS MODULES)
-    list(FIND ALLOWED_${module} ${other} allowed)
-    if(NOT allowed EQUAL -1)
-      continue()
-    endif()
-    file(GLOB theirs RELATIVE ${ROOT}/${other}/include ${ROOT}/${other}/include/marionette/${other}/*.hpp)
-    list(GET theirs 0 h)
-    preprocess(${module} ${h} rc err)
-    math(EXPR checks "${checks} + 1")
-    if(rc EQUAL 0)
-      list(APPEND failures "${module} can include ${h} of ${other}, a module that is not below it")
-    elseif(NOT err MATCHES "No such file")
-      list(APPEND failures "${module} including ${h}: failed for another reason than a missing file: ${err}")
-    endif()
+  set(${out} "${names}" PARENT_SCOPE)
+endfunction()
+
+foreach(layer IN LISTS LAYERS)
+  include_names(${layer} own)
+  if(DEFINED DIRS_${layer})
+    # 1. its own headers, with what its target compiles with
+    foreach(h IN LISTS own)
+      preprocess(${layer} ${h} rc err)
+      math(EXPR checks "${checks} + 1")
+      if(NOT rc EQUAL 0)
+        string(REGEX MATCH "[^\n]*(fatal )?error[^\n]*" why "${err}")
+        list(APPEND failures "${layer}: its header ${h} does not preprocess with its target's include folders: ${why}")
+      endif()
+    endforeach()
+    # 2. one header of each layer it must not see
+    foreach(other IN LISTS LAYERS)
+      if(other IN_LIST ALLOWED_${layer} OR NOT HEADERS_${other})
+        continue()
+      endif()
+      include_names(${other} theirs)
+      list(GET theirs 0 h)
+      preprocess(${layer} ${h} rc err)
+      math(EXPR checks "${checks} + 1")
+      if(rc EQUAL 0)
+        list(APPEND failures "${layer} can include ${h} of ${other}, a layer that is not below it")
+      elseif(NOT err MATCHES "No such file")
+        list(APPEND failures "${layer} including ${h}: failed for another reason than a missing file: ${err}")
+      endif()
+    endforeach()
+  endif()
+  # 3. no relative reach into another layer; 4. every used layer is included
+  set(files "")
+  foreach(root IN LISTS ROOT_${layer})
+    file(GLOB_RECURSE found ${root}/*.cpp ${root}/*.hpp ${root}/*.h ${root}/*.c)
+    list(APPEND files ${found})
   endforeach()
-  # 3. no relative reach into another module
-  file(GLOB_RECURSE files ${ROOT}/${module}/*.cpp ${ROOT}/${module}/*.hpp)
+  set(includes "")
   foreach(f IN LISTS files)
-    file(STRINGS ${f} lines REGEX "^#include \"\\.\\./")
+    file(STRINGS ${f} lines REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]")
     math(EXPR checks "${checks} + 1")
-    if(lines)
-      list(APPEND failures "${f}: includes by a relative path: ${lines}")
+    foreach(line IN LISTS lines)
+      if(line MATCHES "include[ \t]*\"\\.\\./")
+        list(APPEND failures "${f}: includes by a relative path: ${line}")
+      endif()
+    endforeach()
+    list(APPEND includes ${lines})
+  endforeach()
+  foreach(used IN LISTS USES_${layer})
+    include_names(${used} theirs)
+    set(found FALSE)
+    foreach(name IN LISTS theirs)
+      foreach(line IN LISTS includes)
+        string(FIND "${line}" "${name}" at)
+        if(NOT at EQUAL -1)
+          set(found TRUE)
+          break()
+        endif()
+      endforeach()
+      if(found)
+        break()
+      endif()
+    endforeach()
+    math(EXPR checks "${checks} + 1")
+    if(NOT found)
+      list(APPEND failures "${layer} declares that it uses ${used} but includes none of its headers (link only what you include)")
     endif()
   endforeach()
 endforeach()
+file(REMOVE ${snippet})
+
 list(LENGTH failures n)
+if(SELFTEST)
+  # Each of the four checks must have reported its planted fault.
+  set(expected "low: its header t/low/low.hpp does not preprocess" "low can include t/other/other.hpp of other"
+               "includes by a relative path" "high declares that it uses low but includes none")
+  set(missed "")
+  foreach(e IN LISTS expected)
+    string(FIND "${failures}" "${e}" at)
+    if(at EQUAL -1)
+      list(APPEND missed "${e}")
+    endif()
+  endforeach()
+  if(missed)
+    message(FATAL_ERROR "layer check self-test: not reported: ${missed}\nreported: ${failures}")
+  endif()
+  message(STATUS "layer check self-test: all four planted faults reported (${n} problems in ${checks} checks)")
+  return()
+endif()
 if(n GREATER 0)
   list(JOIN failures "\n  " text)
-  message(FATAL_ERROR "middleware layers: ${n} problem(s) in ${checks} checks:\n  ${text}")
+  message(FATAL_ERROR "layers: ${n} problem(s) in ${checks} checks:\n  ${text}")
 endif()
-list(JOIN MODULES " < " order)
-message(STATUS "middleware layers hold: ${checks} checks over ${order}")
+list(JOIN LAYERS " " order)
+message(STATUS "layers hold: ${checks} checks over ${order}")

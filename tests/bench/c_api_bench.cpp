@@ -1,5 +1,5 @@
 // marionette_bench: what the C API's handle check costs. Every entry point asks the
-// handle registry (bridge/src/c_api/handles.cpp: a mutex and a hash lookup) whether
+// handle registry (bridge/c_api/src/handles.cpp: a mutex and a hash lookup) whether
 // its handle is live, so that a destroyed one is refused instead of used.
 //   CApi/JointCount      mn_character_joint_count: the check and almost nothing else.
 //   CApi/Palette         mn_character_palette of RobotExpressive (mat4, inverse bind):

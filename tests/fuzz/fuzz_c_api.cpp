@@ -1,4 +1,4 @@
-// libFuzzer target: the C API (bridge/include/marionette/marionette.h) driven by a byte
+// libFuzzer target: the C API (bridge/c_api/include/marionette/marionette.h) driven by a byte
 // stream. Each operation byte picks a call: create and destroy scenes (twice too, and from
 // a callback), add the project's real characters (with and without profiles, and paths
 // that are missing, folders or not characters), load scene text and send BML taken from
