@@ -39,17 +39,17 @@ TEST(PoseTrack, ReadsWhatTrackWritesRowsByFrameAndTime) {
   const auto track = parsePoseTrack(text, "poses.csv", d);
   ASSERT_TRUE(track) << d.format();
   ASSERT_EQ(track->rows().size(), 4u);
-  EXPECT_EQ(track->rows()[0].state, RecordedState::Tracking);
+  EXPECT_EQ(track->rows()[0].state, TrackingState::Tracking);
   EXPECT_EQ(glm::dvec3(track->rows()[0].cameraToWorld[3]), glm::dvec3(0, 0, 2));
-  EXPECT_EQ(track->rows()[1].state, RecordedState::Lost);
+  EXPECT_EQ(track->rows()[1].state, TrackingState::Lost);
   const RecordedPose* limited = track->atFrame(2);
   ASSERT_NE(limited, nullptr);
-  EXPECT_EQ(limited->state, RecordedState::Limited);
+  EXPECT_EQ(limited->state, TrackingState::Limited);
   // 90 deg about +Y: the camera's -Z (its view) becomes world -X.
   const glm::dvec3 view = glm::dmat3(limited->cameraToWorld) * glm::dvec3(0, 0, -1);
   EXPECT_NEAR(view.x, -1, 1e-5);
   EXPECT_NEAR(view.z, 0, 1e-5);
-  EXPECT_EQ(track->rows()[3].state, RecordedState::Lost);
+  EXPECT_EQ(track->rows()[3].state, TrackingState::Lost);
   EXPECT_EQ(track->rows()[3].cameraToWorld, glm::dmat4(1.0));  // a LOST row has no pose
   EXPECT_EQ(track->atFrame(3), nullptr);                        // a frame the file skips
   EXPECT_EQ(track->atFrame(-1), nullptr);
@@ -74,7 +74,7 @@ TEST(PoseTrack, ReadsTheSigmaColumns) {
   EXPECT_DOUBLE_EQ(track->rows()[0].positionSigmaM, 0.0012);
   EXPECT_DOUBLE_EQ(track->rows()[0].rotationSigmaDeg, 0.08);
   EXPECT_EQ(track->rows()[1].positionSigmaM, 0.0);  // unknown
-  EXPECT_EQ(track->rows()[1].state, RecordedState::Limited);
+  EXPECT_EQ(track->rows()[1].state, TrackingState::Limited);
   // A bad sigma is named; a row must have as many fields as the header.
   const std::string h = "frame,time,state,px,py,pz,qx,qy,qz,qw,sigma_position_m,sigma_rotation_deg\n";
   EXPECT_NE(errorOf(h + "0,0,TRACKING,0,0,2,0,0,0,1,-1,0\n").find("'sigma_position_m': not a number >= 0"),

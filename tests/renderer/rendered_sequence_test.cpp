@@ -90,9 +90,7 @@ std::vector<ar::TrackedPose> readEstimates(const std::string& path) {
   if (!track) return poses;
   for (const ar::RecordedPose& r : track->rows()) {
     ar::TrackedPose p;
-    p.state = r.state == ar::RecordedState::Tracking  ? ar::TrackingState::Tracking
-              : r.state == ar::RecordedState::Limited ? ar::TrackingState::Limited
-                                                      : ar::TrackingState::Lost;
+    p.state = r.state;
     p.cameraToWorld = r.cameraToWorld;
     poses.push_back(p);
   }

@@ -110,7 +110,7 @@ void AugmentationRestore::frameDrawn(long frame, double time, bool verified, con
   }
   if (!truth_ || positions_.empty()) return;
   const RecordedPose& row = truth_->atTime(time);
-  if (row.state == RecordedState::Lost) return;
+  if (row.state == TrackingState::Lost) return;
   // Where the character appears in the true world: drawn through the estimated view, seen by the
   // true camera. The rotation of that map is the orientation error of every placement.
   const glm::dmat4 seen = row.cameraToWorld * view;

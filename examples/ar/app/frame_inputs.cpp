@@ -26,7 +26,7 @@ struct FrameInputs::Sources {
   TrackingState previousState = TrackingState::Lost;
   std::unique_ptr<ReplayedCamera> replayed;
   bool replayByFrame = false;  // a sequence or video: the row of the frame shown
-  RecordedState previousRecorded = RecordedState::Lost;
+  TrackingState previousRecorded = TrackingState::Lost;
   bool stateChanged = false;
 #endif
   std::optional<StaticCameraPose> camera;
@@ -191,6 +191,7 @@ CameraView FrameInputs::camera(double time, int width, int height) {
 #if MARIONETTE_AR_HAS_TRACKING
   if (const TrackedCamera* t = sources_->tracked.get()) {
     if (t->hasPose(time)) {
+      v.posed = true;
       v.viewInDouble = t->viewInDouble();
       v.view = glm::mat4(v.viewInDouble);
     }
@@ -204,6 +205,7 @@ CameraView FrameInputs::camera(double time, int width, int height) {
       sources_->previousRecorded = r->state();
     }
     if (r->hasPose(time)) {
+      v.posed = true;
       v.viewInDouble = r->viewInDouble();
       v.view = glm::mat4(v.viewInDouble);
     }
@@ -213,6 +215,7 @@ CameraView FrameInputs::camera(double time, int width, int height) {
 #endif
   const float aspect = static_cast<float>(width) / static_cast<float>(height);
   const CameraPose pose = sources_->camera->poseAt(time);
+  v.posed = true;
   v.view = pose.view;
   v.viewInDouble = glm::dmat4(pose.view);
   v.projection = glm::perspective(glm::radians(pose.fovYDegrees), aspect, nearPlane_, farPlane_);
@@ -240,14 +243,14 @@ float FrameInputs::characterOpacity(double time) const noexcept {
 bool FrameInputs::trackingState(TrackingStateReport& out) const noexcept {
 #if MARIONETTE_AR_HAS_TRACKING
   if (const TrackedCamera* t = sources_->tracked.get()) {
-    out.state = trackingStateName(t->state()).data();
+    out.state = t->state();
     out.changed = sources_->stateChanged;
     out.frames = t->framesSeen();
     out.posed = t->framesTracked();
     return true;
   }
   if (const ReplayedCamera* r = sources_->replayed.get()) {
-    out.state = recordedStateName(r->state());
+    out.state = r->state();
     out.changed = sources_->stateChanged;
     out.frames = r->framesSeen();
     out.posed = r->framesPosed();

@@ -12,17 +12,19 @@
 #include "ar_scene_file.hpp"
 #include "marionette/prt/sh_lighting.hpp"
 #include "marionette_ar/render/image.hpp"
+#include "marionette_ar/tracking_state.hpp"
 
 namespace marionette::ar {
 
 struct TrackingStateReport {
-  const char* state = "LOST";  // TRACKING, LIMITED or LOST
+  TrackingState state = TrackingState::Lost;
   bool changed = false;        // with the last frame
   long frames = 0, posed = 0;  // frames fed, frames with a pose
   bool replayed = false;       // a recorded trajectory (no badge), not a live tracker
 };
 
 struct CameraView {
+  bool posed = false;  // the view comes from a pose of this frame (else `view` is the identity)
   glm::mat4 view{1.0f}, projection{1.0f};
   glm::dmat4 viewInDouble{1.0};  // `view` before its rounding to float: measurements use it
 };

@@ -29,22 +29,13 @@ std::unique_ptr<ReplayedCamera> ReplayedCamera::create(const ArPoseReplay& setti
 
 void ReplayedCamera::update(std::int64_t frame, double seconds) noexcept {
   const RecordedPose* row = frame >= 0 ? track_.atFrame(frame) : &track_.atTime(seconds);
-  state_ = row ? row->state : RecordedState::Lost;
+  state_ = row ? row->state : TrackingState::Lost;
   ++frames_;
-  const bool posed = state_ != RecordedState::Lost;
+  const bool posed = state_ != TrackingState::Lost;
   posed_ += posed ? 1 : 0;
   hold_.update(posed, posed ? row->cameraToWorld : glm::dmat4(1.0), seconds,
-               posed ? PoseQuality{state_ == RecordedState::Limited, row->positionSigmaM, row->rotationSigmaDeg}
+               posed ? PoseQuality{state_ == TrackingState::Limited, row->positionSigmaM, row->rotationSigmaDeg}
                      : PoseQuality{});
-}
-
-const char* recordedStateName(RecordedState state) noexcept {
-  switch (state) {
-    case RecordedState::Tracking: return "TRACKING";
-    case RecordedState::Limited: return "LIMITED";
-    case RecordedState::Lost: break;
-  }
-  return "LOST";
 }
 
 }  // namespace marionette::ar

@@ -30,7 +30,7 @@ class ReplayedCamera {
   // The frame shown: by background frame number (>= 0), or by scene time when frame < 0.
   void update(std::int64_t frame, double seconds) noexcept;
 
-  [[nodiscard]] RecordedState state() const noexcept { return state_; }
+  [[nodiscard]] TrackingState state() const noexcept { return state_; }
   [[nodiscard]] bool hasPose(double seconds) const noexcept { return hold_.hasPose(seconds); }
   [[nodiscard]] bool charactersVisible(double seconds) const noexcept { return hold_.charactersVisible(seconds); }
   [[nodiscard]] float opacity(double seconds) const noexcept { return hold_.opacity(seconds); }
@@ -48,10 +48,9 @@ class ReplayedCamera {
   PoseTrack track_;
   CameraModel camera_;
   PoseHold hold_;
-  RecordedState state_ = RecordedState::Lost;
+  TrackingState state_ = TrackingState::Lost;
   long frames_ = 0, posed_ = 0;
 };
 
-[[nodiscard]] const char* recordedStateName(RecordedState state) noexcept;  // "TRACKING", "LIMITED", "LOST"
 
 }  // namespace marionette::ar

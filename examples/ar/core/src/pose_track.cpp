@@ -103,9 +103,9 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
       return fail("frame", std::to_string(r.frame) + " does not follow frame " + std::to_string(rows.back().frame));
     if (!parseDouble(f[1], r.time) || r.time < 0 || r.time > 1e9) return fail("time", "expected seconds in [0, 1e9]");
     if (!rows.empty() && r.time <= rows.back().time) return fail("time", "not after the previous row's time");
-    if (f[2] == "TRACKING") r.state = RecordedState::Tracking;
-    else if (f[2] == "LIMITED") r.state = RecordedState::Limited;
-    else if (f[2] == "LOST") r.state = RecordedState::Lost;
+    if (f[2] == "TRACKING") r.state = TrackingState::Tracking;
+    else if (f[2] == "LIMITED") r.state = TrackingState::Limited;
+    else if (f[2] == "LOST") r.state = TrackingState::Lost;
     else return fail("state", "'" + std::string(f[2].substr(0, 32)) + "' is none of TRACKING, LIMITED, LOST");
     // The sigmas: empty (unknown) or numbers >= 0.
     for (std::size_t i = kPoseColumns; i < columns; ++i) {
@@ -116,7 +116,7 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
     }
     bool allEmpty = true;
     for (std::size_t i = 3; i < kPoseColumns; ++i) allEmpty = allEmpty && f[i].empty();
-    if (r.state == RecordedState::Lost && allEmpty) {
+    if (r.state == TrackingState::Lost && allEmpty) {
       rows.push_back(r);
       continue;
     }
@@ -132,7 +132,7 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
     const double norm = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
     if (!(std::abs(norm - 1.0) <= 1e-3))
       return fail("qw", "the quaternion (qx, qy, qz, qw) has norm " + std::to_string(norm) + ", not 1");
-    if (r.state != RecordedState::Lost) {
+    if (r.state != TrackingState::Lost) {
       q = q * (1.0 / norm);
       r.cameraToWorld = glm::dmat4(glm::mat3_cast(q));
       r.cameraToWorld[3] = glm::dvec4(p, 1.0);

@@ -4,15 +4,6 @@
 
 namespace marionette::ar {
 
-std::string_view trackingStateName(TrackingState state) noexcept {
-  switch (state) {
-    case TrackingState::Tracking: return "TRACKING";
-    case TrackingState::Limited: return "LIMITED";
-    case TrackingState::Lost: break;
-  }
-  return "LOST";
-}
-
 glm::dquat TrackedPose::orientation() const noexcept { return glm::quat_cast(glm::dmat3(cameraToWorld)); }
 
 glm::dmat4 cameraToWorldFromOpenCv(const glm::dmat3& worldToCvCameraRotation,

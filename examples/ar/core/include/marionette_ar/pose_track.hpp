@@ -30,14 +30,15 @@
 
 #include "marionette/core/diagnostic.hpp"
 
+#include "marionette_ar/tracking_state.hpp"
+
 namespace marionette::ar {
 
-enum class RecordedState : std::uint8_t { Lost, Limited, Tracking };
 
 struct RecordedPose {
   std::int64_t frame = 0;
   double time = 0;
-  RecordedState state = RecordedState::Lost;
+  TrackingState state = TrackingState::Lost;
   glm::dmat4 cameraToWorld{1.0};  // identity when Lost
   double positionSigmaM = 0, rotationSigmaDeg = 0;  // the pose's standard deviations; 0 when unknown
 };

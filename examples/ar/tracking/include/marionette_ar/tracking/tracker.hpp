@@ -21,16 +21,12 @@
 #include "marionette_ar/tracking/camera_model.hpp"
 #include "marionette_ar/tracking/image_view.hpp"
 
+#include "marionette_ar/tracking_state.hpp"
+
 namespace marionette::ar {
 
 // Every pose that is not Lost has passed the tracker's checks (docs/tracking.md, "Gating"): a
 // pose the tracker cannot vouch for is not given at all. Limited says it may be less accurate.
-enum class TrackingState : std::uint8_t {
-  Lost,      // no pose to draw
-  Limited,   // a checked pose from fewer or looser features, or extrapolated briefly from confirmed ones
-  Tracking,  // a confirmed pose: strong evidence, consistent with the camera's motion
-};
-[[nodiscard]] std::string_view trackingStateName(TrackingState state) noexcept;  // "TRACKING", "LIMITED", "LOST"
 
 struct TrackedPose {
   TrackingState state = TrackingState::Lost;

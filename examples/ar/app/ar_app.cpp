@@ -1,0 +1,412 @@
+#include "ar_app.hpp"
+
+#include <epoxy/gl.h>
+#include "example_synthesizer.hpp"
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <utility>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "augmentation_scene.hpp"
+
+namespace marionette::ar {
+
+namespace {
+
+// The window's back buffer as an image (rows top to bottom), after the panel is drawn.
+void readWindow(int width, int height, Image8& out) {
+  out.width = width;
+  out.height = height;
+  out.channels = 3;
+  out.pixels.resize(static_cast<std::size_t>(width) * height * 3);
+  std::vector<std::uint8_t> rows(out.pixels.size());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+  const std::size_t row = static_cast<std::size_t>(width) * 3;
+  for (int y = 0; y < height; ++y)
+    std::copy_n(rows.data() + static_cast<std::size_t>(height - 1 - y) * row, row, out.pixels.data() + y * row);
+}
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void ArApp::LogListener::onLog(LogLevel level, std::string_view message) {
+  if (level == LogLevel::Info) return;
+  std::fprintf(stderr, "marionette-ar: %s: %.*s\n", level == LogLevel::Error ? "error" : "warning",
+               static_cast<int>(message.size()), message.data());
+}
+
+ArApp::ArApp(RenderArgs args) : args_(std::move(args)), info_(args_.json ? stderr : stdout) {}
+ArApp::~ArApp() = default;
+
+// ---- set-up ---------------------------------------------------------------------------------
+
+int ArApp::setUp() {
+  if (const int code = readArSceneFile()) return code;
+  // Inputs that need no GL: the environment's lighting, the background source.
+  if (!inputs_.load(ar_, error_, args_.headless)) {
+    std::fprintf(stderr, "%s\n", error_.c_str());
+    return 2;
+  }
+  for (const std::string& w : inputs_.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
+  restore_.mark("environment_and_background");
+
+  std::string glError;
+  gl_ = GlContext::create({ar_.width, ar_.height, !args_.headless, "marionette-ar: " + args_.scene}, glError);
+  if (!gl_) {
+    std::fprintf(stderr, "marionette-ar: %s\n", glError.c_str());
+    return 3;
+  }
+  std::fprintf(info_, "marionette-ar: %s\n", gl_->rendererName().c_str());
+  restore_.mark("gl_context");
+  if (const int code = loadScene()) return code;
+  uploadModels();
+  if (const int code = setUpPrt()) return code;
+  return setUpDrawing();
+}
+
+// The AR scene file, an augmentation to restore, and the command line's overrides.
+int ArApp::readArSceneFile() {
+  const Diagnostics arDiag = readArScene(args_.scene, ar_);
+  std::fputs(arDiag.format().c_str(), stderr);
+  if (!arDiag.ok()) return 2;
+  if (!args_.restore.empty()) {
+    std::string truth = args_.truth;
+    const std::filesystem::path sequenceTruth = std::filesystem::path(ar_.background.file) / "truth.csv";
+    if (truth.empty() && ar_.background.kind == ArBackground::Kind::Sequence &&
+        std::filesystem::is_regular_file(sequenceTruth))
+      truth = sequenceTruth.string();
+    (void)restore_.load(args_.restore, ar_, truth);
+  }
+  restore_.mark("main_and_augmentation");
+  if (args_.width) ar_.width = args_.width;
+  if (args_.height) ar_.height = args_.height;
+  if (args_.exposure >= 0.0f) ar_.environment.exposure = args_.exposure;
+  ArPrt& prt = ar_.environment.prt;
+  if (!args_.prtMode.empty()) (void)parsePrtMode(args_.prtMode, prt.mode);
+  if (args_.prtBands) prt.bands = args_.prtBands;
+  if (args_.prtRays) prt.rays = args_.prtRays;
+  if (!args_.prtCache.empty()) prt.cache = args_.prtCache;
+  usePrt_ = !ar_.environment.file.empty() && prt.mode != PrtMode::Off;
+  return 0;
+}
+
+// The middleware: the scene file's characters, the realizer and the timed BML files.
+int ArApp::loadScene() {
+  examples::useExampleSynthesizer(scene_.speech());
+  scene_.addListener(&log_);
+  // The renderer plays no sound; --audio-dir writes each spoken line as a WAV, named by
+  // the listener's onSpeech with its scene start time, for an engine or editor to play.
+  if (!args_.audioDir.empty()) scene_.speech().setAudioDirectory(args_.audioDir);
+  loaded_ = loadSceneFile(ar_.scene, scene_, {.loadMeshes = true});
+  std::fputs(loaded_.diagnostics.format().c_str(), stderr);
+  if (!loaded_.ok()) return 2;
+  restore_.mark("scene_and_characters");
+  realizer_ = std::make_unique<bml::Realizer>(scene_);
+  realizer_->setForwardWarningsToScene(false);
+  // A window keeps its frame rate (speech is said off the frame path); frames
+  // written headless step a fixed clock and must come out the same every run.
+  if (args_.headless) realizer_->setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);
+  restore_.bind(scene_, loaded_.bml);
+  bml::useSceneDialects(*realizer_, loaded_);
+  bmlFiles_ = std::make_unique<bml::TimedFiles>(*realizer_, loaded_.bml);
+  return 0;
+}
+
+// A GPU model per distinct asset, a pose (palette texture) per character.
+void ArApp::uploadModels() {
+  for (const auto& c : scene_.characters()) {
+    const Asset* asset = &c->rig().asset();
+    auto& model = models_[asset];
+    if (!model) {
+      std::vector<std::string> warnings;
+      auto m = std::make_unique<CharacterModel>();
+      if (m->upload(*asset, warnings, error_)) model = std::move(m);
+      else std::fprintf(stderr, "marionette-ar: character '%s' is not drawn: %s\n", c->name().c_str(), error_.c_str());
+      for (const std::string& w : warnings) std::fprintf(stderr, "marionette-ar: warning: %s\n", w.c_str());
+    }
+    poses_.push_back(std::make_unique<CharacterPose>(c->skeleton()));
+    drawn_.push_back(model.get());
+  }
+}
+
+// The transfer of each distinct asset (from the cache when it is there), then per character
+// the CPU light and its GPU buffers.
+int ArApp::setUpPrt() {
+  const std::size_t n = scene_.characters().size();
+  prtLights_.resize(n);
+  prtBuffers_.resize(n);
+  const ArPrt& settings = ar_.environment.prt;
+  if (!usePrt_) {
+    std::fprintf(info_, "marionette-ar: prt off (%s): no precompute, SH9 light per fragment\n",
+                 ar_.environment.file.empty() ? "no environment, neutral sky light" : "environment.prt.mode off");
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!drawn_[i]) continue;
+      const Character& c = *scene_.characters()[i];
+      auto& prtAsset = prtAssets_[&c.rig().asset()];
+      if (!prtAsset) {
+        Diagnostics d;
+        auto a = std::make_unique<PrtAsset>();
+        const bool ok = loadPrtAsset(c.rig(), settings, ar_.path, *a, d);
+        std::fputs(d.format().c_str(), stderr);
+        if (!ok) return 2;
+        const std::string file = std::filesystem::path(c.rig().asset().sourcePath).filename().string();
+        std::fprintf(info_, "marionette-ar: %s\n", a->describe(file).c_str());
+        std::fflush(info_);
+        prtAsset = std::move(a);
+      }
+      prtLights_[i] = std::make_unique<PrtCharacterLight>(*prtAsset);
+      prtBuffers_[i] = std::make_unique<PrtIrradiance>(*drawn_[i], prtAsset->primitiveVertexOffset, prtAsset->vertexCount);
+      if (prtBuffers_[i]->mismatches() > 0)
+        std::fprintf(stderr, "marionette-ar: warning: character '%s': %zu primitives do not match the transfer mesh; "
+                     "they keep the SH9 light\n", c.name().c_str(), prtBuffers_[i]->mismatches());
+    }
+  }
+  shRotation_ = std::make_unique<prt::ShRotation>(usePrt_ ? settings.bands : 2);
+  restore_.mark("gpu_models_and_prt");
+  return 0;
+}
+
+// Shaders, the offscreen target, the authoring window; the frame clock.
+int ArApp::setUpDrawing() {
+  if (!characterProgram_.build("character.vert", "character.frag", error_) || !background_.create(error_) ||
+      !target_.create(ar_.width, ar_.height, 4, error_)) {
+    std::fprintf(stderr, "marionette-ar: %s\n", error_.c_str());
+    return 3;
+  }
+  if (inputs_.hasEnvironment())
+    background_.setEnvironment(inputs_.environmentWidth(), inputs_.environmentHeight(), inputs_.environmentPixels());
+  restore_.mark("shaders_and_targets");
+  // The authoring window: a session on the scene's tracker, its characters measured at rest.
+  if (!args_.author.empty()) {
+    std::optional<AuthoringSession> started = startAuthoring(ar_, scene_, error_);
+    if (!started) {
+      std::fprintf(stderr, "marionette-ar: --author: %s\n", error_.c_str());
+      return 2;
+    }
+    authoring_ = std::make_unique<AuthoringWindow>(std::move(*started), ar_.authoringBml, args_.author);
+    if (!authoring_->init(gl_->window(), error_) ||
+        (!args_.inputScript.empty() && !authoring_->loadInputScript(args_.inputScript, error_))) {
+      std::fprintf(stderr, "marionette-ar: %s\n", error_.c_str());
+      return 2;
+    }
+  }
+  if (!args_.outDir.empty()) std::filesystem::create_directories(args_.outDir);
+  dt_ = 1.0 / ar_.fps;
+  frames_ = args_.frames > 0 ? args_.frames : (args_.headless ? static_cast<long>(5.0 * ar_.fps) : -1);
+  lighting_.irradianceSH = inputs_.irradianceSH();
+  lighting_.exposure = ar_.environment.exposure;
+  last_ = std::chrono::steady_clock::now();
+  // The viewer is the scene's "camera" object: scripts gaze and point at the user through it.
+  scene_.setObject("camera", inputs_.viewerBeforeFirstFrame(0.0));
+  return 0;
+}
+
+// ---- one frame ------------------------------------------------------------------------------
+
+bool ArApp::wantsFrame() const {
+  if (!args_.headless && gl_->shouldClose()) return false;
+  return frames_ < 0 || frame_ < frames_;
+}
+
+int ArApp::frame() {
+  const double step = frameStep();
+  const auto cpuStart = std::chrono::steady_clock::now();
+  sendDueBml(step);
+  updateScene(step);
+  cpuMs_ += millisecondsSince(cpuStart);
+  if (frame_ == 0) restore_.mark("frame0_bml_and_scene");
+  // The background frame first: a tracked camera's pose comes from it.
+  if (const int code = readBackground()) return code;
+  if (frame_ == 0) restore_.mark("frame0_background_and_tracking");
+  track();
+  render();
+  const int status = write();
+  ++frame_;
+  return status;
+}
+
+// Headless steps at the scene's fps exactly; a window follows the wall clock (at most 0.1 s a
+// frame), unless a script drives it: then frame N shows camera frame N, as a replay does.
+double ArApp::frameStep() {
+  if (args_.headless || !args_.inputScript.empty()) return dt_;
+  const auto now = std::chrono::steady_clock::now();
+  const double step = std::min(0.1, std::chrono::duration<double>(now - last_).count());
+  last_ = now;
+  return step;
+}
+
+void ArApp::sendDueBml(double step) {
+  bmlFiles_->sendDue(scene_.time() + (frame_ == 0 ? 0.0 : step), [&](const Diagnostic& d) {
+    std::fprintf(stderr, "%s\n", d.format().c_str());
+    bmlErrors_ += d.severity == Severity::Error ? 1 : 0;
+  });
+}
+
+void ArApp::updateScene(double step) {
+  scene_.update(frame_ == 0 ? 0.0 : step);
+  realizer_->update();
+}
+
+int ArApp::readBackground() {
+  const ArBackground::Kind kind = inputs_.backgroundKind();
+  if (kind == ArBackground::Kind::Environment || kind == ArBackground::Kind::Color) return 0;
+  error_.clear();
+  if (const Image8* image = inputs_.backgroundFrame(scene_.time(), error_)) {
+    background_.setImage(*image);
+  } else if (!error_.empty()) {
+    std::fprintf(stderr, "%s\n", error_.c_str());
+    return 2;
+  }
+  return 0;
+}
+
+void ArApp::track() {
+  view_ = inputs_.camera(scene_.time(), ar_.width, ar_.height);
+  // Followed from the next frame; a tracked camera without a pose keeps the last.
+  if (view_.posed) scene_.setObject("camera", glm::vec3(glm::inverse(view_.view)[3]));
+  tracked_ = inputs_.trackingState(tracking_);
+  if (tracked_ && (tracking_.changed || frame_ == 0))
+    std::fprintf(info_, "marionette-ar: %s %s at %.3f s (frame %ld)\n", tracking_.replayed ? "replayed pose" : "tracking",
+                 trackingStateName(tracking_.state).data(), scene_.time(), frame_);
+}
+
+void ArApp::render() {
+  target_.bind();
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  switch (inputs_.backgroundKind()) {
+    case ArBackground::Kind::Environment:
+      background_.drawEnvironment(glm::inverse(view_.projection * view_.view), lighting_.exposure,
+                                  glm::radians(ar_.environment.rotationDegrees));
+      break;
+    case ArBackground::Kind::Color:
+      background_.drawFlat(ar_.background.color);
+      break;
+    default:
+      background_.drawImage(static_cast<float>(ar_.width) / static_cast<float>(ar_.height));
+  }
+  const bool charactersShown = !args_.hideCharacters && inputs_.charactersVisible(scene_.time());
+  if (charactersShown) drawCharacters();
+  if (tracked_ && !tracking_.replayed) drawTrackingBadge();
+  if (restore_.active()) {  // a verified pose, the restored characters drawn with it
+    const bool verified = tracked_ && tracking_.state == TrackingState::Tracking && charactersShown;
+    if (verified && restore_.firstRegisteredFrame() < 0) glFinish();  // drawn, not only queued
+    restore_.frameDrawn(frame_, scene_.time(), verified, view_.viewInDouble);
+  }
+}
+
+void ArApp::drawCharacters() {
+  glEnable(GL_DEPTH_TEST);
+  for (std::size_t i = 0; i < scene_.characters().size(); ++i) {
+    if (!drawn_[i] || !restore_.drawn(i)) continue;
+    const Character& c = *scene_.characters()[i];
+    glm::mat4 anchor = restore_.anchor(i);
+    if (authoring_ && !authoring_->placement(c.name(), anchor)) continue;  // not placed yet
+    poses_[i]->update(c.transformBuffer());
+    const glm::mat4 world = anchor * c.transformBuffer().worldMatrix();
+    if (prtLights_[i]) {
+      const auto t0 = std::chrono::steady_clock::now();
+      prtLights_[i]->relight(inputs_.radianceSH(), world, *shRotation_);
+      const auto t1 = std::chrono::steady_clock::now();
+      prtBuffers_[i]->upload(prtLights_[i]->irradiance());
+      prtRelightMs_ += std::chrono::duration<double, std::milli>(t1 - t0).count();
+      prtUploadMs_ += millisecondsSince(t1);
+      ++prtUpdates_;
+    }
+    drawCharacter(characterProgram_, *drawn_[i], *poses_[i], world, view_.projection * view_.view, lighting_,
+                  prtBuffers_[i].get(), inputs_.characterOpacity(scene_.time()));
+  }
+}
+
+// The tracking state in the top-left corner: green, amber, red.
+void ArApp::drawTrackingBadge() {
+  const glm::vec3 badge = tracking_.state == TrackingState::Tracking  ? glm::vec3(0.1f, 0.8f, 0.2f)
+                          : tracking_.state == TrackingState::Limited ? glm::vec3(0.95f, 0.7f, 0.1f)
+                                                                      : glm::vec3(0.9f, 0.1f, 0.1f);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(8, ar_.height - 24, 16, 16);
+  glClearColor(badge.r, badge.g, badge.b, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glDisable(GL_SCISSOR_TEST);
+}
+
+int ArApp::writeImageOrFail(const std::string& path) {
+  if (writeImage(path, frameImage_, error_)) return 0;
+  std::fprintf(stderr, "marionette-ar: %s\n", error_.c_str());
+  return 2;
+}
+
+// Headless: frame_NNNN.png. A window: shown, with the authoring panel and its screenshot.
+int ArApp::write() {
+  if (args_.headless) {
+    target_.read(frameImage_);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04ld.png", frame_);
+    return writeImageOrFail((std::filesystem::path(args_.outDir) / name).string());
+  }
+  int w = 0, h = 0;
+  gl_->framebufferSize(w, h);
+  target_.present(w, h);
+  if (authoring_) {
+    lighting_.exposure = std::exp2(authoring_->session().augmentation().exposureEv);
+    const AuthoringView av{view_.view, view_.projection, ar_.width, ar_.height,
+                           tracked_ && tracking_.state != TrackingState::Lost};
+    authoring_->frame(frame_, av, tracked_ ? trackingStateName(tracking_.state).data() : "not tracked", w, h);
+    if (!args_.screenshot.empty() && (authoring_->quitRequested() || frame_ + 1 == frames_)) {
+      readWindow(w, h, frameImage_);  // the window, with the panel
+      if (const int code = writeImageOrFail(args_.screenshot)) return code;
+      std::fprintf(info_, "marionette-ar: screenshot %s\n", args_.screenshot.c_str());
+    }
+  }
+  gl_->swapAndPoll();
+  return authoring_ && authoring_->quitRequested() ? kQuit : kNextFrame;
+}
+
+// ---- the end --------------------------------------------------------------------------------
+
+int ArApp::finish() {
+  if (!args_.screenshot.empty() && !authoring_) {
+    target_.read(frameImage_);
+    if (const int code = writeImageOrFail(args_.screenshot)) return code;
+    std::fprintf(info_, "marionette-ar: screenshot %s\n", args_.screenshot.c_str());
+  }
+  const double msPerFrame = frame_ > 0 ? cpuMs_ / static_cast<double>(frame_) : 0.0;
+  std::fprintf(info_, "marionette-ar: %ld frames of %dx%d, %.3f s of scene time, middleware %.3f ms per frame\n",
+               frame_, ar_.width, ar_.height, scene_.time(), msPerFrame);
+  if (prtUpdates_ > 0)
+    std::fprintf(info_, "marionette-ar: prt per character per frame: relight %.3f ms, upload %.3f ms (%ld updates)\n",
+                 prtRelightMs_ / static_cast<double>(prtUpdates_), prtUploadMs_ / static_cast<double>(prtUpdates_),
+                 prtUpdates_);
+  TrackingStateReport tracking;
+  if (inputs_.trackingState(tracking) && tracking.replayed)
+    std::fprintf(info_, "marionette-ar: replayed poses: %ld of %ld frames with a pose\n", tracking.posed, tracking.frames);
+  else if (inputs_.trackingState(tracking))
+    std::fprintf(info_, "marionette-ar: tracking: %ld of %ld camera frames with a pose, tracker %.2f ms per frame median\n",
+                 tracking.posed, tracking.frames, inputs_.trackingMedianMs());
+  if (args_.headless) std::fprintf(info_, "marionette-ar: frames in %s\n", args_.outDir.c_str());
+  if (!args_.restore.empty()) {
+    if (restore_.active())
+      std::fprintf(info_, "marionette-ar: restored %s: first registered frame %ld at %.3f s after launch\n",
+                   args_.restore.c_str(), restore_.firstRegisteredFrame(), restore_.firstRegisteredSeconds());
+    if (args_.json) std::printf("%s\n", restore_.json(frame_).c_str());
+    if (!restore_.error().empty()) return 1;
+  } else if (args_.json) {
+    std::printf("{\"frames\": %ld, \"scene_seconds\": %.6f, \"middleware_ms_per_frame\": %.6f}\n", frame_,
+                scene_.time(), msPerFrame);
+  }
+  return bmlErrors_ > 0 ? 1 : 0;
+}
+
+}  // namespace marionette::ar
