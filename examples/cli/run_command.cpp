@@ -125,7 +125,7 @@ int runCommand(const RunOptions& r) {
   };
 #endif
   std::vector<double> totalMicros(scene.characters().size(), 0.0);
-  std::vector<std::array<double, CharacterStats::kControllerCount>> controllerMicros(scene.characters().size());
+  std::vector<std::array<double, kControllerCount>> controllerMicros(scene.characters().size());
   const double dt = 1.0 / r.fps;
   // Without --frames: 2 s, and on while a block is still to be sent, held for its speech
   // or running, so that a scene that speaks runs to the end of its line.
@@ -151,8 +151,8 @@ int runCommand(const RunOptions& r) {
 #endif
     for (std::size_t i = 0; i < scene.characters().size(); ++i) {
       totalMicros[i] += scene.characters()[i]->stats().lastUpdateMicros;
-      for (int k = 0; k < CharacterStats::kControllerCount; ++k)
-        controllerMicros[i][static_cast<std::size_t>(k)] += scene.characters()[i]->stats().controllerMicros[k];
+      for (std::size_t k = 0; k < kControllerCount; ++k)
+        controllerMicros[i][k] += scene.characters()[i]->stats().controllerMicros[k];
       if (trace) writeTraceRows(trace, f, scene.time(), *scene.characters()[i]);
       if (morphs) writeMorphRows(morphs, f, scene.time(), *scene.characters()[i]);
     }
@@ -184,11 +184,11 @@ int runCommand(const RunOptions& r) {
       const Character& c = *scene.characters()[i];
       const CharacterStats& st = c.stats();
       std::string controllers;
-      for (int k = 0; k < CharacterStats::kControllerCount; ++k)
+      for (std::size_t k = 0; k < kControllerCount; ++k)
         if (st.controllerUsed[k]) {
           char buf[64];
-          std::snprintf(buf, sizeof buf, ", %s %.2f us", CharacterStats::kControllerNames[k],
-                        controllerMicros[i][static_cast<std::size_t>(k)] / static_cast<double>(frames));
+          std::snprintf(buf, sizeof buf, ", %s %.2f us", controllerName(static_cast<Controller>(k)).data(),
+                        controllerMicros[i][k] / static_cast<double>(frames));
           controllers += buf;
         }
       std::printf("  %-16s %8.2f us   controllers: clip layers x%d%s%s\n", c.name().c_str(),

@@ -369,7 +369,7 @@ TEST(Realizer, PointingAimsTheArmAndBadTargetsAreWarnings) {
   ASSERT_TRUE(rec.of(Feedback::Kind::Warning).empty()) << rec.all.front().xml();
   const int lower = c->skeleton().findJoint("LeftForeArm"), hand = c->skeleton().findJoint("LeftHand");
   step(scene, r, 1.0, 1.0 / 30.0);
-  EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kPointing]);
+  EXPECT_TRUE(c->stats().used(Controller::Pointing));
   auto world = [&](int j) {
     return glm::vec3(c->transformBuffer().worldMatrix() * c->transformBuffer().modelMatrices()[static_cast<std::size_t>(j)][3]);
   };
@@ -400,7 +400,7 @@ TEST(Realizer, ShortenedPreparationsMoveTheBodyWithoutNaN) {
     r.update();
     for (const Transform& t : c->localPose()) ASSERT_TRUE(test::finite(t)) << "frame " << frame;
   }
-  EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kPointing]);
+  EXPECT_TRUE(c->stats().used(Controller::Pointing));
 }
 
 // SmartBody's <animation name speed> plays the rig's clip over duration / speed; <sbm:event>

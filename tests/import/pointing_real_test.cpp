@@ -88,7 +88,7 @@ void checkPointing(const Case& k) {
         const glm::vec3 elbow = worldOf(*c, lower), wrist = worldOf(*c, end);
         const float e = std::acos(std::clamp(glm::dot(glm::normalize(wrist - elbow), glm::normalize(target - elbow)), -1.0f, 1.0f));
         worst = std::max(worst, e);
-        micros += static_cast<float>(c->stats().controllerMicros[CharacterStats::kPointing]);
+        micros += static_cast<float>(c->stats().micros(Controller::Pointing));
         ++frames;
       }
     }

@@ -63,7 +63,7 @@ void checkEveryLexeme(const char* asset, const char* profile) {
       EXPECT_GT(glm::length(hand - limbEndModel(rig->skeleton(), s->localPose(), limb)), 0.05f * st->armLength[side])
           << "side " << side << ": the hand moved";
     }
-    EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kGesture]);
+    EXPECT_TRUE(c->stats().used(Controller::Gesture));
     for (int f = 0; f < 66; ++f) {  // past the end (1.7 s)
       scene.update(1.0 / 60.0);
       still.update(1.0 / 60.0);

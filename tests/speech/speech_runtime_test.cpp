@@ -238,7 +238,7 @@ TEST_F(GodetteSpeaks, VisemesMoveHerMouthInTimeWithTheRecording) {
     EXPECT_EQ(listener.visemes[i].first, speech::visemeName(u.phonemes[i].cls.viseme));
     EXPECT_NEAR(listener.visemes[i].second, start + u.phonemes[i].start, 1e-9);
   }
-  EXPECT_TRUE(godette->stats().controllerUsed[CharacterStats::kSpeech]);
+  EXPECT_TRUE(godette->stats().used(Controller::Speech));
 }
 
 TEST_F(GodetteSpeaks, TheLaterOfTwoOverlappingUtterancesMovesTheLips) {

@@ -88,7 +88,7 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
     scene.update(dt);
     ++result.frames;
     result.updateMicros += c->stats().lastUpdateMicros;
-    result.locomotionMicros += c->stats().controllerMicros[CharacterStats::kLocomotion];
+    result.locomotionMicros += c->stats().micros(Controller::Locomotion);
     const LocomotionController* loco = c->locomotion();
     for (int f = 0; f < 2; ++f) {
       const glm::vec3 p(c->transformBuffer().worldMatrix() *

@@ -154,7 +154,7 @@ TEST(Allocation, ProceduralGesturesAndObjectTargetsAllocateNothingPerFrame) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
   for (const auto& c : scene.characters())
-    EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kGaze] && c->stats().controllerUsed[CharacterStats::kGesture]);
+    EXPECT_TRUE(c->stats().used(Controller::Gaze) && c->stats().used(Controller::Gesture));
 }
 
 // The same with two threads: waking the workers, the shared chunk index, the

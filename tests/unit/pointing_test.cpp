@@ -203,9 +203,9 @@ TEST(PointingCharacter, ARequestAimsTheArmAndShowsInStats) {
   const BehaviorResult added = c->addBehavior(r);
   ASSERT_TRUE(added.realized) << added.message;
   EXPECT_EQ(added.message, "");
-  EXPECT_FALSE(c->stats().controllerUsed[CharacterStats::kPointing]);
+  EXPECT_FALSE(c->stats().used(Controller::Pointing));
   for (int f = 0; f < 60; ++f) scene.update(1.0 / 60.0);  // to t = 1 s: full weight
-  EXPECT_TRUE(c->stats().controllerUsed[CharacterStats::kPointing]);
+  EXPECT_TRUE(c->stats().used(Controller::Pointing));
   const auto model = c->transformBuffer().modelMatrices();
   const glm::mat4 world = c->transformBuffer().worldMatrix();
   auto at = [&](const char* joint) { return glm::vec3(world * model[static_cast<std::size_t>(rig->skeleton().findJoint(joint))][3]); };

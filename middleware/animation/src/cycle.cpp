@@ -7,6 +7,7 @@
 #include "marionette/animation/pose.hpp"
 #include "marionette/animation/root_motion.hpp"
 #include "marionette/animation/sampling.hpp"
+#include "marionette/core/angles.hpp"
 
 namespace marionette {
 
@@ -151,7 +152,7 @@ LoopMatch findBestLoop(const Clip& clip, const Skeleton& skeleton, float from, f
   }
   if (root >= 0) {
     best.rootHeight = height[static_cast<std::size_t>(b)] - height[static_cast<std::size_t>(a)];
-    best.turn = std::remainder(yaw[static_cast<std::size_t>(b)] - yaw[static_cast<std::size_t>(a)], 6.28318530718f);
+    best.turn = wrapAngle(yaw[static_cast<std::size_t>(b)] - yaw[static_cast<std::size_t>(a)]);
   }
   return best;
 }

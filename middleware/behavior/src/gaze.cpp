@@ -9,11 +9,11 @@
 #include "marionette/core/finite.hpp"
 #include "marionette/core/text.hpp"
 #include "marionette/rig/rig.hpp"
+#include "marionette/core/angles.hpp"
 
 namespace marionette {
 
 namespace {
-constexpr float kTwoPi = 6.28318530718f;
 
 // The chain an influence turns, root-most first (missing joints skipped), with
 // each joint's yaw and pitch limits. At most hips + spine + neck + head.

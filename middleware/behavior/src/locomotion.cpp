@@ -8,14 +8,13 @@
 #include "marionette/animation/pose.hpp"
 #include "marionette/core/finite.hpp"
 #include "marionette/rig/rig.hpp"
+#include "marionette/core/angles.hpp"
 
 namespace marionette {
 
 namespace {
-constexpr float kTwoPi = 6.28318530718f;
 constexpr std::size_t kMaxWaypoints = LocomotionParameters::kMaxWaypoints;
 
-float wrapAngle(float a) noexcept { return std::remainder(a, kTwoPi); }
 glm::vec2 forwardOf(float heading) noexcept { return {std::sin(heading), std::cos(heading)}; }
 
 // Clip-local time of a gait clip at an unwrapped phase (cycles), strike-aligned.

@@ -9,6 +9,26 @@
 
 namespace marionette {
 
+namespace {
+
+// RigJoints::eyeHeight from the rest pose (model frame); 1.6 m when the skeleton says nothing.
+float restEyeHeight(const std::vector<glm::mat4>& rest, const RigJoints& j) {
+  const auto heightOf = [&](int joint) {
+    return joint >= 0 && static_cast<std::size_t>(joint) < rest.size() ? rest[static_cast<std::size_t>(joint)][3].y : NAN;
+  };
+  float h = NAN;
+  if (j.leftEye >= 0 && j.rightEye >= 0) h = 0.5f * (heightOf(j.leftEye) + heightOf(j.rightEye));
+  if (!std::isfinite(h)) h = heightOf(j.head);
+  if (!std::isfinite(h) && !rest.empty()) {
+    float top = rest.front()[3].y;
+    for (const glm::mat4& m : rest) top = std::max(top, m[3].y);
+    h = 0.94f * top;
+  }
+  return std::isfinite(h) && h > 0.0f ? h : 1.6f;
+}
+
+}  // namespace
+
 Rig::Rig(std::shared_ptr<const Asset> asset, const RigOptions& options)
     : asset_(std::move(asset)), options_(options), paletteBasis_(PaletteBasis::of(asset_->skeleton.inverseBind)) {
   clips_.reserve(asset_->clips.size());
@@ -61,6 +81,7 @@ void Rig::setProfile(CharacterProfile profile) {
   const std::pair<int, int> pairs[] = {{joints_.leftArm.upper, joints_.rightArm.upper},
                                        {joints_.leftLeg.upper, joints_.rightLeg.upper},
                                        {joints_.leftEye, joints_.rightEye}};
+  joints_.eyeHeight = restEyeHeight(rest, joints_);
   for (const auto& [left, right] : pairs) {
     if (left < 0 || right < 0 || static_cast<std::size_t>(std::max(left, right)) >= rest.size()) continue;
     glm::vec3 axis = glm::vec3(rest[static_cast<std::size_t>(left)][3]) - glm::vec3(rest[static_cast<std::size_t>(right)][3]);

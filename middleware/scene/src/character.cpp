@@ -8,8 +8,25 @@
 #include "marionette/behavior/procedural_controllers.hpp"
 #include "marionette/scene/scene.hpp"
 #include "marionette/speech/speech_service.hpp"
+#include "marionette/core/angles.hpp"
 
 namespace marionette {
+
+std::string_view controllerName(Controller controller) noexcept {
+  switch (controller) {
+    case Controller::ClipBehaviors: return "clip behaviors";
+    case Controller::Locomotion: return "locomotion";
+    case Controller::UpperBodyClips: return "upper-body clips";
+    case Controller::Gaze: return "gaze";
+    case Controller::Head: return "head";
+    case Controller::Saccade: return "saccade";
+    case Controller::Gesture: return "gesture";
+    case Controller::Pointing: return "pointing";
+    case Controller::Face: return "face";
+    case Controller::Speech: return "speech";
+  }
+  return "?";
+}
 
 void FrameScratch::reserve(std::size_t joints) {
   if (pose.size() >= joints) return;
@@ -42,7 +59,7 @@ void Character::setHeading(float radians) noexcept {
     if (scene_) scene_->log(LogLevel::Warning, "setHeading: non-finite heading rejected");
     return;
   }
-  heading_ = std::remainder(radians, 6.28318530718f);
+  heading_ = wrapAngle(radians);
   notify(ChangeKind::Placement, "heading");
 }
 
@@ -217,7 +234,7 @@ void Character::update(double dt) noexcept {
 
   if (move != glm::vec3(0.0f) || turn != 0.0f) {
     position_ += glm::angleAxis(heading_, glm::vec3(0, 1, 0)) * move;
-    heading_ = std::remainder(heading_ + turn, 6.28318530718f);
+    heading_ = wrapAngle(heading_ + turn);
   }
   localToModelAndPalette(skeleton(), pose_, buffer_.writeModel(), buffer_.writeSkinning(), &rig_->paletteBasis());
   buffer_.setWorld(worldMatrix());

@@ -136,7 +136,7 @@ void Character::ensureScratch() {
 void Character::reserveBehaviorPasses() {
   // Command time: each frame's walk hands entries to these lists without allocating.
   const std::size_t n = behaviors_.entries().size();
-  for (auto& pass : passes_) pass.reserve(n);
+  for (auto& p : passes_) p.reserve(n);
 }
 
 std::string Character::bindLocomotionEntry(BehaviorTimeline::Entry&, std::string&) {
@@ -394,76 +394,76 @@ void Character::applyBehaviors(float dt) noexcept {
   // (postures) over the layers, locomotion, upper-body clips (gestures), gaze, head
   // movements added on top of it, procedural gestures and pointing (after the gaze has
   // turned the torso, so the arms move from where it ends up), face expressions, speech.
-  for (auto& pass : passes_) pass.clear();
+  for (auto& p : passes_) p.clear();
   const std::span<BehaviorTimeline::Entry> entries = behaviors_.entries();
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const BehaviorTimeline::Entry& e = entries[i];
     const float w = BehaviorTimeline::weightAt(e, clock_);
     const ActiveEntry active{static_cast<std::uint32_t>(i), w, e.order};
-    if (e.as<SpeechState>()) passes_[kSpeechPass].push_back(active);
-    if (e.as<LocomotionEntryState>()) passes_[kLocomotionPass].push_back(active);
+    if (e.as<SpeechState>()) pass(Controller::Speech).push_back(active);
+    if (e.as<LocomotionEntryState>()) pass(Controller::Locomotion).push_back(active);
     if (w <= 0.0f) continue;
-    if (e.clip) passes_[e.upperBody ? kUpperClipPass : kClipPass].push_back(active);
-    if (e.as<GazeState>()) passes_[kGazePass].push_back(active);
-    if (const HeadMotionState* h = e.as<HeadMotionState>(); h && !h->strokes.empty()) passes_[kHeadPass].push_back(active);
-    if (e.as<SaccadeState>()) passes_[kSaccadePass].push_back(active);
-    if (e.as<GestureState>()) passes_[kGesturePass].push_back(active);
-    if (e.as<PointingState>()) passes_[kPointingPass].push_back(active);
+    if (e.clip) pass(e.upperBody ? Controller::UpperBodyClips : Controller::ClipBehaviors).push_back(active);
+    if (e.as<GazeState>()) pass(Controller::Gaze).push_back(active);
+    if (const HeadMotionState* h = e.as<HeadMotionState>(); h && !h->strokes.empty()) pass(Controller::Head).push_back(active);
+    if (e.as<SaccadeState>()) pass(Controller::Saccade).push_back(active);
+    if (e.as<GestureState>()) pass(Controller::Gesture).push_back(active);
+    if (e.as<PointingState>()) pass(Controller::Pointing).push_back(active);
     if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !f->morphs.empty())
-      passes_[kFacePass].push_back(active);
+      pass(Controller::Face).push_back(active);
   }
   const bool timing = scene_ && scene_->statsEnabled();
-  auto run = [&](CharacterStats::Controller which, auto&& pass) {
+  auto run = [&](Controller which, auto&& apply) {
+    const auto k = static_cast<std::size_t>(which);
     const auto start = timing ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-    if (pass()) stats_.controllerUsed[which] = true;
+    if (apply()) stats_.controllerUsed[k] = true;
     if (timing)
-      stats_.controllerMicros[which] =
-          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+      stats_.controllerMicros[k] = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   };
-  run(CharacterStats::kClipBehaviors, [&] { return applyBehaviorClips(passes_[kClipPass]); });
-  if (locomotion_) run(CharacterStats::kLocomotion, [&] { return applyLocomotion(dt); });
-  if (applyBehaviorClips(passes_[kUpperClipPass])) stats_.controllerUsed[CharacterStats::kClipBehaviors] = true;
+  run(Controller::ClipBehaviors, [&] { return applyBehaviorClips(pass(Controller::ClipBehaviors)); });
+  if (locomotion_) run(Controller::Locomotion, [&] { return applyLocomotion(dt); });
+  run(Controller::UpperBodyClips, [&] { return applyBehaviorClips(pass(Controller::UpperBodyClips)); });
   const glm::mat4 worldToModel = glm::inverse(worldMatrix());  // gaze and pointing targets
-  run(CharacterStats::kGaze, [&] {
-    for (const ActiveEntry& a : passes_[kGazePass]) {
+  run(Controller::Gaze, [&] {
+    for (const ActiveEntry& a : pass(Controller::Gaze)) {
       GazeState& g = *behaviors_.entries()[a.index].as<GazeState>();
       const SpatialTarget& t = g.target;  // a target that has left the scene: hold the direction
       updateGaze(g, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), a.weight, gazeSettings_,
                  skeleton(), rig_->joints(), pose_, dt);
     }
-    return !passes_[kGazePass].empty();
+    return !pass(Controller::Gaze).empty();
   });
-  run(CharacterStats::kHead, [&] {
-    for (const ActiveEntry& a : passes_[kHeadPass])
+  run(Controller::Head, [&] {
+    for (const ActiveEntry& a : pass(Controller::Head))
       applyHead(*behaviors_.entries()[a.index].as<HeadMotionState>(), a.weight, clock_, *rig_, pose_);
-    return !passes_[kHeadPass].empty();
+    return !pass(Controller::Head).empty();
   });
-  run(CharacterStats::kSaccade, [&] {
-    for (const ActiveEntry& a : passes_[kSaccadePass])
+  run(Controller::Saccade, [&] {
+    for (const ActiveEntry& a : pass(Controller::Saccade))
       updateSaccade(*behaviors_.entries()[a.index].as<SaccadeState>(), clock_, a.weight, skeleton(), pose_);
-    return !passes_[kSaccadePass].empty();
+    return !pass(Controller::Saccade).empty();
   });
-  run(CharacterStats::kGesture, [&] {
-    for (const ActiveEntry& a : passes_[kGesturePass])
+  run(Controller::Gesture, [&] {
+    for (const ActiveEntry& a : pass(Controller::Gesture))
       updateProceduralGesture(*behaviors_.entries()[a.index].as<GestureState>(), clock_, a.weight, skeleton(), pose_);
-    return !passes_[kGesturePass].empty();
+    return !pass(Controller::Gesture).empty();
   });
-  run(CharacterStats::kPointing, [&] {
-    for (const ActiveEntry& a : passes_[kPointingPass]) {
+  run(Controller::Pointing, [&] {
+    for (const ActiveEntry& a : pass(Controller::Pointing)) {
       PointingState& p = *behaviors_.entries()[a.index].as<PointingState>();
       const SpatialTarget& t = p.target;
       updatePointing(p, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), a.weight, pointingSettings_,
                      skeleton(), pose_);
     }
-    return !passes_[kPointingPass].empty();
+    return !pass(Controller::Pointing).empty();
   });
-  run(CharacterStats::kFace, [&] {
+  run(Controller::Face, [&] {
     const std::span<float> morphs = buffer_.writeMorphWeights();
-    for (const ActiveEntry& a : passes_[kFacePass])
+    for (const ActiveEntry& a : pass(Controller::Face))
       applyFace(*behaviors_.entries()[a.index].as<FaceExpressionState>(), a.weight, morphs);
-    return !passes_[kFacePass].empty();
+    return !pass(Controller::Face).empty();
   });
-  run(CharacterStats::kSpeech, [&] { return applySpeechEntries(); });
+  run(Controller::Speech, [&] { return applySpeechEntries(); });
 }
 
 bool Character::applySpeechEntries() noexcept {
@@ -472,7 +472,7 @@ bool Character::applySpeechEntries() noexcept {
   // lips (a speech that could not be said takes nothing from the others).
   std::uint64_t voice = 0;
   bool hasVoice = false;
-  for (const ActiveEntry& a : passes_[kSpeechPass]) {
+  for (const ActiveEntry& a : pass(Controller::Speech)) {
     const BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
     if (clock_ >= e.request.start() && clock_ < e.finishTime()) voice = a.order, hasVoice = true;
   }
@@ -488,8 +488,8 @@ bool Character::applySpeechEntries() noexcept {
       if (e.order == a.order) return &e;
     return nullptr;
   };
-  for (std::size_t k = 0; k < passes_[kSpeechPass].size(); ++k) {
-    const ActiveEntry a = passes_[kSpeechPass][k];
+  for (std::size_t k = 0; k < pass(Controller::Speech).size(); ++k) {
+    const ActiveEntry a = pass(Controller::Speech)[k];
     const BehaviorTimeline::Entry* e = find(a);
     if (!e) continue;
     const std::shared_ptr<const speech::SpokenLine> line = e->as<SpeechState>()->line;
@@ -545,7 +545,7 @@ void Character::resolveExternalTargets() noexcept {
     const auto j = static_cast<std::size_t>(target.jointIndex);
     target.resolvedPoint = target.jointIndex >= 0 && j < models.size()
                                ? glm::vec3(t->worldMatrix() * models[j][3])
-                               : t->position() + glm::vec3(0.0f, 1.6f, 0.0f);
+                               : glm::vec3(t->worldMatrix() * glm::vec4(0.0f, t->rig().joints().eyeHeight, 0.0f, 1.0f));
   };
   for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (GazeState* g = e.as<GazeState>()) resolve(g->target);
@@ -556,7 +556,7 @@ void Character::resolveExternalTargets() noexcept {
 bool Character::applyLocomotion(float dt) noexcept {
   // Follow the newest locomotion request that has started; stop when it is cancelled.
   bool cancelled = false;
-  for (const ActiveEntry& a : passes_[kLocomotionPass]) {
+  for (const ActiveEntry& a : pass(Controller::Locomotion)) {
     const BehaviorTimeline::Entry& e = behaviors_.entries()[a.index];
     const LocomotionEntryState& l = *e.as<LocomotionEntryState>();
     if (e.request.start() > clock_) continue;

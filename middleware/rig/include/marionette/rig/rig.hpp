@@ -36,6 +36,9 @@ struct RigJoints {
   std::vector<LipMorph> visemes;
   bool jawOpenByMorph = false;     // a morph shows the jaw-open channel: the jaw joint is left alone
   glm::vec3 leftAxis{1.0f, 0.0f, 0.0f};  // model frame, level: the character's left (arms, legs or eyes at rest)
+  // Model-frame height of the eyes at rest: the eye joints', else the head's, else 94 % of the
+  // highest joint's; what another character looks at when it names this one without a joint.
+  float eyeHeight = 1.6f;
 };
 
 class Rig {

@@ -55,19 +55,27 @@ struct BehaviorResult {
   std::string message;    // why not added, or why not realized; empty when both hold
 };
 
+// The behavior controllers, in the order a frame runs them (DESIGN.md): clip behaviors
+// (postures) over the layers, locomotion, upper-body clips (gestures), gaze, head movements
+// added on top of it, saccades, procedural gestures and pointing (after the gaze has turned
+// the torso, so the arms move from where it ends up), face expressions, speech. One list:
+// each frame's passes and the stats below are indexed by it.
+enum class Controller : std::uint8_t {
+  ClipBehaviors, Locomotion, UpperBodyClips, Gaze, Head, Saccade, Gesture, Pointing, Face, Speech
+};
+inline constexpr std::size_t kControllerCount = static_cast<std::size_t>(Controller::Speech) + 1;
+[[nodiscard]] std::string_view controllerName(Controller controller) noexcept;  // "clip behaviors", ...
+
 struct CharacterStats {
   double lastUpdateMicros = 0.0;  // wall time of the last update (when stats are on)
   int activeLayers = 0;           // clip layers that exist now
   bool sampledDirect = false;     // the last frame took the one-clip fast path
-  // Behavior controllers, in frame order: whether each has run at least once (they
-  // exist only while a behavior uses them) and its wall time in the last frame
-  // (measured only while the scene's stats are on).
-  enum Controller { kClipBehaviors, kLocomotion, kGaze, kHead, kSaccade, kGesture, kPointing, kFace, kSpeech,
-                    kControllerCount };
-  static constexpr const char* kControllerNames[kControllerCount] = {"clip behaviors", "locomotion", "gaze", "head",
-                                                                     "saccade", "gesture", "pointing", "face", "speech"};
-  bool controllerUsed[kControllerCount] = {};
-  double controllerMicros[kControllerCount] = {};
+  // Per controller: whether it has run at least once (controllers exist only while a
+  // behavior uses them) and its wall time in the last frame (while the scene's stats are on).
+  std::array<bool, kControllerCount> controllerUsed{};
+  std::array<double, kControllerCount> controllerMicros{};
+  [[nodiscard]] bool used(Controller c) const noexcept { return controllerUsed[static_cast<std::size_t>(c)]; }
+  [[nodiscard]] double micros(Controller c) const noexcept { return controllerMicros[static_cast<std::size_t>(c)]; }
 };
 
 class Character {
@@ -179,8 +187,7 @@ class Character {
     float weight = 0.0f;
     std::uint64_t order = 0;  // the entry's timeline order: finds it again if a listener moved it
   };
-  enum Pass { kClipPass, kLocomotionPass, kUpperClipPass, kGazePass, kHeadPass, kSaccadePass, kGesturePass, kPointingPass,
-              kFacePass, kSpeechPass, kPassCount };
+  [[nodiscard]] std::vector<ActiveEntry>& pass(Controller c) noexcept { return passes_[static_cast<std::size_t>(c)]; }
   void applyBehaviors(float dt) noexcept;
   bool applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept;  // true if a clip behavior contributed
   bool applyLocomotion(float dt) noexcept;
@@ -217,7 +224,7 @@ class Character {
   std::array<Layer, kMaxLayers> layers_;
   std::vector<Transform> pose_;
   BehaviorTimeline behaviors_;
-  std::array<std::vector<ActiveEntry>, kPassCount> passes_;  // reserved at addBehavior, filled each frame
+  std::array<std::vector<ActiveEntry>, kControllerCount> passes_;  // reserved at addBehavior, filled each frame
   GazeSettings gazeSettings_;
   PointingSettings pointingSettings_;
   LocomotionSettings locomotionSettings_;
