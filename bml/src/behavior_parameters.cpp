@@ -7,10 +7,18 @@
 #include "marionette/behavior/speech_controller.hpp"  // the rate's range
 #include "marionette/core/number_list.hpp"
 #include "marionette/core/text.hpp"
+#include "marionette/core/enum_names.hpp"
 
 namespace marionette::bml {
 
 namespace {
+
+// BML's names (any letter case).
+constexpr EnumName<HeadLexeme> kHeadLexemes[] = {
+    {"NOD", HeadLexeme::Nod}, {"SHAKE", HeadLexeme::Shake}, {"TILT", HeadLexeme::Tilt}};
+constexpr EnumName<GazeInfluence> kGazeInfluences[] = {
+    {"EYES", GazeInfluence::Eyes},   {"HEAD", GazeInfluence::Head},   {"NECK", GazeInfluence::Neck},
+    {"SHOULDER", GazeInfluence::Shoulder}, {"WAIST", GazeInfluence::Waist}, {"WHOLE", GazeInfluence::Whole}};
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
@@ -52,8 +60,8 @@ void readHead(const Behavior& b, ReadParameters& out) {
   const std::string_view lexeme = valueOf(b, "lexeme");
   const auto head = headLexemeFromName(lexeme);
   if (!head) {
-    out.error = lexeme.empty() ? "a head behavior needs a lexeme (NOD, SHAKE or TILT)"
-                               : "head lexeme '" + std::string(lexeme) + "' is not NOD, SHAKE or TILT";
+    out.error = lexeme.empty() ? "a head behavior needs a lexeme (" + validNames<HeadLexeme>(kHeadLexemes) + ")"
+                               : "head lexeme '" + std::string(lexeme) + "' is not " + validNames<HeadLexeme>(kHeadLexemes);
     return;
   }
   out.parameters = HeadParameters{
@@ -245,20 +253,11 @@ void readSpeech(const Behavior& b, ReadParameters& out) {
 }  // namespace
 
 std::optional<HeadLexeme> headLexemeFromName(std::string_view name) noexcept {
-  if (equalsIgnoringCase(name, "NOD")) return HeadLexeme::Nod;
-  if (equalsIgnoringCase(name, "SHAKE")) return HeadLexeme::Shake;
-  if (equalsIgnoringCase(name, "TILT")) return HeadLexeme::Tilt;
-  return std::nullopt;
+  return valueOfName<HeadLexeme>(name, kHeadLexemes, NameCase::Ignored);
 }
 
 std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept {
-  if (equalsIgnoringCase(name, "EYES")) return GazeInfluence::Eyes;
-  if (equalsIgnoringCase(name, "HEAD")) return GazeInfluence::Head;
-  if (equalsIgnoringCase(name, "NECK")) return GazeInfluence::Neck;
-  if (equalsIgnoringCase(name, "SHOULDER")) return GazeInfluence::Shoulder;
-  if (equalsIgnoringCase(name, "WAIST")) return GazeInfluence::Waist;
-  if (equalsIgnoringCase(name, "WHOLE")) return GazeInfluence::Whole;
-  return std::nullopt;
+  return valueOfName<GazeInfluence>(name, kGazeInfluences, NameCase::Ignored);
 }
 
 BehaviorTarget readTarget(std::string_view text) {

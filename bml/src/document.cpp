@@ -12,6 +12,7 @@
 
 #include "dialect_forms.hpp"
 #include "marionette/core/diagnostic.hpp"
+#include "marionette/core/enum_names.hpp"
 
 namespace marionette::bml {
 
@@ -573,19 +574,13 @@ std::string ParseResult::format(const std::string& source) const {
 
 ParseResult parseBlock(std::string_view text, const ParseOptions& options) { return Parser(text, options).run(); }
 
-std::string_view toString(Dialect d) noexcept {
-  switch (d) {
-    case Dialect::Bml: return "bml";
-    case Dialect::SmartBody: return "smartbody";
-    case Dialect::Auto: break;
-  }
-  return "auto";
-}
+constexpr EnumName<Dialect> kDialectNames[] = {
+    {"auto", Dialect::Auto}, {"bml", Dialect::Bml}, {"smartbody", Dialect::SmartBody}};
+
+std::string_view toString(Dialect d) noexcept { return nameOfValue<Dialect>(d, kDialectNames, "auto"); }
 
 std::optional<Dialect> dialectFromName(std::string_view name) noexcept {
-  for (Dialect d : {Dialect::Auto, Dialect::Bml, Dialect::SmartBody})
-    if (name == toString(d)) return d;
-  return std::nullopt;
+  return valueOfName<Dialect>(name, kDialectNames);
 }
 
 }  // namespace marionette::bml

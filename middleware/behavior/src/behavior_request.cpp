@@ -1,4 +1,5 @@
 #include "marionette/behavior/behavior_request.hpp"
+#include "marionette/core/enum_names.hpp"
 
 #include <array>
 
@@ -17,9 +18,7 @@ std::string_view toString(BehaviorKind kind) noexcept {
 }
 
 std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept {
-  for (std::size_t i = 0; i < kKindNames.size(); ++i)
-    if (kKindNames[i] == name) return static_cast<BehaviorKind>(i);
-  return std::nullopt;
+  return valueOfIndexedName<BehaviorKind>(name, kKindNames);
 }
 
 std::uint32_t defaultChannels(BehaviorKind kind) noexcept {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "marionette/rig/detail/json_places.hpp"
+#include "marionette/core/enum_names.hpp"
 #include "joint_map_detail.hpp"
 #include "limb_guess.hpp"
 #include "profile_skeleton.hpp"
@@ -334,9 +335,7 @@ std::string_view boneName(Bone bone) noexcept {
 }
 
 std::optional<Bone> boneFromName(std::string_view name) noexcept {
-  for (std::size_t i = 0; i < kBoneNames.size(); ++i)
-    if (kBoneNames[i] == name) return static_cast<Bone>(i);
-  return std::nullopt;
+  return valueOfIndexedName<Bone>(name, kBoneNames);
 }
 
 std::string_view chainName(Chain chain) noexcept {
@@ -345,9 +344,7 @@ std::string_view chainName(Chain chain) noexcept {
 }
 
 std::optional<Chain> chainFromName(std::string_view name) noexcept {
-  for (std::size_t i = 0; i < kChainNames.size(); ++i)
-    if (kChainNames[i] == name) return static_cast<Chain>(i);
-  return std::nullopt;
+  return valueOfIndexedName<Chain>(name, kChainNames);
 }
 
 std::string JointMap::canonicalName(int joint) const {

@@ -18,6 +18,7 @@
 #include <cstddef>
 
 #include "marionette/speech/phoneme.hpp"
+#include "marionette/core/enum_names.hpp"
 
 namespace marionette::speech {
 namespace {
@@ -257,9 +258,7 @@ std::string_view visemeName(Viseme viseme) noexcept {
 }
 
 std::optional<Viseme> visemeFromName(std::string_view name) noexcept {
-  for (std::size_t i = 0; i < kVisemeNames.size(); ++i)
-    if (kVisemeNames[i] == name) return static_cast<Viseme>(i);
-  return std::nullopt;
+  return valueOfIndexedName<Viseme>(name, kVisemeNames);
 }
 
 std::string_view vrmVisemeName(VrmViseme viseme) noexcept {

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "marionette/core/limits.hpp"
+#include "marionette/core/enum_names.hpp"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -36,12 +37,11 @@ std::int64_t BackgroundSource::frameIndexAt(double seconds) const noexcept {
 }
 
 std::optional<BackgroundKind> backgroundKindFromName(const std::string& name) {
-  std::string n = name;
-  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (n == "still" || n == "image" || n == "photo") return BackgroundKind::Still;
-  if (n == "sequence" || n == "image_sequence") return BackgroundKind::Sequence;
-  if (n == "video") return BackgroundKind::Video;
-  return std::nullopt;
+  static constexpr EnumName<BackgroundKind> kNames[] = {
+      {"still", BackgroundKind::Still},       {"image", BackgroundKind::Still},
+      {"photo", BackgroundKind::Still},       {"sequence", BackgroundKind::Sequence},
+      {"image_sequence", BackgroundKind::Sequence}, {"video", BackgroundKind::Video}};
+  return valueOfName<BackgroundKind>(name, kNames, NameCase::Ignored);
 }
 
 bool readImageRgb8(const std::string& path, BackgroundFrame& frame, Diagnostics& diagnostics) {

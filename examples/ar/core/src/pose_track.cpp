@@ -103,10 +103,8 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
       return fail("frame", std::to_string(r.frame) + " does not follow frame " + std::to_string(rows.back().frame));
     if (!parseDouble(f[1], r.time) || r.time < 0 || r.time > 1e9) return fail("time", "expected seconds in [0, 1e9]");
     if (!rows.empty() && r.time <= rows.back().time) return fail("time", "not after the previous row's time");
-    if (f[2] == "TRACKING") r.state = TrackingState::Tracking;
-    else if (f[2] == "LIMITED") r.state = TrackingState::Limited;
-    else if (f[2] == "LOST") r.state = TrackingState::Lost;
-    else return fail("state", "'" + std::string(f[2].substr(0, 32)) + "' is none of TRACKING, LIMITED, LOST");
+    if (const auto state = trackingStateFromName(f[2])) r.state = *state;
+    else return fail("state", "'" + std::string(f[2].substr(0, 32)) + "' is none of " + trackingStateNames());
     // The sigmas: empty (unknown) or numbers >= 0.
     for (std::size_t i = kPoseColumns; i < columns; ++i) {
       double sigma = 0;
