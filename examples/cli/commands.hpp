@@ -33,10 +33,10 @@ struct SpeakOptions {
 };
 int speakCommand(const SpeakOptions& o);
 
-struct LipsyncOptions {
+struct LipSyncOptions {
   std::string audio, phones, visemes;
 };
-int lipsyncCommand(const LipsyncOptions& o);
+int lipsyncCommand(const LipSyncOptions& o);
 
 struct RetargetCommandOptions {
   std::string source, target, sourceMap, targetMap, clip, output;

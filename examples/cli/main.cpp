@@ -134,7 +134,7 @@ int parseAndRun(int argc, char** argv) {
   speakCmd->add_option("--phonemes", speak.phonemes, "The phonemes to write (CSV: start,end,phoneme)")->type_name("P.csv")
       ->check(kOutputFile);
 
-  LipsyncOptions lipsync;
+  LipSyncOptions lipsync;
   CLI::App* lipsyncCmd =
       app.add_subcommand("lipsync", "Lip-sync channels of a recorded line from its phoneme alignment");
   lipsyncCmd->add_option("--audio", lipsync.audio, "The line's WAV file")->type_name("A.wav");

@@ -87,7 +87,7 @@ int speakCommand(const SpeakOptions& o) {
   return printWarnings(u.warnings, "speak");
 }
 
-int lipsyncCommand(const LipsyncOptions& o) {
+int lipsyncCommand(const LipSyncOptions& o) {
   Utterance u;
   if (const std::string& audio = o.audio; !audio.empty()) {
     WavAudio wav;

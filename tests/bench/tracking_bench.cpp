@@ -362,7 +362,7 @@ void kltOwn(benchmark::State& state, bool regionOnly) {
     else t.build(d.templ);
     f.build(d.frame);
     std::copy(d.from.begin(), d.from.end(), to.begin());
-    found = lk.track(t, f, d.from, to, status, LucasKanadeParams{});
+    found = lk.track(t, f, d.from, to, status, LucasKanadeOptions{});
     benchmark::DoNotOptimize(to.data());
   }
   state.counters["points"] = static_cast<double>(d.from.size());
@@ -394,7 +394,7 @@ void imageShift(benchmark::State& state, int smear) {
   ImageShift shift;
   bool found = false;
   for (auto _ : state) {
-    found = estimateImageShift(pa, pb, {0, 0}, ImageShiftParams{}, shift);
+    found = estimateImageShift(pa, pb, {0, 0}, ImageShiftOptions{}, shift);
     benchmark::DoNotOptimize(shift);
   }
   state.counters["found"] = found;
@@ -430,7 +430,7 @@ void denseAlignment(benchmark::State& state, int smear, bool verifyOnly = false)
   // A smear of `smear` px along x is a turn of smear / fx about the camera's y axis.
   const cv::Vec3d turn(0.0, 0.5 * smear / o.camera.fx, 0.0);
   DenseAligner aligner;
-  DenseAlignmentParams params;
+  DenseAlignmentOptions params;
   aligner.reserve(params);
   DenseAlignment result;
   bool aligned = false;
@@ -470,7 +470,7 @@ void ransacOwn(benchmark::State& state) {
   std::vector<std::uint8_t> mask(d.plane.size());
   cv::Matx33d h;
   int inliers = 0;
-  HomographyRansacParams params;
+  HomographyRansacOptions params;
   params.thresholdPx = 2.0;
   for (auto _ : state) {
     ransac.estimate(d.plane, d.image, params, h, mask, inliers);
@@ -502,7 +502,7 @@ void poseOwn(benchmark::State& state) {
   PlanarPose pose;
   double rms = 0;
   for (auto _ : state) {
-    planarPoseFromHomography(d.k, h, d.inlierPlane, d.inlierImage, {}, PoseRefineParams{}, pose, rms);
+    planarPoseFromHomography(d.k, h, d.inlierPlane, d.inlierImage, {}, PoseRefineOptions{}, pose, rms);
     rms = reprojectionRms(d.k, pose, d.inlierPlane, d.inlierImage, {});
     benchmark::DoNotOptimize(rms);
   }

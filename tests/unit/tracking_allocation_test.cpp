@@ -391,18 +391,18 @@ struct PrimitivesPipeline {
     if (!templatePyramid.buildRegion(templ, region, background) || !framePyramid.build(frame)) return false;
     const std::span<cv::Point2f> found(to.data(), n);
     klt.track(templatePyramid, framePyramid, std::span<const cv::Point2f>(from.data(), n), found,
-              std::span<std::uint8_t>(status.data(), n), LucasKanadeParams{});
+              std::span<std::uint8_t>(status.data(), n), LucasKanadeOptions{});
     std::size_t m = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (status[i]) inlierPlane[m] = plane[i], inlierImage[m++] = to[i];
     const std::span<const cv::Point2f> pl(inlierPlane.data(), m), im(inlierImage.data(), m);
     cv::Matx33d h;
-    HomographyRansacParams params;
+    HomographyRansacOptions params;
     params.thresholdPx = 2.0;
     if (!ransac.estimate(pl, im, params, h, std::span<std::uint8_t>(mask.data(), m), inliers)) return false;
     double rms = 0;
     const std::span<const std::uint8_t> used(mask.data(), m);
-    if (!planarPoseFromHomography(k, h, pl, im, used, PoseRefineParams{}, pose, rms)) return false;
+    if (!planarPoseFromHomography(k, h, pl, im, used, PoseRefineOptions{}, pose, rms)) return false;
     return std::isfinite(reprojectionRms(k, pose, pl, im, used));
   }
 };
@@ -516,7 +516,7 @@ TEST(TrackingAllocation, DenseAlignmentAllocatesNothingPerFrame) {
   const CameraModel& c = renderer.camera();
   const cv::Matx33d k(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
   DenseAligner aligner;
-  DenseAlignmentParams params;
+  DenseAlignmentOptions params;
   aligner.reserve(params);
   ImagePyramid pyramid;
   ASSERT_TRUE(pyramid.configure(c.width, c.height, 3));

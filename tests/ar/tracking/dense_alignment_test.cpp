@@ -111,7 +111,7 @@ TEST(DenseAlignment, RecoversThePoseSharpAndUnderASmearFromTwoDegreesOff) {
                         {"oblique turn with roll, 55 px", {0.5, 0.8, 0.35}, 6.0, 1.0}};
   cv::setRNGSeed(7);
   DenseAligner aligner;
-  DenseAlignmentParams params;
+  DenseAlignmentOptions params;
   aligner.reserve(params);
   for (const Case& c : cases) {
     View v;
@@ -157,7 +157,7 @@ TEST(DenseAlignment, AHandOverTheTargetLeavesTheOtherPartsAgreeing) {
   const PlanarPose truth = lookAt(cv::Vec3d(0.05, 0.5, 0.35), cv::Vec3d(0.0, 0, -0.02));
   cv::setRNGSeed(11);
   DenseAligner aligner;
-  DenseAlignmentParams params;
+  DenseAlignmentOptions params;
   aligner.reserve(params);
   View v;
   render(v, truth, {0, 1, 0}, 0.0, 0.0);

@@ -118,7 +118,7 @@ TEST(ImageShift, RefusesABlankViewAShiftBeyondTheSearchAndANewScene) {
     p.b = p.a.clone();
     build(p);
     ImageShift s;
-    ImageShiftParams bad;
+    ImageShiftOptions bad;
     bad.radius = 40;
     EXPECT_FALSE(estimateImageShift(p.pa, p.pb, {0, 0}, bad, s));
     bad = {};

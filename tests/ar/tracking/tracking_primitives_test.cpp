@@ -187,7 +187,7 @@ KltScore runOurs(const KltCase& c, LkGradient gradient, std::vector<cv::Point2f>
   LucasKanade lk;
   std::vector<cv::Point2f> to = c.guess;
   std::vector<unsigned char> status(to.size());
-  LucasKanadeParams params;
+  LucasKanadeOptions params;
   params.gradient = gradient;
   params.simd = simd;
   params.window = window;
@@ -310,7 +310,7 @@ TEST(TrackingPrimitives, KltOnTheSyntheticSequenceMatchesOpenCv) {
     std::vector<cv::Point2f> ours = from, theirs = from;
     std::vector<unsigned char> status(from.size()), cvStatus;
     std::vector<float> error;
-    lk.track(tp, fp, from, ours, status, LucasKanadeParams{});
+    lk.track(tp, fp, from, ours, status, LucasKanadeOptions{});
     cv::calcOpticalFlowPyrLK(templ, frame, from, theirs, cvStatus, error, cv::Size(15, 15), 3,
                              cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
                              cv::OPTFLOW_USE_INITIAL_FLOW);
@@ -358,7 +358,7 @@ TEST(TrackingPrimitives, KltGivesAClearStatusOnBadInput) {
   std::vector<cv::Point2f> zero{{0, 0}}, zeroTo{{0, 0}};
   EXPECT_EQ(lk.track(tiny, tiny, zero, zeroTo, one, {}), 0);
   EXPECT_EQ(lk.track(tiny, t, zero, zeroTo, one, {}), 0) << "pyramids of different sizes";
-  LucasKanadeParams even;
+  LucasKanadeOptions even;
   even.window = 14;
   EXPECT_EQ(lk.track(t, t, off, zeroTo, one, even), 0);
   EXPECT_EQ(one[0], 0);

@@ -135,14 +135,14 @@ struct DenseAligner::Level {
   double area = 0;            // of the keyframe's projection, level pixels
 };
 
-void DenseAligner::reserve(const DenseAlignmentParams& params) {
+void DenseAligner::reserve(const DenseAlignmentOptions& params) {
   capacity_ = static_cast<std::size_t>(std::max(16, params.maxSamples)) * 2;
   samples_.resize(capacity_);
   scratch_.resize(capacity_);
 }
 
 bool DenseAligner::prepareLevel(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
-                                const PlanarPose& pose, int level, const DenseAlignmentParams& params,
+                                const PlanarPose& pose, int level, const DenseAlignmentOptions& params,
                                 Level& out) noexcept {
   if (level < 0 || level > frame.levels() || target.levels.empty() || capacity_ == 0) return false;
   out.index = level;
@@ -390,7 +390,7 @@ void DenseAligner::judgeParts(const Level& level, DenseAlignment& out) const noe
 }
 
 bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
-                         const cv::Vec3d& smearTurn, const PlanarPose& start, const DenseAlignmentParams& params,
+                         const cv::Vec3d& smearTurn, const PlanarPose& start, const DenseAlignmentOptions& params,
                          DenseAlignment& out) noexcept {
   if (capacity_ == 0 || params.fineLevel < 0 || params.coarseLevel < params.fineLevel) return false;
   constexpr int kAll = 12;
@@ -586,7 +586,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
 }
 
 bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
-                          const cv::Vec3d& smearTurn, const PlanarPose& pose, const DenseAlignmentParams& params,
+                          const cv::Vec3d& smearTurn, const PlanarPose& pose, const DenseAlignmentOptions& params,
                           DenseAlignment& out) noexcept {
   if (capacity_ == 0 || params.fineLevel < 0 || params.fineLevel > frame.levels()) return false;
   Level lv;

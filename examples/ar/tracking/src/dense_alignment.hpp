@@ -30,7 +30,7 @@
 
 namespace marionette::ar {
 
-struct DenseAlignmentParams {
+struct DenseAlignmentOptions {
   int coarseLevel = 3;    // of the frame's pyramid: the first level aligned (80 x 60 for 640 x 480)
   int fineLevel = 1;      // the last one
   int iterations = 10;    // Gauss-Newton steps per level at most
@@ -89,7 +89,7 @@ struct DenseAlignment {
 class DenseAligner {
  public:
   // Sizes the buffers for `params.maxSamples` (allocates: the only call that does).
-  void reserve(const DenseAlignmentParams& params);
+  void reserve(const DenseAlignmentOptions& params);
 
   // From `start`, the pose whose blurred keyframe best explains `frame` (a pyramid of the
   // pinhole image with at least params.coarseLevel levels), and the camera's turn over the
@@ -97,14 +97,14 @@ class DenseAligner {
   // False when the target shows too few pixels, the steps diverge, or the result is not
   // finite. Deterministic; allocates nothing once reserved.
   bool align(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const cv::Vec3d& smearTurn,
-             const PlanarPose& start, const DenseAlignmentParams& params, DenseAlignment& out) noexcept;
+             const PlanarPose& start, const DenseAlignmentOptions& params, DenseAlignment& out) noexcept;
 
   // The evidence at `pose` as it is (nothing fitted but gain and bias): the keyframe blurred by
   // `smearTurn`, rendered at params.fineLevel, against the frame. Fills zncc, sigma, samples,
   // visibleShare and the parts' agreement (out.pose = pose, no covariance). False when the target
   // shows too few pixels there. Allocates nothing once reserved.
   bool verify(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const cv::Vec3d& smearTurn,
-              const PlanarPose& pose, const DenseAlignmentParams& params, DenseAlignment& out) noexcept;
+              const PlanarPose& pose, const DenseAlignmentOptions& params, DenseAlignment& out) noexcept;
 
  private:
   struct Sample {
@@ -125,7 +125,7 @@ class DenseAligner {
 
   struct Level;
   bool prepareLevel(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const PlanarPose& pose,
-                    int level, const DenseAlignmentParams& params, Level& out) noexcept;
+                    int level, const DenseAlignmentOptions& params, Level& out) noexcept;
   int render(const Level& level, const PlanarPose& pose, const cv::Vec<double, 6>& smear, int maxTaps) noexcept;
   // The rendered samples' best integer shift against the frame (ZNCC), applied to `pose` as a
   // turn of the camera about its centre. False when no shift correlates.

@@ -311,7 +311,7 @@ bool HomographyRansac::finish(const std::uint8_t* use, std::size_t n, int refine
 }
 
 bool HomographyRansac::estimate(std::span<const cv::Point2f> src, std::span<const cv::Point2f> dst,
-                                const HomographyRansacParams& params, cv::Matx33d& h, std::span<std::uint8_t> mask,
+                                const HomographyRansacOptions& params, cv::Matx33d& h, std::span<std::uint8_t> mask,
                                 int& inliers) noexcept {
   inliers = 0;
   for (std::uint8_t& m : mask) m = 0;

@@ -23,7 +23,7 @@ bool solveLinear(int n, double* a, double* b, double tiny = 1e-12) noexcept;
 // `jtj` row-major and symmetric (left as it is). False when the damped system is singular.
 bool dampedStep(int n, const double* jtj, const double* jtr, double lambda, double tiny, double* step) noexcept;
 
-struct HomographyRansacParams {
+struct HomographyRansacOptions {
   double thresholdPx = 3;       // a pair is an inlier when the homography puts src within this of dst
   int maxIterations = 500;
   double confidence = 0.995;    // of having drawn one all-inlier sample: sets the iterations needed
@@ -42,7 +42,7 @@ class HomographyRansac {
   // `inliers` counts them. False (h untouched, mask all 0) when there are fewer than 4 usable
   // pairs, more than reserved, src and dst differ in size or mask is too short, no sample of 4
   // is free of collinear triples with a consistent orientation, or the inliers are degenerate.
-  bool estimate(std::span<const cv::Point2f> src, std::span<const cv::Point2f> dst, const HomographyRansacParams& params,
+  bool estimate(std::span<const cv::Point2f> src, std::span<const cv::Point2f> dst, const HomographyRansacOptions& params,
                 cv::Matx33d& h, std::span<std::uint8_t> mask, int& inliers) noexcept;
 
   // The normalized-DLT least-squares homography of the pairs with mask[i] != 0 (all when mask

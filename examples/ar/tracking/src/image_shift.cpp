@@ -103,7 +103,7 @@ double parabolaPeak(double a, double b, double c) noexcept {
 }  // namespace
 
 bool estimateImageShift(const ImagePyramid& previous, const ImagePyramid& current, cv::Point2f guess,
-                        const ImageShiftParams& params, ImageShift& out) noexcept {
+                        const ImageShiftOptions& params, ImageShift& out) noexcept {
   const int top = params.coarseLevel;
   const int radius = params.radius;
   if (top < 0 || top > previous.levels() || top > current.levels() || radius < 1 || radius > kMaxRadius ||

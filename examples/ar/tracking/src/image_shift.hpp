@@ -17,7 +17,7 @@ struct ImageShift {
   double score = 0;   // the ZNCC at the peak, -1..1
 };
 
-struct ImageShiftParams {
+struct ImageShiftOptions {
   int coarseLevel = 3;    // the search level (80 x 60 for a 640 x 480 frame)
   int radius = 16;        // search radius at the coarse level, pixels (128 px of level 0 at level 3: 12 deg a frame at fx 600)
   double minScore = 0.6;  // a peak lower than this is no shift (a blank wall, a scene that changed)
@@ -33,7 +33,7 @@ struct ImageShiftParams {
 // False when the levels are missing or too small for the radius, the block has no texture, or
 // the peak is low or ambiguous. Allocates nothing.
 [[nodiscard]] bool estimateImageShift(const ImagePyramid& previous, const ImagePyramid& current, cv::Point2f guess,
-                                      const ImageShiftParams& params, ImageShift& out) noexcept;
+                                      const ImageShiftOptions& params, ImageShift& out) noexcept;
 
 // The homography (previous pixel -> current pixel) of a camera turning about its centre so
 // that the principal point's image moves by `shift`: K R K^-1 with R the smallest rotation

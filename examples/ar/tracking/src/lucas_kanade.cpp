@@ -262,7 +262,7 @@ void LucasKanade::sample(const GreyLevel& img, int x, int y, float ax, float ay,
 }
 
 bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f prev, cv::Point2f& next, int n,
-                           const LucasKanadeParams& params) noexcept {
+                           const LucasKanadeOptions& params) noexcept {
   const float half = static_cast<float>(n - 1) * 0.5f;
   const cv::Point2f p = prev - cv::Point2f(half, half);
   const int ix = static_cast<int>(std::floor(p.x)), iy = static_cast<int>(std::floor(p.y));
@@ -345,7 +345,7 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
 }
 
 int LucasKanade::track(const ImagePyramid& templ, const ImagePyramid& frame, std::span<const cv::Point2f> from,
-                       std::span<cv::Point2f> to, std::span<std::uint8_t> status, const LucasKanadeParams& params) noexcept {
+                       std::span<cv::Point2f> to, std::span<std::uint8_t> status, const LucasKanadeOptions& params) noexcept {
   const std::size_t count = std::min({from.size(), to.size(), status.size()});
   for (std::size_t i = 0; i < status.size(); ++i) status[i] = 0;
   const int n = params.window;

@@ -61,7 +61,7 @@ class ImagePyramid {
 // the central difference (tracking_primitives_test measures both: a wash).
 enum class LkGradient { Scharr, Central };
 
-struct LucasKanadeParams {
+struct LucasKanadeOptions {
   int window = 15;              // side in pixels, odd, 3..LucasKanade::kMaxWindow
   int coarseWindow = 0;         // the side above level 0 (0: `window`); a smear shrinks there
   int levels = 3;               // pyramid levels above full resolution
@@ -86,7 +86,7 @@ class LucasKanade {
   // pyramid's and those wider and taller than the window. The pyramids must have the same
   // level-0 size (else 0, every status 0). Returns the number found. Allocates nothing.
   int track(const ImagePyramid& templ, const ImagePyramid& frame, std::span<const cv::Point2f> from,
-            std::span<cv::Point2f> to, std::span<std::uint8_t> status, const LucasKanadeParams& params) noexcept;
+            std::span<cv::Point2f> to, std::span<std::uint8_t> status, const LucasKanadeOptions& params) noexcept;
 
  private:
   // Per point and level, in fixed point (lucas_kanade.cpp): the template's samples
@@ -98,7 +98,7 @@ class LucasKanade {
   void sample(const GreyLevel& img, int x, int y, float ax, float ay, int cols8, int rows, std::int16_t* out,
               bool simd) noexcept;
   bool trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f prev, cv::Point2f& next, int window,
-                const LucasKanadeParams& params) noexcept;
+                const LucasKanadeOptions& params) noexcept;
 };
 
 }  // namespace marionette::ar

@@ -84,7 +84,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   // The turn over the exposure is at most the interval's as measured (kMaxExposureShare of it,
   // and a pixel's worth): otherwise a hand crossing a still target is explained as a smear of
   // everything.
-  DenseAlignmentParams params = denseParams;
+  DenseAlignmentOptions params = denseParams;
   if (imageMotionFound && haveMotion) {
     params.maxSmearTurn = std::min(params.maxSmearTurn, kMaxExposureShare * cv::norm(frameTurn) + 1.0 / K(0, 0));
     // The start is the image's measured motion's (within a degree or so): a wide search would

@@ -48,7 +48,7 @@ bool MarkerlessTracker::Impl::gridImageMotion(const cv::Matx33d& guessMotion, cv
   }
   if (backgroundFrom.size() < static_cast<std::size_t>(kMinBackgroundPoints)) return false;
   backgroundStatus.resize(backgroundFrom.size());
-  LucasKanadeParams params;
+  LucasKanadeOptions params;
   params.window = settings.kltWindow;
   params.levels = settings.pyramidLevels;
   lk.track(pyramids[static_cast<std::size_t>(currentFrame ^ 1)], framePyramid(), backgroundFrom, backgroundTo,
@@ -64,7 +64,7 @@ bool MarkerlessTracker::Impl::gridImageMotion(const cv::Matx33d& guessMotion, cv
   backgroundFrom.resize(n);
   if (n < static_cast<std::size_t>(kMinBackgroundPoints)) return false;
   backgroundMask.resize(n);
-  HomographyRansacParams ransac;
+  HomographyRansacOptions ransac;
   ransac.thresholdPx = 3.0;
   int inliers = 0;
   if (!backgroundRansac.estimate(backgroundFrom, backgroundFound, ransac, motion, backgroundMask, inliers)) return false;
@@ -81,7 +81,7 @@ bool MarkerlessTracker::Impl::shiftImageMotion(const cv::Matx33d& guessMotion, c
   const cv::Vec3d h = guessMotion * cv::Vec3d(K(0, 2), K(1, 2), 1.0);
   if (!(h[2] > 1e-9)) return false;
   const cv::Point2f guess(static_cast<float>(h[0] / h[2] - K(0, 2)), static_cast<float>(h[1] / h[2] - K(1, 2)));
-  ImageShiftParams params;
+  ImageShiftOptions params;
   params.coarseLevel = std::min(settings.pyramidLevels, 3);
   ImageShift shift;
   if (!estimateImageShift(pyramids[static_cast<std::size_t>(currentFrame ^ 1)], framePyramid(), guess, params, shift))

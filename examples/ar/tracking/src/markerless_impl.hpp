@@ -215,7 +215,7 @@ struct MarkerlessTracker::Impl {
   MotionBlur blur;
   MotionBlurScratch blurScratch;
   DenseAligner dense;
-  DenseAlignmentParams denseParams;
+  DenseAlignmentOptions denseParams;
   // The exposure's share of the frame interval, as the dense alignment last measured it.
   double exposure = 0.5;
   bool exposureMeasured = false;  // by an accepted dense pose (0.5 until then: a guess)

@@ -171,7 +171,7 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
       found = predicted;
       // A smear longer than the window leaves it little texture along the smear: the window
       // grows with the smear (1.25 times, up to 31 px: docs/tracking.md).
-      LucasKanadeParams lkParams;
+      LucasKanadeOptions lkParams;
       lkParams.window = blur.any() ? std::max(settings.kltWindow, std::min(25, static_cast<int>(blur.lengthPx) | 1))
                                    : settings.kltWindow;
       lkParams.coarseWindow = settings.kltWindow;  // the smear halves with each level

@@ -108,7 +108,7 @@ bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plan
       plane.size() > mask.capacity())
     return false;
   mask.resize(plane.size());  // within capacity: no allocation
-  HomographyRansacParams params;
+  HomographyRansacOptions params;
   params.thresholdPx = thresholdPx;
   cv::Matx33d h;
   int found = 0;
@@ -146,7 +146,7 @@ bool robustPlanarPose(const cv::Matx33d& k, const std::vector<cv::Point2f>& plan
   // IPPE's two candidates refined by Levenberg-Marquardt, the better kept (planar_pose.hpp).
   PlanarPose pose;
   double rms = 0;
-  if (!planarPoseFromHomography(k, h, solver.plane, pixels, {}, PoseRefineParams{}, pose, rms)) return false;
+  if (!planarPoseFromHomography(k, h, solver.plane, pixels, {}, PoseRefineOptions{}, pose, rms)) return false;
   const glm::dvec3 centre = cameraPosition(pose);
   if (!(centre.y > 1e-3) || !(glm::length(centre) <= maxDistance)) return false;  // seen from above, near enough
   if (!std::isfinite(rms)) return false;

@@ -171,7 +171,7 @@ bool usable(const Pairs& pairs, std::size_t& used) noexcept {
 }  // namespace
 
 bool refinePlanarPose(const cv::Matx33d& k, std::span<const cv::Point2f> plane, std::span<const cv::Point2f> image,
-                      std::span<const std::uint8_t> mask, const PoseRefineParams& params, PlanarPose& pose) noexcept {
+                      std::span<const std::uint8_t> mask, const PoseRefineOptions& params, PlanarPose& pose) noexcept {
   const Pairs pairs{plane, image, mask};
   std::size_t used = 0;
   if (!usable(pairs, used) || !finite(k) || !std::isfinite(cv::norm(pose.rvec)) || !std::isfinite(cv::norm(pose.tvec)))
@@ -283,7 +283,7 @@ bool planarPoseCovariance(const cv::Matx33d& k, std::span<const cv::Point2f> pla
 
 bool planarPoseFromHomography(const cv::Matx33d& k, const cv::Matx33d& planeToImage, std::span<const cv::Point2f> plane,
                               std::span<const cv::Point2f> image, std::span<const std::uint8_t> mask,
-                              const PoseRefineParams& params, PlanarPose& out, double& rmsPx) noexcept {
+                              const PoseRefineOptions& params, PlanarPose& out, double& rmsPx) noexcept {
   const Pairs pairs{plane, image, mask};
   std::size_t used = 0;
   if (!usable(pairs, used)) return false;

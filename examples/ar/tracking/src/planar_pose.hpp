@@ -30,7 +30,7 @@ namespace marionette::ar {
 int planarPoseCandidates(const cv::Matx33d& k, const cv::Matx33d& planeToImage, cv::Point2f centre,
                          PlanarPose out[2]) noexcept;
 
-struct PoseRefineParams {
+struct PoseRefineOptions {
   int maxIterations = 20;   // Levenberg-Marquardt steps
   double epsilon = 1e-10;   // stop when a step is shorter than this (radians + metres)
 };
@@ -39,13 +39,13 @@ struct PoseRefineParams {
 // when mask is empty) from `pose`. False (pose untouched) for fewer than 4 pairs, non-finite
 // input, or a pose that puts a point behind the camera at the start.
 bool refinePlanarPose(const cv::Matx33d& k, std::span<const cv::Point2f> plane, std::span<const cv::Point2f> image,
-                      std::span<const std::uint8_t> mask, const PoseRefineParams& params, PlanarPose& pose) noexcept;
+                      std::span<const std::uint8_t> mask, const PoseRefineOptions& params, PlanarPose& pose) noexcept;
 
 // Both candidates refined, the one with the smaller reprojection error kept (its rms in
 // pixels): what solvePnP(IPPE) + solvePnPRefineLM give.
 bool planarPoseFromHomography(const cv::Matx33d& k, const cv::Matx33d& planeToImage, std::span<const cv::Point2f> plane,
                               std::span<const cv::Point2f> image, std::span<const std::uint8_t> mask,
-                              const PoseRefineParams& params, PlanarPose& out, double& rmsPx) noexcept;
+                              const PoseRefineOptions& params, PlanarPose& out, double& rmsPx) noexcept;
 
 // The covariance of `pose` fitted to the used pairs, to first order: sigmaPx^2 (J^T J)^-1 in the
 // refinement's parameters, the normal equations scaled by effectivePoints / used (feature
