@@ -439,8 +439,8 @@ bool Realizer::arrived(Active& b, Event& e, double now) {
   // locomotion that was replaced, cancelled or never started ends now.
   const Character* c = scene_.findCharacter(b.character);
   const LocomotionStatus st = c ? c->locomotionStatus(b.blockId + ":" + e.behaviorId) : LocomotionStatus{};
-  if (st.state == LocomotionStatus::kPending || st.state == LocomotionStatus::kMoving) return false;
-  const double at = st.state == LocomotionStatus::kDone && st.doneTime >= 0.0 ? st.doneTime : now;
+  if (st.state == LocomotionStatus::State::Pending || st.state == LocomotionStatus::State::Moving) return false;
+  const double at = st.state == LocomotionStatus::State::Done && st.doneTime >= 0.0 ? st.doneTime : now;
   e.blockTime += at - e.sceneTime;
   e.sceneTime = at;
   b.end = std::max(b.end, at);

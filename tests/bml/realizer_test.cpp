@@ -313,7 +313,7 @@ TEST_F(RealizerWithRobot, LocomotionEndFiresOnArrival) {
     if (f->behaviorId == "w" && f->syncPoint == "end") arrival = f;
   ASSERT_TRUE(arrival);
   const LocomotionStatus st = c->locomotionStatus("b:w");
-  ASSERT_EQ(st.state, LocomotionStatus::kDone);
+  ASSERT_EQ(st.state, LocomotionStatus::State::Done);
   EXPECT_DOUBLE_EQ(arrival->sceneTime, st.doneTime);
   EXPECT_NEAR(arrival->sceneTime, *end, 0.1);  // the estimate is close
   EXPECT_LT(glm::length(glm::vec2(c->position().x, c->position().z) - glm::vec2(0, 3)), 0.05f);

@@ -56,7 +56,7 @@ TEST(LocomotionOnRealCharacters, RobotFeetStayOnItsLegsAsInItsClips) {
       into = std::max(into, gap);
       runWeight = std::max(runWeight, run);
     }
-    EXPECT_EQ(c->locomotionStatus("walk").state, LocomotionStatus::kDone) << manner;
+    EXPECT_EQ(c->locomotionStatus("walk").state, LocomotionStatus::State::Done) << manner;
     std::printf("%s: feet at most %.3f m off the legs' ends on one clip, %.3f m while blending (run weight up to %.2f); "
                 "the clips: %.3f m\n",
                 manner, static_cast<double>(worst), static_cast<double>(blending), static_cast<double>(runWeight),

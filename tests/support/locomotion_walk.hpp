@@ -114,7 +114,7 @@ inline WalkMeasure measureWalk(const std::shared_ptr<const Rig>& rig, const Walk
     speed.push_back(loco ? loco->steering().speed : 0.0f);
     runWeight.push_back(loco ? loco->runWeight() : 0.0f);
     const LocomotionStatus st = c->locomotionStatus("walk");
-    if (st.state == LocomotionStatus::kDone && !result.done) {
+    if (st.state == LocomotionStatus::State::Done && !result.done) {
       result.done = true;
       result.seconds = static_cast<float>(st.doneTime);
     }

@@ -347,11 +347,11 @@ LocomotionStatus Character::locomotionStatus(std::string_view id) const noexcept
   LocomotionStatus st;
   const BehaviorTimeline::Entry* e = behaviors_.find(id);
   if (!e || !e->as<LocomotionEntryState>()) return st;
-  if (!locomotion_ || e->order > locomotionOrder_) st.state = LocomotionStatus::kPending;
-  else if (e->order < locomotionOrder_) st.state = LocomotionStatus::kSuperseded;
-  else if (locomotion_->moving()) st.state = LocomotionStatus::kMoving;
+  if (!locomotion_ || e->order > locomotionOrder_) st.state = LocomotionStatus::State::Pending;
+  else if (e->order < locomotionOrder_) st.state = LocomotionStatus::State::Superseded;
+  else if (locomotion_->moving()) st.state = LocomotionStatus::State::Moving;
   else {
-    st.state = LocomotionStatus::kDone;
+    st.state = LocomotionStatus::State::Done;
     st.doneTime = locomotion_->doneTime();
   }
   return st;

@@ -44,8 +44,8 @@ struct FrameScratch {
 
 // Where a locomotion request stands (Character::locomotionStatus).
 struct LocomotionStatus {
-  enum State { kUnknown, kPending, kMoving, kDone, kSuperseded } state = kUnknown;
-  double doneTime = -1.0;  // character clock at arrival (and final facing), for kDone
+  enum class State : std::uint8_t { Unknown, Pending, Moving, Done, Superseded } state = State::Unknown;
+  double doneTime = -1.0;  // character clock at arrival (and final facing), for State::Done
 };
 
 // What became of a behavior request (Character::addBehavior).
