@@ -20,7 +20,7 @@ using namespace compact;
 // A float track to compact: its keys as rows of `width` floats (3, or 4 for x, y, z, w).
 struct Source {
   int joint = -1;
-  CompactTrack::Property property = CompactTrack::Translation;
+  CompactTrack::Property property = CompactTrack::Property::Translation;
   int width = 3;
   const float* values = nullptr;
   std::uint32_t keys = 0;
@@ -86,7 +86,7 @@ bool evenKeys(const std::vector<float>& times, float& start, float& rate) {
 // The stored components of key k of a source (rotations: sign-aligned, dropped component removed).
 void stored(const Source& s, std::uint32_t k, float out[4], bool full) {
   const float* v = s.values + static_cast<std::size_t>(k) * s.width;
-  if (s.property != CompactTrack::Rotation || full) {
+  if (s.property != CompactTrack::Property::Rotation || full) {
     for (int c = 0; c < s.width; ++c) out[c] = v[c];
     return;
   }
@@ -97,7 +97,7 @@ void stored(const Source& s, std::uint32_t k, float out[4], bool full) {
 }
 
 void analyze(Source& s) {
-  if (s.property == CompactTrack::Rotation) {
+  if (s.property == CompactTrack::Property::Rotation) {
     float best = -1.0f;
     for (int c = 0; c < 4; ++c) {
       float smallest = INFINITY;
@@ -145,7 +145,7 @@ void encode(const Source& s, int bits, CompactClip& out) {
   t.keys = s.keys;
   t.start = s.start;
   t.rate = s.rate;
-  if (s.property == CompactTrack::Rotation && (s.droppedMin < kSmallestDropped || bits == 32)) bits = 64;
+  if (s.property == CompactTrack::Property::Rotation && (s.droppedMin < kSmallestDropped || bits == 32)) bits = 64;
   if (s.keys == 1) bits = 32;  // a constant: its value as it is, read without decoding
   t.bits = static_cast<std::uint8_t>(bits);
   t.dropped = static_cast<std::uint8_t>(s.dropped);
@@ -213,7 +213,7 @@ CompactClip build(const std::vector<Source>& sources, const std::vector<int>& bi
     if (t.keys == 1) return 6;
     if (t.bits != 8 && t.bits != 16) return 4;
     const int uneven = t.times == CompactTrack::kEvenKeys ? 0 : 1;
-    return (t.property == CompactTrack::Rotation ? 0 : 2) + uneven;
+    return (t.property == CompactTrack::Property::Rotation ? 0 : 2) + uneven;
   };
   std::stable_sort(c.tracks.begin(), c.tracks.end(), [&](const CompactTrack& a, const CompactTrack& b) { return rank(a) < rank(b); });
   for (const CompactTrack& t : c.tracks) {
@@ -232,14 +232,14 @@ CompactClip build(const std::vector<Source>& sources, const std::vector<int>& bi
 // the bit choice's first guess and its ranking of which track to refine.
 float proxyError(const Source& s, int bits, float lever, float parentScale) {
   if (bits >= 32) return 0.0f;
-  if (s.property == CompactTrack::Rotation && s.droppedMin < kSmallestDropped) return 0.0f;  // 64 bits anyway
+  if (s.property == CompactTrack::Property::Rotation && s.droppedMin < kSmallestDropped) return 0.0f;  // 64 bits anyway
   const float levels = static_cast<float>((1u << bits) - 1u);
   const float step = std::max({s.range[0], s.range[1], s.range[2]}) / levels;
   const float component = 0.5f * step * std::sqrt(3.0f);
   switch (s.property) {
-    case CompactTrack::Rotation:  // angle ~ twice the quaternion's error, the dropped part magnified
+    case CompactTrack::Property::Rotation:  // angle ~ twice the quaternion's error, the dropped part magnified
       return 2.0f * component * (1.0f + 1.0f / s.droppedMin) * lever;
-    case CompactTrack::Scale:
+    case CompactTrack::Property::Scale:
       return component * lever;
     default:
       return component * parentScale;
@@ -267,7 +267,7 @@ std::vector<std::uint16_t> keysToKeep(const Source& s, float tolerance) {
   // nlerp over a longer span moves at another pace, so matching at the keys alone
   // would leave the reduced curve off between them. The track's own midpoints
   // (between keys k - 1 and k) are the same for every span: computed once.
-  const bool rotation = s.property == CompactTrack::Rotation;
+  const bool rotation = s.property == CompactTrack::Property::Rotation;
   std::vector<glm::quat> midpoint(rotation ? s.keys : 0);
   for (std::uint32_t k = 1; k < midpoint.size(); ++k) midpoint[k] = nlerpShortest(quat(k - 1), quat(k), 0.5f);
   const auto recovered = [&](std::uint32_t a, std::uint32_t b) {
@@ -304,9 +304,9 @@ std::vector<std::uint16_t> keysToKeep(const Source& s, float tolerance) {
 // A track's reduction tolerance in its own units, from a distance at a virtual vertex.
 float componentTolerance(const Source& s, float distance, float lever, float parentScale) {
   switch (s.property) {
-    case CompactTrack::Rotation:  // a quaternion's components move by about half the angle
+    case CompactTrack::Property::Rotation:  // a quaternion's components move by about half the angle
       return 0.5f * distance / lever;
-    case CompactTrack::Scale:
+    case CompactTrack::Property::Scale:
       return distance / lever;
     default:
       return distance / parentScale;
@@ -398,8 +398,8 @@ CompactClip compactClipOnce(const Clip& clip, const Skeleton& skeleton, const Co
   };
   for (const JointTrack& jt : clip.tracks) {
     if (jt.joint < 0 || static_cast<std::size_t>(jt.joint) >= joints) continue;
-    if (!add(jt.joint, CompactTrack::Translation, jt.translation, 3) || !add(jt.joint, CompactTrack::Rotation, jt.rotation, 4) ||
-        !add(jt.joint, CompactTrack::Scale, jt.scale, 3))
+    if (!add(jt.joint, CompactTrack::Property::Translation, jt.translation, 3) || !add(jt.joint, CompactTrack::Property::Rotation, jt.rotation, 4) ||
+        !add(jt.joint, CompactTrack::Property::Scale, jt.scale, 3))
       return {};
   }
   if (sources.empty()) {

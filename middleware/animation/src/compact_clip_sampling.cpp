@@ -146,7 +146,7 @@ inline void sampleTrack(const CompactTrack& t, const std::uint8_t* base, float t
                         std::uint32_t* hint = nullptr) noexcept {
   const std::uint8_t* data = base + t.offset;
   const KeyAt k = locate(t, base, time, hint);
-  if (t.property == CompactTrack::Rotation) {
+  if (t.property == CompactTrack::Property::Rotation) {
     switch (t.bits) {
       case 8: return sampleRotation<8>(t, data, k, o.rotation);
       case 16: return sampleRotation<16>(t, data, k, o.rotation);
@@ -154,7 +154,7 @@ inline void sampleTrack(const CompactTrack& t, const std::uint8_t* base, float t
       default: return sampleRotation<64>(t, data, k, o.rotation);
     }
   }
-  glm::vec3& v = t.property == CompactTrack::Translation ? o.translation : o.scale;
+  glm::vec3& v = t.property == CompactTrack::Property::Translation ? o.translation : o.scale;
   switch (t.bits) {
     case 8: return sampleVec3<8>(t, data, k, v);
     case 16: return sampleVec3<16>(t, data, k, v);
@@ -382,7 +382,7 @@ void sample4(const CompactTrack* first, std::size_t count, const std::uint8_t* b
     for (std::size_t k = 0; k < 4; ++k) {
       Transform* o = owner(k);
       if (!o) continue;
-      float* p = t[k]->property == CompactTrack::Translation ? &o->translation.x : &o->scale.x;
+      float* p = t[k]->property == CompactTrack::Property::Translation ? &o->translation.x : &o->scale.x;
       _mm_storel_pi(reinterpret_cast<__m64*>(p), v[k]);
       _mm_store_ss(p + 2, _mm_movehl_ps(v[k], v[k]));
     }
@@ -459,10 +459,10 @@ void applyCompactClipConstants(const CompactClip& clip, std::span<Transform> pos
     const auto j = static_cast<std::size_t>(c.joint);
     if (c.joint < 0 || j >= n) continue;
     const std::uint8_t* v = data + c.offset;
-    if (c.property == CompactTrack::Rotation)
+    if (c.property == CompactTrack::Property::Rotation)
       pose[j].rotation = glm::quat(readAt<float>(v + 12), readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
     else
-      (c.property == CompactTrack::Translation ? pose[j].translation : pose[j].scale) =
+      (c.property == CompactTrack::Property::Translation ? pose[j].translation : pose[j].scale) =
           glm::vec3(readAt<float>(v), readAt<float>(v + 4), readAt<float>(v + 8));
   }
 }

@@ -39,9 +39,9 @@ struct CompactClipOptions {
 
 // One property of one joint.
 struct CompactTrack {
-  enum Property : std::uint8_t { Translation, Rotation, Scale };
+  enum class Property : std::uint8_t { Translation, Rotation, Scale };
   std::int32_t joint = -1;
-  Property property = Translation;
+  Property property = Property::Translation;
   // Per stored component: 8 or 16 (within the track's range, a rotation dropping one
   // component), 32 (floats), or for rotations 64: each key in 64 bits, the largest
   // component dropped (2 bits say which) and the other three in 20 bits each.
