@@ -22,7 +22,6 @@
 
 Usage: bench_to_csv.py BENCH.json OUT_DIR
 """
-import csv
 import json
 import statistics
 import sys
@@ -67,14 +66,17 @@ rows = ["benchmark,repetitions,time_unit,time_median,time_min,time_max,spread_pc
 counters = ["benchmark,counter,repetitions,median,min,max"]
 joints = ["joints,us_per_char_median,us_per_char_min,us_per_char_max"]
 chars = ["characters,us_per_char_median,us_per_char_min,us_per_char_max"]
+current = []  # (name, repetitions, unit, median, spread, us_per_char median or None, error) for bench_current.md
 for name, reps in runs.items():
     if not reps:
         rows.append(f"{name},0,,,,,,,,,{quoted(errors.get(name, 'no repetition'))}")
+        current.append((name, 0, "", None, None, None, errors.get(name, "no repetition")))
         continue
     times = [r["real_time"] for r in reps]
     median = statistics.median(times)
     spread = 100.0 * (max(times) - min(times)) / median if median else 0.0
     per_char = ["", "", ""]
+    per_char_median = None
     names = [k for k in reps[0] if k not in NOT_COUNTERS and isinstance(reps[0][k], (int, float))]
     for counter in names:
         values = [r[counter] for r in reps if counter in r]
@@ -82,9 +84,11 @@ for name, reps in runs.items():
         counters.append(f"{name},{counter},{len(values)}," + ",".join(fmt(v) for v in stats))
         if counter == "us_per_char":
             per_char = [fmt(v) for v in stats]
+            per_char_median = stats[0]
     message = quoted(errors[name]) if name in errors else ""
     rows.append(f"{name},{len(reps)},{reps[0]['time_unit']},{fmt(median)},{fmt(min(times))},"
                 f"{fmt(max(times))},{spread:.1f},{','.join(per_char)},{message}")
+    current.append((name, len(reps), reps[0]["time_unit"], median, spread, per_char_median, None))
     if per_char[0] and name.startswith("Scaling/Joints/"):
         joints.append(f"{name.rsplit('/', 1)[1]},{','.join(per_char)}")
     elif per_char[0] and name.startswith("Scaling/Characters/"):
@@ -101,15 +105,12 @@ md = ["# Every benchmark, current figures", "",
       "the figures move by more (docs/benchmarks.md, \"Does a rerun reproduce\").", "",
       "| benchmark | repetitions | median | spread | µs per character |", "|---|---|---|---|---|"]
 unit_name = {"ns": "ns", "us": "µs", "ms": "ms", "s": "s"}
-for r in rows[1:]:
-    cells = next(csv.reader([r]))
-    name, reps, unit, median, _, _, spread, per_char = cells[:8]
-    if not median:
-        md.append(f"| `{name}` | 0 | error: {cells[10]} | | |")
+for name, reps, unit, median, spread, per_char, error in current:
+    if median is None:
+        md.append(f"| `{name}` | 0 | error: {error} | | |")
         continue
-    md.append(f"| `{name}` | {reps} | {float(median):.4g} {unit_name.get(unit, unit)} | {spread} % | "
-              f"{float(per_char):.3g} |" if per_char else
-              f"| `{name}` | {reps} | {float(median):.4g} {unit_name.get(unit, unit)} | {spread} % | |")
+    md.append(f"| `{name}` | {reps} | {median:.4g} {unit_name.get(unit, unit)} | {spread:.1f} % | "
+              + (f"{per_char:.3g} |" if per_char is not None else "|"))
 (out / "bench_current.md").write_text("\n".join(md) + "\n")
 (out / "bench_counters.csv").write_text("\n".join(counters) + "\n")
 (out / "scaling_joints.csv").write_text("\n".join(joints) + "\n")

@@ -25,11 +25,12 @@ namespace {
 
 using namespace gltf_detail;
 
-// tinygltf would decode every image; we keep the encoded bytes (for the asset's
-// embeddedImages) when meshes are loaded, and nothing otherwise.
+// tinygltf would decode every image; we keep the encoded bytes of the images inside the file
+// (for the asset's embeddedImages) when meshes are loaded, and nothing otherwise.
 bool keepImageUndecoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
                         const unsigned char* bytes, int size, void* keep) {
-  if (keep && *static_cast<const bool*>(keep) && bytes && size > 0) image->image.assign(bytes, bytes + size);
+  if (keep && *static_cast<const bool*>(keep) && bytes && size > 0 && imageInsideFile(*image))
+    image->image.assign(bytes, bytes + size);
   return true;
 }
 
@@ -424,13 +425,6 @@ std::optional<Asset> buildAsset(const Context& ctx) {
   if (ctx.options.loadMeshes) {
     if (!MeshBuilder(ctx, reader, graph, asset.skeleton, map, morphs).build(asset.meshes)) return std::nullopt;
     asset.materials = buildMaterials(ctx);
-    // The images inside the file ("embedded:N", gltf_mesh.hpp's textureReference); an image
-    // that is a file of its own stays empty here.
-    asset.embeddedImages.reserve(ctx.model.images.size());
-    for (const tinygltf::Image& image : ctx.model.images) {
-      const bool inside = image.bufferView >= 0 || image.uri.empty() || image.uri.rfind("data:", 0) == 0;
-      asset.embeddedImages.push_back(inside ? image.image : std::vector<unsigned char>{});
-    }
   }
   if (ctx.options.loadAnimations) asset.clips = buildClips(ctx, reader, map, morphs);
   HumanoidReader(ctx, asset.skeleton, map, morphs).read(asset);
@@ -453,6 +447,12 @@ void importInto(const std::string& path, const ImportOptions& options, ImportRes
   if (!loadModel(path, src, options, model, diag)) return;
   const Context ctx{model, *doc, path, options, diag};
   result.asset = buildAsset(ctx);
+  // The images inside the file ("embedded:N", textureReference), moved out of the model that
+  // is dropped here; an image that is a file of its own stays empty.
+  if (result.asset && options.loadMeshes)
+    for (tinygltf::Image& image : model.images)
+      result.asset->embeddedImages.push_back(imageInsideFile(image) ? std::move(image.image)
+                                                                    : std::vector<unsigned char>{});
 }
 
 }  // namespace

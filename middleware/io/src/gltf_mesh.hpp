@@ -372,6 +372,11 @@ inline std::string percentDecoded(const std::string& uri) {
   return out;
 }
 
+// An image stored in the glTF file itself (a buffer view or a data URI), not a file of its own.
+inline bool imageInsideFile(const tinygltf::Image& image) {
+  return image.bufferView >= 0 || image.uri.empty() || image.uri.rfind("data:", 0) == 0;
+}
+
 // Texture reference of `textureIndex`: the image file resolved against the
 // glTF file's folder, or "embedded:<image index>" for images inside the file.
 inline std::string textureReference(const Context& ctx, int textureIndex) {
@@ -379,8 +384,7 @@ inline std::string textureReference(const Context& ctx, int textureIndex) {
   const int source = ctx.model.textures[static_cast<std::size_t>(textureIndex)].source;
   if (!Context::inRange(source, ctx.model.images)) return {};
   const tinygltf::Image& image = ctx.model.images[static_cast<std::size_t>(source)];
-  if (image.bufferView >= 0 || image.uri.empty() || image.uri.rfind("data:", 0) == 0)
-    return "embedded:" + std::to_string(source);
+  if (imageInsideFile(image)) return "embedded:" + std::to_string(source);
   const std::filesystem::path dir = std::filesystem::path(ctx.file).parent_path();
   const std::filesystem::path file = (dir / percentDecoded(image.uri)).lexically_normal();
   if (!ctx.options.allowFilesOutsideModelFolder && !insideFolder(file, dir)) {

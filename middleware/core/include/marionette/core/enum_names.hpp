@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "marionette/core/text.hpp"
 
@@ -58,20 +59,13 @@ template <class E>
 // valid names (an alias row, naming a value already listed, is left out).
 template <class E>
 [[nodiscard]] std::string validNames(std::span<const EnumName<E>> table) {
+  std::vector<std::string_view> firsts;  // each value's first name
+  for (std::size_t i = 0; i < table.size(); ++i)
+    if (nameOfValue<E>(table[i].value, table.first(i), {}).empty()) firsts.push_back(table[i].name);
   std::string out;
-  std::size_t listed = 0, total = 0;
-  for (std::size_t i = 0; i < table.size(); ++i) {
-    bool first = true;
-    for (std::size_t k = 0; k < i; ++k) first = first && !(table[k].value == table[i].value);
-    total += first ? 1 : 0;
-  }
-  for (std::size_t i = 0; i < table.size(); ++i) {
-    bool first = true;
-    for (std::size_t k = 0; k < i; ++k) first = first && !(table[k].value == table[i].value);
-    if (!first) continue;
-    if (listed > 0) out += listed + 1 == total ? " or " : ", ";
-    out += table[i].name;
-    ++listed;
+  for (std::size_t i = 0; i < firsts.size(); ++i) {
+    if (i > 0) out += i + 1 == firsts.size() ? " or " : ", ";
+    out += firsts[i];
   }
   return out;
 }
