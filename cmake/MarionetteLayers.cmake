@@ -52,9 +52,7 @@ endfunction()
 # marionette_use_layers(<target> <layers...>): what marionette_layer does for its TARGET,
 # for another target built from the same layer (the C API's shared library with espeak-ng).
 function(marionette_use_layers target)
-  set(L_TARGET ${target})
-  set(L_USES ${ARGN})
-  get_target_property(type ${L_TARGET} TYPE)
+  get_target_property(type ${target} TYPE)
   if(type STREQUAL "EXECUTABLE" OR type STREQUAL "SHARED_LIBRARY")  # a shared library hides what it uses
     set(scope PRIVATE)
   elseif(type STREQUAL "INTERFACE_LIBRARY")
@@ -63,14 +61,14 @@ function(marionette_use_layers target)
     set(scope PUBLIC)
   endif()
   set(middleware FALSE)
-  foreach(u IN LISTS L_USES)
+  foreach(u IN LISTS ARGN)
     if(TARGET marionette_mw_${u}_headers)
-      target_link_libraries(${L_TARGET} ${scope} $<BUILD_INTERFACE:marionette_mw_${u}_headers>)
+      target_link_libraries(${target} ${scope} $<BUILD_INTERFACE:marionette_mw_${u}_headers>)
       set(middleware TRUE)
     else()
       get_property(t GLOBAL PROPERTY MARIONETTE_LAYER_${u}_TARGET)
       if(t)
-        target_link_libraries(${L_TARGET} ${scope} ${t})
+        target_link_libraries(${target} ${scope} ${t})
       endif()
     endif()
   endforeach()
@@ -78,7 +76,7 @@ function(marionette_use_layers target)
     # The objects: in the build tree marionette_middleware has no include folder (the
     # modules' headers come from the _headers targets above); installed, it is
     # marionette::middleware with the whole package's headers.
-    target_link_libraries(${L_TARGET} ${scope} marionette_middleware)
+    target_link_libraries(${target} ${scope} marionette_middleware)
   endif()
 endfunction()
 

@@ -390,10 +390,8 @@ void Character::notifySpeechStopped(const std::vector<std::string>& ids) const {
 void Character::applyBehaviors(float dt) noexcept {
   // One walk over the timeline hands each entry to its controller's pass, with its weight
   // (entries without weight now are left out, except speech and locomotion, which look at
-  // time themselves). The passes then run in a fixed order (DESIGN.md): clip behaviors
-  // (postures) over the layers, locomotion, upper-body clips (gestures), gaze, head
-  // movements added on top of it, procedural gestures and pointing (after the gaze has
-  // turned the torso, so the arms move from where it ends up), face expressions, speech.
+  // time themselves). The passes then run in the order of enum class Controller
+  // (character.hpp says why that order).
   for (auto& p : passes_) p.clear();
   const std::span<BehaviorTimeline::Entry> entries = behaviors_.entries();
   for (std::size_t i = 0; i < entries.size(); ++i) {
