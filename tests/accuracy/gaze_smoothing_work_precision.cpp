@@ -10,7 +10,8 @@
 // Columns: method, dt_s, max_error_rad, ns_per_step, ns_per_simulated_second,
 // frames_compared (the frames the error is over), frames (the run's), diverged (1 when
 // the method left the reference by more than 1e3 rad or became non-finite; its
-// max_error_rad is then "inf", over the frames before it diverged: not a figure);
+// max_error_rad is then "inf", over the frames before it diverged: not a figure),
+// mean_error_rad (the mean over the same frames; "inf" when diverged);
 // one block per method, separated by two blank lines (gnuplot's `index`).
 #include <algorithm>
 #include <chrono>
@@ -89,7 +90,7 @@ void integrateSpring(Exact& s, double t0, double dt) {
 
 // Max |x - reference| at the frame times, and over how many frames it was taken.
 struct Error {
-  double max = 0.0;
+  double max = 0.0, sum = 0.0;  // over the frames compared
   int framesCompared = 0, frames = 0;
   bool diverged = false;
 };
@@ -110,6 +111,7 @@ Error maxError(const Step& step, double dt) {
     }
     ++error.framesCompared;
     error.max = std::max(error.max, e);
+    error.sum += e;
   }
   return error;
 }
@@ -138,7 +140,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("reference: RK4 of the spring ODE in double, steps <= 1e-5 s, continuous target\n");
-  std::fprintf(out, "method,dt_s,max_error_rad,ns_per_step,ns_per_simulated_second,frames_compared,frames,diverged\n");
+  std::fprintf(out, "method,dt_s,max_error_rad,ns_per_step,ns_per_simulated_second,frames_compared,frames,diverged,mean_error_rad\n");
   const std::pair<const char*, Step> methods[] = {
       {"exact (target ramp)", exactRamp},
       {"exact (target held)", exactHold},
@@ -152,14 +154,19 @@ int main(int argc, char** argv) {
     for (double dt : {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 0.1, 0.25, 0.5}) {
       const Error e = maxError(step, dt);
       char error[32] = "inf";
-      if (!e.diverged) std::snprintf(error, sizeof error, "%.6g", e.max);
-      std::fprintf(out, "%s,%.6f,%s,%.3f,%.1f,%d,%d,%d\n", name, dt, error, ns, ns / dt, e.framesCompared, e.frames,
-                   e.diverged ? 1 : 0);
+      char mean[32] = "inf";
+      if (!e.diverged) {
+        std::snprintf(error, sizeof error, "%.6g", e.max);
+        std::snprintf(mean, sizeof mean, "%.6g", e.sum / e.framesCompared);
+      }
+      std::fprintf(out, "%s,%.6f,%s,%.3f,%.1f,%d,%d,%d,%s\n", name, dt, error, ns, ns / dt, e.framesCompared, e.frames,
+                   e.diverged ? 1 : 0, mean);
       if (e.diverged)
         std::printf("%-20s dt %.4f s  diverged after %d of %d frames  %.2f ns/step\n", name, dt, e.framesCompared,
                     e.frames, ns);
       else
-        std::printf("%-20s dt %.4f s  max error %.3g rad over %d frames  %.2f ns/step\n", name, dt, e.max, e.frames, ns);
+        std::printf("%-20s dt %.4f s  max error %.3g rad (mean %.3g) over %d frames  %.2f ns/step\n", name, dt, e.max,
+                    e.sum / e.framesCompared, e.frames, ns);
     }
   }
   std::fclose(out);
