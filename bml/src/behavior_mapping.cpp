@@ -36,13 +36,13 @@ std::string clipName(const Behavior& b) {
 }
 }  // namespace
 
-std::uint32_t channelsOf(const Behavior& b) {
+BodyChannel channelsOf(const Behavior& b) {
   const auto kind = behaviorKindFromName(b.type);
-  if (!kind) return 0;
+  if (!kind) return BodyChannel::None;
   if (*kind == BehaviorKind::Gesture || *kind == BehaviorKind::Pointing) {
     const Attribute* mode = b.attribute("mode");
-    if (mode && mode->value == "LEFT_HAND") return kChannelLeftHand;
-    if (mode && mode->value == "RIGHT_HAND") return kChannelRightHand;
+    if (mode && mode->value == "LEFT_HAND") return BodyChannel::LeftHand;
+    if (mode && mode->value == "RIGHT_HAND") return BodyChannel::RightHand;
   }
   return defaultChannels(*kind);
 }
@@ -114,8 +114,8 @@ std::shared_ptr<const speech::SpeechService::Preparation> prepareSpeechTiming(co
 
 std::optional<SpeechTiming> speechTiming(const Behavior& b, const Character& character) {
   if (b.type != "speech") return std::nullopt;
-  std::string error;
-  const auto line = character.prepareSpeech(speechRequest(b), error);
+  Diagnostics unsaid;  // reported again when the request is added (addBehavior)
+  const auto line = character.prepareSpeech(speechRequest(b), unsaid);
   if (!line) return std::nullopt;
   SpeechTiming t;
   t.duration = line->utterance->duration;

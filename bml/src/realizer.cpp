@@ -364,15 +364,15 @@ void Realizer::reportConflicts(const Character& character, const Active& a, cons
   // The new request overlaps earlier ones (of this block or another) on a
   // channel: it wins there (the timeline blends it over), with one warning that
   // names the latest of them (one per behavior, so warnings stay linear in the input).
-  const std::uint32_t bits = added.request.channelBits();
-  if (bits == 0) return;
+  const BodyChannel bits = added.request.channelBits();
+  if (!any(bits)) return;
   const BehaviorTimeline::Entry* latest = nullptr;
   double from = 0.0, to = 0.0;
   std::size_t others = 0;
   const auto entries = character.behaviors().entries();
   for (auto it = entries.rbegin(); it != entries.rend(); ++it) {
     const BehaviorTimeline::Entry& other = *it;
-    if (other.order >= added.order || (other.request.channelBits() & bits) == 0) continue;
+    if (other.order >= added.order || !any(other.request.channelBits() & bits)) continue;
     const double f = std::max(added.request.start(), other.request.start());
     const double t = std::min(added.request.end(), std::min(other.request.end(), other.finishTime()));
     if (t <= f) continue;
@@ -402,8 +402,8 @@ std::optional<std::pair<std::string, std::string>> Realizer::channelOwner(std::s
                                                                          std::string_view channel,
                                                                          double sceneTime) const {
   Character* c = scene_.findCharacter(character);
-  const std::uint32_t bits = channelFromName(channel);
-  if (!c || bits == 0) return std::nullopt;
+  const BodyChannel bits = channelFromName(channel);
+  if (!c || !any(bits)) return std::nullopt;
   const BehaviorRequest* owner = c->behaviors().owner(bits, sceneTime);
   if (!owner) return std::nullopt;
   return splitRequestId(owner->id);

@@ -15,9 +15,10 @@ TimedFiles::TimedFiles(Realizer& realizer, std::vector<TimedFile> files)
 void TimedFiles::sendDue(double now, const std::function<void(const Diagnostic&)>& report) {
   for (; next_ < files_.size() && files_[next_].time <= now + 1e-9; ++next_) {
     const TimedFile& f = files_[next_];
-    std::string text, why;
-    if (!readTextFile(f.path, text, why)) {
-      report(Diagnostic{Severity::Error, f.path, 0, 0, "cannot read the BML file: " + why});
+    std::string text;
+    Diagnostics unread;
+    if (!readTextFile(f.path, text, unread, "cannot read the BML file")) {
+      for (const Diagnostic& d : unread.items) report(d);
       continue;
     }
     const Schedule s = realizer_.perform(text, f.character, {}, f.time);

@@ -35,7 +35,7 @@ std::string warningLine(const std::string& file, const bml::Warning& w) {
 std::shared_ptr<const Rig> defaultCharacterRig() {
   auto asset = std::make_shared<Asset>();
   asset->skeleton.addJoint("root", -1, Transform{});
-  return std::make_shared<Rig>(asset);
+  return std::make_shared<Rig>(*asset);
 }
 }  // namespace
 
@@ -53,7 +53,7 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
     ImportResult loaded = importAsset(characterFile);
     std::fputs(loaded.diagnostics.format().c_str(), stderr);
     if (!loaded.ok()) return 2;
-    rig = std::make_shared<Rig>(std::make_shared<const Asset>(std::move(*loaded.asset)));
+    rig = std::make_shared<Rig>(*loaded.asset);
   }
   const bml::Dialect dialect = bml::dialectFromName(o.dialect).value_or(bml::Dialect::Auto);  // checked by the option
   // Without a character the check is about the BML alone: say so once, so that "ok" is not
@@ -67,9 +67,9 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
   int worst = 0;
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const std::string& file : files) {
-    std::string content, why;
-    if (!readTextFile(file, content, why)) {
-      std::fprintf(stderr, "%s: error: cannot read the file: %s\n", file.c_str(), why.c_str());
+    std::string content;
+    if (Diagnostics unread; !readTextFile(file, content, unread, "cannot read the file")) {
+      std::fputs(unread.format().c_str(), stderr);
       worst = 2;
       continue;
     }

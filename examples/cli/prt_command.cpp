@@ -76,7 +76,7 @@ int prtPrecomputeCommand(const PrtPrecomputeOptions& o) {
   std::fputs(d.format().c_str(), stderr);
   if (!d.ok()) return 2;
 
-  prt::TransferSettings settings;
+  prt::TransferOptions settings;
   settings.bands = o.bands > 0 ? o.bands : prt::kDefaultTransferBands;
   settings.raysPerVertex = o.rays;
   settings.shadowed = o.shadowed;

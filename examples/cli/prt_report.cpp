@@ -34,6 +34,11 @@ int reportFail(const std::string& message) {
   return 2;
 }
 
+int reportFail(const Diagnostics& diagnostics) {
+  std::fputs(diagnostics.format().c_str(), stderr);
+  return 2;
+}
+
 std::string machine() {
   std::ifstream in("/proc/cpuinfo");
   std::string line, model = "unknown CPU";
@@ -241,10 +246,10 @@ void writeExtremesSection(Markdown& md, const std::vector<Check>& checks) {
 }
 
 bool runGnuplot(const ReportOptions& o, const std::string& script, const fs::path& data, const fs::path& img,
-                std::string& error) {
+                Diagnostics& diagnostics) {
   const std::string path = o.scripts + "/" + script;
   const std::string command = "gnuplot -e \"data='" + data.string() + "'; img='" + img.string() + "'\" '" + path + "'";
-  if (std::system(command.c_str()) != 0) return error = "gnuplot failed on " + path + " (" + command + ")", false;
+  if (std::system(command.c_str()) != 0) return diagnostics.error(path, "gnuplot failed on the script (" + command + ")"), false;
   return true;
 }
 }  // namespace
@@ -286,17 +291,17 @@ int prtReportCommand(const PrtReportOptions& o) {
   fs::create_directories(img, ec);
   if (!fs::is_directory(data) || !fs::is_directory(img)) return reportFail("cannot create " + data.string() + " and " + img.string());
 
-  std::string error;
+  Diagnostics problems;
   std::vector<LightingResult> lighting;
-  if (!measureLighting(plan, o, data, lighting, error)) return reportFail(error);
+  if (!measureLighting(plan, o, data, lighting, problems)) return reportFail(problems);
   std::vector<SamplingCase> sampling;
-  if (!measureSampling(plan, data, sampling, error)) return reportFail(error);
+  if (!measureSampling(plan, data, sampling, problems)) return reportFail(problems);
   EndToEndResult endToEnd;
-  if (!measureEndToEnd(plan, o, data, endToEnd, error)) return reportFail(error);
+  if (!measureEndToEnd(plan, o, data, endToEnd, problems)) return reportFail(problems);
   std::vector<Check> checks;
-  if (!measureExtremes(plan, o, data, checks, error)) return reportFail(error);
+  if (!measureExtremes(plan, o, data, checks, problems)) return reportFail(problems);
   for (const char* script : {"plot_prt_lighting.gp", "plot_prt_sampling.gp", "plot_prt_end_to_end.gp"})
-    if (!runGnuplot(o, script, data, img, error)) return reportFail(error);
+    if (!runGnuplot(o, script, data, img, problems)) return reportFail(problems);
   const double total = secondsSince(start);
 
   Markdown md;

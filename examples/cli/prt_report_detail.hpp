@@ -16,6 +16,7 @@
 #include <glm/vec3.hpp>
 
 #include "commands.hpp"
+#include "marionette/core/diagnostic.hpp"
 #include "marionette/prt/sh_lighting.hpp"
 
 namespace marionette::cli::detail {
@@ -57,8 +58,11 @@ struct Plan {
   int rotationMapWidth = 1024;  // the map the ShRotation check resamples (downsampled when smaller)
 };
 
+// Each measurement below returns false with an error in `diagnostics` naming the file (a light
+// probe or character it cannot load, a CSV it cannot write) and the problem.
+
 // Light probes and SH irradiance for the experiments (prt_report_maps.cpp).
-std::optional<prt::EnvironmentMap> loadMap(const std::string& path, std::string& error);
+std::optional<prt::EnvironmentMap> loadMap(const std::string& path, Diagnostics& diagnostics);
 std::optional<prt::EnvironmentMap> boxDownsample(const prt::EnvironmentMap& map, int width, int height);
 std::vector<glm::dvec3> evaluateAll(const prt::ShCoefficients& irradianceCoeffs,
                                     const std::vector<glm::dvec3>& normals);
@@ -84,7 +88,7 @@ inline constexpr std::array<prt::ShWindow, 4> kWindows{prt::ShWindow::None, prt:
 inline constexpr std::array<int, 2> kWindowBands{3, 8};
 
 bool measureLighting(const Plan& plan, const ReportOptions& o, const fs::path& data,
-                     std::vector<LightingResult>& results, std::string& error);
+                     std::vector<LightingResult>& results, Diagnostics& diagnostics);
 
 // ---------------------------------------------------------------------------------------------
 // 2. Transfer sampling error against the exact cone transfer (prt_report_sampling.cpp)
@@ -95,7 +99,8 @@ struct SamplingCase {
   double slope = 0.0, intercept = 0.0;
 };
 
-bool measureSampling(const Plan& plan, const fs::path& data, std::vector<SamplingCase>& cases, std::string& error);
+bool measureSampling(const Plan& plan, const fs::path& data, std::vector<SamplingCase>& cases,
+                     Diagnostics& diagnostics);
 
 // ---------------------------------------------------------------------------------------------
 // 3. End to end on RobotExpressive, shadowed (prt_report_end_to_end.cpp)
@@ -124,7 +129,7 @@ struct EndToEndResult {
 };
 
 bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& data, EndToEndResult& result,
-                     std::string& error);
+                     Diagnostics& diagnostics);
 
 // ---------------------------------------------------------------------------------------------
 // 4. Stiff and extreme cases (prt_report_extremes.cpp)
@@ -134,6 +139,6 @@ struct Check {
 };
 
 bool measureExtremes(const Plan& plan, const ReportOptions& o, const fs::path& data, std::vector<Check>& checks,
-                     std::string& error);
+                     Diagnostics& diagnostics);
 
 }  // namespace marionette::cli::detail

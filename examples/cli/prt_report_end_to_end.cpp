@@ -71,15 +71,22 @@ ChannelError channelError(const std::vector<glm::dvec3>& approx, const std::vect
 }  // namespace
 
 bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& data, EndToEndResult& result,
-                     std::string& error) {
+                     Diagnostics& diagnostics) {
   std::fprintf(stderr, "prt report: 3/4 end to end: loading RobotExpressive\n");
   const std::string character = o.assets + "/characters/RobotExpressive.glb";
   ImportResult imported = importAsset(character);
-  if (!imported.asset) return error = imported.diagnostics.format(), false;
+  if (!imported.asset) {
+    diagnostics.items.insert(diagnostics.items.end(), imported.diagnostics.items.begin(), imported.diagnostics.items.end());
+    return false;
+  }
   Diagnostics d;
   const prt::TransferMesh mesh = prt::bindPoseMesh(*imported.asset, d);
   std::unique_ptr<prt::OcclusionTracer> tracer = prt::makeEmbreeOcclusion(mesh, d);
-  if (!d.ok() || !tracer || mesh.positions.empty()) return error = character + ": " + d.format(), false;
+  if (!d.ok() || !tracer || mesh.positions.empty()) {
+    diagnostics.items.insert(diagnostics.items.end(), d.items.begin(), d.items.end());
+    diagnostics.error(character, "no mesh to trace the transfer on");
+    return false;
+  }
   const std::size_t vertexCount = mesh.positions.size();
   result.vertices = vertexCount;
 
@@ -87,12 +94,12 @@ bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& d
                                       {"royal_esplanade", o.assets + "/envmaps/royal_esplanade_1k.hdr"}};
   std::vector<prt::EnvironmentMap> maps;
   for (const MapSpec& spec : mapSpecs) {
-    const std::optional<prt::EnvironmentMap> full = loadMap(spec.path, error);
+    const std::optional<prt::EnvironmentMap> full = loadMap(spec.path, diagnostics);
     if (!full) return false;
     std::optional<prt::EnvironmentMap> small = boxDownsample(*full, plan.downWidth, plan.downHeight);
     if (!small)
-      return error = str("%s: %dx%d is not a multiple of %dx%d", spec.path.c_str(), full->width(), full->height(),
-                         plan.downWidth, plan.downHeight),
+      return diagnostics.error(spec.path, str("%dx%d is not a multiple of %dx%d", full->width(), full->height(),
+                                              plan.downWidth, plan.downHeight)),
              false;
     maps.push_back(std::move(*small));
     result.maps.push_back(spec.name);
@@ -101,7 +108,7 @@ bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& d
 
   // The reference: per vertex, every pixel of the downsampled map, a ray toward its centre
   // from the same origin computeTransfer uses (position + offset * geometric normal).
-  const prt::TransferSettings defaults;
+  const prt::TransferOptions defaults;
   const std::vector<glm::vec3> geometric = prt::geometricVertexNormals(mesh);
   const float offset = prt::rayOriginOffset(mesh, defaults.originOffset);
   const std::size_t stride = std::max<std::size_t>(1, vertexCount / static_cast<std::size_t>(plan.subsetVertices));
@@ -189,7 +196,7 @@ bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& d
   for (int rays : plan.transferRays)
     for (int n = 2; n <= prt::kMaxShBands; ++n) {
       std::fprintf(stderr, "prt report: 3/4 end to end: precompute n = %d, N = %d\n", n, rays);
-      prt::TransferSettings settings;
+      prt::TransferOptions settings;
       settings.bands = n;
       settings.raysPerVertex = rays;
       settings.shadowed = true;
@@ -197,7 +204,12 @@ bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& d
       prt::TransferStats stats;
       Diagnostics run;
       const prt::VertexTransfer transfer = prt::computeTransfer(mesh, settings, tracer.get(), run, {}, &stats);
-      if (!run.ok() || transfer.vertexCount() != vertexCount) return error = run.format(), false;
+      if (!run.ok() || transfer.vertexCount() != vertexCount) {
+        diagnostics.items.insert(diagnostics.items.end(), run.items.begin(), run.items.end());
+        if (diagnostics.ok())
+          diagnostics.error(character, str("the transfer has %zu vertices, not %zu", transfer.vertexCount(), vertexCount));
+        return false;
+      }
       if (rays == plan.transferRays.back()) {
         result.meshBuried = static_cast<std::size_t>(
             std::count_if(transfer.occluded.begin(), transfer.occluded.end(), [](float f) { return f >= 0.99f; }));
@@ -242,7 +254,7 @@ bool measureEndToEnd(const Plan& plan, const ReportOptions& o, const fs::path& d
   Csv un(data / "end_to_end_unshadowed.csv",
          "map,n,N,precompute_s,relight_us_per_10k,mean_r,mean_g,mean_b,p95_r,p95_g,p95_b,mean_worst,p95_worst");
   for (const auto& r : result.unshadowed) write(un, r);
-  if (!csv.ok() || !un.ok()) return error = "cannot write " + (data / "end_to_end*.csv").string(), false;
+  if (!csv.ok() || !un.ok()) return diagnostics.error((data / "end_to_end*.csv").string(), "cannot be written"), false;
   return true;
 }
 

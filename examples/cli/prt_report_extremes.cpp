@@ -36,7 +36,7 @@ double dcScale(const prt::ShCoefficients& a) { return std::max({std::abs(a.c[0].
 }  // namespace
 
 bool measureExtremes(const Plan& plan, const ReportOptions& o, const fs::path& data, std::vector<Check>& checks,
-                     std::string& error) {
+                     Diagnostics& diagnostics) {
   std::fprintf(stderr, "prt report: 4/4 stiff and extreme cases\n");
   auto add = [&](std::string name, double value, double tolerance, bool pass, const char* format = "%.3g") {
     checks.push_back({std::move(name), str(format, value), str("%.3g", tolerance), pass});
@@ -140,13 +140,12 @@ bool measureExtremes(const Plan& plan, const ReportOptions& o, const fs::path& d
     add("cosineLobeBand(l), odd l = 3..39: max |A_l|", worst, 0.0, worst == 0.0);
   }
   {  // Rotations.
-    std::string mapError;
     const std::string path = o.assets + "/envmaps/blender_studiolight_forest.exr";
-    const std::optional<prt::EnvironmentMap> full = loadMap(path, mapError);
-    if (!full) return error = mapError, false;
+    const std::optional<prt::EnvironmentMap> full = loadMap(path, diagnostics);
+    if (!full) return false;
     std::optional<prt::EnvironmentMap> map =
         boxDownsample(*full, std::min(full->width(), plan.rotationMapWidth), std::min(full->height(), plan.rotationMapWidth / 2));
-    if (!map) return error = path + ": cannot downsample for the rotation check", false;
+    if (!map) return diagnostics.error(path, "cannot downsample for the rotation check"), false;
     const int w = map->width(), h = map->height();
     const prt::ShRotation rotation(prt::kMaxShBands);
     const prt::ShCoefficients original = prt::projectRadiance(*map, prt::kMaxShBands);
@@ -195,7 +194,7 @@ bool measureExtremes(const Plan& plan, const ReportOptions& o, const fs::path& d
   }
   Csv csv(data / "extremes.csv", "check,value,tolerance,pass");
   for (const Check& c : checks) csv.row({"\"" + c.name + "\"", c.value, c.tolerance, c.pass ? "pass" : "FAIL"});
-  if (!csv.ok()) return error = "cannot write " + (data / "extremes.csv").string(), false;
+  if (!csv.ok()) return diagnostics.error((data / "extremes.csv").string(), "cannot be written"), false;
   return true;
 }
 

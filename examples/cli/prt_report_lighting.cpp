@@ -17,13 +17,13 @@
 namespace marionette::cli::detail {
 
 bool measureLighting(const Plan& plan, const ReportOptions& o, const fs::path& data, std::vector<LightingResult>& results,
-                     std::string& error) {
+                     Diagnostics& diagnostics) {
   const std::vector<glm::dvec3> normals = prt::fibonacciSphere(plan.lightingNormals);
   Csv csv(data / "lighting_truncation.csv", "map,n,coefficients,mean_rel_error,max_rel_error,projection_ms");
   Csv win(data / "lighting_windows.csv", "map,n,window,cutoff,mean_rel_error,max_rel_error,min_E_over_mean_E,window_ms");
   for (const MapSpec& spec : plan.lightingMaps) {
     std::fprintf(stderr, "prt report: 1/4 lighting truncation: %s\n", spec.name.c_str());
-    const std::optional<prt::EnvironmentMap> map = loadMap(spec.path, error);
+    const std::optional<prt::EnvironmentMap> map = loadMap(spec.path, diagnostics);
     if (!map) return false;
     LightingResult r;
     r.map = spec.name;
@@ -60,7 +60,7 @@ bool measureLighting(const Plan& plan, const ReportOptions& o, const fs::path& d
     }
     results.push_back(r);
   }
-  if (!csv.ok() || !win.ok()) return error = "cannot write " + (data / "lighting_*.csv").string(), false;
+  if (!csv.ok() || !win.ok()) return diagnostics.error((data / "lighting_*.csv").string(), "cannot be written"), false;
   return true;
 }
 

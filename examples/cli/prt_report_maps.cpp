@@ -11,9 +11,10 @@
 
 namespace marionette::cli::detail {
 
-std::optional<prt::EnvironmentMap> loadMap(const std::string& path, std::string& error) {
+std::optional<prt::EnvironmentMap> loadMap(const std::string& path, Diagnostics& diagnostics) {
   prt::EnvironmentMapLoad load = prt::loadLightProbe(path, prt::LightProbeKind::LatLong);
-  if (!load.map) error = load.diagnostics.format();
+  if (!load.map)  // its errors (and warnings) name the file; a map read is not reported on
+    diagnostics.items.insert(diagnostics.items.end(), load.diagnostics.items.begin(), load.diagnostics.items.end());
   return std::move(load.map);
 }
 

@@ -35,7 +35,8 @@ std::pair<double, double> logLogFit(const std::vector<double>& x, const std::vec
 
 }  // namespace
 
-bool measureSampling(const Plan& plan, const fs::path& data, std::vector<SamplingCase>& cases, std::string& error) {
+bool measureSampling(const Plan& plan, const fs::path& data, std::vector<SamplingCase>& cases,
+                     Diagnostics& diagnostics) {
   std::fprintf(stderr, "prt report: 2/4 transfer sampling\n");
   const std::vector<glm::dvec3> normals = prt::fibonacciSphere(plan.samplingNormals);
   const int count = prt::shCount(kSamplingBands);
@@ -82,7 +83,7 @@ bool measureSampling(const Plan& plan, const fs::path& data, std::vector<Samplin
       csv.row({str("%g", c.halfAngleDeg), std::to_string(plan.samplingRays[k]), str("%.6g", c.mean[k]),
                str("%.6g", c.max[k]), str("%.6g", fit), str("%.4f", c.slope), str("%.2f", c.usPerNormal[k])});
     }
-  if (!csv.ok()) return error = "cannot write " + (data / "transfer_sampling.csv").string(), false;
+  if (!csv.ok()) return diagnostics.error((data / "transfer_sampling.csv").string(), "cannot be written"), false;
   return true;
 }
 

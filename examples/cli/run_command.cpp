@@ -43,7 +43,7 @@ struct WarningCounter : SceneListener {
 // frame,time,character,morph,weight for every morph target of every character that has some.
 void writeMorphRows(std::FILE* out, long frame, double time, const Character& c) {
   const std::span<const float> w = c.transformBuffer().morphWeights();
-  const auto& names = c.rig().asset().morphTargets;
+  const auto& names = c.rig().morphTargets();
   for (std::size_t m = 0; m < w.size() && m < names.size(); ++m)
     std::fprintf(out, "%ld,%.6f,%s,%s,%.5f\n", frame, time, c.name().c_str(), names[m].c_str(), static_cast<double>(w[m]));
 }

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::cerr << imported.diagnostics.format();
     return 2;
   }
-  auto rig = std::make_shared<marionette::Rig>(std::make_shared<marionette::Asset>(std::move(*imported.asset)));
+  auto rig = std::make_shared<marionette::Rig>(*imported.asset);  // copies what the runtime needs
 
   marionette::Scene scene;  // several scenes may coexist
   auto* robot = scene.addCharacter("robot", rig);

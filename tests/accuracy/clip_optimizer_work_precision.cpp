@@ -75,10 +75,10 @@ int main(int argc, char** argv) {
   std::printf("%-10s %8s %12s %12s %10s %10s %14s\n", "tolerance", "keys", "max (m)", "p99 (m)", "<0.1mm", "us/char",
               "joint-samples");
   for (float tol : {0.0f, 1e-6f, 1e-5f, 1e-4f, 1e-3f, 1e-2f}) {
-    RigOptions ro;
+    RigSettings ro;
     ro.optimizeClips = tol > 0.0f;
     ro.tolerances = {tol, tol, tol};
-    auto rig = std::make_shared<Rig>(asset, ro);
+    auto rig = std::make_shared<Rig>(*asset, ro);
     test::PoseErrors e;
     std::size_t keys = 0;
     for (auto& [name, clip] : clips) {

@@ -43,7 +43,7 @@ std::shared_ptr<Rig> loadRobot() {
     return nullptr;
   }
   auto asset = std::make_shared<Asset>(std::move(*r.asset));
-  auto rig = std::make_shared<Rig>(asset);
+  auto rig = std::make_shared<Rig>(*asset);
   CharacterProfileResult p =
       loadCharacterProfile(::marionette::test::sourceDir() + "/assets/profiles/RobotExpressive.json", *asset);
   if (!p.diagnostics.ok()) {

@@ -31,7 +31,7 @@ inline const BenchAsset& loadBenchAsset(const std::string& which) {
     ImportResult r = importAsset(benchAssetPath("characters/pab_arnaud.fbx"), noMesh);
     if (!r.ok()) return b.error = r.diagnostics.format(), b;
     auto asset = std::make_shared<Asset>(std::move(*r.asset));
-    auto rig = std::make_shared<Rig>(asset);
+    auto rig = std::make_shared<Rig>(*asset);
     for (const char* m : {"walk", "jog", "crossarms"}) {
       ImportResult c = importAsset(benchAssetPath(std::string("motions/fbx/pab_") + m + ".fbx"), noMesh);
       if (!c.ok() || c.asset->clips.empty()) return b.error = c.diagnostics.format(), b;
@@ -42,7 +42,7 @@ inline const BenchAsset& loadBenchAsset(const std::string& which) {
   } else {
     ImportResult r = importAsset(benchAssetPath("characters/RobotExpressive.glb"), noMesh);
     if (!r.ok()) return b.error = r.diagnostics.format(), b;
-    b.rig = std::make_shared<Rig>(std::make_shared<Asset>(std::move(*r.asset)));
+    b.rig = std::make_shared<Rig>(*r.asset);
     b.clips = {"Idle", "Walking", "Running"};
   }
   return b;

@@ -99,7 +99,7 @@ std::shared_ptr<const Rig> chainRig(int joints) {
   }
   c.updateDuration();
   asset->clips.push_back(std::move(c));
-  return std::make_shared<Rig>(asset);
+  return std::make_shared<Rig>(*asset);
 }
 
 void jointScaling(benchmark::State& state) {

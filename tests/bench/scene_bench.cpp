@@ -38,7 +38,7 @@ std::shared_ptr<const Rig> sceneBenchRig(std::string& error) {
       loadError = r.diagnostics.format();
       return std::shared_ptr<const Rig>();
     }
-    return std::shared_ptr<const Rig>(std::make_shared<Rig>(std::make_shared<Asset>(std::move(*r.asset))));
+    return std::shared_ptr<const Rig>(std::make_shared<Rig>(*r.asset));
   }();
   error = loadError;
   return rig;

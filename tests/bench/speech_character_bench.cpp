@@ -28,7 +28,7 @@ constexpr const char* kLine = "He turned sharply, and faced Gregson across the t
 std::shared_ptr<const Rig> godette(benchmark::State& state) {
   static std::shared_ptr<const Rig> rig = [] {
     ImportResult r = importAsset(test::sharedAsset("characters/Godette_vrm_v4.vrm"));
-    return r.ok() ? std::make_shared<const Rig>(std::make_shared<Asset>(std::move(*r.asset))) : nullptr;
+    return r.ok() ? std::make_shared<const Rig>(*r.asset) : nullptr;
   }();
   if (!rig) state.SkipWithError("cannot load ../shared/assets/characters/Godette_vrm_v4.vrm");
   return rig;

@@ -9,6 +9,11 @@
 using namespace marionette;
 using namespace marionette::bml;
 
+namespace marionette {
+// A failed expectation prints a channel set as its bits (found by ADL).
+inline void PrintTo(BodyChannel channels, std::ostream* os) { *os << static_cast<std::uint32_t>(channels); }
+}  // namespace marionette
+
 namespace {
 struct Recorder {
   std::vector<Feedback> all;
@@ -171,7 +176,7 @@ TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
   const auto* g = robot.behaviors().find("b1:g");
   ASSERT_NE(g, nullptr);
   EXPECT_EQ(g->request.kind, BehaviorKind::Gesture);
-  EXPECT_EQ(g->request.channelBits(), kChannelRightHand);
+  EXPECT_EQ(g->request.channelBits(), BodyChannel::RightHand);
   EXPECT_EQ(g->request.clip, "wave");
   // A gesture played by its clip has no parameters (amount is not one of a clip's); sync
   // attributes are times.
@@ -183,8 +188,8 @@ TEST_F(RealizerWithRobot, BehaviorsBecomeTimelineRequestsOnTheSceneClock) {
   ASSERT_NE(sp, nullptr);
   ASSERT_NE(sp->request.as<SpeechParameters>(), nullptr);
   EXPECT_EQ(sp->request.as<SpeechParameters>()->text, "hi there");
-  EXPECT_EQ(sp->request.channelBits(), kChannelVoice);
-  EXPECT_EQ(robot.behaviors().find("b1:f")->request.channelBits(), 0u);
+  EXPECT_EQ(sp->request.channelBits(), BodyChannel::Voice);
+  EXPECT_EQ(robot.behaviors().find("b1:f")->request.channelBits(), BodyChannel::None);
   // The gesture has a clip and the smile a morph (guessed profile: "smile"); the
   // speech has no backend: reported, its timing and feedback still run.
   ASSERT_NE(robot.behaviors().find("b1:f")->as<FaceExpressionState>(), nullptr);
@@ -280,7 +285,7 @@ TEST_F(RealizerWithRobot, ReplaceBlendsBackToNeutralSmoothly) {
 
 // A standing posture by its BML stance name plays the profile's idle clip.
 TEST(Realizer, StandingPostureIsTheProfilesIdleClip) {
-  auto rig = std::make_shared<Rig>(std::make_shared<Asset>(test::makeSyntheticRig()->asset()));
+  auto rig = std::make_shared<Rig>(*test::makeSyntheticRig());
   CharacterProfile p = rig->profile();
   p.idle = "walk";
   rig->setProfile(p);

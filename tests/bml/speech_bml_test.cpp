@@ -186,7 +186,7 @@ TEST_F(GodetteRealizer, AppendQueuesTheSecondUtteranceAndReplaceInterruptsTheFir
   ASSERT_NE(g.behaviors().find("b1:s1"), nullptr);
   EXPECT_TRUE(g.behaviors().find("b1:s1")->cancelled());
   EXPECT_EQ(g.behaviors().find("b2:s1"), nullptr);
-  EXPECT_EQ(g.behaviors().owner(kChannelVoice, scene.time() + 0.5), &g.behaviors().find("b3:s1")->request);
+  EXPECT_EQ(g.behaviors().owner(BodyChannel::Voice, scene.time() + 0.5), &g.behaviors().find("b3:s1")->request);
 }
 
 #ifdef MARIONETTE_HAS_TTS

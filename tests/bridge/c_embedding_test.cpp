@@ -81,7 +81,7 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
   ImportResult imported = importAsset(robot, options);
   ASSERT_TRUE(imported.ok()) << imported.diagnostics.format();
   auto asset = std::make_shared<Asset>(std::move(*imported.asset));
-  auto rig = std::make_shared<Rig>(asset);
+  auto rig = std::make_shared<Rig>(*asset);
   CharacterProfileResult p = loadCharacterProfile(profile, *asset);
   ASSERT_TRUE(p.diagnostics.ok()) << p.diagnostics.format();
   rig->setProfile(std::move(p.profile));

@@ -17,7 +17,7 @@ TEST(MorphBinding, CopiesWeightsByNameAndLeavesUnmatchedSlotsAlone) {
   const TransformBuffer& b = c->transformBuffer();
   ASSERT_GT(b.morphWeights()[1], 0.1f);
   const std::vector<std::string> slots = {"blink", "jawOpen", "smile"};
-  MorphBinding binding(rig->asset().morphTargets, slots);
+  MorphBinding binding(rig->morphTargets(), slots);
   EXPECT_EQ(binding.report().unmatchedSlots, std::vector<std::string>{"jawOpen"});
   EXPECT_TRUE(binding.report().unusedMorphs.empty());
   EXPECT_EQ(binding.report().format(), "morphs: engine slot 'jawOpen' has no character morph of that name; left untouched\n");
@@ -34,7 +34,7 @@ TEST(MorphBinding, ReportsUnusedMorphsAndRejectsSizeMismatch) {
   Character* c = scene.addCharacter("x", rig);
   scene.update(0.0);
   const std::vector<std::string> slots = {"smile"};
-  MorphBinding binding(rig->asset().morphTargets, slots);
+  MorphBinding binding(rig->morphTargets(), slots);
   EXPECT_EQ(binding.report().unusedMorphs, std::vector<std::string>{"blink"});
   EXPECT_NE(binding.report().format().find("character morph 'blink' feeds no engine slot"), std::string::npos);
   std::vector<float> none;

@@ -39,7 +39,7 @@ std::unique_ptr<Posed> makePosed(const test::HumanoidSpec& spec) {
                                               {0.0f, 0.9f, 0.2f}, glm::normalize(glm::vec3(0.3f, 1.0f, -0.2f))));
   clip.updateDuration();
   asset->clips = {clip};
-  p->character = p->scene.addCharacter("h", std::make_shared<Rig>(asset));
+  p->character = p->scene.addCharacter("h", std::make_shared<Rig>(*asset));
   p->character->setPosition({1.0f, 0.0f, -2.0f});
   p->character->play(0, "move");
   p->scene.update(0.3);
@@ -172,7 +172,7 @@ TEST(PaletteBinding, BindsGodetteBonesToRobotExpressiveThroughTheShippedMaps) {
   std::string error;
   ASSERT_TRUE(test::loadRetargetSubject(targets[0], robot, error)) << error;
   ASSERT_TRUE(test::loadRetargetSubject(targets[1], godette, error)) << error;
-  auto rig = std::make_shared<Rig>(std::make_shared<Asset>(robot.asset));
+  auto rig = std::make_shared<Rig>(robot.asset);
   Scene scene;
   Character* c = scene.addCharacter("robot", rig);
   ASSERT_TRUE(c->play(0, "Walking"));

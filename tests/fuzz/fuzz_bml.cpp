@@ -27,7 +27,7 @@ std::shared_ptr<const marionette::Rig> fuzzRig() {
   beat.tracks.push_back(t);
   beat.updateDuration();
   asset->clips.push_back(beat);
-  return std::make_shared<Rig>(asset);
+  return std::make_shared<Rig>(*asset);
 }
 }  // namespace
 

@@ -52,7 +52,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   require(fuzz::allName(d, path), "a diagnostic does not name the file");
   require(camera->problem().empty(), "a camera that reads has a problem()");
   const std::string copy = (fuzz::tempDir() / "copy.yml").string();
-  std::string error;
+  Diagnostics error;
   require(ar::writeCameraModel(copy, *camera, nullptr, error), "writeCameraModel failed on what readCameraModel read");
   Diagnostics back;
   const std::optional<ar::CameraModel> again = ar::readCameraModel(copy, back);

@@ -84,7 +84,7 @@ void check(const std::uint8_t* data, std::size_t size, const std::string& name) 
   }
   // Every field that reads is exact (no NaN, no clamped count), so the writer gives the input back.
   const std::string copy = (fuzz::tempDir() / "copy.map").string();
-  std::string error;
+  Diagnostics error;
   require(ar::writePlanarMap(copy, *map, error), "writePlanarMap failed on what parsePlanarMap read");
   const std::vector<std::uint8_t> written = readBytes(copy);
   require(written.size() == size && std::memcmp(written.data(), data, size) == 0,
@@ -102,10 +102,10 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     bool ok = true;
     for (int keyframes : {1, 2}) {  // each seed must read back, or the corpus starts from nothing
       const std::string path = std::string(dir) + "/keyframes" + std::to_string(keyframes) + ".map";
-      std::string error;
+      Diagnostics error;
       Diagnostics d;
       if (!ar::writePlanarMap(path, fuzz::seedPlanarMap(keyframes), error) || !ar::readPlanarMap(path, d)) {
-        std::fprintf(stderr, "cannot write the seed %s: %s%s\n", path.c_str(), error.c_str(), d.format().c_str());
+        std::fprintf(stderr, "cannot write the seed %s: %s%s\n", path.c_str(), error.format().c_str(), d.format().c_str());
         ok = false;
       }
     }

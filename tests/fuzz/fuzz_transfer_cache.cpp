@@ -27,8 +27,8 @@ prt::TransferMesh tetrahedron() {
   return m;
 }
 
-prt::TransferSettings settings() {
-  prt::TransferSettings s;
+prt::TransferOptions settings() {
+  prt::TransferOptions s;
   s.bands = kBands;
   s.shadowed = false;
   s.threads = 1;

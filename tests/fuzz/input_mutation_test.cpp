@@ -227,8 +227,8 @@ TEST(Fuzz, BmlBlocks) {
 TEST(Fuzz, PlanarMaps) {
   const std::string dir = ::testing::TempDir() + "marionette_fuzz/";
   std::filesystem::create_directories(dir);
-  std::string error;
-  ASSERT_TRUE(ar::writePlanarMap(dir + "seed.map", fuzz::seedPlanarMap(1), error)) << error;
+  Diagnostics error;
+  ASSERT_TRUE(ar::writePlanarMap(dir + "seed.map", fuzz::seedPlanarMap(1), error)) << error.format();
   const std::string original = readFile(dir + "seed.map");
   std::mt19937 rng(10);
   int rejected = 0, accepted = 0;
@@ -251,7 +251,7 @@ TEST(Fuzz, PlanarMaps) {
       }
       ++accepted;
       ASSERT_EQ(map->camera.problem(), "") << "case " << i;
-      ASSERT_TRUE(ar::writePlanarMap(dir + "copy.map", *map, error)) << error;
+      ASSERT_TRUE(ar::writePlanarMap(dir + "copy.map", *map, error)) << error.format();
       ASSERT_EQ(readFile(dir + "copy.map"), bytes) << "case " << i << ": the map does not write back the same";
     }
   }

@@ -48,7 +48,7 @@ void checkClip(const Rig& rig, const std::string& clipName, const char* who, Exp
   auto clip = rig.findClip(clipName);
   ASSERT_TRUE(clip) << clipName;
   const float leg = legLength(rig);
-  const FootContactSettings settings = footContactSettingsForLeg(leg);
+  const FootContactOptions settings = footContactOptionsForLeg(leg);
   const Skeleton& s = rig.skeleton();
   std::vector<ContactInterval> feet[2];
   const int joints[2] = {rig.joints().leftLeg.end, rig.joints().rightLeg.end};

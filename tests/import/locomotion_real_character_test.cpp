@@ -28,7 +28,7 @@ std::shared_ptr<Rig> pab() {
   EXPECT_TRUE(r.ok()) << r.diagnostics.format();
   if (!r.ok()) return nullptr;
   auto a = std::make_shared<Asset>(std::move(*r.asset));
-  auto rig = std::make_shared<Rig>(a);
+  auto rig = std::make_shared<Rig>(*a);
   for (const char* motion : {"walk", "jog"}) {
     ImportResult m = importAsset(sharedAsset(std::string("motions/fbx/pab_") + motion + ".fbx"));
     EXPECT_TRUE(m.ok()) << m.diagnostics.format();

@@ -22,7 +22,7 @@ BehaviorRequest gesture(const std::string& lexeme, PointingArms hands = Pointing
   r.id = "g:" + lexeme;
   r.kind = BehaviorKind::Gesture;
   r.parameters = GestureParameters{lexeme, hands, {}};
-  r.channels = kChannelHands;
+  r.channels = BodyChannel::Hands;
   r.syncs = {{"start", 0.0}, {"ready", 0.3}, {"strokeStart", 0.5}, {"stroke", 0.7},
              {"strokeEnd", 0.9}, {"relax", 1.4}, {"end", 1.7}};
   return r;
@@ -109,7 +109,7 @@ TEST(ProceduralGesture, UnknownLexemesAndMissingArmsAreNamed) {
   CharacterProfile armless = rig->profile();
   armless.leftArm = {};
   armless.rightArm = {};
-  auto noArms = std::make_shared<Rig>(std::make_shared<Asset>(rig->asset()));
+  auto noArms = std::make_shared<Rig>(*rig);
   noArms->setProfile(armless);
   Character* d = scene.addCharacter("d", noArms);
   const BehaviorResult none = d->addBehavior(gesture("WAVE"));

@@ -123,7 +123,7 @@ TEST(Transfer, ConvexMeshComesOutUnoccludedAndMatchesTheClosedForm) {
   Diagnostics d;
   auto tracer = makeEmbreeOcclusion(sphere, d);
   ASSERT_TRUE(tracer) << d.format();
-  TransferSettings s;
+  TransferOptions s;
   s.bands = 4;
   s.raysPerVertex = 256;
   const VertexTransfer shadowed = computeTransfer(sphere, s, tracer.get(), d);
@@ -151,7 +151,7 @@ TEST(Transfer, ShadowedRobotIsDeterministicAndOnlyRemovesLight) {
   Diagnostics d;
   auto tracer = makeEmbreeOcclusion(mesh, d);
   ASSERT_TRUE(tracer) << d.format();
-  TransferSettings s;
+  TransferOptions s;
   s.raysPerVertex = 64;
   s.threads = 1;
   const VertexTransfer one = computeTransfer(mesh, s, tracer.get(), d);
@@ -175,7 +175,7 @@ TEST(Transfer, ShadowedRobotIsDeterministicAndOnlyRemovesLight) {
 
 TEST(Transfer, BadSettingsAreErrorsNotCrashes) {
   const TransferMesh sphere = icosphere(1, 1.0f);
-  TransferSettings s;
+  TransferOptions s;
   for (int bands : {0, 1, 9}) {
     Diagnostics d;
     s.bands = bands;
@@ -212,7 +212,7 @@ TEST(TransferCache, RoundTripAndMismatchAndRelaunchSkipsThePrecompute) {
   const fs::path dir = fs::temp_directory_path() / "marionette_prt_cache_test";
   fs::remove_all(dir);
   const TransferMesh sphere = icosphere(2, 1.0f);
-  TransferSettings s;
+  TransferOptions s;
   s.bands = 3;
   s.raysPerVertex = 16;
   Diagnostics d;
@@ -225,7 +225,7 @@ TEST(TransferCache, RoundTripAndMismatchAndRelaunchSkipsThePrecompute) {
   EXPECT_EQ(second.transfer.coefficients, first.transfer.coefficients);
   EXPECT_EQ(second.transfer.occluded, first.transfer.occluded);
   // Other settings or another mesh: another key.
-  TransferSettings other = s;
+  TransferOptions other = s;
   other.raysPerVertex = 64;
   EXPECT_NE(transferCacheKey(sphere, other), transferCacheKey(sphere, s));
   TransferMesh moved = sphere;
@@ -249,7 +249,7 @@ TEST(TransferCache, MutatedFilesAreRejectedOrLoadWellFormed) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const TransferMesh sphere = icosphere(1, 1.0f);
-  TransferSettings s;
+  TransferOptions s;
   s.bands = 3;
   s.shadowed = false;
   Diagnostics d;

@@ -19,8 +19,8 @@ inline ar::Image8 frame(const std::filesystem::path& dir, int index) {
   char name[32];
   std::snprintf(name, sizeof name, "frame_%04d.png", index);
   ar::Image8 image;
-  std::string error;
-  EXPECT_TRUE(ar::readImage((dir / name).string(), image, error)) << error;
+  Diagnostics error;
+  EXPECT_TRUE(ar::readImage((dir / name).string(), image, error)) << error.format();
   return image;
 }
 

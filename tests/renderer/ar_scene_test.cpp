@@ -135,8 +135,8 @@ TEST(ArScene, PhotoBackgroundCoversTheFrame) {
     for (int x = 0; x < photo.width; ++x)
       for (int c = 0; c < 3; ++c)
         photo.pixels.push_back(static_cast<std::uint8_t>(c == 0 ? x * 255 / 319 : c == 1 ? y * 255 / 179 : 128));
-  std::string error;
-  ASSERT_TRUE(ar::writeImage((dir / "photo.png").string(), photo, error)) << error;
+  Diagnostics error;
+  ASSERT_TRUE(ar::writeImage((dir / "photo.png").string(), photo, error)) << error.format();
   std::ofstream(dir / "photo_scene.json") << R"({"scene": ")" << sourceFile("assets/scenes/ar_demo_walk.json")
                                           << R"(", "background": {"kind": "image", "file": "photo.png"}})";
   const CliRun r = runAr((dir / "photo_scene.json").string() +
@@ -160,8 +160,8 @@ TEST(ArScene, WindowAndScreenshot) {
   const CliRun r = runAr(scene + " --frames 10 --width 320 --height 180 --screenshot " + shot.string());
   ASSERT_EQ(r.status, 0) << r.out;
   ar::Image8 image;
-  std::string error;
-  ASSERT_TRUE(ar::readImage(shot.string(), image, error)) << error;
+  Diagnostics error;
+  ASSERT_TRUE(ar::readImage(shot.string(), image, error)) << error.format();
   EXPECT_EQ(image.width, 320);
   EXPECT_EQ(image.height, 180);
 }

@@ -20,12 +20,12 @@ class GlTest : public ::testing::Test {
 
  protected:
   static void SetUpTestSuite() {
-    std::string error;
+    Diagnostics error;
     context_ = ar::GlContext::create({256, 256, false, "marionette GL test"}, error);
-    ASSERT_NE(context_, nullptr) << error << " (DISPLAY=" << (std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "")
+    ASSERT_NE(context_, nullptr) << error.format() << " (DISPLAY=" << (std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "")
                                  << ")";
     program_ = std::make_unique<ar::ShaderProgram>();
-    ASSERT_TRUE(program_->build("character.vert", "character.frag", error)) << error;
+    ASSERT_TRUE(program_->build("character.vert", "character.frag", error)) << error.format();
   }
   static void TearDownTestSuite() {
     program_.reset();  // GL objects go before their context

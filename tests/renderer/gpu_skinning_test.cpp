@@ -20,6 +20,7 @@ namespace marionette::test {
 namespace {
 
 struct Posed {
+  std::shared_ptr<const Asset> asset;  // what the renderer draws; the rig keeps no meshes
   std::shared_ptr<Rig> rig;
   std::unique_ptr<Scene> scene;
   Character* character = nullptr;
@@ -30,7 +31,8 @@ Posed posedCharacter(const std::string& path, double seconds) {
   ImportResult imported = importAsset(path);
   EXPECT_TRUE(imported.ok()) << imported.diagnostics.format();
   if (!imported.ok()) return p;
-  p.rig = std::make_shared<Rig>(std::make_shared<Asset>(std::move(*imported.asset)));
+  p.asset = std::make_shared<const Asset>(std::move(*imported.asset));
+  p.rig = std::make_shared<Rig>(*p.asset);
   p.scene = std::make_unique<Scene>();
   p.character = p.scene->addCharacter("c", p.rig);
   p.scene->update(0.0);
@@ -102,15 +104,14 @@ TEST_P(GpuSkinning, MatchesCpuReference) {
   MARIONETTE_REQUIRE_FILE(path);
   Posed posed = posedCharacter(path, 0.7);  // mid-clip: joints far from their rest
   ASSERT_NE(posed.character, nullptr);
-  const Asset& asset = posed.rig->asset();
+  const Asset& asset = *posed.asset;
   const TransformBuffer& buffer = posed.character->transformBuffer();
 
-  std::vector<std::string> warnings;
-  std::string error;
+  Diagnostics error;
   ar::CharacterModel gpuModel, cpuModel;
-  ASSERT_TRUE(gpuModel.upload(asset, warnings, error)) << error;
+  ASSERT_TRUE(gpuModel.upload(asset, error)) << error.format();
   const Asset reference = cpuSkinned(asset, buffer);
-  ASSERT_TRUE(cpuModel.upload(reference, warnings, error)) << error;
+  ASSERT_TRUE(cpuModel.upload(reference, error)) << error.format();
   std::size_t primitives = 0;
   for (const Mesh& m : asset.meshes) primitives += m.primitives.size();
   EXPECT_EQ(gpuModel.primitiveCount(), primitives) << "every sub-mesh is drawn";
@@ -118,7 +119,7 @@ TEST_P(GpuSkinning, MatchesCpuReference) {
   ar::CharacterPose posedGpu(asset.skeleton), identity(asset.skeleton);
   posedGpu.update(buffer);
   ar::RenderTarget target;
-  ASSERT_TRUE(target.create(256, 256, 1, error)) << error;  // no multisampling: compare exact coverage
+  ASSERT_TRUE(target.create(256, 256, 1, error)) << error.format();  // no multisampling: compare exact coverage
   const glm::mat4 vp = framing(asset, buffer);
   for (int mode : {1, 2}) {  // base colour (positions), then normals
     const ar::Image8 gpu = render(gpuModel, posedGpu, vp, mode, target);
@@ -153,19 +154,18 @@ TEST_F(GlTest, TexturesShowOnGodette) {
   MARIONETTE_REQUIRE_FILE(path);
   Posed posed = posedCharacter(path, 0.0);
   ASSERT_NE(posed.character, nullptr);
-  const Asset& asset = posed.rig->asset();
-  std::vector<std::string> warnings;
-  std::string error;
+  const Asset& asset = *posed.asset;
+  Diagnostics warnings, error;
   ar::CharacterModel textured, plain;
-  ASSERT_TRUE(textured.upload(asset, warnings, error)) << error;
-  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  ASSERT_TRUE(textured.upload(asset, warnings)) << warnings.format();
+  EXPECT_TRUE(warnings.items.empty()) << warnings.format();
   Asset untextured = asset;
   for (Material& m : untextured.materials) m.baseColorTexture.clear();
-  ASSERT_TRUE(plain.upload(untextured, warnings, error)) << error;
+  ASSERT_TRUE(plain.upload(untextured, error)) << error.format();
   ar::CharacterPose pose(asset.skeleton);
   pose.update(posed.character->transformBuffer());
   ar::RenderTarget target;
-  ASSERT_TRUE(target.create(256, 256, 1, error)) << error;
+  ASSERT_TRUE(target.create(256, 256, 1, error)) << error.format();
   const glm::mat4 vp = framing(asset, posed.character->transformBuffer());
   const ar::Image8 a = render(textured, pose, vp, 1, target), b = render(plain, pose, vp, 1, target);
   // Textures change most of the character's pixels (hair, clothes, face).
@@ -177,15 +177,14 @@ TEST_F(GlTest, VisemeMorphMovesGodettesMouth) {
   MARIONETTE_REQUIRE_FILE(path);
   Posed posed = posedCharacter(path, 0.0);
   ASSERT_NE(posed.character, nullptr);
-  const Asset& asset = posed.rig->asset();
+  const Asset& asset = *posed.asset;
   int ah = -1;
   for (std::size_t i = 0; i < asset.morphTargets.size(); ++i)
     if (asset.morphTargets[i] == "vrm_aa" || asset.morphTargets[i] == "ah") ah = int(i);
   ASSERT_GE(ah, 0) << "Godette's 'aa' mouth shape";
-  std::vector<std::string> warnings;
-  std::string error;
+  Diagnostics error;
   ar::CharacterModel model;
-  ASSERT_TRUE(model.upload(asset, warnings, error)) << error;
+  ASSERT_TRUE(model.upload(asset, error)) << error.format();
   ASSERT_GT(model.morphTargetCount(), 0u);
 
   // Frame the head: Godette is chibi, her head is the top third of her bounds; her mesh faces -Z (VRM 0.x).
@@ -204,7 +203,7 @@ TEST_F(GlTest, VisemeMorphMovesGodettesMouth) {
   closedPose.update(rest);
   openPose.update(open);
   ar::RenderTarget target;
-  ASSERT_TRUE(target.create(256, 256, 1, error)) << error;
+  ASSERT_TRUE(target.create(256, 256, 1, error)) << error.format();
   const ar::Image8 closed = render(model, closedPose, vp, 1, target), opened = render(model, openPose, vp, 1, target);
   if (const char* dir = std::getenv("MARIONETTE_TEST_IMAGES")) {  // to look at them
     (void)ar::writeImage(std::string(dir) + "/godette_mouth_closed.png", closed, error);

@@ -79,8 +79,8 @@ class PrtRender : public ::testing::Test {
     EXPECT_EQ(r.status, 0) << r.out;
     if (log) *log = r.out;
     ar::Image8 image;
-    std::string error;
-    EXPECT_TRUE(ar::readImage((outDir / "frame_0000.png").string(), image, error)) << error << "\n" << r.out;
+    Diagnostics error;
+    EXPECT_TRUE(ar::readImage((outDir / "frame_0000.png").string(), image, error)) << error.format() << "\n" << r.out;
     if (const char* keep = std::getenv("MARIONETTE_TEST_IMAGES"))  // to look at them
       (void)ar::writeImage(std::string(keep) + "/prt_" + out + ".png", image, error);
     return image;

@@ -163,8 +163,8 @@ TEST(TrackedScene, CharactersHideWhenTheTargetIsGone) {
     auto tracker = ar::MarkerlessTracker::fromTarget(ar::synthetic::standardRenderer().camera(),
                                                      ar::synthetic::standardTargetImage(), 0.3, {}, d);
     ASSERT_TRUE(tracker) << d.format();
-    std::string error;
-    ASSERT_TRUE(ar::writePlanarMap(map, tracker->map(), error)) << error;
+    Diagnostics error;
+    ASSERT_TRUE(ar::writePlanarMap(map, tracker->map(), error)) << error.format();
   }
   writeScene(dir, (dir / "frames").string(), map);
   const std::string common = (dir / "tracked.json").string() + " --headless --frames 12";

@@ -188,7 +188,7 @@ struct GodetteSpeaks : ::testing::Test {
     godette = scene.addCharacter("godette", rig);
     scene.addListener(&listener);
     scene.speech().addBackend(arcticLine());
-    const auto& names = rig->asset().morphTargets;
+    const auto& names = rig->morphTargets();
     for (const char* m : {"ah", "ih", "uu", "ee", "oh"}) {
       auto it = std::find(names.begin(), names.end(), m);
       ASSERT_NE(it, names.end()) << m;
@@ -246,7 +246,7 @@ TEST_F(GodetteSpeaks, TheLaterOfTwoOverlappingUtterancesMovesTheLips) {
   auto counting = std::make_shared<CountingBackend>();  // one "aa" from 0.1 to 0.3 s
   scene.speech().addBackend(counting);
   ASSERT_TRUE(godette->addBehavior(speechRequest("s2", 1.0, 0.5, "aa")).realized);
-  EXPECT_EQ(godette->behaviors().owner(kChannelVoice, 1.2), &godette->behaviors().find("s2")->request);
+  EXPECT_EQ(godette->behaviors().owner(BodyChannel::Voice, 1.2), &godette->behaviors().find("s2")->request);
   for (int f = 0; f < 72; ++f) scene.update(f == 0 ? 0.0 : 1.0 / 60.0);  // to t = 1.183 s: inside s2's "aa"
   const float duringS2 = mouthOpen();
   EXPECT_GT(duringS2, 0.3f);
@@ -279,7 +279,7 @@ TEST(SpeechWithoutBackend, FailsClearlyAndTheRestKeepsWorking) {
 // that was given none says how to get one, in every build.
 TEST(SpeechWithoutBackend, ASceneWithoutASynthesizerSaysHowToGetOne) {
   Scene scene;
-  Character* c = scene.addCharacter("c", std::make_shared<Rig>(std::make_shared<Asset>()));
+  Character* c = scene.addCharacter("c", std::make_shared<Rig>(Asset{}));
   const BehaviorResult said = c->addBehavior(speechRequest("s1", 0.0, 1.0, "Hello there."));
   EXPECT_FALSE(said.realized);
   EXPECT_NE(said.message.find("no synthesizer was set (link marionette::tts_espeak"), std::string::npos) << said.message;

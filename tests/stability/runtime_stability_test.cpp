@@ -20,9 +20,9 @@ std::shared_ptr<const Rig> robotRig(float scale = 1.0f, bool optimize = true) {
   o.extraScale = scale;
   ImportResult r = importAsset(sharedAsset("characters/RobotExpressive.glb"), o);
   if (!r.ok()) return nullptr;
-  RigOptions ro;
+  RigSettings ro;
   ro.optimizeClips = optimize;
-  return std::make_shared<Rig>(std::make_shared<Asset>(std::move(*r.asset)), ro);
+  return std::make_shared<Rig>(*r.asset, ro);
 }
 
 bool allFinite(const TransformBuffer& b) {
@@ -156,7 +156,7 @@ TEST(Stability, MirroredRootKeepsHandedness) {
   ASSERT_TRUE(r.ok());
   auto asset = std::make_shared<Asset>(std::move(*r.asset));
   asset->skeleton.rootTransform = glm::scale(glm::mat4(1.0f), glm::vec3(-1, 1, 1)) * asset->skeleton.rootTransform;
-  auto rig = std::make_shared<Rig>(asset);
+  auto rig = std::make_shared<Rig>(*asset);
   Scene scene;
   Character* c = scene.addCharacter("m", rig);
   c->play(0, "Walking");

@@ -18,7 +18,7 @@ inline std::shared_ptr<Rig> loadRigWithProfile(const std::string& assetPath, con
   EXPECT_TRUE(r.ok()) << r.diagnostics.format();
   if (!r.ok()) return nullptr;
   auto a = std::make_shared<Asset>(std::move(*r.asset));
-  auto rig = std::make_shared<Rig>(a);
+  auto rig = std::make_shared<Rig>(*a);
   CharacterProfileResult p = loadCharacterProfile(sourceFile("assets/profiles/" + profile), *a);
   EXPECT_TRUE(p.diagnostics.items.empty()) << p.diagnostics.format();
   rig->setProfile(std::move(p.profile));

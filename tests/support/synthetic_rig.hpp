@@ -34,7 +34,7 @@ inline std::shared_ptr<const Rig> makeSyntheticRig() {
   wave.tracks.push_back(rotationTrack(3, {0.0f, 0.25f, 0.5f}, {0.0f, 1.2f, 0.0f}, {0, 0, 1}));
   wave.updateDuration();
   asset->clips = {walk, wave};
-  return std::make_shared<Rig>(asset);
+  return std::make_shared<Rig>(*asset);
 }
 
 }  // namespace marionette::test

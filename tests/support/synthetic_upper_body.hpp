@@ -46,7 +46,7 @@ inline CharacterProfile upperBodyProfile() {
 }
 
 inline std::shared_ptr<Rig> makeUpperBodyRig() {
-  auto rig = std::make_shared<Rig>(makeUpperBodyAsset());
+  auto rig = std::make_shared<Rig>(*makeUpperBodyAsset());
   rig->setProfile(upperBodyProfile());
   return rig;
 }

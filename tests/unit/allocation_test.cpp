@@ -224,7 +224,7 @@ TEST(Allocation, BridgeCopiesAllocateNothing) {
   asset->skeleton = h.skeleton;
   asset->morphTargets = {"smile", "blink"};
   Scene scene;
-  Character* c = scene.addCharacter("h", std::make_shared<Rig>(asset));
+  Character* c = scene.addCharacter("h", std::make_shared<Rig>(*asset));
   std::vector<std::string> bones(h.skeleton.names.rbegin(), h.skeleton.names.rend());
   bones.insert(bones.begin() + 5, "engine_only");
   const bridge::PaletteBinding palette(c->skeleton(), bones);

@@ -99,19 +99,19 @@ TEST(BehaviorTimeline, CancelBlendsOutFromTheCurrentWeight) {
 TEST(BehaviorTimeline, LaterRequestOwnsOverlappingChannelsEarlierResurfaces) {
   BehaviorTimeline tl;
   BehaviorRequest left = gesture("left", 0.0, 4.0);
-  left.channels = kChannelLeftHand;
+  left.channels = BodyChannel::LeftHand;
   tl.add(left);
   tl.add(gesture("both", 1.0, 2.0));  // default: both hands
   BehaviorRequest head = request("nod", {{"start", 0}, {"end", 4}}, BehaviorKind::Head);
   tl.add(head);
-  EXPECT_EQ(tl.owner(kChannelLeftHand, 0.5)->id, "left");
-  EXPECT_EQ(tl.owner(kChannelLeftHand, 1.5)->id, "both");
-  EXPECT_EQ(tl.owner(kChannelRightHand, 1.5)->id, "both");
-  EXPECT_EQ(tl.owner(kChannelLeftHand, 2.5)->id, "left");
-  EXPECT_EQ(tl.owner(kChannelRightHand, 2.5), nullptr);
-  EXPECT_EQ(tl.owner(kChannelHead, 2.5)->id, "nod");
-  EXPECT_EQ(channelNames(kChannelHands | kChannelHead), "hands+head");
-  EXPECT_EQ(channelNames(kChannelRightHand), "rightHand");
+  EXPECT_EQ(tl.owner(BodyChannel::LeftHand, 0.5)->id, "left");
+  EXPECT_EQ(tl.owner(BodyChannel::LeftHand, 1.5)->id, "both");
+  EXPECT_EQ(tl.owner(BodyChannel::RightHand, 1.5)->id, "both");
+  EXPECT_EQ(tl.owner(BodyChannel::LeftHand, 2.5)->id, "left");
+  EXPECT_EQ(tl.owner(BodyChannel::RightHand, 2.5), nullptr);
+  EXPECT_EQ(tl.owner(BodyChannel::Head, 2.5)->id, "nod");
+  EXPECT_EQ(channelNames(BodyChannel::Hands | BodyChannel::Head), "hands+head");
+  EXPECT_EQ(channelNames(BodyChannel::RightHand), "rightHand");
   EXPECT_EQ(behaviorKindFromName("headDirectionShift"), BehaviorKind::HeadDirectionShift);
   EXPECT_EQ(toString(BehaviorKind::FaceLexeme), "faceLexeme");
   EXPECT_FALSE(behaviorKindFromName("dance"));

@@ -385,7 +385,7 @@ TEST(CharacterProfileLimbs, NamesThatContradictTheRestPoseAreKeptWithANote) {
 
 TEST(CharacterProfileLimbs, RigResolvesTheLimbsToIndices) {
   const auto asset = std::make_shared<Asset>(makePlacedAsset(placedBody("Left", "Right")));
-  const Rig rig(asset);
+  const Rig rig(*asset);
   const Skeleton& s = asset->skeleton;
   const RigJoints& j = rig.joints();
   EXPECT_EQ(j.leftLeg.upper, s.findJoint("LeftUpLeg"));

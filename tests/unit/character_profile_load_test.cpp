@@ -320,7 +320,7 @@ TEST(CharacterProfileJointMap, TheNamedMapGivesTheBodyJoints) {
   EXPECT_TRUE(hasNote(r.profile, "joint map: ")) << notes(r.profile);
   EXPECT_TRUE(hasNote(r.profile, "required bones not mapped")) << notes(r.profile);
   // The rig resolves the same joints.
-  Rig rig(std::make_shared<const Asset>(robot()));
+  Rig rig(robot());
   rig.setProfile(r.profile);
   EXPECT_EQ(rig.joints().hips, rig.skeleton().findJoint("Spine"));
   ASSERT_EQ(rig.joints().spine.size(), 1u);

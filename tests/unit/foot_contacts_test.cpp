@@ -19,7 +19,7 @@ namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 AnimationClip prepare(const SyntheticWalk& w) {
-  RigOptions options;
+  RigSettings options;
   options.optimizeClips = false;
   return *makeAnimationClip(w.clip, w.skeleton, options);
 }
@@ -92,7 +92,7 @@ TEST(FootContacts, SyntheticWalkTravellingAndInPlace) {
     AnimationClip clip = prepare(w);
     if (variant == 2) clip.rootMotion = RootMotion{};  // (else the rig would take a foot's track for the root's)
     ASSERT_EQ(clip.rootMotion.empty(), variant == 2);
-    const FootContactSettings settings;
+    const FootContactOptions settings;
     const float tolerance = 1.0f / static_cast<float>(settings.samplesPerSecond);  // one sample of the 1 s cycle
     const auto left = detectFootContacts(clip, w.skeleton, w.leftFoot, settings);
     const auto right = detectFootContacts(clip, w.skeleton, w.rightFoot, settings);
@@ -142,7 +142,7 @@ TEST(FootContacts, ShortDipsAndGapsAreNoise) {
   EXPECT_TRUE(inContact(r, 0.71f));
 
   // With no minimum duration, both show.
-  FootContactSettings raw;
+  FootContactOptions raw;
   raw.minDuration = 0.0f;
   raw.heightAboveLowest = 0.02f;
   EXPECT_EQ(detectFootContacts(clip, w.skeleton, w.leftFoot, raw).size(), 2u);
@@ -207,11 +207,11 @@ TEST(FootContacts, ContactWeightRampsSmoothlyOutside) {
 }
 
 TEST(FootContacts, SettingsScaleWithTheLeg) {
-  const FootContactSettings human;
-  const FootContactSettings robot = footContactSettingsForLeg(1.8f);  // twice a human leg
+  const FootContactOptions human;
+  const FootContactOptions robot = footContactOptionsForLeg(1.8f);  // twice a human leg
   EXPECT_FLOAT_EQ(robot.heightAboveLowest, 2.0f * human.heightAboveLowest);
   EXPECT_FLOAT_EQ(robot.maxSpeed, 2.0f * human.maxSpeed);
   EXPECT_EQ(robot.minDuration, human.minDuration);  // times do not scale
   for (const float bad : {0.0f, -1.0f, kNaN, std::numeric_limits<float>::infinity()})
-    EXPECT_EQ(footContactSettingsForLeg(bad).maxSpeed, human.maxSpeed) << bad;
+    EXPECT_EQ(footContactOptionsForLeg(bad).maxSpeed, human.maxSpeed) << bad;
 }

@@ -33,7 +33,7 @@ std::shared_ptr<Rig> gazeRig(bool eyes, bool zUpCentimetres = false) {
   if (zUpCentimetres)
     asset->skeleton.rootTransform =
         glm::scale(glm::mat4_cast(glm::angleAxis(-1.5707963f, glm::vec3(1, 0, 0))), glm::vec3(0.01f));
-  auto rig = std::make_shared<Rig>(asset);
+  auto rig = std::make_shared<Rig>(*asset);
   CharacterProfile p;
   p.hips = "j0";
   p.spine = {"j1"};
@@ -400,7 +400,7 @@ BehaviorRequest saccade(const std::string& id, SaccadeParameters p, double start
   BehaviorRequest r;
   r.id = id;
   r.kind = BehaviorKind::Saccade;
-  r.channels = kChannelEyes;
+  r.channels = BodyChannel::Eyes;
   r.parameters = p;
   r.persistent = p.mode != SaccadeMode::None || p.finish;
   r.syncs = {{"start", start}, {"end", end}};

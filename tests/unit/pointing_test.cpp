@@ -276,7 +276,7 @@ TEST(PointingCharacter, BadRequestsAreMessagesNotCrashes) {
   EXPECT_NE(r.message.find("a pointing needs a target"), std::string::npos) << r.message;
   // BML's mode text is read by the realizer (tests/bml/behavior_parameters_test.cpp).
   // A character without arms.
-  auto armless = std::make_shared<Rig>(makeUpperBodyAsset());
+  auto armless = std::make_shared<Rig>(*makeUpperBodyAsset());
   CharacterProfile p = upperBodyProfile();
   p.leftArm = p.rightArm = {};
   armless->setProfile(p);

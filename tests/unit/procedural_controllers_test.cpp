@@ -25,7 +25,7 @@ std::shared_ptr<Rig> headRig(bool zUpCentimetres) {
     asset->skeleton.rootTransform = glm::scale(glm::mat4_cast(glm::angleAxis(-1.5707963f, glm::vec3(1, 0, 0))),
                                                glm::vec3(0.01f));
   asset->morphTargets = {"smile", "blink"};
-  auto rig = std::make_shared<Rig>(asset);
+  auto rig = std::make_shared<Rig>(*asset);
   CharacterProfile p;
   p.hips = "j0";
   p.spine = {"j1"};
@@ -151,7 +151,7 @@ TEST(HeadMotion, WhatCannotBeDoneIsSaidNotDropped) {
   EXPECT_NE(bad.message.find("amount 'nan' is not a number in [-1, 1]; 0.5 is used"), std::string::npos) << bad.message;
   EXPECT_NE(c->addBehavior(headRequest("c", HeadLexeme::Nod, 0.0, 2.0f)).message.find("amount '2' is not a number in [-1, 1]"),
             std::string::npos);
-  auto headless = std::make_shared<Rig>(std::make_shared<Asset>(Asset{}));
+  auto headless = std::make_shared<Rig>(Asset{});
   Character* h = scene.addCharacter("h", headless);
   BehaviorResult none = h->addBehavior(headRequest("n", HeadLexeme::Nod, 0.0));
   EXPECT_FALSE(none.realized);

@@ -29,7 +29,7 @@ std::shared_ptr<const Rig> robotRig() {
     ImportOptions o;
     o.loadMeshes = false;
     ImportResult r = importAsset(sharedAsset("characters/RobotExpressive.glb"), o);
-    return r.ok() ? std::make_shared<Rig>(std::make_shared<Asset>(std::move(*r.asset))) : nullptr;
+    return r.ok() ? std::make_shared<Rig>(*r.asset) : nullptr;
   }();
   return rig;
 }

@@ -129,7 +129,9 @@ mn_status mn_binding_create(mn_character* character, const mn_engine_skeleton* e
       if (const mn_status s = mapFrom(scene, o.engine_joint_map, skeleton.asset, "engine", engineMap, b->report); s != MN_OK)
         return s;
       toSlots(engineMap, skeleton.slotOf);
-      if (const mn_status s = mapFrom(scene, o.character_joint_map, c.rig().asset(), "character", characterMap, b->report);
+      if (!character->asset)
+        return fail(scene, MN_ERROR_INTERNAL, "mn_binding_create: the character's imported asset is not known");
+      if (const mn_status s = mapFrom(scene, o.character_joint_map, *character->asset, "character", characterMap, b->report);
           s != MN_OK)
         return s;
       const marionette::bridge::BindMaps maps{engineMap, characterMap};
@@ -137,7 +139,7 @@ mn_status mn_binding_create(mn_character* character, const mn_engine_skeleton* e
     } else {
       b->palette = marionette::bridge::PaletteBinding(c.skeleton(), bones);
     }
-    b->morphs = marionette::bridge::MorphBinding(c.rig().asset().morphTargets, slots);
+    b->morphs = marionette::bridge::MorphBinding(c.rig().morphTargets(), slots);
     b->report += b->palette.report().format() + b->morphs.report().format();
     *out = b.release();
     return MN_OK;

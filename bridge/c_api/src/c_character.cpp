@@ -98,7 +98,7 @@ size_t mn_character_morph_count(const mn_character* character) {
 
 const char* mn_character_morph_name(const mn_character* character, size_t morph) {
   if (!isLive(character)) return nullptr;
-  const std::vector<std::string>& names = character->character->rig().asset().morphTargets;
+  const std::vector<std::string>& names = character->character->rig().morphTargets();
   return morph < names.size() ? names[morph].c_str() : nullptr;
 }
 

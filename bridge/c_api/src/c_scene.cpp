@@ -119,9 +119,9 @@ void sendFeedback(mn_scene& s, const marionette::bml::Feedback& f) {
 void sendDueBml(mn_scene& s, double until) {
   for (; s.nextBml < s.pendingBml.size() && s.pendingBml[s.nextBml].time <= until + 1e-9; ++s.nextBml) {
     const marionette::TimedFile& f = s.pendingBml[s.nextBml];
-    std::string text, why;
-    if (!marionette::readTextFile(f.path, text, why)) {
-      s.scene.log(marionette::LogLevel::Error, f.path + ": error: cannot read the BML file: " + why);
+    std::string text;
+    if (marionette::Diagnostics unread; !marionette::readTextFile(f.path, text, unread, "cannot read the BML file")) {
+      for (const marionette::Diagnostic& d : unread.items) s.scene.log(marionette::LogLevel::Error, d.format());
       continue;
     }
     s.realizer->perform(text, f.character, {}, f.time);  // problems arrive as warning feedback
@@ -197,6 +197,7 @@ void mn_scene::syncHandles() {
     h->owner = this;
     h->character = characters[handles.size()].get();
     h->palette = marionette::bridge::PaletteBinding(h->character->skeleton());
+    if (const auto it = assets.find(h->character->name()); it != assets.end()) h->asset = it->second;
     handles.push_back(std::move(h));
   }
 }
@@ -267,6 +268,7 @@ mn_status mn_scene_load_file(mn_scene* scene, const char* path) {
     marionette::SceneLoadResult r = marionette::loadSceneFile(path, scene->scene);
     if (!r.ok()) return fail(scene, MN_ERROR_LOAD, r.diagnostics.format());
     logWarnings(*scene, r.diagnostics);
+    for (const auto& [character, asset] : r.assets) scene->assets.insert_or_assign(character, asset);
     scene->syncHandles();
 #ifdef MARIONETTE_C_HAS_BML
     marionette::bml::useSceneDialects(*scene->realizer, r);
@@ -305,7 +307,7 @@ mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* 
     if (!imported.ok()) return fail(scene, MN_ERROR_LOAD, imported.diagnostics.format());
     logWarnings(*scene, imported.diagnostics);
     auto asset = std::make_shared<marionette::Asset>(std::move(*imported.asset));
-    auto rig = std::make_shared<marionette::Rig>(asset);
+    auto rig = std::make_shared<marionette::Rig>(*asset);
     if (profile_path) {
       marionette::CharacterProfileResult p = marionette::loadCharacterProfile(profile_path, *asset);
       if (!p.diagnostics.ok()) return fail(scene, MN_ERROR_LOAD, p.diagnostics.format());
@@ -314,6 +316,7 @@ mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* 
     }
     if (!scene->scene.addCharacter(name, rig))
       return fail(scene, MN_ERROR_INTERNAL, std::string("mn_scene_add_character: the scene refused '") + name + "'");
+    scene->assets.insert_or_assign(name, std::move(asset));
     scene->syncHandles();
     if (out) *out = scene->handles.back().get();
     return MN_OK;
@@ -445,6 +448,7 @@ mn_status mn_scene_remove_character(mn_scene* scene, mn_character* character) {
     if (it == scene->handles.end() || !scene->scene.removeCharacter(name))
       return fail(scene, MN_ERROR_NOT_FOUND, "mn_scene_remove_character: the scene has no character '" + name + "'");
     scene->handles.erase(it);  // frees the handle (kept back from reuse: a stale one is refused)
+    scene->assets.erase(name);
     return MN_OK;
   });
 }

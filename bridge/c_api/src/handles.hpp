@@ -2,6 +2,7 @@
 // no C++ exception crosses the C boundary; each failure leaves a status and a
 // message on the scene (or, without a scene, on the calling thread).
 #pragma once
+#include <map>
 #include <memory>
 #include <new>
 #include <string>
@@ -41,6 +42,9 @@ struct mn_character : marionette::capi::Registered {
   mn_scene* owner = nullptr;
   marionette::Character* character = nullptr;
   marionette::bridge::PaletteBinding palette;  // identity, bound once
+  // What the character was imported from (skeleton, humanoid map, file name; no meshes):
+  // the rig keeps only what the runtime needs, a joint map is guessed from the asset.
+  std::shared_ptr<const marionette::Asset> asset;
 };
 
 // A character bound to an engine's bone and morph order (mn_binding_create). It names
@@ -81,6 +85,8 @@ struct mn_scene : marionette::capi::Registered {
 #endif
   CallbackForwarder forwarder{*this};
   std::vector<std::unique_ptr<mn_character>> handles;  // one per scene character, in scene order
+  // The imported asset of each character by name, for its handle (mn_character::asset).
+  std::map<std::string, std::shared_ptr<const marionette::Asset>, std::less<>> assets;
   std::vector<marionette::TimedFile> pendingBml;       // scene files' "bml" lists, sent by update
   std::size_t nextBml = 0;
   mutable std::string lastError;  // set by failing calls, const ones included

@@ -54,17 +54,16 @@ ArApp::~ArApp() = default;
 int ArApp::setUp() {
   if (const int code = readArSceneFile()) return code;
   // Inputs that need no GL: the environment's lighting, the background source.
-  if (!inputs_.load(ar_, error_, args_.headless)) {
-    std::fprintf(stderr, "%s\n", error_.c_str());
-    return 2;
-  }
-  for (const std::string& w : inputs_.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
+  Diagnostics inputs;
+  const bool inputsLoaded = inputs_.load(ar_, inputs, args_.headless);
+  std::fputs(inputs.format().c_str(), stderr);  // the error, or the warnings
+  if (!inputsLoaded) return 2;
   restore_.mark("environment_and_background");
 
-  std::string glError;
-  gl_ = GlContext::create({ar_.width, ar_.height, !args_.headless, "marionette-ar: " + args_.scene}, glError);
+  Diagnostics glProblems;
+  gl_ = GlContext::create({ar_.width, ar_.height, !args_.headless, "marionette-ar: " + args_.scene}, glProblems);
   if (!gl_) {
-    std::fprintf(stderr, "marionette-ar: %s\n", glError.c_str());
+    std::fprintf(stderr, "marionette-ar: %s", glProblems.format().c_str());
     return 3;
   }
   std::fprintf(info_, "marionette-ar: %s\n", gl_->rendererName().c_str());
@@ -126,14 +125,17 @@ int ArApp::loadScene() {
 // A GPU model per distinct asset, a pose (palette texture) per character.
 void ArApp::uploadModels() {
   for (const auto& c : scene_.characters()) {
-    const Asset* asset = &c->rig().asset();
+    const Asset* asset = loaded_.assetOf(c->name()).get();
     auto& model = models_[asset];
-    if (!model) {
-      std::vector<std::string> warnings;
+    if (!asset) {
+      std::fprintf(stderr, "marionette-ar: character '%s' is not drawn: it was not loaded from the scene file\n",
+                   c->name().c_str());
+    } else if (!model) {
+      Diagnostics uploaded;
       auto m = std::make_unique<CharacterModel>();
-      if (m->upload(*asset, warnings, error_)) model = std::move(m);
-      else std::fprintf(stderr, "marionette-ar: character '%s' is not drawn: %s\n", c->name().c_str(), error_.c_str());
-      for (const std::string& w : warnings) std::fprintf(stderr, "marionette-ar: warning: %s\n", w.c_str());
+      if (m->upload(*asset, uploaded)) model = std::move(m);
+      std::fputs(uploaded.format().c_str(), stderr);  // the textures not used; why nothing is drawn
+      if (!model) std::fprintf(stderr, "marionette-ar: character '%s' is not drawn\n", c->name().c_str());
     }
     poses_.push_back(std::make_unique<CharacterPose>(c->skeleton()));
     drawn_.push_back(model.get());
@@ -154,14 +156,15 @@ int ArApp::setUpPrt() {
     for (std::size_t i = 0; i < n; ++i) {
       if (!drawn_[i]) continue;
       const Character& c = *scene_.characters()[i];
-      auto& prtAsset = prtAssets_[&c.rig().asset()];
+      const Asset& asset = *loaded_.assetOf(c.name());  // drawn: it has one
+      auto& prtAsset = prtAssets_[&asset];
       if (!prtAsset) {
         Diagnostics d;
         auto a = std::make_unique<PrtAsset>();
-        const bool ok = loadPrtAsset(c.rig(), settings, ar_.path, *a, d);
+        const bool ok = loadPrtAsset(asset, c.rig(), settings, ar_.path, *a, d);
         std::fputs(d.format().c_str(), stderr);
         if (!ok) return 2;
-        const std::string file = std::filesystem::path(c.rig().asset().sourcePath).filename().string();
+        const std::string file = std::filesystem::path(asset.sourcePath).filename().string();
         std::fprintf(info_, "marionette-ar: %s\n", a->describe(file).c_str());
         std::fflush(info_);
         prtAsset = std::move(a);
@@ -180,9 +183,9 @@ int ArApp::setUpPrt() {
 
 // Shaders, the offscreen target, the authoring window; the frame clock.
 int ArApp::setUpDrawing() {
-  if (!characterProgram_.build("character.vert", "character.frag", error_) || !background_.create(error_) ||
-      !target_.create(ar_.width, ar_.height, 4, error_)) {
-    std::fprintf(stderr, "marionette-ar: %s\n", error_.c_str());
+  if (Diagnostics gpu; !characterProgram_.build("character.vert", "character.frag", gpu) || !background_.create(gpu) ||
+                       !target_.create(ar_.width, ar_.height, 4, gpu)) {
+    std::fprintf(stderr, "marionette-ar: %s", gpu.format().c_str());
     return 3;
   }
   if (inputs_.hasEnvironment())
@@ -190,15 +193,16 @@ int ArApp::setUpDrawing() {
   restore_.mark("shaders_and_targets");
   // The authoring window: a session on the scene's tracker, its characters measured at rest.
   if (!args_.author.empty()) {
-    std::optional<AuthoringSession> started = startAuthoring(ar_, scene_, error_);
+    Diagnostics authoring;
+    std::optional<AuthoringSession> started = startAuthoring(ar_, scene_, loaded_, authoring);
     if (!started) {
-      std::fprintf(stderr, "marionette-ar: --author: %s\n", error_.c_str());
+      std::fputs(authoring.format().c_str(), stderr);
       return 2;
     }
     authoring_ = std::make_unique<AuthoringWindow>(std::move(*started), ar_.authoringBml, args_.author);
-    if (!authoring_->init(gl_->window(), error_) ||
-        (!args_.inputScript.empty() && !authoring_->loadInputScript(args_.inputScript, error_))) {
-      std::fprintf(stderr, "marionette-ar: %s\n", error_.c_str());
+    if (!authoring_->init(gl_->window(), authoring) ||
+        (!args_.inputScript.empty() && !authoring_->loadInputScript(args_.inputScript, authoring))) {
+      std::fputs(authoring.format().c_str(), stderr);
       return 2;
     }
   }
@@ -262,13 +266,10 @@ void ArApp::updateScene(double step) {
 int ArApp::readBackground() {
   const ArBackground::Kind kind = inputs_.backgroundKind();
   if (kind == ArBackground::Kind::Environment || kind == ArBackground::Kind::Color) return 0;
-  error_.clear();
-  if (const Image8* image = inputs_.backgroundFrame(scene_.time(), error_)) {
-    background_.setImage(*image);
-  } else if (!error_.empty()) {
-    std::fprintf(stderr, "%s\n", error_.c_str());
-    return 2;
-  }
+  Diagnostics decoding;  // a frame that cannot be decoded: said, and the previous frame stays
+  const Image8* image = inputs_.backgroundFrame(scene_.time(), decoding);
+  if (!decoding.items.empty()) std::fputs(decoding.format().c_str(), stderr);
+  if (image) background_.setImage(*image);
   return 0;
 }
 
@@ -343,8 +344,9 @@ void ArApp::drawTrackingBadge() {
 }
 
 int ArApp::writeImageOrFail(const std::string& path) {
-  if (writeImage(path, frameImage_, error_)) return 0;
-  std::fprintf(stderr, "marionette-ar: %s\n", error_.c_str());
+  Diagnostics written;
+  if (writeImage(path, frameImage_, written)) return 0;
+  std::fputs(written.format().c_str(), stderr);
   return 2;
 }
 
@@ -401,7 +403,7 @@ int ArApp::finish() {
       std::fprintf(info_, "marionette-ar: restored %s: first registered frame %ld at %.3f s after launch\n",
                    args_.restore.c_str(), restore_.firstRegisteredFrame(), restore_.firstRegisteredSeconds());
     if (args_.json) std::printf("%s\n", restore_.json(frame_).c_str());
-    if (!restore_.error().empty()) return 1;
+    if (!restore_.diagnostics().ok()) return 1;
   } else if (args_.json) {
     std::printf("{\"frames\": %ld, \"scene_seconds\": %.6f, \"middleware_ms_per_frame\": %.6f}\n", frame_,
                 scene_.time(), msPerFrame);

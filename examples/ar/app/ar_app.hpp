@@ -74,7 +74,6 @@ class ArApp {
   ArScene ar_;
   AugmentationRestore restore_;
   FrameInputs inputs_;
-  std::string error_;
   std::unique_ptr<GlContext> gl_;
   Scene scene_;
   LogListener log_;

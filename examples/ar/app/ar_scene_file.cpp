@@ -124,11 +124,8 @@ bool parsePrtMode(const std::string& name, PrtMode& out) noexcept {
 Diagnostics readArScene(const std::string& path, ArScene& out) {
   Diagnostics d;
   out.path = path;
-  std::string text, why;
-  if (!readTextFile(path, text, why)) {
-    d.items.push_back({Severity::Error, path, 0, 0, "cannot read the AR scene file: " + why});
-    return d;
-  }
+  std::string text;
+  if (!readTextFile(path, text, d, "cannot read the AR scene file")) return d;
   if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {  // nlohmann would stop there
     const auto [line, column] = lineColumnAt(text, static_cast<std::ptrdiff_t>(nul));
     d.items.push_back({Severity::Error, path, line, column, "a NUL byte: not a JSON text file"});

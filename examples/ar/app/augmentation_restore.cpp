@@ -51,18 +51,12 @@ double secondsSinceProcessStart() noexcept {
 }
 
 bool AugmentationRestore::load(const std::string& path, ArScene& scene, const std::string& truthCsv) {
-  Diagnostics d;
-  std::optional<Augmentation> a = readAugmentation(path, d);
+  path_ = path;
+  std::optional<Augmentation> a = readAugmentation(path, diagnostics_);
+  if (a && !restoreInto(*a, path, scene, diagnostics_)) a.reset();
+  std::fputs(diagnostics_.format().c_str(), stderr);  // the errors, or the reader's warnings
   if (!a) {
-    error_ = d.format();
-    while (!error_.empty() && error_.back() == '\n') error_.pop_back();
-  } else {
-    std::fputs(d.format().c_str(), stderr);  // warnings
-    if (!restoreInto(*a, path, scene, error_)) a.reset();
-  }
-  if (!a) {
-    std::fprintf(stderr, "%s\nmarionette-ar: the augmentation is not restored; the scene runs without it\n",
-                 error_.c_str());
+    std::fprintf(stderr, "marionette-ar: the augmentation is not restored; the scene runs without it\n");
     return false;
   }
   augmentation_ = std::move(a);
@@ -79,13 +73,14 @@ void AugmentationRestore::bind(const Scene& scene, std::vector<TimedFile>& bml) 
   anchors_.assign(n, glm::mat4(1.0f));
   placed_.assign(n, 0);
   if (!active()) return;
-  for (const PlacedCharacter& c : augmentation_->characters) {
+  for (std::size_t k = 0; k < augmentation_->characters.size(); ++k) {
+    const PlacedCharacter& c = augmentation_->characters[k];
     std::size_t i = 0;
     while (i < n && scene.characters()[i]->name() != c.name) ++i;
     if (i == n) {
-      const std::string e = "'" + c.name + "' is not a character of the scene: not restored";
-      std::fprintf(stderr, "marionette-ar: error: restore: %s\n", e.c_str());
-      error_ += (error_.empty() ? "" : "; ") + e;
+      diagnostics_.error(path_, "'characters[" + std::to_string(k) + "].name': '" + c.name +
+                                    "' is not a character of the scene: not restored");
+      std::fprintf(stderr, "%s\n", diagnostics_.items.back().format().c_str());
       continue;
     }
     anchors_[i] = placementMatrix(c.placement);
@@ -130,8 +125,11 @@ void AugmentationRestore::frameDrawn(long frame, double time, bool verified, con
 
 std::string AugmentationRestore::json(long frames) const {
   auto orNull = [](double v) { return v < 0 ? nlohmann::json(nullptr) : nlohmann::json(v); };
+  std::string errors;  // the errors, one a line (not the warnings)
+  for (const Diagnostic& d : diagnostics_.items)
+    if (d.severity == Severity::Error) errors += (errors.empty() ? "" : "\n") + d.format();
   nlohmann::json j = {{"restored", active()},
-                      {"error", error_.empty() ? nlohmann::json(nullptr) : nlohmann::json(error_)},
+                      {"error", errors.empty() ? nlohmann::json(nullptr) : nlohmann::json(errors)},
                       {"characters", active() ? augmentation_->characters.size() : 0},
                       {"frames", frames},
                       {"first_registered_frame", firstFrame_},

@@ -27,10 +27,12 @@ namespace marionette::ar {
 class AugmentationRestore {
  public:
   // Reads the augmentation and puts its tracker, environment and exposure into `scene`. False
-  // (with the error printed, `scene` unchanged) when it cannot: the renderer goes on without it.
+  // (with the errors printed, `scene` unchanged) when it cannot: the renderer goes on without it.
   bool load(const std::string& augmentationPath, ArScene& scene, const std::string& truthCsv);
   [[nodiscard]] bool active() const noexcept { return augmentation_.has_value(); }
-  [[nodiscard]] const std::string& error() const noexcept { return error_; }
+  // What load() and bind() found (printed as found): an error names the augmentation file and
+  // the field, or the map file.
+  [[nodiscard]] const Diagnostics& diagnostics() const noexcept { return diagnostics_; }
 
   // After the middleware scene is loaded: each placed character's anchor, its BML added to
   // `bml` at time 0. A placed character the scene lacks is an error; the others are restored.
@@ -59,7 +61,8 @@ class AugmentationRestore {
 
  private:
   std::optional<Augmentation> augmentation_;
-  std::string error_;
+  std::string path_;  // the augmentation file
+  Diagnostics diagnostics_;
   std::optional<PoseTrack> truth_;
   std::vector<glm::mat4> anchors_;
   std::vector<char> placed_;

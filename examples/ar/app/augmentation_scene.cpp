@@ -35,19 +35,14 @@ std::string relative(const std::string& path, const fs::path& folder) {
   return r.generic_string();
 }
 
-bool mapChecksum(const std::string& file, std::uint32_t& out, std::string& error) {
+bool mapChecksum(const std::string& file, std::uint32_t& out, Diagnostics& diagnostics) {
 #if !MARIONETTE_AR_HAS_TRACKING
   (void)out;
-  error = file + ": markerless maps need a build with MARIONETTE_WITH_TRACKING";
+  diagnostics.error(file, "markerless maps need a build with MARIONETTE_WITH_TRACKING");
   return false;
 #else
-  Diagnostics d;
-  const std::optional<PlanarMap> map = readPlanarMap(file, d);
-  if (!map) {
-    error = d.format();
-    while (!error.empty() && error.back() == '\n') error.pop_back();
-    return false;
-  }
+  const std::optional<PlanarMap> map = readPlanarMap(file, diagnostics);
+  if (!map) return false;
   out = map->checksum;
   return true;
 #endif
@@ -55,7 +50,7 @@ bool mapChecksum(const std::string& file, std::uint32_t& out, std::string& error
 
 }  // namespace
 
-bool trackerReference(const ArTracker& t, TrackerReference& out, std::string& error) {
+bool trackerReference(const ArTracker& t, TrackerReference& out, Diagnostics& diagnostics) {
   out = {};
   out.camera = t.camera;
   if (t.kind == ArTracker::Kind::AprilTag) {
@@ -66,28 +61,29 @@ bool trackerReference(const ArTracker& t, TrackerReference& out, std::string& er
   out.kind = "markerless";
   out.map = t.map;
   std::uint32_t crc = 0;
-  if (!mapChecksum(t.map, crc, error)) return false;
+  if (!mapChecksum(t.map, crc, diagnostics)) return false;
   out.mapCrc32 = hex(crc);
   return true;
 }
 
-std::optional<AuthoringSession> startAuthoring(const ArScene& scene, const Scene& characters, std::string& error) {
+std::optional<AuthoringSession> startAuthoring(const ArScene& scene, const Scene& characters, const SceneLoadResult& loaded,
+                                             Diagnostics& diagnostics) {
   const ArTracker& t = scene.camera.tracker;
   if (t.kind == ArTracker::Kind::None) {
-    error = scene.path + ": 'camera.tracker' is needed: placements are made on the tracked floor";
+    diagnostics.error(scene.path, "'camera.tracker' is needed: placements are made on the tracked floor");
     return std::nullopt;
   }
   if (t.kind == ArTracker::Kind::Markerless && t.map.empty()) {
-    error = scene.path + ": 'camera.tracker.map' is needed: an augmentation belongs to a saved map "
-            "(make one with marionette-ar track --save-map)";
+    diagnostics.error(scene.path, "'camera.tracker.map' is needed: an augmentation belongs to a saved map "
+                                  "(make one with marionette-ar track --save-map)");
     return std::nullopt;
   }
   Augmentation base;
-  if (!trackerReference(t, base.tracker, error)) return std::nullopt;
+  if (!trackerReference(t, base.tracker, diagnostics)) return std::nullopt;
   base.environment = scene.environment.file;
   base.exposureEv = scene.environment.exposure > 0 ? std::log2(scene.environment.exposure) : 0.0f;
   Diagnostics measured;
-  std::vector<CatalogueEntry> catalogue = sceneCatalogue(characters, measured);
+  std::vector<CatalogueEntry> catalogue = sceneCatalogue(characters, loaded, measured);
   std::fputs(measured.format().c_str(), stderr);
   return AuthoringSession(std::move(base), std::move(catalogue));
 }
@@ -106,7 +102,7 @@ Augmentation relativeTo(const Augmentation& a, const std::string& file) {
   return r;
 }
 
-bool restoreInto(const Augmentation& a, const std::string& path, ArScene& scene, std::string& error) {
+bool restoreInto(const Augmentation& a, const std::string& path, ArScene& scene, Diagnostics& diagnostics) {
   ArTracker t = scene.camera.tracker;  // keeps the scene's holdSeconds and hideWhenLost
   t.camera = a.tracker.camera;
   if (a.tracker.kind == "apriltag") {
@@ -117,20 +113,21 @@ bool restoreInto(const Augmentation& a, const std::string& path, ArScene& scene,
     t.map = a.tracker.map;
     t.target.clear();
     std::uint32_t crc = 0;
-    if (!mapChecksum(t.map, crc, error)) {
-      error = path + ": 'tracker.map': " + error;
+    if (Diagnostics unread; !mapChecksum(t.map, crc, unread)) {  // the map's own errors, then the field naming it
+      diagnostics.items.insert(diagnostics.items.end(), unread.items.begin(), unread.items.end());
+      diagnostics.error(path, "'tracker.map': " + t.map + " is not a readable map");
       return false;
     }
     if (!a.tracker.mapCrc32.empty() && hex(crc) != a.tracker.mapCrc32) {
-      error = path + ": 'tracker.mapCrc32': the map " + t.map + " has checksum " + hex(crc) + ", not " +
-              a.tracker.mapCrc32 + ": it is not the map this augmentation was authored on";
+      diagnostics.error(path, "'tracker.mapCrc32': the map " + t.map + " has checksum " + hex(crc) + ", not " +
+                                  a.tracker.mapCrc32 + ": it is not the map this augmentation was authored on");
       return false;
     }
   }
   if (scene.background.kind != ArBackground::Kind::Sequence && scene.background.kind != ArBackground::Kind::Video &&
       scene.background.kind != ArBackground::Kind::Camera) {
-    error = path + ": the scene " + scene.path + " has no camera frames to relocalize in (its background is not a "
-            "sequence, a video or a camera)";
+    diagnostics.error(path, "the scene " + scene.path + " has no camera frames to relocalize in (its background is "
+                            "not a sequence, a video or a camera)");
     return false;
   }
   scene.camera.tracker = t;

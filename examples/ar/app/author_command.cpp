@@ -77,9 +77,10 @@ int runAuthorCommand(int argc, char** argv) {
   SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
   std::fputs(loaded.diagnostics.format().c_str(), stderr);
   if (!loaded.ok()) return 2;
-  std::string error;
-  std::optional<AuthoringSession> started = startAuthoring(ar, scene, error);
-  if (!started) return fail(error);
+  Diagnostics problems;
+  std::optional<AuthoringSession> started = startAuthoring(ar, scene, loaded, problems);
+  std::fputs(problems.format().c_str(), stderr);
+  if (!started) return 2;
   AuthoringSession& session = *started;
 
   std::optional<BackgroundKind> kind;
@@ -93,8 +94,10 @@ int runAuthorCommand(int argc, char** argv) {
     std::fputs(open.format().c_str(), stderr);
     return 2;
   }
-  auto camera = TrackedCamera::create(ar.camera.tracker, source->width(), source->height(), error);
-  if (!camera) return fail(error);
+  Diagnostics tracking;
+  auto camera = TrackedCamera::create(ar.camera.tracker, source->width(), source->height(), tracking);
+  std::fputs(tracking.format().c_str(), stderr);
+  if (!camera) return 2;
 
   // Frames are fed to the tracker in the order a user would see them, at the sequence's rate, up
   // to the frame each action happens at; a video plays once and holds its last frame.
@@ -132,9 +135,12 @@ int runAuthorCommand(int argc, char** argv) {
     view.tracked = camera->state() != TrackingState::Lost;
     view.view = camera->view();
     view.projection = camera->projection(view.width, view.height, ar.camera.nearPlane, ar.camera.farPlane);
-    if (!session.apply(a, view, error))
+    if (Diagnostics refused; !session.apply(a, view, refused)) {  // the session's reason, after the file and action
+      std::string why;
+      for (const Diagnostic& item : refused.items) why += (why.empty() ? "" : "; ") + item.message;
       return fail(where + " at frame " + std::to_string(frame) + " (" + std::string(trackingStateName(camera->state())) +
-                  "): " + error);
+                  "): " + why);
+    }
     if (a.kind == ActionKind::Save) {
       Diagnostics w;
       if (!writeAugmentation(outPath, relativeTo(session.augmentation(), outPath), w)) {

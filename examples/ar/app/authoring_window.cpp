@@ -56,13 +56,13 @@ AuthoringWindow::~AuthoringWindow() {
   ImGui::DestroyContext();
 }
 
-bool AuthoringWindow::init(GLFWwindow* window, std::string& error) {
+bool AuthoringWindow::init(GLFWwindow* window, Diagnostics& diagnostics) {
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // the layout is fixed; no imgui.ini next to the user's files
   ImGui::StyleColorsDark();
   if (!ImGui_ImplGlfw_InitForOpenGL(window, true) || !ImGui_ImplOpenGL3_Init("#version 330")) {
-    error = "Dear ImGui's GLFW / OpenGL 3 backends did not start";
+    diagnostics.error("", "Dear ImGui's GLFW / OpenGL 3 backends did not start");
     ImGui::DestroyContext();
     return false;
   }
@@ -70,21 +70,19 @@ bool AuthoringWindow::init(GLFWwindow* window, std::string& error) {
   return true;
 }
 
-bool AuthoringWindow::loadInputScript(const std::string& path, std::string& error) {
+bool AuthoringWindow::loadInputScript(const std::string& path, Diagnostics& diagnostics) {
   std::string text;
-  if (!readTextFile(path, text, error)) {
-    error = path + ": " + error;
-    return false;
-  }
+  if (!readTextFile(path, text, diagnostics)) return false;
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
-    error = path + ": not JSON: " + e.what();
+    // The message keeps its old text, path included: a test looks for "FILE: not JSON".
+    diagnostics.error(path, path + ": not JSON: " + e.what());
     return false;
   }
   if (!root.is_object() || !root.contains("events") || !root["events"].is_array()) {
-    error = path + ": 'events': expected an array";
+    diagnostics.error(path, "'events': expected an array");
     return false;
   }
   auto script = std::make_unique<Script>();
@@ -92,14 +90,14 @@ bool AuthoringWindow::loadInputScript(const std::string& path, std::string& erro
   const nlohmann::json& events = root["events"];
   for (std::size_t i = 0; i < events.size(); ++i) {
     const nlohmann::json& e = events[i];
-    const std::string where = path + ": 'events[" + std::to_string(i) + "]'";
+    const std::string where = "'events[" + std::to_string(i) + "]'";
     auto pixel = [&](const nlohmann::json& v, glm::vec2& out) {
       if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number()) return false;
       out = {v[0].get<float>(), v[1].get<float>()};
       return std::isfinite(out.x) && std::isfinite(out.y);
     };
     if (!e.is_object() || !e.contains("frame") || !e["frame"].is_number_integer() || e["frame"].get<long>() < 0) {
-      error = where + ": expected an object with a whole \"frame\" >= 0";
+      diagnostics.error(path, where + ": expected an object with a whole \"frame\" >= 0");
       return false;
     }
     const long f = e["frame"].get<long>();
@@ -112,7 +110,8 @@ bool AuthoringWindow::loadInputScript(const std::string& path, std::string& erro
                                  pixel(e["dragImage"][1], b)
                            : pixel(e["clickImage"], a);
       if (!ok) {
-        error = where + ": expected " + (drag ? "\"dragImage\": [[x, y], [x, y]]" : "\"clickImage\": [x, y]");
+        diagnostics.error(path,
+                          where + ": expected " + (drag ? "\"dragImage\": [[x, y], [x, y]]" : "\"clickImage\": [x, y]"));
         return false;
       }
       script->steps.push_back({f, Kind::MoveImage, a});
@@ -130,7 +129,7 @@ bool AuthoringWindow::loadInputScript(const std::string& path, std::string& erro
     } else if (e.contains("key") && e["key"].is_string() && e["key"].get<std::string>().size() == 1) {
       const char k = static_cast<char>(std::toupper(static_cast<unsigned char>(e["key"].get<std::string>()[0])));
       if (!((k >= 'A' && k <= 'Z') || (k >= '0' && k <= '9'))) {
-        error = where + ": \"key\" must be a letter or a digit";
+        diagnostics.error(path, where + ": \"key\" must be a letter or a digit");
         return false;
       }
       s.kind = Kind::Key;
@@ -142,7 +141,7 @@ bool AuthoringWindow::loadInputScript(const std::string& path, std::string& erro
       s.kind = Kind::Quit;
       script->steps.push_back(s);
     } else {
-      error = where + ": expected one of clickImage, dragImage, clickButton, key, quit";
+      diagnostics.error(path, where + ": expected one of clickImage, dragImage, clickButton, key, quit");
       return false;
     }
   }
@@ -163,9 +162,10 @@ bool AuthoringWindow::placement(const std::string& character, glm::mat4& anchor)
 
 void AuthoringWindow::applyAction(Action a, const AuthoringView& view, long frameNumber) {
   a.frame = frameNumber;
-  std::string error;
-  if (!session_.apply(a, view, error)) {
-    message_ = std::string(actionName(a.kind)) + ": " + error;
+  Diagnostics refused;
+  if (!session_.apply(a, view, refused)) {  // the panel's status line: the reason, no file
+    message_ = actionName(a.kind);
+    for (const Diagnostic& d : refused.items) message_ += ": " + d.message;
     return;
   }
   modelled_ += modelledSeconds(a, previous_ ? &*previous_ : nullptr);

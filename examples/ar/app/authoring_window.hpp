@@ -37,10 +37,11 @@ class AuthoringWindow {
   AuthoringWindow(const AuthoringWindow&) = delete;
   AuthoringWindow& operator=(const AuthoringWindow&) = delete;
 
-  // ImGui's context and its GLFW and OpenGL 3 backends on the renderer's window.
-  [[nodiscard]] bool init(GLFWwindow* window, std::string& error);
-  // Synthetic input; errors name the file and the event.
-  [[nodiscard]] bool loadInputScript(const std::string& path, std::string& error);
+  // ImGui's context and its GLFW and OpenGL 3 backends on the renderer's window; false with an
+  // error in `diagnostics` (no file: its `file` is empty) when a backend does not start.
+  [[nodiscard]] bool init(GLFWwindow* window, Diagnostics& diagnostics);
+  // Synthetic input; errors in `diagnostics` name the file and the event ('events[3]').
+  [[nodiscard]] bool loadInputScript(const std::string& path, Diagnostics& diagnostics);
 
   // One frame, after the scene is presented to the window and before the swap: the panel, the
   // input (the user's or the script's) turned into actions and applied through `view`, drawn.

@@ -6,24 +6,18 @@
 namespace marionette::ar {
 
 std::optional<CameraModel> calibrationForFrames(const std::string& file, int frameWidth, int frameHeight,
-                                                std::string& error) {
-  Diagnostics d;
-  auto camera = readCameraModel(file, d);
+                                                Diagnostics& diagnostics) {
+  auto camera = readCameraModel(file, diagnostics);
   if (!camera) {
-    error = file + ": cannot read the calibration";
-    for (const Diagnostic& item : d.items)
-      if (item.severity == Severity::Error) {
-        error = item.format();
-        break;
-      }
+    if (diagnostics.ok()) diagnostics.error(file, "cannot read the calibration");
     return std::nullopt;
   }
   if (camera->width != frameWidth || camera->height != frameHeight) {
     if (std::abs(static_cast<double>(camera->width) * frameHeight - static_cast<double>(camera->height) * frameWidth) >
         0.01 * static_cast<double>(camera->width) * frameHeight) {
-      error = file + ": calibrated for " + std::to_string(camera->width) + "x" + std::to_string(camera->height) +
-              " but the background frames are " + std::to_string(frameWidth) + "x" + std::to_string(frameHeight) +
-              " (another aspect ratio)";
+      diagnostics.error(file, "calibrated for " + std::to_string(camera->width) + "x" + std::to_string(camera->height) +
+                                  " but the background frames are " + std::to_string(frameWidth) + "x" +
+                                  std::to_string(frameHeight) + " (another aspect ratio)");
       return std::nullopt;
     }
     *camera = camera->scaledTo(frameWidth, frameHeight);

@@ -14,9 +14,10 @@ namespace marionette::ar {
 
 // Reads the calibration YAML and scales it to frames of frameWidth x frameHeight (a calibration
 // at another resolution of the same sensor still holds); another aspect ratio is an error
-// naming the file. Errors go to `error`, naming the file and the field.
+// naming the file. Errors (and the reader's warnings) go to `diagnostics`, naming the file and
+// the field.
 [[nodiscard]] std::optional<CameraModel> calibrationForFrames(const std::string& file, int frameWidth, int frameHeight,
-                                                              std::string& error);
+                                                              Diagnostics& diagnostics);
 
 // The OpenGL projection of `camera` for a viewport its frames cover: scaled to fill it, the
 // longer side cropped, as BackgroundRenderer::drawImage draws the frame.

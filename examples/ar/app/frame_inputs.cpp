@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <iterator>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -32,7 +33,6 @@ struct FrameInputs::Sources {
   std::optional<StaticCameraPose> camera;
   Image8 frame;
   std::int64_t frameIndex = -1;
-  Diagnostics frameDiagnostics;
 };
 
 FrameInputs::FrameInputs() : sources_(std::make_unique<Sources>()) {}
@@ -44,35 +44,34 @@ namespace {
 // E(n) = pi * L everywhere, i.e. the DC irradiance coefficient pi * L / Y00.
 constexpr float kNeutralRadiance = 0.8f;
 
-bool report(const Diagnostics& d, std::vector<std::string>& warnings, std::string& error) {
-  for (const Diagnostic& item : d.items) {
-    if (item.severity == Severity::Error) {
-      error = item.format();
-      return false;
-    }
-    warnings.push_back(item.format());
-  }
-  return true;
+// Moves `from`'s items to the end of `to`; false if one is an error.
+bool report(Diagnostics& from, Diagnostics& to) {
+  const bool ok = from.ok();
+  to.items.insert(to.items.end(), std::make_move_iterator(from.items.begin()),
+                  std::make_move_iterator(from.items.end()));
+  from.items.clear();
+  return ok;
 }
 
 }  // namespace
 
-bool FrameInputs::load(const ArScene& scene, std::string& error, bool offline) {
+bool FrameInputs::load(const ArScene& scene, Diagnostics& diagnostics, bool offline) {
   kind_ = scene.background.kind;
   Diagnostics camera;
   sources_->camera = StaticCameraPose::create(scene.camera.position, scene.camera.target, scene.camera.up,
                                               scene.camera.fovYDegrees, camera, scene.path);
   nearPlane_ = scene.camera.nearPlane;
   farPlane_ = scene.camera.farPlane;
-  if (!report(camera, warnings_, error)) return false;
+  if (!report(camera, diagnostics)) return false;
 
   irradiance_.fill(glm::vec3(0.0f));
   irradiance_[0] = glm::vec3(3.14159265f * kNeutralRadiance / 0.282095f);
   if (!scene.environment.file.empty()) {
     const auto start = std::chrono::steady_clock::now();
     prt::EnvironmentMapLoad loaded = prt::loadLightProbe(scene.environment.file, scene.environment.probe);
-    if (!report(loaded.diagnostics, warnings_, error) || !loaded.map) {
-      if (error.empty()) error = scene.environment.file + ": cannot load the environment map";
+    const bool ok = report(loaded.diagnostics, diagnostics);
+    if (!ok || !loaded.map) {
+      if (ok) diagnostics.error(scene.environment.file, "cannot load the environment map");
       return false;
     }
     // Rotating the environment rotates its SH coefficients; the map is projected once,
@@ -99,9 +98,9 @@ bool FrameInputs::load(const ArScene& scene, std::string& error, bool offline) {
                                                                         : BackgroundKind::Video;
     Diagnostics opened;
     sources_->background = openBackground(kind, scene.background.file, scene.background.fps, opened);
-    if (!report(opened, warnings_, error)) return false;
+    if (!report(opened, diagnostics)) return false;
     if (!sources_->background) {
-      error = scene.background.file + ": cannot open the background";
+      diagnostics.error(scene.background.file, "cannot open the background");
       return false;
     }
   } else if (kind_ == ArBackground::Kind::Camera) {
@@ -114,23 +113,23 @@ bool FrameInputs::load(const ArScene& scene, std::string& error, bool offline) {
     live.waitForNewFrame = offline;
     Diagnostics opened;
     sources_->background = openLiveCamera(live, opened);
-    if (!report(opened, warnings_, error)) return false;
+    if (!report(opened, diagnostics)) return false;
     if (!sources_->background) {
-      error = liveCameraName(live) + ": cannot open the camera";
+      diagnostics.error(liveCameraName(live), "cannot open the camera");
       return false;
     }
   }
   if (scene.camera.tracker.kind != ArTracker::Kind::None) {
 #if MARIONETTE_AR_HAS_TRACKING
     if (!sources_->background) {
-      error = scene.path + ": 'camera.tracker' needs a sequence or video background";
+      diagnostics.error(scene.path, "'camera.tracker' needs a sequence or video background");
       return false;
     }
     sources_->tracked = TrackedCamera::create(scene.camera.tracker, sources_->background->width(),
-                                              sources_->background->height(), error);
+                                              sources_->background->height(), diagnostics);
     if (!sources_->tracked) return false;
 #else
-    error = scene.path + ": 'camera.tracker' needs a build with MARIONETTE_WITH_TRACKING";
+    diagnostics.error(scene.path, "'camera.tracker' needs a build with MARIONETTE_WITH_TRACKING");
     return false;
 #endif
   }
@@ -139,24 +138,22 @@ bool FrameInputs::load(const ArScene& scene, std::string& error, bool offline) {
     const bool frames = kind_ == ArBackground::Kind::Sequence || kind_ == ArBackground::Kind::Video;
     const bool sized = frames || kind_ == ArBackground::Kind::Image;
     sources_->replayed = ReplayedCamera::create(scene.camera.replay, sized ? sources_->background->width() : 0,
-                                                sized ? sources_->background->height() : 0, error);
+                                                sized ? sources_->background->height() : 0, diagnostics);
     if (!sources_->replayed) return false;
     sources_->replayByFrame = frames;
 #else
-    error = scene.path + ": 'camera.poses' needs a build with MARIONETTE_WITH_TRACKING (the calibration reader)";
+    diagnostics.error(scene.path,
+                      "'camera.poses' needs a build with MARIONETTE_WITH_TRACKING (the calibration reader)");
     return false;
 #endif
   }
   return true;
 }
 
-const Image8* FrameInputs::backgroundFrame(double time, std::string& error) {
-  error.clear();
+const Image8* FrameInputs::backgroundFrame(double time, Diagnostics& diagnostics) {
   if (!sources_->background) return nullptr;
   Sources& s = *sources_;
-  s.frameDiagnostics.items.clear();
-  const BackgroundFrame& f = s.background->frameAt(time, s.frameDiagnostics);
-  for (const Diagnostic& d : s.frameDiagnostics.items) std::fprintf(stderr, "%s\n", d.format().c_str());
+  const BackgroundFrame& f = s.background->frameAt(time, diagnostics);
   if (f.index != s.frameIndex) {  // a new frame: convert once
     s.frameIndex = f.index;
     s.frame.width = f.width;

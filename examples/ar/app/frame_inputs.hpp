@@ -33,10 +33,10 @@ class FrameInputs {
  public:
   FrameInputs();
   ~FrameInputs();
-  // Loads the environment map and opens the background; errors name the file. `offline`
-  // (headless): a live camera background waits for a new frame at each rendered frame.
-  bool load(const ArScene& scene, std::string& error, bool offline = false);
-  [[nodiscard]] const std::vector<std::string>& warnings() const noexcept { return warnings_; }
+  // Loads the environment map and opens the background. Errors and warnings go to `diagnostics`,
+  // naming the file (and the scene key); false on an error. `offline` (headless): a live camera
+  // background waits for a new frame at each rendered frame.
+  bool load(const ArScene& scene, Diagnostics& diagnostics, bool offline = false);
 
   [[nodiscard]] const std::array<glm::vec3, 9>& irradianceSH() const noexcept { return irradiance_; }
   // The environment's radiance in the world frame ("rotation" applied), in
@@ -52,8 +52,9 @@ class FrameInputs {
 
   [[nodiscard]] ArBackground::Kind backgroundKind() const noexcept { return kind_; }
   // The camera frame for a scene time; the same pointer while the frame does not
-  // change; nullptr with `error` set when the source fails.
-  [[nodiscard]] const Image8* backgroundFrame(double time, std::string& error);
+  // change; nullptr without a camera background. A frame that cannot be decoded is an error in
+  // `diagnostics` naming the file, and the previous frame stays (BackgroundSource::frameAt).
+  [[nodiscard]] const Image8* backgroundFrame(double time, Diagnostics& diagnostics);
   // The camera for a viewport of width x height pixels: the scene file's static pose, the
   // tracker's (fed by backgroundFrame(), so call that first in a frame), or the replayed
   // trajectory's (by the background frame shown, or by `time` without camera frames).
@@ -77,7 +78,6 @@ class FrameInputs {
  private:
   struct Sources;
   std::unique_ptr<Sources> sources_;
-  std::vector<std::string> warnings_;
   std::array<glm::vec3, 9> irradiance_{};
   prt::ShCoefficients radiance_{.bands = 0, .c = {}};
   std::vector<float> environment_;

@@ -37,9 +37,8 @@ std::vector<glm::mat4> clipPose(const Skeleton& skeleton, const AnimationClip& c
 
 }  // namespace
 
-bool loadPrtAsset(const Rig& rig, const ArPrt& settings, const std::string& scenePath, PrtAsset& out,
+bool loadPrtAsset(const Asset& asset, const Rig& rig, const ArPrt& settings, const std::string& scenePath, PrtAsset& out,
                   Diagnostics& diagnostics) {
-  const Asset& asset = rig.asset();
   prt::BindPoseOptions options;
   if (!settings.poseClip.empty()) {
     const auto clip = rig.findClip(settings.poseClip);
@@ -61,12 +60,12 @@ bool loadPrtAsset(const Rig& rig, const ArPrt& settings, const std::string& scen
     return false;
   }
 
-  prt::TransferSettings transferSettings;
-  transferSettings.bands = settings.bands;
-  transferSettings.raysPerVertex = settings.rays;
-  transferSettings.shadowed = settings.mode == PrtMode::Shadowed;
+  prt::TransferOptions transferOptions;
+  transferOptions.bands = settings.bands;
+  transferOptions.raysPerVertex = settings.rays;
+  transferOptions.shadowed = settings.mode == PrtMode::Shadowed;
   const std::string name = std::filesystem::path(asset.sourcePath).filename().string();
-  prt::CachedTransfer cached = prt::cachedTransfer(mesh, transferSettings, settings.cache, diagnostics,
+  prt::CachedTransfer cached = prt::cachedTransfer(mesh, transferOptions, settings.cache, diagnostics,
                                                    prt::terminalProgressBar("prt " + name));
   if (cached.transfer.vertexCount() != mesh.positions.size()) {
     diagnostics.error(asset.sourcePath, "the transfer could not be computed");
@@ -75,7 +74,7 @@ bool loadPrtAsset(const Rig& rig, const ArPrt& settings, const std::string& scen
   out.primitiveVertexOffset = mesh.primitiveVertexOffset;
   out.vertexCount = mesh.positions.size();
   out.relighter = prt::TransferRelighter(cached.transfer);
-  out.shadowed = transferSettings.shadowed;
+  out.shadowed = transferOptions.shadowed;
   out.fromCache = cached.fromCache;
   out.cachePath = cached.path;
   out.seconds = cached.stats.seconds;

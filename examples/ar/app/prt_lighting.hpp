@@ -32,10 +32,10 @@ struct PrtAsset {
   [[nodiscard]] std::string describe(const std::string& name) const;
 };
 
-// Builds the transfer of `rig`'s asset as `settings` say (which must not be Off). Problems
+// Builds the transfer of `asset` (the one `rig` was made from) as `settings` say (which must not be Off). Problems
 // go to `diagnostics` naming the asset (or `scenePath` and the key for an unknown pose
 // clip); returns false when the asset cannot be lit by PRT.
-bool loadPrtAsset(const Rig& rig, const ArPrt& settings, const std::string& scenePath, PrtAsset& out,
+bool loadPrtAsset(const Asset& asset, const Rig& rig, const ArPrt& settings, const std::string& scenePath, PrtAsset& out,
                   Diagnostics& diagnostics);
 
 // The rotation that turns world-frame SH into the model frame of a character placed by

@@ -3,25 +3,18 @@
 namespace marionette::ar {
 
 std::unique_ptr<ReplayedCamera> ReplayedCamera::create(const ArPoseReplay& settings, int frameWidth, int frameHeight,
-                                                       std::string& error) {
-  Diagnostics d;
-  auto track = readPoseTrack(settings.poses, d);
+                                                       Diagnostics& diagnostics) {
+  auto track = readPoseTrack(settings.poses, diagnostics);
   if (!track) {
-    error = settings.poses + ": cannot read the poses";
-    for (const Diagnostic& item : d.items)
-      if (item.severity == Severity::Error) {
-        error = item.format();
-        break;
-      }
+    if (diagnostics.ok()) diagnostics.error(settings.poses, "cannot read the poses");
     return nullptr;
   }
   std::optional<CameraModel> camera;
   if (frameWidth > 0 && frameHeight > 0) {
-    camera = calibrationForFrames(settings.camera, frameWidth, frameHeight, error);
+    camera = calibrationForFrames(settings.camera, frameWidth, frameHeight, diagnostics);
   } else {  // no camera frames: the calibration's own image is what covers the viewport
-    Diagnostics cd;
-    camera = readCameraModel(settings.camera, cd);
-    if (!camera) error = cd.items.empty() ? settings.camera + ": cannot read the calibration" : cd.items[0].format();
+    camera = readCameraModel(settings.camera, diagnostics);
+    if (!camera && diagnostics.ok()) diagnostics.error(settings.camera, "cannot read the calibration");
   }
   if (!camera) return nullptr;
   return std::unique_ptr<ReplayedCamera>(new ReplayedCamera(std::move(*track), *camera, settings));

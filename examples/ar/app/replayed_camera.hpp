@@ -23,9 +23,10 @@ namespace marionette::ar {
 class ReplayedCamera {
  public:
   // frameWidth x frameHeight: the background frames' size, or 0 x 0 without camera frames
-  // (then the calibration's own size). Errors name the file (CSV line and field, calibration).
+  // (then the calibration's own size). Errors go to `diagnostics`, naming the file (CSV line
+  // and field, calibration).
   [[nodiscard]] static std::unique_ptr<ReplayedCamera> create(const ArPoseReplay& settings, int frameWidth,
-                                                              int frameHeight, std::string& error);
+                                                              int frameHeight, Diagnostics& diagnostics);
 
   // The frame shown: by background frame number (>= 0), or by scene time when frame < 0.
   void update(std::int64_t frame, double seconds) noexcept;

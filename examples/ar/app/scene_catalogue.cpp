@@ -7,15 +7,19 @@
 
 namespace marionette::ar {
 
-std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, Diagnostics& diagnostics) {
+std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, const SceneLoadResult& loaded, Diagnostics& diagnostics) {
   std::vector<CatalogueEntry> out;
   for (const auto& c : scene.characters()) {
-    const Asset& asset = c->rig().asset();
-    Diagnostics meshDiagnostics;  // the renderer reports the mesh's problems when it draws it
-    std::vector<glm::vec3> points = prt::bindPoseMesh(asset, meshDiagnostics).positions;
+    const std::shared_ptr<const Asset> asset = loaded.assetOf(c->name());
+    const std::string& file = c->rig().sourcePath();
+    std::vector<glm::vec3> points;
+    if (asset) {
+      Diagnostics meshDiagnostics;  // the renderer reports the mesh's problems when it draws it
+      points = prt::bindPoseMesh(*asset, meshDiagnostics).positions;
+    }
     if (points.empty()) {
-      diagnostics.warning(asset.sourcePath, "character '" + c->name() + "' has no mesh: measured by its joints");
-      for (const glm::mat4& m : asset.skeleton.restModelMatrices()) points.emplace_back(m[3]);
+      diagnostics.warning(file, "character '" + c->name() + "' has no mesh: measured by its joints");
+      for (const glm::mat4& m : c->rig().skeleton().restModelMatrices()) points.emplace_back(m[3]);
     }
     const glm::mat4 world = c->worldMatrix();
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -27,12 +31,12 @@ std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, Diagnostics& diag
     }
     CatalogueEntry e;
     e.name = c->name();
-    e.asset = asset.sourcePath;
+    e.asset = file;
     if (hi.y > lo.y) {
       e.heightMetres = hi.y - lo.y;
       e.pivot = glm::vec3(0.5f * (lo.x + hi.x), lo.y, 0.5f * (lo.z + hi.z));
     } else {
-      diagnostics.warning(asset.sourcePath, "character '" + c->name() + "' has no height: taken as 1 m");
+      diagnostics.warning(file, "character '" + c->name() + "' has no height: taken as 1 m");
     }
     out.push_back(std::move(e));
   }

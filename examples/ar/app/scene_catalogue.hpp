@@ -5,12 +5,16 @@
 
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/scene/scene.hpp"
+#include "marionette/scene_file/scene_file.hpp"
 #include "marionette_ar/authoring/authoring_session.hpp"
 
 namespace marionette::ar {
 
-// One entry per character, in the scene's order. Needs the meshes (SceneLoadOptions::loadMeshes);
+// One entry per character, in the scene's order, measured on its asset in `loaded` (the
+// result of loading the scene, with SceneLoadOptions::loadMeshes); a character `loaded` does
+// not know is measured by its rig's joints, with a warning;
 // a character without a finite vertex is measured by its skeleton's joints, with a warning.
-[[nodiscard]] std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, Diagnostics& diagnostics);
+[[nodiscard]] std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, const SceneLoadResult& loaded,
+                                                         Diagnostics& diagnostics);
 
 }  // namespace marionette::ar

@@ -13,15 +13,10 @@
 namespace marionette::ar {
 
 std::unique_ptr<TrackedCamera> TrackedCamera::create(const ArTracker& settings, int frameWidth, int frameHeight,
-                                                     std::string& error) {
-  auto camera = calibrationForFrames(settings.camera, frameWidth, frameHeight, error);
+                                                     Diagnostics& diagnostics) {
+  auto camera = calibrationForFrames(settings.camera, frameWidth, frameHeight, diagnostics);
   if (!camera) return nullptr;
-  Diagnostics d;
-  auto firstError = [&]() {
-    for (const Diagnostic& item : d.items)
-      if (item.severity == Severity::Error) return item.format();
-    return std::string("the tracker could not be made");
-  };
+  Diagnostics& d = diagnostics;
   // One thread, as the figures in docs/tracking.md are measured, and deterministic: the
   // renderer's frame loop is the only thread that tracks.
   cv::setNumThreads(1);
@@ -37,7 +32,10 @@ std::unique_ptr<TrackedCamera> TrackedCamera::create(const ArTracker& settings, 
     t->tracker_ = MarkerlessTracker::fromTarget(*camera, settings.target, settings.width, {}, d);
   }
   if (!t->tracker_) {
-    error = firstError();
+    const std::string& file = settings.kind == ArTracker::Kind::AprilTag ? settings.camera
+                              : settings.map.empty()                     ? settings.target
+                                                                         : settings.map;
+    if (d.ok()) d.error(file, "the tracker could not be made");
     return nullptr;
   }
   t->ms_.reserve(1 << 16);

@@ -16,9 +16,10 @@ namespace marionette::ar {
 
 class TrackedCamera {
  public:
-  // Errors name the file (calibration, target, map) or the scene key.
+  // Errors (and the readers' warnings) go to `diagnostics`, naming the file (calibration,
+  // target, map) or the scene key.
   [[nodiscard]] static std::unique_ptr<TrackedCamera> create(const ArTracker& settings, int frameWidth,
-                                                             int frameHeight, std::string& error);
+                                                             int frameHeight, Diagnostics& diagnostics);
   ~TrackedCamera();
 
   // A new background frame (RGB8, rows top to bottom) shown from scene time `seconds`.

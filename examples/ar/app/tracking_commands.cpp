@@ -47,7 +47,7 @@ int calibrateUsage(std::FILE* to = stderr) {
 }
 
 int calibrate(int argc, char** argv) {
-  ChessboardSettings s;
+  ChessboardOptions s;
   std::vector<std::string> images;
   std::string out;
   bool json = false;
@@ -80,8 +80,10 @@ int calibrate(int argc, char** argv) {
   const CalibrationFacts facts{.views = static_cast<int>(cal->usedImages.size()), .boardColumns = s.columns,
                                .boardRows = s.rows, .squareSize = s.squareSize,
                                .rmsReprojectionError = cal->rmsReprojectionError};
-  std::string error;
-  if (!writeCameraModel(out, cal->camera, &facts, error)) return fail("calibrate", error);
+  if (Diagnostics written; !writeCameraModel(out, cal->camera, &facts, written)) {
+    std::fputs(written.format().c_str(), stderr);
+    return 2;
+  }
   const CameraModel& c = cal->camera;
   if (json) {
     std::printf("{\"views\": %zu, \"rejected\": %zu, \"rms_px\": %.6f, \"width\": %d, \"height\": %d, "
@@ -311,8 +313,10 @@ int track(int argc, char** argv) {
     }
   }
   std::fclose(csv);
-  std::string error;
-  if (!a.saveMap.empty() && !writePlanarMap(a.saveMap, markerless->map(), error)) return fail("track", error);
+  if (Diagnostics written; !a.saveMap.empty() && !writePlanarMap(a.saveMap, markerless->map(), written)) {
+    std::fputs(written.format().c_str(), stderr);
+    return 2;
+  }
   const double median = percentile(ms, 0.5), p95 = percentile(ms, 0.95);
   const std::size_t keyframes = markerless ? markerless->map().keyframes.size() : 0;
   if (a.json) {

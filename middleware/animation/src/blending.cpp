@@ -82,30 +82,35 @@ void BlendAccumulator::reset(std::size_t joints) {
 }
 
 namespace {
-enum Stream : std::size_t { TX, TY, TZ, QX, QY, QZ, QW, SX, SY, SZ, W };
-}
+// The streams of the sums (BlendAccumulator::kStreams), indices times the stride.
+constexpr std::size_t kTX = 0, kTY = 1, kTZ = 2;           // translation
+constexpr std::size_t kQX = 3, kQY = 4, kQZ = 5, kQW = 6;  // rotation
+constexpr std::size_t kSX = 7, kSY = 8, kSZ = 9;           // scale
+constexpr std::size_t kW = 10;                             // weight
+static_assert(kW + 1 == BlendAccumulator::kStreams);
+}  // namespace
 
 void BlendAccumulator::addJoint(std::size_t j, const Transform& pose, const Transform& rest, float w) noexcept {
   float* s = sums_.data() + j;
   const std::size_t k = stride_;
-  JointSum sum{{s[TX * k], s[TY * k], s[TZ * k]},
-               {s[SX * k], s[SY * k], s[SZ * k]},
-               glm::quat(s[QW * k], s[QX * k], s[QY * k], s[QZ * k]),
-               s[W * k]};
+  JointSum sum{{s[kTX * k], s[kTY * k], s[kTZ * k]},
+               {s[kSX * k], s[kSY * k], s[kSZ * k]},
+               glm::quat(s[kQW * k], s[kQX * k], s[kQY * k], s[kQZ * k]),
+               s[kW * k]};
   accumulate(sum, pose, rest, w);
-  s[TX * k] = sum.t.x, s[TY * k] = sum.t.y, s[TZ * k] = sum.t.z;
-  s[QX * k] = sum.q.x, s[QY * k] = sum.q.y, s[QZ * k] = sum.q.z, s[QW * k] = sum.q.w;
-  s[SX * k] = sum.s.x, s[SY * k] = sum.s.y, s[SZ * k] = sum.s.z;
-  s[W * k] = sum.w;
+  s[kTX * k] = sum.t.x, s[kTY * k] = sum.t.y, s[kTZ * k] = sum.t.z;
+  s[kQX * k] = sum.q.x, s[kQY * k] = sum.q.y, s[kQZ * k] = sum.q.z, s[kQW * k] = sum.q.w;
+  s[kSX * k] = sum.s.x, s[kSY * k] = sum.s.y, s[kSZ * k] = sum.s.z;
+  s[kW * k] = sum.w;
 }
 
 Transform BlendAccumulator::finishJoint(std::size_t j, const Transform& rest) const noexcept {
   const float* s = sums_.data() + j;
   const std::size_t k = stride_;
-  return finishSum({{s[TX * k], s[TY * k], s[TZ * k]},
-                                  {s[SX * k], s[SY * k], s[SZ * k]},
-                                  glm::quat(s[QW * k], s[QX * k], s[QY * k], s[QZ * k]),
-                                  s[W * k]},
+  return finishSum({{s[kTX * k], s[kTY * k], s[kTZ * k]},
+                                  {s[kSX * k], s[kSY * k], s[kSZ * k]},
+                                  glm::quat(s[kQW * k], s[kQX * k], s[kQY * k], s[kQZ * k]),
+                                  s[kW * k]},
                                  rest);
 }
 
@@ -136,16 +141,17 @@ inline void add4(float* s, std::size_t k, const Transforms4& p, const float* r, 
   const __m128 sw = _mm_xor_ps(w, _mm_and_ps(_mm_cmplt_ps(d, zero), _mm_set1_ps(-0.0f)));
   if constexpr (masked) {
     const __m128 on = _mm_cmpgt_ps(w, zero);
-    addTo(s + TX * k, p.tx, w, on), addTo(s + TY * k, p.ty, w, on), addTo(s + TZ * k, p.tz, w, on);
-    addTo(s + SX * k, p.sx, w, on), addTo(s + SY * k, p.sy, w, on), addTo(s + SZ * k, p.sz, w, on);
-    addTo(s + QW * k, p.qw, sw, on), addTo(s + QX * k, p.qx, sw, on), addTo(s + QY * k, p.qy, sw, on);
-    addTo(s + QZ * k, p.qz, sw, on);
-    _mm_storeu_ps(s + W * k, _mm_add_ps(_mm_loadu_ps(s + W * k), _mm_and_ps(on, w)));
+    addTo(s + kTX * k, p.tx, w, on), addTo(s + kTY * k, p.ty, w, on), addTo(s + kTZ * k, p.tz, w, on);
+    addTo(s + kSX * k, p.sx, w, on), addTo(s + kSY * k, p.sy, w, on), addTo(s + kSZ * k, p.sz, w, on);
+    addTo(s + kQW * k, p.qw, sw, on), addTo(s + kQX * k, p.qx, sw, on), addTo(s + kQY * k, p.qy, sw, on);
+    addTo(s + kQZ * k, p.qz, sw, on);
+    _mm_storeu_ps(s + kW * k, _mm_add_ps(_mm_loadu_ps(s + kW * k), _mm_and_ps(on, w)));
   } else {
-    addTo(s + TX * k, p.tx, w), addTo(s + TY * k, p.ty, w), addTo(s + TZ * k, p.tz, w);
-    addTo(s + SX * k, p.sx, w), addTo(s + SY * k, p.sy, w), addTo(s + SZ * k, p.sz, w);
-    addTo(s + QW * k, p.qw, sw), addTo(s + QX * k, p.qx, sw), addTo(s + QY * k, p.qy, sw), addTo(s + QZ * k, p.qz, sw);
-    _mm_storeu_ps(s + W * k, _mm_add_ps(_mm_loadu_ps(s + W * k), w));
+    addTo(s + kTX * k, p.tx, w), addTo(s + kTY * k, p.ty, w), addTo(s + kTZ * k, p.tz, w);
+    addTo(s + kSX * k, p.sx, w), addTo(s + kSY * k, p.sy, w), addTo(s + kSZ * k, p.sz, w);
+    addTo(s + kQW * k, p.qw, sw), addTo(s + kQX * k, p.qx, sw), addTo(s + kQY * k, p.qy, sw);
+    addTo(s + kQZ * k, p.qz, sw);
+    _mm_storeu_ps(s + kW * k, _mm_add_ps(_mm_loadu_ps(s + kW * k), w));
   }
 }
 }  // namespace
@@ -249,11 +255,11 @@ struct FinishArgs {
     if (count < 4) std::copy_n(&rest[j], count, restTail);
     const Transform* restAt = count == 4 ? &rest[j] : restTail;
     const float* s = a.sums + j;
-    __m128 w = _mm_loadu_ps(s + W * k);
-    Transforms4 o{_mm_loadu_ps(s + TX * k), _mm_loadu_ps(s + TY * k), _mm_loadu_ps(s + TZ * k),
-                  _mm_loadu_ps(s + QX * k), _mm_loadu_ps(s + QY * k), _mm_loadu_ps(s + QZ * k),
-                  _mm_loadu_ps(s + QW * k), _mm_loadu_ps(s + SX * k), _mm_loadu_ps(s + SY * k),
-                  _mm_loadu_ps(s + SZ * k)};
+    __m128 w = _mm_loadu_ps(s + kW * k);
+    Transforms4 o{_mm_loadu_ps(s + kTX * k), _mm_loadu_ps(s + kTY * k), _mm_loadu_ps(s + kTZ * k),
+                  _mm_loadu_ps(s + kQX * k), _mm_loadu_ps(s + kQY * k), _mm_loadu_ps(s + kQZ * k),
+                  _mm_loadu_ps(s + kQW * k), _mm_loadu_ps(s + kSX * k), _mm_loadu_ps(s + kSY * k),
+                  _mm_loadu_ps(s + kSZ * k)};
     // The rest pose fills the remainder below weight 1 (its rotation aligned with itself).
     const __m128 fill = _mm_cmplt_ps(w, one);
     const bool anyFill = _mm_movemask_ps(fill) != 0;

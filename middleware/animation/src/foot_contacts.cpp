@@ -54,7 +54,7 @@ void fill(std::vector<char>& c, std::pair<int, int> run, char value) {
 
 }  // namespace
 
-FootContactSettings footContactSettingsForLeg(float legLength, FootContactSettings base) noexcept {
+FootContactOptions footContactOptionsForLeg(float legLength, FootContactOptions base) noexcept {
   if (!(legLength > 0.0f) || !std::isfinite(legLength)) return base;
   const float scale = legLength / 0.9f;  // a human's hip-to-ankle length
   base.heightAboveLowest *= scale;
@@ -63,7 +63,7 @@ FootContactSettings footContactSettingsForLeg(float legLength, FootContactSettin
 }
 
 std::vector<ContactInterval> detectFootContacts(const AnimationClip& clip, const Skeleton& skeleton, int footJoint,
-                                                const FootContactSettings& settings) {
+                                                const FootContactOptions& settings) {
   const Clip& authored = clip.clip;
   const std::size_t joints = skeleton.jointCount();
   const float duration = authored.duration;

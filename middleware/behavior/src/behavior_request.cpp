@@ -21,33 +21,33 @@ std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept
   return valueOfIndexedName<BehaviorKind>(name, kKindNames);
 }
 
-std::uint32_t defaultChannels(BehaviorKind kind) noexcept {
+BodyChannel defaultChannels(BehaviorKind kind) noexcept {
   switch (kind) {
     case BehaviorKind::Posture:
-    case BehaviorKind::PostureShift: return kChannelPosture;
-    case BehaviorKind::Locomotion: return kChannelLocomotion;
+    case BehaviorKind::PostureShift: return BodyChannel::Posture;
+    case BehaviorKind::Locomotion: return BodyChannel::Locomotion;
     case BehaviorKind::Gaze:
-    case BehaviorKind::GazeShift: return kChannelGaze;
+    case BehaviorKind::GazeShift: return BodyChannel::Gaze;
     case BehaviorKind::Head:
-    case BehaviorKind::HeadDirectionShift: return kChannelHead;
+    case BehaviorKind::HeadDirectionShift: return BodyChannel::Head;
     case BehaviorKind::Gesture:
-    case BehaviorKind::Pointing: return kChannelHands;
-    case BehaviorKind::Speech: return kChannelVoice;
-    case BehaviorKind::Saccade: return kChannelEyes;
-    case BehaviorKind::Clip: return kChannelPosture;  // a whole-body clip stands in for the posture
-    default: return 0;                                // face behaviors combine; wait drives nothing
+    case BehaviorKind::Pointing: return BodyChannel::Hands;
+    case BehaviorKind::Speech: return BodyChannel::Voice;
+    case BehaviorKind::Saccade: return BodyChannel::Eyes;
+    case BehaviorKind::Clip: return BodyChannel::Posture;  // a whole-body clip stands in for the posture
+    default: return BodyChannel::None;                     // face behaviors combine; wait drives nothing
   }
 }
 
-std::string channelNames(std::uint32_t channels) {
-  static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 7> kNames = {{
-      {kChannelPosture, "posture"},
-      {kChannelLocomotion, "locomotion"},
-      {kChannelHands, "hands"},  // before the single hands, so both read "hands"
-      {kChannelHead, "head"},
-      {kChannelGaze, "gaze"},
-      {kChannelVoice, "voice"},
-      {kChannelEyes, "eyes"},
+std::string channelNames(BodyChannel channels) {
+  static constexpr std::array<std::pair<BodyChannel, std::string_view>, 7> kNames = {{
+      {BodyChannel::Posture, "posture"},
+      {BodyChannel::Locomotion, "locomotion"},
+      {BodyChannel::Hands, "hands"},  // before the single hands, so both read "hands"
+      {BodyChannel::Head, "head"},
+      {BodyChannel::Gaze, "gaze"},
+      {BodyChannel::Voice, "voice"},
+      {BodyChannel::Eyes, "eyes"},
   }};
   std::string out;
   auto append = [&](std::string_view s) {
@@ -55,24 +55,24 @@ std::string channelNames(std::uint32_t channels) {
     out += s;
   };
   for (auto [bits, name] : kNames) {
-    if (bits == kChannelHands) {
-      if ((channels & kChannelHands) == kChannelHands) append(name);
-      else if (channels & kChannelLeftHand) append("leftHand");
-      else if (channels & kChannelRightHand) append("rightHand");
-    } else if (channels & bits) {
+    if (bits == BodyChannel::Hands) {
+      if ((channels & BodyChannel::Hands) == BodyChannel::Hands) append(name);
+      else if (any(channels & BodyChannel::LeftHand)) append("leftHand");
+      else if (any(channels & BodyChannel::RightHand)) append("rightHand");
+    } else if (any(channels & bits)) {
       append(name);
     }
   }
   return out;
 }
 
-std::uint32_t channelFromName(std::string_view name) noexcept {
-  if (name == "leftHand") return kChannelLeftHand;
-  if (name == "rightHand") return kChannelRightHand;
-  for (std::uint32_t bits :
-       {kChannelPosture, kChannelLocomotion, kChannelHands, kChannelHead, kChannelGaze, kChannelVoice, kChannelEyes})
+BodyChannel channelFromName(std::string_view name) noexcept {
+  if (name == "leftHand") return BodyChannel::LeftHand;
+  if (name == "rightHand") return BodyChannel::RightHand;
+  for (BodyChannel bits : {BodyChannel::Posture, BodyChannel::Locomotion, BodyChannel::Hands, BodyChannel::Head,
+                           BodyChannel::Gaze, BodyChannel::Voice, BodyChannel::Eyes})
     if (channelNames(bits) == name) return bits;
-  return 0;
+  return BodyChannel::None;
 }
 
 std::optional<double> BehaviorRequest::time(std::string_view sync) const noexcept {

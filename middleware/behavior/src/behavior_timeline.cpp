@@ -92,16 +92,16 @@ float BehaviorTimeline::weightAt(const Entry& e, double t) noexcept {
   return static_cast<float>(w) * e.request.weight;
 }
 
-const BehaviorRequest* BehaviorTimeline::owner(std::uint32_t channels, double t) const noexcept {
+const BehaviorRequest* BehaviorTimeline::owner(BodyChannel channels, double t) const noexcept {
   for (auto it = entries_.rbegin(); it != entries_.rend(); ++it)
-    if ((it->request.channelBits() & channels) != 0 && activeAt(*it, t)) return &it->request;
+    if (any(it->request.channelBits() & channels) && activeAt(*it, t)) return &it->request;
   return nullptr;
 }
 
 void BehaviorTimeline::prune(double t) noexcept {
   auto covered = [&](const Entry& e) {
     if (!e.request.persistent || e.cancelled()) return false;
-    const std::uint32_t bits = e.request.channelBits();
+    const BodyChannel bits = e.request.channelBits();
     for (const Entry& later : entries_)
       if (later.order > e.order && later.request.persistent && (later.request.channelBits() & bits) == bits &&
           later.request.weight >= 1.0f && weightAt(later, t) >= 1.0f)

@@ -6,8 +6,10 @@
 #include "marionette/core/limits.hpp"
 
 namespace marionette {
+namespace {
 
-bool readTextFile(const std::string& path, std::string& out, std::string& error) {
+// On failure, `error` says what went wrong, without the path.
+bool readWithin(const std::string& path, std::string& out, std::string& error) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
@@ -41,6 +43,15 @@ bool readTextFile(const std::string& path, std::string& out, std::string& error)
     return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool readTextFile(const std::string& path, std::string& out, Diagnostics& diagnostics, std::string_view what) {
+  std::string why;
+  if (readWithin(path, out, why)) return true;
+  diagnostics.error(path, what.empty() ? why : std::string(what) + ": " + why);
+  return false;
 }
 
 }  // namespace marionette

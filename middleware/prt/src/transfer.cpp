@@ -151,7 +151,7 @@ void coneTransfer(const glm::dvec3& normal, int bands, double halfAngle, std::sp
   }
 }
 
-VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings& settings,
+VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferOptions& settings,
                                const OcclusionTracer* tracer, Diagnostics& diagnostics,
                                const TransferProgress& progress, TransferStats* stats) {
   const auto start = Clock::now();
@@ -262,7 +262,7 @@ VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings&
   return result;
 }
 
-RawOcclusionTime rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& settings,
+RawOcclusionTime rawOcclusionSeconds(const TransferMesh& mesh, const TransferOptions& settings,
                                      const OcclusionTracer& tracer, std::size_t maxRays) {
   const std::size_t vertices = vertexCountOf(mesh);
   const int rays = stratifiedRayCount(settings.raysPerVertex);

@@ -38,7 +38,7 @@ struct Header {
 };
 }  // namespace
 
-std::uint64_t transferCacheKey(const TransferMesh& mesh, const TransferSettings& s) noexcept {
+std::uint64_t transferCacheKey(const TransferMesh& mesh, const TransferOptions& s) noexcept {
   Fnv1a f;
   f.value(kFormatVersion);
   f.value(kCodeHash);
@@ -70,7 +70,7 @@ std::string transferCachePath(const std::string& directory, std::uint64_t key) {
   return (std::filesystem::path(directory) / name).string();
 }
 
-bool saveTransfer(const std::string& path, std::uint64_t key, const TransferSettings& settings,
+bool saveTransfer(const std::string& path, std::uint64_t key, const TransferOptions& settings,
                   const VertexTransfer& transfer, Diagnostics& diagnostics) {
   std::error_code ec;
   const std::filesystem::path target(path);
@@ -139,7 +139,7 @@ std::optional<VertexTransfer> loadTransfer(const std::string& path, std::uint64_
   return t;
 }
 
-CachedTransfer cachedTransfer(const TransferMesh& mesh, const TransferSettings& settings, const std::string& directory,
+CachedTransfer cachedTransfer(const TransferMesh& mesh, const TransferOptions& settings, const std::string& directory,
                               Diagnostics& diagnostics, const TransferProgress& progress) {
   CachedTransfer result;
   const std::uint64_t key = transferCacheKey(mesh, settings);

@@ -434,11 +434,9 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
     result.profile.notes.push_back("profile: " + path + " not used (error); everything guessed");
     return result;
   };
-  std::string text, why;
-  if (!readTextFile(path, text, why)) {
-    result.diagnostics.error(path, "cannot read the character profile '" + path + "': " + why);
+  std::string text;
+  if (!readTextFile(path, text, result.diagnostics, "cannot read the character profile '" + path + "'"))
     return fallBack();
-  }
   Json doc;
   if (!parseJsonText(path, text, doc, result.diagnostics)) return fallBack();
   if (!doc.is_object()) {

@@ -305,11 +305,8 @@ class MapReader : JsonReaderBase {
 
 JointMapResult load(const std::string& path, const Asset& asset) {
   JointMapResult r;
-  std::string text, why;
-  if (!readTextFile(path, text, why)) {
-    r.diagnostics.error(path, "cannot read the joint map '" + path + "': " + why);
-    return r;
-  }
+  std::string text;
+  if (!readTextFile(path, text, r.diagnostics, "cannot read the joint map '" + path + "'")) return r;
   Json doc;
   if (!json_detail::parseJsonText(path, text, doc, r.diagnostics)) return r;
   if (!doc.is_object()) {

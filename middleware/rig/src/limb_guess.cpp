@@ -11,7 +11,10 @@ namespace {
 
 // ---- Names ------------------------------------------------------------------
 
-enum Role { kLegUpper, kLegLower, kLegEnd, kToe, kArmUpper, kArmLower, kArmEnd, kRoleCount };
+enum class Role : int { LegUpper, LegLower, LegEnd, Toe, ArmUpper, ArmLower, ArmEnd, Count };
+// A role's index into per-role arrays; a limb's three roles follow each other.
+constexpr std::size_t index(Role role) noexcept { return static_cast<std::size_t>(role); }
+constexpr std::size_t kRoleCount = index(Role::Count);
 
 // Name keys (words joined, side and convention noise dropped) and the role they
 // name. Rank 1 marks names that are that role in some conventions only: CMU's
@@ -24,14 +27,17 @@ struct LimbWord {
   int rank;
 };
 constexpr LimbWord kLimbWords[] = {
-    {"upleg", kLegUpper, 0},    {"upperleg", kLegUpper, 0}, {"thigh", kLegUpper, 0},   {"femur", kLegUpper, 0},
-    {"hip", kLegUpper, 1},      {"lowerleg", kLegLower, 0}, {"lowleg", kLegLower, 0},  {"shin", kLegLower, 0},
-    {"calf", kLegLower, 0},     {"knee", kLegLower, 0},     {"tibia", kLegLower, 0},   {"leg", kLegLower, 1},
-    {"foot", kLegEnd, 0},       {"ankle", kLegEnd, 0},      {"toebase", kToe, 0},      {"toe", kToe, 0},
-    {"toes", kToe, 0},          {"footthumb", kToe, 0},     {"ball", kToe, 0},         {"upperarm", kArmUpper, 0},
-    {"uparm", kArmUpper, 0},    {"arm", kArmUpper, 0},      {"humerus", kArmUpper, 0}, {"shoulder", kArmUpper, 1},
-    {"shldr", kArmUpper, 1},    {"forearm", kArmLower, 0},  {"lowerarm", kArmLower, 0}, {"lowarm", kArmLower, 0},
-    {"elbow", kArmLower, 0},    {"radius", kArmLower, 0},   {"hand", kArmEnd, 0},      {"wrist", kArmEnd, 0},
+    {"upleg", Role::LegUpper, 0},    {"upperleg", Role::LegUpper, 0}, {"thigh", Role::LegUpper, 0},
+    {"femur", Role::LegUpper, 0},    {"hip", Role::LegUpper, 1},      {"lowerleg", Role::LegLower, 0},
+    {"lowleg", Role::LegLower, 0},   {"shin", Role::LegLower, 0},     {"calf", Role::LegLower, 0},
+    {"knee", Role::LegLower, 0},     {"tibia", Role::LegLower, 0},    {"leg", Role::LegLower, 1},
+    {"foot", Role::LegEnd, 0},       {"ankle", Role::LegEnd, 0},      {"toebase", Role::Toe, 0},
+    {"toe", Role::Toe, 0},           {"toes", Role::Toe, 0},          {"footthumb", Role::Toe, 0},
+    {"ball", Role::Toe, 0},          {"upperarm", Role::ArmUpper, 0}, {"uparm", Role::ArmUpper, 0},
+    {"arm", Role::ArmUpper, 0},      {"humerus", Role::ArmUpper, 0},  {"shoulder", Role::ArmUpper, 1},
+    {"shldr", Role::ArmUpper, 1},    {"forearm", Role::ArmLower, 0},  {"lowerarm", Role::ArmLower, 0},
+    {"lowarm", Role::ArmLower, 0},   {"elbow", Role::ArmLower, 0},    {"radius", Role::ArmLower, 0},
+    {"hand", Role::ArmEnd, 0},       {"wrist", Role::ArmEnd, 0},
 };
 
 const LimbWord* limbWord(std::string_view key) {
@@ -70,9 +76,9 @@ struct Chain {
 // then the shallowest. A leg's end may sit elsewhere (RobotExpressive's feet
 // are IK targets under the root) when its name is the only one of that side.
 Chain pickChain(const Tree& t, const Candidates& c, Role upperRole, bool leg) {
-  const auto& U = c[upperRole];
-  const auto& L = c[upperRole + 1];
-  const auto& E = c[upperRole + 2];
+  const auto& U = c[index(upperRole)];
+  const auto& L = c[index(upperRole) + 1];
+  const auto& E = c[index(upperRole) + 2];
   Chain best;
   std::tuple<int, int, int, int> bestKey{1, 0, 0, 0};
   auto each = [](const std::vector<Candidate>& v, auto&& f) {
@@ -301,7 +307,7 @@ void guessLimbs(const Asset& asset, const Tree& t, const BodyChain& body, Charac
   std::array<Candidates, 2> cand;  // [0] left, [1] right
   for (int j = 0; j < t.count(); ++j) {
     const auto [side, word] = limbName(t.names[j]);
-    if (side != 0 && word) cand[side > 0][word->role].push_back({j, word->rank});
+    if (side != 0 && word) cand[side > 0][index(word->role)].push_back({j, word->rank});
   }
 
   // The VRM humanoid map's limb, when all three joints are there and chained.
@@ -321,9 +327,9 @@ void guessLimbs(const Asset& asset, const Tree& t, const BodyChain& body, Charac
   const char* sidePrefix[2] = {"left", "right"};
   for (int s = 0; s < 2; ++s) {
     if ((legs[s] = humanoid(sidePrefix[s], "UpperLeg", "LowerLeg", "Foot")).found() == 3) legHow[s] = "VRM humanoid";
-    else if ((legs[s] = pickChain(t, cand[s], kLegUpper, true)).found() >= 2) legHow[s] = "name";
+    else if ((legs[s] = pickChain(t, cand[s], Role::LegUpper, true)).found() >= 2) legHow[s] = "name";
     if ((arms[s] = humanoid(sidePrefix[s], "UpperArm", "LowerArm", "Hand")).found() == 3) armHow[s] = "VRM humanoid";
-    else if ((arms[s] = pickChain(t, cand[s], kArmUpper, false)).found() >= 2) armHow[s] = "name";
+    else if ((arms[s] = pickChain(t, cand[s], Role::ArmUpper, false)).found() >= 2) armHow[s] = "name";
     // Toes: below the foot, the humanoid map's first, else the shallowest named one.
     const int foot = legs[s].end;
     if (foot < 0) continue;
@@ -334,7 +340,7 @@ void guessLimbs(const Asset& asset, const Tree& t, const BodyChain& body, Charac
         continue;
       }
     }
-    for (const Candidate& c : cand[s][kToe])
+    for (const Candidate& c : cand[s][index(Role::Toe)])
       if (t.above(foot, c.joint) && (toes[s] < 0 || t.depth[c.joint] < t.depth[toes[s]]))
         toes[s] = c.joint, toeHow[s] = "name";
   }

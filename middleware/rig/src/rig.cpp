@@ -29,16 +29,20 @@ float restEyeHeight(const std::vector<glm::mat4>& rest, const RigJoints& j) {
 
 }  // namespace
 
-Rig::Rig(std::shared_ptr<const Asset> asset, const RigOptions& options)
-    : asset_(std::move(asset)), options_(options), paletteBasis_(PaletteBasis::of(asset_->skeleton.inverseBind)) {
-  clips_.reserve(asset_->clips.size());
-  for (const Clip& c : asset_->clips) clips_.push_back(makeAnimationClip(c, asset_->skeleton, options_));
-  setProfile(guessCharacterProfile(*asset_));
+Rig::Rig(const Asset& asset, const RigSettings& settings)
+    : sourcePath_(asset.sourcePath),
+      skeleton_(asset.skeleton),
+      morphTargets_(asset.morphTargets),
+      settings_(settings),
+      paletteBasis_(PaletteBasis::of(skeleton_.inverseBind)) {
+  clips_.reserve(asset.clips.size());
+  for (const Clip& c : asset.clips) clips_.push_back(makeAnimationClip(c, skeleton_, settings_));
+  setProfile(guessCharacterProfile(asset));
 }
 
 void Rig::setProfile(CharacterProfile profile) {
   profile_ = std::move(profile);
-  const Skeleton& s = asset_->skeleton;
+  const Skeleton& s = skeleton_;
   auto joint = [&](const std::string& name) { return name.empty() ? -1 : s.findJoint(name); };
   joints_ = RigJoints{};
   joints_.hips = joint(profile_.hips);
@@ -56,7 +60,7 @@ void Rig::setProfile(CharacterProfile profile) {
   joints_.rightArm = limb(profile_.rightArm);
   joints_.leftToe = joint(profile_.leftToe);
   joints_.rightToe = joint(profile_.rightToe);
-  const auto& morphs = asset_->morphTargets;
+  const auto& morphs = morphTargets_;
   // Morph names to (index, amount); names the asset lacks are left out.
   auto resolveMorphs = [&](const std::vector<FaceMorph>& list) {
     std::vector<std::pair<int, float>> resolved;
@@ -101,9 +105,9 @@ std::shared_ptr<const AnimationClip> Rig::findClip(std::string_view name) const 
 
 int Rig::addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string name) {
   int unmatched = 0;
-  Clip bound = bindClipByName(clip, clipSkeleton, asset_->skeleton, &unmatched);
+  Clip bound = bindClipByName(clip, clipSkeleton, skeleton_, &unmatched);
   if (!name.empty()) bound.name = std::move(name);
-  clips_.push_back(makeAnimationClip(std::move(bound), asset_->skeleton, options_));
+  clips_.push_back(makeAnimationClip(std::move(bound), skeleton_, settings_));
   return unmatched;
 }
 

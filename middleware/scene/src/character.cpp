@@ -1,4 +1,4 @@
-#include "marionette/scene/character.hpp"
+#include "character_state.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -34,18 +34,19 @@ void FrameScratch::reserve(std::size_t joints) {
   accumulator.reset(joints);
 }
 
-Character::Character(std::string name, std::shared_ptr<const Rig> rig) : name_(std::move(name)), rig_(std::move(rig)) {
+Character::State::State(Character& self, std::string name, std::shared_ptr<const Rig> rig)
+    : self_(self), name_(std::move(name)), rig_(std::move(rig)) {
   const Skeleton& s = rig_->skeleton();
   pose_ = s.restPose;
-  buffer_.resize(s.jointCount(), rig_->asset().morphTargets.size());
-  morphScratch_.resize(rig_->asset().morphTargets.size());
+  buffer_.resize(s.jointCount(), rig_->morphTargets().size());
+  morphScratch_.resize(rig_->morphTargets().size());
 }
 
-void Character::notify(ChangeKind kind, std::string_view what) const {
-  if (scene_) scene_->forEachListener([&](SceneListener& l) { l.onCharacterChanged(*this, kind, what); });
+void Character::State::notify(ChangeKind kind, std::string_view what) const {
+  if (scene_) scene_->forEachListener([&](SceneListener& l) { l.onCharacterChanged(self_, kind, what); });
 }
 
-void Character::setPosition(const glm::vec3& p) noexcept {
+void Character::State::setPosition(const glm::vec3& p) noexcept {
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
     if (scene_) scene_->log(LogLevel::Warning, "setPosition: non-finite position rejected");
     return;
@@ -54,7 +55,7 @@ void Character::setPosition(const glm::vec3& p) noexcept {
   notify(ChangeKind::Placement, "position");
 }
 
-void Character::setHeading(float radians) noexcept {
+void Character::State::setHeading(float radians) noexcept {
   if (!std::isfinite(radians)) {
     if (scene_) scene_->log(LogLevel::Warning, "setHeading: non-finite heading rejected");
     return;
@@ -63,14 +64,14 @@ void Character::setHeading(float radians) noexcept {
   notify(ChangeKind::Placement, "heading");
 }
 
-glm::mat4 Character::worldMatrix() const noexcept {
+glm::mat4 Character::State::worldMatrix() const noexcept {
   Transform t;
   t.translation = position_;
   t.rotation = glm::angleAxis(heading_, glm::vec3(0, 1, 0));
   return t.matrix();
 }
 
-bool Character::play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options) {
+bool Character::State::play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options) {
   if (layer < 0 || layer >= kMaxLayers || !clip) {
     if (scene_) scene_->log(LogLevel::Warning, "play: layer out of range or no clip; nothing started");
     return false;
@@ -107,7 +108,7 @@ bool Character::play(int layer, std::shared_ptr<const AnimationClip> clip, const
   return true;
 }
 
-bool Character::play(int layer, std::string_view clipName, const PlayOptions& options) {
+bool Character::State::play(int layer, std::string_view clipName, const PlayOptions& options) {
   auto clip = rig_->findClip(clipName);
   if (!clip) {
     if (scene_) scene_->log(LogLevel::Warning, "play: no clip of that name in the character's rig");
@@ -116,7 +117,7 @@ bool Character::play(int layer, std::string_view clipName, const PlayOptions& op
   return play(layer, std::move(clip), options);
 }
 
-void Character::stop(int layer, float fadeOut) {
+void Character::State::stop(int layer, float fadeOut) {
   if (layer < 0 || layer >= kMaxLayers || !layers_[layer].clip) return;
   Layer& l = layers_[layer];
   if (fadeOut > 0.0f && std::isfinite(fadeOut)) {
@@ -128,24 +129,24 @@ void Character::stop(int layer, float fadeOut) {
   l.clip.reset();
 }
 
-int Character::layerCount() const noexcept {
+int Character::State::layerCount() const noexcept {
   int n = 0;
   for (const Layer& l : layers_) n += l.clip ? 1 : 0;
   return n;
 }
 
-double Character::layerTime(int layer) const noexcept {
+double Character::State::layerTime(int layer) const noexcept {
   return (layer >= 0 && layer < kMaxLayers) ? layers_[layer].time : 0.0;
 }
 
-void Character::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
+void Character::State::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
   const AnimationClip& ac = *layer.clip;
   const float t = layer.clipTime;
   sampleAnimationClip(ac, t, layer.options.rootMotion, out, &layer.cursor, &layer.rootCursor);
   if (layer.options.additive) makeAdditiveDelta(out, layer.reference, out);
 }
 
-void Character::blendLayers() noexcept {
+void Character::State::blendLayers() noexcept {
   // Normal layers are summed one at a time through the scratch pose, then the
   // additive layers are applied in order on the result (as blendPoses does).
   const std::span<const Transform> rest = skeleton().restPose;
@@ -164,7 +165,7 @@ void Character::blendLayers() noexcept {
   }
 }
 
-void Character::applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
+void Character::State::applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                                 float& turn) const noexcept {
   const RootMotion& rm = layer.clip->rootMotion;
   if (!layer.options.rootMotion || rm.empty() || t0 == t1) return;
@@ -181,7 +182,7 @@ void Character::applyRootMotion(const Layer& layer, double t0, double t1, float 
   turn += y * weight;
 }
 
-void Character::update(double dt) noexcept {
+void Character::State::update(double dt) noexcept {
   clock_ += dt;
   std::fill(std::begin(stats_.controllerMicros), std::end(stats_.controllerMicros), 0.0);
   glm::vec3 move(0.0f);

@@ -1,7 +1,7 @@
 // Character, behaviors: binding a request to its controller (command time, by a table over
 // kinds) and running the controllers over the timeline each frame (one walk that hands each
 // entry to its controller, then the controllers in DESIGN.md's fixed order).
-#include "marionette/scene/character.hpp"
+#include "character_state.hpp"
 
 #include <algorithm>
 #include <array>
@@ -18,7 +18,7 @@
 
 namespace marionette {
 
-BehaviorResult Character::addBehavior(BehaviorRequest request) {
+BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
   BehaviorResult result;
   result.message = behaviors_.check(request);
   std::shared_ptr<const AnimationClip> clip;
@@ -61,25 +61,25 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
   // it). A request that plays a clip is realized by the clip; a kind whose controller runs
   // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
   // aims the arm) also binds it, when it has a target.
-  using Bind = std::string (Character::*)(BehaviorTimeline::Entry&, std::string&);
+  using Bind = std::string (Character::State::*)(BehaviorTimeline::Entry&, std::string&);
   static constexpr std::array<Bind, 17> kBindings = {{
       nullptr,                              // posture
       nullptr,                              // postureShift
-      &Character::bindLocomotionEntry,      // locomotion
-      &Character::bindGazeEntry,            // gaze
-      &Character::bindGazeEntry,            // gazeShift
-      &Character::bindHeadEntry,            // head
-      &Character::bindHeadDirectionEntry,   // headDirectionShift
-      &Character::bindFaceEntry,            // faceLexeme
-      &Character::bindFaceEntry,            // faceFacs
-      &Character::bindFaceEntry,            // face
-      &Character::bindFaceEntry,            // faceShift
-      &Character::bindGestureEntry,         // gesture (procedural, when no clip realizes it)
-      &Character::bindPointingEntry,        // pointing
-      &Character::bindSpeechEntry,          // speech
-      &Character::bindWaitEntry,            // wait
+      &Character::State::bindLocomotionEntry,      // locomotion
+      &Character::State::bindGazeEntry,            // gaze
+      &Character::State::bindGazeEntry,            // gazeShift
+      &Character::State::bindHeadEntry,            // head
+      &Character::State::bindHeadDirectionEntry,   // headDirectionShift
+      &Character::State::bindFaceEntry,            // faceLexeme
+      &Character::State::bindFaceEntry,            // faceFacs
+      &Character::State::bindFaceEntry,            // face
+      &Character::State::bindFaceEntry,            // faceShift
+      &Character::State::bindGestureEntry,         // gesture (procedural, when no clip realizes it)
+      &Character::State::bindPointingEntry,        // pointing
+      &Character::State::bindSpeechEntry,          // speech
+      &Character::State::bindWaitEntry,            // wait
       nullptr,                              // clip
-      &Character::bindSaccadeEntry,         // saccade
+      &Character::State::bindSaccadeEntry,         // saccade
   }};
   static_assert(static_cast<std::size_t>(BehaviorKind::Saccade) + 1 == kBindings.size(), "one binding per kind");
   const Bind bind = kBindings[static_cast<std::size_t>(kind)];
@@ -103,7 +103,7 @@ BehaviorResult Character::addBehavior(BehaviorRequest request) {
   return result;
 }
 
-void Character::bindClipEntry(BehaviorTimeline::Entry& e, std::shared_ptr<const AnimationClip> clip) {
+void Character::State::bindClipEntry(BehaviorTimeline::Entry& e, std::shared_ptr<const AnimationClip> clip) {
   const std::size_t n = skeleton().jointCount();
   e.mask.assign(n, 0.0f);
   // The in-place tracks count: they move joints the clip may hold at rest (IK feet beside the root).
@@ -125,7 +125,7 @@ void Character::bindClipEntry(BehaviorTimeline::Entry& e, std::shared_ptr<const 
   ensureScratch();
 }
 
-void Character::ensureScratch() {
+void Character::State::ensureScratch() {
   if (!scratch_) {
     ownScratch_ = std::make_unique<FrameScratch>();
     scratch_ = ownScratch_.get();
@@ -133,24 +133,24 @@ void Character::ensureScratch() {
   scratch_->reserve(skeleton().jointCount());
 }
 
-void Character::reserveBehaviorPasses() {
+void Character::State::reserveBehaviorPasses() {
   // Command time: each frame's walk hands entries to these lists without allocating.
   const std::size_t n = behaviors_.entries().size();
   for (auto& p : passes_) p.reserve(n);
 }
 
-std::string Character::bindLocomotionEntry(BehaviorTimeline::Entry&, std::string&) {
+std::string Character::State::bindLocomotionEntry(BehaviorTimeline::Entry&, std::string&) {
   if (!locomotion_) locomotion_ = std::make_unique<LocomotionController>(locomotionSet_, skeleton(), rig_->joints());
   locomotion_->setSettings(locomotionSettings_);
   ensureScratch();
   return {};
 }
 
-std::string Character::bindGazeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+std::string Character::State::bindGazeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   return bindGaze(e, *rig_, targetJointFinder(false), warning);
 }
 
-std::string Character::bindHeadDirectionEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+std::string Character::State::bindHeadDirectionEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   std::string why = bindGazeEntry(e, warning);
   // headDirectionShift points the head (with the neck), not the eyes.
   if (GazeState* g = e.as<GazeState>(); why.empty() && g) {
@@ -160,32 +160,32 @@ std::string Character::bindHeadDirectionEntry(BehaviorTimeline::Entry& e, std::s
   return why;
 }
 
-std::string Character::bindHeadEntry(BehaviorTimeline::Entry& e, std::string& warning) { return bindHead(e, *rig_, warning); }
+std::string Character::State::bindHeadEntry(BehaviorTimeline::Entry& e, std::string& warning) { return bindHead(e, *rig_, warning); }
 
-std::string Character::bindFaceEntry(BehaviorTimeline::Entry& e, std::string& warning) { return bindFace(e, *rig_, warning); }
+std::string Character::State::bindFaceEntry(BehaviorTimeline::Entry& e, std::string& warning) { return bindFace(e, *rig_, warning); }
 
-std::string Character::bindWaitEntry(BehaviorTimeline::Entry&, std::string&) { return {}; }  // nothing to move
+std::string Character::State::bindWaitEntry(BehaviorTimeline::Entry&, std::string&) { return {}; }  // nothing to move
 
-std::shared_ptr<const speech::SpokenLine> Character::prepareSpeech(const BehaviorRequest& request,
-                                                                   std::string& error) const {
+std::shared_ptr<const speech::SpokenLine> Character::State::prepareSpeech(const BehaviorRequest& request,
+                                                                          Diagnostics& diagnostics) const {
   if (!scene_) {
-    error = "a character outside a scene has no speech service";
+    diagnostics.error(request.id, "a character outside a scene has no speech service");
     return nullptr;
   }
   std::string warning;
   speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(request, warning));
-  error = said.line ? std::string() : said.error;
+  if (!said.line) diagnostics.error(request.id, said.error);
   return said.line;
 }
 
-std::shared_ptr<const speech::SpeechService::Preparation> Character::prepareSpeechInBackground(
+std::shared_ptr<const speech::SpeechService::Preparation> Character::State::prepareSpeechInBackground(
     const BehaviorRequest& request) const {
   if (!scene_) return nullptr;
   std::string warning;  // reported when the behavior is added
   return scene_->speech().prepare(speechRequestOf(request, warning));
 }
 
-std::string Character::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+std::string Character::State::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   if (!scene_) return "a character outside a scene has no speech service";
   speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(e.request, warning));
   if (!said.line) return "speech cannot be said: " + said.error;
@@ -212,11 +212,11 @@ std::string Character::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& 
   }
   if (std::string face = speechFaceNote(*rig_); !face.empty()) scene_->log(LogLevel::Info, who + face);
   const std::string audio = line->audioFile.string();
-  scene_->forEachListener([&](SceneListener& l) { l.onSpeech(*this, id, *line->utterance, audio, start); });
+  scene_->forEachListener([&](SceneListener& l) { l.onSpeech(self_, id, *line->utterance, audio, start); });
   return {};
 }
 
-TargetJointFinder Character::targetJointFinder(bool chest) const {
+TargetJointFinder Character::State::targetJointFinder(bool chest) const {
   // A character named without a joint: its head for a gaze, its chest for a pointing.
   return [this, chest](std::string_view name, std::string_view joint) -> int {
     const Character* c = scene_ ? scene_->findCharacter(name) : nullptr;
@@ -227,14 +227,14 @@ TargetJointFinder Character::targetJointFinder(bool chest) const {
   };
 }
 
-std::string Character::bindPointingEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+std::string Character::State::bindPointingEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   PointingState pointing;
   std::string why = bindPointing(e.request, *rig_, skeleton(), targetJointFinder(true), pointing, warning);
   if (why.empty()) e.controller = std::move(pointing);
   return why;
 }
 
-std::string Character::bindGestureEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+std::string Character::State::bindGestureEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   // DEICTIC / POINT with a target is a pointing: the pointing controller aims the arm.
   const GestureParameters* g = e.request.as<GestureParameters>();
   if (g && !g->target.empty() && (equalsIgnoringCase(g->lexeme, "DEICTIC") || equalsIgnoringCase(g->lexeme, "POINT"))) {
@@ -251,7 +251,7 @@ std::string Character::bindGestureEntry(BehaviorTimeline::Entry& e, std::string&
   return why;
 }
 
-std::string Character::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+std::string Character::State::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   const SaccadeParameters* p = e.request.as<SaccadeParameters>();
   if (p && p->finish) return {};  // persistent and moving nothing: it replaces the running models
   SaccadeState saccade;
@@ -260,7 +260,7 @@ std::string Character::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::string&
   return why;
 }
 
-std::vector<float> Character::upperBodyMask() const {
+std::vector<float> Character::State::upperBodyMask() const {
   // The first spine joint and everything above it; empty when the profile has no spine.
   const RigJoints& j = rig_->joints();
   const int root = !j.spine.empty() ? j.spine.front() : j.neck;
@@ -273,17 +273,17 @@ std::vector<float> Character::upperBodyMask() const {
   return mask;
 }
 
-const LocomotionSet& Character::locomotionSet() const {
+const LocomotionSet& Character::State::locomotionSet() const {
   if (!locomotionSet_) locomotionSet_ = std::make_shared<const LocomotionSet>(makeLocomotionSet(*rig_));
   return *locomotionSet_;
 }
 
-void Character::setLocomotionSettings(const LocomotionSettings& settings) noexcept {
+void Character::State::setLocomotionSettings(const LocomotionSettings& settings) noexcept {
   locomotionSettings_ = settings;
   if (locomotion_) locomotion_->setSettings(settings);
 }
 
-std::string Character::bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
+std::string Character::State::bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
                                       std::string& warning) const {
   const LocomotionSet& set = locomotionSet();
   if (!set.usable()) {
@@ -305,7 +305,7 @@ std::string Character::bindLocomotion(const BehaviorRequest& request, std::share
     }
     if (!target)
       return "locomotion target: the scene has no character or object '" + plan->targetCharacter + "'";
-    if (target == this) return "locomotion target: a character cannot walk to itself";
+    if (target == &self_) return "locomotion target: a character cannot walk to itself";
     return {};
   }
   // The destination as seen from here: warn about the implausible ones, still go.
@@ -325,7 +325,7 @@ std::string Character::bindLocomotion(const BehaviorRequest& request, std::share
   return {};
 }
 
-std::optional<double> Character::estimateLocomotion(const BehaviorRequest& request) const {
+std::optional<double> Character::State::estimateLocomotion(const BehaviorRequest& request) const {
   std::shared_ptr<LocomotionPlan> plan;
   std::string warning;
   if (!bindLocomotion(request, plan, warning).empty()) return std::nullopt;
@@ -343,7 +343,7 @@ std::optional<double> Character::estimateLocomotion(const BehaviorRequest& reque
   return estimateLocomotionSeconds(from, *plan, waypoints, locomotionSettings_);
 }
 
-LocomotionStatus Character::locomotionStatus(std::string_view id) const noexcept {
+LocomotionStatus Character::State::locomotionStatus(std::string_view id) const noexcept {
   LocomotionStatus st;
   const BehaviorTimeline::Entry* e = behaviors_.find(id);
   if (!e || !e->as<LocomotionEntryState>()) return st;
@@ -357,21 +357,21 @@ LocomotionStatus Character::locomotionStatus(std::string_view id) const noexcept
   return st;
 }
 
-bool Character::cancelBehavior(std::string_view id, double blendOut) {
+bool Character::State::cancelBehavior(std::string_view id, double blendOut) {
   const std::vector<std::string> stopped = speechStoppedBy(id, false);
   const bool known = behaviors_.cancel(id, clock_, blendOut);
   notifySpeechStopped(stopped);
   return known;
 }
 
-std::size_t Character::cancelBehaviors(std::string_view idPrefix, double blendOut) {
+std::size_t Character::State::cancelBehaviors(std::string_view idPrefix, double blendOut) {
   const std::vector<std::string> stopped = speechStoppedBy(idPrefix, true);
   const std::size_t n = behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
   notifySpeechStopped(stopped);
   return n;
 }
 
-std::vector<std::string> Character::speechStoppedBy(std::string_view id, bool prefix) const {
+std::vector<std::string> Character::State::speechStoppedBy(std::string_view id, bool prefix) const {
   // Speech whose audio the engine was told to play and that has not ended yet.
   std::vector<std::string> ids;
   for (const BehaviorTimeline::Entry& e : behaviors_.entries())
@@ -381,13 +381,13 @@ std::vector<std::string> Character::speechStoppedBy(std::string_view id, bool pr
   return ids;
 }
 
-void Character::notifySpeechStopped(const std::vector<std::string>& ids) const {
+void Character::State::notifySpeechStopped(const std::vector<std::string>& ids) const {
   if (!scene_) return;
   for (const std::string& id : ids)
-    scene_->forEachListener([&](SceneListener& l) { l.onSpeechStopped(*this, id, clock_); });
+    scene_->forEachListener([&](SceneListener& l) { l.onSpeechStopped(self_, id, clock_); });
 }
 
-void Character::applyBehaviors(float dt) noexcept {
+void Character::State::applyBehaviors(float dt) noexcept {
   // One walk over the timeline hands each entry to its controller's pass, with its weight
   // (entries without weight now are left out, except speech and locomotion, which look at
   // time themselves). The passes then run in the order of enum class Controller
@@ -464,7 +464,7 @@ void Character::applyBehaviors(float dt) noexcept {
   run(Controller::Speech, [&] { return applySpeechEntries(); });
 }
 
-bool Character::applySpeechEntries() noexcept {
+bool Character::State::applySpeechEntries() noexcept {
   bool any = false;
   // Overlapping speech on one character: the one added last of those speaking now moves the
   // lips (a speech that could not be said takes nothing from the others).
@@ -507,7 +507,7 @@ bool Character::applySpeechEntries() noexcept {
       line->curves.evaluate(0.5 * (p.start + p.end), channels);
       const float peak = channels[static_cast<std::size_t>(p.cls.viseme)];
       scene_->forEachListener([&](SceneListener& l) {
-        l.onViseme(*this, speech::visemeName(p.cls.viseme), peak, start + p.start);
+        l.onViseme(self_, speech::visemeName(p.cls.viseme), peak, start + p.start);
       });
     }
     BehaviorTimeline::Entry* now = find(a);
@@ -518,7 +518,7 @@ bool Character::applySpeechEntries() noexcept {
   return any;
 }
 
-void Character::resolveExternalTargets() noexcept {
+void Character::State::resolveExternalTargets() noexcept {
   if (!scene_) return;
   for (BehaviorTimeline::Entry& e : behaviors_.entries())
     if (LocomotionEntryState* l = e.as<LocomotionEntryState>();
@@ -551,7 +551,7 @@ void Character::resolveExternalTargets() noexcept {
   }
 }
 
-bool Character::applyLocomotion(float dt) noexcept {
+bool Character::State::applyLocomotion(float dt) noexcept {
   // Follow the newest locomotion request that has started; stop when it is cancelled.
   bool cancelled = false;
   for (const ActiveEntry& a : pass(Controller::Locomotion)) {
@@ -572,7 +572,7 @@ bool Character::applyLocomotion(float dt) noexcept {
   return true;
 }
 
-bool Character::applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept {
+bool Character::State::applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept {
   const std::span<const Transform> rest = skeleton().restPose;
   const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(rest.size());
   const std::span<float> morphs = buffer_.writeMorphWeights();

@@ -7,6 +7,8 @@
 #include <string>
 #include <thread>
 
+#include "character_state.hpp"
+#include "frame_scratch.hpp"
 #include "worker_pool.hpp"
 
 namespace marionette {
@@ -31,7 +33,7 @@ struct Scene::Parallel {
 // No listener calls here: listeners are often declared after the scene and so
 // destroyed before it (UBSan caught exactly that in the tests). parallel_'s
 // destructor joins the (idle) workers.
-Scene::Scene() = default;
+Scene::Scene() : scratch_(std::make_unique<FrameScratch>()) {}
 Scene::~Scene() = default;
 
 int Scene::threadCount() const noexcept { return parallel_ ? parallel_->pool.participants() : 1; }
@@ -45,7 +47,7 @@ void Scene::setThreadCount(int n) {
   auto p = std::make_unique<Parallel>();
   for (int k = 1; k < n; ++k) {
     p->scratch.push_back(std::make_unique<FrameScratch>());
-    p->scratch.back()->reserve(scratch_.pose.size());
+    p->scratch.back()->reserve(scratch_->pose.size());
   }
   const int started = p->pool.resize(n);
   if (started < n)
@@ -65,14 +67,14 @@ Character* Scene::addCharacter(std::string name, std::shared_ptr<const Rig> rig)
   }
   characters_.push_back(std::make_unique<Character>(std::move(name), std::move(rig)));
   Character* c = characters_.back().get();
-  c->scene_ = this;
-  c->clock_ = time_;
+  c->state_->scene_ = this;
+  c->state_->clock_ = time_;
   // Every thread's scratch fits every character; between updates a character
   // points at the caller's, which its command-time calls (play) use.
-  scratch_.reserve(c->skeleton().jointCount());
+  scratch_->reserve(c->skeleton().jointCount());
   if (parallel_)
     for (auto& s : parallel_->scratch) s->reserve(c->skeleton().jointCount());
-  c->scratch_ = &scratch_;
+  c->state_->scratch_ = scratch_.get();
   forEachListener([&](SceneListener& l) { l.onCharacterCreated(*c); });
   return c;
 }
@@ -141,7 +143,7 @@ void Scene::update(double dt) noexcept {
   ++frame_;
   // Serial: reads other characters' last frame. After it, a character's update
   // reads only itself, so any order and any thread give the same result.
-  for (auto& c : characters_) c->resolveExternalTargets();
+  for (auto& c : characters_) c->state_->resolveExternalTargets();
   if (parallel_ && characters_.size() > kChunk) {
     parallel_->next.store(0, std::memory_order_relaxed);  // published by the pool's mutex
     parallel_->dt = dt;
@@ -149,14 +151,14 @@ void Scene::update(double dt) noexcept {
     parallel_->pool.run(&Scene::updateChunks, this);
     lockListeners_ = false;
   } else {
-    for (auto& c : characters_) updateCharacter(*c, scratch_, dt);
+    for (auto& c : characters_) updateCharacter(*c, *scratch_, dt);
   }
 }
 
 void Scene::updateChunks(void* scene, int participant) noexcept {
   Scene& s = *static_cast<Scene*>(scene);
   Parallel& p = *s.parallel_;
-  FrameScratch& scratch = participant == 0 ? s.scratch_ : *p.scratch[static_cast<std::size_t>(participant - 1)];
+  FrameScratch& scratch = participant == 0 ? *s.scratch_ : *p.scratch[static_cast<std::size_t>(participant - 1)];
   // Copies: `next` shares a cache line with these and bounces between threads.
   const std::size_t n = s.characters_.size();
   const double dt = p.dt;
@@ -169,16 +171,16 @@ void Scene::updateChunks(void* scene, int participant) noexcept {
 }
 
 void Scene::updateCharacter(Character& c, FrameScratch& scratch, double dt) noexcept {
-  c.scratch_ = &scratch;
+  c.state_->scratch_ = &scratch;
   if (stats_) {
     const auto start = std::chrono::steady_clock::now();
     c.update(dt);
-    c.stats_.lastUpdateMicros =
+    c.state_->stats_.lastUpdateMicros =
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   } else {
     c.update(dt);
   }
-  c.scratch_ = &scratch_;  // back to the caller's: command-time calls find a reserved scratch
+  c.state_->scratch_ = scratch_.get();  // back to the caller's: command-time calls find a reserved scratch
 }
 
 }  // namespace marionette

@@ -521,6 +521,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
   // Load each distinct (asset, scale, profile, clips with their settings) once.
   std::map<std::string, std::shared_ptr<const Rig>> rigs;
   std::vector<std::shared_ptr<const Rig>> rigOf(specs.size());
+  std::map<std::string, std::shared_ptr<const Asset>> assets;  // by the same key: what the rig was made from
+  std::vector<std::shared_ptr<const Asset>> assetOf(specs.size());
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const CharacterSpec& c = specs[i];
     std::string key = resolve(baseDir, c.asset) + "|" + std::to_string(c.scale) + "|" + resolve(baseDir, c.profile);
@@ -534,6 +536,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     }
     if (auto it = rigs.find(key); it != rigs.end()) {
       rigOf[i] = it->second;
+      assetOf[i] = assets[key];
       continue;
     }
     ImportOptions io;
@@ -555,7 +558,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
         ++result.assetsLoaded;
       }
     }
-    auto rig = std::make_shared<Rig>(asset);
+    auto rig = std::make_shared<Rig>(*asset);
     if (!c.profile.empty()) {
       CharacterProfileResult profile = loadCharacterProfile(resolve(baseDir, c.profile), *asset);
       diags.items.insert(diags.items.end(), profile.diagnostics.items.begin(), profile.diagnostics.items.end());
@@ -564,6 +567,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     }
     rigs[key] = rig;
     rigOf[i] = rig;
+    assets[key] = asset;
+    assetOf[i] = asset;
   }
   // Check the clip names before adding anything.
   for (std::size_t i = 0; i < specs.size(); ++i) {
@@ -593,6 +598,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     } else if (!rigOf[i]->clips().empty()) {
       ch->play(0, rigOf[i]->clips().front());
     }
+    result.assets.emplace(c.name, assetOf[i]);
     ++result.charactersAdded;
   }
   for (auto& [objectName, position] : objects) scene.setObject(std::move(objectName), position);
@@ -600,12 +606,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
 }
 
 SceneLoadResult loadSceneFile(const std::string& path, Scene& scene, const SceneLoadOptions& options) {
-  std::string text, why;
-  if (!readTextFile(path, text, why)) {
-    SceneLoadResult r;
-    r.diagnostics.error(path, "cannot read the scene file: " + why);
-    return r;
-  }
+  std::string text;
+  if (SceneLoadResult r; !readTextFile(path, text, r.diagnostics, "cannot read the scene file")) return r;
   return loadSceneText(text, path, fs::path(path).parent_path().string(), scene, options);
 }
 

@@ -60,9 +60,9 @@ TEST(CameraModel, WriteThenReadIsExact) {
   const auto c = readCameraModel(tempFile("good.yml", kGood), d);
   ASSERT_TRUE(c) << d.format();
   const auto out = (std::filesystem::temp_directory_path() / "marionette_camera_out.yml").string();
-  std::string error;
+  Diagnostics error;
   CalibrationFacts facts{.views = 3, .boardColumns = 9, .boardRows = 6, .squareSize = 0.025, .rmsReprojectionError = 0.4};
-  ASSERT_TRUE(writeCameraModel(out, *c, &facts, error)) << error;
+  ASSERT_TRUE(writeCameraModel(out, *c, &facts, error)) << error.format();
   const auto back = readCameraModel(out, d);
   ASSERT_TRUE(back) << d.format();
   EXPECT_EQ(back->fx, c->fx);

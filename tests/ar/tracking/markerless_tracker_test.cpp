@@ -232,8 +232,8 @@ TEST(MarkerlessTracker, SavedMapRelocalizesAtLaunchAndCorruptMapsAreErrors) {
   ASSERT_TRUE(tracker);
   for (std::size_t i = 0; i < frames.size(); ++i) (void)tracker->update(view(frames[i]), static_cast<double>(i) / 30.0);
   const auto file = (std::filesystem::temp_directory_path() / "marionette_graf.map").string();
-  std::string error;
-  ASSERT_TRUE(writePlanarMap(file, tracker->map(), error)) << error;
+  Diagnostics error;
+  ASSERT_TRUE(writePlanarMap(file, tracker->map(), error)) << error.format();
 
   Diagnostics d;
   auto map = readPlanarMap(file, d);

@@ -161,8 +161,8 @@ TEST(RealSequence, HandHeldCameraClosingInOnACollageKeepsTrackingWithNewKeyframe
   EXPECT_LT(last.y, 0.8 * start.y);  // it did close in
   // The map saved and read back keeps them (what --save-map writes).
   const std::string file = ::testing::TempDir() + "marionette_cube.map";
-  std::string error;
-  ASSERT_TRUE(writePlanarMap(file, tracker->map(), error)) << error;
+  Diagnostics error;
+  ASSERT_TRUE(writePlanarMap(file, tracker->map(), error)) << error.format();
   Diagnostics r;
   const auto map = readPlanarMap(file, r);
   ASSERT_TRUE(map) << r.format();

@@ -467,7 +467,7 @@ MarionetteState marionetteState(const mar::Character& c, const std::vector<std::
   const mar::TransformBuffer& b = c.transformBuffer();
   s.buffer = (b.skinningMatrices().size() + b.modelMatrices().size()) * sizeof(glm::mat4) + b.skinning3x4().size() * sizeof(float) +
              b.morphCount() * sizeof(float);
-  s.morphs = c.rig().asset().morphTargets.size() * sizeof(float);
+  s.morphs = c.rig().morphTargets().size() * sizeof(float);
   for (const auto& ac : played) {
     s.cursors += (ac->clip.tracks.size() * 3 + ac->clip.morphTracks.size()) * sizeof(std::uint32_t);
     s.cursors += (ac->inPlaceRoot.tracks.size() * 3 + ac->inPlaceRoot.morphTracks.size()) * sizeof(std::uint32_t);
@@ -642,7 +642,7 @@ void runAsset(const std::string& which, const Options& opt) {
   }
   const mar::Skeleton& s = b.rig->skeleton();
   std::printf("joints %zu, morph targets %zu, clips %s/%s/%s (%.3f/%.3f/%.3f s), loaded in %.2f s\n", s.jointCount(),
-              b.rig->asset().morphTargets.size(), b.clips[0].c_str(), b.clips[1].c_str(), b.clips[2].c_str(),
+              b.rig->morphTargets().size(), b.clips[0].c_str(), b.clips[1].c_str(), b.clips[2].c_str(),
               b.rawClips[0].duration, b.rawClips[1].duration, b.rawClips[2].duration, seconds(loadStart, Clock::now()));
   const glm::mat4& rt = s.rootTransform;
   std::printf("rootTransform column lengths %.4g %.4g %.4g, translation (%.4g %.4g %.4g); ozz gets it as LocalToModelJob::root\n",

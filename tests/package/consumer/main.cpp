@@ -13,7 +13,7 @@ int main() {
   auto asset = std::make_shared<marionette::Asset>();
   asset->skeleton.addJoint("root", -1, marionette::Transform{});
   marionette::Scene scene;
-  auto* c = scene.addCharacter("one", std::make_shared<marionette::Rig>(asset));
+  auto* c = scene.addCharacter("one", std::make_shared<marionette::Rig>(*asset));
   scene.update(1.0 / 60.0);
   bool ok = c && c->transformBuffer().frame() == 1 && c->transformBuffer().skinning().size() == 16;
 #ifdef CONSUMER_HAS_C_API

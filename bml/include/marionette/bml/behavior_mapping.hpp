@@ -17,7 +17,7 @@ namespace marionette::bml {
 
 // Body channels a behavior drives (gesture/pointing mode LEFT_HAND / RIGHT_HAND
 // take one hand, otherwise both). Face behaviors and wait: none.
-[[nodiscard]] std::uint32_t channelsOf(const Behavior& behavior);
+[[nodiscard]] BodyChannel channelsOf(const Behavior& behavior);
 
 // The rig clip that realizes a behavior: for gesture and pointing the clip the
 // character profile's gesture library gives the lexeme, else the clip named by

@@ -125,11 +125,8 @@ std::optional<Augmentation> parseAugmentation(const std::string& text, const std
 }
 
 std::optional<Augmentation> readAugmentation(const std::string& path, Diagnostics& diagnostics) {
-  std::string text, error;
-  if (!readTextFile(path, text, error)) {
-    diagnostics.error(path, error);
-    return std::nullopt;
-  }
+  std::string text;
+  if (!readTextFile(path, text, diagnostics)) return std::nullopt;
   return parseAugmentation(text, path, diagnostics);
 }
 

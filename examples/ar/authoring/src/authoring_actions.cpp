@@ -213,11 +213,8 @@ std::optional<std::vector<Action>> parseActions(const std::string& text, const s
 }
 
 std::optional<std::vector<Action>> readActions(const std::string& path, Diagnostics& diagnostics) {
-  std::string text, error;
-  if (!readTextFile(path, text, error)) {
-    diagnostics.error(path, error);
-    return std::nullopt;
-  }
+  std::string text;
+  if (!readTextFile(path, text, diagnostics)) return std::nullopt;
   return parseActions(text, path, diagnostics);
 }
 

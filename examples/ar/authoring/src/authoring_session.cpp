@@ -57,10 +57,10 @@ PlacedCharacter* AuthoringSession::placed() {
   return i < 0 ? nullptr : &current_.augmentation.characters[static_cast<std::size_t>(i)];
 }
 
-bool AuthoringSession::apply(const Action& a, const AuthoringView& view, std::string& error) {
+bool AuthoringSession::apply(const Action& a, const AuthoringView& view, Diagnostics& diagnostics) {
   if (a.kind == ActionKind::Undo) {
     if (history_.empty()) {
-      error = "nothing to undo";
+      diagnostics.error("", "nothing to undo");
       return false;
     }
     current_ = std::move(history_.back());
@@ -74,7 +74,7 @@ bool AuthoringSession::apply(const Action& a, const AuthoringView& view, std::st
   State before = current_;  // what undo, or a failed action, goes back to
   auto fail = [&](std::string why) {
     current_ = std::move(before);
-    error = std::move(why);
+    diagnostics.error("", std::move(why));
     return false;
   };
   auto needPlaced = [&]() -> PlacedCharacter* {

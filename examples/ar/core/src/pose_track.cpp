@@ -143,11 +143,8 @@ std::optional<PoseTrack> parsePoseTrack(std::string_view text, const std::string
 }
 
 std::optional<PoseTrack> readPoseTrack(const std::string& path, Diagnostics& d) {
-  std::string text, why;
-  if (!readTextFile(path, text, why)) {
-    d.error(path, "cannot read the pose CSV: " + why);
-    return std::nullopt;
-  }
+  std::string text;
+  if (!readTextFile(path, text, d, "cannot read the pose CSV")) return std::nullopt;
   return parsePoseTrack(text, path, d);
 }
 

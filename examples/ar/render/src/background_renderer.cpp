@@ -10,8 +10,8 @@ BackgroundRenderer::~BackgroundRenderer() {
   if (environment_) glDeleteTextures(1, &environment_);
 }
 
-bool BackgroundRenderer::create(std::string& error) {
-  if (!program_.build("background.vert", "background.frag", error)) return false;
+bool BackgroundRenderer::create(Diagnostics& diagnostics) {
+  if (!program_.build("background.vert", "background.frag", diagnostics)) return false;
   glGenVertexArrays(1, &vao_);  // core profile: a draw needs a bound VAO even without attributes
   return true;
 }

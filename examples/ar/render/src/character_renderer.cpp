@@ -83,7 +83,7 @@ std::size_t CharacterModel::triangleCount() const noexcept {
   return n;
 }
 
-bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnings, std::string& error) {
+bool CharacterModel::upload(const Asset& asset, Diagnostics& diagnostics) {
   morphCount_ = asset.morphTargets.size();
   jointCount_ = asset.skeleton.jointCount();
   std::map<std::string, int> textureOf;  // texture reference -> textures_ index (-1: unreadable)
@@ -91,23 +91,25 @@ bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnin
     if (m.baseColorTexture.empty()) return -1;
     if (auto it = textureOf.find(m.baseColorTexture); it != textureOf.end()) return it->second;
     Image8 image;
+    Diagnostics unread;
     std::string why;
     bool ok = false;
     if (const int index = embeddedImageIndex(m.baseColorTexture); index >= 0) {
       const auto n = static_cast<std::size_t>(index);
       const bool have = n < asset.embeddedImages.size() && !asset.embeddedImages[n].empty();
-      ok = have && readImage(asset.embeddedImages[n], asset.sourcePath + " image " + std::to_string(index), image, why);
+      ok = have && readImage(asset.embeddedImages[n], asset.sourcePath + " image " + std::to_string(index), image, unread);
       if (!have) why = "the image is inside the file and the asset has no bytes for it (imported without meshes?)";
     } else {
-      ok = readImage(m.baseColorTexture, image, why);
+      ok = readImage(m.baseColorTexture, image, unread);
     }
+    for (const Diagnostic& d : unread.items) why += (why.empty() ? "" : "; ") + d.file + ": " + d.message;
     int slot = -1;
     if (ok) {
       slot = static_cast<int>(textures_.size());
       textures_.push_back(makeColorTexture(image));
-    } else {
-      warnings.push_back(asset.sourcePath + ": material '" + m.name + "': texture '" + m.baseColorTexture +
-                         "' not used: " + why);
+    } else {  // still drawable, in the material's base colour
+      diagnostics.warning(asset.sourcePath, "material '" + m.name + "': texture '" + m.baseColorTexture +
+                                                "' not used: " + why);
     }
     textureOf[m.baseColorTexture] = slot;
     return slot;
@@ -171,7 +173,7 @@ bool CharacterModel::upload(const Asset& asset, std::vector<std::string>& warnin
     }
   }
   if (primitives_.empty()) {
-    error = asset.sourcePath + ": no mesh to draw (the file has a skeleton and clips only)";
+    diagnostics.error(asset.sourcePath, "no mesh to draw (the file has a skeleton and clips only)");
     return false;
   }
   return true;

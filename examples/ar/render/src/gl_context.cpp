@@ -17,11 +17,11 @@ void onGlfwError(int code, const char* description) {
 
 }  // namespace
 
-std::unique_ptr<GlContext> GlContext::create(const GlContextOptions& options, std::string& error) {
+std::unique_ptr<GlContext> GlContext::create(const GlContextOptions& options, Diagnostics& diagnostics) {
   glfwSetErrorCallback(onGlfwError);
   if (!glfwInit()) {
-    error = "cannot initialise GLFW (" + lastGlfwError() +
-            "); headless rendering still needs an X display: run under xvfb-run (docs/ar-renderer.md)";
+    diagnostics.error("", "cannot initialise GLFW (" + lastGlfwError() +
+                              "); headless rendering still needs an X display: run under xvfb-run (docs/ar-renderer.md)");
     return nullptr;
   }
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -32,7 +32,7 @@ std::unique_ptr<GlContext> GlContext::create(const GlContextOptions& options, st
   glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
   GLFWwindow* window = glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
   if (!window) {
-    error = "cannot create an OpenGL 3.3 core context (" + lastGlfwError() + ")";
+    diagnostics.error("", "cannot create an OpenGL 3.3 core context (" + lastGlfwError() + ")");
     glfwTerminate();
     return nullptr;
   }

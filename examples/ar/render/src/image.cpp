@@ -12,27 +12,27 @@ namespace {
 
 // Reads the header only and checks its size against the library's limits before any
 // pixel is decoded (a 50-byte header can declare 80000 x 40000 pixels).
-bool sizeWithinLimits(OIIO::ImageBuf& buf, const std::string& name, std::string& error) {
+bool sizeWithinLimits(OIIO::ImageBuf& buf, const std::string& name, Diagnostics& diagnostics) {
   if (!buf.init_spec(buf.name(), 0, 0)) {
-    error = name + ": cannot read the image: " + buf.geterror();
+    diagnostics.error(name, "cannot read the image: " + buf.geterror());
     return false;
   }
   const OIIO::ImageSpec& spec = buf.spec();
   if (const std::string problem = limits::imageSizeProblem(spec.width, spec.height, spec.nchannels); !problem.empty()) {
-    error = name + ": the image " + problem;
+    diagnostics.error(name, "the image " + problem);
     return false;
   }
   return true;
 }
 
-bool toRgba8(OIIO::ImageBuf& buf, const std::string& name, Image8& out, std::string& error) {
+bool toRgba8(OIIO::ImageBuf& buf, const std::string& name, Image8& out, Diagnostics& diagnostics) {
   if (!buf.init_spec(buf.name(), 0, 0) && buf.has_error()) {
-    error = name + ": cannot read the image: " + buf.geterror();
+    diagnostics.error(name, "cannot read the image: " + buf.geterror());
     return false;
   }
   const OIIO::ImageSpec& spec = buf.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
-    error = name + ": the image is empty";
+    diagnostics.error(name, "the image is empty");
     return false;
   }
   out.width = spec.width;
@@ -46,7 +46,8 @@ bool toRgba8(OIIO::ImageBuf& buf, const std::string& name, Image8& out, std::str
   OIIO::ImageBuf rgba = OIIO::ImageBufAlgo::channels(buf, 4, channelOrder, fill);
   if (rgba.has_error() || !rgba.get_pixels(OIIO::ROI(0, out.width, 0, out.height, 0, 1, 0, 4), OIIO::TypeDesc::UINT8,
                                            out.pixels.data())) {
-    error = name + ": cannot decode the image: " + (rgba.has_error() ? rgba.geterror() : std::string("unknown"));
+    diagnostics.error(name, "cannot decode the image: " +
+                                (rgba.has_error() ? rgba.geterror() : std::string("unknown")));
     return false;
   }
   return true;
@@ -54,21 +55,21 @@ bool toRgba8(OIIO::ImageBuf& buf, const std::string& name, Image8& out, std::str
 
 }  // namespace
 
-bool readImage(const std::string& path, Image8& out, std::string& error) {
+bool readImage(const std::string& path, Image8& out, Diagnostics& diagnostics) {
   if (!OIIO::Filesystem::is_regular(path)) {
-    error = path + ": no such file";
+    diagnostics.error(path, "no such file");
     return false;
   }
   OIIO::ImageBuf buf(path);
-  if (!sizeWithinLimits(buf, path, error)) return false;
+  if (!sizeWithinLimits(buf, path, diagnostics)) return false;
   if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-    error = path + ": cannot read the image: " + buf.geterror();
+    diagnostics.error(path, "cannot read the image: " + buf.geterror());
     return false;
   }
-  return toRgba8(buf, path, out, error);
+  return toRgba8(buf, path, out, diagnostics);
 }
 
-bool readImage(std::span<const unsigned char> bytes, const std::string& name, Image8& out, std::string& error) {
+bool readImage(std::span<const unsigned char> bytes, const std::string& name, Image8& out, Diagnostics& diagnostics) {
   // OpenImageIO reads from memory through an IOProxy; the format is found from the bytes.
   OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
   OIIO::ImageSpec config;
@@ -77,28 +78,28 @@ bool readImage(std::span<const unsigned char> bytes, const std::string& name, Im
   if (bytes.size() >= 8 && bytes[0] == 0x89 && bytes[1] == 'P') format = "png";
   else if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) format = "jpeg";
   else {
-    error = name + ": the embedded image is neither PNG nor JPEG";
+    diagnostics.error(name, "the embedded image is neither PNG nor JPEG");
     return false;
   }
   OIIO::ImageBuf buf("in_memory." + format, 0, 0, nullptr, &config, &reader);
-  if (!sizeWithinLimits(buf, name, error)) return false;
+  if (!sizeWithinLimits(buf, name, diagnostics)) return false;
   if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-    error = name + ": cannot decode the embedded image: " + buf.geterror();
+    diagnostics.error(name, "cannot decode the embedded image: " + buf.geterror());
     return false;
   }
-  return toRgba8(buf, name, out, error);
+  return toRgba8(buf, name, out, diagnostics);
 }
 
-bool writeImage(const std::string& path, const Image8& image, std::string& error) {
+bool writeImage(const std::string& path, const Image8& image, Diagnostics& diagnostics) {
   if (image.empty() || image.width <= 0 || image.height <= 0) {
-    error = path + ": nothing to write (empty image)";
+    diagnostics.error(path, "nothing to write (empty image)");
     return false;
   }
   OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
   auto out = OIIO::ImageOutput::create(path);
   if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) ||
       !out->close()) {
-    error = path + ": cannot write the image: " + (out ? out->geterror() : OIIO::geterror());
+    diagnostics.error(path, "cannot write the image: " + (out ? out->geterror() : OIIO::geterror()));
     return false;
   }
   return true;

@@ -14,7 +14,7 @@ RenderTarget::~RenderTarget() {
   if (resolveColor_) glDeleteRenderbuffers(1, &resolveColor_);
 }
 
-bool RenderTarget::create(int width, int height, int samples, std::string& error) {
+bool RenderTarget::create(int width, int height, int samples, Diagnostics& diagnostics) {
   width_ = width;
   height_ = height;
   GLint maxSamples = 1;
@@ -31,7 +31,7 @@ bool RenderTarget::create(int width, int height, int samples, std::string& error
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colorRb_);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthRb_);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    error = "the multisampled framebuffer is incomplete";
+    diagnostics.error("", "the multisampled framebuffer is incomplete");
     return false;
   }
   glGenFramebuffers(1, &resolveFbo_);
@@ -41,7 +41,7 @@ bool RenderTarget::create(int width, int height, int samples, std::string& error
   glBindFramebuffer(GL_FRAMEBUFFER, resolveFbo_);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor_);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    error = "the resolve framebuffer is incomplete";
+    diagnostics.error("", "the resolve framebuffer is incomplete");
     return false;
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

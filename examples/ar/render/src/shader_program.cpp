@@ -34,9 +34,9 @@ std::string shaderSource(std::string_view name, ShaderDialect dialect) {
 
 namespace {
 
-unsigned compileStage(unsigned type, std::string_view file, std::string& error) {
+unsigned compileStage(unsigned type, std::string_view file, Diagnostics& diagnostics) {
   if (embeddedShader(file).empty()) {
-    error = "shader '" + std::string(file) + "' is not embedded in the program";
+    diagnostics.error(std::string(file), "shader '" + std::string(file) + "' is not embedded in the program");
     return 0;
   }
   const std::string text = shaderSource(file, ShaderDialect::Glsl330Core);
@@ -49,7 +49,7 @@ unsigned compileStage(unsigned type, std::string_view file, std::string& error) 
   if (!ok) {
     char log[4096] = {};
     glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    error = "shader '" + std::string(file) + "' does not compile: " + log;
+    diagnostics.error(std::string(file), "shader '" + std::string(file) + "' does not compile: " + log);
     glDeleteShader(shader);
     return 0;
   }
@@ -62,10 +62,10 @@ ShaderProgram::~ShaderProgram() {
   if (program_) glDeleteProgram(program_);
 }
 
-bool ShaderProgram::build(std::string_view vertexFile, std::string_view fragmentFile, std::string& error) {
-  const unsigned vs = compileStage(GL_VERTEX_SHADER, vertexFile, error);
+bool ShaderProgram::build(std::string_view vertexFile, std::string_view fragmentFile, Diagnostics& diagnostics) {
+  const unsigned vs = compileStage(GL_VERTEX_SHADER, vertexFile, diagnostics);
   if (!vs) return false;
-  const unsigned fs = compileStage(GL_FRAGMENT_SHADER, fragmentFile, error);
+  const unsigned fs = compileStage(GL_FRAGMENT_SHADER, fragmentFile, diagnostics);
   if (!fs) {
     glDeleteShader(vs);
     return false;
@@ -81,7 +81,8 @@ bool ShaderProgram::build(std::string_view vertexFile, std::string_view fragment
   if (!ok) {
     char log[4096] = {};
     glGetProgramInfoLog(program_, sizeof log, nullptr, log);
-    error = "shaders '" + std::string(vertexFile) + "' + '" + std::string(fragmentFile) + "' do not link: " + log;
+    diagnostics.error(std::string(vertexFile),
+                      "shaders '" + std::string(vertexFile) + "' + '" + std::string(fragmentFile) + "' do not link: " + log);
     return false;
   }
   return true;

@@ -355,15 +355,15 @@ std::optional<CameraModel> readCameraModel(const std::string& file, Diagnostics&
 }
 
 bool writeCameraModel(const std::string& file, const CameraModel& camera, const CalibrationFacts* facts,
-                      std::string& error) {
+                      Diagnostics& diagnostics) {
   if (const std::string p = camera.problem(); !p.empty()) {
-    error = file + ": not written: " + p;
+    diagnostics.error(file, "not written: " + p);
     return false;
   }
   try {
     cv::FileStorage fs(file, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) {
-      error = file + ": cannot be written";
+      diagnostics.error(file, "cannot be written");
       return false;
     }
     if (facts) fs << "nframes" << facts->views;
@@ -379,7 +379,7 @@ bool writeCameraModel(const std::string& file, const CameraModel& camera, const 
     if (facts && facts->rmsReprojectionError >= 0) fs << "avg_reprojection_error" << facts->rmsReprojectionError;
     fs.release();
   } catch (const cv::Exception& e) {
-    error = file + ": cannot be written: " + e.what();
+    diagnostics.error(file, std::string("cannot be written: ") + e.what());
     return false;
   }
   return true;

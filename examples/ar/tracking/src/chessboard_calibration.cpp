@@ -9,7 +9,7 @@
 namespace marionette::ar {
 
 std::optional<ChessboardCalibration> calibrateChessboard(const std::vector<std::string>& images,
-                                                         const ChessboardSettings& settings,
+                                                         const ChessboardOptions& settings,
                                                          Diagnostics& diagnostics) {
   if (settings.columns < 2 || settings.rows < 2 || settings.columns > 1000 || settings.rows > 1000) {
     diagnostics.error("--board", "a board of " + std::to_string(settings.columns) + "x" +

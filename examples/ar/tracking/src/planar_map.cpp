@@ -65,7 +65,7 @@ class Reader {
 
 }  // namespace
 
-bool writePlanarMap(const std::string& file, const PlanarMap& map, std::string& error) {
+bool writePlanarMap(const std::string& file, const PlanarMap& map, Diagnostics& diagnostics) {
   Writer w;
   w.raw(reinterpret_cast<const std::uint8_t*>(kMagic), sizeof kMagic);
   w.put<std::uint32_t>(PlanarMap::kVersion);
@@ -97,7 +97,7 @@ bool writePlanarMap(const std::string& file, const PlanarMap& map, std::string& 
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(w.bytes.data()), static_cast<std::streamsize>(w.bytes.size()));
   if (!out) {
-    error = file + ": the map cannot be written";
+    diagnostics.error(file, "the map cannot be written");
     return false;
   }
   return true;

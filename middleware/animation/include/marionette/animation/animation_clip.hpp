@@ -34,7 +34,7 @@ struct AnimationClip {
   std::vector<Transform> pose;
 };
 
-// How clips are prepared when they are loaded (a Rig's RigOptions).
+// How clips are prepared when they are loaded (a Rig's RigSettings).
 struct AnimationClipOptions {
   bool optimizeClips = true;       // drop constant rest-pose tracks (see clip_optimizer.hpp)
   ClipOptimizeOptions tolerances;  // what "constant" means

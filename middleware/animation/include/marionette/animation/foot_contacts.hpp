@@ -22,7 +22,7 @@ struct ContactInterval {
 // Lengths and speeds are for a human-sized character (legs about 0.9 m): for
 // another size, scale heightAboveLowest and maxSpeed by its leg length / 0.9 m
 // (RobotExpressive is about 3 m tall in its model units: 1.7).
-struct FootContactSettings {
+struct FootContactOptions {
   float heightAboveLowest = 0.05f;  // m: a foot in contact is at most this far above its lowest point in the clip
   float maxSpeed = 0.5f;            // m/s, horizontal, in the ground frame
   float minDuration = 0.05f;        // s: shorter contacts, and shorter gaps inside one, are noise
@@ -33,10 +33,10 @@ struct FootContactSettings {
   float inPlaceSpeedAllowance = 0.5f;
 };
 
-// The settings for a character whose leg (hip to ankle) is `legLength` long:
+// The options for a character whose leg (hip to ankle) is `legLength` long:
 // heightAboveLowest and maxSpeed scaled by legLength / 0.9 m. `base` unchanged
 // when legLength is not a positive finite number.
-[[nodiscard]] FootContactSettings footContactSettingsForLeg(float legLength, FootContactSettings base = {}) noexcept;
+[[nodiscard]] FootContactOptions footContactOptionsForLeg(float legLength, FootContactOptions base = {}) noexcept;
 
 // The contact intervals of `footJoint` (model space, +Y up) over one cycle of
 // `clip`, in phase order. The clip is taken as a loop.
@@ -52,7 +52,7 @@ struct FootContactSettings {
 // Empty when the clip has no duration, the foot is out of range, or every
 // sample is non-finite (NaN keys give no NaN out). Load-time: allocates.
 [[nodiscard]] std::vector<ContactInterval> detectFootContacts(const AnimationClip& clip, const Skeleton& skeleton,
-                                                              int footJoint, const FootContactSettings& settings = {});
+                                                              int footJoint, const FootContactOptions& settings = {});
 
 // True when `phase` (wrapped into [0, 1)) lies in one of the intervals.
 [[nodiscard]] bool inContact(std::span<const ContactInterval> contacts, float phase) noexcept;

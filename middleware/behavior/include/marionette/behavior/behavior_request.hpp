@@ -49,23 +49,38 @@ enum class BehaviorKind : std::uint8_t {
 // run: the one added later is blended over the earlier one, so it wins at full
 // weight and the earlier one shows through while it blends in or out.
 // Face channels are not exclusive (lexemes add up): a face request has no bits.
-enum BodyChannel : std::uint32_t {
-  kChannelPosture = 1u << 0,
-  kChannelLocomotion = 1u << 1,
-  kChannelLeftHand = 1u << 2,
-  kChannelRightHand = 1u << 3,
-  kChannelHands = kChannelLeftHand | kChannelRightHand,
-  kChannelHead = 1u << 4,
-  kChannelGaze = 1u << 5,
-  kChannelVoice = 1u << 6,
-  kChannelEyes = 1u << 7,  // saccades, over whatever the gaze does
+// A BodyChannel holds a set of channels: combine with |, test with any(a & b).
+enum class BodyChannel : std::uint32_t {
+  None = 0,
+  Posture = 1u << 0,
+  Locomotion = 1u << 1,
+  LeftHand = 1u << 2,
+  RightHand = 1u << 3,
+  Hands = LeftHand | RightHand,
+  Head = 1u << 4,
+  Gaze = 1u << 5,
+  Voice = 1u << 6,
+  Eyes = 1u << 7,  // saccades, over whatever the gaze does
 };
+[[nodiscard]] constexpr BodyChannel operator|(BodyChannel a, BodyChannel b) noexcept {
+  return static_cast<BodyChannel>(static_cast<std::uint32_t>(a) | static_cast<std::uint32_t>(b));
+}
+[[nodiscard]] constexpr BodyChannel operator&(BodyChannel a, BodyChannel b) noexcept {
+  return static_cast<BodyChannel>(static_cast<std::uint32_t>(a) & static_cast<std::uint32_t>(b));
+}
+[[nodiscard]] constexpr BodyChannel operator~(BodyChannel c) noexcept {
+  return static_cast<BodyChannel>(~static_cast<std::uint32_t>(c));
+}
+constexpr BodyChannel& operator|=(BodyChannel& a, BodyChannel b) noexcept { return a = a | b; }
+constexpr BodyChannel& operator&=(BodyChannel& a, BodyChannel b) noexcept { return a = a & b; }
+// Whether the set holds any channel.
+[[nodiscard]] constexpr bool any(BodyChannel c) noexcept { return c != BodyChannel::None; }
 // The channels a kind drives by default (gestures: both hands).
-[[nodiscard]] std::uint32_t defaultChannels(BehaviorKind kind) noexcept;
+[[nodiscard]] BodyChannel defaultChannels(BehaviorKind kind) noexcept;
 // "posture", "leftHand", "hands", ... joined with '+'; "" for none.
-[[nodiscard]] std::string channelNames(std::uint32_t channels);
-// The bits of one channel name ("hands" = both hands); 0 for an unknown name.
-[[nodiscard]] std::uint32_t channelFromName(std::string_view name) noexcept;
+[[nodiscard]] std::string channelNames(BodyChannel channels);
+// The channels of one name ("hands" = both hands); None for an unknown name.
+[[nodiscard]] BodyChannel channelFromName(std::string_view name) noexcept;
 
 struct BehaviorSync {
   std::string name;  // "start", "ready", "stroke", ... or any name the caller gives
@@ -75,7 +90,7 @@ struct BehaviorSync {
 struct BehaviorRequest {
   std::string id{};      // unique among the character's requests (the realizer uses "block:behavior")
   BehaviorKind kind = BehaviorKind::Clip;
-  std::optional<std::uint32_t> channels{};  // unset: defaultChannels(kind)
+  std::optional<BodyChannel> channels{};  // unset: defaultChannels(kind)
   std::vector<BehaviorSync> syncs{};      // in time order; the first is the start, the last the end
   BehaviorParameters parameters{};        // the struct of the kind's controller (behavior_parameters.hpp)
   std::string clip{};    // a clip of the rig to play, time-warped onto [start, end]; "" = none
@@ -90,7 +105,7 @@ struct BehaviorRequest {
   // The parameters as T (HeadParameters, GazeParameters, ...), or null when they are of another type.
   template <class T>
   [[nodiscard]] const T* as() const noexcept { return std::get_if<T>(&parameters); }
-  [[nodiscard]] std::uint32_t channelBits() const noexcept { return channels ? *channels : defaultChannels(kind); }
+  [[nodiscard]] BodyChannel channelBits() const noexcept { return channels ? *channels : defaultChannels(kind); }
 };
 
 }  // namespace marionette

@@ -100,7 +100,7 @@ class BehaviorTimeline {
 
   // The request driving any of `channels` at time t: of those with a weight
   // above zero there, the one added last. nullptr if none.
-  [[nodiscard]] const BehaviorRequest* owner(std::uint32_t channels, double t) const noexcept;
+  [[nodiscard]] const BehaviorRequest* owner(BodyChannel channels, double t) const noexcept;
 
   // Drops requests that can no longer have an effect at time t: finished, or
   // persistent and fully covered by a later request on all of their channels.

@@ -1,13 +1,18 @@
 // Reading a whole text file that a user named, within limits::kMaxTextFileBytes.
 #pragma once
 #include <string>
+#include <string_view>
+
+#include "marionette/core/diagnostic.hpp"
 
 namespace marionette {
 
 // Reads `path` into `out`. Refuses what is not a regular file (/dev/zero, a FIFO, a
 // folder: they could be read forever) and files over limits::kMaxTextFileBytes. On
-// failure returns false and sets `error` to what went wrong, without the path (the
-// caller names the file and what it is for).
-[[nodiscard]] bool readTextFile(const std::string& path, std::string& out, std::string& error);
+// failure returns false with an error in `diagnostics` naming `path`: `what` (what the
+// file is for, "cannot read the scene file"), ": " and what went wrong; the reason
+// alone when `what` is empty.
+[[nodiscard]] bool readTextFile(const std::string& path, std::string& out, Diagnostics& diagnostics,
+                                std::string_view what = {});
 
 }  // namespace marionette

@@ -28,7 +28,7 @@ namespace marionette::prt {
 
 inline constexpr int kDefaultTransferBands = 5;  // from the work-precision table: docs/accuracy.md "PRT"
 
-struct TransferSettings {
+struct TransferOptions {
   int bands = kDefaultTransferBands;   // 2..8
   int raysPerVertex = 1024;            // shadowed only; rounded up to a square (stratification)
   bool shadowed = true;
@@ -64,7 +64,7 @@ using TransferProgress = std::function<void(std::size_t done, std::size_t total)
 
 // The transfer of every vertex of `mesh`. Shadowed needs `tracer` (built from the same mesh);
 // without it, or with bad settings, an error goes to `diagnostics` and the result is empty.
-[[nodiscard]] VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferSettings& settings,
+[[nodiscard]] VertexTransfer computeTransfer(const TransferMesh& mesh, const TransferOptions& settings,
                                              const OcclusionTracer* tracer, Diagnostics& diagnostics,
                                              const TransferProgress& progress = {}, TransferStats* stats = nullptr);
 
@@ -96,7 +96,7 @@ void coneTransfer(const glm::dvec3& normal, int bands, double halfAngle, std::sp
 struct RawOcclusionTime {
   double seconds = 0.0, cpuSeconds = 0.0;
 };
-[[nodiscard]] RawOcclusionTime rawOcclusionSeconds(const TransferMesh& mesh, const TransferSettings& settings,
+[[nodiscard]] RawOcclusionTime rawOcclusionSeconds(const TransferMesh& mesh, const TransferOptions& settings,
                                                    const OcclusionTracer& tracer,
                                                    std::size_t maxRays = std::size_t{1} << 24);
 

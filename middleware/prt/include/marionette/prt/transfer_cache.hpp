@@ -19,13 +19,13 @@
 
 namespace marionette::prt {
 
-[[nodiscard]] std::uint64_t transferCacheKey(const TransferMesh& mesh, const TransferSettings& settings) noexcept;
+[[nodiscard]] std::uint64_t transferCacheKey(const TransferMesh& mesh, const TransferOptions& settings) noexcept;
 // $MARIONETTE_PRT_CACHE, else $XDG_CACHE_HOME/marionette/prt, else $HOME/.cache/marionette/prt,
 // else ./.marionette-prt-cache.
 [[nodiscard]] std::string defaultTransferCacheDirectory();
 [[nodiscard]] std::string transferCachePath(const std::string& directory, std::uint64_t key);
 
-bool saveTransfer(const std::string& path, std::uint64_t key, const TransferSettings& settings,
+bool saveTransfer(const std::string& path, std::uint64_t key, const TransferOptions& settings,
                   const VertexTransfer& transfer, Diagnostics& diagnostics);
 // Empty when the file does not exist (silently) or does not match (with a warning).
 [[nodiscard]] std::optional<VertexTransfer> loadTransfer(const std::string& path, std::uint64_t key,
@@ -39,7 +39,7 @@ struct CachedTransfer {
 };
 // The transfer of `mesh` from the cache, or computed (building the Embree tracer only then,
 // and only when shadowed) and saved. An empty `directory` uses defaultTransferCacheDirectory().
-[[nodiscard]] CachedTransfer cachedTransfer(const TransferMesh& mesh, const TransferSettings& settings,
+[[nodiscard]] CachedTransfer cachedTransfer(const TransferMesh& mesh, const TransferOptions& settings,
                                             const std::string& directory, Diagnostics& diagnostics,
                                             const TransferProgress& progress = {});
 

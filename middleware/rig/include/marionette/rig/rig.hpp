@@ -1,6 +1,9 @@
-// Rig: what many characters made from one asset share (read-only once shared):
-// the asset (skeleton, meshes, morph targets) and a library of clips bound to its
-// skeleton, with their root motion. One copy of the data for 1000 characters.
+// Rig: what many characters made from one asset share (read-only once shared): the
+// skeleton, the morph-target names and a library of clips bound to that skeleton, with
+// their root motion, plus the profile resolved to joints. Copied out of the imported
+// Asset at construction; the rig keeps no reference to it, so the meshes, materials and
+// images stay with whoever draws them (the renderer is given the asset, not the rig).
+// One copy of the data for 1000 characters.
 #pragma once
 #include <memory>
 #include <string>
@@ -14,8 +17,9 @@
 
 namespace marionette {
 
-// What a rig does to the clips it loads.
-using RigOptions = AnimationClipOptions;
+// What a rig does to the clips it loads: kept for its lifetime (the clips added
+// later are prepared the same), handed to each makeAnimationClip call.
+using RigSettings = AnimationClipOptions;
 
 // The profile resolved to indices once, for the controllers' per-frame use.
 struct RigJoints {
@@ -43,10 +47,15 @@ struct RigJoints {
 
 class Rig {
  public:
-  explicit Rig(std::shared_ptr<const Asset> asset, const RigOptions& options = {});  // wraps the asset's clips
+  // Copies the skeleton and the morph-target names and compiles the asset's clips;
+  // the profile is guessed from the asset (guessCharacterProfile).
+  explicit Rig(const Asset& asset, const RigSettings& settings = {});
 
-  [[nodiscard]] const Asset& asset() const noexcept { return *asset_; }
-  [[nodiscard]] const Skeleton& skeleton() const noexcept { return asset_->skeleton; }
+  [[nodiscard]] const Skeleton& skeleton() const noexcept { return skeleton_; }
+  // The character's morph-target order (Asset::morphTargets): the transform buffer's weights.
+  [[nodiscard]] const std::vector<std::string>& morphTargets() const noexcept { return morphTargets_; }
+  // The file the asset came from (Asset::sourcePath), for messages.
+  [[nodiscard]] const std::string& sourcePath() const noexcept { return sourcePath_; }
   [[nodiscard]] const std::vector<std::shared_ptr<const AnimationClip>>& clips() const noexcept { return clips_; }
   [[nodiscard]] std::shared_ptr<const AnimationClip> findClip(std::string_view name) const noexcept;
   // The skeleton's inverse binds laid out for the per-frame palette (pose.hpp).
@@ -64,8 +73,10 @@ class Rig {
   int addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string name = {});
 
  private:
-  std::shared_ptr<const Asset> asset_;
-  RigOptions options_;
+  std::string sourcePath_;
+  Skeleton skeleton_;
+  std::vector<std::string> morphTargets_;
+  RigSettings settings_;
   std::vector<std::shared_ptr<const AnimationClip>> clips_;
   PaletteBasis paletteBasis_;
   CharacterProfile profile_;

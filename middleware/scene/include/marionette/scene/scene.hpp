@@ -26,6 +26,8 @@
 
 namespace marionette {
 
+struct FrameScratch;  // scene/src/frame_scratch.hpp
+
 class Scene {
  public:
   Scene();  // out of line: Parallel is complete only in scene.cpp
@@ -106,7 +108,7 @@ class Scene {
   std::vector<std::pair<std::string, glm::vec3>> objects_;  // few: a linear search
   std::vector<SceneListener*> listeners_;
   speech::SpeechService speech_;
-  FrameScratch scratch_;  // the calling thread's blend scratch, sized to the largest skeleton
+  std::unique_ptr<FrameScratch> scratch_;  // the calling thread's blend scratch, sized to the largest skeleton
   std::unique_ptr<Parallel> parallel_;  // null while threadCount() == 1
   // Recursive: a callback serialized by it may call log() on the same thread.
   mutable std::recursive_mutex listenerMutex_;

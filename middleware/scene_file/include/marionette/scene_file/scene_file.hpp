@@ -60,10 +60,14 @@
 // Assets are loaded once per (file, scale, profile, clips with all their settings) and shared by the
 // characters that use them; meshes are not loaded (a headless scene needs none).
 #pragma once
+#include <map>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
+#include "marionette/asset/asset.hpp"
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/scene/scene.hpp"
 
@@ -101,7 +105,16 @@ struct SceneLoadResult {
   // "bmlDialect" per character (its own, else the file's), for whoever drives the realizer
   // (bml::useSceneDialects): {character, "auto" | "bml" | "smartbody"}; none when not given.
   std::vector<std::pair<std::string, std::string>> bmlDialects;
+  // The imported asset of each character added, by name: what a renderer draws (meshes,
+  // materials, images; with SceneLoadOptions::loadMeshes). Characters made from one file
+  // share one asset, as they share one Rig; the rig itself keeps no reference to it.
+  std::map<std::string, std::shared_ptr<const Asset>, std::less<>> assets;
   [[nodiscard]] bool ok() const noexcept { return diagnostics.ok(); }
+  // The asset of the character `name` added by this load, or null.
+  [[nodiscard]] std::shared_ptr<const Asset> assetOf(std::string_view name) const {
+    const auto it = assets.find(name);
+    return it == assets.end() ? nullptr : it->second;
+  }
 };
 
 // Adds the file's characters to `scene`. On an error nothing is added.

@@ -45,9 +45,11 @@ class AuthoringSession {
   // any, are there from the start (a session reopened on a saved augmentation).
   AuthoringSession(Augmentation base, std::vector<CatalogueEntry> catalogue);
 
-  // Applies one action seen through `view`. False with `error` saying why (nothing changes),
-  // e.g. a click off the floor, a turn with nothing placed, an undo with no history.
-  bool apply(const Action& action, const AuthoringView& view, std::string& error);
+  // Applies one action seen through `view`. False with an error in `diagnostics` saying why
+  // (nothing changes), e.g. a click off the floor, a turn with nothing placed, an undo with no
+  // history. The session does not know where the action came from (a click, an action file):
+  // the error's `file` is empty, and the caller names the file and the action.
+  bool apply(const Action& action, const AuthoringView& view, Diagnostics& diagnostics);
 
   [[nodiscard]] const Augmentation& augmentation() const noexcept { return current_.augmentation; }
   [[nodiscard]] const std::vector<CatalogueEntry>& catalogue() const noexcept { return catalogue_; }

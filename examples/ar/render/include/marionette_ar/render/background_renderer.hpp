@@ -16,7 +16,8 @@ class BackgroundRenderer {
   BackgroundRenderer(const BackgroundRenderer&) = delete;
   BackgroundRenderer& operator=(const BackgroundRenderer&) = delete;
 
-  bool create(std::string& error);
+  // Builds its shaders; false with the error in `diagnostics` (ShaderProgram::build).
+  bool create(Diagnostics& diagnostics);
   // A new camera frame (RGB or RGBA, row 0 at the top); re-allocates only when the size changes.
   void setImage(const Image8& image);
   // The environment as linear RGB floats, lat-long, row 0 at +Y.

@@ -40,9 +40,9 @@ class CharacterModel {
 
   // Uploads every mesh primitive, its morph deltas and its material's texture.
   // Problems that leave the character drawable (a texture that cannot be read)
-  // go to `warnings`, naming the asset, material and file; returns false (with
-  // `error`) only when nothing can be drawn.
-  bool upload(const Asset& asset, std::vector<std::string>& warnings, std::string& error);
+  // are warnings in `diagnostics`, naming the asset, material and file; returns false
+  // (with an error naming the asset) only when nothing can be drawn.
+  bool upload(const Asset& asset, Diagnostics& diagnostics);
   [[nodiscard]] std::size_t primitiveCount() const noexcept { return primitives_.size(); }
   [[nodiscard]] std::size_t triangleCount() const noexcept;
   [[nodiscard]] std::size_t morphTargetCount() const noexcept { return morphCount_; }

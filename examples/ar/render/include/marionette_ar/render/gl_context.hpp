@@ -5,6 +5,8 @@
 #include <memory>
 #include <string>
 
+#include "marionette/core/diagnostic.hpp"
+
 struct GLFWwindow;
 
 namespace marionette::ar {
@@ -18,8 +20,9 @@ struct GlContextOptions {
 
 class GlContext {
  public:
-  // Returns nullptr and sets `error` (naming what failed: no display, no GL 3.3).
-  static std::unique_ptr<GlContext> create(const GlContextOptions& options, std::string& error);
+  // Returns nullptr with an error in `diagnostics` naming what failed (no display, no GL 3.3;
+  // no file: its `file` is empty).
+  static std::unique_ptr<GlContext> create(const GlContextOptions& options, Diagnostics& diagnostics);
   ~GlContext();
   GlContext(const GlContext&) = delete;
   GlContext& operator=(const GlContext&) = delete;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "marionette/core/diagnostic.hpp"
+
 namespace marionette::ar {
 
 struct Image8 {
@@ -14,12 +16,13 @@ struct Image8 {
   [[nodiscard]] bool empty() const noexcept { return pixels.empty(); }
 };
 
-// Reads any format OpenImageIO knows, converted to 8-bit RGBA. Errors name the file.
-[[nodiscard]] bool readImage(const std::string& path, Image8& out, std::string& error);
-// The same from encoded bytes in memory (textures inside a glTF); `name` is for messages.
+// Reads any format OpenImageIO knows, converted to 8-bit RGBA. False with an error in
+// `diagnostics` naming the file.
+[[nodiscard]] bool readImage(const std::string& path, Image8& out, Diagnostics& diagnostics);
+// The same from encoded bytes in memory (textures inside a glTF); `name` is the diagnostics' file.
 [[nodiscard]] bool readImage(std::span<const unsigned char> bytes, const std::string& name, Image8& out,
-                             std::string& error);
-// Writes PNG (or any format the extension names). Errors name the file.
-[[nodiscard]] bool writeImage(const std::string& path, const Image8& image, std::string& error);
+                             Diagnostics& diagnostics);
+// Writes PNG (or any format the extension names). False with an error in `diagnostics` naming the file.
+[[nodiscard]] bool writeImage(const std::string& path, const Image8& image, Diagnostics& diagnostics);
 
 }  // namespace marionette::ar

@@ -13,7 +13,8 @@ class RenderTarget {
   RenderTarget(const RenderTarget&) = delete;
   RenderTarget& operator=(const RenderTarget&) = delete;
 
-  bool create(int width, int height, int samples, std::string& error);
+  // False with an error in `diagnostics` (no file: its `file` is empty) when a framebuffer is incomplete.
+  bool create(int width, int height, int samples, Diagnostics& diagnostics);
   void bind() const;  // draw into it (sets the viewport)
   // Resolves the samples and reads the frame back as RGB8, row 0 at the top.
   void read(Image8& out);

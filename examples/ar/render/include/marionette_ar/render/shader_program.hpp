@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "marionette/core/diagnostic.hpp"
+
 namespace marionette::ar {
 
 enum class ShaderDialect { Glsl330Core, GlslEs300 };
@@ -26,8 +28,9 @@ class ShaderProgram {
   ShaderProgram(const ShaderProgram&) = delete;
   ShaderProgram& operator=(const ShaderProgram&) = delete;
 
-  // Compiles and links; on failure returns false with `error` naming the stage file and the log.
-  bool build(std::string_view vertexFile, std::string_view fragmentFile, std::string& error);
+  // Compiles and links; on failure returns false with an error in `diagnostics` naming the stage
+  // file and the log.
+  bool build(std::string_view vertexFile, std::string_view fragmentFile, Diagnostics& diagnostics);
   void use() const;
   [[nodiscard]] unsigned id() const noexcept { return program_; }
   [[nodiscard]] int location(const char* name) const;

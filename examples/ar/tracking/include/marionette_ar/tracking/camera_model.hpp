@@ -49,9 +49,9 @@ struct CalibrationFacts {
   double rmsReprojectionError = -1;     // pixels; < 0: not written
 };
 
-// Writes `camera` (and `facts` when given) as OpenCV calibration YAML. False with an error
-// naming the file when it cannot be written or the model has a problem().
+// Writes `camera` (and `facts` when given) as OpenCV calibration YAML. False with an error in
+// `diagnostics` naming the file when it cannot be written or the model has a problem().
 [[nodiscard]] bool writeCameraModel(const std::string& file, const CameraModel& camera, const CalibrationFacts* facts,
-                                    std::string& error);
+                                    Diagnostics& diagnostics);
 
 }  // namespace marionette::ar

@@ -14,7 +14,7 @@
 
 namespace marionette::ar {
 
-struct ChessboardSettings {
+struct ChessboardOptions {
   int columns = 9, rows = 6;  // inner corners along a row and along a column
   double squareSize = 0.025;  // metres
   bool fixAspectRatio = true;  // fx = fy
@@ -34,7 +34,7 @@ struct ChessboardCalibration {
 // board is not found are skipped with a warning, whatever their size: the calibration's size
 // is the first image's where the board is found.
 [[nodiscard]] std::optional<ChessboardCalibration> calibrateChessboard(const std::vector<std::string>& images,
-                                                                       const ChessboardSettings& settings,
+                                                                       const ChessboardOptions& settings,
                                                                        Diagnostics& diagnostics);
 
 }  // namespace marionette::ar

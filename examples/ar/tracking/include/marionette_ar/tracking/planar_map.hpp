@@ -56,8 +56,8 @@ struct PlanarMap {
   std::uint32_t checksum = 0;
 };
 
-// Writes `map` to `file`; false with an error naming the file if it cannot.
-[[nodiscard]] bool writePlanarMap(const std::string& file, const PlanarMap& map, std::string& error);
+// Writes `map` to `file`; false with an error in `diagnostics` naming the file if it cannot.
+[[nodiscard]] bool writePlanarMap(const std::string& file, const PlanarMap& map, Diagnostics& diagnostics);
 // Reads a map. Errors name the file and the place: not a map, another version, truncated,
 // a count past the limits or the bytes left, a checksum mismatch, a camera with a problem().
 [[nodiscard]] std::optional<PlanarMap> readPlanarMap(const std::string& file, Diagnostics& diagnostics);

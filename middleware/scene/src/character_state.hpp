@@ -1,0 +1,129 @@
+// Character's private state: the clip layers, the behavior timeline and its controllers,
+// each frame's passes, and the buffer the frame writes. Character forwards to it; the
+// Scene reaches it to attach a character and to run its frame. The member functions are
+// defined in character.cpp (layers, placement, the frame) and character_behaviors.cpp
+// (binding requests to controllers, running the controllers).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "frame_scratch.hpp"
+#include "marionette/animation/sampling.hpp"
+#include "marionette/scene/character.hpp"
+#include "marionette/scene/listener.hpp"
+
+namespace marionette {
+
+struct Character::State {
+  State(Character& self, std::string name, std::shared_ptr<const Rig> rig);
+
+  struct Layer {
+    std::shared_ptr<const AnimationClip> clip;
+    PlayOptions options;
+    double time = 0.0;        // clip-local time, unwrapped (loops keep counting)
+    float clipTime = 0.0f;    // `time` wrapped or clamped into the clip, once per frame
+    float weight = 0.0f;      // current weight (fades)
+    float fadeRate = 0.0f;    // weight per second, signed
+    bool stopping = false;
+    SamplingCursor cursor, rootCursor;
+    std::vector<Transform> reference;  // first frame, for additive layers
+  };
+  // An entry a controller runs on this frame, and its weight now (the frame's one walk).
+  struct ActiveEntry {
+    std::uint32_t index = 0;  // into behaviors_.entries() as the walk found them
+    float weight = 0.0f;
+    std::uint64_t order = 0;  // the entry's timeline order: finds it again if a listener moved it
+  };
+
+  [[nodiscard]] const Skeleton& skeleton() const noexcept { return rig_->skeleton(); }
+
+  // Placement and layers (character.cpp).
+  void setPosition(const glm::vec3& p) noexcept;
+  void setHeading(float radians) noexcept;
+  [[nodiscard]] glm::mat4 worldMatrix() const noexcept;
+  bool play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options);
+  bool play(int layer, std::string_view clipName, const PlayOptions& options);
+  void stop(int layer, float fadeOut);
+  [[nodiscard]] int layerCount() const noexcept;
+  [[nodiscard]] double layerTime(int layer) const noexcept;
+  void update(double dt) noexcept;
+  void notify(ChangeKind kind, std::string_view what) const;
+  void sampleLayer(Layer& layer, std::span<Transform> out) noexcept;
+  void blendLayers() noexcept;
+  void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
+                       float& turn) const noexcept;
+
+  // Behaviors (character_behaviors.cpp).
+  BehaviorResult addBehavior(BehaviorRequest request);
+  bool cancelBehavior(std::string_view id, double blendOut);
+  std::size_t cancelBehaviors(std::string_view idPrefix, double blendOut);
+  void setLocomotionSettings(const LocomotionSettings& settings) noexcept;
+  [[nodiscard]] LocomotionStatus locomotionStatus(std::string_view id) const noexcept;
+  [[nodiscard]] std::optional<double> estimateLocomotion(const BehaviorRequest& request) const;
+  [[nodiscard]] const LocomotionSet& locomotionSet() const;
+  [[nodiscard]] std::shared_ptr<const speech::SpokenLine> prepareSpeech(const BehaviorRequest& request,
+                                                                        Diagnostics& diagnostics) const;
+  [[nodiscard]] std::shared_ptr<const speech::SpeechService::Preparation> prepareSpeechInBackground(
+      const BehaviorRequest& request) const;
+  // Reads what this character's behaviors need from other characters (targets'
+  // placement and joints, as the last frame left them). Scene::update calls it for
+  // every character before updating any, so update() itself reads no other
+  // character: the result does not depend on update order or threads.
+  void resolveExternalTargets() noexcept;
+  [[nodiscard]] std::vector<ActiveEntry>& pass(Controller c) noexcept { return passes_[static_cast<std::size_t>(c)]; }
+  void applyBehaviors(float dt) noexcept;
+  bool applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept;  // true if a clip behavior contributed
+  bool applyLocomotion(float dt) noexcept;
+  [[nodiscard]] std::vector<float> upperBodyMask() const;
+  [[nodiscard]] TargetJointFinder targetJointFinder(bool chest) const;
+  // Command-time binding of a request to its controller (addBehavior's table), each:
+  // empty when realized, else why not; `warning` notes a parameter that was replaced.
+  void bindClipEntry(BehaviorTimeline::Entry& entry, std::shared_ptr<const AnimationClip> clip);
+  [[nodiscard]] std::string bindLocomotionEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindGazeEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindHeadDirectionEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindHeadEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindFaceEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindGestureEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindSaccadeEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindWaitEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  void ensureScratch();
+  void reserveBehaviorPasses();
+  [[nodiscard]] std::vector<std::string> speechStoppedBy(std::string_view id, bool prefix) const;
+  void notifySpeechStopped(const std::vector<std::string>& ids) const;
+  bool applySpeechEntries() noexcept;
+  [[nodiscard]] std::string bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
+                                           std::string& warning) const;
+
+  Character& self_;  // what listeners are told about
+  std::string name_;
+  std::shared_ptr<const Rig> rig_;
+  Scene* scene_ = nullptr;
+  glm::vec3 position_{0.0f};
+  float heading_ = 0.0f;
+  std::array<Layer, kMaxLayers> layers_;
+  std::vector<Transform> pose_;
+  BehaviorTimeline behaviors_;
+  std::array<std::vector<ActiveEntry>, kControllerCount> passes_;  // reserved at addBehavior, filled each frame
+  GazeSettings gazeSettings_;
+  PointingSettings pointingSettings_;
+  LocomotionSettings locomotionSettings_;
+  mutable std::shared_ptr<const LocomotionSet> locomotionSet_;  // made on first use (command time)
+  std::unique_ptr<LocomotionController> locomotion_;
+  std::uint64_t locomotionOrder_ = 0;  // timeline order of the request it follows; 0 = none yet
+  std::vector<float> morphScratch_;  // one per morph target, for weighted clip morphs
+  double clock_ = 0.0;
+  FrameScratch* scratch_ = nullptr;             // the scene's, or ownScratch_ when standalone
+  std::unique_ptr<FrameScratch> ownScratch_;
+  TransformBuffer buffer_;
+  CharacterStats stats_;
+};
+
+}  // namespace marionette
