@@ -4,7 +4,7 @@
 // contact height, release time, IK softness, and how far beyond the leg's reach
 // a planted foot steps and the time it steps in) and for the frame step, over a
 // range: the 5 m walk, run and mid-speed walk of
-// tests/import/locomotion_real_character_test.cpp, measured as there
+// tests/behavior/locomotion_real_test.cpp, measured as there
 // (tests/support/locomotion_walk.hpp): foot skating, arrival and facing error,
 // planted-foot drift from the lock point (all locks; the locks made at full gait
 // weight), the IK's own residual and the catch-up steps taken (a planted foot the

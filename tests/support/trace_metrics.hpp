@@ -10,7 +10,7 @@
 // - findNonFinite: every non-finite number, by frame, character, joint and column.
 // - maxAngularSpeed: the fastest turn of any joint between consecutive frames,
 //   the angle of q_prev^-1 q_next on the shortest arc over the time step.
-// - footSkating: the import tests' definition (tests/import/locomotion_real_character_test.cpp):
+// - footSkating: the import tests' definition (tests/behavior/locomotion_real_test.cpp):
 //   a frame is a contact frame when the foot is within 5 cm of its lowest height
 //   in the trace, it skates when the foot moved faster than 0.5 m/s horizontally
 //   since the previous frame; ratio = skating / contact frames.

@@ -20,7 +20,7 @@ namespace {
 // Built three times from the same source (simd_dispatch.hpp): SSE2, AVX (its broadcasts
 // are single loads; the same bits) and AVX2 + FMA (each column's multiply-adds fused:
 // 12 % faster here, last-place differences), chosen by what the CPU has and setSimdPath
-// (tests/unit/simd_pose_test.cpp holds the first two to the scalar bits).
+// (tests/animation/simd_pose_test.cpp holds the first two to the scalar bits).
 inline __m128 productColumn(const simd4::Mat4& a, const float* b) noexcept {  // a * (b[0], b[4], b[8]) broadcast
   return _mm_add_ps(_mm_add_ps(_mm_mul_ps(a.c0, _mm_load1_ps(b)), _mm_mul_ps(a.c1, _mm_load1_ps(b + 4))),
                     _mm_mul_ps(a.c2, _mm_load1_ps(b + 8)));

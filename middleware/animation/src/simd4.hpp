@@ -4,7 +4,7 @@
 // multiply, divide and square root are IEEE correctly rounded, and these helpers do
 // the same operations in the same order as the scalar code they replace (no reciprocal
 // estimates), so results are bit-identical to the scalar forms on every x86-64 CPU;
-// tests/unit/simd_pose_test.cpp holds them to that. The FMA build of the loops that use
+// tests/animation/simd_pose_test.cpp holds them to that. The FMA build of the loops that use
 // them (simd_dispatch.hpp) fuses their multiply-adds: the one exception, by choice.
 //
 // Poses stay arrays of Transform (what behaviors and the public API use); four joints

@@ -2,7 +2,7 @@
 // perspective_warp, lucas_kanade, homography_ransac, planar_pose) against the OpenCV calls
 // they replace and against exact truth: graf1 (opencv-doc) warped by known homographies, the
 // synthetic sequences' exact poses, and bad input. The zero-allocation check is in
-// tests/unit/tracking_allocation_test.cpp, the timings in tests/bench/tracking_bench.cpp.
+// tests/ar/tracking/tracking_allocation_test.cpp, the timings in tests/bench/tracking_bench.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>

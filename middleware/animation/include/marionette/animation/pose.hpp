@@ -9,7 +9,7 @@
 // non-empty mask counts as weight 0 there; an empty one as 1 everywhere). Nothing reads or
 // writes past a span, fails or allocates: per-frame code has no error channel, and a
 // caller that wants a check compares the sizes once when it binds, as Character does.
-// tests/unit/span_contract_test.cpp holds each function to this.
+// tests/animation/span_contract_test.cpp holds each function to this.
 #pragma once
 #include <span>
 #include <vector>
@@ -40,7 +40,7 @@ void localToModelScalar(const Skeleton& skeleton, std::span<const Transform> loc
 //   bits as the scalar definitions on every x86-64 CPU: for lockstep simulations.
 // - Auto on an AVX2 + FMA CPU fuses multiply-adds (one rounding instead of two): the
 //   results differ from Portable's in the last places (within 2e-6 of them, relative,
-//   in tests/unit/simd_pose_test.cpp) and are the same run after run on one machine.
+//   in tests/animation/simd_pose_test.cpp) and are the same run after run on one machine.
 enum class SimdPath { Auto, Baseline, Portable };
 void setSimdPath(SimdPath path) noexcept;  // for the whole process; Auto by default
 // "avx2+fma", "avx", "sse2" or "scalar" (no SSE2: other CPUs)

@@ -1,5 +1,5 @@
 // Locomotion steering and plan parsing (kinematic part; the gait on real
-// characters is in tests/import/locomotion_real_character_test.cpp).
+// characters is in tests/behavior/locomotion_real_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
