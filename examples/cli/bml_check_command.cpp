@@ -50,7 +50,7 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
   if (characterFile.empty()) {
     rig = defaultCharacterRig();
   } else {
-    ImportResult loaded = importAsset(characterFile);
+    ImportResult loaded = importAsset(characterFile, {.isolateThirdPartyParsers = true});  // a tool: isolated
     std::fputs(loaded.diagnostics.format().c_str(), stderr);
     if (!loaded.ok()) return 2;
     rig = std::make_shared<Rig>(*loaded.asset);

@@ -30,7 +30,7 @@ std::size_t trackCount(const Clip& c) {
 int inspectCommand(const InspectOptions& o) {
   const std::string& file = o.file;
   const bool json = o.json;
-  ImportResult r = importAsset(file);
+  ImportResult r = importAsset(file, {.isolateThirdPartyParsers = true});  // a tool: isolated
   std::fputs(r.diagnostics.format().c_str(), stderr);
   if (!r.ok()) return 2;
   const Asset& a = *r.asset;

@@ -67,7 +67,7 @@ int prtLightingErrorCommand(const PrtLightingErrorOptions& o) {
 
 int prtPrecomputeCommand(const PrtPrecomputeOptions& o) {
   const std::string& file = o.mesh;
-  ImportResult imported = importAsset(file);
+  ImportResult imported = importAsset(file, {.isolateThirdPartyParsers = true});  // a tool: isolated
   std::fputs(imported.diagnostics.format().c_str(), stderr);
   if (!imported.asset) return 2;
   Diagnostics d;

@@ -107,11 +107,13 @@ int retargetCommand(const RetargetCommandOptions& a) {
 
   ImportOptions motionOptions;
   motionOptions.loadMeshes = false;
+  motionOptions.isolateThirdPartyParsers = true;  // a tool: Assimp's readers run in a child first
   ImportResult src = importAsset(a.source, motionOptions);
   std::fputs(src.diagnostics.format().c_str(), stderr);
   if (!src.ok()) return 2;
   ImportOptions characterOptions;
   characterOptions.loadMeshes = !bvh;
+  characterOptions.isolateThirdPartyParsers = true;
   ImportResult dst = importAsset(a.target, characterOptions);
   std::fputs(dst.diagnostics.format().c_str(), stderr);
   if (!dst.ok()) return 2;

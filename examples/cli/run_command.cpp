@@ -67,7 +67,7 @@ int runCommand(const RunOptions& r) {
   WarningCounter counter;
   scene.addListener(&counter);
   const auto loadStart = std::chrono::steady_clock::now();
-  SceneLoadResult loaded = loadSceneFile(r.scene, scene);
+  SceneLoadResult loaded = loadSceneFile(r.scene, scene, {.isolateThirdPartyParsers = true});  // a tool: isolated
   const double loadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loadStart).count();
   std::fputs(loaded.diagnostics.format().c_str(), stderr);
   if (!loaded.ok()) return 2;

@@ -3,6 +3,7 @@
 // scene files, and scenes on two threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +11,10 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "marionette/marionette.h"
 #include "marionette/version.h"
@@ -567,6 +572,17 @@ TEST(CApi, ClipsListPlayStopAndTheirEvents) {
   o.speed = std::nanf("");
   EXPECT_EQ(mn_character_play(s.robot, 0, "Idle", &o), MN_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(mn_character_play(s.robot, 0, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  // An options struct of another size (another header version, or not from the default) is
+  // refused before it is read.
+  mn_play_options sized = mn_play_options_default();
+  EXPECT_EQ(sized.struct_size, sizeof(mn_play_options));
+  sized.struct_size = sizeof(mn_play_options) - 8;
+  EXPECT_EQ(mn_character_play(s.robot, 0, "Idle", &sized), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mn_scene_last_error(s.scene))
+                .find("mn_character_play: options->struct_size is " + std::to_string(sizeof(mn_play_options) - 8) +
+                      ", but this library's mn_play_options is " + std::to_string(sizeof(mn_play_options)) + " bytes"),
+            std::string::npos)
+      << mn_scene_last_error(s.scene);
   EXPECT_EQ(mn_character_stop(s.robot, -1, 0.0f), MN_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(mn_character_play(nullptr, 0, "Idle", nullptr), MN_ERROR_INVALID_ARGUMENT);
 }
@@ -694,3 +710,64 @@ TEST(CApi, SpeechCallbackHandsOverTheAudio) {
   EXPECT_GE(said.start, 0.0);
 }
 #endif
+
+// The joint hierarchy and rest pose from C rebuild the model-space rest matrices the palette
+// gives (no inverse bind, nothing playing), and the root-motion delta is the move of the
+// world matrix over one update (and nothing when no clip moves the character).
+TEST(CApi, JointParentsRestPoseAndRootMotionDelta) {
+  SceneWithRobot s;
+  ASSERT_NE(s.robot, nullptr);
+  const size_t n = mn_character_joint_count(s.robot);
+  EXPECT_EQ(mn_character_joint_parent(s.robot, 0), -1);
+  EXPECT_EQ(mn_character_joint_parent(s.robot, n), -2);
+  EXPECT_EQ(mn_character_joint_parent(nullptr, 0), -2);
+  std::vector<float> rest(10 * n);
+  EXPECT_EQ(mn_character_rest_pose(s.robot, rest.data(), rest.size() - 1), MN_ERROR_INVALID_ARGUMENT);
+  ASSERT_EQ(mn_character_rest_pose(s.robot, rest.data(), rest.size()), MN_OK);
+  ASSERT_EQ(mn_scene_update(s.scene, 0.0), MN_OK);
+  std::vector<float> palette(16 * n);
+  ASSERT_EQ(mn_character_palette(s.robot, MN_PALETTE_MAT4_COLUMN_MAJOR, 0, palette.data(), palette.size()), MN_OK);
+  glm::mat4 root(1.0f);
+  ASSERT_EQ(mn_character_root_transform(s.robot, glm::value_ptr(root)), MN_OK);
+  std::vector<glm::mat4> model(n);
+  float worst = 0.0f;
+  for (size_t j = 0; j < n; ++j) {
+    const int parent = mn_character_joint_parent(s.robot, j);
+    ASSERT_LT(parent, static_cast<int>(j));
+    const float* r = &rest[10 * j];
+    const glm::mat4 local = glm::translate(glm::mat4(1.0f), glm::vec3(r[0], r[1], r[2])) *
+                            glm::mat4_cast(glm::quat(r[6], r[3], r[4], r[5])) * glm::scale(glm::mat4(1.0f), glm::vec3(r[7], r[8], r[9]));
+    model[j] = (parent < 0 ? root : model[static_cast<size_t>(parent)]) * local;
+    for (int k = 0; k < 16; ++k) worst = std::max(worst, std::fabs(glm::value_ptr(model[j])[k] - palette[16 * j + static_cast<size_t>(k)]));
+  }
+  EXPECT_LT(worst, 1e-4f);
+
+  float delta[4] = {1, 1, 1, 1};
+  ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 30.0), MN_OK);
+  ASSERT_EQ(mn_character_root_motion_delta(s.robot, delta), MN_OK);
+  EXPECT_EQ(delta[0], 0.0f);  // nothing moves it
+  EXPECT_EQ(delta[2], 0.0f);
+  // The demo scene's jumper plays CMU's 01_01 with root motion: it travels.
+  const std::string demo = marionette::test::sourceFile("assets/scenes/demo.json");
+  mn_scene* scene = nullptr;
+  ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+  ASSERT_EQ(mn_scene_load_file(scene, demo.c_str()), MN_OK) << mn_scene_last_error(scene);
+  mn_character* jumper = nullptr;
+  ASSERT_EQ(mn_scene_find_character(scene, "jumper", &jumper), MN_OK);
+  float before[16], after[16];
+  float travelled = 0.0f;
+  ASSERT_EQ(mn_scene_update(scene, 0.0), MN_OK);
+  for (int f = 0; f < 60; ++f) {
+    ASSERT_EQ(mn_character_world_matrix(jumper, before), MN_OK);
+    ASSERT_EQ(mn_scene_update(scene, 1.0 / 30.0), MN_OK);
+    ASSERT_EQ(mn_character_world_matrix(jumper, after), MN_OK);
+    ASSERT_EQ(mn_character_root_motion_delta(jumper, delta), MN_OK);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(delta[k], after[12 + k] - before[12 + k], 1e-5f) << "frame " << f;
+    EXPECT_NEAR(std::remainder(std::atan2(after[8], after[10]) - std::atan2(before[8], before[10]), 6.2831853f), delta[3], 1e-4f) << "frame " << f;
+    travelled += std::hypot(delta[0], delta[2]);
+  }
+  EXPECT_GT(travelled, 0.1f) << "the clip's root motion moved it";
+  mn_scene_destroy(scene);
+  EXPECT_EQ(mn_character_root_motion_delta(s.robot, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mn_character_rest_pose(nullptr, rest.data(), rest.size()), MN_ERROR_INVALID_ARGUMENT);
+}

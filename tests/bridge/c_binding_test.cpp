@@ -163,7 +163,9 @@ TEST(CBinding, ThroughTheShippedMapsItBindsAsTheCppBridgeDoes) {
   mn_binding_destroy(b);
 }
 
-TEST(CBinding, GuessedMapsFromNamesAndParentsAgreeWithTheCppGuess) {
+// Without map files: the engine's map is guessed from its names and parents; the robot's is
+// the shipped map that fits it (as `marionette retarget` finds it), named in the report.
+TEST(CBinding, WithoutMapFilesTheEngineIsGuessedAndTheCharacterGetsItsShippedMap) {
   MARIONETTE_REQUIRE_FILE(kRobot);
   MARIONETTE_REQUIRE_FILE(kGodette);
   RobotScene s;
@@ -179,7 +181,13 @@ TEST(CBinding, GuessedMapsFromNamesAndParentsAgreeWithTheCppGuess) {
   ImportResult robotAsset = importAsset(kRobot);
   ASSERT_TRUE(robotAsset.ok());
   const retarget::JointMap engineMap = g.inSlots(retarget::guessJointMap(engineAsset).map);
-  const retarget::JointMap robotMap = retarget::guessJointMap(*robotAsset.asset).map;
+  const auto shipped = retarget::findJointMap(*robotAsset.asset, {test::sourceFile("assets/jointmaps")});
+  ASSERT_TRUE(shipped.has_value());
+  EXPECT_NE(std::string(mn_binding_report(b)).find("character joint map: " + shipped->file + " (the shipped map that fits)"),
+            std::string::npos)
+      << mn_binding_report(b);
+  EXPECT_NE(shipped->file.find("RobotExpressive.json"), std::string::npos) << shipped->file;
+  const retarget::JointMap robotMap = shipped->result.map;
   const bridge::BindMaps maps{engineMap, robotMap};
   const bridge::PaletteBinding cpp(robot, g.names, &maps);
   for (size_t slot = 0; slot < cpp.slotCount(); ++slot)
@@ -277,6 +285,27 @@ TEST(CBinding, BadArgumentsMapsAndStaleHandlesAreRefusedWithAReason) {
   EXPECT_EQ(mn_binding_create(s.robot, &g.engine, &o, &b), MN_ERROR_LOAD);
   EXPECT_NE(error().find(broken + ":1:"), std::string::npos) << error();
   EXPECT_EQ(b, nullptr);
+  // An options struct of another size is refused before it is read.
+  mn_binding_options sized = mn_binding_options_default();
+  EXPECT_EQ(sized.struct_size, sizeof(mn_binding_options));
+  sized.struct_size = 0;
+  EXPECT_EQ(mn_binding_create(s.robot, &g.engine, &sized, &b), MN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("mn_binding_create: options->struct_size is 0, but this library's mn_binding_options is"),
+            std::string::npos)
+      << error();
+  EXPECT_EQ(b, nullptr);
+  // Valid JSON that is not a joint map (a profile here) binds nothing: an error, not MN_OK.
+  const std::string notAMap = ::testing::TempDir() + "c_binding_not_a_map.json";
+  { std::FILE* f = std::fopen(notAMap.c_str(), "w"); std::fputs("{\"idle\": \"Idle\", \"face\": {}}", f); std::fclose(f); }
+  o.engine_joint_map = notAMap.c_str();
+  EXPECT_EQ(mn_binding_create(s.robot, &g.engine, &o, &b), MN_ERROR_LOAD);
+  EXPECT_NE(error().find(notAMap + ":1:1: error: not a joint map"), std::string::npos) << error();
+  EXPECT_EQ(b, nullptr);
+  // A joint map given as the character's file is not a character.
+  mn_character* notACharacter = nullptr;
+  EXPECT_EQ(mn_scene_add_character(s.scene, "map", notAMap.c_str(), nullptr, &notACharacter), MN_ERROR_LOAD);
+  EXPECT_NE(error().find(notAMap + ": error: a '.json' file is not a character or motion"), std::string::npos) << error();
+  EXPECT_EQ(notACharacter, nullptr);
 
   ASSERT_EQ(mn_binding_create(s.robot, &g.engine, nullptr, &b), MN_OK);
   std::vector<float> small(10);

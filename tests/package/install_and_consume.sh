@@ -5,7 +5,7 @@
 #  2. a C program built against the C API alone, with CMake (find_package(marionette
 #     COMPONENTS c)) while every private dependency's package is disabled, and with
 #     pkg-config;
-#  3. libmarionette_c links no GPL code (espeak-ng) nor what it drags in (X11, PulseAudio,
+#  3. libmarionette_c exports only mn_ symbols, links no GPL code (espeak-ng) nor what it drags in (X11, PulseAudio,
 #     ALSA), and the exported targets hold no absolute path to a library of this machine;
 #  4. a C++ consumer with find_package(marionette), finding only GLM and Threads.
 set -euo pipefail
@@ -33,6 +33,13 @@ libc=$(find "$prefix" -name 'libmarionette_c.so' | head -1)
 needed=$(readelf -d "$libc" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p')
 for gpl in espeak pulse asound X11 sonic pcaudio; do
   if echo "$needed" | grep -qi "$gpl"; then fail "libmarionette_c.so needs $(echo "$needed" | grep -i "$gpl" | tr '\n' ' ')"; fi
+done
+# Only the C API's own functions are exported (bridge/c_api/marionette_c.map).
+for lib in "$libc" $(find "$prefix" -name 'libmarionette_c_espeak.so' | head -1); do
+  others=$(nm -D --defined-only "$lib" | awk '{print $NF}' | grep -v '^mn_' || true)
+  [ -z "$others" ] || fail "$(basename "$lib") exports symbols other than mn_: $(echo "$others" | head -5 | tr '\n' ' ')"
+  count=$(nm -D --defined-only "$lib" | grep -c ' mn_' || true)
+  [ "$count" -ge 50 ] || fail "$(basename "$lib") exports only $count mn_ functions"
 done
 if grep -l "/usr/lib" "$(dirname "$config")"/marionette*Targets*.cmake; then
   fail "an exported target names a library by its absolute path on the build machine"

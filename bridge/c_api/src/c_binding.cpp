@@ -1,6 +1,9 @@
 // The C API's bindings (marionette.h): bridge::PaletteBinding and MorphBinding
 // for an engine skeleton given as names, parents and morph slots, with its joint
 // maps read from files or guessed.
+#include <dlfcn.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -72,8 +75,33 @@ void toSlots(retarget::JointMap& map, const std::vector<int>& slotOf) {
 }
 
 // Reads or guesses a map; errors become the call's status, warnings lines of the report.
+// Where the shipped joint maps are, as `marionette retarget` looks: $MARIONETTE_JOINTMAPS,
+// share/marionette/jointmaps beside this library's installation (LIB/../share), then the
+// source tree's (a library used from its build tree).
+std::vector<std::string> shippedJointMapFolders() {
+  std::vector<std::string> out;
+  if (const char* env = std::getenv("MARIONETTE_JOINTMAPS"); env && *env) out.emplace_back(env);
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&mn_version), &info) != 0 && info.dli_fname) {
+    std::error_code ec;
+    const std::filesystem::path lib = std::filesystem::absolute(info.dli_fname, ec).parent_path();
+    if (!ec) out.push_back((lib.parent_path() / "share/marionette/jointmaps").string());
+  }
+  out.emplace_back(MARIONETTE_SOURCE_JOINTMAPS);
+  return out;
+}
+
+// `shipped`: without a file, and without a VRM humanoid map of its own, the shipped map that
+// fits the asset (every joint it names exists, the topology agrees) comes before a guess
+// from names (for a character; an engine's skeleton is guessed, as documented).
 mn_status mapFrom(const mn_scene* scene, const char* path, const marionette::Asset& asset, const char* whose,
-                  retarget::JointMap& map, std::string& report) {
+                  bool shipped, retarget::JointMap& map, std::string& report) {
+  if (!path && shipped && !asset.hasHumanoid)
+    if (auto found = retarget::findJointMap(asset, shippedJointMapFolders())) {
+      report += std::string(whose) + " joint map: " + found->file + " (the shipped map that fits)\n";
+      map = std::move(found->result.map);
+      return MN_OK;
+    }
   std::error_code ec;
   if (path && !std::filesystem::is_regular_file(path, ec))
     return fail(scene, MN_ERROR_IO, std::string(path) + ": error: cannot open the " + whose + " joint map");
@@ -89,7 +117,7 @@ mn_status mapFrom(const mn_scene* scene, const char* path, const marionette::Ass
 
 extern "C" {
 
-mn_binding_options mn_binding_options_default(void) { return mn_binding_options{0, nullptr, nullptr}; }
+mn_binding_options mn_binding_options_default(void) { return mn_binding_options{sizeof(mn_binding_options), 0, nullptr, nullptr}; }
 
 mn_status mn_binding_create(mn_character* character, const mn_engine_skeleton* engine, const mn_binding_options* options,
                             mn_binding** out) {
@@ -106,6 +134,9 @@ mn_status mn_binding_create(mn_character* character, const mn_engine_skeleton* e
   for (std::size_t i = 0; i < engine->morph_count; ++i)
     if (!engine->morph_names[i])
       return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_binding_create: engine: morph_names[" + std::to_string(i) + "] is NULL");
+  if (options && options->struct_size != sizeof(mn_binding_options))
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, marionette::capi::badStructSize("mn_binding_create", "mn_binding_options",
+                                                                               options->struct_size, sizeof(mn_binding_options)));
   const mn_binding_options o = options ? *options : mn_binding_options_default();
   if (!o.through_joint_maps && (o.engine_joint_map || o.character_joint_map))
     return fail(scene, MN_ERROR_INVALID_ARGUMENT,
@@ -126,12 +157,12 @@ mn_status mn_binding_create(mn_character* character, const mn_engine_skeleton* e
       if (const std::string why = buildEngineSkeleton(*engine, skeleton); !why.empty())
         return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_binding_create: engine: " + why);
       retarget::JointMap engineMap, characterMap;
-      if (const mn_status s = mapFrom(scene, o.engine_joint_map, skeleton.asset, "engine", engineMap, b->report); s != MN_OK)
+      if (const mn_status s = mapFrom(scene, o.engine_joint_map, skeleton.asset, "engine", false, engineMap, b->report); s != MN_OK)
         return s;
       toSlots(engineMap, skeleton.slotOf);
       if (!character->asset)
         return fail(scene, MN_ERROR_INTERNAL, "mn_binding_create: the character's imported asset is not known");
-      if (const mn_status s = mapFrom(scene, o.character_joint_map, *character->asset, "character", characterMap, b->report);
+      if (const mn_status s = mapFrom(scene, o.character_joint_map, *character->asset, "character", true, characterMap, b->report);
           s != MN_OK)
         return s;
       const marionette::bridge::BindMaps maps{engineMap, characterMap};

@@ -1,6 +1,8 @@
 // The C API's character functions (marionette.h): joints, placement, the bone
 // palette through the bridge's PaletteBinding, morph weights.
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstring>
 #include <string>
 
@@ -59,6 +61,46 @@ mn_status mn_character_set_heading(mn_character* character, float radians) {
     character->character->setHeading(radians);
     return MN_OK;
   });
+}
+
+int mn_character_joint_parent(const mn_character* character, size_t joint) {
+  if (!isLive(character) || joint >= character->character->skeleton().jointCount()) return -2;
+  return character->character->skeleton().parents[joint];
+}
+
+mn_status mn_character_rest_pose(const mn_character* character, float* out, size_t out_floats) {
+  if (!isLive(character)) return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_rest_pose: character") + notLive(character));
+  const marionette::Skeleton& s = character->character->skeleton();
+  if (!out || out_floats < 10 * s.jointCount())
+    return fail(character->owner, MN_ERROR_INVALID_ARGUMENT,
+                "mn_character_rest_pose: out is NULL or holds fewer than 10 * " + std::to_string(s.jointCount()) + " floats");
+  for (const marionette::Transform& t : s.restPose) {
+    const float values[10] = {t.translation.x, t.translation.y, t.translation.z, t.rotation.x, t.rotation.y,
+                              t.rotation.z,    t.rotation.w,    t.scale.x,       t.scale.y,    t.scale.z};
+    out = std::copy(std::begin(values), std::end(values), out);
+  }
+  return MN_OK;
+}
+
+mn_status mn_character_root_transform(const mn_character* character, float* out16) {
+  if (!isLive(character))
+    return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_root_transform: character") + notLive(character));
+  if (!out16) return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_root_transform: out16 is NULL");
+  const glm::mat4& m = character->character->skeleton().rootTransform;
+  std::memcpy(out16, &m[0][0], 16 * sizeof(float));
+  return MN_OK;
+}
+
+mn_status mn_character_root_motion_delta(const mn_character* character, float* out4) {
+  if (!isLive(character))
+    return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_character_root_motion_delta: character") + notLive(character));
+  if (!out4) return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_root_motion_delta: out4 is NULL");
+  const marionette::PlacementDelta d = character->character->lastMotion();
+  out4[0] = d.translation.x;
+  out4[1] = d.translation.y;
+  out4[2] = d.translation.z;
+  out4[3] = d.turn;
+  return MN_OK;
 }
 
 mn_status mn_character_world_matrix(const mn_character* character, float* out16) {

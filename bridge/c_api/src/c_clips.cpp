@@ -46,7 +46,7 @@ double mn_character_clip_duration(const mn_character* character, size_t clip) {
 
 mn_play_options mn_play_options_default(void) {
   const marionette::PlayOptions d;
-  return mn_play_options{d.weight, d.speed, d.wrap == marionette::WrapMode::Loop ? 1 : 0, d.startTime,
+  return mn_play_options{sizeof(mn_play_options), d.weight, d.speed, d.wrap == marionette::WrapMode::Loop ? 1 : 0, d.startTime,
                          d.fadeIn,  d.additive ? 1 : 0, d.rootMotion ? 1 : 0};
 }
 
@@ -59,6 +59,9 @@ mn_status mn_character_play(mn_character* character, int layer, const char* clip
     return fail(scene, MN_ERROR_INVALID_ARGUMENT,
                 "mn_character_play: layer " + std::to_string(layer) + " is not in 0.." +
                     std::to_string(marionette::Character::kMaxLayers - 1));
+  if (options && options->struct_size != sizeof(mn_play_options))
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, marionette::capi::badStructSize("mn_character_play", "mn_play_options",
+                                                                               options->struct_size, sizeof(mn_play_options)));
   const mn_play_options o = options ? *options : mn_play_options_default();
   if (!std::isfinite(o.weight) || o.weight < 0.0f || !std::isfinite(o.speed) || !std::isfinite(o.start_time) ||
       !std::isfinite(o.fade_in) || o.fade_in < 0.0f)

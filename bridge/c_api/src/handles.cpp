@@ -58,6 +58,11 @@ const char* notLive(const void* handle) noexcept {
   return handle ? " is not a live handle (destroyed, or not from this library)" : " is NULL";
 }
 
+std::string badStructSize(const char* call, const char* type, std::size_t given, std::size_t expected) {
+  return std::string(call) + ": options->struct_size is " + std::to_string(given) + ", but this library's " + type +
+         " is " + std::to_string(expected) + " bytes (start from " + type + "_default(), which sets it)";
+}
+
 bool isLive(const void* handle) noexcept {
   if (!handle) return false;
   HandleRegistry& r = registry();

@@ -30,6 +30,11 @@ void freeHandle(void* handle) noexcept;   // no longer live; freed kQuarantine f
 // Why a handle was refused, for a message "FUNCTION: NAME" + notLive(handle).
 [[nodiscard]] const char* notLive(const void* handle) noexcept;
 
+// Why an option struct from the caller is refused: its first field, struct_size, is not this
+// library's size of it (a header of another version, or a struct not from ..._default()).
+// Checked before the struct is read, so that a smaller one is never read past its end.
+[[nodiscard]] std::string badStructSize(const char* call, const char* type, std::size_t given, std::size_t expected);
+
 // Handles are allocated through the registry.
 struct Registered {
   static void* operator new(std::size_t bytes) { return allocateHandle(bytes); }

@@ -107,7 +107,7 @@ int ArApp::loadScene() {
   // The renderer plays no sound; --audio-dir writes each spoken line as a WAV, named by
   // the listener's onSpeech with its scene start time, for an engine or editor to play.
   if (!args_.audioDir.empty()) scene_.speech().setAudioDirectory(args_.audioDir);
-  loaded_ = loadSceneFile(ar_.scene, scene_, {.loadMeshes = true});
+  loaded_ = loadSceneFile(ar_.scene, scene_, {.loadMeshes = true, .isolateThirdPartyParsers = true});
   std::fputs(loaded_.diagnostics.format().c_str(), stderr);
   if (!loaded_.ok()) return 2;
   restore_.mark("scene_and_characters");

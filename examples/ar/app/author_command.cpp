@@ -74,7 +74,7 @@ int runAuthorCommand(int argc, char** argv) {
   if (!actions || !sceneDiagnostics.ok()) return 2;
   Scene scene;
   examples::useExampleSynthesizer(scene.speech());
-  SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true});
+  SceneLoadResult loaded = loadSceneFile(ar.scene, scene, {.loadMeshes = true, .isolateThirdPartyParsers = true});
   std::fputs(loaded.diagnostics.format().c_str(), stderr);
   if (!loaded.ok()) return 2;
   Diagnostics problems;

@@ -22,6 +22,15 @@ ImportResult importAsset(const std::string& path, const ImportOptions& options) 
     return result;
   }
   const std::string ext = lowerExtension(path);
+  // The project's own files and media are never models; Assimp would read some of them as
+  // a one-node scene (a joint map given as a character became a 1-joint character).
+  for (const char* other : {".json", ".bml", ".wav", ".hdr", ".exr", ".png", ".jpg", ".jpeg", ".csv", ".txt"})
+    if (ext == other) {
+      result.diagnostics.error(path, "a '" + ext + "' file is not a character or motion (" +
+                                         (ext == ".json" ? "a joint map, profile or scene file?; " : "") +
+                                         "expected glTF, GLB, VRM, VRMA or a format Assimp reads: FBX, BVH, DAE, X, ...)");
+      return result;
+    }
   if (ext == ".gltf" || ext == ".glb" || ext == ".vrm" || ext == ".vrma") return importGltf(path, options);
 #ifdef MARIONETTE_HAS_ASSIMP
   return importWithAssimp(path, options);

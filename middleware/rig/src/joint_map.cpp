@@ -313,6 +313,11 @@ JointMapResult load(const std::string& path, const Asset& asset) {
     r.diagnostics.error(path, "expected an object with \"bones\" and \"chains\"", 1, 1);
     return r;
   }
+  // Valid JSON of another kind (a profile, a scene) would otherwise map nothing and bind nothing.
+  if (!doc.contains("bones") && !doc.contains("chains")) {
+    r.diagnostics.error(path, "not a joint map: it has neither \"bones\" nor \"chains\"", 1, 1);
+    return r;
+  }
   MapReader reader(path, text, asset, r.diagnostics);
   reader.read(doc, r.map);
   std::stable_sort(r.diagnostics.items.begin(), r.diagnostics.items.end(), [](const Diagnostic& a, const Diagnostic& b) {

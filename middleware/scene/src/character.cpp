@@ -183,6 +183,8 @@ void Character::State::applyRootMotion(const Layer& layer, double t0, double t1,
 }
 
 void Character::State::update(double dt) noexcept {
+  const glm::vec3 startPosition = position_;
+  const float startHeading = heading_;
   clock_ += dt;
   std::fill(std::begin(stats_.controllerMicros), std::end(stats_.controllerMicros), 0.0);
   glm::vec3 move(0.0f);
@@ -238,6 +240,7 @@ void Character::State::update(double dt) noexcept {
     heading_ = wrapAngle(heading_ + turn);
   }
   localToModelAndPalette(skeleton(), pose_, buffer_.writeModel(), buffer_.writeSkinning(), &rig_->paletteBasis());
+  lastMotion_ = PlacementDelta{position_ - startPosition, wrapAngle(heading_ - startHeading)};
   buffer_.setWorld(worldMatrix());
   buffer_.finishFrame();
   stats_.activeLayers = active;

@@ -20,6 +20,7 @@ void Character::setHeading(float radians) noexcept { state_->setHeading(radians)
 glm::vec3 Character::position() const noexcept { return state_->position_; }
 float Character::heading() const noexcept { return state_->heading_; }
 glm::mat4 Character::worldMatrix() const noexcept { return state_->worldMatrix(); }
+PlacementDelta Character::lastMotion() const noexcept { return state_->lastMotion_; }
 
 bool Character::play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options) {
   return state_->play(layer, std::move(clip), options);

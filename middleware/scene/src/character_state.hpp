@@ -124,6 +124,7 @@ struct Character::State {
   std::unique_ptr<FrameScratch> ownScratch_;
   TransformBuffer buffer_;
   CharacterStats stats_;
+  PlacementDelta lastMotion_;  // of the last update()
 };
 
 }  // namespace marionette

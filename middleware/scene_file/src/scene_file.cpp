@@ -285,9 +285,11 @@ float keyRate(const Clip& clip) {
 // One "clips" entry, bound to `target`'s skeleton: by joint name, or retargeted;
 // cut to its range; the best loop within it. Errors name the entry's place.
 std::optional<Clip> loadSceneClip(Reader& r, Diagnostics& diags, const std::string& baseDir, float scale,
-                                  const ClipSpec& k, const Asset& target, SceneLoadResult& result) {
+                                  const ClipSpec& k, const Asset& target, const SceneLoadOptions& options,
+                                  SceneLoadResult& result) {
   ImportOptions mo;
   mo.loadMeshes = false;
+  mo.isolateThirdPartyParsers = options.isolateThirdPartyParsers;
   mo.extraScale = k.retarget ? 1.0f : scale;  // retargeting scales by the legs, whatever the source's units
   ImportResult motion = importAsset(resolve(baseDir, k.file), mo);
   diags.items.insert(diags.items.end(), motion.diagnostics.items.begin(), motion.diagnostics.items.end());
@@ -541,6 +543,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     }
     ImportOptions io;
     io.loadMeshes = options.loadMeshes;
+    io.isolateThirdPartyParsers = options.isolateThirdPartyParsers;
     io.extraScale = c.scale;
     ImportResult imported = importAsset(resolve(baseDir, c.asset), io);
     diags.items.insert(diags.items.end(), imported.diagnostics.items.begin(), imported.diagnostics.items.end());
@@ -553,7 +556,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     // The scene's clips join the asset's before the rig wraps them and the profile
     // is read, so that a profile can name them ("clips": {"walk": ...}).
     for (const ClipSpec& k : c.clips) {
-      if (auto clip = loadSceneClip(r, diags, baseDir, c.scale, k, *asset, result)) {
+      if (auto clip = loadSceneClip(r, diags, baseDir, c.scale, k, *asset, options, result)) {
         asset->clips.push_back(std::move(*clip));
         ++result.assetsLoaded;
       }

@@ -133,11 +133,26 @@ MN_API size_t mn_character_joint_count(const mn_character* character);
 MN_API const char* mn_character_joint_name(const mn_character* character, size_t joint); /* NULL if out of range */
 /* Index of a joint by exact name, or -1. */
 MN_API int mn_character_find_joint(const mn_character* character, const char* name);
+/* The joint hierarchy: the parent of `joint` (a parent comes before its children), -1 for a
+ * root, -2 for a joint out of range or a NULL character. */
+MN_API int mn_character_joint_parent(const mn_character* character, size_t joint);
+/* The rest (bind) pose, local to each joint's parent: 10 floats per joint, translation x y z,
+ * rotation quaternion x y z w, scale x y z; out_floats >= 10 * mn_character_joint_count.
+ * Nothing is written on error. */
+MN_API mn_status mn_character_rest_pose(const mn_character* character, float* out, size_t out_floats);
+/* The space the roots live in (16 floats, column-major): the file's nodes above the skeleton,
+ * e.g. a Z-up to Y-up turn or a unit scale. A joint's model matrix (the palette without
+ * inverse bind) is this times its parents' rest transforms times its own. */
+MN_API mn_status mn_character_root_transform(const mn_character* character, float* out16);
 MN_API mn_status mn_character_set_position(mn_character* character, float x, float y, float z); /* metres */
 MN_API mn_status mn_character_set_heading(mn_character* character, float radians);              /* about +Y */
 /* The character's world-from-model matrix as of the last update (16 floats, column-major).
  * The palette is in model space: an engine places the skinned mesh with this. */
 MN_API mn_status mn_character_world_matrix(const mn_character* character, float* out16);
+/* How far the last mn_scene_update moved and turned the character (clip root motion and
+ * locomotion; not mn_character_set_position/_heading): out4 = world x y z in metres, then
+ * the turn about +Y in radians, in [-pi, pi]. For an engine that moves its own object. */
+MN_API mn_status mn_character_root_motion_delta(const mn_character* character, float* out4);
 
 typedef enum mn_palette_layout {
   MN_PALETTE_MAT4_COLUMN_MAJOR = 0, /* 16 floats per joint, column after column (OpenGL) */
@@ -180,11 +195,14 @@ typedef struct mn_engine_skeleton {
  * (docs/joint-maps.md; the shipped maps are in share/marionette/jointmaps). Chains match joint k
  * to joint k. An exact name wins over the maps. A map path without through_joint_maps is an error. */
 typedef struct mn_binding_options {
+  size_t struct_size;              /* sizeof(mn_binding_options), as the default sets it (the library checks) */
   int through_joint_maps;          /* nonzero: bind through joint maps where names differ [0] */
   const char* engine_joint_map;    /* the engine skeleton's map (JSON; its names are engine bone names);
                                       NULL: guessed from the bone names and parents [NULL] */
-  const char* character_joint_map; /* the character's map (JSON); NULL: the character's own
-                                      (its VRM humanoid map, else guessed from names and topology) [NULL] */
+  const char* character_joint_map; /* the character's map (JSON); NULL: the character's own VRM
+                                      humanoid map, else the shipped map that fits it
+                                      ($MARIONETTE_JOINTMAPS, share/marionette/jointmaps beside the
+                                      library), else guessed from names and topology [NULL] */
 } mn_binding_options;
 MN_API mn_binding_options mn_binding_options_default(void);
 
@@ -227,6 +245,7 @@ MN_API double mn_character_clip_duration(const mn_character* character, size_t c
 
 /* How a clip plays on a layer; mn_play_options_default() gives the defaults in brackets. */
 typedef struct mn_play_options {
+  size_t struct_size; /* sizeof(mn_play_options), as the default sets it (the library checks) */
   float weight;      /* target weight, >= 0 [1] */
   float speed;       /* playback rate; 0 holds, negative plays backwards [1] */
   int loop;          /* nonzero loops; 0 holds the last frame [1] */
@@ -272,7 +291,10 @@ typedef enum mn_feedback_kind {
   MN_FEEDBACK_BLOCK_PROGRESS = 1, /* a block's "start" or "end" */
   MN_FEEDBACK_SYNC_POINT = 2,     /* a behavior's sync point was passed */
   MN_FEEDBACK_WARNING = 3,        /* a problem with a block; `message` says what */
-  MN_FEEDBACK_EVENT = 4           /* an <event message> reached its stroke; `message` is the script's */
+  MN_FEEDBACK_EVENT = 4,          /* an <event message> reached its stroke; `message` is the script's */
+  /* Not kinds: they fix the enum's width at 32 bits, whatever the compiler (ABI). */
+  MN_FEEDBACK_MIN_ENUM_ = -0x7FFFFFFF - 1,
+  MN_FEEDBACK_MAX_ENUM_ = 0x7FFFFFFF
 } mn_feedback_kind;
 
 typedef struct mn_feedback {
@@ -309,7 +331,9 @@ typedef struct mn_speech {
 
 typedef enum mn_clip_event_kind {
   MN_CLIP_STARTED = 0, /* a layer began playing a clip */
-  MN_CLIP_STOPPED = 1  /* a layer's clip was stopped, or faded out to nothing */
+  MN_CLIP_STOPPED = 1, /* a layer's clip was stopped, or faded out to nothing */
+  MN_CLIP_EVENT_MIN_ENUM_ = -0x7FFFFFFF - 1, /* not kinds: 32 bits wide (ABI) */
+  MN_CLIP_EVENT_MAX_ENUM_ = 0x7FFFFFFF
 } mn_clip_event_kind;
 typedef struct mn_clip_event {
   mn_clip_event_kind kind;
@@ -318,7 +342,13 @@ typedef struct mn_clip_event {
   double scene_time;
 } mn_clip_event;
 
-typedef enum mn_log_level { MN_LOG_INFO = 0, MN_LOG_WARNING = 1, MN_LOG_ERROR = 2 } mn_log_level;
+typedef enum mn_log_level {
+  MN_LOG_INFO = 0,
+  MN_LOG_WARNING = 1,
+  MN_LOG_ERROR = 2,
+  MN_LOG_MIN_ENUM_ = -0x7FFFFFFF - 1, /* not levels: 32 bits wide (ABI) */
+  MN_LOG_MAX_ENUM_ = 0x7FFFFFFF
+} mn_log_level;
 
 typedef void (*mn_feedback_fn)(void* user, const mn_feedback* feedback);
 typedef void (*mn_viseme_fn)(void* user, const mn_viseme* viseme);

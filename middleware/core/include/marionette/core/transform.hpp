@@ -6,6 +6,8 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "marionette/core/glm_abi.hpp"
+
 namespace marionette {
 
 struct Transform {

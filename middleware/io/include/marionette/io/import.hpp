@@ -18,12 +18,14 @@ struct ImportOptions {
   // conversion. FBX files are converted to metres from their UnitScaleFactor;
   // BVH has no unit, so its numbers are kept unless this says otherwise.
   float extraScale = 1.0f;
-  // Assimp's readers can crash or hang on malformed files (a bug in the
-  // dependency, not catchable in-process). When true, the file is first read in
-  // a forked child with these limits, and a crash or hang there becomes an error.
-  // Costs one extra parse of Assimp formats; turn off for trusted files, or in a
-  // process where fork() is not allowed.
-  bool isolateThirdPartyParsers = true;
+  // Assimp's readers can crash or hang on malformed files (a bug in the dependency,
+  // not catchable in-process). When true, the file is first read in a forked child
+  // with the limits below, and a crash or hang there becomes an error; it costs one
+  // extra parse of Assimp formats. Off by default: a library must not fork the process
+  // that embeds it (an engine with a renderer, audio threads and a debugger; mobile
+  // platforms forbid it). The command-line tools turn it on. Without it the host is
+  // protected by the readers' limits and validation, fuzzed (docs/reliability.md).
+  bool isolateThirdPartyParsers = false;
   // A glTF's external buffers and images are read only from the model's own folder
   // (and below): a uri like "../../etc/passwd" or an absolute path is an error naming
   // it, and nothing of that file is read. True allows any path (trusted files only).

@@ -50,6 +50,8 @@ class Character {
   [[nodiscard]] glm::vec3 position() const noexcept;
   [[nodiscard]] float heading() const noexcept;
   [[nodiscard]] glm::mat4 worldMatrix() const noexcept;
+  // What the last update() moved the character by (for an engine that moves its own object).
+  [[nodiscard]] PlacementDelta lastMotion() const noexcept;
 
   // Starts a clip on a layer (0..kMaxLayers-1), replacing what played there.
   // Returns false (and logs through the scene) for a bad layer or a null or unknown clip.

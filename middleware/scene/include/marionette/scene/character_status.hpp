@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include <glm/vec3.hpp>
+
 namespace marionette {
 
 // What became of a behavior request (Character::addBehavior).
@@ -20,6 +22,13 @@ struct BehaviorResult {
 struct LocomotionStatus {
   enum class State : std::uint8_t { Unknown, Pending, Moving, Done, Superseded } state = State::Unknown;
   double doneTime = -1.0;  // character clock at arrival (and final facing), for State::Done
+};
+
+// How far the last update moved and turned a character (root motion and locomotion; not
+// setPosition / setHeading between updates): world metres and radians about +Y.
+struct PlacementDelta {
+  glm::vec3 translation{0.0f};
+  float turn = 0.0f;  // in [-pi, pi]
 };
 
 // The behavior controllers, in the order a frame runs them (DESIGN.md): clip behaviors

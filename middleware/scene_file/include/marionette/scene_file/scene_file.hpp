@@ -75,6 +75,9 @@ namespace marionette {
 
 struct SceneLoadOptions {
   bool loadMeshes = false;  // a renderer wants them; a headless run does not
+  // Read Assimp's formats in a forked child first (ImportOptions::isolateThirdPartyParsers):
+  // for command-line tools that open files from anywhere; never inside an engine's process.
+  bool isolateThirdPartyParsers = false;
 };
 
 struct TimedFile {
