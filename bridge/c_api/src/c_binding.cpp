@@ -3,7 +3,6 @@
 // maps read from files or guessed.
 #include <dlfcn.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -75,20 +74,17 @@ void toSlots(retarget::JointMap& map, const std::vector<int>& slotOf) {
 }
 
 // Reads or guesses a map; errors become the call's status, warnings lines of the report.
-// Where the shipped joint maps are, as `marionette retarget` looks: $MARIONETTE_JOINTMAPS,
-// share/marionette/jointmaps beside this library's installation (LIB/../share), then the
-// source tree's (a library used from its build tree).
+// Where the shipped joint maps are, as `marionette retarget` looks, with this library's
+// folder (found by dladdr) in place of the program's.
 std::vector<std::string> shippedJointMapFolders() {
-  std::vector<std::string> out;
-  if (const char* env = std::getenv("MARIONETTE_JOINTMAPS"); env && *env) out.emplace_back(env);
+  std::string libraryFolder;
   Dl_info info{};
   if (dladdr(reinterpret_cast<void*>(&mn_version), &info) != 0 && info.dli_fname) {
     std::error_code ec;
-    const std::filesystem::path lib = std::filesystem::absolute(info.dli_fname, ec).parent_path();
-    if (!ec) out.push_back((lib.parent_path() / "share/marionette/jointmaps").string());
+    const std::filesystem::path lib = std::filesystem::absolute(info.dli_fname, ec);
+    if (!ec) libraryFolder = lib.parent_path().string();
   }
-  out.emplace_back(MARIONETTE_SOURCE_JOINTMAPS);
-  return out;
+  return retarget::shippedJointMapFolders(libraryFolder, MARIONETTE_SOURCE_JOINTMAPS);
 }
 
 // `shipped`: without a file, and without a VRM humanoid map of its own, the shipped map that

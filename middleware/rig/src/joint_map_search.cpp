@@ -1,10 +1,20 @@
 // findJointMap: which of a folder's joint maps fits a skeleton (joint_map.hpp).
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 
 #include "marionette/rig/joint_map.hpp"
 
 namespace marionette::retarget {
+
+std::vector<std::string> shippedJointMapFolders(const std::string& binaryFolder, const std::string& sourceFolder) {
+  std::vector<std::string> out;
+  if (const char* env = std::getenv("MARIONETTE_JOINTMAPS"); env && *env) out.emplace_back(env);
+  if (!binaryFolder.empty())
+    out.push_back((std::filesystem::path(binaryFolder).parent_path() / "share/marionette/jointmaps").string());
+  if (!sourceFolder.empty()) out.push_back(sourceFolder);
+  return out;
+}
 
 std::optional<JointMapMatch> findJointMap(const Asset& asset, const std::vector<std::string>& folders) {
   namespace fs = std::filesystem;

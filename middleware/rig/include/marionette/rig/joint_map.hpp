@@ -94,4 +94,11 @@ struct JointMapMatch {
 };
 [[nodiscard]] std::optional<JointMapMatch> findJointMap(const Asset& asset, const std::vector<std::string>& folders);
 
+// Where the shipped joint maps are looked for, in order: $MARIONETTE_JOINTMAPS when set, the
+// installation's share/marionette/jointmaps (`binaryFolder` is the folder of the running
+// program or library: bin/ or lib/; empty when unknown), then `sourceFolder` (the source
+// tree's assets/jointmaps, for a program run from its build tree).
+[[nodiscard]] std::vector<std::string> shippedJointMapFolders(const std::string& binaryFolder,
+                                                              const std::string& sourceFolder);
+
 }  // namespace marionette::retarget
