@@ -123,6 +123,45 @@ std::optional<SpeechTiming> speechTiming(const Behavior& b, const Character& cha
   return t;
 }
 
+SmartBodyBlend readSmartBodyBlend(const Behavior& b, const Rig& rig) {
+  SmartBodyBlend out;
+  const Attribute* name = b.attribute("name");
+  out.name = name ? name->value : std::string();
+  std::string spaces;
+  for (const auto& s : rig.blendSpaces()) spaces += (spaces.empty() ? "'" : ", '") + s->name() + "'";
+  if (out.name.empty()) {
+    out.error = "SmartBody's <blend> names no blend space (name=\"...\")";
+    return out;
+  }
+  const auto space = rig.findBlendSpace(out.name);
+  if (!space) {
+    out.error = "SmartBody's <blend name=\"" + out.name + "\">: the character's profile has no blend space of that name (" +
+                (spaces.empty() ? std::string("it has none: add \"blendSpaces\" to its profile") : "it has " + spaces) + ")";
+    return out;
+  }
+  // x, y, z: numbers, or empty (SmartBody writes x="" for a parameter it leaves alone: 0 here).
+  float* values[] = {&out.x, &out.y, nullptr};
+  const char* names[] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    const Attribute* a = b.attribute(names[k]);
+    if (!a || a->value.empty()) continue;
+    const auto v = parseNumberList(a->value);
+    if (!v || v->size() != 1 || !std::isfinite(v->front())) {
+      out.warning += std::string(out.warning.empty() ? "" : "; ") + names[k] + "=\"" + a->value + "\" is not a number: 0 used";
+      continue;
+    }
+    if (!values[k]) {
+      out.warning += std::string(out.warning.empty() ? "" : "; ") +
+                     "z ignored: blend spaces have 1 or 2 parameters (x, y)";
+      continue;
+    }
+    *values[k] = v->front();
+    if (k == 1 && space->dimensions() == 1)
+      out.warning += std::string(out.warning.empty() ? "" : "; ") + "y ignored: blend space '" + out.name + "' has 1 parameter";
+  }
+  return out;
+}
+
 MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std::string& blockId, double blockStart,
                         const Rig& rig) {
   MappedRequest m;
@@ -146,10 +185,13 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
     m.error = std::move(read.error);
     m.warning = std::move(read.warning);
   }
-  // SmartBody's parametric blends are read but not realized: said, with why.
-  if (b.type == "blend")
-    m.error = "SmartBody's <blend> (a parametric animation state) is not realized: this realizer has no blend states; "
-              "play a clip with <animation name> or walk with <locomotion>";
+  // SmartBody's parametric state: a blend space of the character's profile, played by the
+  // realizer at the behavior's start (Realizer: blendLayer()); on the timeline as a wait.
+  if (b.type == "blend") {
+    const SmartBodyBlend blend = readSmartBodyBlend(b, rig);
+    m.error = blend.error;
+    m.warning = blend.warning;
+  }
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
   // A saccade model runs (and a finish holds) until a later saccade request replaces it.
   const SaccadeParameters* saccade = r.as<SaccadeParameters>();

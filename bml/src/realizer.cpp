@@ -294,12 +294,18 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
         type == "event"       ? std::tuple{"stroke", Event::Action::Message, "message"}
         : type == "interrupt" ? std::tuple{"start", Event::Action::Interrupt, "target"}
         : type == "activate"  ? std::tuple{"start", Event::Action::Activate, "target"}
+        : type == "blend"     ? std::tuple{"start", Event::Action::Blend, "name"}
                               : std::tuple{"", Event::Action::None, ""};
     for (const SyncTime& s : b.syncs) {
       const bool acts = action != Event::Action::None && s.name == actsAt;
       const Attribute* argument = acts ? parsedIt->attribute(argumentName) : nullptr;
       a.events.push_back({start + s.time, b.id, s.name, s.time, locomotion && s.name == "end",
                           acts ? action : Event::Action::None, argument ? argument->value : std::string()});
+      if (acts && action == Event::Action::Blend) {  // the point, read as toRequest reads it
+        const SmartBodyBlend blend = readSmartBodyBlend(*parsedIt, target->rig());
+        a.events.back().x = blend.x;
+        a.events.back().y = blend.y;
+      }
       blockEnd = std::max(blockEnd, s.time);
       if (s.name == (b.time("relax") ? "relax" : "end")) relaxed = std::max(relaxed, s.time);
     }
@@ -474,6 +480,8 @@ void Realizer::update() {
         Feedback f = syncFeedback(Feedback::Kind::Event, b, e);
         f.message = e.argument;
         emit(f);
+      } else if (e.action == Event::Action::Blend) {
+        startBlend(b.character, e);
       } else if (e.action != Event::Action::None) {
         actions.emplace_back(e.action, e.argument);
       }
@@ -487,6 +495,16 @@ void Realizer::update() {
                                [&](const Active& b) { return b.started && b.next == b.events.size() && now >= b.end; }),
                 blocks_.end());
   run(actions);
+}
+
+void Realizer::startBlend(const std::string& character, const Event& e) {
+  Character* c = scene_.findCharacter(character);
+  if (!c) return;
+  // The same space goes on with a new point; another replaces the layer (the character logs
+  // a space its rig has not: toRequest reported it already as CANNOT_CREATE_BEHAVIOR).
+  const BlendSpace* playing = c->layerBlendSpace(blendLayer_);
+  if (playing && playing->name() == e.argument) (void)c->setBlendParameter(blendLayer_, e.x, e.y);
+  else if (c->rig().findBlendSpace(e.argument)) (void)c->playBlend(blendLayer_, e.argument, {}, e.x, e.y);
 }
 
 void Realizer::run(const std::vector<Action>& actions) {

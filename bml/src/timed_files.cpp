@@ -15,9 +15,9 @@ TimedFiles::TimedFiles(Realizer& realizer, std::vector<TimedFile> files)
 void TimedFiles::sendDue(double now, const std::function<void(const Diagnostic&)>& report) {
   for (; next_ < files_.size() && files_[next_].time <= now + 1e-9; ++next_) {
     const TimedFile& f = files_[next_];
-    std::string text;
+    std::string text = f.text.value_or(std::string());
     Diagnostics unread;
-    if (!readTextFile(f.path, text, unread, "cannot read the BML file")) {
+    if (!f.text && !readTextFile(f.path, text, unread, "cannot read the BML file")) {
       for (const Diagnostic& d : unread.items) report(d);
       continue;
     }

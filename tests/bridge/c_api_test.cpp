@@ -771,3 +771,69 @@ TEST(CApi, JointParentsRestPoseAndRootMotionDelta) {
   EXPECT_EQ(mn_character_root_motion_delta(s.robot, nullptr), MN_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(mn_character_rest_pose(nullptr, rest.data(), rest.size()), MN_ERROR_INVALID_ARGUMENT);
 }
+
+// Animation events through mn_scene_set_event_callback: the robot's Walking sends each foot's
+// touchdown and lift-off once per loop, with the clip, layer, weight and both times.
+TEST(CApi, AnimationEventsThroughTheCallback) {
+  SceneWithRobot s;
+  EXPECT_EQ(mn_scene_set_event_callback(nullptr, nullptr, nullptr), MN_ERROR_INVALID_ARGUMENT);
+  double duration = 0.0;
+  for (size_t i = 0; i < mn_character_clip_count(s.robot); ++i)
+    if (std::string(mn_character_clip_name(s.robot, i)) == "Walking") duration = mn_character_clip_duration(s.robot, i);
+  ASSERT_GT(duration, 0.0);
+  struct Heard {
+    std::vector<mn_animation_event> events;
+    std::vector<std::string> names;
+    std::string problems;
+  } heard;
+  ASSERT_EQ(mn_scene_set_event_callback(s.scene, [](void* user, const mn_animation_event* e) {
+    auto& h = *static_cast<Heard*>(user);
+    h.events.push_back(*e);
+    h.names.emplace_back(e->name);
+    const bool left = e->foot == MN_FOOT_LEFT, down = e->kind == MN_ANIMATION_EVENT_FOOT_DOWN;
+    const std::string expected = std::string(left ? "left" : "right") + (down ? "_foot_down" : "_foot_up");
+    if (e->kind != MN_ANIMATION_EVENT_MARKER && expected != e->name) h.problems += std::string("name ") + e->name + "; ";
+    if (std::string(e->character) != "robot" || std::string(e->clip) != "Walking" || e->layer != 2)
+      h.problems += "character, clip or layer; ";
+  }, &heard), MN_OK);
+  mn_play_options o = mn_play_options_default();
+  o.weight = 0.75f;
+  ASSERT_EQ(mn_character_play(s.robot, 2, "Walking", &o), MN_OK) << mn_scene_last_error(s.scene);
+  const int frames = static_cast<int>(2.0 * duration * 60.0) - 1;  // two loops, short of the third's start
+  for (int f = 0; f < frames; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_EQ(heard.problems, "");
+  int count[2][2] = {};
+  for (const mn_animation_event& e : heard.events) {
+    ASSERT_NE(e.kind, MN_ANIMATION_EVENT_MARKER);  // the robot's clips have no markers
+    ++count[e.foot == MN_FOOT_LEFT ? 0 : 1][e.kind == MN_ANIMATION_EVENT_FOOT_DOWN ? 0 : 1];
+    EXPECT_FLOAT_EQ(e.weight, 0.75f);
+    EXPECT_GE(e.clip_time, 0.0);
+    EXPECT_LE(e.clip_time, duration);
+    EXPECT_GE(e.scene_time, 0.0);
+    EXPECT_LE(e.scene_time, frames / 60.0 + 1e-9);
+  }
+  // One down and one up of each foot in the first loop; each again one loop later.
+  int firstLoop[2][2] = {};
+  for (const mn_animation_event& e : heard.events) {
+    if (e.scene_time >= duration) continue;
+    ++firstLoop[e.foot == MN_FOOT_LEFT ? 0 : 1][e.kind == MN_ANIMATION_EVENT_FOOT_DOWN ? 0 : 1];
+    if (e.scene_time + duration > frames / 60.0) continue;
+    const bool again = std::any_of(heard.events.begin(), heard.events.end(), [&](const mn_animation_event& x) {
+      return x.kind == e.kind && x.foot == e.foot && x.clip_time == e.clip_time &&
+             std::fabs(x.scene_time - e.scene_time - duration) < 1e-6;
+    });
+    EXPECT_TRUE(again) << e.name << " at " << e.clip_time;
+  }
+  for (int foot = 0; foot < 2; ++foot)
+    for (int kind = 0; kind < 2; ++kind) {
+      EXPECT_EQ(firstLoop[foot][kind], 1) << foot << kind;
+      EXPECT_GE(count[foot][kind], 1);
+      EXPECT_LE(count[foot][kind], 2);
+    }
+  for (std::size_t i = 1; i < heard.events.size(); ++i) EXPECT_GE(heard.events[i].scene_time, heard.events[i - 1].scene_time);
+  // A NULL function removes the callback.
+  ASSERT_EQ(mn_scene_set_event_callback(s.scene, nullptr, nullptr), MN_OK);
+  const std::size_t before = heard.events.size();
+  for (int f = 0; f < 120; ++f) ASSERT_EQ(mn_scene_update(s.scene, 1.0 / 60.0), MN_OK);
+  EXPECT_EQ(heard.events.size(), before);
+}

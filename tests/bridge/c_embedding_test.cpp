@@ -113,3 +113,44 @@ TEST(CEmbedding, RunsTheRobotThroughTheCApiAndMatchesTheCppBuffer) {
   EXPECT_LE(maxDiff, 1e-6);
   EXPECT_NEAR(number(out, "palette checksum:"), sum, 1e-4 * std::max(1.0, std::fabs(sum)));
 }
+
+// examples/embedding/c_shared_assets: one asset loaded from memory through the engine's read
+// function, 100 characters sharing it, a BVH and an FBX read in-process; under strace, no
+// clone/fork/vfork (an engine's process must never fork). Prints and bounds the figures: the
+// memory each extra character costs (deterministic, with a clip playing), and the load (asset + 100 characters)
+// loosely, at 10x the 30 ms goal that tests/bench/c_api_bench.cpp measures on a quiet machine:
+// a load per character (the old behavior: 1.7 s for 100) fails it, a busy CI machine does not.
+TEST(CEmbedding, SharedAssetsFromMemoryStartNoProcess) {
+  const std::string robot = test::sharedAsset("characters/RobotExpressive.glb");
+  const std::string bvh = test::sharedAsset("motions/bvh/pirouette.bvh");
+  const std::string fbx = test::sharedAsset("motions/fbx/pab_walk.fbx");
+  for (const std::string& f : {robot, bvh, fbx}) MARIONETTE_REQUIRE_FILE(f);
+  const std::string trace =
+      (std::filesystem::temp_directory_path() / ("c_shared_assets_strace_" + std::to_string(::getpid()) + ".txt")).string();
+  const test::CliRun run = test::runCommand("strace -f -e trace=clone,clone3,fork,vfork -o " + trace + " " +
+                                            ::marionette::test::programPath("c_shared_assets") + " " + robot + " " +
+                                            bvh + " " + fbx);
+  ASSERT_EQ(run.status, 0) << run.out;
+  const std::string& out = run.out;
+  std::printf("%s", out.c_str());
+  EXPECT_EQ(number(out, "asset: pak/RobotExpressive.glb,"), 43.0) << out;
+  EXPECT_NE(out.find("motion: pak/pirouette.bvh"), std::string::npos) << out;
+  EXPECT_NE(out.find("motion: pak/pab_walk.fbx"), std::string::npos) << out;
+  const double loadMs = number(out, "clips,");  // "asset: ..., 14 clips, T ms"
+  const double addMs = number(out, "added in");
+  const double bytesEach = number(out, "ms,");  // "added in T ms, B bytes each"
+  ASSERT_TRUE(std::isfinite(loadMs) && std::isfinite(addMs) && std::isfinite(bytesEach)) << out;
+  EXPECT_LT(loadMs + addMs, 300.0) << out;
+  // Each extra character: its per-joint arrays (model and skinning matrices, local pose:
+  // 168 bytes a joint) and at most 2 KiB more (CAsset.HundredCharactersShareOneAsset).
+  EXPECT_LT(bytesEach, 43.0 * 168.0 + 2048.0) << out;
+  std::ifstream in(trace);
+  std::string line, processes;
+  while (std::getline(in, line))
+    if ((line.find("clone") != std::string::npos && line.find("CLONE_THREAD") == std::string::npos) ||
+        line.find("fork(") != std::string::npos)  // a thread is no process; a clone without CLONE_THREAD is
+      processes += line + "\n";
+  EXPECT_EQ(processes, "") << "the C example started processes:\n" << processes;
+  EXPECT_TRUE(std::filesystem::file_size(trace) > 0) << "strace wrote nothing: " << trace;  // it ran
+  std::filesystem::remove(trace);
+}

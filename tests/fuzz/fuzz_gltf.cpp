@@ -1,12 +1,15 @@
 // libFuzzer target: glTF JSON, GLB, VRM and VRMA bytes, read by importGltf (which takes
 // a path: the input is written to a temporary .glb when it starts with the "glTF" magic,
-// else .gltf) with the default options (no files outside the model's folder). Contract:
+// else .gltf) with the default options (no files outside the model's folder), and the same
+// bytes by importAssetFromMemory through a file reader that has no other file. Contract:
 // no crash; a failure has an error and every diagnostic names the file; a success holds a
 // valid skeleton, clips and meshes (indices and joints in range) with finite numbers
 // only, and sampling each clip gives a finite pose, also once prepared as a Rig does
 // (optimized and compacted: the compact keys decode to a finite pose, four-wide and
 // track by track alike). Built and run by scripts/fuzz.
 #include <cstring>
+#include <string_view>
+#include <utility>
 
 #include "fuzz_support.hpp"
 #include "marionette/animation/animation_clip.hpp"
@@ -111,15 +114,26 @@ void checkClips(const Asset& a) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const bool glb = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
   const std::string path = fuzz::writeInput(data, size, glb ? "in.glb" : "in.gltf");
-  const ImportResult r = importGltf(path, ImportOptions{});
-  if (!r.ok()) {
-    require(!r.asset, "a failed import returned an asset");
-    fuzz::requireNamedFailure(r.diagnostics, path);
-    return 0;
+  // From the disk, and from memory through an engine's reader that has no other file (the
+  // reader path: FolderGuard by path, buffers and images asked of the reader).
+  const std::string memoryName = glb ? "pak/in.glb" : "pak/in.gltf";
+  ImportOptions throughReader;
+  throughReader.readFile = [](const std::string&, std::string&, std::string& why) {
+    why = "not in the archive";
+    return false;
+  };
+  const std::string_view bytes(reinterpret_cast<const char*>(data), size);
+  for (const auto& [r, name] : {std::pair{importGltf(path, ImportOptions{}), path},
+                                std::pair{importAssetFromMemory(bytes, memoryName, throughReader), memoryName}}) {
+    if (!r.ok()) {
+      require(!r.asset, "a failed import returned an asset");
+      fuzz::requireNamedFailure(r.diagnostics, name);
+      continue;
+    }
+    require(fuzz::allName(r.diagnostics, name), "a warning does not name the file");
+    checkSkeleton(r.asset->skeleton);
+    checkMeshes(*r.asset);
+    checkClips(*r.asset);
   }
-  require(fuzz::allName(r.diagnostics, path), "a warning does not name the file");
-  checkSkeleton(r.asset->skeleton);
-  checkMeshes(*r.asset);
-  checkClips(*r.asset);
   return 0;
 }

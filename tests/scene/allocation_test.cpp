@@ -270,3 +270,107 @@ TEST(Allocation, PrtRotationAndRelightingAllocateNothing) {
   EXPECT_GT(irradiance[500].x, 0.0f);  // it did run
 }
 #endif
+
+// Animation events (markers and foot contacts) crossed on looping, backwards and clamped
+// layers, in steps up to a second and one over the cap, on two threads: nothing allocated.
+TEST(Allocation, AnimationEventsAllocateNothingPerFrame) {
+  Asset asset;
+  asset.skeleton = marionette::test::makeChain(3);
+  Clip beat;
+  beat.name = "beat";
+  beat.tracks.push_back(marionette::test::rotationTrack(1, {0.0f, 0.5f, 1.0f}, {0.0f, 0.5f, 0.0f}));
+  beat.updateDuration();
+  beat.events = {{0.0f, "start"}, {0.25f, "a_rather_long_marker_name_that_a_short_string_would_not_hold"}, {1.0f, "end"}};
+  asset.clips = {beat};
+  auto rig = std::make_shared<const Rig>(asset);
+  Scene scene;
+  scene.setThreadCount(2);
+  struct Counter : SceneListener {
+    long events = 0;
+    void onAnimationEvent(const Character&, const AnimationEvent& e) override { events += !e.name.empty(); }
+  } counter;
+  scene.addListener(&counter);
+  for (int i = 0; i < 40; ++i) {
+    Character* c = scene.addCharacter("c" + std::to_string(i), rig);
+    PlayOptions o;
+    o.speed = i % 3 == 0 ? -1.5f : 1.0f;
+    o.wrap = i % 5 == 4 ? WrapMode::Clamp : WrapMode::Loop;
+    o.startTime = 0.1 * i;
+    c->play(0, "beat", o);
+    o.weight = 0.5f;
+    c->play(1 + i % 7, "beat", o);
+  }
+  scene.update(1.0 / 60.0);  // warm-up
+  const long before = g_allocations.load();
+  for (int f = 0; f < 300; ++f) scene.update(f % 11 == 0 ? 1.0 : 1.0 / 60.0);
+  scene.update(Scene::kMaxUpdateSeconds);  // over the cap: a warning, still no allocation
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GT(counter.events, 1000);
+}
+
+TEST(Allocation, BlendSpaceLayersAllocateNothingPerFrame) {
+  // 1D and 2D spaces over the synthetic walk (root motion) and wave, on 24 characters over
+  // two threads: parameters moved every frame, loops and clamps, both speeds, masks.
+  auto base = marionette::test::makeSyntheticRig();
+  auto rig = std::make_shared<Rig>(*base);
+  std::string error;
+  BlendSpaceFeet feet;  // no feet: plain normalized time, sampled the same way
+  auto walk = rig->findClip("walk"), wave = rig->findClip("wave");
+  auto line = BlendSpace::make("line", 1, {{walk, 0.0f}, {wave, 1.0f}, {walk, 2.0f}}, rig->skeleton(), feet, true, error);
+  auto plane = BlendSpace::make("plane", 2, {{walk, 0, 0}, {wave, 1, 0}, {walk, 0, 1}, {wave, 1, 1}, {walk, 0.5f, 0.4f}},
+                                rig->skeleton(), feet, true, error);
+  ASSERT_TRUE(line && plane) << error;
+  rig->addBlendSpace(line);
+  rig->addBlendSpace(plane);
+  Scene scene;
+  scene.setThreadCount(2);
+  std::vector<Character*> characters;
+  for (int i = 0; i < 24; ++i) {
+    Character* c = scene.addCharacter("c" + std::to_string(i), rig);
+    PlayOptions o;
+    o.speed = i % 3 == 0 ? -1.5f : 1.0f;
+    o.wrap = i % 5 == 4 ? WrapMode::Clamp : WrapMode::Loop;
+    o.rootMotion = i % 2 == 0;
+    o.fadeIn = 0.2f;
+    if (i % 4 == 1) o.jointMask = {1.0f, 1.0f, 0.5f, 0.0f};
+    ASSERT_TRUE(c->playBlend(i % 2, i % 2 ? "plane" : "line", o, 0.3f, 0.2f));
+    if (i % 3 == 2) c->play(2, "wave", {});
+    characters.push_back(c);
+  }
+  scene.update(1.0 / 60.0);  // warm-up
+  const long before = g_allocations.load();
+  for (int f = 0; f < 300; ++f) {
+    for (std::size_t i = 0; i < characters.size(); ++i)
+      characters[i]->setBlendParameter(static_cast<int>(i % 2), -0.5f + 0.01f * static_cast<float>(f), std::sin(0.1f * f));
+    scene.update(f % 11 == 0 ? 0.5 : 1.0 / 60.0);
+  }
+  characters[0]->stop(0, 0.5f);  // a fade-out to the end
+  for (int f = 0; f < 60; ++f) scene.update(1.0 / 60.0);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(characters[0]->layerBlendSpace(0), nullptr);
+}
+
+// Scene::setParallelFor: the hooked frame (context on the stack, scratch per chunk made at
+// command time) allocates nothing either; the hook here runs the chunks in reverse.
+TEST(Allocation, NoHeapAllocationPerFrameThroughTheParallelForHook) {
+  auto rig = marionette::test::makeSyntheticRig();
+  Scene scene;
+  scene.setParallelFor(
+      [](void*, Scene::ParallelTask task, void* context, int chunks) {
+        for (int i = chunks - 1; i >= 0; --i) task(context, i);
+      },
+      nullptr);
+  for (int i = 0; i < 50; ++i) {  // four chunks, the last of two
+    Character* c = scene.addCharacter("c" + std::to_string(i), rig);
+    c->play(0, "walk", {.rootMotion = true});
+    c->play(1, "wave", {.weight = 0.5f, .additive = i % 2 == 0});
+  }
+  scene.update(1.0 / 60.0);  // warm-up
+  const long before = g_allocations.load();
+  for (int f = 0; f < 300; ++f) {
+    if (f == 100)
+      for (const auto& c : scene.characters()) c->stop(1, 0.2f);  // ClipStopped from inside update()
+    scene.update(f % 7 == 0 ? 0.5 : 1.0 / 60.0);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}

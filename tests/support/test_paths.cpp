@@ -26,6 +26,7 @@ std::string programPath(const std::string& target) {
       {"marionette", MARIONETTE_PROGRAM_CLI},
       {"marionette-ar", MARIONETTE_PROGRAM_AR},
       {"c_embedding", MARIONETTE_PROGRAM_C_EMBEDDING},
+      {"c_shared_assets", MARIONETTE_PROGRAM_C_SHARED_ASSETS},
       {"marionette_write_sequence", MARIONETTE_PROGRAM_WRITE_SEQUENCE},
   };
   for (const Program& p : programs) {

@@ -1,7 +1,6 @@
 // The C API's bindings (marionette.h): bridge::PaletteBinding and MorphBinding
 // for an engine skeleton given as names, parents and morph slots, with its joint
 // maps read from files or guessed.
-#include <dlfcn.h>
 
 #include <filesystem>
 #include <string>
@@ -75,16 +74,9 @@ void toSlots(retarget::JointMap& map, const std::vector<int>& slotOf) {
 
 // Reads or guesses a map; errors become the call's status, warnings lines of the report.
 // Where the shipped joint maps are, as `marionette retarget` looks, with this library's
-// folder (found by dladdr) in place of the program's.
+// folder (capi::libraryFolder) in place of the program's.
 std::vector<std::string> shippedJointMapFolders() {
-  std::string libraryFolder;
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&mn_version), &info) != 0 && info.dli_fname) {
-    std::error_code ec;
-    const std::filesystem::path lib = std::filesystem::absolute(info.dli_fname, ec);
-    if (!ec) libraryFolder = lib.parent_path().string();
-  }
-  return retarget::shippedJointMapFolders(libraryFolder, MARIONETTE_SOURCE_JOINTMAPS);
+  return retarget::shippedJointMapFolders(marionette::capi::libraryFolder(), MARIONETTE_SOURCE_JOINTMAPS);
 }
 
 // `shipped`: without a file, and without a VRM humanoid map of its own, the shipped map that

@@ -122,13 +122,13 @@ mn_status mn_character_palette(const mn_character* character, mn_palette_layout 
     return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_palette: unknown layout " + std::to_string(layout));
   if (!out) return fail(character->owner, MN_ERROR_INVALID_ARGUMENT, "mn_character_palette: out is NULL");
   const auto cppLayout = static_cast<marionette::bridge::PaletteLayout>(layout);
-  if (character->palette.copy(character->character->transformBuffer(), {out, out_floats}, {cppLayout, inverse_bind != 0}))
+  if (character->palette->copy(character->character->transformBuffer(), {out, out_floats}, {cppLayout, inverse_bind != 0}))
     return MN_OK;
   return marionette::capi::guarded(ownerOf(character), [&] {
     return fail(character->owner, MN_ERROR_INVALID_ARGUMENT,
                 "mn_character_palette: character '" + character->character->name() + "' needs " +
-                    std::to_string(character->palette.floatCount(cppLayout)) + " floats (" +
-                    std::to_string(character->palette.slotCount()) + " joints x " +
+                    std::to_string(character->palette->floatCount(cppLayout)) + " floats (" +
+                    std::to_string(character->palette->slotCount()) + " joints x " +
                     std::to_string(marionette::bridge::floatsPerBone(cppLayout)) + "), got " +
                     std::to_string(out_floats));
   });

@@ -67,6 +67,16 @@ void logWarnings(const mn_scene& s, const marionette::Diagnostics& d) {
                   item.format());
 }
 
+// Adds a character sharing a loaded file's rig and asset (mn_asset or the scene's cache).
+mn_status addCharacter(mn_scene& scene, const char* call, const char* name, const mn_asset& loaded, mn_character** out) {
+  if (!scene.scene.addCharacter(name, loaded.rig))
+    return fail(&scene, MN_ERROR_INTERNAL, std::string(call) + ": the scene refused '" + name + "'");
+  scene.assets.insert_or_assign(name, loaded.asset);
+  scene.syncHandles();
+  if (out) *out = scene.handles.back().get();
+  return MN_OK;
+}
+
 #ifdef MARIONETTE_C_HAS_BML
 marionette::Diagnostic diagnostic(marionette::Severity severity, std::string file, std::string message, int line,
                                   int column) {
@@ -119,8 +129,8 @@ void sendFeedback(mn_scene& s, const marionette::bml::Feedback& f) {
 void sendDueBml(mn_scene& s, double until) {
   for (; s.nextBml < s.pendingBml.size() && s.pendingBml[s.nextBml].time <= until + 1e-9; ++s.nextBml) {
     const marionette::TimedFile& f = s.pendingBml[s.nextBml];
-    std::string text;
-    if (marionette::Diagnostics unread; !marionette::readTextFile(f.path, text, unread, "cannot read the BML file")) {
+    std::string text = f.text.value_or(std::string());
+    if (marionette::Diagnostics unread; !f.text && !marionette::readTextFile(f.path, text, unread, "cannot read the BML file")) {
       for (const marionette::Diagnostic& d : unread.items) s.scene.log(marionette::LogLevel::Error, d.format());
       continue;
     }
@@ -190,13 +200,21 @@ mn_scene::mn_scene() {
 
 mn_scene::~mn_scene() { scene.removeListener(&forwarder); }
 
+std::shared_ptr<const marionette::bridge::PaletteBinding> mn_scene::identityPalette(const marionette::Character& c) {
+  auto& shared = identityPalettes[&c.rig()];
+  const marionette::Skeleton& skeleton = c.skeleton();
+  if (!shared || shared->slotCount() != skeleton.jointCount() || shared->report().byName != skeleton.names)
+    shared = std::make_shared<const marionette::bridge::PaletteBinding>(skeleton);
+  return shared;
+}
+
 void mn_scene::syncHandles() {
   const auto& characters = scene.characters();
   while (handles.size() < characters.size()) {
     auto h = std::make_unique<mn_character>();
     h->owner = this;
     h->character = characters[handles.size()].get();
-    h->palette = marionette::bridge::PaletteBinding(h->character->skeleton());
+    h->palette = identityPalette(*h->character);
     if (const auto it = assets.find(h->character->name()); it != assets.end()) h->asset = it->second;
     handles.push_back(std::move(h));
   }
@@ -301,25 +319,46 @@ mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* 
       return fail(scene, MN_ERROR_IO, std::string(asset_path) + ": error: cannot open the character file");
     if (profile_path && !readable(profile_path))
       return fail(scene, MN_ERROR_IO, std::string(profile_path) + ": error: cannot open the character profile");
-    marionette::ImportOptions options;
-    options.loadMeshes = false;  // the runtime needs the skeleton, clips and morph names
-    marionette::ImportResult imported = marionette::importAsset(asset_path, options);
-    if (!imported.ok()) return fail(scene, MN_ERROR_LOAD, imported.diagnostics.format());
-    logWarnings(*scene, imported.diagnostics);
-    auto asset = std::make_shared<marionette::Asset>(std::move(*imported.asset));
-    auto rig = std::make_shared<marionette::Rig>(*asset);
-    if (profile_path) {
-      marionette::CharacterProfileResult p = marionette::loadCharacterProfile(profile_path, *asset);
-      if (!p.diagnostics.ok()) return fail(scene, MN_ERROR_LOAD, p.diagnostics.format());
-      logWarnings(*scene, p.diagnostics);
-      rig->setProfile(std::move(p.profile));
+    // A file this scene loaded already (for a character that still lives) is shared, not read again.
+    std::error_code ec;
+    const std::string key = std::filesystem::absolute(asset_path, ec).lexically_normal().string() + "\n" +
+                            (profile_path ? std::filesystem::absolute(profile_path, ec).lexically_normal().string() : "");
+    mn_asset loaded;
+    if (auto it = scene->loadedFiles.find(key); it != scene->loadedFiles.end()) {
+      loaded.rig = it->second.rig.lock();
+      loaded.asset = it->second.asset.lock();
     }
-    if (!scene->scene.addCharacter(name, rig))
-      return fail(scene, MN_ERROR_INTERNAL, std::string("mn_scene_add_character: the scene refused '") + name + "'");
-    scene->assets.insert_or_assign(name, std::move(asset));
-    scene->syncHandles();
-    if (out) *out = scene->handles.back().get();
-    return MN_OK;
+    if (!loaded.rig || !loaded.asset) {
+      marionette::ImportOptions options;
+      options.loadMeshes = false;
+      std::string warnings;
+      if (const mn_status s = marionette::capi::loadAsset(scene, "mn_scene_add_character", asset_path, nullptr, options,
+                                                         profile_path, loaded, warnings);
+          s != MN_OK)
+        return s;
+      for (std::size_t at = 0, next; at < warnings.size(); at = next + 1) {
+        next = warnings.find('\n', at);
+        if (next == std::string::npos) next = warnings.size();
+        scene->scene.log(marionette::LogLevel::Warning, std::string_view(warnings).substr(at, next - at));
+      }
+      scene->loadedFiles.insert_or_assign(key, mn_scene::LoadedFile{loaded.rig, loaded.asset});
+    }
+    return addCharacter(*scene, "mn_scene_add_character", name, loaded, out);
+  });
+}
+
+mn_status mn_scene_add_character_from_asset(mn_scene* scene, const char* name, mn_asset* asset, mn_character** out) {
+  if (out) *out = nullptr;
+  if (!isLive(scene))
+    return fail(nullptr, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_add_character_from_asset: scene") + notLive(scene));
+  if (!name || !*name) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_character_from_asset: name is NULL or empty");
+  if (!isLive(asset))
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, std::string("mn_scene_add_character_from_asset: asset") + notLive(asset));
+  return inCall(scene, "mn_scene_add_character_from_asset", [&] {
+    if (scene->scene.findCharacter(name))
+      return fail(scene, MN_ERROR_INVALID_ARGUMENT,
+                  std::string("mn_scene_add_character_from_asset: a character named '") + name + "' exists already");
+    return addCharacter(*scene, "mn_scene_add_character_from_asset", name, *asset, out);
   });
 }
 

@@ -1,10 +1,15 @@
 // The C API's registry of live handles (handles.hpp): every entry point asks it, so a
 // destroyed or foreign handle is refused instead of used.
+#include <dlfcn.h>
+
 #include <deque>
+#include <filesystem>
 #include <mutex>
 #include <unordered_set>
+#include <utility>
 
 #include "handles.hpp"
+#include "marionette/core/allocator.hpp"
 
 namespace marionette::capi {
 namespace {
@@ -12,7 +17,7 @@ namespace {
 struct HandleRegistry {
   std::mutex mutex;
   std::unordered_set<const void*> live;
-  std::deque<void*> quarantine;  // destroyed handles' memory, freed kQuarantine destroys later
+  std::deque<std::pair<void*, std::size_t>> quarantine;  // destroyed handles' memory and size, freed kQuarantine destroys later
 };
 HandleRegistry& registry() {
   static HandleRegistry* r = new HandleRegistry();  // never destroyed: handles may outlive static destructors
@@ -21,37 +26,54 @@ HandleRegistry& registry() {
 
 }  // namespace
 
+std::string libraryFolder() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&mn_version), &info) == 0 || !info.dli_fname) return {};
+  std::error_code ec;
+  const std::filesystem::path lib = std::filesystem::absolute(info.dli_fname, ec);
+  return ec ? std::string() : lib.parent_path().string();
+}
+
 void* allocateHandle(std::size_t bytes) {
-  void* handle = ::operator new(bytes);
+  void* handle = runtimeAllocate(bytes);
   HandleRegistry& r = registry();
   try {
     const std::lock_guard lock(r.mutex);
     r.live.insert(handle);
   } catch (...) {
-    ::operator delete(handle);
+    runtimeFree(handle, bytes);
     throw;
   }
   return handle;
 }
 
-void freeHandle(void* handle) noexcept {
+void freeHandle(void* handle, std::size_t bytes) noexcept {
   if (!handle) return;
   HandleRegistry& r = registry();
-  void* expired = nullptr;
+  std::pair<void*, std::size_t> expired{nullptr, 0};
   {
     const std::lock_guard lock(r.mutex);
     r.live.erase(handle);
     try {
-      r.quarantine.push_back(handle);
+      r.quarantine.emplace_back(handle, bytes);
     } catch (...) {  // no memory to hold it back: free it now
-      expired = handle;
+      expired = {handle, bytes};
     }
-    if (!expired && r.quarantine.size() > kQuarantine) {
+    if (!expired.first && r.quarantine.size() > kQuarantine) {
       expired = r.quarantine.front();
       r.quarantine.pop_front();
     }
   }
-  ::operator delete(expired);
+  runtimeFree(expired.first, expired.second);
+}
+
+std::size_t releaseQuarantineIfNoneLive() noexcept {
+  HandleRegistry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  if (!r.live.empty()) return r.live.size();
+  for (const auto& [block, bytes] : r.quarantine) runtimeFree(block, bytes);
+  r.quarantine.clear();
+  return 0;
 }
 
 const char* notLive(const void* handle) noexcept {

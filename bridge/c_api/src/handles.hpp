@@ -11,6 +11,7 @@
 
 #include "marionette/bridge/morph_binding.hpp"
 #include "marionette/bridge/palette_binding.hpp"
+#include "marionette/io/import.hpp"
 #include "marionette/marionette.h"
 #include "marionette/scene/scene.hpp"
 #include "marionette/scene_file/scene_file.hpp"
@@ -24,8 +25,12 @@ namespace marionette::capi {
 // foreign) one. The memory of a destroyed handle is held back (kQuarantine handles)
 // before it is freed, so that a new handle does not soon take a stale one's address.
 inline constexpr std::size_t kQuarantine = 256;
-void* allocateHandle(std::size_t bytes);  // registers it as live
-void freeHandle(void* handle) noexcept;   // no longer live; freed kQuarantine frees later
+// Handles' memory comes from the runtime allocator (mn_set_allocator; core/allocator.hpp).
+void* allocateHandle(std::size_t bytes);                // registers it as live
+void freeHandle(void* handle, std::size_t bytes) noexcept;  // no longer live; freed kQuarantine frees later
+// For mn_set_allocator: how many handles are live; when none is, the quarantined memory is
+// freed now (to the allocator that gave it), so that nothing of the old allocator is held.
+[[nodiscard]] std::size_t releaseQuarantineIfNoneLive() noexcept;
 [[nodiscard]] bool isLive(const void* handle) noexcept;
 // Why a handle was refused, for a message "FUNCTION: NAME" + notLive(handle).
 [[nodiscard]] const char* notLive(const void* handle) noexcept;
@@ -35,10 +40,14 @@ void freeHandle(void* handle) noexcept;   // no longer live; freed kQuarantine f
 // Checked before the struct is read, so that a smaller one is never read past its end.
 [[nodiscard]] std::string badStructSize(const char* call, const char* type, std::size_t given, std::size_t expected);
 
+// The folder of this library's file (found by dladdr; "" when unknown): where the installed
+// joint maps and profiles are looked for (share/marionette/ beside its parent).
+[[nodiscard]] std::string libraryFolder();
+
 // Handles are allocated through the registry.
 struct Registered {
   static void* operator new(std::size_t bytes) { return allocateHandle(bytes); }
-  static void operator delete(void* handle) noexcept { freeHandle(handle); }
+  static void operator delete(void* handle, std::size_t bytes) noexcept { freeHandle(handle, bytes); }
 };
 
 }  // namespace marionette::capi
@@ -46,11 +55,32 @@ struct Registered {
 struct mn_character : marionette::capi::Registered {
   mn_scene* owner = nullptr;
   marionette::Character* character = nullptr;
-  marionette::bridge::PaletteBinding palette;  // identity, bound once
+  // Identity, bound once per skeleton and shared by the characters of one rig (mn_scene::identityPalette).
+  std::shared_ptr<const marionette::bridge::PaletteBinding> palette;
   // What the character was imported from (skeleton, humanoid map, file name; no meshes):
   // the rig keeps only what the runtime needs, a joint map is guessed from the asset.
   std::shared_ptr<const marionette::Asset> asset;
 };
+
+// A loaded character file (mn_asset_load_*): the rig its characters share (skeleton, clips,
+// profile) and the imported asset without meshes (skeleton, humanoid map, file name), from
+// which joint maps are guessed. Characters hold both; releasing the handle drops only its own.
+struct mn_asset : marionette::capi::Registered {
+  std::shared_ptr<const marionette::Rig> rig;
+  std::shared_ptr<const marionette::Asset> asset;
+  std::string warnings;  // the import's and the profile's, one per line (mn_asset_report)
+};
+
+namespace marionette::capi {
+// Loads a character file for mn_asset_load_* and mn_scene_add_character: imported once
+// without meshes, its rig made with the profile at `profilePath` (read through the options'
+// reader), else the installed profile of a known asset, else the guess. `bytes`: the file's
+// content in memory (`path` names it), or null to read `path`. Warnings go to `warnings`,
+// one line each. A failure is recorded on `scene` (or the thread) and its status returned.
+mn_status loadAsset(const mn_scene* scene, const char* call, const std::string& path, const std::string_view* bytes,
+                    const marionette::ImportOptions& options, const char* profilePath, mn_asset& out,
+                    std::string& warnings);
+}  // namespace marionette::capi
 
 // A character bound to an engine's bone and morph order (mn_binding_create). It names
 // its character, which it checks is live on every call.
@@ -71,10 +101,13 @@ class CallbackForwarder final : public marionette::SceneListener {
                 const marionette::speech::Utterance& utterance, std::string_view audioFile, double sceneStart) override;
   void onCharacterChanged(const marionette::Character& character, marionette::ChangeKind kind,
                           std::string_view what) override;
+  void onAnimationEvent(const marionette::Character& character, const marionette::AnimationEvent& event) override;  // c_events.cpp
+  void reserveEventText();  // c_events.cpp: at mn_scene_set_event_callback, so that events allocate nothing
 
  private:
   mn_scene& owner_;
   std::string text_, text2_, text3_;  // NUL-terminated copies of string views, reused (no allocation once grown)
+  std::string eventName_, eventClip_;  // the same for animation events
 };
 
 struct mn_scene : marionette::capi::Registered {
@@ -92,6 +125,13 @@ struct mn_scene : marionette::capi::Registered {
   std::vector<std::unique_ptr<mn_character>> handles;  // one per scene character, in scene order
   // The imported asset of each character by name, for its handle (mn_character::asset).
   std::map<std::string, std::shared_ptr<const marionette::Asset>, std::less<>> assets;
+  // What mn_scene_add_character loaded, by file and profile: a later character of the same
+  // pair shares it while a character made from it lives (weak: removing the last frees it).
+  struct LoadedFile {
+    std::weak_ptr<const marionette::Rig> rig;
+    std::weak_ptr<const marionette::Asset> asset;
+  };
+  std::map<std::string, LoadedFile, std::less<>> loadedFiles;
   std::vector<marionette::TimedFile> pendingBml;       // scene files' "bml" lists, sent by update
   std::size_t nextBml = 0;
   mutable std::string lastError;  // set by failing calls, const ones included
@@ -106,9 +146,17 @@ struct mn_scene : marionette::capi::Registered {
   void* speechUser = nullptr;
   mn_clip_fn clipFn = nullptr;
   void* clipUser = nullptr;
+  mn_animation_event_fn eventFn = nullptr;  // c_events.cpp
+  void* eventUser = nullptr;
 
   // Handles for characters the scene gained (added or loaded from a file).
   void syncHandles();
+  // The identity palette binding of a rig's skeleton, made once for all its characters (a
+  // binding is about 1.5 KiB for a 43-joint skeleton: per character it would be a tenth of
+  // each character's memory). Checked by joint names, so a rig freed and another made at
+  // its address never shares a stale binding.
+  std::shared_ptr<const marionette::bridge::PaletteBinding> identityPalette(const marionette::Character& c);
+  std::map<const marionette::Rig*, std::shared_ptr<const marionette::bridge::PaletteBinding>> identityPalettes;
 };
 
 namespace marionette::capi {

@@ -43,6 +43,13 @@ std::string Clip::validate(std::size_t jointCount) const {
              std::to_string(m.times.size()) + " keys of " + std::to_string(m.targets.size()) + " targets";
   }
   if (!std::isfinite(duration) || duration < 0.0f) return "clip '" + name + "': bad duration";
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const ClipEvent& e = events[i];
+    if (e.name.empty()) return "clip '" + name + "': event " + std::to_string(i) + " has no name";
+    if (!std::isfinite(e.time) || e.time < 0.0f || e.time > duration)
+      return "clip '" + name + "': event " + std::to_string(i) + " ('" + e.name + "') is not within the clip's [0, " +
+             std::to_string(duration) + "] s";
+  }
   return {};
 }
 

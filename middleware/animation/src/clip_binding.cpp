@@ -10,6 +10,7 @@ Clip bindClipByName(const Clip& clip, const Skeleton& from, const Skeleton& to, 
   out.name = clip.name;
   out.duration = clip.duration;
   out.morphTracks = clip.morphTracks;
+  out.events = clip.events;
   int missing = 0;
   for (const JointTrack& jt : clip.tracks) {
     if (jt.joint < 0 || static_cast<std::size_t>(jt.joint) >= from.jointCount()) {

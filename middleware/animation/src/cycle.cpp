@@ -87,6 +87,8 @@ Clip cutClip(const Clip& clip, const Skeleton& skeleton, float start, float end,
     }
   }
   out.updateDuration();
+  for (const ClipEvent& e : clip.events)  // the markers inside the cut, on its time
+    if (e.time >= start && e.time <= end) out.events.push_back({std::min(e.time - start, out.duration), e.name});
   return out;
 }
 

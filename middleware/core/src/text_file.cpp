@@ -3,13 +3,14 @@
 #include <filesystem>
 #include <fstream>
 
+#include "marionette/core/file_reader.hpp"
 #include "marionette/core/limits.hpp"
 
 namespace marionette {
 namespace {
 
 // On failure, `error` says what went wrong, without the path.
-bool readWithin(const std::string& path, std::string& out, std::string& error) {
+bool readFromDisk(const std::string& path, std::uintmax_t maxBytes, std::string& out, std::string& error) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
@@ -18,7 +19,7 @@ bool readWithin(const std::string& path, std::string& out, std::string& error) {
     return false;
   }
   if (!fs::is_regular_file(status)) {
-    error = fs::is_directory(status) ? "is a folder, not a file" : "is not a regular file (a device or a FIFO?)";
+    error = fs::is_directory(status) ? "is a folder, not a regular file" : "is not a regular file (a device or a FIFO?)";
     return false;
   }
   const std::uintmax_t size = fs::file_size(path, ec);
@@ -26,9 +27,8 @@ bool readWithin(const std::string& path, std::string& out, std::string& error) {
     error = "cannot read its size: " + ec.message();
     return false;
   }
-  if (size > limits::kMaxTextFileBytes) {
-    error = std::to_string(size) + " bytes is more than the " + std::to_string(limits::kMaxTextFileBytes >> 20) +
-            " MiB a text file may have (limits::kMaxTextFileBytes)";
+  if (size > maxBytes) {
+    error = std::to_string(size) + " bytes is more than the " + std::to_string(maxBytes) + " this kind of file may have";
     return false;
   }
   std::ifstream in(path, std::ios::binary);
@@ -47,9 +47,51 @@ bool readWithin(const std::string& path, std::string& out, std::string& error) {
 
 }  // namespace
 
+bool readWholeFile(const FileReader& reader, const std::string& path, std::uintmax_t maxBytes, std::string& bytes,
+                   std::string& why) {
+  why.clear();
+  if (!reader) return readFromDisk(path, maxBytes, bytes, why);
+  bool ok = false;
+  try {  // an engine's callback is not ours to trust: an exception from it is a failed read
+    ok = reader(path, bytes, why);
+  } catch (const std::exception& e) {
+    why = std::string("the file reader threw: ") + e.what();
+    ok = false;
+  } catch (...) {
+    why = "the file reader threw";
+    ok = false;
+  }
+  if (!ok) {
+    if (why.empty()) why = "no such file (the file reader could not read it)";
+    bytes.clear();
+    return false;
+  }
+  if (bytes.size() > maxBytes) {
+    why = std::to_string(bytes.size()) + " bytes is more than the " + std::to_string(maxBytes) +
+          " this kind of file may have";
+    bytes.clear();
+    return false;
+  }
+  return true;
+}
+
+bool fileExists(const FileReader& reader, const std::string& path) {
+  if (!reader) {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec);
+  }
+  std::string bytes, why;
+  return readWholeFile(reader, path, limits::kMaxModelFileBytes, bytes, why);
+}
+
 bool readTextFile(const std::string& path, std::string& out, Diagnostics& diagnostics, std::string_view what) {
+  return readTextFile(FileReader{}, path, out, diagnostics, what);
+}
+
+bool readTextFile(const FileReader& reader, const std::string& path, std::string& out, Diagnostics& diagnostics,
+                  std::string_view what) {
   std::string why;
-  if (readWithin(path, out, why)) return true;
+  if (readWholeFile(reader, path, limits::kMaxTextFileBytes, out, why)) return true;
   diagnostics.error(path, what.empty() ? why : std::string(what) + ": " + why);
   return false;
 }

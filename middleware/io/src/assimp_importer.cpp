@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "assimp_conversion.hpp"
+#include "assimp_file_system.hpp"
 #include "file_extension.hpp"
 #include "isolated_call.hpp"
 #include "marionette/core/finite.hpp"
@@ -54,11 +55,7 @@ using detail::lowerExtension;
 // ---------------------------------------------------------------- before reading
 
 // The first `count` whitespace-separated words of a text file, skipping '#' comments.
-std::vector<std::string> firstWords(const std::string& path, std::size_t count) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(4096, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+std::vector<std::string> firstWords(std::string_view head, std::size_t count) {
   auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
   std::vector<std::string> words;
   for (std::size_t i = 0; i < head.size() && words.size() < count;) {
@@ -69,7 +66,7 @@ std::vector<std::string> firstWords(const std::string& path, std::size_t count) 
     } else {
       const std::size_t start = i;
       while (i < head.size() && !space(head[i]) && head[i] != '#') ++i;
-      words.push_back(head.substr(start, i - start));
+      words.emplace_back(head.substr(start, i - start));
     }
   }
   return words;
@@ -86,8 +83,8 @@ std::optional<std::uint64_t> parseCount(const std::string& word) {
 // Assimp's OFF reader allocates (and zero-fills) as many vertices as the header
 // declares before it notices that the file is short, so a 300-byte file declaring
 // 10^11 vertices costs gigabytes and minutes. Refuse counts the file cannot hold.
-bool checkOffCounts(const std::string& path, std::uintmax_t size, Diagnostics& diag) {
-  const std::vector<std::string> words = firstWords(path, 4);
+bool checkOffCounts(const std::string& path, std::string_view head, std::uintmax_t size, Diagnostics& diag) {
+  const std::vector<std::string> words = firstWords(head, 4);
   std::size_t first = 0;  // a header-less OFF starts with the counts
   if (!words.empty() && words[0].size() >= 3 && words[0].compare(words[0].size() - 3, 3, "OFF") == 0) {
     // [ST][C][N][4][n]OFF: the 'n' variant puts a dimension before the counts.
@@ -104,9 +101,10 @@ bool checkOffCounts(const std::string& path, std::uintmax_t size, Diagnostics& d
   return false;
 }
 
-bool checkFile(const std::string& path, Diagnostics& diag) {
+// `bytes`: the file as the engine's reader gave it; null: on disk.
+bool checkFile(const std::string& path, const std::string* bytes, Diagnostics& diag) {
   std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
+  const std::uintmax_t size = bytes ? bytes->size() : fs::file_size(path, ec);
   if (ec) {
     diag.error(path, "cannot read the file: " + ec.message());
     return false;
@@ -116,8 +114,23 @@ bool checkFile(const std::string& path, Diagnostics& diag) {
                          " MiB; model files over 512 MiB are refused (limits::kMaxModelFileBytes)");
     return false;
   }
-  if (lowerExtension(path) == ".off") return checkOffCounts(path, size, diag);
-  return true;
+  if (lowerExtension(path) != ".off") return true;
+  if (bytes) return checkOffCounts(path, std::string_view(*bytes).substr(0, 4096), size, diag);
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return checkOffCounts(path, head, size, diag);
+}
+
+// With an engine's reader, Assimp reads every file through it (the importer owns the
+// handler; the returned pointer lives as long as the importer). Null: the disk.
+assimp_detail::ReaderFileSystem* useReader(Assimp::Importer& importer, const std::string& path,
+                                           const ImportOptions& options) {
+  if (!options.readFile) return nullptr;
+  auto* files = new assimp_detail::ReaderFileSystem(options.readFile, path, options.allowFilesOutsideModelFolder);
+  importer.SetIOHandler(files);
+  return files;
 }
 
 unsigned postProcessFlags(bool meshes) {
@@ -138,14 +151,18 @@ void configure(Assimp::Importer& importer) {
   importer.SetPropertyInteger(AI_CONFIG_PP_LBW_MAX_WEIGHTS, 4);
 }
 
-const aiScene* readScene(Assimp::Importer& importer, const std::string& path, bool meshes, Diagnostics& diag) {
+const aiScene* readScene(Assimp::Importer& importer, const std::string& path, bool meshes, Diagnostics& diag,
+                         const assimp_detail::ReaderFileSystem* files = nullptr) {
   // Post-processing is a second step: a motion-only file has no meshes, and the
   // validator rejects that unless the scene is flagged incomplete first.
   const aiScene* scene = importer.ReadFile(path, 0);
+  if (files)  // what the engine's reader refused or could not give
+    for (const std::string& problem : files->problems()) diag.error(path, problem);
   if (!scene) {
     diag.error(path, std::string("Assimp could not read the file: ") + importer.GetErrorString());
     return nullptr;
   }
+  if (files && !files->problems().empty()) return nullptr;
   if (scene->mNumMeshes == 0) {
     // The importer owns this scene; flagging it is how Assimp marks skeleton- or
     // animation-only data (some readers, e.g. FBX, set the flag themselves).
@@ -233,8 +250,9 @@ bool parsesInIsolation(const std::string& path, const ImportOptions& options, Di
       [&] {
         Assimp::Importer importer;
         configure(importer);
+        const auto* files = useReader(importer, path, options);
         Diagnostics ignored;
-        return readScene(importer, path, options.loadMeshes, ignored) ? 0 : 1;
+        return readScene(importer, path, options.loadMeshes, ignored, files) ? 0 : 1;
       },
       options.parserTimeoutSeconds, options.parserMemoryLimitBytes);
   using Kind = detail::IsolatedOutcome::Kind;
@@ -252,11 +270,21 @@ void importInto(ImportResult& result, const std::string& path, const ImportOptio
     diag.error(path, "ImportOptions::extraScale must be a positive number, got " + std::to_string(options.extraScale));
     return;
   }
-  if (!checkFile(path, diag)) return;
+  std::string bytes;
+  if (options.readFile) {  // the size and header checks on the engine's bytes
+    std::string why;
+    if (!readWholeFile(options.readFile, path, limits::kMaxModelFileBytes, bytes, why)) {
+      diag.error(path, why == "no such file" ? "file does not exist" : why);
+      return;
+    }
+  }
+  if (!checkFile(path, options.readFile ? &bytes : nullptr, diag)) return;
+  bytes = std::string();
   if (options.isolateThirdPartyParsers && !parsesInIsolation(path, options, diag)) return;
   Assimp::Importer importer;
   configure(importer);
-  const aiScene* scene = readScene(importer, path, options.loadMeshes, diag);
+  const auto* files = useReader(importer, path, options);
+  const aiScene* scene = readScene(importer, path, options.loadMeshes, diag, files);
   if (!scene) return;
   Importing im{*scene, path, options, diag, {}, 1.0f, {}, {}, {}};
   convertScene(im);

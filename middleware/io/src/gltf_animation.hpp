@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gltf_animation_events.hpp"
 #include "gltf_skeleton.hpp"
 #include "marionette/animation/clip.hpp"
 
@@ -40,6 +41,7 @@ class ClipBuilder {
                    " channel(s) animate nodes outside the skeleton (e.g. " + outside.example + "); ignored");
     for (auto& [joint, track] : tracks) clip.tracks.push_back(std::move(track));
     clip.updateDuration();
+    readAnimationEvents(ctx_, a, clip);
     return clip;
   }
 
@@ -257,6 +259,9 @@ inline void appendMergedClip(const Context& ctx, std::vector<Clip>& clips) {
   Clip merged;
   merged.name = "merged";
   for (const Clip& clip : clips) merged.tracks.insert(merged.tracks.end(), clip.tracks.begin(), clip.tracks.end());
+  for (const Clip& clip : clips) merged.events.insert(merged.events.end(), clip.events.begin(), clip.events.end());
+  std::stable_sort(merged.events.begin(), merged.events.end(),
+                   [](const ClipEvent& x, const ClipEvent& y) { return x.time < y.time; });
   std::sort(merged.tracks.begin(), merged.tracks.end(),
             [](const JointTrack& x, const JointTrack& y) { return x.joint < y.joint; });
   merged.updateDuration();

@@ -16,6 +16,7 @@
 #include "gltf_animation.hpp"
 #include "gltf_mesh.hpp"
 #include "gltf_vrm.hpp"
+#include "marionette/core/file_reader.hpp"
 #include "marionette/core/finite.hpp"
 #include "marionette/core/limits.hpp"
 #include "marionette/io/import.hpp"
@@ -49,25 +50,13 @@ struct Source {
   std::size_t glbLength = 0;  // bytes the GLB header declares
 };
 
-bool readFile(const std::string& path, Source& src, Diagnostics& diag) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    diag.error(path, std::filesystem::exists(path, ec) ? "is not a regular file" : "file does not exist");
+bool readFile(const std::string& path, const ImportOptions& options, Source& src, Diagnostics& diag) {
+  std::string bytes, why;
+  if (!readWholeFile(options.readFile, path, limits::kMaxModelFileBytes, bytes, why)) {
+    diag.error(path, why == "no such file" ? "file does not exist" : why);
     return false;
   }
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec || size > limits::kMaxModelFileBytes) {
-    diag.error(path, ec ? "cannot determine the file size: " + ec.message()
-                        : "file is " + std::to_string(size >> 20) +
-                              " MiB; model files over 512 MiB are refused (limits::kMaxModelFileBytes)");
-    return false;
-  }
-  std::ifstream in(path, std::ios::binary);
-  src.bytes.resize(static_cast<std::size_t>(size));
-  if (!in || !in.read(reinterpret_cast<char*>(src.bytes.data()), static_cast<std::streamsize>(size))) {
-    diag.error(path, "cannot read the file");
-    return false;
-  }
+  src.bytes.assign(bytes.begin(), bytes.end());
   if (src.bytes.empty()) {
     diag.error(path, "file is empty");
     return false;
@@ -106,8 +95,8 @@ bool splitGlb(const std::string& path, Source& src, Diagnostics& diag) {
   return true;
 }
 
-bool prepareSource(const std::string& path, Source& src, Diagnostics& diag) {
-  if (!readFile(path, src, diag)) return false;
+bool prepareSource(const std::string& path, const ImportOptions& options, Source& src, Diagnostics& diag) {
+  if (!readFile(path, options, src, diag)) return false;
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -182,15 +171,27 @@ void addLines(const std::string& path, const std::string& text, bool error, Diag
 }
 
 // tinygltf's file access for external buffers and images, kept inside the model's
-// folder unless the caller allows more, and to regular files (a FIFO would block).
+// folder unless the caller allows more, and to regular files (a FIFO would block). With an
+// engine's reader (ImportOptions::readFile) the files come from it, the folder compared by
+// path alone (there is no disk to resolve links on), and each file is read once: tinygltf
+// asks whether it exists, then reads it.
 struct FolderGuard {
-  std::filesystem::path root;  // canonical
+  std::filesystem::path root;  // canonical; with a reader, lexically normal
   bool allowOutside = false;
-  std::vector<std::string> refused, notRegular;
+  const FileReader* reader = nullptr;  // null: the disk
+  std::vector<std::string> refused, notRegular, unreadable;
+  std::string lastPath, lastBytes;  // the reader's last file, between exists() and read()
 
   bool permits(const std::string& file) {
     namespace fs = std::filesystem;
     std::error_code ec;
+    if (reader) {
+      if (!allowOutside && !insideFolder(fs::path(file), root)) {
+        refused.push_back(file);
+        return false;
+      }
+      return true;
+    }
     if (!allowOutside) {
       const fs::path resolved = fs::weakly_canonical(fs::path(file), ec);
       if (ec || !insideFolder(resolved, root)) {
@@ -205,15 +206,35 @@ struct FolderGuard {
     }
     return true;
   }
+  bool readThroughReader(const std::string& file) {
+    if (lastPath == file) return true;
+    std::string why;  // the reader gets the path folded, as FileReader promises
+    const std::string folded = std::filesystem::path(file).lexically_normal().generic_string();
+    if (!readWholeFile(*reader, folded, limits::kMaxModelFileBytes, lastBytes, why)) {
+      unreadable.push_back(file + ": " + why);
+      lastPath.clear();
+      return false;
+    }
+    lastPath = file;
+    return true;
+  }
   static bool exists(const std::string& file, void* self) {
-    return static_cast<FolderGuard*>(self)->permits(file) && tinygltf::FileExists(file, nullptr);
+    auto& g = *static_cast<FolderGuard*>(self);
+    if (!g.permits(file)) return false;
+    return g.reader ? g.readThroughReader(file) : tinygltf::FileExists(file, nullptr);
   }
   static bool read(std::vector<unsigned char>* out, std::string* err, const std::string& file, void* self) {
-    if (!static_cast<FolderGuard*>(self)->permits(file)) {
+    auto& g = *static_cast<FolderGuard*>(self);
+    if (!g.permits(file)) {
       if (err) *err += "refused: " + file + "\n";
       return false;
     }
-    return tinygltf::ReadWholeFile(out, err, file, nullptr);
+    if (!g.reader) return tinygltf::ReadWholeFile(out, err, file, nullptr);
+    if (!g.readThroughReader(file)) return false;
+    out->assign(g.lastBytes.begin(), g.lastBytes.end());
+    g.lastPath.clear();
+    g.lastBytes = std::string();
+    return true;
   }
   static std::string expand(const std::string& file, void*) { return file; }  // no ~ or $VAR expansion
   static bool write(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
@@ -227,7 +248,12 @@ bool loadModel(const std::string& path, const Source& src, const ImportOptions& 
   const std::string baseDir = std::filesystem::path(path).parent_path().string();
   FolderGuard guard;
   std::error_code ec;
-  guard.root = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec).parent_path(), ec);
+  if (options.readFile) {
+    guard.reader = &options.readFile;
+    guard.root = std::filesystem::path(path).parent_path().lexically_normal();
+  } else {
+    guard.root = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec).parent_path(), ec);
+  }
   guard.allowOutside = options.allowFilesOutsideModelFolder;
   loader.SetFsCallbacks({&FolderGuard::exists, &FolderGuard::expand, &FolderGuard::read, &FolderGuard::write, &guard});
   const bool ok = src.binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, src.bytes.data(),
@@ -239,6 +265,8 @@ bool loadModel(const std::string& path, const Source& src, const ImportOptions& 
                          "': not read (ImportOptions::allowFilesOutsideModelFolder allows it)");
   for (const std::string& file : guard.notRegular)
     diag.error(path, "'" + file + "' is not a regular file (a device, FIFO or folder): not read");
+  if (!ok)  // what the engine's reader said about a file the model needs
+    for (const std::string& line : guard.unreadable) diag.error(path, "the file reader could not read " + line);
   if (!guard.refused.empty() || !guard.notRegular.empty()) return false;  // tinygltf's own lines add nothing
   addLines(path, warn, false, diag);
   // When tinygltf succeeds, what it still puts in `err` are properties it
@@ -440,7 +468,7 @@ void importInto(const std::string& path, const ImportOptions& options, ImportRes
     return;
   }
   Source src;
-  if (!prepareSource(path, src, diag)) return;
+  if (!prepareSource(path, options, src, diag)) return;
   const std::optional<Json> doc = parseJson(path, src.jsonText, diag);
   if (!doc || !checkDocument(path, *doc, diag)) return;
   tinygltf::Model model;

@@ -243,6 +243,11 @@ void Writer::writeAnimations() {
       continue;
     }
     animations.push_back({{"name", clip.name}, {"samplers", std::move(ch.samplers)}, {"channels", std::move(ch.channels)}});
+    if (!clip.events.empty()) {  // read back by the importer (gltf_animation_events.hpp)
+      Json events = Json::array();
+      for (const ClipEvent& e : clip.events) events.push_back({{"time", e.time}, {"name", e.name}});
+      animations.back()["extras"] = {{"events", std::move(events)}};
+    }
   }
   if (!animations.empty()) doc_["animations"] = std::move(animations);
 }

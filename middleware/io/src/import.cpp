@@ -1,6 +1,7 @@
 #include "marionette/io/import.hpp"
 
 #include "file_extension.hpp"
+#include "marionette/core/limits.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -13,11 +14,11 @@ using detail::lowerExtension;
 ImportResult importAsset(const std::string& path, const ImportOptions& options) {
   ImportResult result;
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
+  if (!options.readFile && !std::filesystem::exists(path, ec)) {  // an engine's reader says so when it reads
     result.diagnostics.error(path, "file does not exist");
     return result;
   }
-  if (std::filesystem::is_directory(path, ec)) {
+  if (!options.readFile && std::filesystem::is_directory(path, ec)) {
     result.diagnostics.error(path, "is a directory, expected a character or motion file");
     return result;
   }
@@ -40,6 +41,27 @@ ImportResult importAsset(const std::string& path, const ImportOptions& options) 
                                      "VRM and VRMA are always supported)");
   return result;
 #endif
+}
+
+ImportResult importAssetFromMemory(std::string_view bytes, const std::string& nameHint, const ImportOptions& options) {
+  const std::string name = std::filesystem::path(nameHint).lexically_normal().generic_string();
+  if (name.empty() || lowerExtension(name).empty()) {
+    ImportResult result;
+    result.diagnostics.error(nameHint.empty() ? "<memory>" : nameHint,
+                             "a file in memory needs a name with an extension (.glb, .gltf, .vrm, .fbx, .bvh, ...): "
+                             "it chooses the format");
+    return result;
+  }
+  // The bytes are the file `name`; the files it names come from the caller's reader or the disk.
+  ImportOptions withBytes = options;
+  withBytes.readFile = [&bytes, &name, &options](const std::string& path, std::string& out, std::string& why) {
+    if (path == name) {
+      out.assign(bytes.data(), bytes.size());
+      return true;
+    }
+    return readWholeFile(options.readFile, path, limits::kMaxModelFileBytes, out, why);
+  };
+  return importAsset(name, withBytes);
 }
 
 }  // namespace marionette

@@ -237,6 +237,8 @@ Clip Retargeter::retargetClip(const Clip& sourceClip, float sampleRate) const {
     }
   }
   out.updateDuration();
+  for (const ClipEvent& e : sourceClip.events)  // the markers travel with the motion
+    if (e.time <= out.duration) out.events.push_back(e);
   return out;
 }
 

@@ -21,6 +21,8 @@
 
 #include "marionette/rig/detail/json_places.hpp"
 #include "limb_guess.hpp"
+#include "profile_blend_spaces.hpp"
+#include "profile_events.hpp"
 #include "profile_guess.hpp"
 #include "profile_skeleton.hpp"
 
@@ -46,11 +48,13 @@ bool isFacsUnit(const std::string& k) {
 
 class ProfileReader : JsonReaderBase {
  public:
-  ProfileReader(const std::string& file, const std::string& text, const Asset& asset, Diagnostics& d)
-      : JsonReaderBase(file, text, d, "ignored, its fields guessed"), asset_(asset), tree_(asset.skeleton) {}
+  ProfileReader(const std::string& file, const std::string& text, const Asset& asset, const FileReader& files,
+                Diagnostics& d)
+      : JsonReaderBase(file, text, d, "ignored, its fields guessed"), asset_(asset), files_(files),
+        tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "comment"});
+    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "comment"});
     const Json& clips = section(doc, "clips");
     unknownKeys(clips, "/clips", {"idle", "walk", "run"});
     if (doc.contains("jointMap") && jointMap(doc["jointMap"], p)) {
@@ -76,6 +80,16 @@ class ProfileReader : JsonReaderBase {
 
     if (!(doc.contains("gestures") && gestures(doc["gestures"], p)))
       p.gestures = guessed.profile.gestures, noteGuessed(guessed, "gestures");
+    if (doc.contains("events")) {
+      const std::size_t n = readProfileEvents(doc["events"], asset_, p, [&](const std::string& at, const std::string& m,
+                                                                          bool atKey) { warn(at, m, atKey); });
+      notes_.push_back("events: " + std::to_string(n) + " on " + std::to_string(p.events.size()) + " clip(s) (profile)");
+    }
+    if (doc.contains("blendSpaces")) {
+      const std::size_t n = readProfileBlendSpaces(doc["blendSpaces"], asset_, p, [&](const std::string& at, const std::string& m,
+                                                                                    bool atKey) { warn(at, m, atKey); });
+      notes_.push_back("blendSpaces: " + std::to_string(n) + " (profile)");
+    }
     p.notes = std::move(notes_);
   }
 
@@ -91,7 +105,7 @@ class ProfileReader : JsonReaderBase {
     }
     const std::filesystem::path given = j.get<std::string>();
     const std::filesystem::path path = given.is_absolute() ? given : std::filesystem::path(file_).parent_path() / given;
-    const retarget::JointMapResult map = retarget::loadJointMap(path.string(), asset_);
+    const retarget::JointMapResult map = retarget::loadJointMap(path.lexically_normal().generic_string(), asset_, files_);
     if (!map.diagnostics.ok()) {
       // One warning here, at "jointMap", with the map's own diagnostics in it (they name the
       // map's file): the profile still loads, with the joints read or guessed.
@@ -422,10 +436,11 @@ class ProfileReader : JsonReaderBase {
 
   std::vector<std::string> notes_;
   const Asset& asset_;
+  const FileReader& files_;  // where the joint map the profile names is read
   Tree tree_;
 };
 
-CharacterProfileResult load(const std::string& path, const Asset& asset) {
+CharacterProfileResult load(const std::string& path, const Asset& asset, const FileReader& files) {
   CharacterProfileResult result;
   Guess guessed = guess(asset);
   auto fallBack = [&] {  // on an error the caller still gets a usable profile: the guess
@@ -435,7 +450,7 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
     return result;
   };
   std::string text;
-  if (!readTextFile(path, text, result.diagnostics, "cannot read the character profile '" + path + "'"))
+  if (!readTextFile(files, path, text, result.diagnostics, "cannot read the character profile '" + path + "'"))
     return fallBack();
   Json doc;
   if (!parseJsonText(path, text, doc, result.diagnostics)) return fallBack();
@@ -443,7 +458,7 @@ CharacterProfileResult load(const std::string& path, const Asset& asset) {
     result.diagnostics.error(path, "expected an object with \"joints\", \"face\", \"clips\" and \"gestures\"", 1, 1);
     return fallBack();
   }
-  ProfileReader reader(path, text, asset, result.diagnostics);
+  ProfileReader reader(path, text, asset, files, result.diagnostics);
   reader.read(doc, result.profile, guessed);
   // In file order, as a reader goes through the file (all are warnings here).
   std::stable_sort(result.diagnostics.items.begin(), result.diagnostics.items.end(),
@@ -496,9 +511,9 @@ CharacterProfile guessCharacterProfile(const Asset& asset) {
   }
 }
 
-CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset) {
+CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset, const FileReader& files) {
   try {
-    return load(path, asset);
+    return load(path, asset, files);
   } catch (const std::exception& e) {  // never throws: a bad profile is a diagnostic
     CharacterProfileResult r;
     r.diagnostics.error(path, std::string("cannot load the character profile: ") + e.what());

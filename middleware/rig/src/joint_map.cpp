@@ -303,10 +303,10 @@ class MapReader : JsonReaderBase {
   std::array<bool, kChainCount> chainListed_{};                 // the file has the chain (maybe [])
 };
 
-JointMapResult load(const std::string& path, const Asset& asset) {
+JointMapResult load(const std::string& path, const Asset& asset, const FileReader& files) {
   JointMapResult r;
   std::string text;
-  if (!readTextFile(path, text, r.diagnostics, "cannot read the joint map '" + path + "'")) return r;
+  if (!readTextFile(files, path, text, r.diagnostics, "cannot read the joint map '" + path + "'")) return r;
   Json doc;
   if (!json_detail::parseJsonText(path, text, doc, r.diagnostics)) return r;
   if (!doc.is_object()) {
@@ -359,9 +359,9 @@ std::string JointMap::canonicalName(int joint) const {
   return {};
 }
 
-JointMapResult loadJointMap(const std::string& path, const Asset& asset) {
+JointMapResult loadJointMap(const std::string& path, const Asset& asset, const FileReader& files) {
   try {
-    return load(path, asset);
+    return load(path, asset, files);
   } catch (const std::exception& e) {  // never throws: a bad map is a diagnostic
     JointMapResult r;
     r.diagnostics.error(path, std::string("cannot load the joint map: ") + e.what());

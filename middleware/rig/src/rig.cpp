@@ -95,6 +95,9 @@ void Rig::setProfile(CharacterProfile profile) {
       break;
     }
   }
+  events_.resize(clips_.size());  // the feet or the profile's events may have changed
+  for (std::size_t c = 0; c < clips_.size(); ++c) updateEvents(c);
+  makeProfileBlendSpaces();
 }
 
 std::shared_ptr<const AnimationClip> Rig::findClip(std::string_view name) const noexcept {
@@ -108,6 +111,8 @@ int Rig::addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string nam
   Clip bound = bindClipByName(clip, clipSkeleton, skeleton_, &unmatched);
   if (!name.empty()) bound.name = std::move(name);
   clips_.push_back(makeAnimationClip(std::move(bound), skeleton_, settings_));
+  events_.resize(clips_.size());
+  updateEvents(clips_.size() - 1);
   return unmatched;
 }
 

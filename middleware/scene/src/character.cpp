@@ -37,7 +37,7 @@ void FrameScratch::reserve(std::size_t joints) {
 Character::State::State(Character& self, std::string name, std::shared_ptr<const Rig> rig)
     : self_(self), name_(std::move(name)), rig_(std::move(rig)) {
   const Skeleton& s = rig_->skeleton();
-  pose_ = s.restPose;
+  pose_.assign(s.restPose.begin(), s.restPose.end());
   buffer_.resize(s.jointCount(), rig_->morphTargets().size());
   morphScratch_.resize(rig_->morphTargets().size());
 }
@@ -76,8 +76,9 @@ bool Character::State::play(int layer, std::shared_ptr<const AnimationClip> clip
     if (scene_) scene_->log(LogLevel::Warning, "play: layer out of range or no clip; nothing started");
     return false;
   }
-  Layer& l = layers_[layer];
+  Layer& l = layers_.ensure(layer);
   const std::size_t n = skeleton().jointCount();
+  l.blend.space.reset();  // a clip replaces a blend space too
   l.clip = std::move(clip);
   l.options = options;
   if (!l.options.jointMask.empty()) l.options.jointMask.resize(n, 0.0f);
@@ -95,6 +96,7 @@ bool Character::State::play(int layer, std::shared_ptr<const AnimationClip> clip
   l.stopping = false;
   l.cursor.reset(l.clip->clip);
   l.rootCursor.reset(l.clip->inPlaceRoot);
+  bindEvents(l);
   if (!scratch_) {  // a character outside a scene blends in its own scratch (allocated here, at command time)
     ownScratch_ = std::make_unique<FrameScratch>();
     scratch_ = ownScratch_.get();
@@ -118,11 +120,17 @@ bool Character::State::play(int layer, std::string_view clipName, const PlayOpti
 }
 
 void Character::State::stop(int layer, float fadeOut) {
-  if (layer < 0 || layer >= kMaxLayers || !layers_[layer].clip) return;
-  Layer& l = layers_[layer];
+  Layer* const found = layers_.find(layer);
+  if (!found || (!found->clip && !found->blend.space)) return;
+  Layer& l = *found;
   if (fadeOut > 0.0f && std::isfinite(fadeOut)) {
     l.stopping = true;
     l.fadeRate = -std::max(l.weight, 1e-6f) / fadeOut;
+    return;
+  }
+  if (l.blend.space) {
+    notify(ChangeKind::ClipStopped, l.blend.space->name());
+    l.blend.space.reset();
     return;
   }
   notify(ChangeKind::ClipStopped, l.clip->clip.name);
@@ -131,12 +139,13 @@ void Character::State::stop(int layer, float fadeOut) {
 
 int Character::State::layerCount() const noexcept {
   int n = 0;
-  for (const Layer& l : layers_) n += l.clip ? 1 : 0;
+  for (const Layer& l : layers_) n += l.clip || l.blend.space ? 1 : 0;
   return n;
 }
 
 double Character::State::layerTime(int layer) const noexcept {
-  return (layer >= 0 && layer < kMaxLayers) ? layers_[layer].time : 0.0;
+  const Layer* const l = layers_.find(layer);
+  return l ? l->time : 0.0;
 }
 
 void Character::State::sampleLayer(Layer& layer, std::span<Transform> out) noexcept {
@@ -153,6 +162,10 @@ void Character::State::blendLayers() noexcept {
   const std::span<Transform> scratch = std::span<Transform>(scratch_->pose).first(rest.size());
   scratch_->accumulator.reset(rest.size());  // no allocation: sized at play time
   for (Layer& l : layers_) {
+    if (l.blend.space) {  // its clips go into the sum one by one, each at its weight in the space
+      accumulateBlendLayer(l, scratch);
+      continue;
+    }
     if (!l.clip || l.options.additive) continue;
     sampleLayer(l, scratch);
     scratch_->accumulator.addNormal(scratch, l.weight, l.options.jointMask, rest);
@@ -192,6 +205,10 @@ void Character::State::update(double dt) noexcept {
   int active = 0;
   Layer* only = nullptr;
   for (Layer& l : layers_) {
+    if (l.blend.space) {  // fades, phase and root motion of a blend space (character_blend.cpp)
+      if (advanceBlendLayer(l, dt, move, turn)) ++active, only = &l;
+      continue;
+    }
     if (!l.clip) continue;
     // Fade.
     if (l.fadeRate != 0.0f) {
@@ -208,6 +225,7 @@ void Character::State::update(double dt) noexcept {
     }
     const double t0 = l.time;
     l.time += dt * l.options.speed;
+    l.eventFrom = t0, l.eventTo = t0 + dt * l.options.speed;
     if (l.options.wrap == WrapMode::Clamp) l.time = std::clamp(l.time, 0.0, static_cast<double>(l.clip->clip.duration));
     l.clipTime = wrapClipTime(l.time, l.clip->clip.duration, l.options.wrap);
     applyRootMotion(l, t0, l.time, l.weight, move, turn);
@@ -215,7 +233,7 @@ void Character::State::update(double dt) noexcept {
     only = &l;
   }
   // Idle fast path: one full-weight, whole-body, normal layer samples straight into the pose.
-  const bool direct = active == 1 && !only->options.additive && only->options.jointMask.empty() && only->weight >= 1.0f;
+  const bool direct = active == 1 && !only->blend.space && !only->options.additive && only->options.jointMask.empty() && only->weight >= 1.0f;
   if (active == 0) {
     std::copy(skeleton().restPose.begin(), skeleton().restPose.end(), pose_.begin());
   } else if (direct) {
@@ -243,6 +261,7 @@ void Character::State::update(double dt) noexcept {
   lastMotion_ = PlacementDelta{position_ - startPosition, wrapAngle(heading_ - startHeading)};
   buffer_.setWorld(worldMatrix());
   buffer_.finishFrame();
+  sendAnimationEvents(dt);
   stats_.activeLayers = active;
   stats_.sampledDirect = direct;
 }

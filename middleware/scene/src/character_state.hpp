@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "blend_layer.hpp"
 #include "frame_scratch.hpp"
 #include "marionette/animation/sampling.hpp"
 #include "marionette/scene/character.hpp"
@@ -19,10 +20,11 @@
 
 namespace marionette {
 
-struct Character::State {
+// Through the runtime allocator, with the buffers below marked so (core/allocator.hpp).
+struct Character::State : RuntimeAllocated {
   State(Character& self, std::string name, std::shared_ptr<const Rig> rig);
 
-  struct Layer {
+  struct Layer : RuntimeAllocated {  // through the runtime allocator, as the state
     std::shared_ptr<const AnimationClip> clip;
     PlayOptions options;
     double time = 0.0;        // clip-local time, unwrapped (loops keep counting)
@@ -31,7 +33,60 @@ struct Character::State {
     float fadeRate = 0.0f;    // weight per second, signed
     bool stopping = false;
     SamplingCursor cursor, rootCursor;
-    std::vector<Transform> reference;  // first frame, for additive layers
+    // The clip's events (the rig's, or its markers alone), and this frame's playhead move
+    // (clip time, unwrapped, before clamping) that sendAnimationEvents crosses.
+    std::shared_ptr<const AnimationEventTrack> events;
+    double eventFrom = 0.0, eventTo = 0.0;
+    RuntimeVector<Transform> reference;  // first frame, for additive layers (runtime allocator)
+    BlendSpaceLayer blend;  // a blend space instead of a clip (then `clip` is null; time = shared phase)
+  };
+  // The clip layers, each made the first time something plays on it (command time): a
+  // character that plays on one layer holds one Layer, not eight (a Layer is a few hundred
+  // bytes; most characters use one or two layers, and 100 characters of one asset should
+  // cost little beyond their poses). Layers never move once made, so a listener that plays
+  // on another layer during the frame leaves every Layer& valid. Iteration visits the made
+  // layers in index order.
+  class LayerSlots {
+   public:
+    [[nodiscard]] Layer* find(int index) const noexcept {
+      return index >= 0 && index < kMaxLayers ? slots_[static_cast<std::size_t>(index)].get() : nullptr;
+    }
+    Layer& ensure(int index) {  // 0 <= index < kMaxLayers, checked by the caller
+      auto& slot = slots_[static_cast<std::size_t>(index)];
+      if (!slot) slot = std::make_unique<Layer>();
+      return *slot;
+    }
+    template <class Slot, class Value>
+    class Iterator {
+     public:
+      Iterator(Slot* at, Slot* end) : at_(at), end_(end) { skip(); }
+      Value& operator*() const noexcept { return **at_; }
+      Iterator& operator++() noexcept {
+        ++at_;
+        skip();
+        return *this;
+      }
+      bool operator!=(const Iterator& o) const noexcept { return at_ != o.at_; }
+
+     private:
+      void skip() noexcept {
+        while (at_ != end_ && !*at_) ++at_;
+      }
+      Slot* at_;
+      Slot* end_;
+    };
+    using Slot = std::unique_ptr<Layer>;
+    auto begin() noexcept { return Iterator<Slot, Layer>(slots_.data(), slots_.data() + kMaxLayers); }
+    auto end() noexcept { return Iterator<Slot, Layer>(slots_.data() + kMaxLayers, slots_.data() + kMaxLayers); }
+    auto begin() const noexcept {
+      return Iterator<const Slot, const Layer>(slots_.data(), slots_.data() + kMaxLayers);
+    }
+    auto end() const noexcept {
+      return Iterator<const Slot, const Layer>(slots_.data() + kMaxLayers, slots_.data() + kMaxLayers);
+    }
+
+   private:
+    std::array<Slot, kMaxLayers> slots_;
   };
   // An entry a controller runs on this frame, and its weight now (the frame's one walk).
   struct ActiveEntry {
@@ -57,6 +112,15 @@ struct Character::State {
   void blendLayers() noexcept;
   void applyRootMotion(const Layer& layer, double t0, double t1, float weight, glm::vec3& move,
                        float& turn) const noexcept;
+  // Blend-space layers (character_blend.cpp).
+  bool playBlend(int layer, std::shared_ptr<const BlendSpace> space, const PlayOptions& options, float x, float y);
+  bool playBlend(int layer, std::string_view name, const PlayOptions& options, float x, float y);
+  bool setBlendParameter(int layer, float x, float y) noexcept;
+  bool advanceBlendLayer(Layer& layer, double dt, glm::vec3& move, float& turn) noexcept;  // false: it stopped
+  void accumulateBlendLayer(Layer& layer, std::span<Transform> scratch) noexcept;
+  // Animation events (character_events.cpp): found at play, sent at the end of update().
+  void bindEvents(Layer& layer);
+  void sendAnimationEvents(double dt) noexcept;
 
   // Behaviors (character_behaviors.cpp).
   BehaviorResult addBehavior(BehaviorRequest request);
@@ -75,7 +139,7 @@ struct Character::State {
   // every character before updating any, so update() itself reads no other
   // character: the result does not depend on update order or threads.
   void resolveExternalTargets() noexcept;
-  [[nodiscard]] std::vector<ActiveEntry>& pass(Controller c) noexcept { return passes_[static_cast<std::size_t>(c)]; }
+  [[nodiscard]] RuntimeVector<ActiveEntry>& pass(Controller c) noexcept { return passes_[static_cast<std::size_t>(c)]; }
   void applyBehaviors(float dt) noexcept;
   bool applyBehaviorClips(std::span<const ActiveEntry> pass) noexcept;  // true if a clip behavior contributed
   bool applyLocomotion(float dt) noexcept;
@@ -108,17 +172,17 @@ struct Character::State {
   Scene* scene_ = nullptr;
   glm::vec3 position_{0.0f};
   float heading_ = 0.0f;
-  std::array<Layer, kMaxLayers> layers_;
-  std::vector<Transform> pose_;
+  LayerSlots layers_;
+  RuntimeVector<Transform> pose_;  // runtime allocator, as the other per-character buffers
   BehaviorTimeline behaviors_;
-  std::array<std::vector<ActiveEntry>, kControllerCount> passes_;  // reserved at addBehavior, filled each frame
+  std::array<RuntimeVector<ActiveEntry>, kControllerCount> passes_;  // reserved at addBehavior, filled each frame
   GazeSettings gazeSettings_;
   PointingSettings pointingSettings_;
   LocomotionSettings locomotionSettings_;
   mutable std::shared_ptr<const LocomotionSet> locomotionSet_;  // made on first use (command time)
   std::unique_ptr<LocomotionController> locomotion_;
   std::uint64_t locomotionOrder_ = 0;  // timeline order of the request it follows; 0 = none yet
-  std::vector<float> morphScratch_;  // one per morph target, for weighted clip morphs
+  RuntimeVector<float> morphScratch_;  // one per morph target, for weighted clip morphs
   double clock_ = 0.0;
   FrameScratch* scratch_ = nullptr;             // the scene's, or ownScratch_ when standalone
   std::unique_ptr<FrameScratch> ownScratch_;

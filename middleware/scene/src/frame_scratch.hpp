@@ -6,12 +6,14 @@
 #include <vector>
 
 #include "marionette/animation/blending.hpp"
+#include "marionette/core/allocator.hpp"
 #include "marionette/core/transform.hpp"
 
 namespace marionette {
 
-struct FrameScratch {
-  std::vector<Transform> pose;
+// Through the runtime allocator, the object and its arrays (core/allocator.hpp).
+struct FrameScratch : RuntimeAllocated {
+  RuntimeVector<Transform> pose;
   BlendAccumulator accumulator;
   void reserve(std::size_t joints);  // grows only
 };

@@ -18,13 +18,13 @@ constexpr int kMaxThreads = 64;
 // Characters taken at a time from the shared index: large enough that the atomic
 // increment is lost in the work (16 RobotExpressive updates take ~25 us), small
 // enough to balance a noisy machine. Scenes of one chunk run on the caller alone.
-constexpr std::size_t kChunk = 16;
+constexpr std::size_t kChunk = Scene::kCharactersPerChunk;  // the parallel-for hook's chunks too
 }  // namespace
 
-struct Scene::Parallel {
+struct Scene::Parallel : RuntimeAllocated {
   // One scratch per worker (the caller uses Scene::scratch_), each reserved to
   // the largest skeleton, so that no two threads blend through the same memory.
-  std::vector<std::unique_ptr<FrameScratch>> scratch;
+  RuntimeVector<std::unique_ptr<FrameScratch>> scratch;
   std::atomic<std::size_t> next{0};  // first character of the next chunk to take
   double dt = 0.0;
   detail::WorkerPool pool;  // declared last: its workers are joined first
@@ -41,6 +41,8 @@ int Scene::threadCount() const noexcept { return parallel_ ? parallel_->pool.par
 void Scene::setThreadCount(int n) {
   if (n == 0) n = static_cast<int>(std::thread::hardware_concurrency());  // 0 when unknown: clamped to 1
   n = std::clamp(n, 1, kMaxThreads);
+  threadsWanted_ = n;
+  if (parallelFor_) n = 1;  // the engine's hook runs the chunks: no worker; the count waits for its removal
   if (n == threadCount()) return;
   parallel_.reset();
   if (n == 1) return;
@@ -74,6 +76,7 @@ Character* Scene::addCharacter(std::string name, std::shared_ptr<const Rig> rig)
   scratch_->reserve(c->skeleton().jointCount());
   if (parallel_)
     for (auto& s : parallel_->scratch) s->reserve(c->skeleton().jointCount());
+  if (parallelFor_) reserveChunkScratch();
   c->state_->scratch_ = scratch_.get();
   forEachListener([&](SceneListener& l) { l.onCharacterCreated(*c); });
   return c;
@@ -144,7 +147,9 @@ void Scene::update(double dt) noexcept {
   // Serial: reads other characters' last frame. After it, a character's update
   // reads only itself, so any order and any thread give the same result.
   for (auto& c : characters_) c->state_->resolveExternalTargets();
-  if (parallel_ && characters_.size() > kChunk) {
+  if (parallelFor_ && characters_.size() > kChunk) {
+    updateHooked(dt);
+  } else if (parallel_ && characters_.size() > kChunk) {
     parallel_->next.store(0, std::memory_order_relaxed);  // published by the pool's mutex
     parallel_->dt = dt;
     lockListeners_ = true;

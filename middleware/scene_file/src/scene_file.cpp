@@ -261,9 +261,9 @@ std::string resolve(const std::string& baseDir, const std::string& path) {
 // A joint map for a scene clip: the file's (resolved against the scene), or the guess.
 std::optional<retarget::JointMap> sceneJointMap(Reader& r, Diagnostics& diags, const std::string& baseDir,
                                                 const std::string& file, const Asset& asset, const std::string& where,
-                                                const std::string& what) {
+                                                const std::string& what, const FileReader& files) {
   retarget::JointMapResult m =
-      file.empty() ? retarget::guessJointMap(asset) : retarget::loadJointMap(resolve(baseDir, file), asset);
+      file.empty() ? retarget::guessJointMap(asset) : retarget::loadJointMap(resolve(baseDir, file), asset, files);
   diags.items.insert(diags.items.end(), m.diagnostics.items.begin(), m.diagnostics.items.end());
   if (!m.diagnostics.ok()) {
     r.fail(where, file.empty() ? "no usable joint map guessed for the " + what + " (see above); name one"
@@ -290,6 +290,7 @@ std::optional<Clip> loadSceneClip(Reader& r, Diagnostics& diags, const std::stri
   ImportOptions mo;
   mo.loadMeshes = false;
   mo.isolateThirdPartyParsers = options.isolateThirdPartyParsers;
+  mo.readFile = options.readFile;
   mo.extraScale = k.retarget ? 1.0f : scale;  // retargeting scales by the legs, whatever the source's units
   ImportResult motion = importAsset(resolve(baseDir, k.file), mo);
   diags.items.insert(diags.items.end(), motion.diagnostics.items.begin(), motion.diagnostics.items.end());
@@ -315,10 +316,10 @@ std::optional<Clip> loadSceneClip(Reader& r, Diagnostics& diags, const std::stri
   if (k.retarget) {
     const auto sourceMap = sceneJointMap(r, diags, baseDir, k.sourceMap, source,
                                          k.where + (k.sourceMap.empty() ? "/retarget" : "/retarget/sourceMap"),
-                                         "source '" + k.file + "'");
+                                         "source '" + k.file + "'", options.readFile);
     const auto targetMap = sceneJointMap(r, diags, baseDir, k.targetMap, target,
                                          k.where + (k.targetMap.empty() ? "/retarget" : "/retarget/targetMap"),
-                                         "character");
+                                         "character", options.readFile);
     if (!sourceMap || !targetMap) return std::nullopt;
     retarget::RetargetOptions ro;
     // A character's rest pose stands on its ground, wherever its origin is
@@ -437,7 +438,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
         if (e.contains("audio") && !r.string(e["audio"], where + "/audio", audio)) continue;
         if (!recorded) recorded = std::make_shared<speech::RecordedSpeech>();
         const std::string error =
-            recorded->addLine(lineText, audio.empty() ? fs::path() : fs::path(resolve(baseDir, audio)), resolve(baseDir, alignment));
+            recorded->addLine(lineText, audio.empty() ? fs::path() : fs::path(resolve(baseDir, audio)), resolve(baseDir, alignment),
+                            options.readFile);
         if (!error.empty()) r.fail(where, error);
       }
     }
@@ -463,6 +465,11 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
         if (e.contains("character") && !r.string(e["character"], where + "/character", t.character)) continue;
         t.path = resolve(baseDir, file);
         t.time = time;
+        if (options.readFile) {  // the engine's files are read now, while its reader is at hand
+          std::string text;
+          if (!readTextFile(options.readFile, t.path, text, result.diagnostics, "cannot read the BML file")) continue;
+          t.text = std::move(text);
+        }
         result.bml.push_back(std::move(t));
       }
       std::stable_sort(result.bml.begin(), result.bml.end(),
@@ -544,6 +551,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     ImportOptions io;
     io.loadMeshes = options.loadMeshes;
     io.isolateThirdPartyParsers = options.isolateThirdPartyParsers;
+    io.readFile = options.readFile;
     io.extraScale = c.scale;
     ImportResult imported = importAsset(resolve(baseDir, c.asset), io);
     diags.items.insert(diags.items.end(), imported.diagnostics.items.begin(), imported.diagnostics.items.end());
@@ -563,7 +571,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
     }
     auto rig = std::make_shared<Rig>(*asset);
     if (!c.profile.empty()) {
-      CharacterProfileResult profile = loadCharacterProfile(resolve(baseDir, c.profile), *asset);
+      CharacterProfileResult profile = loadCharacterProfile(resolve(baseDir, c.profile), *asset, options.readFile);
       diags.items.insert(diags.items.end(), profile.diagnostics.items.begin(), profile.diagnostics.items.end());
       if (!profile.diagnostics.ok()) r.fail("/characters/" + std::to_string(i) + "/profile", "could not load '" + c.profile + "' (see above)");
       rig->setProfile(std::move(profile.profile));
@@ -610,7 +618,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
 
 SceneLoadResult loadSceneFile(const std::string& path, Scene& scene, const SceneLoadOptions& options) {
   std::string text;
-  if (SceneLoadResult r; !readTextFile(path, text, r.diagnostics, "cannot read the scene file")) return r;
+  if (SceneLoadResult r; !readTextFile(options.readFile, path, text, r.diagnostics, "cannot read the scene file"))
+    return r;
   return loadSceneText(text, path, fs::path(path).parent_path().string(), scene, options);
 }
 

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <limits>
 #include <optional>
+#include <span>
 #include <system_error>
 
 #include "marionette/speech/alignment_io.hpp"
@@ -373,21 +374,14 @@ Alignment parseAlignment(std::string_view text, std::string_view sourceName, Ali
 }
 
 Alignment readAlignment(const std::filesystem::path& file, AlignmentFormat format) {
+  return readAlignment(FileReader{}, file, format);
+}
+
+Alignment readAlignment(const FileReader& files, const std::filesystem::path& file, AlignmentFormat format) {
   Alignment out;
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(file, ec);
-  if (ec) {
-    out.error = file.string() + ": cannot read the alignment (" + ec.message() + ")";
-    return out;
-  }
-  if (size > kMaxAlignmentBytes) {
-    out.error = file.string() + ": " + std::to_string(size) + " bytes is too large for an alignment";
-    return out;
-  }
-  std::ifstream in(file, std::ios::binary);
-  std::string text(static_cast<std::size_t>(size), '\0');
-  if (!in || !in.read(text.data(), static_cast<std::streamsize>(text.size()))) {
-    out.error = file.string() + ": cannot read the alignment";
+  std::string text, why;
+  if (!readWholeFile(files, file.generic_string(), kMaxAlignmentBytes, text, why)) {
+    out.error = file.string() + ": cannot read the alignment (" + why + ")";
     return out;
   }
   if (format == AlignmentFormat::Auto) {
@@ -493,17 +487,15 @@ std::string parseFmt(const unsigned char* p, std::uint32_t size, WavFormat& f) {
 
 }  // namespace
 
-std::string readWav(const std::filesystem::path& file, WavAudio& out) {
+std::string readWav(const std::filesystem::path& file, WavAudio& out) { return readWav(FileReader{}, file, out); }
+
+std::string readWav(const FileReader& files, const std::filesystem::path& file, WavAudio& out) {
   out = {};
   const std::string name = file.string();
-  std::error_code ec;
-  const auto fileSize = std::filesystem::file_size(file, ec);
-  if (ec) return name + ": cannot read the WAV file (" + ec.message() + ")";
-  if (fileSize > kMaxWavBytes) return name + ": " + std::to_string(fileSize) + " bytes is too large";
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(fileSize));
-  std::ifstream in(file, std::ios::binary);
-  if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
-    return name + ": cannot read the WAV file";
+  std::string text, why;
+  if (!readWholeFile(files, file.generic_string(), kMaxWavBytes, text, why))
+    return name + ": cannot read the WAV file (" + why + ")";
+  const std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(text.data()), text.size());
 
   if (bytes.size() < 12 || std::memcmp(bytes.data(), "RIFF", 4) != 0 || std::memcmp(bytes.data() + 8, "WAVE", 4) != 0)
     return name + ": not a RIFF/WAVE file";

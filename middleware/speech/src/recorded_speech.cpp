@@ -29,11 +29,11 @@ std::string RecordedSpeech::matchKey(std::string_view text) {
 }
 
 std::string RecordedSpeech::addLine(std::string_view text, const std::filesystem::path& audio,
-                                    const std::filesystem::path& alignment) {
+                                    const std::filesystem::path& alignment, const FileReader& files) {
   WavAudio wav;
   if (!audio.empty())
-    if (std::string error = readWav(audio, wav); !error.empty()) return error;
-  Alignment a = readAlignment(alignment);
+    if (std::string error = readWav(files, audio, wav); !error.empty()) return error;
+  Alignment a = readAlignment(files, alignment);
   if (!a.error.empty()) return a.error;
   return addLine(text, std::move(wav), std::move(a), alignment.string());
 }

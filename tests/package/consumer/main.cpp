@@ -1,8 +1,11 @@
 // Builds a one-joint rig, plays nothing, updates once: proves headers, library
-// and dependencies come through find_package(marionette); and the C API when the package has it.
+// and dependencies come through find_package(marionette); a glTF from memory whose
+// buffer comes through a FileReader; and the C API when the package has it.
 #include <cstdio>
 #include <memory>
+#include <string>
 
+#include <marionette/io/import.hpp>
 #include <marionette/scene/scene.hpp>
 
 #ifdef CONSUMER_HAS_C_API
@@ -16,6 +19,21 @@ int main() {
   auto* c = scene.addCharacter("one", std::make_shared<marionette::Rig>(*asset));
   scene.update(1.0 / 60.0);
   bool ok = c && c->transformBuffer().frame() == 1 && c->transformBuffer().skinning().size() == 16;
+
+  const std::string gltf =
+      R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+      R"("nodes":[{"name":"root","children":[1]},{"name":"tip"}],"buffers":[{"uri":"two.bin","byteLength":4}]})";
+  int reads = 0;
+  marionette::ImportOptions options;
+  options.readFile = [&reads](const std::string& path, std::string& bytes, std::string&) {
+    if (path != "pak/two.bin") return false;
+    ++reads;
+    bytes.assign(4, '\0');
+    return true;
+  };
+  const marionette::ImportResult two = marionette::importAssetFromMemory(gltf, "pak/two.gltf", options);
+  ok = ok && two.ok() && reads == 1 && two.asset->skeleton.jointCount() == 2;
+  if (!two.ok()) std::fprintf(stderr, "%s\n", two.diagnostics.format().c_str());
 #ifdef CONSUMER_HAS_C_API
   ok = ok && c_consumer_ok();
 #endif

@@ -58,4 +58,15 @@ struct MappedRequest {
 [[nodiscard]] MappedRequest toRequest(const Behavior& behavior, const ScheduledBehavior& scheduled,
                                         const std::string& blockId, double blockStart, const Rig& rig);
 
+// SmartBody's <blend name="STATE" x= y= z=>: the blend space of the character's profile
+// named STATE at the point (x, y). `error` when the rig has no such space (naming those it
+// has); `warning` for a value that is not a number (0 used), a z (ignored: spaces have 1 or
+// 2 parameters) or a y given to a 1D space. Empty x or y (SmartBody's "leave it") read as 0.
+struct SmartBodyBlend {
+  std::string name;
+  float x = 0.0f, y = 0.0f;
+  std::string error, warning;
+};
+[[nodiscard]] SmartBodyBlend readSmartBodyBlend(const Behavior& behavior, const Rig& rig);
+
 }  // namespace marionette::bml

@@ -90,6 +90,16 @@ class Realizer {
     replaceBlend_ = std::isfinite(seconds) && seconds >= 0.0 ? seconds : replaceBlend_;
   }
   [[nodiscard]] double replaceBlendSeconds() const noexcept { return replaceBlend_; }
+  // The character layer that SmartBody's <blend name="STATE" x y> plays on (default 0, the
+  // base layer, as SmartBody's states are the base motion): at the behavior's start the
+  // profile's blend space STATE replaces what that layer played, at (x, y); a later <blend>
+  // of the same space moves its parameter point only (its cycle goes on). The space keeps
+  // playing after its block ends, as a SmartBody state does, until another clip or space
+  // takes the layer (Character::stop ends it). docs/blend-spaces.md.
+  void setBlendLayer(int layer) noexcept {
+    blendLayer_ = layer >= 0 && layer < Character::kMaxLayers ? layer : blendLayer_;
+  }
+  [[nodiscard]] int blendLayer() const noexcept { return blendLayer_; }
 
   // Parses and schedules `bmlText` for `character` (the block's characterId
   // when empty) and queues it. Returns the schedule (with its warnings, which are
@@ -155,8 +165,10 @@ class Realizer {
     bool onArrival = false;  // a locomotion's end: fires when the character arrives
     // What passing it does besides feedback: an <event>'s stroke sends its message; BMLA's
     // <bmla:interrupt>/<bmla:activate> start interrupts or activates the `argument` block.
-    enum class Action : std::uint8_t { None, Message, Interrupt, Activate } action = Action::None;
+    // SmartBody's <blend>'s start plays the profile's blend space `argument` at (x, y).
+    enum class Action : std::uint8_t { None, Message, Interrupt, Activate, Blend } action = Action::None;
     std::string argument;
+    float x = 0.0f, y = 0.0f;
   };
   struct Active {
     std::string character, blockId;
@@ -218,6 +230,8 @@ class Realizer {
   std::vector<std::pair<std::string, Dialect>> characterDialects_;  // setDialect(character, ...)
   std::size_t performed_ = 0;  // perform() calls: generated block ids
   double replaceBlend_ = 0.3;
+  int blendLayer_ = 0;  // SmartBody's <blend> (setBlendLayer)
+  void startBlend(const std::string& character, const Event& e);
 };
 
 // Escapes &, <, >, " and ' for XML attribute values.

@@ -22,7 +22,8 @@
  * Threads. A scene, its characters and its callbacks are used from one thread at a
  * time (the caller serializes); different scenes may be used on different threads
  * at once, independently. Callbacks come on the thread that calls mn_scene_update or
- * mn_scene_send_bml, during that call; strings and structs passed to a callback are
+ * mn_scene_send_bml, during that call (with mn_scene_set_parallel_for, clip and log
+ * callbacks may come on the engine's threads, one at a time); strings and structs passed to a callback are
  * valid only during the call. A callback must not add characters to its own scene;
  * mn_scene_update and mn_scene_send_bml on it from a callback are refused
  * (MN_ERROR_INVALID_ARGUMENT). A callback must not throw (C++) or longjmp out.
@@ -87,13 +88,75 @@ MN_API void mn_scene_destroy(mn_scene* scene); /* NULL is a no-op; its character
  * last failure that had no valid scene. Never NULL. */
 MN_API const char* mn_scene_last_error(const mn_scene* scene);
 
+/* ---- assets: a character file loaded once, shared by every character made from it ---- */
+typedef struct mn_asset mn_asset;
+
+/* Where files are read: an engine's packed archive or virtual file system. The library calls
+ * `read_file(user, path, sink)` for every file it reads during a load (the character file, a
+ * glTF's buffers and images, an FBX/OBJ's companion files, the profile and the joint map it
+ * names, a scene file's assets, clips, recorded lines and BML files); the function writes the
+ * file's bytes with mn_file_sink_write (in one or several pieces) and returns nonzero, or
+ * returns 0 when there is no such file. `path` is as the library formed it: the one the caller
+ * gave, or one resolved against the file that names it, '/'-separated. Called on the loading
+ * thread during the load call only; the sink is valid during the call only. */
+typedef struct mn_file_sink mn_file_sink;
+typedef int (*mn_read_file_fn)(void* user, const char* path, mn_file_sink* sink);
+/* Appends bytes to the file being read. MN_ERROR_INVALID_ARGUMENT for a NULL sink or bytes
+ * (with size > 0), or a file past 512 MiB (the load then fails naming the file). */
+MN_API mn_status mn_file_sink_write(mn_file_sink* sink, const void* bytes, size_t size);
+
+/* How a character file is loaded; mn_import_options_default() gives the defaults in brackets. */
+typedef struct mn_import_options {
+  size_t struct_size;           /* sizeof(mn_import_options), as the default sets it (the library checks) */
+  mn_read_file_fn read_file;    /* NULL: the disk [NULL] */
+  void* read_file_user;         /* passed to read_file [NULL] */
+  const char* profile_path;     /* a character profile JSON (docs/character-profiles.md), read through
+                                   read_file; NULL: the installed profile of a known asset (share/
+                                   marionette/profiles, $MARIONETTE_PROFILES), else guessed [NULL] */
+  int isolate;                  /* nonzero: Assimp's formats (FBX, BVH, DAE, ...) are first read in a
+                                   forked child, so that a crash or hang of its readers becomes an
+                                   error; this forks the calling process: for tools, never inside an
+                                   engine [0] */
+  int allow_files_outside_model_folder; /* nonzero: a glTF may name buffers and images outside its
+                                   folder (trusted files only) [0] */
+  float extra_scale;            /* multiplies every length after the file's own unit conversion [1] */
+} mn_import_options;
+MN_API mn_import_options mn_import_options_default(void);
+
+/* Loads a character file (glTF, GLB, VRM; FBX, BVH, DAE, ... through Assimp) once: its skeleton,
+ * clips, morph names and profile, without meshes. `options` NULL: the defaults. Any thread; the
+ * asset is read-only once loaded, so characters of scenes on different threads may share it.
+ * Failures without a scene keep their message per thread: mn_scene_last_error(NULL). */
+MN_API mn_status mn_asset_load_file(const char* path, const mn_import_options* options, mn_asset** out);
+/* The same from bytes in memory (copied; they need not outlive the call). `name_hint` is the
+ * file's name: its extension chooses the format, messages name it, and the files it refers to
+ * are resolved against its folder and read through options->read_file (else the disk). */
+MN_API mn_status mn_asset_load_memory(const void* bytes, size_t size, const char* name_hint,
+                                      const mn_import_options* options, mn_asset** out);
+/* Drops the caller's reference. The asset lives while any character made from it does; the
+ * handle is invalid afterwards (a later call with it is MN_ERROR_INVALID_ARGUMENT). NULL: no-op. */
+MN_API void mn_asset_release(mn_asset* asset);
+MN_API const char* mn_asset_name(const mn_asset* asset); /* the file or name_hint; "" for NULL */
+MN_API size_t mn_asset_joint_count(const mn_asset* asset);
+MN_API size_t mn_asset_clip_count(const mn_asset* asset);
+/* What the load warned about (the file's, the profile's), one line each, and which installed
+ * profile it took; "" when nothing. Valid until the asset is released. Never NULL. */
+MN_API const char* mn_asset_report(const mn_asset* asset);
+/* Adds a character made from a loaded asset as `name` (unique): it shares the asset's skeleton,
+ * clips and profile (about 5 KiB of its own for a 50-joint skeleton, instead of a copy of the
+ * file). The asset handle may be released at once. `out` may be NULL. */
+MN_API mn_status mn_scene_add_character_from_asset(mn_scene* scene, const char* name, mn_asset* asset,
+                                                   mn_character** out);
+
 /* Adds the characters of a scene JSON file (marionette/scene/scene_file.hpp). Its
  * "bml" list is sent by mn_scene_update as the clock reaches each file's time. On
  * an error nothing is added (MN_ERROR_IO, MN_ERROR_LOAD). */
 MN_API mn_status mn_scene_load_file(mn_scene* scene, const char* path);
 /* Loads a character file (glTF, VRM, FBX, ...) and adds it as `name` (unique).
- * `profile_path` is a character profile JSON (docs/character-profiles.md) or NULL
- * for the guessed profile. `out` may be NULL. */
+ * `profile_path` is a character profile JSON (docs/character-profiles.md) or NULL for
+ * the installed profile of a known asset, else the guessed one. A file (and profile)
+ * this scene has loaded already for a character that still exists is not read again:
+ * the characters share it, as with mn_asset. `out` may be NULL. */
 MN_API mn_status mn_scene_add_character(mn_scene* scene, const char* name, const char* asset_path,
                                         const char* profile_path, mn_character** out);
 /* MN_ERROR_NOT_FOUND when the scene has no character of that name. */
@@ -126,6 +189,37 @@ MN_API mn_status mn_scene_wait_for_speech(mn_scene* scene);
  * callbacks come from here. */
 MN_API mn_status mn_scene_update(mn_scene* scene, double dt);
 MN_API double mn_scene_time(const mn_scene* scene); /* seconds; 0 for NULL */
+
+/* ---- engine hooks: the engine's threads and memory (docs/bridge.md) ---- */
+/* A parallel-for on the engine's job system, for a scene's characters. mn_scene_update
+ * splits the characters into chunks of 16 consecutive ones and calls fn(user, task,
+ * context, chunk_count) once, on its own thread. fn must call task(context, i) exactly
+ * once for every i in [0, chunk_count): in any order, on any threads (the calling one
+ * included), at once or one after another; and return only when every task has returned.
+ * Each chunk has scratch of its own and runs under the calling thread's floating-point
+ * environment, so the palettes are bit-identical to an update on one thread. A task never
+ * throws, allocates nothing, and costs about 16 character updates. Callbacks made meanwhile
+ * (clip, log) are serialized and may come on the engine's threads; fn itself must not call
+ * the library. Scenes of at most 16 characters update without calling fn. fn NULL: the
+ * library's own threads again (one, the caller's, through this API). Not from a callback. */
+typedef void (*mn_parallel_task_fn)(void* context, int chunk);
+typedef void (*mn_parallel_for_fn)(void* user, mn_parallel_task_fn task, void* context, int chunk_count);
+MN_API mn_status mn_scene_set_parallel_for(mn_scene* scene, mn_parallel_for_fn fn, void* user);
+
+/* The engine's heap for the runtime: scenes, characters and their state, transform buffers,
+ * pose, layer and blend scratch, bindings, every handle (docs/bridge.md lists what it does not
+ * reach: asset import, rigs and clips, names, the BML realizer, third-party libraries).
+ * alloc_fn returns `size` bytes aligned to `alignment` (a power of two, at least 16), or NULL
+ * when out of memory (the call that allocates then fails with MN_ERROR_OUT_OF_MEMORY);
+ * free_fn gets back every block with the size and alignment it was asked for. Both may be
+ * called from any thread that calls the library, at once. Call it before the first
+ * mn_scene_create, on one thread, while no other thread uses the library: it is refused
+ * (MN_ERROR_INVALID_ARGUMENT) while any handle is alive, and the memory the library holds back
+ * of destroyed handles is freed then (to the allocator that gave it). NULL, NULL restores the
+ * default (operator new). The failure's message: mn_scene_last_error(NULL). */
+typedef void* (*mn_alloc_fn)(void* user, size_t size, size_t alignment);
+typedef void (*mn_free_fn)(void* user, void* block, size_t size, size_t alignment);
+MN_API mn_status mn_set_allocator(mn_alloc_fn alloc_fn, mn_free_fn free_fn, void* user);
 
 /* ---- characters ---- */
 MN_API const char* mn_character_name(const mn_character* character); /* "" for NULL */
@@ -264,6 +358,26 @@ MN_API mn_status mn_character_play(mn_character* character, int layer, const cha
  * nothing playing is not an error. */
 MN_API mn_status mn_character_stop(mn_character* character, int layer, float fade_out);
 
+/* ---- blend spaces: clips blended by a parameter point (docs/blend-spaces.md) ---- */
+/* The blend spaces of the character's rig (its profile's "blendSpaces"), by index
+ * (0..count-1): name (NULL if out of range). */
+MN_API size_t mn_character_blend_space_count(const mn_character* character);
+MN_API const char* mn_character_blend_space_name(const mn_character* character, size_t blend_space);
+/* Plays a blend space of the character's rig by name on a layer (0..7), replacing what played
+ * there, at the parameter point (0, 0) until mn_character_set_blend_parameter moves it (clamped
+ * into the space). `options` as for a clip (NULL: the defaults), except: start_time is the start
+ * phase in cycles, speed scales the phase's rate, loop 0 holds the cycle's end, additive is
+ * refused (MN_ERROR_INVALID_ARGUMENT); root_motion moves the character by the clips' root motion,
+ * weighted. MN_ERROR_NOT_FOUND names the space and lists the rig's. Allocates (what the frame
+ * needs); the clip callback hears it start, with the space's name. */
+MN_API mn_status mn_character_play_blend(mn_character* character, int layer, const char* blend_space,
+                                         const mn_play_options* options);
+/* Moves the parameter point of the blend space playing on `layer` (y is ignored by a 1D space);
+ * the weights change from the next update, at once (smooth the parameter for gradual changes).
+ * No allocation: fine every frame. MN_ERROR_INVALID_ARGUMENT for a layer out of range or that
+ * plays no blend space, or x or y not finite. */
+MN_API mn_status mn_character_set_blend_parameter(mn_character* character, int layer, float x, float y);
+
 /* Removes a character from its scene; its handle is invalid afterwards (a later call with
  * it is MN_ERROR_INVALID_ARGUMENT, never a crash). Not from inside a callback. */
 MN_API mn_status mn_scene_remove_character(mn_scene* scene, mn_character* character);
@@ -361,6 +475,38 @@ MN_API mn_status mn_scene_set_viseme_callback(mn_scene* scene, mn_viseme_fn fn, 
 MN_API mn_status mn_scene_set_log_callback(mn_scene* scene, mn_log_fn fn, void* user);
 MN_API mn_status mn_scene_set_speech_callback(mn_scene* scene, mn_speech_fn fn, void* user);
 MN_API mn_status mn_scene_set_clip_callback(mn_scene* scene, mn_clip_fn fn, void* user);
+
+/* Animation events: a clip layer's playhead crossed a foot contact's start or end, or an
+ * authored marker (glTF animation extras "events", a profile's "events"), once per crossing
+ * and in the order crossed, at the end of the character's update (docs/animation-events.md).
+ * Strings are valid during the call only; threads as the other callbacks. */
+typedef enum mn_animation_event_kind {
+  MN_ANIMATION_EVENT_FOOT_DOWN = 0, /* a foot touched the ground (`foot` says which) */
+  MN_ANIMATION_EVENT_FOOT_UP = 1,   /* a foot lifted off */
+  MN_ANIMATION_EVENT_MARKER = 2,    /* an authored marker; `name` is its name */
+  MN_ANIMATION_EVENT_MIN_ENUM_ = -0x7FFFFFFF - 1, /* not kinds: 32 bits wide (ABI) */
+  MN_ANIMATION_EVENT_MAX_ENUM_ = 0x7FFFFFFF
+} mn_animation_event_kind;
+typedef enum mn_foot_side {
+  MN_FOOT_NONE = 0, /* markers */
+  MN_FOOT_LEFT = 1, /* the character's own left */
+  MN_FOOT_RIGHT = 2,
+  MN_FOOT_MIN_ENUM_ = -0x7FFFFFFF - 1, /* not sides: 32 bits wide (ABI) */
+  MN_FOOT_MAX_ENUM_ = 0x7FFFFFFF
+} mn_foot_side;
+typedef struct mn_animation_event {
+  mn_animation_event_kind kind;
+  mn_foot_side foot;
+  const char* character;
+  const char* name;   /* the marker's; feet: "left_foot_down", "left_foot_up", "right_foot_down", "right_foot_up" */
+  const char* clip;
+  int layer;          /* the layer that plays the clip */
+  float weight;       /* the layer's weight this frame */
+  double clip_time;   /* the event's time in the clip, seconds */
+  double scene_time;  /* when it was crossed, on the scene clock (within the frame) */
+} mn_animation_event;
+typedef void (*mn_animation_event_fn)(void* user, const mn_animation_event* event);
+MN_API mn_status mn_scene_set_event_callback(mn_scene* scene, mn_animation_event_fn fn, void* user);
 
 #ifdef __cplusplus
 }

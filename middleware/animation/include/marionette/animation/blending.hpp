@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "marionette/core/allocator.hpp"
 #include "marionette/core/transform.hpp"
 
 namespace marionette {
@@ -55,8 +56,9 @@ class BlendAccumulator {
 
   std::size_t joints_ = 0;
   std::size_t stride_ = 0;  // joints rounded up to 4
-  std::vector<float> sums_;  // kStreams * stride_
-  std::vector<float> restRotation_;  // 4 * stride_: x, y, z, w streams of the rest pose's rotations
+  // Through the runtime allocator (core/allocator.hpp): a scene's blend scratch holds one.
+  RuntimeVector<float> sums_;  // kStreams * stride_
+  RuntimeVector<float> restRotation_;  // 4 * stride_: x, y, z, w streams of the rest pose's rotations
   const Transform* restOf_ = nullptr;  // the rest pose restRotation_ holds, since reset
 };
 

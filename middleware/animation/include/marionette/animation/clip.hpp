@@ -40,11 +40,20 @@ struct MorphTrack {
   std::vector<float> weights;
 };
 
+// An authored marker on a clip: a name at a clip-local time in [0, duration] (glTF
+// animation extras, a profile's "events"; docs/animation-events.md). Played clips send
+// it to the listeners when their playhead crosses it (animation_events.hpp).
+struct ClipEvent {
+  float time = 0.0f;
+  std::string name;  // not empty
+};
+
 struct Clip {
   std::string name;
   float duration = 0.0f;               // seconds; last key time of any track (0 for a one-key clip)
   std::vector<JointTrack> tracks;      // at most one per joint, sorted by joint index
   std::vector<MorphTrack> morphTracks;
+  std::vector<ClipEvent> events;       // authored markers, in time order
 
   // Empty when valid for a skeleton of `jointCount` joints, else what is wrong.
   [[nodiscard]] std::string validate(std::size_t jointCount) const;

@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "marionette/core/diagnostic.hpp"
+#include "marionette/core/file_reader.hpp"
 
 namespace marionette {
 
@@ -14,5 +15,8 @@ namespace marionette {
 // alone when `what` is empty.
 [[nodiscard]] bool readTextFile(const std::string& path, std::string& out, Diagnostics& diagnostics,
                                 std::string_view what = {});
+// The same through an engine's reader (file_reader.hpp; empty: the disk).
+[[nodiscard]] bool readTextFile(const FileReader& reader, const std::string& path, std::string& out,
+                                Diagnostics& diagnostics, std::string_view what = {});
 
 }  // namespace marionette

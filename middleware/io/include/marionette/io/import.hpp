@@ -5,8 +5,10 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "marionette/core/diagnostic.hpp"
+#include "marionette/core/file_reader.hpp"
 #include "marionette/asset/asset.hpp"
 
 namespace marionette {
@@ -30,6 +32,10 @@ struct ImportOptions {
   // (and below): a uri like "../../etc/passwd" or an absolute path is an error naming
   // it, and nothing of that file is read. True allows any path (trusted files only).
   bool allowFilesOutsideModelFolder = false;
+  // Where the files are read (core/file_reader.hpp): the model and every file it names (a
+  // glTF's buffers and images, an OBJ's materials, ...), through an engine's archive or
+  // virtual file system. Empty: the disk. The folder rule above holds through it, by path.
+  FileReader readFile;
   double parserTimeoutSeconds = 60.0;
   std::size_t parserMemoryLimitBytes = std::size_t{4} << 30;  // 4 GiB of address space
 };
@@ -42,6 +48,13 @@ struct ImportResult {
 
 // Never throws; never returns NaN data (non-finite values are an error naming the place).
 [[nodiscard]] ImportResult importAsset(const std::string& path, const ImportOptions& options = {});
+
+// The same from bytes in memory (a file the engine has read or unpacked). `nameHint` is the
+// file's name: its extension chooses the format, messages name it, and the files it refers
+// to (a .gltf's buffers and images) are resolved against its folder and read through
+// options.readFile (the disk when empty). The bytes are copied; they need not outlive the call.
+[[nodiscard]] ImportResult importAssetFromMemory(std::string_view bytes, const std::string& nameHint,
+                                                 const ImportOptions& options = {});
 
 // The individual importers (importAsset dispatches to them).
 [[nodiscard]] ImportResult importGltf(const std::string& path, const ImportOptions& options);

@@ -6,11 +6,14 @@
 // or guessed from joint, morph and clip names when there is none.
 #pragma once
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "marionette/animation/blend_space.hpp"
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/asset/asset.hpp"
+#include "marionette/core/file_reader.hpp"
 #include "marionette/rig/joint_map.hpp"
 
 namespace marionette {
@@ -46,6 +49,11 @@ struct CharacterProfile {
   std::string idle, walk, run;
   // BML gesture lexemes to clip names (BEAT -> "ThumbsUp", ...).
   std::map<std::string, std::string> gestures;
+  // Blend spaces by clip names (a profile's "blendSpaces"; the Rig makes them: Rig::blendSpaces).
+  std::vector<BlendSpaceDefinition> blendSpaces;
+  // Authored animation events by clip name, beside the clip's own (Clip::events):
+  // the profile's "events" (docs/character-profiles.md, docs/animation-events.md).
+  std::map<std::string, std::vector<ClipEvent>> events;
   // One line per guess made (what was found, or what was missing), for logs and --stats.
   std::vector<std::string> notes;
 };
@@ -66,7 +74,25 @@ void setProfileJoints(CharacterProfile& profile, const retarget::JointMap& map, 
 // joints come from the joint map the file names ("jointMap", relative to the file;
 // docs/character-profiles.md), else from the file's "joints" and "limbs", else from
 // the guessed joint map.
-[[nodiscard]] CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset);
+// Where the installed profiles are, in the order they are searched: $MARIONETTE_PROFILES,
+// share/marionette/profiles beside `binaryFolder`'s parent (a program's or library's
+// folder, installed), then `sourceFolder` (the source tree's assets/profiles). Empty
+// arguments are left out.
+[[nodiscard]] std::vector<std::string> shippedProfileFolders(const std::string& binaryFolder,
+                                                             const std::string& sourceFolder);
+struct ProfileMatch {
+  std::string file;
+  CharacterProfile profile;
+};
+// The installed profile of a known asset: the file named after the asset's file
+// (RobotExpressive.glb: RobotExpressive.json) in the first folder that has one that loads
+// for this asset without a warning. Nothing when none does (the profile is then guessed).
+[[nodiscard]] std::optional<ProfileMatch> findShippedProfile(const Asset& asset,
+                                                               const std::vector<std::string>& folders);
+
+// `files`: where the profile and its joint map are read (core/file_reader.hpp; empty: the disk).
+[[nodiscard]] CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset,
+                                                          const FileReader& files = {});
 
 // Guesses a profile from the asset alone. The body's joints are guessJointMap's;
 // that guess reads joint names in the common conventions

@@ -17,6 +17,7 @@
 
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/asset/asset.hpp"
+#include "marionette/core/file_reader.hpp"
 
 namespace marionette::retarget {
 
@@ -73,7 +74,8 @@ struct JointMapResult {
 // naming them; unknown keys and names the skeleton lacks too; so are clavicles, toes, spine
 // and neck the file does not list ("" / [] says the skeleton has none), and what the topology
 // or the rest pose contradicts (docs/joint-maps.md).
-[[nodiscard]] JointMapResult loadJointMap(const std::string& path, const Asset& asset);
+// `files`: where the map is read (core/file_reader.hpp; empty: the disk).
+[[nodiscard]] JointMapResult loadJointMap(const std::string& path, const Asset& asset, const FileReader& files = {});
 // The map from the asset alone: its VRM humanoid map when it has one, else names and topology.
 // Ambiguities settled by topology are noted (CMU's "LeftShoulder" is the clavicle in one export
 // and the upper arm in another; the hips are the joint the legs and the spine share). Missing

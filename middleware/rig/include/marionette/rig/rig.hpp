@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "marionette/animation/animation_clip.hpp"
+#include "marionette/animation/blend_space.hpp"
+#include "marionette/animation/animation_events.hpp"
 #include "marionette/animation/pose.hpp"
 #include "marionette/asset/asset.hpp"
 #include "marionette/rig/character_profile.hpp"
@@ -72,6 +74,25 @@ class Rig {
   // name). Returns the number of its tracks that found no joint.
   int addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string name = {});
 
+  // Blend spaces (animation/blend_space.hpp): the profile's, made by setProfile with the
+  // rig's clips (a space that cannot be made is left out, with a line in profile().notes),
+  // and those added from code. Add before sharing the rig between characters.
+  [[nodiscard]] const std::vector<std::shared_ptr<const BlendSpace>>& blendSpaces() const noexcept { return blendSpaces_; }
+  [[nodiscard]] std::shared_ptr<const BlendSpace> findBlendSpace(std::string_view name) const noexcept;
+  // A space from a definition: its clips by name from this rig, the feet (and their contact
+  // thresholds, scaled by the leg's length) from the profile's legs. Null with `error` saying
+  // why (blend_space.hpp: unknown clips, duplicate points, a degenerate 2D layout, ...).
+  [[nodiscard]] std::shared_ptr<const BlendSpace> makeBlendSpace(const BlendSpaceDefinition& definition,
+                                                                 std::string& error) const;
+  // Adds a space, replacing one of the same name. False (nothing added) for null.
+  bool addBlendSpace(std::shared_ptr<const BlendSpace> space);
+
+  // The animation events of one of the rig's clips (animation_events.hpp): its feet's
+  // contacts (the profile's leg ends) and its markers (Clip::events, then the profile's
+  // "events" for its name). Made at construction, setProfile and addClip; null for a clip
+  // that is not the rig's. Read-only while shared, like the clips.
+  [[nodiscard]] std::shared_ptr<const AnimationEventTrack> events(const AnimationClip& clip) const noexcept;
+
  private:
   std::string sourcePath_;
   Skeleton skeleton_;
@@ -81,6 +102,18 @@ class Rig {
   PaletteBasis paletteBasis_;
   CharacterProfile profile_;
   RigJoints joints_;
+  std::vector<std::shared_ptr<const BlendSpace>> blendSpaces_;
+  void makeProfileBlendSpaces();  // rig_blend_spaces.cpp
+  // Per clip, as clips_: its events, and the foot contacts found for them with the feet
+  // and leg lengths they were found for (a setProfile naming the same feet reuses them).
+  struct ClipEvents {
+    std::shared_ptr<const AnimationEventTrack> track;
+    int foot[2] = {-1, -1};
+    float leg[2] = {0.0f, 0.0f};
+    std::vector<ContactInterval> contacts[2];
+  };
+  std::vector<ClipEvents> events_;
+  void updateEvents(std::size_t clip);  // rig_events.cpp
 };
 
 }  // namespace marionette

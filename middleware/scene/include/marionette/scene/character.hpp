@@ -13,6 +13,7 @@
 #include "marionette/behavior/gaze.hpp"
 #include "marionette/behavior/locomotion.hpp"
 #include "marionette/behavior/pointing.hpp"
+#include "marionette/core/allocator.hpp"
 #include "marionette/rig/rig.hpp"
 #include "marionette/scene/character_status.hpp"
 #include "marionette/scene/play_options.hpp"
@@ -23,7 +24,8 @@ namespace marionette {
 
 class Scene;
 
-class Character {
+// Made with new (as a Scene does), the object comes from the runtime allocator (core/allocator.hpp).
+class Character : public RuntimeAllocated {
  public:
   static constexpr int kMaxLayers = 8;
 
@@ -62,6 +64,27 @@ class Character {
   void stop(int layer, float fadeOut = 0.0f);
   [[nodiscard]] int layerCount() const noexcept;            // layers in use
   [[nodiscard]] double layerTime(int layer) const noexcept;  // clip-local, unwrapped; 0 for a bad layer
+
+  // Plays a blend space (animation/blend_space.hpp; made by the rig from its profile's
+  // "blendSpaces", or from code) on a layer, replacing what played there, at the parameter
+  // point (x, y) (y unused in 1D; clamped into the space). The options are a clip's, except:
+  // startTime is the start phase (cycles), speed scales the phase's rate, wrap Clamp holds the
+  // cycle's end, additive is refused. layerTime() is then the shared phase in cycles. Root
+  // motion (options.rootMotion) is the clips' root motion at their warped times, weighted.
+  // Returns false (and logs through the scene) for a bad layer, a null or unknown space.
+  // Command time: allocates (what the frame needs, per clip of the space).
+  bool playBlend(int layer, std::shared_ptr<const BlendSpace> space, const PlayOptions& options = {}, float x = 0.0f,
+                 float y = 0.0f);
+  bool playBlend(int layer, std::string_view blendSpaceName, const PlayOptions& options = {}, float x = 0.0f,
+                 float y = 0.0f);
+  // Moves the parameter point of the blend space on `layer`; the weights change from the
+  // next frame, at once (smooth the parameter in the caller for gradual changes). False when
+  // the layer plays no blend space or x or y is not finite. No allocation; any thread that
+  // owns the character between updates.
+  bool setBlendParameter(int layer, float x, float y = 0.0f) noexcept;
+  // The blend space on a layer and its sample weights now (null / empty when it plays none).
+  [[nodiscard]] const BlendSpace* layerBlendSpace(int layer) const noexcept;
+  [[nodiscard]] std::span<const float> layerBlendWeights(int layer) const noexcept;
 
   // Timed behavior requests (behavior_request.hpp): the C++ API an engine uses without
   // BML, and what the BML realizer calls. A request naming a clip is played by the clip

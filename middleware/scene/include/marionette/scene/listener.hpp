@@ -7,6 +7,7 @@
 #pragma once
 #include <string_view>
 
+#include "marionette/scene/animation_event.hpp"
 #include "marionette/speech/utterance.hpp"
 
 namespace marionette {
@@ -46,6 +47,10 @@ class SceneListener {
   // A script's message at a moment of its performance (BML <event message>, SmartBody's
   // <sbm:event>): a game cue, a sound, a camera cut. `time` is the scene time it was due.
   virtual void onMessage(const Character& /*character*/, std::string_view /*message*/, double /*time*/) {}
+  // A clip layer's playhead crossed an event of its clip (a foot down or up, an authored
+  // marker), once per crossing, in the order crossed; sent at the end of the character's
+  // update, so the frame's pose is written. docs/animation-events.md has the rules.
+  virtual void onAnimationEvent(const Character& /*character*/, const AnimationEvent& /*event*/) {}
   virtual void onLog(LogLevel /*level*/, std::string_view /*message*/) {}
 };
 

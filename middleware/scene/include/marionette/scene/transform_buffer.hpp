@@ -17,6 +17,8 @@
 
 #include <glm/glm.hpp>
 
+#include "marionette/core/allocator.hpp"
+
 namespace marionette {
 
 class TransformBuffer {
@@ -50,11 +52,12 @@ class TransformBuffer {
   [[nodiscard]] std::uint64_t hash() const noexcept;
 
  private:
-  static std::span<const float> floats(const std::vector<glm::mat4>& m) noexcept {
+  static std::span<const float> floats(const RuntimeVector<glm::mat4>& m) noexcept {
     return {m.empty() ? nullptr : &m[0][0][0], m.size() * 16};
   }
-  std::vector<glm::mat4> skinning_, model_;
-  std::vector<float> packed_, morphs_;
+  // Through the runtime allocator (core/allocator.hpp): an engine's heap holds them.
+  RuntimeVector<glm::mat4> skinning_, model_;
+  RuntimeVector<float> packed_, morphs_;
   glm::mat4 world_{1.0f};
   std::uint64_t frame_ = 0;
   bool packedEnabled_ = false;

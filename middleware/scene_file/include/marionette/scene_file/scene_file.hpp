@@ -62,6 +62,7 @@
 #pragma once
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -69,6 +70,7 @@
 
 #include "marionette/asset/asset.hpp"
 #include "marionette/core/diagnostic.hpp"
+#include "marionette/core/file_reader.hpp"
 #include "marionette/scene/scene.hpp"
 
 namespace marionette {
@@ -78,10 +80,15 @@ struct SceneLoadOptions {
   // Read Assimp's formats in a forked child first (ImportOptions::isolateThirdPartyParsers):
   // for command-line tools that open files from anywhere; never inside an engine's process.
   bool isolateThirdPartyParsers = false;
+  // Where every file is read: the scene file, its assets (and their buffers), clips, joint
+  // maps, profiles, recorded lines and BML files (ImportOptions::readFile; empty: the disk).
+  // With a reader, the "bml" files are read during the load (TimedFile::text).
+  FileReader readFile;
 };
 
 struct TimedFile {
   std::string path;       // resolved against the scene file
+  std::optional<std::string> text;  // the file's text when read during the load (a FileReader); else read at send time
   double time = 0.0;      // scene time at which to send it
   std::string character;  // empty = the block's characterId or the first character
 };

@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "marionette/core/file_reader.hpp"
 #include "marionette/speech/phoneme.hpp"
 
 namespace marionette::speech {
@@ -30,6 +31,9 @@ struct Alignment {
 
 // Auto picks the format from the extension (.lab, .tsv) and the content.
 [[nodiscard]] Alignment readAlignment(const std::filesystem::path& file, AlignmentFormat format = AlignmentFormat::Auto);
+// The same through an engine's reader (core/file_reader.hpp; empty: the disk).
+[[nodiscard]] Alignment readAlignment(const FileReader& files, const std::filesystem::path& file,
+                                      AlignmentFormat format = AlignmentFormat::Auto);
 [[nodiscard]] Alignment parseAlignment(std::string_view text, std::string_view sourceName,
                                        AlignmentFormat format = AlignmentFormat::Auto);
 
@@ -39,6 +43,7 @@ struct WavAudio {
 };
 // Reads RIFF/WAVE PCM 8/16/24/32-bit and 32-bit float; returns an error text (empty on success).
 [[nodiscard]] std::string readWav(const std::filesystem::path& file, WavAudio& out);
+[[nodiscard]] std::string readWav(const FileReader& files, const std::filesystem::path& file, WavAudio& out);
 // Writes mono 16-bit PCM; returns an error text (empty on success).
 [[nodiscard]] std::string writeWav(const std::filesystem::path& file, std::span<const std::int16_t> samples,
                                    int sampleRate);

@@ -19,10 +19,11 @@ namespace marionette::speech {
 
 class RecordedSpeech final : public SpeechBackend {
  public:
-  // Reads the audio (WAV; an empty path: no audio) and the alignment now.
-  // Returns an error naming the file, or "" when the line was added.
+  // Reads the audio (WAV; an empty path: no audio) and the alignment now, through `files`
+  // (core/file_reader.hpp; empty: the disk). Returns an error naming the file, or "" when
+  // the line was added.
   std::string addLine(std::string_view text, const std::filesystem::path& audio,
-                      const std::filesystem::path& alignment);
+                      const std::filesystem::path& alignment, const FileReader& files = {});
   // The same from data already in memory (`source` names it in messages).
   std::string addLine(std::string_view text, WavAudio audio, Alignment alignment, std::string_view source);
   [[nodiscard]] std::size_t lineCount() const;
