@@ -45,7 +45,7 @@ TEST(SmartBodyBlend, ABlendBlockIsRealizedThroughTheProfileBlendSpace) {
   std::vector<Feedback> feedback;
   r.addFeedbackListener([&](const Feedback& f) { feedback.push_back(f); });
   Character* c = scene.addCharacter("robot", rigWithSpace());
-  const Schedule s = r.perform("<bml xmlns:sbm=\"http://ict.usc.edu\"><blend name=\"mocapWalk\" x=\"0.25\"/></bml>", "robot");
+  const Schedule s = r.perform("<bml id=\"b1\" xmlns:sbm=\"http://ict.usc.edu\"><blend id=\"s\" name=\"mocapWalk\" x=\"0.25\"/></bml>", "robot");
   ASSERT_FALSE(s.failed);
   EXPECT_TRUE(warningsOf(feedback).empty()) << warningsOf(feedback).front().message;
   EXPECT_EQ(c->layerBlendSpace(r.blendLayer()), nullptr);  // not before its start is reached
@@ -59,7 +59,7 @@ TEST(SmartBodyBlend, ABlendBlockIsRealizedThroughTheProfileBlendSpace) {
   const double phase = c->layerTime(0);
   EXPECT_GT(phase, 0.0);
   // The same state again: the point moves, the cycle goes on (no restart).
-  ASSERT_FALSE(r.perform("<bml><blend name=\"mocapWalk\" x=\"1\" y=\"\"/></bml>", "robot").failed);
+  ASSERT_FALSE(r.perform("<bml id=\"b2\"><blend id=\"s\" name=\"mocapWalk\" x=\"1\" y=\"\"/></bml>", "robot").failed);
   step(scene, r, 1);
   EXPECT_FLOAT_EQ(c->layerBlendWeights(0)[1], 1.0f);
   EXPECT_GT(c->layerTime(0), phase);
@@ -70,7 +70,7 @@ TEST(SmartBodyBlend, ABlendBlockIsRealizedThroughTheProfileBlendSpace) {
   EXPECT_NE(c->layerBlendSpace(0), nullptr);
   // Another layer when asked.
   r.setBlendLayer(3);
-  ASSERT_FALSE(r.perform("<bml><blend name=\"mocapWalk\" x=\"0.5\"/></bml>", "robot").failed);
+  ASSERT_FALSE(r.perform("<bml id=\"b3\"><blend id=\"s\" name=\"mocapWalk\" x=\"0.5\"/></bml>", "robot").failed);
   step(scene, r, 1);
   EXPECT_NE(c->layerBlendSpace(3), nullptr);
 }
@@ -81,7 +81,7 @@ TEST(SmartBodyBlend, AnUnknownStateAndAThirdParameterAreSaid) {
   std::vector<Feedback> feedback;
   r.addFeedbackListener([&](const Feedback& f) { feedback.push_back(f); });
   Character* c = scene.addCharacter("robot", rigWithSpace());
-  ASSERT_FALSE(r.perform("<bml><blend id=\"b\" name=\"allLocomotion\" x=\"1\"/></bml>", "robot").failed);
+  ASSERT_FALSE(r.perform("<bml id=\"b1\"><blend id=\"b\" name=\"allLocomotion\" x=\"1\"/></bml>", "robot").failed);
   auto w = warningsOf(feedback);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_EQ(w[0].type, WarningType::CannotCreateBehavior);
@@ -89,7 +89,7 @@ TEST(SmartBodyBlend, AnUnknownStateAndAThirdParameterAreSaid) {
   step(scene, r, 2);
   EXPECT_EQ(c->layerBlendSpace(0), nullptr);
   feedback.clear();
-  ASSERT_FALSE(r.perform("<bml><blend id=\"b\" name=\"mocapWalk\" x=\"0.5\" y=\"2\" z=\"3\"/></bml>", "robot").failed);
+  ASSERT_FALSE(r.perform("<bml id=\"b2\"><blend id=\"b\" name=\"mocapWalk\" x=\"0.5\" y=\"2\" z=\"3\"/></bml>", "robot").failed);
   w = warningsOf(feedback);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_NE(w[0].message.find("z ignored: blend spaces have 1 or 2 parameters"), std::string::npos) << w[0].message;

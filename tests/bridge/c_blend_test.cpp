@@ -94,7 +94,7 @@ TEST(CApiBlendSpaces, TheProfileSpacePlaysAndItsParameterMovesThePose) {
     EXPECT_STREQ(mn_character_blend_space_name(r.robot, 0), "locomotion");
     EXPECT_EQ(mn_character_blend_space_name(r.robot, 1), nullptr);
     ASSERT_EQ(mn_character_play_blend(r.robot, 2, "locomotion", nullptr), MN_OK) << mn_scene_last_error(r.scene);
-    const float x = k == 0 ? 0.0f : k == 1 ? 100.0f : 0.5f;
+    const float x = k == 0 ? 0.0f : k == 1 ? 100.0f : 3.93f;  // clamped to the walk, to the run; between
     for (int f = 0; f < 20; ++f) {
       ASSERT_EQ(mn_character_set_blend_parameter(r.robot, 2, x, 0.0f), MN_OK);
       ASSERT_EQ(mn_scene_update(r.scene, 1.0 / 60.0), MN_OK);

@@ -64,14 +64,7 @@ mn_status mn_character_play_blend(mn_character* character, int layer, const char
                 "mn_character_play_blend: character '" + c.name() + "' has no blend space '" + blend_space + "' (it has " +
                     spaceList(c.rig()) + ")");
   return marionette::capi::guarded(scene, [&] {  // the clip callback hears it start
-    marionette::PlayOptions p;
-    p.weight = o.weight;
-    p.speed = o.speed;
-    p.wrap = o.loop ? marionette::WrapMode::Loop : marionette::WrapMode::Clamp;
-    p.startTime = o.start_time;
-    p.fadeIn = o.fade_in;
-    p.rootMotion = o.root_motion != 0;
-    return c.playBlend(layer, std::move(space), p)
+    return c.playBlend(layer, std::move(space), marionette::capi::toPlayOptions(o))  // additive refused above
                ? MN_OK
                : fail(scene, MN_ERROR_INTERNAL, "mn_character_play_blend: the character refused the blend space");
   });

@@ -72,15 +72,7 @@ mn_status mn_character_play(mn_character* character, int layer, const char* clip
     return fail(scene, MN_ERROR_NOT_FOUND,
                 "mn_character_play: character '" + c.name() + "' has no clip '" + clip + "' (it has " + clipList(c.rig()) + ")");
   return marionette::capi::guarded(scene, [&] {  // the clip callback hears it start
-    marionette::PlayOptions p;
-    p.weight = o.weight;
-    p.speed = o.speed;
-    p.wrap = o.loop ? marionette::WrapMode::Loop : marionette::WrapMode::Clamp;
-    p.startTime = o.start_time;
-    p.fadeIn = o.fade_in;
-    p.additive = o.additive != 0;
-    p.rootMotion = o.root_motion != 0;
-    return c.play(layer, std::move(found), p) ? MN_OK
+    return c.play(layer, std::move(found), marionette::capi::toPlayOptions(o)) ? MN_OK
                                                : fail(scene, MN_ERROR_INTERNAL, "mn_character_play: the character refused the clip");
   });
 }

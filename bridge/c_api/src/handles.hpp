@@ -44,6 +44,19 @@ void freeHandle(void* handle, std::size_t bytes) noexcept;  // no longer live; f
 // joint maps and profiles are looked for (share/marionette/ beside its parent).
 [[nodiscard]] std::string libraryFolder();
 
+// The C play options as the C++ ones (checked by the caller: finite, sizes).
+[[nodiscard]] inline marionette::PlayOptions toPlayOptions(const mn_play_options& o) {
+  marionette::PlayOptions p;
+  p.weight = o.weight;
+  p.speed = o.speed;
+  p.wrap = o.loop ? marionette::WrapMode::Loop : marionette::WrapMode::Clamp;
+  p.startTime = o.start_time;
+  p.fadeIn = o.fade_in;
+  p.additive = o.additive != 0;
+  p.rootMotion = o.root_motion != 0;
+  return p;
+}
+
 // Handles are allocated through the registry.
 struct Registered {
   static void* operator new(std::size_t bytes) { return allocateHandle(bytes); }

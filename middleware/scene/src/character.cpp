@@ -71,18 +71,9 @@ glm::mat4 Character::State::worldMatrix() const noexcept {
   return t.matrix();
 }
 
-bool Character::State::play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options) {
-  if (layer < 0 || layer >= kMaxLayers || !clip) {
-    if (scene_) scene_->log(LogLevel::Warning, "play: layer out of range or no clip; nothing started");
-    return false;
-  }
-  Layer& l = layers_.ensure(layer);
-  const std::size_t n = skeleton().jointCount();
-  l.blend.space.reset();  // a clip replaces a blend space too
-  l.clip = std::move(clip);
+void Character::State::startLayer(Layer& l, const PlayOptions& options, std::size_t joints) {
   l.options = options;
-  if (!l.options.jointMask.empty()) l.options.jointMask.resize(n, 0.0f);
-  l.time = std::isfinite(options.startTime) ? options.startTime : 0.0;
+  if (!l.options.jointMask.empty()) l.options.jointMask.resize(joints, 0.0f);
   const float target = std::isfinite(options.weight) ? std::max(0.0f, options.weight) : 0.0f;
   l.options.weight = target;
   if (!std::isfinite(l.options.speed)) l.options.speed = 1.0f;
@@ -94,6 +85,19 @@ bool Character::State::play(int layer, std::shared_ptr<const AnimationClip> clip
     l.fadeRate = 0.0f;
   }
   l.stopping = false;
+}
+
+bool Character::State::play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options) {
+  if (layer < 0 || layer >= kMaxLayers || !clip) {
+    if (scene_) scene_->log(LogLevel::Warning, "play: layer out of range or no clip; nothing started");
+    return false;
+  }
+  Layer& l = layers_.ensure(layer);
+  const std::size_t n = skeleton().jointCount();
+  l.blend.space.reset();  // a clip replaces a blend space too
+  l.clip = std::move(clip);
+  startLayer(l, options, n);
+  l.time = std::isfinite(options.startTime) ? options.startTime : 0.0;
   l.cursor.reset(l.clip->clip);
   l.rootCursor.reset(l.clip->inPlaceRoot);
   bindEvents(l);

@@ -53,19 +53,7 @@ bool Character::State::playBlend(int layer, std::shared_ptr<const BlendSpace> sp
   Layer& l = layers_.ensure(layer);
   const std::size_t n = s.jointCount(), samples = space->samples().size();
   l.clip.reset();  // the space replaces a clip too
-  l.options = options;
-  if (!l.options.jointMask.empty()) l.options.jointMask.resize(n, 0.0f);
-  const float target = std::isfinite(options.weight) ? std::max(0.0f, options.weight) : 0.0f;
-  l.options.weight = target;
-  if (!std::isfinite(l.options.speed)) l.options.speed = 1.0f;
-  if (options.fadeIn > 0.0f && std::isfinite(options.fadeIn)) {
-    l.weight = 0.0f;
-    l.fadeRate = target / options.fadeIn;
-  } else {
-    l.weight = target;
-    l.fadeRate = 0.0f;
-  }
-  l.stopping = false;
+  startLayer(l, options, n);
   BlendSpaceLayer& b = l.blend;
   b.space = std::move(space);
   b.phase = std::isfinite(options.startTime) ? options.startTime : 0.0;  // a blend's start is a phase (cycles)

@@ -101,6 +101,8 @@ struct Character::State : RuntimeAllocated {
   void setPosition(const glm::vec3& p) noexcept;
   void setHeading(float radians) noexcept;
   [[nodiscard]] glm::mat4 worldMatrix() const noexcept;
+  // The options, weight and fade of a layer something starts on (a clip or a blend space).
+  static void startLayer(Layer& l, const PlayOptions& options, std::size_t joints);
   bool play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options);
   bool play(int layer, std::string_view clipName, const PlayOptions& options);
   void stop(int layer, float fadeOut);

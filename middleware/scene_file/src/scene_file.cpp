@@ -466,9 +466,9 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
         t.path = resolve(baseDir, file);
         t.time = time;
         if (options.readFile) {  // the engine's files are read now, while its reader is at hand
-          std::string text;
-          if (!readTextFile(options.readFile, t.path, text, result.diagnostics, "cannot read the BML file")) continue;
-          t.text = std::move(text);
+          std::string bml;
+          if (!readTextFile(options.readFile, t.path, bml, result.diagnostics, "cannot read the BML file")) continue;
+          t.text = std::move(bml);
         }
         result.bml.push_back(std::move(t));
       }

@@ -16,9 +16,20 @@ int main() {
   auto asset = std::make_shared<marionette::Asset>();
   asset->skeleton.addJoint("root", -1, marionette::Transform{});
   marionette::Scene scene;
-  auto* c = scene.addCharacter("one", std::make_shared<marionette::Rig>(*asset));
+  const auto rig = std::make_shared<marionette::Rig>(*asset);
+  auto* c = scene.addCharacter("one", rig);
   scene.update(1.0 / 60.0);
   bool ok = c && c->transformBuffer().frame() == 1 && c->transformBuffer().skinning().size() == 16;
+  // The scene's work through the engine's parallel-for (here: serial, chunks backwards).
+  for (int i = 0; i < 20; ++i) scene.addCharacter("more" + std::to_string(i), rig);
+  static int chunks = 0;
+  scene.setParallelFor(
+      [](void*, marionette::Scene::ParallelTask task, void* context, int count) {
+        for (int i = count - 1; i >= 0; --i, ++chunks) task(context, i);
+      },
+      nullptr);
+  scene.update(1.0 / 60.0);
+  ok = ok && chunks >= 2 && c->transformBuffer().frame() == 2;
 
   const std::string gltf =
       R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"

@@ -35,7 +35,7 @@ struct ImportOptions {
   // Where the files are read (core/file_reader.hpp): the model and every file it names (a
   // glTF's buffers and images, an OBJ's materials, ...), through an engine's archive or
   // virtual file system. Empty: the disk. The folder rule above holds through it, by path.
-  FileReader readFile;
+  FileReader readFile{};
   double parserTimeoutSeconds = 60.0;
   std::size_t parserMemoryLimitBytes = std::size_t{4} << 30;  // 4 GiB of address space
 };

@@ -83,14 +83,14 @@ struct SceneLoadOptions {
   // Where every file is read: the scene file, its assets (and their buffers), clips, joint
   // maps, profiles, recorded lines and BML files (ImportOptions::readFile; empty: the disk).
   // With a reader, the "bml" files are read during the load (TimedFile::text).
-  FileReader readFile;
+  FileReader readFile{};
 };
 
 struct TimedFile {
   std::string path;       // resolved against the scene file
-  std::optional<std::string> text;  // the file's text when read during the load (a FileReader); else read at send time
   double time = 0.0;      // scene time at which to send it
   std::string character;  // empty = the block's characterId or the first character
+  std::optional<std::string> text{};  // the file's text when read during the load (a FileReader); else read at send time
 };
 
 // A clip a scene file added to a character: where it came from and how it loops.
