@@ -107,36 +107,56 @@ bool PaletteBinding::copy(const TransformBuffer& buffer, std::span<float> out, P
   const PaletteLayout layout = format.layout;
   const std::size_t per = floatsPerBone(layout);
   if (out.size() < floatCount(layout) || buffer.jointCount() != jointCount_) return false;
+  // A buffer that keeps no skinning matrices makes them here, a few joints at a time.
+  const bool make = format.inverseBind && !buffer.skinningStored();
+  if (make && !buffer.skinningMatrices(0, {})) return false;  // no inverse binds to make them with
   const std::span<const glm::mat4> source = format.inverseBind ? buffer.skinningMatrices() : buffer.modelMatrices();
-  for (const Run& run : runs_) {
-    float* dst = out.data() + run.slot * per;
-    if (run.joint < 0) {
-      for (std::size_t k = 0; k < run.count; ++k) writeIdentity(dst + k * per, layout);
+  constexpr std::size_t kMade = 16;
+  glm::mat4 made[kMade];
+  for (const Run& whole : runs_) {
+    if (whole.joint < 0) {
+      float* dst = out.data() + whole.slot * per;
+      for (std::size_t k = 0; k < whole.count; ++k) writeIdentity(dst + k * per, layout);
       continue;
     }
-    const glm::mat4* m = source.data() + run.joint;
-    if (layout == PaletteLayout::Mat4ColumnMajor) {  // glm's own layout: one block per run
-      std::memcpy(dst, &m[0][0][0], run.count * 16 * sizeof(float));
-      continue;
-    }
-    // Transposed: dst[row * 4 + col] = m[col][row], for 4 rows (4x4) or 3 (3x4).
-    const int rows = layout == PaletteLayout::Mat4RowMajor ? 4 : 3;
-    for (std::size_t k = 0; k < run.count; ++k, dst += per) {
-      const float* a = &m[k][0][0];
-#if defined(__SSE2__)  // baseline x86-64: four loads, an in-register transpose, three or four stores
-      __m128 c0 = _mm_loadu_ps(a), c1 = _mm_loadu_ps(a + 4), c2 = _mm_loadu_ps(a + 8), c3 = _mm_loadu_ps(a + 12);
-      _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
-      _mm_storeu_ps(dst, c0);
-      _mm_storeu_ps(dst + 4, c1);
-      _mm_storeu_ps(dst + 8, c2);
-      if (rows == 4) _mm_storeu_ps(dst + 12, c3);
-#else
-      for (int row = 0; row < rows; ++row)
-        for (int col = 0; col < 4; ++col) dst[row * 4 + col] = a[col * 4 + row];
-#endif
+    for (std::size_t done = 0; done < whole.count;) {
+      const Run run{whole.joint + static_cast<int>(done), whole.slot + done,
+                    make ? std::min(kMade, whole.count - done) : whole.count};
+      done += run.count;
+      float* dst = out.data() + run.slot * per;
+      const glm::mat4* m = source.data() + run.joint;
+      if (make) {
+        if (!buffer.skinningMatrices(static_cast<std::size_t>(run.joint), {made, run.count})) return false;
+        m = made;
+      }
+      copyRun(m, run.count, layout, dst);
     }
   }
   return true;
+}
+
+void PaletteBinding::copyRun(const glm::mat4* m, std::size_t count, PaletteLayout layout, float* dst) noexcept {
+  if (layout == PaletteLayout::Mat4ColumnMajor) {  // glm's own layout: one block per run
+    std::memcpy(dst, &m[0][0][0], count * 16 * sizeof(float));
+    return;
+  }
+  // Transposed: dst[row * 4 + col] = m[col][row], for 4 rows (4x4) or 3 (3x4).
+  const std::size_t per = floatsPerBone(layout);
+  const int rows = layout == PaletteLayout::Mat4RowMajor ? 4 : 3;
+  for (std::size_t k = 0; k < count; ++k, dst += per) {
+    const float* a = &m[k][0][0];
+#if defined(__SSE2__)  // baseline x86-64: four loads, an in-register transpose, three or four stores
+    __m128 c0 = _mm_loadu_ps(a), c1 = _mm_loadu_ps(a + 4), c2 = _mm_loadu_ps(a + 8), c3 = _mm_loadu_ps(a + 12);
+    _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+    _mm_storeu_ps(dst, c0);
+    _mm_storeu_ps(dst + 4, c1);
+    _mm_storeu_ps(dst + 8, c2);
+    if (rows == 4) _mm_storeu_ps(dst + 12, c3);
+#else
+    for (int row = 0; row < rows; ++row)
+      for (int col = 0; col < 4; ++col) dst[row * 4 + col] = a[col * 4 + row];
+#endif
+  }
 }
 
 }  // namespace marionette::bridge

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 
 #include "marionette/bridge/palette_binding.hpp"
@@ -228,4 +229,42 @@ TEST(PaletteBinding, RejectsTooSmallOutputAndOtherSkeletonsWithoutWriting) {
   for (float v : out) ASSERT_EQ(v, 7.0f);
   PaletteBinding empty;
   EXPECT_FALSE(empty.copy(c->transformBuffer(), out));  // bound to no skeleton
+}
+
+// A buffer that keeps no skinning matrices (the C API's characters) gives, through the
+// binding, the very bits of one that stores them: every layout, the engine's order, over
+// frames of motion; the packed 3x4 copy too. Its memory is the model matrices alone.
+TEST(PaletteBinding, SkinningMadeOnCopyIsBitIdenticalToStored) {
+  auto stored = makePosed({.spineJoints = 3, .rollSeed = 7});
+  auto made = makePosed({.spineJoints = 3, .rollSeed = 7});
+  const Skeleton& s = made->character->skeleton();
+  TransformBuffer& buffer = made->character->transformBuffer();
+  buffer.setSkinningStored(false, s.inverseBind, &made->character->rig().paletteBasis());
+  ASSERT_FALSE(buffer.skinningStored());
+  EXPECT_TRUE(buffer.skinningMatrices().empty());
+  stored->character->transformBuffer().setPacked3x4(true);
+  buffer.setPacked3x4(true);
+  std::vector<std::string> bones;
+  for (std::size_t j = s.jointCount(); j-- > 0;) bones.push_back(s.names[j]);  // reversed: runs of one
+  const PaletteBinding identity(s), reversed(s, bones);
+  for (int frame = 0; frame < 20; ++frame) {
+    stored->scene.update(1.0 / 30.0);
+    made->scene.update(1.0 / 30.0);
+    const TransformBuffer& a = stored->character->transformBuffer();
+    for (const PaletteBinding* binding : {&identity, &reversed})
+      for (PaletteLayout layout : {PaletteLayout::Mat4ColumnMajor, PaletteLayout::Mat4RowMajor, PaletteLayout::Mat3x4RowMajor}) {
+        std::vector<float> fromStored(binding->floatCount(layout)), fromMade(binding->floatCount(layout));
+        ASSERT_TRUE(binding->copy(a, fromStored, {layout, true}));
+        ASSERT_TRUE(binding->copy(buffer, fromMade, {layout, true}));
+        ASSERT_EQ(0, std::memcmp(fromStored.data(), fromMade.data(), fromStored.size() * sizeof(float)))
+            << "frame " << frame << ", layout " << static_cast<int>(layout);
+      }
+    ASSERT_EQ(a.skinning3x4().size(), buffer.skinning3x4().size());
+    ASSERT_EQ(0, std::memcmp(a.skinning3x4().data(), buffer.skinning3x4().data(), a.skinning3x4().size() * sizeof(float)));
+  }
+  // Inverse binds that do not cover the buffer leave it storing (nothing to make them from).
+  TransformBuffer other;
+  other.resize(4, 0);
+  other.setSkinningStored(false, {}, nullptr);
+  EXPECT_TRUE(other.skinningStored());
 }

@@ -341,7 +341,7 @@ TEST(Allocation, BlendSpaceLayersAllocateNothingPerFrame) {
   const long before = g_allocations.load();
   for (int f = 0; f < 300; ++f) {
     for (std::size_t i = 0; i < characters.size(); ++i)
-      characters[i]->setBlendParameter(static_cast<int>(i % 2), -0.5f + 0.01f * static_cast<float>(f), std::sin(0.1f * f));
+      characters[i]->setBlendParameter(static_cast<int>(i % 2), -0.5f + 0.01f * static_cast<float>(f), std::sin(0.1f * static_cast<float>(f)));
     scene.update(f % 11 == 0 ? 0.5 : 1.0 / 60.0);
   }
   characters[0]->stop(0, 0.5f);  // a fade-out to the end

@@ -215,6 +215,10 @@ void mn_scene::syncHandles() {
     h->owner = this;
     h->character = characters[handles.size()].get();
     h->palette = identityPalette(*h->character);
+    // The palette is made as the engine copies it (mn_character_palette, mn_binding_palette):
+    // the same bits, 64 bytes a joint less per character.
+    const marionette::Rig& rig = h->character->rig();
+    h->character->transformBuffer().setSkinningStored(false, rig.skeleton().inverseBind, &rig.paletteBasis());
     if (const auto it = assets.find(h->character->name()); it != assets.end()) h->asset = it->second;
     handles.push_back(std::move(h));
   }

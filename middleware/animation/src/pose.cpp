@@ -84,6 +84,35 @@ struct LocalToModelArgs {
 }
 
 MARIONETTE_SIMD_KERNEL(localToModel4, LocalToModelArgs, localToModel4Body)
+
+// The palette half of localToModel4Body on stored model matrices: the same operations on the
+// same values (a model matrix is stored from the register it was made in), so the same bits.
+struct PaletteFromModelArgs {
+  std::span<const glm::mat4> model;
+  std::span<const glm::mat4> inverseBind;
+  const PaletteBasis* basis;
+  std::size_t first;
+  std::span<glm::mat4> out;
+};
+
+[[gnu::always_inline]] inline void paletteFromModel4Body(const PaletteFromModelArgs& args) noexcept {
+  const auto& [model, inverseBind, basis, first, out] = args;
+  const bool splat = basis && basis->joints() >= first + out.size();
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const std::size_t j = first + k;
+    const simd4::Mat4 m = simd4::loadMat(model[j]);
+    if (splat) {
+      const float* b = basis->splat.data() + j * 48;
+      simd4::storeMat({splatColumn(m, b), splatColumn(m, b + 12), splatColumn(m, b + 24),
+                       _mm_add_ps(splatColumn(m, b + 36), m.c3)},
+                      out[k]);
+    } else {
+      simd4::storeMat(simd4::affineMultiply(m, simd4::loadMat(inverseBind[j])), out[k]);
+    }
+  }
+}
+
+MARIONETTE_SIMD_KERNEL(paletteFromModel4, PaletteFromModelArgs, paletteFromModel4Body)
 #endif
 
 }  // namespace
@@ -124,6 +153,18 @@ void localToModelAndPalette(const Skeleton& skeleton, std::span<const Transform>
   (void)basis;
   localToModelScalar(skeleton, local, model);
   skinningPalette(model.first(std::min({skeleton.jointCount(), local.size(), model.size()})), skeleton.inverseBind, palette);
+#endif
+}
+
+void paletteFromModel(std::span<const glm::mat4> model, std::span<const glm::mat4> inverseBind,
+                      const PaletteBasis* basis, std::size_t first, std::span<glm::mat4> out) noexcept {
+  if (first > model.size() || first > inverseBind.size()) return;
+  out = out.first(std::min({out.size(), model.size() - first, inverseBind.size() - first}));
+#if MARIONETTE_SIMD4
+  paletteFromModel4({model, inverseBind, basis, first, out});
+#else
+  (void)basis;
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = affineMultiply(model[first + k], inverseBind[first + k]);
 #endif
 }
 

@@ -259,8 +259,9 @@ typedef enum mn_palette_layout {
 
 MN_API size_t mn_palette_floats_per_joint(mn_palette_layout layout); /* 16, 16, 12; 0 if unknown */
 /* Writes every joint's matrix, in the skeleton's order, into `out` (at least
- * joint_count * floats_per_joint floats): skinning matrices (model * inverse bind)
- * when `inverse_bind` is nonzero, else model-space joint matrices. Nothing is
+ * joint_count * floats_per_joint floats): skinning matrices (model * inverse bind, made
+ * as they are copied: a character keeps only its model matrices) when `inverse_bind` is
+ * nonzero, else model-space joint matrices. Nothing is
  * written on error (MN_ERROR_INVALID_ARGUMENT for a NULL or too small buffer). */
 MN_API mn_status mn_character_palette(const mn_character* character, mn_palette_layout layout, int inverse_bind,
                                       float* out, size_t out_floats);

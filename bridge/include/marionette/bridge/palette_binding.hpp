@@ -83,7 +83,9 @@ class PaletteBinding {
   }
 
   // Writes every slot into `out` (at least floatCount(format.layout) floats; more
-  // are left untouched): bound slots from the buffer, unmatched ones as identity.
+  // are left untouched): bound slots from the buffer, unmatched ones as identity. A buffer
+  // that keeps no skinning matrices (TransformBuffer::setSkinningStored) has them made here,
+  // bit for bit as stored ones.
   // Returns false, writing nothing, when `out` is too small or the buffer's joint
   // count is not the bound skeleton's. Per frame: no allocation, no exceptions.
   bool copy(const TransformBuffer& buffer, std::span<float> out, PaletteFormat format = {}) const noexcept;
@@ -96,6 +98,8 @@ class PaletteBinding {
     std::size_t slot, count;
   };
   void buildRuns();
+  // `count` matrices from `m` into `dst` in `layout`.
+  static void copyRun(const glm::mat4* m, std::size_t count, PaletteLayout layout, float* dst) noexcept;
 
   std::vector<int> slotToJoint_;  // -1 = unmatched
   std::vector<Run> runs_;

@@ -55,6 +55,11 @@ struct PaletteBasis {
 };
 void localToModelAndPalette(const Skeleton& skeleton, std::span<const Transform> local, std::span<glm::mat4> model,
                             std::span<glm::mat4> palette, const PaletteBasis* basis = nullptr) noexcept;
+// The palette of joints [first, first + out.size()) from model matrices that
+// localToModelAndPalette stored: bit for bit the palette it would have stored with the same
+// inverse binds and basis (for buffers that keep no palette and make it as it is copied).
+void paletteFromModel(std::span<const glm::mat4> model, std::span<const glm::mat4> inverseBind,
+                      const PaletteBasis* basis, std::size_t first, std::span<glm::mat4> out) noexcept;
 
 // Model-space matrix of one joint, walking up its ancestors (no allocation): for
 // controllers that need a few joints mid-frame, before the full localToModel.

@@ -10,6 +10,11 @@
 //   frame()       counter        Scene::update calls that have written this buffer
 // The spans stay valid (same addresses) until the skeleton changes; an engine may
 // keep the pointers across frames. Reading needs no copy.
+//
+// A buffer may keep no skinning matrices (setSkinningStored(false), what the C API's
+// characters do: 64 bytes a joint less): skinning() and skinningMatrices() are then empty,
+// and skinningMatrices(first, out) makes them from the model matrices, bit for bit what
+// would have been stored. PaletteBinding::copy does that as it copies.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -17,6 +22,7 @@
 
 #include <glm/glm.hpp>
 
+#include "marionette/animation/pose.hpp"
 #include "marionette/core/allocator.hpp"
 
 namespace marionette {
@@ -25,6 +31,15 @@ class TransformBuffer {
  public:
   void resize(std::size_t joints, std::size_t morphs);
   void setPacked3x4(bool enabled);  // fills skinning3x4() from the next frame on
+  // Whether skinning() holds the matrices (true, the default) or they are made on demand from
+  // the model matrices, the inverse binds and their basis (kept by the caller: a Character's
+  // rig; inverse binds for fewer joints than the buffer has leave them stored). Command time.
+  void setSkinningStored(bool stored, std::span<const glm::mat4> inverseBind = {},
+                         const PaletteBasis* basis = nullptr);
+  [[nodiscard]] bool skinningStored() const noexcept { return skinningStored_; }
+  // The skinning matrices of joints [first, first + out.size()), stored or made now. No
+  // allocation; false (nothing written) past the joints.
+  bool skinningMatrices(std::size_t first, std::span<glm::mat4> out) const noexcept;
 
   [[nodiscard]] std::span<const float> skinning() const noexcept { return floats(skinning_); }
   [[nodiscard]] std::span<const float> model() const noexcept { return floats(model_); }
@@ -61,6 +76,9 @@ class TransformBuffer {
   glm::mat4 world_{1.0f};
   std::uint64_t frame_ = 0;
   bool packedEnabled_ = false;
+  bool skinningStored_ = true;
+  std::span<const glm::mat4> inverseBind_;  // when not stored: what skinningMatrices(first, out) multiplies by
+  const PaletteBasis* basis_ = nullptr;
 };
 
 }  // namespace marionette
