@@ -18,22 +18,13 @@
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic_rig.hpp"
+#include "real_rig.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
 using namespace marionette::test;
 
 namespace {
-
-std::shared_ptr<const Rig> robotRig() {
-  static const std::shared_ptr<const Rig> rig = [] {
-    ImportOptions o;
-    o.loadMeshes = false;
-    ImportResult r = importAsset(sharedAsset("characters/RobotExpressive.glb"), o);
-    return r.ok() ? std::make_shared<Rig>(*r.asset) : nullptr;
-  }();
-  return rig;
-}
 
 // What a hook saw: calls, chunks run, and whether an engine thread's own rounding mode
 // survived the tasks it ran.

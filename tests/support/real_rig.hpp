@@ -25,4 +25,16 @@ inline std::shared_ptr<Rig> loadRigWithProfile(const std::string& assetPath, con
   return rig;
 }
 
+// RobotExpressive with the profile guessed from the file, loaded once for the program
+// (skeleton and clips only); nullptr when it cannot be read.
+inline std::shared_ptr<const Rig> robotRig() {
+  static const std::shared_ptr<const Rig> rig = [] {
+    ImportOptions o;
+    o.loadMeshes = false;
+    ImportResult r = importAsset(sharedAsset("characters/RobotExpressive.glb"), o);
+    return r.ok() ? std::make_shared<Rig>(*r.asset) : nullptr;
+  }();
+  return rig;
+}
+
 }  // namespace marionette::test

@@ -71,6 +71,16 @@ glm::mat4 Character::State::worldMatrix() const noexcept {
   return t.matrix();
 }
 
+bool Character::State::fadeLayer(Layer& l, double dt) noexcept {
+  if (l.fadeRate == 0.0f) return false;
+  l.weight += static_cast<float>(l.fadeRate * dt);
+  if (l.fadeRate > 0.0f && l.weight >= l.options.weight) {
+    l.weight = l.options.weight;
+    l.fadeRate = 0.0f;
+  }
+  return l.stopping && l.weight <= 0.0f;
+}
+
 void Character::State::startLayer(Layer& l, const PlayOptions& options, std::size_t joints) {
   l.options = options;
   if (!l.options.jointMask.empty()) l.options.jointMask.resize(joints, 0.0f);
@@ -214,18 +224,10 @@ void Character::State::update(double dt) noexcept {
       continue;
     }
     if (!l.clip) continue;
-    // Fade.
-    if (l.fadeRate != 0.0f) {
-      l.weight += static_cast<float>(l.fadeRate * dt);
-      if (l.fadeRate > 0.0f && l.weight >= l.options.weight) {
-        l.weight = l.options.weight;
-        l.fadeRate = 0.0f;
-      }
-      if (l.stopping && l.weight <= 0.0f) {
-        notify(ChangeKind::ClipStopped, l.clip->clip.name);
-        l.clip.reset();
-        continue;
-      }
+    if (fadeLayer(l, dt)) {
+      notify(ChangeKind::ClipStopped, l.clip->clip.name);
+      l.clip.reset();
+      continue;
     }
     const double t0 = l.time;
     l.time += dt * l.options.speed;

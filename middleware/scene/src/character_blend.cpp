@@ -121,17 +121,10 @@ void clipRootMotion(const RootMotion& rm, double t0, double t1, WrapMode wrap, f
 
 bool Character::State::advanceBlendLayer(Layer& l, double dt, glm::vec3& move, float& turn) noexcept {
   BlendSpaceLayer& b = l.blend;
-  if (l.fadeRate != 0.0f) {
-    l.weight += static_cast<float>(l.fadeRate * dt);
-    if (l.fadeRate > 0.0f && l.weight >= l.options.weight) {
-      l.weight = l.options.weight;
-      l.fadeRate = 0.0f;
-    }
-    if (l.stopping && l.weight <= 0.0f) {
-      notify(ChangeKind::ClipStopped, b.space->name());
-      b.space.reset();
-      return false;
-    }
+  if (fadeLayer(l, dt)) {
+    notify(ChangeKind::ClipStopped, b.space->name());
+    b.space.reset();
+    return false;
   }
   const BlendSpace& space = *b.space;
   const double cycle = space.cycleDuration(b.weights);

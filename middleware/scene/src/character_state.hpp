@@ -103,6 +103,8 @@ struct Character::State : RuntimeAllocated {
   [[nodiscard]] glm::mat4 worldMatrix() const noexcept;
   // The options, weight and fade of a layer something starts on (a clip or a blend space).
   static void startLayer(Layer& l, const PlayOptions& options, std::size_t joints);
+  // Moves a layer's weight along its fade; true when a stopping layer reached 0 (the caller ends it).
+  static bool fadeLayer(Layer& l, double dt) noexcept;
   bool play(int layer, std::shared_ptr<const AnimationClip> clip, const PlayOptions& options);
   bool play(int layer, std::string_view clipName, const PlayOptions& options);
   void stop(int layer, float fadeOut);
