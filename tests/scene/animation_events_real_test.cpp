@@ -35,12 +35,13 @@ struct Heard {
   FootSide side;
   float clipTime;
   double sceneTime;
+  std::string clip;
 };
 
 struct Recorder : SceneListener {
   std::vector<Heard> heard;
   void onAnimationEvent(const Character&, const AnimationEvent& e) override {
-    heard.push_back({std::string(e.name), e.kind, e.side, e.clipTime, e.sceneTime});
+    heard.push_back({std::string(e.name), e.kind, e.side, e.clipTime, e.sceneTime, std::string(e.clip)});
   }
 };
 
@@ -246,4 +247,43 @@ TEST(AnimationEventsOnRealClips, BadEventDataIsNamedWhereItIs) {
   bool scuff = false;
   for (const auto& e : track->events()) scuff = scuff || track->name(e) == "scuff";
   EXPECT_TRUE(scuff);
+}
+
+// A blend-space layer sends its heaviest clip's events: RobotExpressive's profile space
+// "locomotion" (Walking at 3.56, Running at 4.31) between the two, nearer the walk, over 4
+// cycles at 60 Hz: each foot lands once a cycle, left and right alternate, every event names
+// the walk. Past the middle the run leads and its events come instead.
+TEST(AnimationEventsOnRealClips, BlendSpaceLayerSendsItsHeaviestClipsFootsteps) {
+  const std::string path = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(path);
+  auto rig = loadRigWithProfile(path, "RobotExpressive.json");
+  ASSERT_TRUE(rig);
+  const auto space = rig->findBlendSpace("locomotion");
+  ASSERT_TRUE(space) << "the robot's profile names a 'locomotion' blend space";
+  for (const auto& [x, lead] : {std::pair{3.7f, std::string("Walking")}, std::pair{4.2f, std::string("Running")}}) {
+    Scene scene;
+    Recorder recorder;
+    scene.addListener(&recorder);
+    Character* robot = scene.addCharacter("robot", rig);
+    ASSERT_TRUE(robot->playBlend(0, space, {}, x, 0.0f));
+    std::vector<float> weights(space->samples().size());
+    space->weights(x, 0.0f, weights);
+    const double cycle = space->cycleDuration(weights);
+    const int frames = static_cast<int>(std::ceil(cycle * 4 * 60.0));
+    for (int k = 0; k < frames; ++k) scene.update(1.0 / 60.0);
+    int downs[2] = {};
+    FootSide last = FootSide::None;
+    for (const Heard& h : recorder.heard) {
+      if (h.kind != AnimationEventKind::FootDown) continue;
+      const int f = h.side == FootSide::Left ? 0 : 1;
+      ++downs[f];
+      EXPECT_EQ(h.clip, lead) << "at x = " << x;
+      EXPECT_NE(h.side, last) << "two touchdowns of one foot in a row at " << h.sceneTime << " s";
+      last = h.side;
+    }
+    std::printf("x = %.2f (%s leads): %d left and %d right touchdowns over 4 cycles of %.3f s\n", static_cast<double>(x),
+                lead.c_str(), downs[0], downs[1], cycle);
+    for (int f = 0; f < 2; ++f) EXPECT_NEAR(downs[f], 4, 1) << "foot " << f << " at x = " << x;
+    ASSERT_TRUE(robot);
+  }
 }

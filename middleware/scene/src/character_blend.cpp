@@ -69,6 +69,13 @@ bool Character::State::playBlend(int layer, std::shared_ptr<const BlendSpace> sp
   b.x = std::isfinite(x) ? x : 0.0f;
   b.y = std::isfinite(y) ? y : 0.0f;
   b.space->weights(b.x, b.y, b.weights);
+  b.eventTracks.assign(samples, nullptr);  // each sample clip's events, for the frame to send
+  for (std::size_t i = 0; i < samples; ++i) {
+    auto track = rig_->events(*b.space->samples()[i].clip);
+    if (track && !track->empty()) b.eventTracks[i] = std::move(track);
+  }
+  b.eventSample = 0;
+  l.eventFrom = l.eventTo = 0.0;  // nothing crossed before the first update
   if (!scratch_) {  // a character outside a scene blends in its own scratch (allocated here, at command time)
     ownScratch_ = std::make_unique<FrameScratch>();
     scratch_ = ownScratch_.get();
@@ -132,6 +139,14 @@ bool Character::State::advanceBlendLayer(Layer& l, double dt, glm::vec3& move, f
   if (cycle > 0.0) b.phase += dt * static_cast<double>(l.options.speed) / cycle;
   if (l.options.wrap == WrapMode::Clamp) b.phase = std::clamp(b.phase, 0.0, 1.0);
   l.time = b.phase;
+  // The events the heaviest sample's clip crossed, in its own (warped) time.
+  b.eventSample = static_cast<std::size_t>(std::max_element(b.weights.begin(), b.weights.end()) - b.weights.begin());
+  if (b.eventSample < b.eventTracks.size() && b.eventTracks[b.eventSample]) {
+    l.eventFrom = space.clipTime(b.eventSample, p0);
+    l.eventTo = space.clipTime(b.eventSample, b.phase);
+  } else {
+    l.eventFrom = l.eventTo = 0.0;
+  }
   if (l.options.rootMotion && b.phase != p0) {
     const auto samples = space.samples();
     for (std::size_t i = 0; i < samples.size(); ++i)

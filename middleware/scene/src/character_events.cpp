@@ -1,8 +1,10 @@
-// Animation events of the clip layers: the events of a layer's clip found when it starts
-// playing (command time), and those its playhead crossed sent to the listeners at the end
-// of each update (frame time: no allocation). docs/animation-events.md has the rules.
+// Animation events of the clip and blend-space layers: the events of a layer's clip (or of
+// each clip of its space) found when it starts playing (command time), and those its
+// playhead crossed sent to the listeners at the end of each update (frame time: no
+// allocation). A blend layer sends its heaviest clip's. docs/animation-events.md has the rules.
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 #include "character_state.hpp"
 #include "marionette/scene/scene.hpp"
@@ -28,27 +30,37 @@ void Character::State::sendAnimationEvents(double dt) noexcept {
     Layer* const found = layers_.find(index);
     if (!found) continue;
     Layer& l = *found;
-    if (!l.clip || !l.events || l.eventFrom == l.eventTo) continue;
+    if (l.eventFrom == l.eventTo) continue;
+    // What the layer plays: a clip and its events, or a blend space's heaviest sample clip.
+    const auto playing = [&l]() -> std::pair<const AnimationEventTrack*, const AnimationClip*> {
+      if (l.clip) return {l.events.get(), l.clip.get()};
+      const BlendSpaceLayer& b = l.blend;
+      if (!b.space || b.eventSample >= b.eventTracks.size()) return {nullptr, nullptr};
+      return {b.eventTracks[b.eventSample].get(), b.space->samples()[b.eventSample].clip.get()};
+    };
+    const auto [track, clip] = playing();
+    if (!track || !clip) continue;
     const double from = l.eventFrom, to = l.eventTo;
-    const AnimationEventTrack* const track = l.events.get();
-    // A listener may play another clip on this layer: what is being sent is held from the
-    // first crossing on (no reference count is touched on frames that cross nothing), and
-    // the layer's remaining crossings are dropped once its clip changed.
-    std::shared_ptr<const AnimationEventTrack> heldTrack;
-    std::shared_ptr<const AnimationClip> heldClip;
+    // A listener may play another clip (or space) on this layer: what is being sent is held
+    // from the first crossing on (no reference count is touched on frames that cross
+    // nothing), and the layer's remaining crossings are dropped once what it plays changed.
+    std::shared_ptr<const void> heldTrack, heldSource;
     bool replaced = false;
     const std::uint64_t skipped = track->forEachCrossed(
         from, to, l.options.wrap, [&](const AnimationEventTrack::Event& e, double at) {
-          if (replaced || (heldTrack && (l.events != heldTrack || l.clip != heldClip))) {
+          if (replaced || (heldTrack && playing() != std::pair{track, clip})) {
             replaced = true;
             return;
           }
-          if (!heldTrack) heldTrack = l.events, heldClip = l.clip;
+          if (!heldTrack) {
+            heldTrack = l.clip ? std::shared_ptr<const void>(l.events) : l.blend.eventTracks[l.blend.eventSample];
+            heldSource = l.clip ? std::shared_ptr<const void>(l.clip) : std::shared_ptr<const void>(l.blend.space);
+          }
           AnimationEvent event;
           event.kind = e.kind;
           event.side = e.side;
           event.name = track->name(e);
-          event.clip = heldClip->clip.name;
+          event.clip = clip->clip.name;
           event.layer = index;
           event.weight = l.weight;
           event.clipTime = e.time;
@@ -60,7 +72,7 @@ void Character::State::sendAnimationEvents(double dt) noexcept {
       std::snprintf(message, sizeof message,
                     "character '%s' layer %d: clip '%s' looped %llu more times in one update than the %d whose events "
                     "were sent (AnimationEventTrack::kMaxPassesPerFrame); their events were skipped",
-                    name_.c_str(), index, heldClip ? heldClip->clip.name.c_str() : "?",
+                    name_.c_str(), index, clip->clip.name.c_str(),
                     static_cast<unsigned long long>(skipped), AnimationEventTrack::kMaxPassesPerFrame);
       scene_->log(LogLevel::Warning, message);
     }
