@@ -97,6 +97,7 @@ static void on_feedback(void* user, const mn_feedback* f) {
       ++c->warnings;
       fprintf(stderr, "bml warning: %s\n", f->message);
       break;
+    default: break; /* script events (MN_FEEDBACK_EVENT), and kinds of later versions */
   }
 }
 
