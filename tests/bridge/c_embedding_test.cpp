@@ -144,8 +144,13 @@ TEST(CEmbedding, SharedAssetsFromMemoryStartNoProcess) {
   const double addMs = number(out, "added in");
   const double bytesEach = number(out, "ms,");  // "added in T ms, B bytes each"
   ASSERT_TRUE(std::isfinite(loadMs) && std::isfinite(addMs) && std::isfinite(bytesEach)) << out;
+#if defined(__SANITIZE_ADDRESS__)  // ASan's heap: slower by ~15x, and mallinfo2 reports none of it
+  std::printf("(sanitizer build: the load time and memory are bounded in the default build only)\n");
+#else
   EXPECT_LT(loadMs + addMs, 300.0) << out;
+  EXPECT_GT(bytesEach, 0.0) << out;
   EXPECT_LT(bytesEach, 8.0 * 1024.0) << out;  // the bound per extra character
+#endif
   std::ifstream in(trace);
   std::string line, processes;
   while (std::getline(in, line))
