@@ -69,9 +69,9 @@ void runtimeFree(void* block, std::size_t size, std::size_t alignment) noexcept 
   if (auto* free = g_free.load(std::memory_order_acquire)) {
     free(g_user.load(std::memory_order_relaxed), block, size, alignment);
   } else if (alignment > __STDCPP_DEFAULT_NEW_ALIGNMENT__) {
-    ::operator delete(block, size, std::align_val_t(alignment));
+    ::operator delete(block, std::align_val_t(alignment));  // unsized: clang needs -fsized-deallocation for the sized ones
   } else {
-    ::operator delete(block, size);
+    ::operator delete(block);
   }
 }
 
