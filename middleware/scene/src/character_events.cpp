@@ -38,7 +38,9 @@ void Character::State::sendAnimationEvents(double dt) noexcept {
       if (!b.space || b.eventSample >= b.eventTracks.size()) return {nullptr, nullptr};
       return {b.eventTracks[b.eventSample].get(), b.space->samples()[b.eventSample].clip.get()};
     };
-    const auto [track, clip] = playing();
+    const auto current = playing();  // not a structured binding: lambdas capture it (clang 14)
+    const AnimationEventTrack* const track = current.first;
+    const AnimationClip* const clip = current.second;
     if (!track || !clip) continue;
     const double from = l.eventFrom, to = l.eventTo;
     // A listener may play another clip (or space) on this layer: what is being sent is held
