@@ -124,10 +124,11 @@ bool PaletteBinding::copy(const TransformBuffer& buffer, std::span<float> out, P
                     make ? std::min(kMade, whole.count - done) : whole.count};
       done += run.count;
       float* dst = out.data() + run.slot * per;
-      const glm::mat4* m = source.data() + run.joint;
+      const glm::mat4* m = made;  // made here, or read from the buffer (never an offset into an empty span)
       if (make) {
         if (!buffer.skinningMatrices(static_cast<std::size_t>(run.joint), {made, run.count})) return false;
-        m = made;
+      } else {
+        m = source.data() + run.joint;
       }
       copyRun(m, run.count, layout, dst);
     }
