@@ -95,8 +95,11 @@ void Rig::setProfile(CharacterProfile profile) {
       break;
     }
   }
-  events_.resize(clips_.size());  // the feet or the profile's events may have changed
-  for (std::size_t c = 0; c < clips_.size(); ++c) updateEvents(c);
+  {  // the feet or the profile's events may have changed: found again when next asked for
+    std::lock_guard lock(events_.mutex);
+    events_.clips.resize(clips_.size());
+    for (ClipEvents& e : events_.clips) e.current = false;
+  }
   makeProfileBlendSpaces();
 }
 
@@ -111,8 +114,8 @@ int Rig::addClip(const Clip& clip, const Skeleton& clipSkeleton, std::string nam
   Clip bound = bindClipByName(clip, clipSkeleton, skeleton_, &unmatched);
   if (!name.empty()) bound.name = std::move(name);
   clips_.push_back(makeAnimationClip(std::move(bound), skeleton_, settings_));
-  events_.resize(clips_.size());
-  updateEvents(clips_.size() - 1);
+  std::lock_guard lock(events_.mutex);
+  events_.clips.resize(clips_.size());  // the new clip's events: when first asked for
   return unmatched;
 }
 

@@ -1,5 +1,5 @@
 // The rig's animation events per clip (Rig::events): foot contacts of the profile's feet and
-// the markers of the clip and the profile, compiled at command time.
+// the markers of the clip and the profile, found when a clip's events are first asked for.
 #include <algorithm>
 #include <cmath>
 
@@ -12,7 +12,7 @@ namespace {
 
 // Samples per second of the foot-contact analysis behind the events: a contact's ends are
 // found within half a sample (4 ms), finer than a 30 or 60 fps clip's frames, at a quarter
-// of the analysis' default cost (it runs for every clip when a rig is made).
+// of the analysis' default cost (it runs once per clip played, at its first play).
 constexpr int kFootEventSamplesPerSecond = 60;
 
 // Hip to knee to ankle in the rest pose; 0 when the leg is incomplete (the human defaults).
@@ -26,9 +26,9 @@ float restLegLength(const std::vector<glm::mat4>& rest, const RigJoints::LimbJoi
 
 }  // namespace
 
-void Rig::updateEvents(std::size_t c) {
+void Rig::updateEvents(std::size_t c) const {
   const AnimationClip& clip = *clips_[c];
-  ClipEvents& out = events_[c];
+  ClipEvents& out = events_.clips[c];
   const RigJoints::LimbJoints* legs[2] = {&joints_.leftLeg, &joints_.rightLeg};
   const int toes[2] = {joints_.leftToe, joints_.rightToe};
   std::vector<glm::mat4> rest;
@@ -49,11 +49,20 @@ void Rig::updateEvents(std::size_t c) {
   if (auto it = profile_.events.find(clip.clip.name); it != profile_.events.end())
     markers.insert(markers.end(), it->second.begin(), it->second.end());
   out.track = std::make_shared<const AnimationEventTrack>(clip.clip.duration, markers, out.contacts[0], out.contacts[1]);
+  out.current = true;
 }
 
 std::shared_ptr<const AnimationEventTrack> Rig::events(const AnimationClip& clip) const noexcept {
-  for (std::size_t c = 0; c < clips_.size() && c < events_.size(); ++c)
-    if (clips_[c].get() == &clip) return events_[c].track;
+  std::lock_guard lock(events_.mutex);
+  for (std::size_t c = 0; c < clips_.size() && c < events_.clips.size(); ++c) {
+    if (clips_[c].get() != &clip) continue;
+    try {
+      if (!events_.clips[c].current) updateEvents(c);
+    } catch (...) {  // only std::bad_alloc: events are optional, the clip still plays
+      return nullptr;
+    }
+    return events_.clips[c].track;
+  }
   return nullptr;
 }
 

@@ -6,6 +6,7 @@
 // One copy of the data for 1000 characters.
 #pragma once
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -89,8 +90,10 @@ class Rig {
 
   // The animation events of one of the rig's clips (animation_events.hpp): its feet's
   // contacts (the profile's leg ends) and its markers (Clip::events, then the profile's
-  // "events" for its name). Made at construction, setProfile and addClip; null for a clip
-  // that is not the rig's. Read-only while shared, like the clips.
+  // "events" for its name). Found the first time a clip's events are asked for (a layer
+  // starting to play it: command time), not at load: a rig whose events nobody asks for pays
+  // no foot-contact analysis. Safe from several threads (a shared rig). Null for a clip that
+  // is not the rig's.
   [[nodiscard]] std::shared_ptr<const AnimationEventTrack> events(const AnimationClip& clip) const noexcept;
 
  private:
@@ -108,12 +111,31 @@ class Rig {
   // and leg lengths they were found for (a setProfile naming the same feet reuses them).
   struct ClipEvents {
     std::shared_ptr<const AnimationEventTrack> track;
+    bool current = false;  // track made for the present profile (setProfile clears it)
     int foot[2] = {-1, -1};
     float leg[2] = {0.0f, 0.0f};
     std::vector<ContactInterval> contacts[2];
   };
-  std::vector<ClipEvents> events_;
-  void updateEvents(std::size_t clip);  // rig_events.cpp
+  // Made on first use under a lock: characters on several threads may share the rig. A copy
+  // of the rig copies what was found.
+  struct EventCache {
+    EventCache() = default;
+    EventCache(const EventCache& other) {
+      std::lock_guard lock(other.mutex);
+      clips = other.clips;
+    }
+    EventCache& operator=(const EventCache& other) {
+      if (this != &other) {
+        std::scoped_lock lock(mutex, other.mutex);
+        clips = other.clips;
+      }
+      return *this;
+    }
+    mutable std::mutex mutex;
+    std::vector<ClipEvents> clips;
+  };
+  mutable EventCache events_;
+  void updateEvents(std::size_t clip) const;  // rig_events.cpp; events_.mutex held
 };
 
 }  // namespace marionette
