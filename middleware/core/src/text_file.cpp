@@ -75,15 +75,6 @@ bool readWholeFile(const FileReader& reader, const std::string& path, std::uintm
   return true;
 }
 
-bool fileExists(const FileReader& reader, const std::string& path) {
-  if (!reader) {
-    std::error_code ec;
-    return std::filesystem::is_regular_file(path, ec);
-  }
-  std::string bytes, why;
-  return readWholeFile(reader, path, limits::kMaxModelFileBytes, bytes, why);
-}
-
 bool readTextFile(const std::string& path, std::string& out, Diagnostics& diagnostics, std::string_view what) {
   return readTextFile(FileReader{}, path, out, diagnostics, what);
 }

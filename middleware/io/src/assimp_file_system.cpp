@@ -66,8 +66,11 @@ bool ReaderFileSystem::Exists(const char* file) const {
   if (!file) return false;
   const std::string path = normalized(file);
   if (!permits(path)) return false;
-  std::string bytes, why;
-  return readWholeFile(reader_, path, limits::kMaxModelFileBytes, bytes, why);
+  std::string why;
+  if (path == checkedPath_) return true;
+  if (!readWholeFile(reader_, path, limits::kMaxModelFileBytes, checkedBytes_, why)) return false;
+  checkedPath_ = path;
+  return true;
 }
 
 Assimp::IOStream* ReaderFileSystem::Open(const char* file, const char* mode) {
@@ -75,6 +78,10 @@ Assimp::IOStream* ReaderFileSystem::Open(const char* file, const char* mode) {
   const std::string path = normalized(file);
   if (!permits(path)) return nullptr;
   std::string bytes, why;
+  if (path == checkedPath_) {  // read by Exists just before
+    checkedPath_.clear();
+    return new OwnedStream(std::move(checkedBytes_));
+  }
   if (!readWholeFile(reader_, path, limits::kMaxModelFileBytes, bytes, why)) {
     problems_.push_back("the file reader could not read '" + path + "': " + why);
     return nullptr;

@@ -29,6 +29,9 @@ class ReaderFileSystem final : public Assimp::IOSystem {
   std::filesystem::path root_;  // the model's folder, lexically normal
   bool allowOutside_ = false;
   mutable std::vector<std::string> problems_;
+  // Assimp asks whether a file exists, then opens it: the bytes read to answer are kept for
+  // the open that follows (one read of the engine's file, not two).
+  mutable std::string checkedPath_, checkedBytes_;
 };
 
 }  // namespace marionette::assimp_detail

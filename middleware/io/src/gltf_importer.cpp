@@ -35,7 +35,7 @@ bool keepImageUndecoded(tinygltf::Image* image, const int, std::string*, std::st
   return true;
 }
 
-std::uint32_t readU32(const std::vector<unsigned char>& b, std::size_t at) {
+std::uint32_t readU32(const std::string& b, std::size_t at) {
   std::uint32_t v = 0;
   std::memcpy(&v, b.data() + at, 4);
   return v;  // GLB is little-endian, as is every platform we build for
@@ -44,19 +44,18 @@ std::uint32_t readU32(const std::vector<unsigned char>& b, std::size_t at) {
 // ---- the file ----------------------------------------------------------------------
 
 struct Source {
-  std::vector<unsigned char> bytes;
+  std::string bytes;  // as read (readWholeFile): not copied again
   bool binary = false;
   std::string jsonText;
   std::size_t glbLength = 0;  // bytes the GLB header declares
 };
 
 bool readFile(const std::string& path, const ImportOptions& options, Source& src, Diagnostics& diag) {
-  std::string bytes, why;
-  if (!readWholeFile(options.readFile, path, limits::kMaxModelFileBytes, bytes, why)) {
+  std::string why;
+  if (!readWholeFile(options.readFile, path, limits::kMaxModelFileBytes, src.bytes, why)) {
     diag.error(path, why == "no such file" ? "file does not exist" : why);
     return false;
   }
-  src.bytes.assign(bytes.begin(), bytes.end());
   if (src.bytes.empty()) {
     diag.error(path, "file is empty");
     return false;
@@ -64,7 +63,7 @@ bool readFile(const std::string& path, const ImportOptions& options, Source& src
   return true;
 }
 
-bool hasGlbMagic(const std::vector<unsigned char>& b) { return b.size() >= 4 && std::memcmp(b.data(), "glTF", 4) == 0; }
+bool hasGlbMagic(const std::string& b) { return b.size() >= 4 && std::memcmp(b.data(), "glTF", 4) == 0; }
 
 // Checks the 12-byte header and the JSON chunk and extracts the JSON text, so that
 // a truncated file is reported as such rather than as a vague parse failure.
@@ -256,7 +255,7 @@ bool loadModel(const std::string& path, const Source& src, const ImportOptions& 
   }
   guard.allowOutside = options.allowFilesOutsideModelFolder;
   loader.SetFsCallbacks({&FolderGuard::exists, &FolderGuard::expand, &FolderGuard::read, &FolderGuard::write, &guard});
-  const bool ok = src.binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, src.bytes.data(),
+  const bool ok = src.binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(src.bytes.data()),
                                                            static_cast<unsigned int>(src.glbLength), baseDir)
                              : loader.LoadASCIIFromString(&model, &err, &warn, src.jsonText.data(),
                                                           static_cast<unsigned int>(src.jsonText.size()), baseDir);

@@ -492,9 +492,9 @@ std::string readWav(const std::filesystem::path& file, WavAudio& out) { return r
 std::string readWav(const FileReader& files, const std::filesystem::path& file, WavAudio& out) {
   out = {};
   const std::string name = file.string();
-  std::string text, why;
-  if (!readWholeFile(files, file.generic_string(), kMaxWavBytes, text, why))
-    return name + ": cannot read the WAV file (" + why + ")";
+  std::string text, unread;
+  if (!readWholeFile(files, file.generic_string(), kMaxWavBytes, text, unread))
+    return name + ": cannot read the WAV file (" + unread + ")";
   const std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(text.data()), text.size());
 
   if (bytes.size() < 12 || std::memcmp(bytes.data(), "RIFF", 4) != 0 || std::memcmp(bytes.data() + 8, "WAVE", 4) != 0)

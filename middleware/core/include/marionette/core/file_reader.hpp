@@ -26,8 +26,4 @@ using FileReader = std::function<bool(const std::string& path, std::string& byte
 [[nodiscard]] bool readWholeFile(const FileReader& reader, const std::string& path, std::uintmax_t maxBytes,
                                  std::string& bytes, std::string& why);
 
-// Whether `path` can be read: through `reader` (it is read, so only for small files or when
-// the caller reads it anyway), else a regular file on disk.
-[[nodiscard]] bool fileExists(const FileReader& reader, const std::string& path);
-
 }  // namespace marionette
