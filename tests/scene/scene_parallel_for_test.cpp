@@ -18,6 +18,7 @@
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic_rig.hpp"
+#include "behavior_request.hpp"
 #include "real_rig.hpp"
 #include "test_data.hpp"
 
@@ -66,16 +67,6 @@ void serially(void* user, Scene::ParallelTask task, void* context, int chunkCoun
     task(context, i);
     ++log.tasks;
   }
-}
-
-BehaviorRequest request(std::string id, BehaviorKind kind, BehaviorParameters parameters,
-                        std::vector<BehaviorSync> syncs) {
-  BehaviorRequest r;
-  r.id = std::move(id);
-  r.kind = kind;
-  r.parameters = std::move(parameters);
-  r.syncs = std::move(syncs);
-  return r;
 }
 
 // `count` characters in real motion: RobotExpressive with two clip layers (some additive),

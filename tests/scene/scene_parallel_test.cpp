@@ -17,6 +17,7 @@
 #include "marionette/io/import.hpp"
 #include "marionette/scene/scene.hpp"
 #include "synthetic_rig.hpp"
+#include "behavior_request.hpp"
 #include "real_rig.hpp"
 #include "test_data.hpp"
 
@@ -24,16 +25,6 @@ using namespace marionette;
 using namespace marionette::test;
 
 namespace {
-
-BehaviorRequest request(std::string id, BehaviorKind kind, BehaviorParameters parameters,
-                        std::vector<BehaviorSync> syncs) {
-  BehaviorRequest r;
-  r.id = std::move(id);
-  r.kind = kind;
-  r.parameters = std::move(parameters);
-  r.syncs = std::move(syncs);
-  return r;
-}
 
 // `count` characters: three of four are RobotExpressive (two clip layers, some
 // additive, a gaze at another character, nods, a face expression, a gesture
