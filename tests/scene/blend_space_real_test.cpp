@@ -52,15 +52,15 @@ std::vector<Row> skatingTable(const std::shared_ptr<Rig>& rig, const char* who, 
               who, walk.c_str(), static_cast<double>(aligned->samples()[0].duration), run.c_str(),
               static_cast<double>(aligned->samples()[1].duration), static_cast<double>(speeds[0]),
               static_cast<double>(speeds[1]), static_cast<double>(leg));
-  std::printf("%-5s | %-44s | %-44s\n", "x", "phase-aligned: mean p95 worst (leg/s), slide/contact (leg), % of travel",
+  std::printf("%-5s | %-44s | %-44s\n", "x", "phase-aligned: mean p95 worst (leg/s), slide/contact (leg), % of travel, planted foot-frames/contacts",
               "normalized time: the same");
   for (float x : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f}) {
     Row r{x, measureBlendSkating(rig, aligned, x, 0.0f, rootMotion, speeds),
           measureBlendSkating(rig, plain, x, 0.0f, rootMotion, speeds)};
     auto line = [&](const BlendSkating& s) {
       char buf[128];
-      std::snprintf(buf, sizeof buf, "%.3f %.3f %.3f, %.4f, %5.1f %%", s.meanSpeed / leg, s.p95Speed / leg,
-                    s.worstSpeed / leg, s.slidePerContact / leg, 100.0 * s.ratio());
+      std::snprintf(buf, sizeof buf, "%.3f %.3f %.3f, %.4f, %5.1f %%, %d/%d", s.meanSpeed / leg, s.p95Speed / leg,
+                    s.worstSpeed / leg, s.slidePerContact / leg, 100.0 * s.ratio(), s.plantedFrames, s.contacts);
       return std::string(buf);
     };
     std::printf("%-5.2f | %-44s | %-44s\n", static_cast<double>(x), line(r.aligned).c_str(), line(r.plain).c_str());
