@@ -64,7 +64,7 @@ bool toImportOptions(const mn_scene* scene, const char* call, const mn_import_op
 bool unreadable(const marionette::Diagnostics& d) {
   for (const marionette::Diagnostic& item : d.items)
     if (item.severity == marionette::Severity::Error &&
-        (item.message == "file does not exist" || item.message.rfind("no such file", 0) == 0 ||
+        (item.message.rfind("file does not exist", 0) == 0 ||
          item.message.find("cannot read") != std::string::npos))
       return true;
   return false;

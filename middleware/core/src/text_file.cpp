@@ -15,7 +15,7 @@ bool readFromDisk(const std::string& path, std::uintmax_t maxBytes, std::string&
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (ec || !fs::exists(status)) {
-    error = "no such file";
+    error = "file does not exist";
     return false;
   }
   if (!fs::is_regular_file(status)) {
@@ -62,7 +62,7 @@ bool readWholeFile(const FileReader& reader, const std::string& path, std::uintm
     ok = false;
   }
   if (!ok) {
-    if (why.empty()) why = "no such file (the file reader could not read it)";
+    if (why.empty()) why = "file does not exist (the file reader could not read it)";
     bytes.clear();
     return false;
   }

@@ -274,7 +274,7 @@ void importInto(ImportResult& result, const std::string& path, const ImportOptio
   if (options.readFile) {  // the size and header checks on the engine's bytes
     std::string why;
     if (!readWholeFile(options.readFile, path, limits::kMaxModelFileBytes, bytes, why)) {
-      diag.error(path, why == "no such file" ? "file does not exist" : why);
+      diag.error(path, why);
       return;
     }
   }

@@ -53,7 +53,7 @@ struct Source {
 bool readFile(const std::string& path, const ImportOptions& options, Source& src, Diagnostics& diag) {
   std::string why;
   if (!readWholeFile(options.readFile, path, limits::kMaxModelFileBytes, src.bytes, why)) {
-    diag.error(path, why == "no such file" ? "file does not exist" : why);
+    diag.error(path, why);
     return false;
   }
   if (src.bytes.empty()) {
