@@ -439,12 +439,25 @@ class Parser {
         if (c.type() == pugi::node_element && localName(c.name()) == "text") textNode = c;
     const pugi::xml_node source = textNode ? textNode : n;
     std::string raw;
+    // The collapsed text's length so far, kept as the text is read: a mark's offset without
+    // collapsing the text again at every mark (quadratic in a line of thousands of marks).
+    std::size_t collapsedLength = 0;
+    bool pendingSpace = false, lastWasSpace = false;
     std::vector<pugi::xml_node> stack;  // siblings still to visit, last first
     for (pugi::xml_node c = source.last_child(); c; c = c.previous_sibling()) stack.push_back(c);
     while (!stack.empty()) {
       const pugi::xml_node c = stack.back();
       stack.pop_back();
       if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) {
+        for (const char* p = c.value(); *p; ++p) {  // as collapse() does
+          lastWasSpace = *p == ' ' || *p == '\t' || *p == '\n' || *p == '\r';
+          if (lastWasSpace) {
+            pendingSpace = collapsedLength > 0;
+            continue;
+          }
+          collapsedLength += pendingSpace ? 2 : 1;
+          pendingSpace = false;
+        }
         raw += c.value();
         continue;
       }
@@ -463,9 +476,8 @@ class Parser {
         continue;
       }
       // Offset in the collapsed text where the next word starts.
-      const std::string sofar = collapse(raw);
-      const bool gap = !sofar.empty() && !raw.empty() && (raw.back() == ' ' || raw.back() == '\n' || raw.back() == '\t');
-      b.marks.push_back({id, sofar.size() + (gap ? 1 : 0)});
+      const bool gap = collapsedLength > 0 && lastWasSpace && raw.back() != '\r';
+      b.marks.push_back({id, collapsedLength + (gap ? 1 : 0)});
     }
     b.text = collapse(raw);
     // A mark after the last word (a space may follow it) is the end of the text: the

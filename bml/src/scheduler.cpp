@@ -23,10 +23,27 @@ std::string syncKey(std::string_view name) {
   return out;
 }
 
+namespace {
+
+// syncKey(name) == key, without building the key of `name` (a speech has a sync per word mark:
+// a search over them must not allocate per mark).
+bool hasSyncKey(std::string_view name, std::string_view key) noexcept {
+  std::size_t k = 0;
+  for (const char c : name) {
+    if (c == '-') continue;
+    const char lower = c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c;  // ASCII, as syncKey's names are
+    if (k == key.size() || lower != key[k]) return false;
+    ++k;
+  }
+  return k == key.size();
+}
+
+}  // namespace
+
 std::optional<double> ScheduledBehavior::time(std::string_view sync) const {
   const std::string key = syncKey(sync);
   for (const SyncTime& s : syncs)
-    if (syncKey(s.name) == key) return s.time;
+    if (hasSyncKey(s.name, key)) return s.time;
   return std::nullopt;
 }
 
