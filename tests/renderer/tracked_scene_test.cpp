@@ -54,14 +54,17 @@ bool feet(const ar::Image8& with, const ar::Image8& without, double& u, double& 
   return true;
 }
 
-void writeScene(const fs::path& dir, const std::string& frames, const std::string& map) {
+// `contactShadows`: the "render" key's value, or nothing (a tracked scene's default: on).
+void writeScene(const fs::path& dir, const std::string& frames, const std::string& map,
+                const std::string& contactShadows = "") {
   std::ofstream(dir / "middleware.json") << R"({ "characters": [ { "name": "bcn",
       "asset": "/usr/share/assimp/models/X/BCN_Epileptic.X", "position": [0, 0.2475, 0], "scale": 0.25, "play": [] } ] })";
   std::ofstream(dir / "tracked.json") << R"({ "scene": "middleware.json",
       "camera": { "tracker": { "kind": "markerless", "camera": ")" << sourceFile("assets/cameras/synthetic_640x480.yml")
                                       << R"(", "map": ")" << map << R"(", "holdSeconds": 0.5 } },
       "background": { "kind": "sequence", "file": ")" << frames << R"(", "fps": 30 },
-      "render": { "width": 640, "height": 480, "fps": 30 } })";
+      "render": { "width": 640, "height": 480, "fps": 30)"
+                                      << (contactShadows.empty() ? "" : R"(, "contactShadows": )" + contactShadows) << " } }";
 }
 
 TEST(TrackedScene, CharacterStandsWhereTheExactPosePutsTheOrigin) {
@@ -110,7 +113,8 @@ TEST(TrackedScene, CharacterStandsWhereTheExactPosePutsTheOrigin) {
   }
   ASSERT_TRUE(fs::exists(map));
 
-  writeScene(dir, (dir / "frames").string(), map);
+  // The character's pixels are where the frame differs from the empty plate: no shadow on it.
+  writeScene(dir, (dir / "frames").string(), map, "false");
   const std::string common = (dir / "tracked.json").string() + " --headless --frames 40";
   const CliRun with = runAr(common + " --out " + (dir / "with").string());
   ASSERT_EQ(with.status, 0) << with.out;
@@ -172,6 +176,9 @@ TEST(TrackedScene, CharactersHideWhenTheTargetIsGone) {
   ASSERT_EQ(with.status, 0) << with.out;
   EXPECT_NE(with.out.find("tracking LOST at 0.000 s"), std::string::npos) << with.out;
   EXPECT_NE(with.out.find("0 of 12 camera frames with a pose"), std::string::npos) << with.out;
+  // Contact shadows are on by default in a tracked scene, and a hidden character casts none
+  // (the frames below are the same with and without characters).
+  EXPECT_NE(with.out.find("contact shadows: light from"), std::string::npos) << with.out;
   ASSERT_EQ(runAr(common + " --hide-characters --out " + (dir / "without").string()).status, 0);
   double u = 0, v = 0;
   int pixels = 0;

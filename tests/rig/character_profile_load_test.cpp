@@ -128,6 +128,51 @@ TEST(CharacterProfileLoad, AmountsOutsideTheRangeAreClamped) {
   EXPECT_NE(findDiag(r.diagnostics, "'SADNES' is not a BML face lexeme"), nullptr) << r.diagnostics.format();
 }
 
+TEST(CharacterProfileLoad, LifeHeightIsMetresInItsRangeElseAWarningNamingTheFileAndKey) {
+  TempProfile f(R"({"lifeHeight": 1.2})");
+  auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  ASSERT_TRUE(r.profile.lifeHeight.has_value());
+  EXPECT_FLOAT_EQ(*r.profile.lifeHeight, 1.2f);
+  EXPECT_TRUE(hasNote(r.profile, "lifeHeight: 1.2 m (profile)")) << notes(r.profile);
+  for (const char* edge : {"0.05", "20"}) {  // the range's ends are in it
+    f.write(std::string(R"({"lifeHeight": )") + edge + "}");
+    r = loadCharacterProfile(f.path(), robot());
+    EXPECT_TRUE(r.diagnostics.items.empty()) << edge << ": " << r.diagnostics.format();
+    EXPECT_TRUE(r.profile.lifeHeight.has_value()) << edge;
+  }
+  f.write(R"({"clips": {}})");  // not given: none (never guessed)
+  EXPECT_FALSE(loadCharacterProfile(f.path(), robot()).profile.lifeHeight.has_value());
+  const struct {
+    const char* value;
+    const char* says;
+  } bad[] = {{"0.04", "height 0.04 m is outside [0.05, 20] m; ignored"},
+             {"20.5", "height 20.5 m is outside [0.05, 20] m; ignored"},
+             {"-1.7", "height -1.7 m is outside [0.05, 20] m"},
+             {"0", "height 0 m is outside [0.05, 20] m"},
+             {"\"1.7\"", "expected the character's life-size height in metres"},
+             {"true", "expected the character's life-size height in metres"},
+             {"null", "expected the character's life-size height in metres"}};
+  for (const auto& b : bad) {
+    SCOPED_TRACE(b.value);
+    f.write(std::string("{\"comment\": \"x\",\n \"lifeHeight\": ") + b.value + "}");
+    r = loadCharacterProfile(f.path(), robot());
+    EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();  // a warning: the profile still loads
+    EXPECT_FALSE(r.profile.lifeHeight.has_value());
+    const Diagnostic* d = findDiag(r.diagnostics, std::string("lifeHeight: ") + b.says);
+    ASSERT_NE(d, nullptr) << r.diagnostics.format();
+    EXPECT_EQ(d->severity, Severity::Warning);
+    EXPECT_EQ(d->file, f.path());
+    EXPECT_EQ(d->line, 2);
+    EXPECT_EQ(d->column, 16);
+  }
+  // A number JSON cannot hold (1e999) is no finite height: an error, as any number out of range.
+  f.write(R"({"lifeHeight": 1e999})");
+  r = loadCharacterProfile(f.path(), robot());
+  EXPECT_FALSE(r.diagnostics.ok());
+  EXPECT_FALSE(r.profile.lifeHeight.has_value());
+}
+
 TEST(CharacterProfileLoad, AbsentFieldsAreGuessedWithANote) {
   TempProfile f(R"({"joints": {"head": "Head"}, "clips": {"run": ""}})");
   const auto r = loadCharacterProfile(f.path(), robot());

@@ -47,7 +47,9 @@ void ArApp::LogListener::onLog(LogLevel level, std::string_view message) {
 }
 
 ArApp::ArApp(RenderArgs args) : args_(std::move(args)), info_(args_.json ? stderr : stdout) {}
-ArApp::~ArApp() = default;
+ArApp::~ArApp() {
+  if (stamps_[0] && gl_) glDeleteQueries(kStamps, stamps_);
+}
 
 // ---- set-up ---------------------------------------------------------------------------------
 
@@ -139,6 +141,8 @@ void ArApp::uploadModels() {
     }
     poses_.push_back(std::make_unique<CharacterPose>(c->skeleton()));
     drawn_.push_back(model.get());
+    worlds_.emplace_back(1.0f);
+    placed_.push_back(0);
   }
 }
 
@@ -211,6 +215,23 @@ int ArApp::setUpDrawing() {
   frames_ = args_.frames > 0 ? args_.frames : (args_.headless ? static_cast<long>(5.0 * ar_.fps) : -1);
   lighting_.irradianceSH = inputs_.irradianceSH();
   lighting_.exposure = ar_.environment.exposure;
+  if (ar_.contactShadows.enabled) {
+    Diagnostics gpu;
+    contactShadows_ = std::make_unique<ContactShadowRenderer>();
+    casters_.resize(scene_.characters().size());
+    shadows_.resize(scene_.characters().size());
+    if (!contactShadows_->create(scene_.characters().size(), gpu)) {
+      std::fprintf(stderr, "marionette-ar: %s", gpu.format().c_str());
+      return 3;
+    }
+    std::size_t joints = 0;
+    for (const auto& c : scene_.characters()) joints = std::max(joints, c->transformBuffer().jointCount());
+    jointWorld_.resize(joints);
+    shadowLight_ = dominantLight(lighting_.irradianceSH);
+    std::fprintf(info_, "marionette-ar: contact shadows: light from (%.2f, %.2f, %.2f), %.0f %% of the floor's light direct\n",
+                 shadowLight_.towardLight.x, shadowLight_.towardLight.y, shadowLight_.towardLight.z,
+                 100.0 * shadowLight_.directFraction);
+  }
   last_ = std::chrono::steady_clock::now();
   // The viewer is the scene's "camera" object: scripts gaze and point at the user through it.
   scene_.setObject("camera", inputs_.viewerBeforeFirstFrame(0.0));
@@ -275,6 +296,12 @@ int ArApp::readBackground() {
 
 void ArApp::track() {
   view_ = inputs_.camera(scene_.time(), ar_.width, ar_.height);
+  inputs_.estimateLight(view_, scene_.time(), ar_.width, ar_.height);
+  if (inputs_.lightFromCamera()) {  // this frame's light: the characters, their shadows
+    lighting_.irradianceSH = inputs_.irradianceSH();
+    lighting_.cameraCurve = true;
+    shadowLight_ = dominantLight(lighting_.irradianceSH);
+  }
   // Followed from the next frame; a tracked camera without a pose keeps the last.
   if (view_.posed) scene_.setObject("camera", glm::vec3(glm::inverse(view_.view)[3]));
   tracked_ = inputs_.trackingState(tracking_);
@@ -283,7 +310,33 @@ void ArApp::track() {
                  trackingStateName(tracking_.state).data(), scene_.time(), frame_);
 }
 
+void ArApp::stamp(Stamp which) {
+  if (!args_.headless) return;
+  if (!stamps_[0]) glGenQueries(kStamps, stamps_);
+  glQueryCounter(stamps_[which], GL_TIMESTAMP);
+  if (which == kCatchersEnd) stamped_ = true;
+}
+
+void ArApp::readStamps() {
+  if (!args_.headless || !stamps_[0]) return;
+  GLuint64 t[kStamps] = {};
+  for (int i = 0; i < kStamps; ++i) glGetQueryObjectui64v(stamps_[i], GL_QUERY_RESULT, &t[i]);
+  gpuFrameMs_ += static_cast<double>(t[kFrameEnd] - t[kFrameStart]) * 1e-6;
+  if (stamped_)
+    gpuShadowMs_ += static_cast<double>((t[kMapsEnd] - t[kFrameStart]) + (t[kCatchersEnd] - t[kCatchersStart])) * 1e-6;
+  stamped_ = false;
+  ++gpuFrames_;
+}
+
 void ArApp::render() {
+  const bool charactersShown = !args_.hideCharacters && inputs_.charactersVisible(scene_.time());
+  const float opacity = inputs_.characterOpacity(scene_.time());
+  stamp(kFrameStart);
+  if (charactersShown) {
+    placeCharacters();
+    if (contactShadows_) renderShadowMaps(opacity);
+  }
+  stamp(kMapsEnd);
   target_.bind();
   glClearColor(0, 0, 0, 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -298,8 +351,15 @@ void ArApp::render() {
     default:
       background_.drawImage(static_cast<float>(ar_.width) / static_cast<float>(ar_.height));
   }
-  const bool charactersShown = !args_.hideCharacters && inputs_.charactersVisible(scene_.time());
-  if (charactersShown) drawCharacters();
+  if (charactersShown) {
+    if (contactShadows_) {
+      stamp(kCatchersStart);
+      drawContactShadows();
+      stamp(kCatchersEnd);
+    }
+    drawCharacters(opacity);
+  }
+  stamp(kFrameEnd);
   if (tracked_ && !tracking_.replayed) drawTrackingBadge();
   if (restore_.active()) {  // a verified pose, the restored characters drawn with it
     const bool verified = tracked_ && tracking_.state == TrackingState::Tracking && charactersShown;
@@ -308,15 +368,66 @@ void ArApp::render() {
   }
 }
 
-void ArApp::drawCharacters() {
-  glEnable(GL_DEPTH_TEST);
+void ArApp::placeCharacters() {
   for (std::size_t i = 0; i < scene_.characters().size(); ++i) {
+    placed_[i] = 0;
     if (!drawn_[i] || !restore_.drawn(i)) continue;
     const Character& c = *scene_.characters()[i];
     glm::mat4 anchor = restore_.anchor(i);
     if (authoring_ && !authoring_->placement(c.name(), anchor)) continue;  // not placed yet
+    worlds_[i] = anchor * c.transformBuffer().worldMatrix();
     poses_[i]->update(c.transformBuffer());
-    const glm::mat4 world = anchor * c.transformBuffer().worldMatrix();
+    placed_[i] = 1;
+  }
+}
+
+// Before the frame's target: where each character stands, the light's view of it, its map.
+void ArApp::renderShadowMaps(float opacity) {
+  const auto start = std::chrono::steady_clock::now();
+  const ContactShadowSettings& settings = ar_.contactShadows;
+  const bool cameraAboveFloor = glm::inverse(view_.view)[3].y > 0.0f;  // below it, the floor shows no shadow
+  for (std::size_t i = 0; i < scene_.characters().size(); ++i) {
+    shadows_[i].strength = 0.0f;
+    if (!placed_[i] || !cameraAboveFloor) continue;
+    const glm::mat4& world = worlds_[i];
+    const std::span<const glm::mat4> model = scene_.characters()[i]->transformBuffer().modelMatrices();
+    const std::size_t n = std::min(model.size(), jointWorld_.size());
+    for (std::size_t j = 0; j < n; ++j) jointWorld_[j] = glm::vec3(world * model[j][3]);
+    casters_[i] = shadowCaster(std::span<const glm::vec3>(jointWorld_.data(), n), shadowLight_.towardLight);
+    const ShadowCaster& caster = casters_[i];
+    if (!caster.valid) continue;
+    ContactShadowDraw& draw = shadows_[i];
+    draw.lightViewProjection = lightViewProjection(caster, shadowLight_.towardLight);
+    draw.centre = caster.catcherCentre;
+    draw.axis = caster.catcherAxis;
+    draw.halfSize = glm::vec2(caster.catcherHalfLength, caster.catcherHalfWidth);
+    draw.contacts = std::span<const glm::vec4>(caster.contacts.data(), caster.contactCount);
+    draw.hasDirect = shadowLight_.directFraction > 0.0f;
+    draw.tanSoftness = std::tan(glm::radians(settings.softnessDegrees));
+    draw.directFraction = shadowLight_.directFraction;
+    draw.ambientFraction = shadowLight_.ambientFraction;
+    draw.strength = settings.strength * std::clamp(opacity, 0.0f, 1.0f);
+    if (draw.hasDirect && draw.strength > 0.0f)
+      contactShadows_->renderMap(i, *drawn_[i], *poses_[i], world, draw.lightViewProjection);
+  }
+  shadowMs_ += millisecondsSince(start);
+}
+
+// Over the background, before the characters: each one's shadow on the floor (y = 0).
+void ArApp::drawContactShadows() {
+  const auto start = std::chrono::steady_clock::now();
+  const glm::mat4 viewProjection = view_.projection * view_.view;
+  for (std::size_t i = 0; i < scene_.characters().size(); ++i)
+    if (placed_[i]) contactShadows_->drawCatcher(i, viewProjection, shadows_[i]);
+  shadowMs_ += millisecondsSince(start);
+  ++shadowDraws_;
+}
+
+void ArApp::drawCharacters(float opacity) {
+  glEnable(GL_DEPTH_TEST);
+  for (std::size_t i = 0; i < scene_.characters().size(); ++i) {
+    if (!placed_[i]) continue;
+    const glm::mat4& world = worlds_[i];
     if (prtLights_[i]) {
       const auto t0 = std::chrono::steady_clock::now();
       prtLights_[i]->relight(inputs_.radianceSH(), world, *shRotation_);
@@ -327,7 +438,7 @@ void ArApp::drawCharacters() {
       ++prtUpdates_;
     }
     drawCharacter(characterProgram_, *drawn_[i], *poses_[i], world, view_.projection * view_.view, lighting_,
-                  prtBuffers_[i].get(), inputs_.characterOpacity(scene_.time()));
+                  prtBuffers_[i].get(), opacity);
   }
 }
 
@@ -354,6 +465,7 @@ int ArApp::writeImageOrFail(const std::string& path) {
 int ArApp::write() {
   if (args_.headless) {
     target_.read(frameImage_);
+    readStamps();
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04ld.png", frame_);
     return writeImageOrFail((std::filesystem::path(args_.outDir) / name).string());
@@ -391,6 +503,20 @@ int ArApp::finish() {
     std::fprintf(info_, "marionette-ar: prt per character per frame: relight %.3f ms, upload %.3f ms (%ld updates)\n",
                  prtRelightMs_ / static_cast<double>(prtUpdates_), prtUploadMs_ / static_cast<double>(prtUpdates_),
                  prtUpdates_);
+  if (inputs_.lightEstimateMs() > 0.0)
+    std::fprintf(info_, "marionette-ar: light from the camera: %.3f ms per camera frame, %.0f %% of the sphere seen\n",
+                 inputs_.lightEstimateMs(), 100.0 * inputs_.lightSeenFraction());
+  if (shadowDraws_ > 0)
+    std::fprintf(info_, "marionette-ar: contact shadows: %.3f ms per frame submitting the passes\n",
+                 shadowMs_ / static_cast<double>(shadowDraws_));
+  if (gpuFrames_ > 0) {  // the GL work of a frame (on llvmpipe: the CPU's rasterizer threads)
+    const double frameMs = gpuFrameMs_ / static_cast<double>(gpuFrames_);
+    const double shadowMs = gpuShadowMs_ / static_cast<double>(gpuFrames_);
+    const double estimateMs = inputs_.lightEstimateMs();
+    std::fprintf(info_, "marionette-ar: GL work per frame %.3f ms, of it contact shadows %.3f ms; light estimate %.3f ms (CPU); "
+                 "shadows and estimate %.1f %% of the frame\n", frameMs, shadowMs, estimateMs,
+                 100.0 * (shadowMs + estimateMs) / std::max(frameMs + estimateMs, 1e-9));
+  }
   TrackingStateReport tracking;
   if (inputs_.trackingState(tracking) && tracking.replayed)
     std::fprintf(info_, "marionette-ar: replayed poses: %ld of %ld frames with a pose\n", tracking.posed, tracking.frames);

@@ -22,6 +22,7 @@
 #include "marionette/scene_file/scene_file.hpp"
 #include "marionette_ar/render/background_renderer.hpp"
 #include "marionette_ar/render/character_renderer.hpp"
+#include "marionette_ar/render/contact_shadow_renderer.hpp"
 #include "marionette_ar/render/gl_context.hpp"
 #include "marionette_ar/render/render_target.hpp"
 
@@ -64,7 +65,13 @@ class ArApp {
   [[nodiscard]] int readBackground();
   void track();
   void render();
-  void drawCharacters();
+  // Where each character stands this frame (its anchor and transform buffer), its palette uploaded.
+  void placeCharacters();
+  // Contact shadows: each placed character's caster and shadow map (before the frame's target is
+  // bound), then its catcher over the background.
+  void renderShadowMaps(float opacity);
+  void drawContactShadows();
+  void drawCharacters(float opacity);
   void drawTrackingBadge();
   [[nodiscard]] int write();
   [[nodiscard]] int writeImageOrFail(const std::string& path);
@@ -86,6 +93,8 @@ class ArApp {
   std::map<const Asset*, std::unique_ptr<CharacterModel>> models_;
   std::vector<std::unique_ptr<CharacterPose>> poses_;
   std::vector<const CharacterModel*> drawn_;
+  std::vector<glm::mat4> worlds_;  // this frame's world matrix of each character (placeCharacters())
+  std::vector<char> placed_;       // drawn this frame
   // PRT: the transfer of each distinct asset, per character its CPU light and GPU buffers,
   // all sized in setUp(): the frame loop allocates nothing.
   bool usePrt_ = false;
@@ -102,6 +111,24 @@ class ArApp {
   std::unique_ptr<AuthoringWindow> authoring_;
   Lighting lighting_;
   Image8 frameImage_;
+  // Contact shadows (ar_.contactShadows): the light's fit, each character's joints in the world
+  // (sized in setUp() to the largest skeleton).
+  std::unique_ptr<ContactShadowRenderer> contactShadows_;
+  ShadowLight shadowLight_;
+  std::vector<glm::vec3> jointWorld_;
+  std::vector<ShadowCaster> casters_;       // per character, this frame
+  std::vector<ContactShadowDraw> shadows_;  // per character, this frame (its contacts point into casters_)
+  double shadowMs_ = 0.0;
+  long shadowDraws_ = 0;
+  // Headless, the frame's GL work timed by GL_TIMESTAMP queries (read after the frame's read-back,
+  // which waits for it anyway): the whole frame, and the contact shadows' passes within it.
+  enum Stamp { kFrameStart, kMapsEnd, kCatchersStart, kCatchersEnd, kFrameEnd, kStamps };
+  unsigned stamps_[kStamps] = {};
+  bool stamped_ = false;
+  double gpuFrameMs_ = 0.0, gpuShadowMs_ = 0.0;
+  long gpuFrames_ = 0;
+  void stamp(Stamp which);
+  void readStamps();
 
   double dt_ = 1.0 / 30.0;
   long frames_ = -1;

@@ -251,8 +251,13 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
   }
   if (r.object(root, "environment")) {
     const Json& e = root["environment"];
-    r.unknownKeys(e, "environment", {"file", "rotation", "exposure", "probe", "prt"});
-    out.environment.file = r.resolve(r.string(e, "file", "environment", true));
+    r.unknownKeys(e, "environment", {"file", "rotation", "exposure", "probe", "prt", "estimate"});
+    const std::string estimate = r.string(e, "estimate", "environment", false);
+    if (estimate == "camera") out.environment.estimateFromCamera = true;
+    else if (!estimate.empty() && estimate != "none")
+      r.error("environment.estimate", "'" + estimate + "' is neither camera nor none");
+    // A map, or the light estimated from the camera (or both: the map's shape, the camera's level).
+    out.environment.file = r.resolve(r.string(e, "file", "environment", !out.environment.estimateFromCamera));
     r.number(e, "rotation", "environment", out.environment.rotationDegrees, -3600.0f, 3600.0f);
     r.number(e, "exposure", "environment", out.environment.exposure, 0.0f, 1e6f);
     const std::string probe = r.string(e, "probe", "environment", false);
@@ -289,6 +294,9 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
   if (out.background.kind == ArBackground::Kind::Environment && out.environment.file.empty() &&
       root.contains("background"))
     r.error("background.kind", "'environment' needs an \"environment\" map");
+  if (out.environment.estimateFromCamera && (out.background.kind == ArBackground::Kind::Environment ||
+                                             out.background.kind == ArBackground::Kind::Color))
+    r.error("environment.estimate", "'camera' needs camera frames: an \"image\", \"sequence\", \"video\" or \"camera\" background");
   if (out.camera.tracker.kind != ArTracker::Kind::None && out.background.kind != ArBackground::Kind::Sequence &&
       out.background.kind != ArBackground::Kind::Video && out.background.kind != ArBackground::Kind::Camera)
     r.error("camera.tracker", "a tracker needs camera frames: a \"sequence\", \"video\" or \"camera\" background");
@@ -309,9 +317,10 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
       }
     }
   }
+  bool contactShadowsSet = false;
   if (r.object(root, "render")) {
     const Json& rd = root["render"];
-    r.unknownKeys(rd, "render", {"width", "height", "fps"});
+    r.unknownKeys(rd, "render", {"width", "height", "fps", "contactShadows"});
     float w = static_cast<float>(out.width), h = static_cast<float>(out.height), fps = static_cast<float>(out.fps);
     r.number(rd, "width", "render", w, 16.0f, 8192.0f);
     r.number(rd, "height", "render", h, 16.0f, 8192.0f);
@@ -319,7 +328,29 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
     out.width = static_cast<int>(w);
     out.height = static_cast<int>(h);
     out.fps = fps;
+    if (rd.contains("contactShadows")) {
+      const Json& cs = rd["contactShadows"];
+      ContactShadowSettings& shadows = out.contactShadows;
+      if (cs.is_boolean()) {
+        shadows.enabled = cs.get<bool>();
+      } else if (cs.is_object()) {
+        r.unknownKeys(cs, "render.contactShadows", {"enabled", "strength", "softness"});
+        shadows.enabled = true;
+        if (cs.contains("enabled")) {
+          if (!cs["enabled"].is_boolean()) r.error("render.contactShadows.enabled", "expected true or false");
+          else shadows.enabled = cs["enabled"].get<bool>();
+        }
+        r.number(cs, "strength", "render.contactShadows", shadows.strength, 0.0f, 1.0f);
+        r.number(cs, "softness", "render.contactShadows", shadows.softnessDegrees, 0.0f, 45.0f);
+      } else {
+        r.error("render.contactShadows", "expected true, false or an object {\"strength\", \"softness\"}");
+      }
+      contactShadowsSet = true;
+    }
   }
+  // On by default where the floor is real: a tracked or replayed camera.
+  if (!contactShadowsSet)
+    out.contactShadows.enabled = out.camera.tracker.kind != ArTracker::Kind::None || !out.camera.replay.poses.empty();
   return d;
 }
 

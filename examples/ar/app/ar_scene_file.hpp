@@ -22,7 +22,7 @@
 //                    "prt": { "mode": "shadowed", "bands": 5, "rays": 1024,   // or "unshadowed" / "off"
 //                             "cache": "dir",                 // optional: prt::defaultTransferCacheDirectory()
 //                             "pose": { "clip": "walk", "time": 0.0 } } },   // optional: transfer in that pose
-//   "render": { "width": 960, "height": 540, "fps": 30 },
+//   "render": { "width": 960, "height": 540, "fps": 30, "contactShadows": true },
 //   "authoring": { "bml": ["wave.xml", "nod.xml"] }   // optional: the BML the authoring UI offers
 // }
 //
@@ -42,6 +42,7 @@
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/prt/mirror_ball.hpp"
 #include "marionette/prt/transfer.hpp"
+#include "marionette_ar/contact_shadow.hpp"
 
 namespace marionette::ar {
 
@@ -105,6 +106,9 @@ struct ArEnvironment {
   float exposure = 1.0f;
   prt::LightProbeKind probe = prt::LightProbeKind::Auto;
   ArPrt prt;
+  // "estimate": "camera": the light estimated from the camera's frames (camera_light_estimate.hpp);
+  // with a map too, the map keeps its shape and takes the camera's level and colour.
+  bool estimateFromCamera = false;
 };
 
 struct ArScene {
@@ -115,6 +119,9 @@ struct ArScene {
   ArEnvironment environment;
   int width = 960, height = 540;
   double fps = 30.0;
+  // "render": {"contactShadows": true | false | {"strength": 1, "softness": 6}}; on by default
+  // when the camera is tracked or replayed (the world's floor is then a real surface).
+  ContactShadowSettings contactShadows;
   std::vector<std::string> authoringBml;  // resolved
 };
 

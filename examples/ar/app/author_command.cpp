@@ -166,21 +166,27 @@ int runAuthorCommand(int argc, char** argv) {
   if (json) {
     nlohmann::json characters = nlohmann::json::array();
     for (const PlacedCharacter& c : aug.characters) {
-      float height = 0;
+      float height = 0, lifeHeight = 0;
       for (const CatalogueEntry& e : session.catalogue())
-        if (e.name == c.name) height = e.heightMetres * c.placement.scale;
+        if (e.name == c.name) height = e.heightMetres * c.placement.scale, lifeHeight = e.lifeSize().metres;
       const Placement& p = c.placement;
       characters.push_back({{"name", c.name},
                             {"position", {p.position.x, p.position.y, p.position.z}},
                             {"rotor", {p.rotation.s, p.rotation.b23, p.rotation.b31, p.rotation.b12}},
                             {"scale", p.scale},
                             {"height_m", height},
+                            {"life_height_m", lifeHeight},
                             {"bml", c.bml}});
     }
+    // The scene's characters that life size places at the default height, and why.
+    nlohmann::json notes = nlohmann::json::array();
+    for (const CatalogueEntry& e : session.catalogue())
+      if (const LifeSize life = e.lifeSize(); !life.note.empty()) notes.push_back(life.note);
     nlohmann::json out = {{"actions", actions->size()},  {"authoring_seconds", clock},
                           {"frames", fed + 1},           {"saves", saves},
                           {"augmentation", outPath},     {"exposure_ev", aug.exposureEv},
-                          {"characters", characters},    {"steps", steps}};
+                          {"characters", characters},    {"notes", notes},
+                          {"steps", steps}};
     std::printf("%s\n", out.dump(2).c_str());
   } else {
     std::printf("marionette-ar author: %zu actions, %.1f s modelled, %lld frames tracked; %zu characters placed; "

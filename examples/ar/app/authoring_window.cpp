@@ -289,6 +289,15 @@ void AuthoringWindow::frame(long frameNumber, const AuthoringView& view, const c
     if (button(entries[i].name.c_str())) applyAction({.kind = ActionKind::PickCharacter, .name = entries[i].name}, view, frameNumber);
     if (isPicked) ImGui::PopStyleColor();
   }
+  if (picked >= 0) {  // the height a click places it at, and why when that is not its file's own
+    const LifeSize life = entries[static_cast<std::size_t>(picked)].lifeSize();
+    ImGui::Text("life size %.2f m", static_cast<double>(life.metres));
+    if (!life.note.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.85f, 0.4f, 1.0f));
+      ImGui::TextWrapped("%s", life.note.c_str());
+      ImGui::PopStyleColor();
+    }
+  }
   ImGui::TextUnformatted("BML:");
   for (const std::string& f : bml_) {
     const std::string label = std::filesystem::path(f).filename().string();
@@ -317,7 +326,7 @@ void AuthoringWindow::frame(long frameNumber, const AuthoringView& view, const c
   if (placedIndex >= 0) {
     const PlacedCharacter& c = session_.augmentation().characters[static_cast<std::size_t>(placedIndex)];
     if (!ImGui::IsAnyItemActive()) height_ = entries[static_cast<std::size_t>(picked)].heightMetres * c.placement.scale;
-    ImGui::SliderFloat("m", &height_, 0.2f, 3.0f, "height %.2f");
+    ImGui::SliderFloat("##height", &height_, 0.2f, 3.0f, "height %.2f m");
     if (ImGui::IsItemDeactivatedAfterEdit())
       applyAction({.kind = ActionKind::Height, .value = height_}, view, frameNumber);
   }

@@ -8,6 +8,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "marionette_ar/background_source.hpp"
+#include "marionette_ar/camera_light_estimate.hpp"
+#include "marionette_ar/render/background_renderer.hpp"
 #include "marionette_ar/camera_pose.hpp"
 #include "marionette_ar/live_camera.hpp"
 #if MARIONETTE_AR_HAS_TRACKING
@@ -33,6 +35,12 @@ struct FrameInputs::Sources {
   std::optional<StaticCameraPose> camera;
   Image8 frame;
   std::int64_t frameIndex = -1;
+  // The light estimated from the camera: the frames fed, the map's own light (its shape).
+  std::unique_ptr<CameraLightEstimator> light;
+  std::int64_t lightFrameIndex = -1;
+  prt::ShCoefficients mapRadiance{.bands = 0, .c = {}};
+  double lightMs = 0.0;
+  long lightFrames = 0;
 };
 
 FrameInputs::FrameInputs() : sources_(std::make_unique<Sources>()) {}
@@ -90,6 +98,11 @@ bool FrameInputs::load(const ArScene& scene, Diagnostics& diagnostics, bool offl
     lightingMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
   if (kind_ == ArBackground::Kind::Environment && environment_.empty()) kind_ = ArBackground::Kind::Color;
+  if (scene.environment.estimateFromCamera) {
+    sources_->light = std::make_unique<CameraLightEstimator>();
+    sources_->mapRadiance = radiance_;
+    if (radiance_.bands == 0) radiance_.bands = 3;  // the estimate's 3 bands, zero until a frame is fed
+  }
 
   if (kind_ == ArBackground::Kind::Image || kind_ == ArBackground::Kind::Sequence ||
       kind_ == ArBackground::Kind::Video) {
@@ -174,6 +187,66 @@ const Image8* FrameInputs::backgroundFrame(double time, Diagnostics& diagnostics
 #endif
   }
   return &s.frame;
+}
+
+namespace {
+
+// Pinhole intrinsics of the camera image as the viewport shows it: the GL projection's focal
+// lengths and centre carried through the cover crop (coverRect) into the image's pixels.
+PinholeIntrinsics imageIntrinsics(const glm::mat4& projection, int imageWidth, int imageHeight, int width, int height) {
+  const glm::vec4 rect = coverRect(static_cast<float>(imageWidth) / static_cast<float>(imageHeight),
+                                   static_cast<float>(width) / static_cast<float>(height));
+  PinholeIntrinsics k;
+  k.fx = 0.5 * projection[0][0] * rect.x * imageWidth;
+  k.cx = (0.5 * (1.0 - projection[2][0]) * rect.x + rect.z) * imageWidth - 0.5;
+  k.fy = 0.5 * projection[1][1] * rect.y * imageHeight;
+  k.cy = (1.0 - rect.w - 0.5 * (1.0 - projection[2][1]) * rect.y) * imageHeight - 0.5;
+  return k;
+}
+
+}  // namespace
+
+void FrameInputs::estimateLight(const CameraView& view, double time, int width, int height) {
+  Sources& s = *sources_;
+  if (!s.light || !view.posed || s.frame.empty() || s.frame.channels != 3 || s.frameIndex == s.lightFrameIndex) return;
+  s.lightFrameIndex = s.frameIndex;
+  const auto start = std::chrono::steady_clock::now();
+  CameraLightFrame frame;
+  frame.image = {s.frame.pixels.data(), s.frame.width, s.frame.height, static_cast<std::size_t>(s.frame.width) * 3};
+  frame.cameraToWorld = glm::inverse(view.viewInDouble);
+  frame.intrinsics = imageIntrinsics(view.projection, s.frame.width, s.frame.height, width, height);
+  frame.timeSeconds = time;
+  if (s.light->addFrame(frame) != LightFrameResult::Accepted || !s.light->estimate().valid) return;
+  // The camera's linear values, white balance as the camera set it (exposure unknown: 1).
+  const prt::ShCoefficients camera = cameraMatchedRadiance(s.light->estimate().radiance, 1.0);
+  const int bands = radiance_.bands;
+  if (s.mapRadiance.bands > 0) {  // the map's shape at the camera's level and colour, channel by channel
+    for (int c = 0; c < 3; ++c) {
+      const double gain = s.mapRadiance.c[0][c] > 0.0 ? camera.c[0][c] / s.mapRadiance.c[0][c] : 0.0;
+      for (int i = 0; i < s.mapRadiance.count(); ++i)
+        radiance_.c[static_cast<std::size_t>(i)][c] = s.mapRadiance.c[static_cast<std::size_t>(i)][c] * gain;
+    }
+  } else {
+    radiance_.c.fill(glm::dvec3(0.0));
+    for (std::size_t i = 0; i < 9; ++i) radiance_.c[i] = camera.c[i];
+  }
+  radiance_.bands = bands;
+  prt::ShCoefficients nine = radiance_;
+  nine.bands = 3;
+  for (std::size_t i = 9; i < nine.c.size(); ++i) nine.c[i] = glm::dvec3(0.0);
+  const prt::ShCoefficients irradiance = prt::irradianceCoefficients(nine);
+  for (std::size_t i = 0; i < 9; ++i) irradiance_[i] = glm::vec3(irradiance.c[i]);
+  lightFromCamera_ = true;
+  s.lightMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  ++s.lightFrames;
+}
+
+double FrameInputs::lightEstimateMs() const noexcept {
+  return sources_->lightFrames > 0 ? sources_->lightMs / static_cast<double>(sources_->lightFrames) : 0.0;
+}
+
+double FrameInputs::lightSeenFraction() const noexcept {
+  return sources_->light ? sources_->light->estimate().seenFraction : 0.0;
 }
 
 glm::vec3 FrameInputs::viewerBeforeFirstFrame(double time) const {

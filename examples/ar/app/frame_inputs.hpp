@@ -47,6 +47,19 @@ class FrameInputs {
   [[nodiscard]] int environmentHeight() const noexcept { return envHeight_; }
   [[nodiscard]] const float* environmentPixels() const noexcept { return environment_.data(); }
 
+  // "environment": {"estimate": "camera"}: feeds the frame's camera image (once per new frame)
+  // with the view's pose to the light estimate (marionette_ar/camera_light_estimate.hpp), then
+  // sets irradianceSH() and radianceSH() from it: the estimate alone, or with a map the map's
+  // shape at the estimate's level and colour. Call after camera(). No allocation.
+  void estimateLight(const CameraView& view, double time, int width, int height);
+  // True once the estimate lights the scene (a posed camera frame was fed): its radiance is the
+  // camera's linear value, so the characters take the camera's curve (sRGB, clipped), not the
+  // renderer's tone map.
+  [[nodiscard]] bool lightFromCamera() const noexcept { return lightFromCamera_; }
+  // Mean time per fed frame (ms), the share of the sphere seen so far, frames fed.
+  [[nodiscard]] double lightEstimateMs() const noexcept;
+  [[nodiscard]] double lightSeenFraction() const noexcept;
+
   // Wall time of loading and projecting the environment (ms).
   [[nodiscard]] double lightingMilliseconds() const noexcept { return lightingMs_; }
 
@@ -85,6 +98,7 @@ class FrameInputs {
   ArBackground::Kind kind_ = ArBackground::Kind::Color;
   float nearPlane_ = 0.05f, farPlane_ = 100.0f;
   double lightingMs_ = 0.0;
+  bool lightFromCamera_ = false;
 };
 
 }  // namespace marionette::ar

@@ -38,6 +38,9 @@ std::vector<CatalogueEntry> sceneCatalogue(const Scene& scene, const SceneLoadRe
     } else {
       diagnostics.warning(file, "character '" + c->name() + "' has no height: taken as 1 m");
     }
+    e.profileLifeHeight = c->rig().profile().lifeHeight;
+    if (const LifeSize life = e.lifeSize(); !life.note.empty())  // placed at the default height: say why
+      diagnostics.items.push_back({Severity::Note, file, 0, 0, life.note});
     out.push_back(std::move(e));
   }
   return out;

@@ -16,9 +16,11 @@ uniform float uExposure;
 uniform int uPrt;         // 1: vPrtIrradiance is the irradiance
 uniform int uOutputMode;  // 0: lit; 1: unlit base colour (tests); 2: normals (tests)
 uniform float uOpacity;   // < 1 while the camera's pose is less certain (blended over the background)
+uniform int uCameraCurve; // 1: the light is the camera's estimate: its curve, not the tone map
 
 vec3 irradiance(vec3 n);
 vec3 toneMap(vec3 linear);
+vec3 cameraCurve(vec3 linear);
 
 void main() {
   vec3 n = normalize(vNormal);
@@ -32,5 +34,6 @@ void main() {
   // keeps the SH9 light of the side seen (thin parts; cracks between meshes show no bright seam).
   vec3 e = uPrt != 0 && gl_FrontFacing ? vPrtIrradiance : irradiance(n);
   vec3 radiance = base.rgb / 3.14159265 * max(e, vec3(0.0));
-  fragColor = vec4(toneMap(radiance * uExposure), uOpacity);
+  vec3 exposed = radiance * uExposure;
+  fragColor = vec4(uCameraCurve != 0 ? cameraCurve(exposed) : toneMap(exposed), uOpacity);
 }

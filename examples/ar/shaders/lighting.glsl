@@ -15,10 +15,17 @@ vec3 irradiance(vec3 n) {
   return e;
 }
 
-// Reinhard per channel, then the sRGB transfer curve.
-vec3 toneMap(vec3 linear) {
-  vec3 mapped = linear / (1.0 + linear);
-  vec3 lo = mapped * 12.92;
-  vec3 hi = 1.055 * pow(mapped, vec3(1.0 / 2.4)) - 0.055;
-  return mix(lo, hi, step(vec3(0.0031308), mapped));
+// The sRGB transfer curve on values in 0..1.
+vec3 encodeSrgb(vec3 v) {
+  vec3 lo = v * 12.92;
+  vec3 hi = 1.055 * pow(v, vec3(1.0 / 2.4)) - 0.055;
+  return mix(lo, hi, step(vec3(0.0031308), v));
 }
+
+// Reinhard per channel, then the sRGB transfer curve.
+vec3 toneMap(vec3 linear) { return encodeSrgb(linear / (1.0 + linear)); }
+
+// A camera's curve: clipped at white, then sRGB. Light estimated from the camera is in the
+// camera's linear values, so a character lit by it and drawn through this curve shows the
+// brightness the camera would record for it.
+vec3 cameraCurve(vec3 linear) { return encodeSrgb(clamp(linear, 0.0, 1.0)); }

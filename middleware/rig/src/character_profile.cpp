@@ -54,7 +54,7 @@ class ProfileReader : JsonReaderBase {
         tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "comment"});
+    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "comment"});
     const Json& clips = section(doc, "clips");
     unknownKeys(clips, "/clips", {"idle", "walk", "run"});
     if (doc.contains("jointMap") && jointMap(doc["jointMap"], p)) {
@@ -90,6 +90,7 @@ class ProfileReader : JsonReaderBase {
                                                                                     bool atKey) { warn(at, m, atKey); });
       notes_.push_back("blendSpaces: " + std::to_string(n) + " (profile)");
     }
+    if (doc.contains("lifeHeight")) p.lifeHeight = lifeHeight(doc["lifeHeight"]);
     p.notes = std::move(notes_);
   }
 
@@ -403,6 +404,26 @@ class ProfileReader : JsonReaderBase {
       }
     }
     return out;
+  }
+
+  // "lifeHeight": metres, finite, in [kMin, kMax]; anything else is a warning, and ignored.
+  std::optional<float> lifeHeight(const Json& j) {
+    constexpr double kMin = 0.05, kMax = 20.0;
+    if (!j.is_number()) {
+      warn("/lifeHeight", "expected the character's life-size height in metres (a number in [0.05, 20]); ignored");
+      return std::nullopt;
+    }
+    const double v = j.get<double>();
+    if (!std::isfinite(v) || v < kMin || v > kMax) {
+      std::ostringstream text;
+      text << v;
+      warn("/lifeHeight", "height " + text.str() + " m is outside [0.05, 20] m; ignored");
+      return std::nullopt;
+    }
+    std::ostringstream text;
+    text << v;
+    notes_.push_back("lifeHeight: " + text.str() + " m (profile)");
+    return static_cast<float>(v);
   }
 
   bool gestures(const Json& j, CharacterProfile& p) {

@@ -112,8 +112,9 @@ bool AuthoringSession::apply(const Action& a, const AuthoringView& view, Diagnos
         added.asset = e.asset;
         added.bml = current_.bml;
         added.placement.position = *p;
-        added.placement.rotation = facing(*p, cameraPosition(view));  // facing the user, life size
-        added.placement.scale = 1.0f;
+        added.placement.rotation = facing(*p, cameraPosition(view));  // facing the user
+        // Life size: scale 1 (exactly: x / x) when its file's own height is a person's.
+        added.placement.scale = e.heightMetres > 0.0f ? e.lifeSize().metres / e.heightMetres : 1.0f;
         added.placement.pivot = e.pivot;
         current_.augmentation.characters.push_back(std::move(added));
       }

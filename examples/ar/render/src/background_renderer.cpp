@@ -55,12 +55,7 @@ void BackgroundRenderer::drawImage(float viewportAspect) const {
   program_.set("uFlatColor", glm::vec3(0.0f));
   // Cover: scale the image so it fills the viewport, cropping the longer side.
   const float imageAspect = imageHeight_ > 0 ? static_cast<float>(imageWidth_) / static_cast<float>(imageHeight_) : 1.0f;
-  glm::vec4 rect(1.0f, 1.0f, 0.0f, 0.0f);
-  if (viewportAspect > imageAspect) rect.y = imageAspect / viewportAspect;
-  else rect.x = viewportAspect / imageAspect;
-  rect.z = 0.5f * (1.0f - rect.x);
-  rect.w = 0.5f * (1.0f - rect.y);
-  program_.set("uImageRect", rect);
+  program_.set("uImageRect", coverRect(imageAspect, viewportAspect));
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, image_);
   program_.set("uImage", 0);

@@ -272,6 +272,7 @@ void drawCharacter(const ShaderProgram& program, const CharacterModel& model, co
   program.set("uViewProjection", viewProjection);
   program.set("uExposure", lighting.exposure);
   program.set("uOutputMode", lighting.outputMode);
+  program.set("uCameraCurve", lighting.cameraCurve ? 1 : 0);
   glUniform3fv(program.location("uIrradianceSH"), 9, &lighting.irradianceSH[0].x);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, pose.paletteTexture_);

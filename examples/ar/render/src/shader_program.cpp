@@ -15,7 +15,8 @@ std::string_view embeddedShader(std::string_view name) {
 }
 
 const char* const* shaderStageNames() {
-  static const char* const names[] = {"character.vert", "character.frag", "background.vert", "background.frag", nullptr};
+  static const char* const names[] = {"character.vert", "character.frag", "background.vert", "background.frag",
+                                     "shadow_depth.frag", "shadow_catcher.vert", "shadow_catcher.frag", nullptr};
   return names;
 }
 

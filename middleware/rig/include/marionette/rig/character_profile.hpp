@@ -54,6 +54,10 @@ struct CharacterProfile {
   // Authored animation events by clip name, beside the clip's own (Clip::events):
   // the profile's "events" (docs/character-profiles.md, docs/animation-events.md).
   std::map<std::string, std::vector<ClipEvent>> events;
+  // The character's height in metres when it stands life size (a profile's "lifeHeight", in
+  // [0.05, 20]): for a file whose own size is not the character's (RobotExpressive's is 4.46 m
+  // tall). Never guessed: nothing when the profile does not say (docs/authoring.md).
+  std::optional<float> lifeHeight;
   // One line per guess made (what was found, or what was missing), for logs and --stats.
   std::vector<std::string> notes;
 };

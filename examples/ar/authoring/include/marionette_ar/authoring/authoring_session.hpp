@@ -14,6 +14,7 @@
 
 #include "marionette_ar/authoring/augmentation.hpp"
 #include "marionette_ar/authoring/authoring_actions.hpp"
+#include "marionette_ar/authoring/life_size.hpp"
 
 namespace marionette::ar {
 
@@ -23,6 +24,11 @@ struct CatalogueEntry {
   std::string asset;
   float heightMetres = 1.0f;  // rest-pose height at scale 1 (the asset's own size, metres)
   glm::vec3 pivot{0.0f};      // the middle of its feet: the lowest point under its centre, model space
+  std::optional<float> profileLifeHeight{};  // its profile's "lifeHeight" (metres), if it gives one
+
+  // The height it stands at when placed (lifeSizeHeight's rule), and the note when the rule fell
+  // back on the default height.
+  [[nodiscard]] LifeSize lifeSize() const { return lifeSizeHeight(name, asset, heightMetres, profileLifeHeight); }
 };
 
 // The camera a click is seen through: OpenGL view and projection, and the pixel size of the

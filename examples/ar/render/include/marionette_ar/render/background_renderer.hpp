@@ -9,6 +9,18 @@
 
 namespace marionette::ar {
 
+// How a camera image covers a viewport without stretching (the longer side cropped): viewport
+// coordinates s in [0, 1]^2 (origin bottom-left) see the image at uv = s * rect.xy + rect.zw
+// (origin bottom-left too). Shared by the background's drawing and the light estimate.
+[[nodiscard]] inline glm::vec4 coverRect(float imageAspect, float viewportAspect) noexcept {
+  glm::vec4 rect(1.0f, 1.0f, 0.0f, 0.0f);
+  if (viewportAspect > imageAspect) rect.y = imageAspect / viewportAspect;
+  else rect.x = viewportAspect / imageAspect;
+  rect.z = 0.5f * (1.0f - rect.x);
+  rect.w = 0.5f * (1.0f - rect.y);
+  return rect;
+}
+
 class BackgroundRenderer {
  public:
   BackgroundRenderer() = default;

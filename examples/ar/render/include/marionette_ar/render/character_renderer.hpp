@@ -29,6 +29,7 @@ struct Lighting {
   std::array<glm::vec3, 9> irradianceSH{};  // E(n) = sum c_i Y_i(n); all zero = unlit black
   float exposure = 1.0f;
   int outputMode = 0;  // 0 lit, 1 unlit base colour, 2 normals (tests)
+  bool cameraCurve = false;  // the light is in a camera's linear values: its curve, not the tone map
 };
 
 class CharacterModel {
