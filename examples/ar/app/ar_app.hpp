@@ -22,6 +22,7 @@
 #include "marionette/scene_file/scene_file.hpp"
 #include "marionette_ar/render/background_renderer.hpp"
 #include "marionette_ar/render/character_renderer.hpp"
+#include "marionette_ar/contact_shadow.hpp"
 #include "marionette_ar/render/contact_shadow_renderer.hpp"
 #include "marionette_ar/render/gl_context.hpp"
 #include "marionette_ar/render/render_target.hpp"

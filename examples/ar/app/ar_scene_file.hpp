@@ -42,7 +42,6 @@
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/prt/mirror_ball.hpp"
 #include "marionette/prt/transfer.hpp"
-#include "marionette_ar/contact_shadow.hpp"
 
 namespace marionette::ar {
 
@@ -109,6 +108,17 @@ struct ArEnvironment {
   // "estimate": "camera": the light estimated from the camera's frames (camera_light_estimate.hpp);
   // with a map too, the map keeps its shape and takes the camera's level and colour.
   bool estimateFromCamera = false;
+};
+
+// Contact shadows on the floor (docs/ar-renderer.md, "Contact shadows"; marionette_ar/contact_shadow.hpp).
+struct ContactShadowSettings {
+  bool enabled = false;
+  // Multiplies the darkening the light model predicts (1: the floor loses exactly the light
+  // the character blocks; 0: no shadow). 0..1.
+  float strength = 1.0f;
+  // The dominant light's angular radius: the penumbra widens by tan(softness) per metre between
+  // the occluder and the floor. 9 coefficients say nothing of a light's size, so it is a setting.
+  float softnessDegrees = 6.0f;
 };
 
 struct ArScene {

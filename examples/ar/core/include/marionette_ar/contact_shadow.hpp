@@ -16,16 +16,6 @@
 
 namespace marionette::ar {
 
-struct ContactShadowSettings {
-  bool enabled = false;
-  // Multiplies the darkening the light model predicts (1: the floor loses exactly the light
-  // the character blocks; 0: no shadow). 0..1.
-  float strength = 1.0f;
-  // The dominant light's angular radius: the penumbra widens by tan(softness) per metre between
-  // the occluder and the floor. 9 coefficients say nothing of a light's size, so it is a setting.
-  float softnessDegrees = 6.0f;
-};
-
 struct ShadowLight {
   glm::vec3 towardLight{0.0f, 1.0f, 0.0f};  // unit, world: where the directional part comes from
   float directFraction = 0.0f;   // share of the floor's irradiance (normal +Y) from the directional part
