@@ -386,6 +386,7 @@ void ArApp::renderShadowMaps(float opacity) {
   const auto start = std::chrono::steady_clock::now();
   const ContactShadowSettings& settings = ar_.contactShadows;
   const bool cameraAboveFloor = glm::inverse(view_.view)[3].y > 0.0f;  // below it, the floor shows no shadow
+  const float tanSoftness = std::tan(glm::radians(settings.softnessDegrees));
   for (std::size_t i = 0; i < scene_.characters().size(); ++i) {
     shadows_[i].strength = 0.0f;
     if (!placed_[i] || !cameraAboveFloor) continue;
@@ -403,7 +404,7 @@ void ArApp::renderShadowMaps(float opacity) {
     draw.halfSize = glm::vec2(caster.catcherHalfLength, caster.catcherHalfWidth);
     draw.contacts = std::span<const glm::vec4>(caster.contacts.data(), caster.contactCount);
     draw.hasDirect = shadowLight_.directFraction > 0.0f;
-    draw.tanSoftness = std::tan(glm::radians(settings.softnessDegrees));
+    draw.tanSoftness = tanSoftness;
     draw.directFraction = shadowLight_.directFraction;
     draw.ambientFraction = shadowLight_.ambientFraction;
     draw.strength = settings.strength * std::clamp(opacity, 0.0f, 1.0f);

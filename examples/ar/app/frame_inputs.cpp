@@ -52,6 +52,17 @@ namespace {
 // E(n) = pi * L everywhere, i.e. the DC irradiance coefficient pi * L / Y00.
 constexpr float kNeutralRadiance = 0.8f;
 
+// The SH9 per-fragment light: the irradiance of the radiance's first 3 bands.
+std::array<glm::vec3, 9> irradianceNine(const prt::ShCoefficients& radiance) {
+  prt::ShCoefficients nine = radiance;
+  nine.bands = 3;
+  for (std::size_t i = 9; i < nine.c.size(); ++i) nine.c[i] = glm::dvec3(0.0);
+  const prt::ShCoefficients irradiance = prt::irradianceCoefficients(nine);
+  std::array<glm::vec3, 9> out{};
+  for (std::size_t i = 0; i < 9; ++i) out[i] = glm::vec3(irradiance.c[i]);
+  return out;
+}
+
 // Moves `from`'s items to the end of `to`; false if one is an error.
 bool report(Diagnostics& from, Diagnostics& to) {
   const bool ok = from.ok();
@@ -87,11 +98,7 @@ bool FrameInputs::load(const ArScene& scene, Diagnostics& diagnostics, bool offl
     const int bands = std::max(3, scene.environment.prt.mode == PrtMode::Off ? 3 : scene.environment.prt.bands);
     radiance_ = prt::rotateAboutY(prt::projectRadiance(*loaded.map, bands),
                                   glm::radians(static_cast<double>(scene.environment.rotationDegrees)));
-    prt::ShCoefficients nine = radiance_;
-    nine.bands = 3;
-    for (std::size_t i = 9; i < nine.c.size(); ++i) nine.c[i] = glm::dvec3(0.0);
-    const prt::ShCoefficients irradiance = prt::irradianceCoefficients(nine);
-    for (int i = 0; i < 9; ++i) irradiance_[static_cast<std::size_t>(i)] = glm::vec3(irradiance.c[static_cast<std::size_t>(i)]);
+    irradiance_ = irradianceNine(radiance_);
     envWidth_ = loaded.map->width();
     envHeight_ = loaded.map->height();
     environment_ = std::move(loaded.map->pixels());
@@ -231,11 +238,7 @@ void FrameInputs::estimateLight(const CameraView& view, double time, int width, 
     for (std::size_t i = 0; i < 9; ++i) radiance_.c[i] = camera.c[i];
   }
   radiance_.bands = bands;
-  prt::ShCoefficients nine = radiance_;
-  nine.bands = 3;
-  for (std::size_t i = 9; i < nine.c.size(); ++i) nine.c[i] = glm::dvec3(0.0);
-  const prt::ShCoefficients irradiance = prt::irradianceCoefficients(nine);
-  for (std::size_t i = 0; i < 9; ++i) irradiance_[i] = glm::vec3(irradiance.c[i]);
+  irradiance_ = irradianceNine(radiance_);
   lightFromCamera_ = true;
   s.lightMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   ++s.lightFrames;
