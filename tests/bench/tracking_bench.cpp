@@ -16,6 +16,12 @@
 //   Tracking/AprilTagFrame         AprilTagTracker::update on ViSP's tag36_11_640x480.png
 //                                  (fx = fy = 700, tag 0.2 m, decimate 2). Counters: tags, inliers.
 //   Tracking/Memcpy640x480         a memcpy of one 640x480 RGB frame: the floor for a ratio.
+//   Tracking/TargetOcclusion[Smeared]  the occlusion mask over the target (1/4 resolution) at the
+//                                  orbit's exact poses, sharp or every frame smeared 24 px along x;
+//                                  Close / Near: 12 views from 0.32 / 0.55 m turned 45 deg (the
+//                                  target's box larger than its area): it fills most of the frame
+//                                  (worked at scale 8) / 25 % of it, just under maxTargetPixels (scale 4);
+//                                  NearSmeared: those smeared 24 px along x.
 //   Tracking/{Warp,Klt,Ransac,Pose}{Own,OpenCv}
 //                                  the markerless tracker's per-frame primitives (src/
 //                                  perspective_warp, lucas_kanade, homography_ransac,
@@ -52,6 +58,7 @@
 #include "lucas_kanade.hpp"
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
+#include "marionette_ar/tracking/target_occlusion.hpp"
 #include "perspective_warp.hpp"
 #include "planar_pose.hpp"
 #include "tracking/scenario_run.hpp"
@@ -447,6 +454,61 @@ void denseAlignment(benchmark::State& state, int smear, bool verifyOnly = false)
   state.counters["renders"] = result.renders;
 }
 
+// The occlusion mask over the target (target_occlusion.hpp) at the orbit's exact poses, the 60
+// RGB frames in turn, each smeared along x by `smear` px first (0: sharp; made before timing).
+// Counters: the target's mask pixels and the share said hidden (none is: nothing covers it),
+// the blur given to the reference (mask pixels), the share of frames computed at twice the scale.
+void targetOcclusion(benchmark::State& state, int smear, double closeDistance = 0) {
+  cv::setNumThreads(1);
+  const Orbit& o = orbit();
+  if (!o.error.empty()) {
+    state.SkipWithError(o.error.c_str());
+    return;
+  }
+  std::vector<cv::Mat> frames;
+  std::vector<glm::dmat4> poses = o.cameraToWorld;
+  if (closeDistance > 0) {  // 12 views from closeDistance, 60 deg above the target, turned 45 deg
+    const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+    poses.clear();
+    for (int k = 0; k < 12; ++k) {
+      poses.push_back(synthetic::orbitPose(30.0 * k, 60, closeDistance, 45));
+      frames.emplace_back();
+      renderer.render(poses.back(), {}, frames.back());
+      if (smear > 1) cv::blur(frames.back(), frames.back(), cv::Size(smear, 1));
+    }
+  } else {
+    for (const cv::Mat& f : o.frames) {
+      cv::Mat g = f.clone();
+      if (smear > 1) cv::blur(f, g, cv::Size(smear, 1));
+      frames.push_back(g);
+    }
+  }
+  const synthetic::TargetPyramid reference = synthetic::standardTargetPyramid();
+  std::array<double, 9> planeToImage{};
+  for (std::size_t k = 0; k < 9; ++k) planeToImage[k] = reference.planeToImage.val[k];
+  const cv::Mat& ref = reference.levels[0];
+  Diagnostics d;
+  auto occlusion = TargetOcclusion::create(o.camera, view(ref), planeToImage, {}, d);
+  if (!occlusion) {
+    state.SkipWithError(d.format().c_str());
+    return;
+  }
+  std::size_t i = 0;
+  double pixels = 0, hidden = 0, blur = 0, coarse = 0;
+  for (auto _ : state) {
+    occlusion->update(view(frames[i]), poses[i]);
+    benchmark::DoNotOptimize(occlusion->mask().pixels);
+    pixels += occlusion->mask().targetPixels, hidden += occlusion->mask().hiddenShare, blur += occlusion->mask().blurLength;
+    coarse += occlusion->mask().computedScale != occlusion->mask().scale;
+    i = (i + 1) % frames.size();
+  }
+  const auto n = static_cast<double>(state.iterations());
+  state.counters["target_px"] = pixels / n;
+  state.counters["hidden"] = hidden / n;
+  state.counters["blur"] = blur / n;
+  state.counters["coarse"] = coarse / n;  // share of the frames computed at twice the scale
+}
+
 void kltOpenCv(benchmark::State& state) {
   MN_PRIMITIVES_DATA(d)
   std::vector<cv::Point2f> to;
@@ -557,6 +619,11 @@ BENCHMARK_CAPTURE(denseAlignment, smeared, 41)->Name("Tracking/DenseAlignmentSme
 // The check of a carried pose: one render at the fine level, nothing fitted (at the alignment
 // benchmark's start, 1 deg about the target's origin: its parts all agree there).
 BENCHMARK_CAPTURE(denseAlignment, verify, 0, true)->Name("Tracking/DenseVerify")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(targetOcclusion, sharp, 0)->Name("Tracking/TargetOcclusion")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(targetOcclusion, smeared, 24)->Name("Tracking/TargetOcclusionSmeared")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(targetOcclusion, close, 0, 0.32)->Name("Tracking/TargetOcclusionClose")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(targetOcclusion, near, 0, 0.55)->Name("Tracking/TargetOcclusionNear")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(targetOcclusion, nearSmeared, 24, 0.55)->Name("Tracking/TargetOcclusionNearSmeared")->Unit(benchmark::kMicrosecond);
 BENCHMARK(ransacOwn)->Name("Tracking/RansacOwn")->Unit(benchmark::kMicrosecond);
 BENCHMARK(ransacOpenCv)->Name("Tracking/RansacOpenCv")->Unit(benchmark::kMicrosecond);
 BENCHMARK(poseOwn)->Name("Tracking/PoseOwn")->Unit(benchmark::kMicrosecond);

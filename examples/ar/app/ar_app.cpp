@@ -232,6 +232,9 @@ int ArApp::setUpDrawing() {
                  shadowLight_.towardLight.x, shadowLight_.towardLight.y, shadowLight_.towardLight.z,
                  100.0 * shadowLight_.directFraction);
   }
+  if (inputs_.occlusionOn())
+    std::fprintf(info_, "marionette-ar: occlusion over the target: on (%s)\n",
+                 ar_.occlusion.masks.empty() ? "the tracker's mask" : ar_.occlusion.masks.c_str());
   last_ = std::chrono::steady_clock::now();
   // The viewer is the scene's "camera" object: scripts gaze and point at the user through it.
   scene_.setObject("camera", inputs_.viewerBeforeFirstFrame(0.0));
@@ -351,6 +354,7 @@ void ArApp::render() {
     default:
       background_.drawImage(static_cast<float>(ar_.width) / static_cast<float>(ar_.height));
   }
+  lighting_.occlusion = charactersShown ? updateOcclusion() : nullptr;
   if (charactersShown) {
     if (contactShadows_) {
       stamp(kCatchersStart);
@@ -419,7 +423,10 @@ void ArApp::drawContactShadows() {
   const auto start = std::chrono::steady_clock::now();
   const glm::mat4 viewProjection = view_.projection * view_.view;
   for (std::size_t i = 0; i < scene_.characters().size(); ++i)
-    if (placed_[i]) contactShadows_->drawCatcher(i, viewProjection, shadows_[i]);
+    if (placed_[i]) {
+      shadows_[i].occlusion = lighting_.occlusion;
+      contactShadows_->drawCatcher(i, viewProjection, shadows_[i]);
+    }
   shadowMs_ += millisecondsSince(start);
   ++shadowDraws_;
 }
@@ -441,6 +448,28 @@ void ArApp::drawCharacters(float opacity) {
     drawCharacter(characterProgram_, *drawn_[i], *poses_[i], world, view_.projection * view_.view, lighting_,
                   prtBuffers_[i].get(), opacity);
   }
+}
+
+const OcclusionDraw* ArApp::updateOcclusion() {
+  if (!inputs_.occlusionOn()) return nullptr;
+  OcclusionFrame mask;
+  Diagnostics reading;  // a mask file that cannot be read: said, and nothing is hidden this frame
+  const bool have = inputs_.occlusionMask(mask, reading);
+  if (!reading.items.empty()) std::fputs(reading.format().c_str(), stderr);
+  ++occlusionFrames_;
+  if (!have || !(mask.hiddenShare > 0.0)) return nullptr;
+  if (!occlusionTexture_) occlusionTexture_ = std::make_unique<OcclusionMaskTexture>();
+  occlusionTexture_->upload(mask.width, mask.height, mask.pixels, mask.stride);
+  GLint viewport[4] = {};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  occlusionDraw_.texture = occlusionTexture_->texture();
+  occlusionDraw_.screenToImage = coverRect(float(mask.frameWidth) / float(mask.frameHeight),
+                                           float(viewport[2]) / float(std::max(1, viewport[3])));
+  occlusionDraw_.imageToMask = mask.imageToMask;
+  occlusionDraw_.viewport = glm::vec2(float(viewport[2]), float(viewport[3]));
+  occlusionDraw_.heightLimit = ar_.occlusion.heightLimit;
+  ++occludedFrames_;
+  return &occlusionDraw_;
 }
 
 // The tracking state in the top-left corner: green, amber, red.
@@ -510,6 +539,9 @@ int ArApp::finish() {
   if (shadowDraws_ > 0)
     std::fprintf(info_, "marionette-ar: contact shadows: %.3f ms per frame submitting the passes\n",
                  shadowMs_ / static_cast<double>(shadowDraws_));
+  if (occlusionFrames_ > 0)
+    std::fprintf(info_, "marionette-ar: occlusion over the target: something hid it in %ld of %ld frames; the mask %.3f ms per frame\n",
+                 occludedFrames_, occlusionFrames_, inputs_.occlusionMs());
   if (gpuFrames_ > 0) {  // the GL work of a frame (on llvmpipe: the CPU's rasterizer threads)
     const double frameMs = gpuFrameMs_ / static_cast<double>(gpuFrames_);
     const double shadowMs = gpuShadowMs_ / static_cast<double>(gpuFrames_);

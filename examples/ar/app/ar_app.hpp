@@ -25,6 +25,7 @@
 #include "marionette_ar/contact_shadow.hpp"
 #include "marionette_ar/render/contact_shadow_renderer.hpp"
 #include "marionette_ar/render/gl_context.hpp"
+#include "marionette_ar/render/occlusion_mask_texture.hpp"
 #include "marionette_ar/render/render_target.hpp"
 
 namespace marionette::ar {
@@ -73,6 +74,8 @@ class ArApp {
   void renderShadowMaps(float opacity);
   void drawContactShadows();
   void drawCharacters(float opacity);
+  // This frame's occlusion mask uploaded; null when nothing hides the target.
+  [[nodiscard]] const OcclusionDraw* updateOcclusion();
   void drawTrackingBadge();
   [[nodiscard]] int write();
   [[nodiscard]] int writeImageOrFail(const std::string& path);
@@ -121,6 +124,10 @@ class ArApp {
   std::vector<ContactShadowDraw> shadows_;  // per character, this frame (its contacts point into casters_)
   double shadowMs_ = 0.0;
   long shadowDraws_ = 0;
+  // Occlusion over the target (ar_.occlusion): the mask of the frame, frames it hid something in.
+  std::unique_ptr<OcclusionMaskTexture> occlusionTexture_;
+  OcclusionDraw occlusionDraw_;
+  long occludedFrames_ = 0, occlusionFrames_ = 0;
   // Headless, the frame's GL work timed by GL_TIMESTAMP queries (read after the frame's read-back,
   // which waits for it anyway): the whole frame, and the contact shadows' passes within it.
   enum Stamp { kFrameStart, kMapsEnd, kCatchersStart, kCatchersEnd, kFrameEnd, kStamps };

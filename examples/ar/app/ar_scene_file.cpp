@@ -320,7 +320,7 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
   bool contactShadowsSet = false;
   if (r.object(root, "render")) {
     const Json& rd = root["render"];
-    r.unknownKeys(rd, "render", {"width", "height", "fps", "contactShadows"});
+    r.unknownKeys(rd, "render", {"width", "height", "fps", "contactShadows", "occlusion"});
     float w = static_cast<float>(out.width), h = static_cast<float>(out.height), fps = static_cast<float>(out.fps);
     r.number(rd, "width", "render", w, 16.0f, 8192.0f);
     r.number(rd, "height", "render", h, 16.0f, 8192.0f);
@@ -347,10 +347,34 @@ Diagnostics readArScene(const std::string& path, ArScene& out) {
       }
       contactShadowsSet = true;
     }
+    if (rd.contains("occlusion")) {
+      const Json& oc = rd["occlusion"];
+      ArOcclusion& occlusion = out.occlusion;
+      occlusion.asked = true;
+      if (oc.is_boolean()) {
+        occlusion.enabled = oc.get<bool>();
+      } else if (oc.is_object()) {
+        r.unknownKeys(oc, "render.occlusion", {"enabled", "height", "masks"});
+        occlusion.enabled = true;
+        if (oc.contains("enabled")) {
+          if (!oc["enabled"].is_boolean()) r.error("render.occlusion.enabled", "expected true or false");
+          else occlusion.enabled = oc["enabled"].get<bool>();
+        }
+        if (oc.contains("height")) r.number(oc, "height", "render.occlusion", occlusion.heightLimit, 0.001f, 100.0f);
+        if (oc.contains("masks")) {
+          if (!oc["masks"].is_string()) r.error("render.occlusion.masks", "expected a folder of mask images");
+          else occlusion.masks = r.resolve(oc["masks"].get<std::string>());
+        }
+      } else {
+        r.error("render.occlusion", "expected true, false or an object {\"height\", \"masks\"}");
+      }
+    }
   }
   // On by default where the floor is real: a tracked or replayed camera.
   if (!contactShadowsSet)
     out.contactShadows.enabled = out.camera.tracker.kind != ArTracker::Kind::None || !out.camera.replay.poses.empty();
+  // On by default where a mask exists: the markerless tracker's (AprilTag has no image of its target).
+  if (!out.occlusion.asked) out.occlusion.enabled = out.camera.tracker.kind == ArTracker::Kind::Markerless;
   return d;
 }
 

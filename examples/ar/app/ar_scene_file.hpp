@@ -22,7 +22,7 @@
 //                    "prt": { "mode": "shadowed", "bands": 5, "rays": 1024,   // or "unshadowed" / "off"
 //                             "cache": "dir",                 // optional: prt::defaultTransferCacheDirectory()
 //                             "pose": { "clip": "walk", "time": 0.0 } } },   // optional: transfer in that pose
-//   "render": { "width": 960, "height": 540, "fps": 30, "contactShadows": true },
+//   "render": { "width": 960, "height": 540, "fps": 30, "contactShadows": true, "occlusion": true },
 //   "authoring": { "bml": ["wave.xml", "nod.xml"] }   // optional: the BML the authoring UI offers
 // }
 //
@@ -121,6 +121,19 @@ struct ContactShadowSettings {
   float softnessDegrees = 6.0f;
 };
 
+// Occlusion over the target (docs/ar-renderer.md, "Occlusion over the target"): where something
+// real hides the tracked target (a hand), the characters' parts drawn over it are not drawn.
+struct ArOcclusion {
+  bool enabled = false;  // on by default with a markerless tracker (the one tracker with a mask)
+  bool asked = false;    // the file turned it on (a camera without a mask is then warned about)
+  // "height": the occluder is taken to reach this many metres above the floor: the characters'
+  // parts higher up are in front of it. Absent (< 0): everything drawn over the mask is behind it.
+  float heightLimit = -1.0f;
+  // "masks": a folder of grey images, one per background frame in name order (white: hidden),
+  // used instead of the tracker's (a segmentation made elsewhere; the tests' true masks). Resolved.
+  std::string masks;
+};
+
 struct ArScene {
   std::string path;   // the AR scene file
   std::string scene;  // the middleware scene, resolved
@@ -132,6 +145,8 @@ struct ArScene {
   // "render": {"contactShadows": true | false | {"strength": 1, "softness": 6}}; on by default
   // when the camera is tracked or replayed (the world's floor is then a real surface).
   ContactShadowSettings contactShadows;
+  // "render": {"occlusion": true | false | {"enabled", "height", "masks"}}.
+  ArOcclusion occlusion;
   std::vector<std::string> authoringBml;  // resolved
 };
 

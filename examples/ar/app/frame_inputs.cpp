@@ -41,6 +41,7 @@ struct FrameInputs::Sources {
   prt::ShCoefficients mapRadiance{.bands = 0, .c = {}};
   double lightMs = 0.0;
   long lightFrames = 0;
+  std::unique_ptr<OcclusionSource> occlusion;
 };
 
 FrameInputs::FrameInputs() : sources_(std::make_unique<Sources>()) {}
@@ -167,6 +168,9 @@ bool FrameInputs::load(const ArScene& scene, Diagnostics& diagnostics, bool offl
     return false;
 #endif
   }
+  Diagnostics occlusion;
+  sources_->occlusion = OcclusionSource::create(scene, occlusion);
+  if (!report(occlusion, diagnostics)) return false;
   return true;
 }
 
@@ -333,6 +337,23 @@ bool FrameInputs::trackingState(TrackingStateReport& out) const noexcept {
 #endif
   (void)out;
   return false;
+}
+
+bool FrameInputs::occlusionMask(OcclusionFrame& out, Diagnostics& diagnostics) {
+  Sources& s = *sources_;
+  if (!s.occlusion) return false;
+  TrackedCamera* tracked = nullptr;
+#if MARIONETTE_AR_HAS_TRACKING
+  tracked = s.tracked.get();
+#endif
+  out.frameWidth = s.frame.width;
+  out.frameHeight = s.frame.height;
+  return s.frame.width > 0 && s.occlusion->frame(s.frameIndex, tracked, out, diagnostics);
+}
+
+bool FrameInputs::occlusionOn() const noexcept { return sources_->occlusion != nullptr; }
+double FrameInputs::occlusionMs() const noexcept {
+  return sources_->occlusion ? sources_->occlusion->meanMilliseconds() : 0.0;
 }
 
 double FrameInputs::trackingMedianMs() const {

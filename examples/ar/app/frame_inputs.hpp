@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "ar_scene_file.hpp"
+#include "occlusion_source.hpp"
 #include "marionette/prt/sh_lighting.hpp"
 #include "marionette_ar/render/image.hpp"
 #include "marionette_ar/tracking_state.hpp"
@@ -85,6 +86,11 @@ class FrameInputs {
   // The tracker's (or replayed trajectory's) state, and whether it changed with the last
   // frame; false with neither.
   [[nodiscard]] bool trackingState(TrackingStateReport& out) const noexcept;
+  // Occlusion over the target: the mask of the frame shown (occlusion_source.hpp); false when
+  // there is none (occlusion off, no pose, no file for the frame). Call after backgroundFrame().
+  [[nodiscard]] bool occlusionMask(OcclusionFrame& out, Diagnostics& diagnostics);
+  [[nodiscard]] bool occlusionOn() const noexcept;
+  [[nodiscard]] double occlusionMs() const noexcept;
   // The tracker's median time per frame so far, ms (0 without one).
   [[nodiscard]] double trackingMedianMs() const;
 

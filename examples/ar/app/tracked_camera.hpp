@@ -26,6 +26,10 @@ class TrackedCamera {
   void update(const ImageView& frame, double seconds) noexcept;
 
   [[nodiscard]] TrackingState state() const noexcept { return last_.state; }
+  // Which pixels of the last frame hide the target (target_occlusion.hpp), made on the first call
+  // after update(); null from a tracker without one (AprilTag).
+  [[nodiscard]] const OcclusionMask* occlusionMask() noexcept { return tracker_->occlusionMask(); }
+  [[nodiscard]] const CameraModel& camera() const noexcept { return tracker_->camera(); }
   // A pose to draw with: tracked now, or held after a loss for at most holdSeconds.
   [[nodiscard]] bool hasPose(double seconds) const noexcept { return hold_.hasPose(seconds); }
   [[nodiscard]] bool charactersVisible(double seconds) const noexcept { return hold_.charactersVisible(seconds); }

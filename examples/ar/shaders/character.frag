@@ -6,6 +6,7 @@
 in vec3 vNormal;
 in vec2 vUv;
 in vec3 vPrtIrradiance;
+in vec3 vWorld;
 out vec4 fragColor;
 
 uniform vec3 uIrradianceSH[9];  // E(n) = sum_i c_i Y_i(n), linear RGB
@@ -16,11 +17,13 @@ uniform float uExposure;
 uniform int uPrt;         // 1: vPrtIrradiance is the irradiance
 uniform int uOutputMode;  // 0: lit; 1: unlit base colour (tests); 2: normals (tests)
 uniform float uOpacity;   // < 1 while the camera's pose is less certain (blended over the background)
+                          // (and faded where something real hides the target: occlusion.glsl)
 uniform int uCameraCurve; // 1: the light is the camera's estimate: its curve, not the tone map
 
 vec3 irradiance(vec3 n);
 vec3 toneMap(vec3 linear);
 vec3 cameraCurve(vec3 linear);
+float occludedShare(float height);
 
 void main() {
   vec3 n = normalize(vNormal);
@@ -35,5 +38,6 @@ void main() {
   vec3 e = uPrt != 0 && gl_FrontFacing ? vPrtIrradiance : irradiance(n);
   vec3 radiance = base.rgb / 3.14159265 * max(e, vec3(0.0));
   vec3 exposed = radiance * uExposure;
-  fragColor = vec4(uCameraCurve != 0 ? cameraCurve(exposed) : toneMap(exposed), uOpacity);
+  float alpha = uOpacity * (1.0 - occludedShare(vWorld.y));
+  fragColor = vec4(uCameraCurve != 0 ? cameraCurve(exposed) : toneMap(exposed), alpha);
 }

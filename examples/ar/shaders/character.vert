@@ -32,6 +32,7 @@ uniform float uMorphWeight[kMaxActiveMorphs];
 out vec3 vNormal;
 out vec2 vUv;
 out vec3 vPrtIrradiance;
+out vec3 vWorld;  // occlusion.glsl's height above the floor
 
 ivec2 morphTexel(int morph) {
   int i = morph * uVertexCount + gl_VertexID;
@@ -68,5 +69,6 @@ void main() {
   vNormal = mat3(model) * normal;
   vUv = aUv;
   vPrtIrradiance = aPrtIrradiance;
+  vWorld = world.xyz;
   gl_Position = uViewProjection * world;
 }

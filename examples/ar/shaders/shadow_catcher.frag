@@ -20,6 +20,8 @@ uniform vec4 uContacts[8];          // x, z, disc radius, weight
 uniform int uContactCount;
 uniform vec3 uIrradianceSH[9];      // unused here; lighting.glsl declares irradiance() over it
 
+float occludedShare(float height);
+
 const float kContactOcclusion = 0.6;  // of the ambient light, at a contact's centre
 const float kMaxDarkening = 0.95;
 // 12 points spread over the unit disc (a Fibonacci spiral): the blocker search and the filter.
@@ -76,7 +78,8 @@ void main() {
   float direct = uHasDirect != 0 ? directOcclusion() : 0.0;
   // A very low light's shadow is cut at the catcher's edge (3 bounding radii): faded, not clipped.
   float fade = 1.0 - smoothstep(0.8, 1.0, max(abs(vLocal.x), abs(vLocal.y)));
-  float lost = fade * uStrength * (uDirectFraction * direct + uAmbientFraction * ambientOcclusion());
+  // Where something real hides the floor (a hand), the floor's shadow is not seen.
+  float lost = fade * (1.0 - occludedShare(0.0)) * uStrength * (uDirectFraction * direct + uAmbientFraction * ambientOcclusion());
   float kept = 1.0 - min(lost, kMaxDarkening);
   // The framebuffer holds display-referred values (about linear^(1/2.2)).
   fragColor = vec4(vec3(pow(kept, 1.0 / 2.2)), 1.0);

@@ -13,7 +13,7 @@
 //    counts do not overlap, and the heap is glibc's throughout.
 //
 // The markerless tracker allocates nothing per frame once warm (asserted, over a sharp and a
-// blurred orbit). The AprilTag tracker cannot say as much: libapriltag allocates its working
+// blurred orbit), nor does its occlusion mask once made (asserted). The AprilTag tracker cannot say as much: libapriltag allocates its working
 // images, quads and detections on every call (malloc/calloc), and the pose refinement uses
 // OpenCV's solvePnP; the assertions there are that the count is bounded (ceilings below) and
 // exactly the same for the same frame every time, and that our code's own share is zero.
@@ -45,6 +45,7 @@
 #include "homography_ransac.hpp"
 #include "lucas_kanade.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
+#include "marionette_ar/tracking/target_occlusion.hpp"
 #include "perspective_warp.hpp"
 #include "planar_pose.hpp"
 #include "test_data.hpp"
@@ -502,6 +503,75 @@ TEST(TrackingAllocation, MarkerlessCarriedPosesAllocateNothingPerFrame) {
   const int carried = expectNoAllocationOnStressFrames(synthetic::StressClass::Hands, 20, 40, "carried",
                                                        [](const MarkerlessTracker::FrameStats& st) { return st.carried; });
   EXPECT_GE(carried, 3) << "the carried path must run on this sequence";
+}
+
+// The occlusion mask over the target (target_occlusion.hpp) on the `occluder` scenario (a
+// rectangle over 20..60 % of the target) and, blurred, on `blur`: the tracker's occlusionMask()
+// allocates on its first call (it makes its TargetOcclusion from the map's reference), nothing
+// on the frames after, however often it is asked; a tracker never asked makes none (its updates
+// allocate nothing, as above). A TargetOcclusion of its own, fed the same frames and the exact
+// poses, allocates nothing from its first update on, nor for a target filling the view (worked at
+// twice the scale).
+TEST(TrackingAllocation, OcclusionMaskAllocatesNothingPerFrame) {
+  cv::setNumThreads(1);
+  const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+  constexpr int kFrames = 24, kWarm = 10;
+  const auto rendered = synthetic::renderScenarios(renderer, kFrames, {"blur", "occluder"});
+  ASSERT_EQ(rendered.size(), 2u);
+  const synthetic::TargetPyramid reference = synthetic::standardTargetPyramid();
+  std::array<double, 9> planeToImage{};
+  for (std::size_t k = 0; k < 9; ++k) planeToImage[k] = reference.planeToImage.val[k];
+  for (const auto& scenario : rendered) {
+    const auto& frames = scenario.frames;
+    Diagnostics d;
+    auto tracker = MarkerlessTracker::fromTarget(renderer.camera(), synthetic::standardTargetImage(),
+                                                 synthetic::kStandardTargetWidth, MarkerlessSettings{}, d);
+    ASSERT_TRUE(tracker) << d.format();
+    auto occlusion = TargetOcclusion::create(renderer.camera(), view(reference.levels[0]), planeToImage, {}, d);
+    ASSERT_TRUE(occlusion) << d.format();
+    const double fps = scenario.scenario.fps;
+    for (int i = 0; i < kWarm; ++i) (void)tracker->update(view(frames[static_cast<std::size_t>(i)]), i / fps);
+    const Counts first0 = now();
+    const OcclusionMask* m = tracker->occlusionMask();
+    const Counts first = since(first0);
+    ASSERT_NE(m, nullptr);
+    EXPECT_GT(first.news + first.mallocs, 0) << "the first call makes the TargetOcclusion";
+    long news = 0, mallocs = 0, standaloneNews = 0, standaloneMallocs = 0;
+    double hidden = 0;
+    for (int i = kWarm; i < kFrames; ++i) {
+      const ImageView v = view(frames[static_cast<std::size_t>(i)]);
+      const TrackedPose p = tracker->update(v, i / fps);
+      EXPECT_NE(p.state, TrackingState::Lost) << scenario.scenario.name << " frame " << i;
+      const Counts c0 = now();
+      m = tracker->occlusionMask();
+      m = tracker->occlusionMask();  // asked again: the same mask, not computed again
+      expectNoAllocation(since(c0), static_cast<std::size_t>(i), news, mallocs);
+      hidden += m->hiddenShare;
+      const Counts c1 = now();
+      occlusion->update(v, scenario.scenario.cameraToWorld[static_cast<std::size_t>(i)]);
+      expectNoAllocation(since(c1), static_cast<std::size_t>(i), standaloneNews, standaloneMallocs);
+    }
+    if (scenario.scenario.name == "occluder") {
+      EXPECT_GT(hidden / (kFrames - kWarm), 0.15);
+    }
+    if (scenario.scenario.name == "blur") {
+      // A target filling the view: worked at twice the scale, upsampled; nothing allocated either.
+      for (int k = 0; k < 4; ++k) {
+        const glm::dmat4 pose = synthetic::orbitPose(90.0 * k, 60, 0.32);
+        cv::Mat frame;
+        renderer.render(pose, {}, frame);
+        const Counts c0 = now();
+        occlusion->update(view(frame), pose);
+        expectNoAllocation(since(c0), static_cast<std::size_t>(k), standaloneNews, standaloneMallocs);
+        EXPECT_EQ(occlusion->mask().computedScale, 8) << "close view " << k;
+      }
+    }
+    std::printf("[ occlusion %s ] first occlusionMask(): %ld operator new, %ld malloc family; after: %.1f and %.1f per "
+                "frame (TargetOcclusion::update: %.1f and %.1f)%s\n",
+                scenario.scenario.name.c_str(), first.news, first.mallocs, perFrame(news, kFrames - kWarm),
+                perFrame(mallocs, kFrames - kWarm), perFrame(standaloneNews, kFrames - kWarm),
+                perFrame(standaloneMallocs, kFrames - kWarm), MN_COUNT_MALLOC ? "" : " (malloc not counted in this build)");
+  }
 }
 
 // The dense alignment (what the tracker falls back on under a smear), with a smear being

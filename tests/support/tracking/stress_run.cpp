@@ -35,6 +35,8 @@ StressClassReport& classReport(StressReport& report, StressClass kind) {
   return *report.classes.insert(at, c);
 }
 
+}  // namespace
+
 // MN_STRESS_CACHE=DIR keeps each sequence's frames there (raw RGB8, one file a sequence) and
 // reads them back the next time: for calibrating the tracker, where rendering is 3/4 of a run.
 // The frames are a function of the class, seed, frame count and sub-frame options alone
@@ -76,8 +78,6 @@ RenderedScenario cachedRender(const SequenceRenderer& renderer, const StressSequ
   }
   return r;
 }
-
-}  // namespace
 
 std::vector<StressCase> stressCases(int seeds, bool splitOverClasses, int frames, int firstSeed) {
   std::vector<StressCase> cases;

@@ -75,6 +75,12 @@ struct StressRunOptions {
 [[nodiscard]] StressReport runStressSeeds(const SequenceRenderer& renderer, const std::vector<StressCase>& cases,
                                           const MarkerlessSettings& settings, const StressRunOptions& options = {});
 
+// renderStress, or the frames kept from an earlier run where MN_STRESS_CACHE names a folder (raw
+// RGB8, one file a sequence, named by the sequence, its length, the camera and non-default
+// sub-frame options); a new render is kept there. renderMs gets the render times (none when read).
+[[nodiscard]] RenderedScenario cachedRender(const SequenceRenderer& renderer, const StressSequence& sequence,
+                                            const StressOptions& stress, int threads, std::vector<double>& renderMs);
+
 // The summing up alone: one tracked sequence added to its class (runStressSeeds does it per
 // sequence), then the medians once all are in.
 void addStressRun(StressReport& report, StressClass kind, std::uint64_t seed, const Scenario& truth,

@@ -377,6 +377,67 @@ cv::Vec3f SequenceRenderer::sample(const View& v, int x, int y) const {
   return colour;
 }
 
+void SequenceRenderer::coverageSample(const View& v, int x, int y, float& onTarget, float& hidden) const {
+  onTarget = hidden = 0;
+  const cv::Vec2d r = ray(x, y);
+  if (std::isnan(r[0]) || !v.groundOk) return;
+  const glm::dvec3 q = v.toGround * glm::dvec3(r[0], r[1], 1.0);
+  if (!(q.z > 0)) return;
+  const double px = q.x / q.z, pz = q.y / q.z;
+  if (!(std::abs(px) < 0.5 * scene_.targetWidth && std::abs(pz) < 0.5 * v.targetDepth)) return;
+  onTarget = 1;
+  // The light that passes every occluder in front, as sample() composites them.
+  if (v.occW > 0) {
+    const glm::dvec3 o = v.toOccluder * glm::dvec3(r[0], r[1], 1.0);
+    if (o.z > 0) {
+      const double ox = o.x / o.z, oz = o.y / o.z;
+      if (ox >= v.occX0 && ox < v.occX0 + v.occW && std::abs(oz) < 0.5 * v.targetDepth) {
+        hidden = 1;
+        return;
+      }
+    }
+  }
+  float through = 1;
+  for (const View::Plane& plane : v.occluders) {
+    const glm::dvec3 t = plane.toTexture * glm::dvec3(r[0], r[1], 1.0);
+    if (!(t.z > 0)) continue;
+    const cv::Vec4f c = fetchClear(*plane.texture, t.x / t.z, t.y / t.z);
+    if (c[3] <= 0) continue;
+    through *= 1 - std::min(c[3], 1.0f);
+  }
+  hidden = 1 - through;
+}
+
+void SequenceRenderer::targetCoverage(const std::vector<SubFrame>& subFrames, const FrameEffects& fx, cv::Mat& onTarget,
+                                      cv::Mat& hidden) const {
+  if (subFrames.empty()) throw std::invalid_argument("targetCoverage: no sub-frame");
+  onTarget = cv::Mat::zeros(camera_.height, camera_.width, CV_32FC1);
+  hidden = cv::Mat::zeros(camera_.height, camera_.width, CV_32FC1);
+  // The samples renderExposure averages: all four of the 2x2 for one sub-frame, else one each.
+  constexpr int kPhase[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+  const bool one = subFrames.size() == 1;
+  const std::size_t views = one ? 4 : subFrames.size();
+  for (std::size_t k = 0; k < views; ++k) {
+    const SubFrame& sub = subFrames[one ? 0 : k];
+    const View v = view(sub.cameraToWorld, fx, sub.occluders);
+    const int dx = kPhase[k % 4][0], dy = kPhase[k % 4][1];
+    cv::parallel_for_(cv::Range(0, camera_.height), [&](const cv::Range& rows) {
+      for (int y = rows.start; y < rows.end; ++y) {
+        float* on = onTarget.ptr<float>(y);
+        float* hid = hidden.ptr<float>(y);
+        for (int x = 0; x < camera_.width; ++x) {
+          float a = 0, b = 0;
+          coverageSample(v, kSupersample * x + dx, kSupersample * y + dy, a, b);
+          on[x] += a;
+          hid[x] += b;
+        }
+      }
+    });
+  }
+  onTarget *= 1.0 / static_cast<double>(views);
+  hidden *= 1.0 / static_cast<double>(views);
+}
+
 void SequenceRenderer::shade(const View& v, cv::Mat& out) const {
   const int sw = camera_.width * kSupersample, sh = camera_.height * kSupersample;
   out.create(sh, sw, CV_32FC3);

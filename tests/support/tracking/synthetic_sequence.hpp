@@ -111,6 +111,16 @@ class SequenceRenderer {
   [[nodiscard]] double occludedTargetFraction(const glm::dmat4& cameraToWorld,
                                               const std::vector<Occluder>& occluders) const;
 
+  // The truth of which pixels show the target and which of those something hides (for the
+  // occlusion mask's tests, target_occlusion.hpp): per pixel of the camera image, over the same
+  // samples as renderExposure (render()'s 2x2 for one sub-frame; sample k % 4 of sub-frame k for
+  // several), the share whose line of sight reaches the target (`onTarget`), and the same share
+  // weighted by the opacity in front of the target there (`hidden`: fx's occluder rectangle
+  // opaque, Occluders by their alpha, composited as the render composites them). CV_32FC1,
+  // camera-sized, 0..1. Renders nothing: what render() and renderExposure() give is unchanged.
+  void targetCoverage(const std::vector<SubFrame>& subFrames, const FrameEffects& fx, cv::Mat& onTarget,
+                      cv::Mat& hidden) const;
+
   [[nodiscard]] const CameraModel& camera() const noexcept { return camera_; }
   [[nodiscard]] double targetWidth() const noexcept { return scene_.targetWidth; }
   [[nodiscard]] double targetDepth() const noexcept;  // extent along Z, metres
@@ -138,6 +148,9 @@ class SequenceRenderer {
                           const std::vector<Occluder>& occluders) const;
   [[nodiscard]] cv::Vec3f sceneSample(const View& v, int x, int y) const;  // supersample (x, y) without occluders
   [[nodiscard]] cv::Vec3f sample(const View& v, int x, int y) const;       // with them
+  // Supersample (x, y): 1 when its ray reaches the target (else 0), and that times the opacity
+  // of the occluders in front (targetCoverage).
+  void coverageSample(const View& v, int x, int y, float& onTarget, float& hidden) const;
   void shade(const View& v, cv::Mat& supersampled) const;
   // Supersample (2x + dx, 2y + dy) of every pixel (x, y), added to a camera-sized sum.
   void accumulatePhase(const View& v, int dx, int dy, cv::Mat& sum) const;

@@ -280,6 +280,7 @@ void drawCharacter(const ShaderProgram& program, const CharacterModel& model, co
   program.set("uBaseColorTexture", 1);
   program.set("uMorphPositions", 2);
   program.set("uMorphNormals", 3);
+  setOcclusionUniforms(program, lighting.occlusion, 4);
   // Every primitive once (twice when faded: depth, then colour).
   auto drawPrimitives = [&]() {
     const bool usePrt = prt && prt->slices_.size() == model.primitives_.size();
@@ -335,11 +336,11 @@ void drawCharacter(const ShaderProgram& program, const CharacterModel& model, co
     glBindVertexArray(0);
     glActiveTexture(GL_TEXTURE0);
   };
-  if (alpha >= 1.0f) {
+  if (alpha >= 1.0f && !lighting.occlusion) {
     drawPrimitives();
     return;
   }
-  // Faded: the nearest surface's depth first, then its colour blended over the background.
+  // Faded (or partly hidden by the occlusion mask): the nearest surface's depth first, then its colour blended over the background.
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   drawPrimitives();
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);

@@ -80,6 +80,7 @@ void ContactShadowRenderer::drawCatcher(std::size_t slot, const glm::mat4& viewP
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, maps_[slot]);
   p.set("uShadowMap", 0);
+  setOcclusionUniforms(p, shadow.occlusion, 4);
   // Over the image drawn so far, multiplied in; the floor is no surface of the depth buffer.
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);

@@ -29,6 +29,8 @@ std::string shaderSource(std::string_view name, ShaderDialect dialect) {
   if (name.size() > 5 && name.substr(name.size() - 5) == ".frag") {
     out += "\n#line 1\n";
     out += embeddedShader("lighting.glsl");
+    out += "\n#line 1\n";
+    out += embeddedShader("occlusion.glsl");
   }
   return out;
 }

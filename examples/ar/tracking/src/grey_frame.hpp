@@ -54,6 +54,8 @@ class GreyFrame {
     return true;
   }
   [[nodiscard]] const cv::Mat& pinhole() const noexcept { return distorted_ ? pinhole_ : grey_; }
+  // The last frame in grey as it came (not undistorted): the occlusion mask's input.
+  [[nodiscard]] const cv::Mat& raw() const noexcept { return grey_; }
 
  private:
   struct Tap {

@@ -228,6 +228,11 @@ struct MarkerlessTracker::Impl {
   cv::Mat frameDescriptors;
   std::vector<HammingMatch> matches;
   cv::Matx33d homography;
+  // The occlusion mask (occlusionMask()): made on its first call, computed once per frame asked.
+  std::unique_ptr<TargetOcclusion> occlusion;
+  long frames = 0, occlusionFrame = -1;  // update() calls; the one the mask was computed for
+  bool framePosed = false;               // the last update() gave a pose
+  glm::dmat4 framePose{1.0};             // that pose before the smoothing
 
   Impl(const CameraModel& c, const MarkerlessSettings& s)
       : camera(c), settings(s), filter(s.smoothingMinCutoffHz, s.smoothingBeta) {

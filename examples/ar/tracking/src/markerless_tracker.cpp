@@ -57,6 +57,8 @@ void MarkerlessTracker::Impl::forgetAll() noexcept {
   blur = {};
   lastDenseSmearPx = 0;
   filter.reset();
+  framePosed = false;  // the occlusion mask of this frame, asked after, is empty
+  occlusionFrame = -1;
 }
 
 void MarkerlessTracker::Impl::confirm(const Measurement& m, double seconds) noexcept {
@@ -70,6 +72,8 @@ void MarkerlessTracker::Impl::confirm(const Measurement& m, double seconds) noex
 
 TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double seconds) {
   stats = FrameStats{};
+  ++frames;
+  framePosed = false;
   TrackedPose result;
   if (!loadFrame(frame)) return result;
   forgetOld(seconds);
@@ -292,6 +296,8 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   if (!gaveLast) filter.reset();  // a new stretch of poses: do not blend with the last one
   gaveLast = true;
   const glm::dmat4 raw = cameraToWorld(shown);
+  framePose = raw;
+  framePosed = true;
   const double distance = std::max(0.05, glm::length(glm::dvec3(raw[3])));
   result.cameraToWorld = settings.smoothing ? filter.filter(raw, seconds, distance) : raw;
   return result;
@@ -314,6 +320,28 @@ TrackedPose MarkerlessTracker::update(const ImageView& frame, double seconds) no
 
 void MarkerlessTracker::reset() noexcept { impl_->forgetAll(); }
 
+const OcclusionMask* MarkerlessTracker::occlusionMask() noexcept {
+  Impl& m = *impl_;
+  if (!m.occlusion) {
+    try {
+      Diagnostics ignored;  // the map's reference was checked when the tracker was made
+      m.occlusion = TargetOcclusion::create(m.camera, m.map, m.settings.occlusion, ignored);
+    } catch (const std::bad_alloc&) {
+      return nullptr;
+    }
+    if (!m.occlusion) return nullptr;
+  }
+  if (m.occlusionFrame != m.frames) {
+    m.occlusionFrame = m.frames;
+    const cv::Mat& g = m.grey.raw();
+    if (m.framePosed && !g.empty())
+      m.occlusion->update(ImageView{g.data, g.cols, g.rows, 1, static_cast<std::ptrdiff_t>(g.step)}, m.framePose);
+    else
+      m.occlusion->clear();
+  }
+  return &m.occlusion->mask();
+}
+
 const CameraModel& MarkerlessTracker::camera() const noexcept { return impl_->camera; }
 const PlanarMap& MarkerlessTracker::map() const noexcept { return impl_->map; }
 const MarkerlessTracker::FrameStats& MarkerlessTracker::lastFrame() const noexcept { return impl_->stats; }
@@ -330,6 +358,7 @@ std::string checkSettings(const MarkerlessSettings& s) {
     return "tiltedViewFeatures must be 0..20000";
   if (s.referenceFeatures < 50 || s.referenceFeatures > PlanarMap::kMaxPointsPerKeyframe)
     return "referenceFeatures must be 50..20000";
+  if (const std::string p = s.occlusion.problem(); !p.empty()) return "occlusion: " + p;
   if (s.minDenseAgreeingParts < 1 || s.minDenseSliverParts < 1) return "minDenseAgreeingParts and minDenseSliverParts must be >= 1";
   if (s.maxCarriedFrames < 0 || !(s.carryRotationSigmaDeg >= 0) || !std::isfinite(s.carryRotationSigmaDeg) ||
       !(s.carryPositionSigmaM >= 0) || !std::isfinite(s.carryPositionSigmaM))

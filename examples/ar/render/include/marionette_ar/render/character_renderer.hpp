@@ -20,6 +20,7 @@
 #include "marionette/bridge/palette_binding.hpp"
 #include "marionette/asset/asset.hpp"
 #include "marionette/scene/transform_buffer.hpp"
+#include "marionette_ar/render/occlusion_mask_texture.hpp"
 #include "marionette_ar/render/shader_program.hpp"
 
 namespace marionette::ar {
@@ -30,6 +31,9 @@ struct Lighting {
   float exposure = 1.0f;
   int outputMode = 0;  // 0 lit, 1 unlit base colour, 2 normals (tests)
   bool cameraCurve = false;  // the light is in a camera's linear values: its curve, not the tone map
+  // Something real in front of the target (occlusion_mask_texture.hpp): what lies over it is
+  // faded out (drawn blended, as a faded character). Null: nothing hides the character.
+  const OcclusionDraw* occlusion = nullptr;
 };
 
 class CharacterModel {
@@ -131,7 +135,8 @@ class PrtIrradiance {
 // Draws one character with `program` (character.vert + character.frag): lit by
 // `prt` when given (per-vertex irradiance), else by lighting.irradianceSH per fragment.
 // `opacity` < 1 fades the whole character over what is behind it (a depth pass first, so it
-// fades as one surface: its far side never shows through its near side).
+// fades as one surface: its far side never shows through its near side); so does
+// lighting.occlusion, over the mask only.
 void drawCharacter(const ShaderProgram& program, const CharacterModel& model, const CharacterPose& pose,
                    const glm::mat4& world, const glm::mat4& viewProjection, const Lighting& lighting,
                    const PrtIrradiance* prt = nullptr, float opacity = 1.0f);

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "marionette_ar/render/character_renderer.hpp"
+#include "marionette_ar/render/occlusion_mask_texture.hpp"
 #include "marionette_ar/render/shader_program.hpp"
 
 namespace marionette::ar {
@@ -27,6 +28,7 @@ struct ContactShadowDraw {
   float tanSoftness = 0.1f;             // tan of the light's angular radius
   float directFraction = 0.0f, ambientFraction = 0.0f;
   float strength = 1.0f;                // settings x the character's opacity
+  const OcclusionDraw* occlusion = nullptr;  // what hides the floor is not darkened (none: null)
 };
 
 class ContactShadowRenderer {

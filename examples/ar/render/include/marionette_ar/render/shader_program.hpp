@@ -16,7 +16,7 @@ enum class ShaderDialect { Glsl330Core, GlslEs300 };
 // The embedded source of a shader file ("character.vert", ...), or empty.
 [[nodiscard]] std::string_view embeddedShader(std::string_view name);
 // A compilable stage: the dialect's header, the file, and for fragment shaders
-// the shared lighting functions (lighting.glsl).
+// the shared lighting functions (lighting.glsl) and the occlusion lookup (occlusion.glsl).
 [[nodiscard]] std::string shaderSource(std::string_view name, ShaderDialect dialect);
 // Every embedded stage file (for the compile test).
 [[nodiscard]] const char* const* shaderStageNames();  // null-terminated

@@ -29,6 +29,7 @@
 #include <string>
 
 #include "marionette_ar/tracking/planar_map.hpp"
+#include "marionette_ar/tracking/target_occlusion.hpp"
 #include "marionette_ar/tracking/tracker.hpp"
 
 namespace marionette::ar {
@@ -107,6 +108,8 @@ struct MarkerlessSettings {
   // Neighbouring pixels' errors are correlated beyond the smear's length: the covariance of a
   // dense pose is multiplied by this (calibrated on the stress sequences: docs/tracking.md).
   double denseCovarianceScale = 0.5;
+  // occlusionMask()'s (target_occlusion.hpp): made from the map's reference on its first call.
+  OcclusionSettings occlusion{};
 };
 
 class MarkerlessTracker final : public Tracker {
@@ -135,6 +138,10 @@ class MarkerlessTracker final : public Tracker {
   [[nodiscard]] TrackedPose update(const ImageView& frame, double seconds) noexcept override;
   void reset() noexcept override;
   [[nodiscard]] const CameraModel& camera() const noexcept override;
+  // The reference image against the last frame at the pose measured for it (before the
+  // smoothing, which may lag the image by a fraction of a frame): target_occlusion.hpp.
+  [[nodiscard]] bool hasOcclusionMask() const noexcept override { return true; }
+  [[nodiscard]] const OcclusionMask* occlusionMask() noexcept override;
 
   // The map as it is now (the reference and any keyframes added while tracking).
   [[nodiscard]] const PlanarMap& map() const noexcept;

@@ -46,6 +46,8 @@ struct TrackedPose {
   [[nodiscard]] glm::dquat orientation() const noexcept;  // camera-to-world rotation
 };
 
+struct OcclusionMask;  // target_occlusion.hpp
+
 class Tracker {
  public:
   virtual ~Tracker() = default;
@@ -55,6 +57,15 @@ class Tracker {
   // Forget the motion history (the next frame relocalizes from scratch).
   virtual void reset() noexcept = 0;
   [[nodiscard]] virtual const CameraModel& camera() const noexcept = 0;
+
+  // Which pixels of the target are hidden by something in front of it, for the last update()'s
+  // frame and pose (target_occlusion.hpp; docs/tracking.md, "Occlusion over the target"):
+  // computed on the first call after an update() and kept until the next (a scene that never
+  // asks pays nothing). Every pixel 0 when the last frame had no pose. Null from a tracker that
+  // has no occlusion map (hasOcclusionMask() false: AprilTag, which has no image of the target
+  // to compare the frame with). The mask stays valid until the next update() or reset().
+  [[nodiscard]] virtual bool hasOcclusionMask() const noexcept { return false; }
+  [[nodiscard]] virtual const OcclusionMask* occlusionMask() noexcept { return nullptr; }
 };
 
 // Conversions between an OpenCV pose (rvec/tvec: world -> OpenCV camera) and camera-to-world
