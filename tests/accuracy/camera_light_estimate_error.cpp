@@ -18,10 +18,11 @@
 // exposed for the median (mid grey at 0.18, clipping at 0.956) cannot measure.
 //
 // Usage: marionette_camera_light_error [--fps F] [--metering median|mean|locked] [--compressed]
-//                                      [--clipped-factor K] [--summary]
+//                                      [--clipped-factor K] [--bracket STOPS] [--summary]
 //   defaults: 30 fps, median metering, the estimator's default factor; --compressed squeezes each
 //   probe into the camera's range (L / (1 + L)) and locks the exposure at 1 unless --metering is
-//   given; --summary prints the closing line alone.
+//   given; --bracket brackets the exposure (camera_sweep.hpp's runSweep: every second and third
+//   frame of three STOPS and 2 STOPS darker than metered); --summary prints the closing line alone.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -86,6 +87,7 @@ int main(int argc, char** argv) {
   double fps = 30.0;
   test::Metering metering = test::Metering::Median;
   bool meteringGiven = false, compressed = false, summaryOnly = false;
+  int bracketStops = 0;
   ar::CameraLightSettings settings;
   for (int i = 1; i < argc; ++i) {
     const bool hasValue = i + 1 < argc;
@@ -97,12 +99,14 @@ int main(int argc, char** argv) {
       meteringGiven = true;
     } else if (!std::strcmp(argv[i], "--clipped-factor") && hasValue) {
       settings.clippedFactor = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--bracket") && hasValue) {
+      bracketStops = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--compressed")) {
       compressed = true;
     } else if (!std::strcmp(argv[i], "--summary")) {
       summaryOnly = true;
     } else {
-      std::fprintf(stderr, "usage: %s [--fps F] [--metering median|mean|locked] [--compressed] [--clipped-factor K] [--summary]\n",
+      std::fprintf(stderr, "usage: %s [--fps F] [--metering median|mean|locked] [--compressed] [--clipped-factor K] [--bracket STOPS] [--summary]\n",
                    argv[0]);
       return 2;
     }
@@ -112,6 +116,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (compressed && !meteringGiven) metering = test::Metering::Locked;
+  if (bracketStops < 0 || bracketStops > 10) {
+    std::fprintf(stderr, "--bracket must be 0..10 stops\n");
+    return 2;
+  }
 
   std::vector<std::pair<std::string, std::string>> probes;
   for (const char* n : {"city", "courtyard", "forest", "interior", "night", "studio", "sunrise", "sunset"})
@@ -145,7 +153,7 @@ int main(int argc, char** argv) {
     const test::ProbeCamera camera(map, metering);
     for (const test::SweepPath& sweep : test::kSweepPaths) {
       ar::CameraLightEstimator estimator(settings);
-      const test::SweepRun run = test::runSweep(camera, sweep, fps, estimator);
+      const test::SweepRun run = test::runSweep(camera, sweep, fps, estimator, bracketStops);
       const test::LightError e = test::compareIrradiance(run.probeUnits, truth, normals);
       allCosts.insert(allCosts.end(), run.frameMilliseconds.begin(), run.frameMilliseconds.end());
       if (!summaryOnly)
@@ -169,9 +177,10 @@ int main(int argc, char** argv) {
     for (const auto& [name, share] : reach) std::printf("| %s | %.0f %% |\n", name.c_str(), 100.0 * share);
     std::printf("\n");
   }
-  std::printf("%s metering%s, clipped factor %g, %g fps: %d of %d runs that saw a third of the sphere are within 15 %% "
+  std::printf("%s metering%s%s, clipped factor %g, %g fps: %d of %d runs that saw a third of the sphere are within 15 %% "
               "(mean error / mean E) and 20 degrees, on %zu probes; their median error %.1f %%; median cost %.3f ms / frame.\n",
               test::meteringName(metering), compressed ? ", probes compressed into the camera's range" : "",
+              bracketStops ? (", bracketed by " + std::to_string(bracketStops) + " and " + std::to_string(2 * bracketStops) + " stops").c_str() : "",
               settings.clippedFactor, fps, goalMet, goalRuns, goalProbes.size(), 100.0 * median(goalErrors),
               median(allCosts));
   return failures == 0 ? 0 : 1;

@@ -177,7 +177,11 @@ struct SweepRun {
   std::vector<double> frameMilliseconds;  // addFrame's cost, per frame
   int frames = 0;
 };
-inline SweepRun runSweep(const ProbeCamera& camera, const SweepPath& path, double fps, ar::CameraLightEstimator& estimator) {
+// `bracketStops` > 0: the camera brackets, as HDR video does: of every three frames the second is
+// exposed that many stops darker than metered, the third twice that (what a camera API lets an app
+// ask for); the exposure is reported with each frame.
+inline SweepRun runSweep(const ProbeCamera& camera, const SweepPath& path, double fps, ar::CameraLightEstimator& estimator,
+                         int bracketStops = 0) {
   SweepRun run;
   std::vector<std::uint8_t> rgb;
   const int frames = static_cast<int>(std::lround(path.seconds * fps)) + 1;
@@ -188,7 +192,7 @@ inline SweepRun runSweep(const ProbeCamera& camera, const SweepPath& path, doubl
     const double target = std::log(camera.meteredExposure(rotation));
     logExposure = k == 0 ? target
                          : logExposure + (1.0 - std::exp(-1.0 / (fps * ProbeCamera::kExposureSeconds))) * (target - logExposure);
-    const double exposure = std::exp(logExposure);
+    const double exposure = std::exp(logExposure) / std::exp2(static_cast<double>(bracketStops * (k % 3)));
     if (k == 0) run.referenceExposure = exposure;
     camera.render(rotation, exposure, static_cast<std::uint64_t>(k), rgb);
     ar::CameraLightFrame frame;

@@ -214,6 +214,10 @@ void CameraLightEstimator::updateCells(double time, double exposure) noexcept {
     if (clippedShare > 0.0f && cell.clipLevel > clipLevel &&
         luma(stored) >= luma(bound) * (1.0 - settings_.changeThreshold))
       continue;
+    // Below the noise floor an observation says "at most the floor" (a frame exposed darker, as a
+    // bracketing camera takes, records a dim region as a few codes): what the cell holds stays
+    // when it is within that bound; a cell brighter than it (a lamp switched off) takes it.
+    if (luma(observed) < floor && luma(stored) <= floor) continue;
     double change = 0.0;
     for (int ch = 0; ch < 3; ++ch)
       change = std::max(change, std::abs(observed[ch] - stored[ch]) / std::max({observed[ch], stored[ch], floor}));

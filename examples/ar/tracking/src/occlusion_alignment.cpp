@@ -212,7 +212,7 @@ void TargetOcclusion::Impl::lineBlur(const Box& w, const LineKernel& k, std::vec
   for (int y = w.y0; y < w.y1; ++y)
     for (int x = w.x0; x < w.x1; ++x) {
       const std::size_t i = at(x, y);
-      dst[i] = std::isnan(R[i]) ? kNaN : applyKernel(k, R, w, x, y);
+      dst[i] = std::isnan(dst[i]) ? kNaN : applyKernel(k, R, w, x, y);  // dst keeps R's NaNs (matchBlur)
     }
 }
 
@@ -309,7 +309,9 @@ void TargetOcclusion::Impl::matchBlur(const Box& w) noexcept {
   std::array<Sums, kParts * kParts> blurred{};
   partSumsOf(Rb, blurred);
   if (betterHalfNcc(blurred) < betterHalfNcc(parts) + kMinBlurGain) {
-    std::copy(R.begin(), R.end(), Rb.begin());
+    for (int y = w.y0; y < w.y1; ++y)  // back to R, the rays that miss the plane still NaN
+      for (int x = w.x0; x < w.x1; ++x)
+        if (!std::isnan(Rb[at(x, y)])) Rb[at(x, y)] = R[at(x, y)];
     return;
   }
   mask.blurLength = length, mask.blurAngleRad = angle;

@@ -137,16 +137,6 @@ struct TargetOcclusion::Impl {
     if (a > 0 && l1 != l0) value = value * (1 - a) + sampleLevel(l1, x * s1, y * s1) * a;
     return value;
   }
-  // Bilinear in a per-mask-pixel float grid, clamped to `b`.
-  float gridAt(const std::vector<float>& g, const Box& b, float x, float y) const noexcept {
-    x = std::clamp(x, static_cast<float>(b.x0), static_cast<float>(b.x1 - 1));
-    y = std::clamp(y, static_cast<float>(b.y0), static_cast<float>(b.y1 - 1));
-    const int x0 = std::min(static_cast<int>(x), std::max(b.x0, b.x1 - 2));
-    const int y0 = std::min(static_cast<int>(y), std::max(b.y0, b.y1 - 2));
-    const int x1 = std::min(x0 + 1, b.x1 - 1), y1 = std::min(y0 + 1, b.y1 - 1);
-    const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
-    return (g[at(x0, y0)] * (1 - ax) + g[at(x1, y0)] * ax) * (1 - ay) + (g[at(x0, y1)] * (1 - ax) + g[at(x1, y1)] * ax) * ay;
-  }
 
   void clearOutput() noexcept {
     for (int y = written.y0; y < written.y1; ++y)
