@@ -1,5 +1,6 @@
 #include "marionette/bml/behavior_parameters.hpp"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -15,7 +16,11 @@ namespace {
 
 // BML's names (any letter case).
 constexpr EnumName<HeadLexeme> kHeadLexemes[] = {
-    {"NOD", HeadLexeme::Nod}, {"SHAKE", HeadLexeme::Shake}, {"TILT", HeadLexeme::Tilt}};
+    {"NOD", HeadLexeme::Nod},       {"SHAKE", HeadLexeme::Shake},   {"TILT", HeadLexeme::Tilt},
+    {"TOSS", HeadLexeme::Toss},     {"WIGGLE", HeadLexeme::Wiggle}, {"WAGGLE", HeadLexeme::Waggle}};
+constexpr const char* kHeadDirections =
+    "a direction (UP, DOWN, LEFT, RIGHT, ASIDE_LEFT, ASIDE_RIGHT, TILT_LEFT, TILT_RIGHT and their combinations, "
+    "as Greta names them: DOWN_ASIDE_RIGHT, UP_TILT_LEFT, ...)";
 constexpr EnumName<GazeInfluence> kGazeInfluences[] = {
     {"EYES", GazeInfluence::Eyes},   {"HEAD", GazeInfluence::Head},   {"NECK", GazeInfluence::Neck},
     {"SHOULDER", GazeInfluence::Shoulder}, {"WAIST", GazeInfluence::Waist}, {"WHOLE", GazeInfluence::Whole}};
@@ -58,14 +63,18 @@ float amountOf(const Behavior& b, float fallback, float lo, float hi, std::strin
 
 void readHead(const Behavior& b, ReadParameters& out) {
   const std::string_view lexeme = valueOf(b, "lexeme");
-  const auto head = headLexemeFromName(lexeme);
-  if (!head) {
-    out.error = lexeme.empty() ? "a head behavior needs a lexeme (" + validNames<HeadLexeme>(kHeadLexemes) + ")"
-                               : "head lexeme '" + std::string(lexeme) + "' is not " + validNames<HeadLexeme>(kHeadLexemes);
+  const float amount =
+      amountOf(b, HeadParameters::kDefaultAmount, HeadParameters::kMinAmount, HeadParameters::kMaxAmount, out.warning);
+  if (const auto head = headLexemeFromName(lexeme)) {
+    out.parameters = HeadParameters{*head, amount};
     return;
   }
-  out.parameters = HeadParameters{
-      *head, amountOf(b, HeadParameters::kDefaultAmount, HeadParameters::kMinAmount, HeadParameters::kMaxAmount, out.warning)};
+  if (const auto direction = headDirectionFromName(lexeme)) {
+    out.parameters = HeadParameters{HeadLexeme::Orient, amount, *direction};
+    return;
+  }
+  out.error = (lexeme.empty() ? "a head behavior needs a lexeme (" : "head lexeme '" + std::string(lexeme) + "' is neither ") +
+              validNames<HeadLexeme>(kHeadLexemes) + " nor " + kHeadDirections + (lexeme.empty() ? ")" : "");
 }
 
 void readFace(const Behavior& b, BehaviorKind kind, ReadParameters& out) {
@@ -254,6 +263,38 @@ void readSpeech(const Behavior& b, ReadParameters& out) {
 
 std::optional<HeadLexeme> headLexemeFromName(std::string_view name) noexcept {
   return valueOfName<HeadLexeme>(name, kHeadLexemes, NameCase::Ignored);
+}
+
+std::optional<glm::vec3> headDirectionFromName(std::string_view name) {
+  // Words split by '_', '-' or spaces, any case. At BML's default amount (0.5, half of these):
+  // UP / DOWN pitch 15 / 20 degrees, LEFT / RIGHT and ASIDE_LEFT / ASIDE_RIGHT turn 25,
+  // TILT_LEFT / TILT_RIGHT roll 15 (the character's own sides).
+  std::vector<std::string> words;
+  std::string word;
+  for (const char c : name) {
+    if (c == '_' || c == '-' || c == ' ') {
+      if (!word.empty()) words.push_back(std::move(word)), word.clear();
+    } else {
+      word += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+  }
+  if (!word.empty()) words.push_back(std::move(word));
+  glm::vec3 degrees(0.0f);
+  bool any = false;
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    const std::string& w = words[i];
+    const bool sided = (w == "TILT" || w == "ASIDE") && i + 1 < words.size() && (words[i + 1] == "LEFT" || words[i + 1] == "RIGHT");
+    if (w == "UP") degrees.x -= 30.0f;
+    else if (w == "DOWN") degrees.x += 40.0f;
+    else if (w == "LEFT") degrees.y += 50.0f;
+    else if (w == "RIGHT") degrees.y -= 50.0f;
+    else if (sided && w == "TILT") degrees.z += words[++i] == "LEFT" ? -30.0f : 30.0f;
+    else if (sided && w == "ASIDE") degrees.y += words[++i] == "LEFT" ? 50.0f : -50.0f;
+    else return std::nullopt;
+    any = true;
+  }
+  if (!any) return std::nullopt;
+  return degrees;
 }
 
 std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept {

@@ -36,9 +36,32 @@ TEST(BmlParameters, HeadLexemesAndAmounts) {
   EXPECT_EQ(std::get<HeadParameters>(shake.parameters).lexeme, HeadLexeme::Shake);
   EXPECT_EQ(std::get<HeadParameters>(shake.parameters).amount, -0.5f);
   EXPECT_EQ(shake.error + shake.warning, "");
-  ReadParameters odd = read("head", {{"lexeme", "WIGGLE"}});
-  EXPECT_NE(odd.error.find("head lexeme 'WIGGLE' is not NOD, SHAKE or TILT"), std::string::npos) << odd.error;
+  ReadParameters odd = read("head", {{"lexeme", "JIGGLE"}});
+  EXPECT_NE(odd.error.find("head lexeme 'JIGGLE' is neither NOD, SHAKE, TILT, TOSS, WIGGLE or WAGGLE nor a direction (UP, DOWN"),
+            std::string::npos)
+      << odd.error;
   EXPECT_TRUE(std::holds_alternative<std::monostate>(odd.parameters));
+  // The catalogue, any case: SmartBody's TOSS, WIGGLE, WAGGLE; Greta's directions, held.
+  for (const auto& [name, lexeme] : {std::pair{"toss", HeadLexeme::Toss}, std::pair{"Wiggle", HeadLexeme::Wiggle},
+                                     std::pair{"WAGGLE", HeadLexeme::Waggle}}) {
+    const ReadParameters p = read("head", {{"lexeme", name}});
+    ASSERT_NE(std::get_if<HeadParameters>(&p.parameters), nullptr) << name << ": " << p.error;
+    EXPECT_EQ(std::get<HeadParameters>(p.parameters).lexeme, lexeme) << name;
+  }
+  const struct {
+    const char* name;
+    glm::vec3 degrees;
+  } directions[] = {{"Down", {40, 0, 0}},           {"up", {-30, 0, 0}},          {"Aside_Left", {0, 50, 0}},
+                    {"RIGHT", {0, -50, 0}},          {"tilt_right", {0, 0, 30}},   {"Down_Aside_Right", {40, -50, 0}},
+                    {"UP-TILT-LEFT", {-30, 0, -30}}, {"down left", {40, 50, 0}}};
+  for (const auto& d : directions) {
+    const ReadParameters p = read("head", {{"lexeme", d.name}});
+    ASSERT_NE(std::get_if<HeadParameters>(&p.parameters), nullptr) << d.name << ": " << p.error;
+    EXPECT_EQ(std::get<HeadParameters>(p.parameters).lexeme, HeadLexeme::Orient) << d.name;
+    EXPECT_EQ(std::get<HeadParameters>(p.parameters).orientDegrees, d.degrees) << d.name;
+  }
+  for (const char* bad : {"ASIDE", "TILT_UP", "DOWN_SIDEWAYS", "_"})
+    EXPECT_NE(read("head", {{"lexeme", bad}}).error.find("is neither"), std::string::npos) << bad;
   EXPECT_NE(read("head", {}).error.find("needs a lexeme"), std::string::npos);
   ReadParameters lots = read("head", {{"lexeme", "NOD"}, {"amount", "lots"}});
   EXPECT_EQ(lots.error, "");
@@ -161,11 +184,12 @@ TEST(BmlParameters, TheRealizerReportsWhatCouldNotBeRead) {
     if (f.kind == Feedback::Kind::Warning && f.warning.type != WarningType::ImpossibleToSchedule)  // not channel overlaps
       warnings.push_back(f);
   });
-  Schedule s = r.perform("<bml id='b'><head id='odd' lexeme='WIGGLE'/><head id='lots' lexeme='NOD' amount='lots'/></bml>");
+  Schedule s = r.perform("<bml id='b'><head id='odd' lexeme='JIGGLE'/><head id='lots' lexeme='NOD' amount='lots'/></bml>");
   ASSERT_FALSE(s.failed);
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_EQ(warnings[0].warning.type, WarningType::CannotCreateBehavior);
-  EXPECT_NE(warnings[0].warning.message.find("head lexeme 'WIGGLE' is not NOD, SHAKE or TILT"), std::string::npos)
+  EXPECT_NE(warnings[0].warning.message.find("head lexeme 'JIGGLE' is neither NOD, SHAKE, TILT, TOSS, WIGGLE or WAGGLE nor"),
+            std::string::npos)
       << warnings[0].warning.message;
   EXPECT_EQ(warnings[1].warning.type, WarningType::ParsingFailure);
   EXPECT_NE(warnings[1].warning.message.find("amount 'lots' is not a number in [-1, 1]; 0.5 is used"), std::string::npos)

@@ -388,8 +388,9 @@ TEST(Realizer, PointingAimsTheArmAndBadTargetsAreWarnings) {
   EXPECT_NE(w[1]->warning.message.find("'Nobody'"), std::string::npos) << w[1]->warning.message;
 }
 
-// A preparation shortened to nothing (stroke="0", ready="0" relax="0") reaches the body as a
-// jump to the stroke, never a NaN (issue 24, 2): head, pointing and gaze on an upper body.
+// A preparation shortened to nothing (stroke="0", ready="0" relax="0") reaches the body without
+// a NaN (issue 24, 2): head, pointing and gaze on an upper body. The nod, which a head cannot make
+// in no time, is slowed (issue 45, 10): its peak comes as soon as a head can turn that far, said.
 TEST(Realizer, ShortenedPreparationsMoveTheBodyWithoutNaN) {
   Scene scene;
   Realizer r(scene);
@@ -399,7 +400,10 @@ TEST(Realizer, ShortenedPreparationsMoveTheBodyWithoutNaN) {
   r.perform("<bml id='b' characterId='ann'><head id='h' lexeme='NOD' stroke='0'/>"
             "<pointing id='p' target='3 4 6' stroke='0' relax='1'/>"
             "<gaze id='g' target='1 1 2' ready='0' relax='0'/></bml>");
-  ASSERT_TRUE(rec.of(Feedback::Kind::Warning).empty()) << rec.all.front().xml();
+  const auto warned = rec.of(Feedback::Kind::Warning);
+  ASSERT_EQ(warned.size(), 1u) << rec.all.front().xml();
+  EXPECT_NE(warned[0]->warning.message.find("slowed to what a head can do"), std::string::npos) << warned[0]->xml();
+  EXPECT_EQ(warned[0]->warning.behaviorId, "h");
   for (int frame = 0; frame < 60; ++frame) {
     scene.update(1.0 / 60.0);
     r.update();
@@ -560,4 +564,34 @@ TEST_F(RealizerWithRobot, ACharactersOwnDialectComesFirst) {
   EXPECT_EQ(r.dialectFor("robot"), Dialect::SmartBody);
   EXPECT_EQ(r.dialectFor("sbm"), Dialect::Bml);
   for (const char* name : {"auto", "bml", "smartbody"}) EXPECT_TRUE(dialectFromName(name)) << name;
+}
+
+// Timing no body can follow, from BML (issue 45, 10): a thousand nods in 10 ms are thinned, said
+// with the behavior's id; at 1000 frames a second no frame turns the head by more than a head can.
+TEST(Realizer, AThousandNodsInTenMillisecondsAreThinnedAndSaid) {
+  Scene scene;
+  Realizer r(scene);
+  Recorder rec;
+  r.addFeedbackListener([&](const Feedback& f) { rec.all.push_back(f); });
+  Character* c = scene.addCharacter("ann", test::makeUpperBodyRig());
+  scene.update(0.0);
+  r.perform("<bml id='b' characterId='ann'><head id='h' lexeme='NOD' repeats='1000' start='0' end='0.01'/></bml>");
+  const auto warned = rec.of(Feedback::Kind::Warning);
+  ASSERT_FALSE(warned.empty());
+  bool thinned = false;
+  for (const Feedback* f : warned) thinned |= f->warning.behaviorId == "h" && f->warning.message.find("thinned") != std::string::npos;
+  EXPECT_TRUE(thinned) << warned[0]->xml();
+  const int head = c->rig().joints().head;
+  ASSERT_GE(head, 0);
+  glm::quat before = c->transformBuffer().modelMatrices().empty() ? glm::quat(1, 0, 0, 0)
+                                                                  : glm::quat_cast(c->transformBuffer().modelMatrices()[static_cast<std::size_t>(head)]);
+  float worst = 0.0f;
+  for (int frame = 0; frame < 40; ++frame) {
+    scene.update(0.001);
+    r.update();
+    const glm::quat now = glm::quat_cast(c->transformBuffer().modelMatrices()[static_cast<std::size_t>(head)]);
+    worst = std::max(worst, glm::angle(glm::normalize(now * glm::inverse(before))));
+    before = now;
+  }
+  EXPECT_LT(glm::degrees(worst), 0.5f);  // 2.4 degrees in one frame before
 }

@@ -442,3 +442,26 @@ TEST(CharacterProfileJointMap, SetProfileJointsNamesEveryBodyFieldFromTheMap) {
   EXPECT_EQ(q.head, "");
   EXPECT_TRUE(hasNote(q, "cannot be named in a profile")) << notes(q);
 }
+
+// "voices": other engines' voice names to the synthesizer's, keys lower-cased (speech::withVoiceNames).
+TEST(CharacterProfileLoad, VoicesMapNamesAndBadEntriesAreWarnings) {
+  TempProfile f(R"({"voices": {"OpenMARY": "en-us", "default": "en-gb"}})");
+  auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  ASSERT_EQ(r.profile.voices.size(), 2u);
+  EXPECT_EQ(r.profile.voices.at("openmary"), "en-us");
+  EXPECT_EQ(r.profile.voices.at("default"), "en-gb");
+  EXPECT_TRUE(hasNote(r.profile, "voices: 2 (profile)")) << notes(r.profile);
+  f.write("{\"comment\": \"x\",\n \"voices\": {\"marytts\": 3, \"openmary\": \"en-us\", \"\": \"de\"}}");
+  r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();  // warnings: the profile still loads
+  EXPECT_EQ(r.profile.voices.size(), 1u);
+  const Diagnostic* d = findDiag(r.diagnostics, "voices/marytts: expected a non-empty voice name");
+  ASSERT_NE(d, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(d->severity, Severity::Warning);
+  EXPECT_EQ(d->line, 2);
+  f.write(R"({"voices": ["en-us"]})");
+  r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.profile.voices.empty());
+  EXPECT_NE(findDiag(r.diagnostics, "voices: expected an object"), nullptr) << r.diagnostics.format();
+}

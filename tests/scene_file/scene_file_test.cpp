@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "marionette/scene_file/scene_file.hpp"
+#include "marionette/speech/speech_backend.hpp"
 #include "test_data.hpp"
 
 using namespace marionette;
@@ -175,4 +176,39 @@ TEST(SceneFile, ObjectsAreNamedPlaces) {
   EXPECT_NE(e.find("/characters/0/name: 'cup' names an object of this file too"), std::string::npos) << e;
   EXPECT_TRUE(bad.objects().empty());
   EXPECT_TRUE(bad.characters().empty());
+}
+
+// "speech": {"voices"}: other engines' voice names, given to the scene's speech service; bad
+// entries are errors naming their path.
+TEST(SceneFile, SpeechVoicesMapNamesAndBadOnesAreNamed) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  Scene scene;
+  auto bad = load(R"({"characters": [], "speech": {"voices": {"openmary": 3, "": "de"}}})", scene);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(errors(bad).find("/speech/voices/openmary"), std::string::npos) << errors(bad);
+  EXPECT_NE(errors(bad).find("/speech/voices/: expected a non-empty voice name"), std::string::npos) << errors(bad);
+  auto notObject = load(R"({"characters": [], "speech": {"voices": "en-us"}})", scene);
+  EXPECT_NE(errors(notObject).find("/speech/voices: expected an object"), std::string::npos) << errors(notObject);
+
+  struct Recording : speech::SpeechBackend {
+    std::string voice;
+    std::string_view name() const noexcept override { return "recording"; }
+    speech::SpeechResult synthesize(const speech::SpeechRequest& r) override {
+      voice = r.voice;
+      auto u = std::make_shared<speech::Utterance>();
+      u->text = r.text;
+      u->duration = 0.5;
+      return {u, {}};
+    }
+  };
+  auto recording = std::make_shared<Recording>();
+  Scene voiced;
+  voiced.speech().addBackend(recording);
+  auto ok = load(R"({"characters": [], "speech": {"voices": {"OpenMary": "en-gb"}, "synthesizer": false}})", voiced);
+  ASSERT_TRUE(ok.ok()) << errors(ok);
+  speech::SpeechRequest r;
+  r.text = "hello";
+  r.voice = "openmary";
+  ASSERT_TRUE(voiced.speech().speak(r).line);
+  EXPECT_EQ(recording->voice, "en-gb");
 }

@@ -39,14 +39,18 @@ TEST(EspeakBackend, TheLibraryGivesTheBackendAndAServiceUsesIt) {
 
 namespace {
 
+SpeechBackend& backend() {
+  static auto shared = makeEspeakBackend();
+  return *shared;
+}
+
 SpeechResult speak(const std::string& text, int wpm = 0, std::vector<TextMark> marks = {}, std::string voice = {}) {
-  static auto backend = makeEspeakBackend();
   SpeechRequest request;
   request.text = text;
   request.wordsPerMinute = wpm;
   request.marks = std::move(marks);
   request.voice = std::move(voice);
-  return backend->synthesize(request);
+  return backend().synthesize(request);
 }
 
 // The header's promises about an utterance's timing.
@@ -290,17 +294,43 @@ TEST(EspeakBackend, OutOfRangeRatesAreClampedWithANote) {
   EXPECT_NEAR(atMin.utterance->duration, slow.utterance->duration, 1e-9);  // clamped to 80
 }
 
-TEST(EspeakBackend, MissingVoiceIsAnErrorNamingIt) {
+// Another engine's voice name (BML from other realizers: "openmary", "marytts") is said in the
+// fallback voice, with a warning naming both; only when the fallback is missing too is it an error.
+TEST(EspeakBackend, AMissingVoiceIsSaidInTheFallbackVoiceWithAWarning) {
   const SpeechResult r = speak("Hello", 0, {}, "xx-no-such-voice");
-  EXPECT_EQ(r.utterance, nullptr);
-  EXPECT_NE(r.error.find("xx-no-such-voice"), std::string::npos) << r.error;
-  // The engine is fine afterwards: the next request uses its own voice.
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  ASSERT_NE(r.utterance, nullptr);
+  EXPECT_TRUE(hasWarning(*r.utterance, "no voice 'xx-no-such-voice'")) << allWarnings(*r.utterance);
+  EXPECT_TRUE(hasWarning(*r.utterance, "said with 'en-us'")) << allWarnings(*r.utterance);
+  // The default voice's own line: the same sound, and no warning.
   const SpeechResult ok = speak("Hello");
-  EXPECT_TRUE(ok.error.empty()) << ok.error;
+  ASSERT_TRUE(ok.error.empty()) << ok.error;
+  EXPECT_TRUE(ok.utterance->warnings.empty()) << allWarnings(*ok.utterance);
+  EXPECT_NEAR(r.utterance->duration, ok.utterance->duration, 0.02);
+  ASSERT_EQ(r.utterance->phonemes.size(), ok.utterance->phonemes.size());
+  for (std::size_t i = 0; i < ok.utterance->phonemes.size(); ++i)
+    EXPECT_EQ(r.utterance->phonemes[i].name, ok.utterance->phonemes[i].name);
   // A language works as well as a voice name: "en-gb" names no voice file (its voice is gmw/en).
   const SpeechResult other = speak("Hello", 0, {}, "en-gb");
   ASSERT_TRUE(other.error.empty()) << other.error;
+  EXPECT_TRUE(other.utterance->warnings.empty()) << allWarnings(*other.utterance);
   EXPECT_NE(other.utterance->audio, ok.utterance->audio);
+  // The request's fallback voice is used instead of the default, and names itself.
+  SpeechRequest request;
+  request.text = "Hello";
+  request.voice = "openmary";
+  request.fallbackVoice = "en-gb";
+  const SpeechResult british = backend().synthesize(request);
+  ASSERT_TRUE(british.error.empty()) << british.error;
+  EXPECT_TRUE(hasWarning(*british.utterance, "said with 'en-gb'")) << allWarnings(*british.utterance);
+  ASSERT_EQ(british.utterance->phonemes.size(), other.utterance->phonemes.size());
+  for (std::size_t i = 0; i < other.utterance->phonemes.size(); ++i)
+    EXPECT_EQ(british.utterance->phonemes[i].name, other.utterance->phonemes[i].name);
+  // Both missing: an error naming both.
+  request.fallbackVoice = "yy-no-such-voice";
+  const SpeechResult none = backend().synthesize(request);
+  EXPECT_EQ(none.utterance, nullptr);
+  EXPECT_NE(none.error.find("'openmary' nor 'yy-no-such-voice'"), std::string::npos) << none.error;
 }
 
 TEST(EspeakBackend, EmptyWhitespaceAndPunctuationAreValidUtterances) {

@@ -31,9 +31,11 @@ std::shared_ptr<speech::RecordedSpeech> arcticLine() {
 // A backend that counts how often it is asked, to see the cache work.
 struct CountingBackend : speech::SpeechBackend {
   int calls = 0;
+  speech::SpeechRequest last;  // what it was asked, voice names mapped
   std::string_view name() const noexcept override { return "counting"; }
   speech::SpeechResult synthesize(const speech::SpeechRequest& r) override {
     ++calls;
+    last = r;
     auto u = std::make_shared<speech::Utterance>();
     u->text = r.text;
     speech::Phoneme p;
@@ -120,6 +122,44 @@ TEST(SpeechService, SaysEachRequestOnceAndAsksBackendsInOrder) {
   EXPECT_EQ(recorded.line->backend, "recorded");  // the recording wins over the later backend
   EXPECT_EQ(counting->calls, 1);
   EXPECT_GT(recorded.line->curves.frames, 0);
+}
+
+// Voice names of other engines: the scene's map (case-insensitive) turns them into the
+// backend's; "default" fills a request without a voice and its fallback. A character's profile
+// map applies first (withVoiceNames, as Character does), then the scene's.
+TEST(SpeechService, VoiceNamesMapOtherEnginesVoices) {
+  speech::SpeechService service;
+  service.useDefaultSynthesizer(false);
+  auto counting = std::make_shared<CountingBackend>();
+  service.addBackend(counting);
+  service.setVoiceNames({{"OpenMARY", "en-gb"}, {"default", "en-us"}});
+  speech::SpeechRequest r;
+  r.text = "one";
+  r.voice = "openmary";
+  ASSERT_TRUE(service.speak(r).line);
+  EXPECT_EQ(counting->last.voice, "en-gb");
+  EXPECT_EQ(counting->last.fallbackVoice, "en-us");
+  r.text = "two";
+  r.voice = "marytts";  // not mapped: asked as it is, the default as its fallback
+  ASSERT_TRUE(service.speak(r).line);
+  EXPECT_EQ(counting->last.voice, "marytts");
+  EXPECT_EQ(counting->last.fallbackVoice, "en-us");
+  r.text = "three";
+  r.voice.clear();
+  ASSERT_TRUE(service.speak(r).line);
+  EXPECT_EQ(counting->last.voice, "en-us");
+  // A character's own map first: its "openmary" wins over the scene's.
+  r.text = "four";
+  r.voice = "OpenMary";
+  const std::map<std::string, std::string> profile = speech::voiceNameMap({{"OPENMARY", "de"}});
+  ASSERT_TRUE(service.speak(speech::withVoiceNames(r, profile)).line);
+  EXPECT_EQ(counting->last.voice, "de");
+  // Mapped the same, said once: the cache keys on the mapped request.
+  const int calls = counting->calls;
+  r.text = "one";
+  r.voice = "OPENMARY";
+  ASSERT_TRUE(service.speak(r).line);
+  EXPECT_EQ(counting->calls, calls);
 }
 
 TEST(SpeechService, WithoutBackendsSaysWhy) {

@@ -54,14 +54,24 @@ std::string knownExpressions(const RigJoints& joints) {
 std::string bindHead(BehaviorTimeline::Entry& e, const Rig& rig, std::string& warning) {
   const BehaviorRequest& r = e.request;
   const HeadParameters* p = r.as<HeadParameters>();
-  if (!p) return "a head behavior needs HeadParameters (a lexeme: NOD, SHAKE or TILT)";
+  if (!p) return "a head behavior needs HeadParameters (a lexeme: NOD, SHAKE, TILT, TOSS, WIGGLE, WAGGLE or a direction)";
   if (rig.joints().head < 0 && rig.joints().neck < 0)
     return "the character has no head or neck joint (set \"head\" in its profile)";
   HeadMotionState h;
   h.lexeme = p->lexeme;
+  h.move = headMove(*p);
+  if (!(std::isfinite(h.move.degrees.x) && std::isfinite(h.move.degrees.y) && std::isfinite(h.move.degrees.z)))
+    return "a head direction's angles are not finite";
   h.amount = checkedAmount(p->amount, HeadParameters::kDefaultAmount, HeadParameters::kMinAmount,
                            HeadParameters::kMaxAmount, warning);
   h.strokes = strokesOf(r);
+  // A held direction: to it by ready, held to relax, back by end (BML's default proportions when
+  // the request has no such syncs).
+  const double start = r.start(), span = r.end() - r.start();
+  h.phases = {start, r.time("ready").value_or(start + 0.1 * span), r.time("relax").value_or(start + 0.8 * span), r.end()};
+  std::string fitted;
+  h.amount = fitHeadToABody(h.move, h.amount, h.strokes, h.phases, fitted);
+  if (!fitted.empty()) warning += (warning.empty() ? "" : "; ") + fitted;
   e.controller = std::move(h);
   return {};
 }
@@ -82,17 +92,18 @@ std::string bindFace(BehaviorTimeline::Entry& e, const Rig& rig, std::string& wa
 }
 
 void applyHead(const HeadMotionState& h, float weight, double t, const Rig& rig, std::span<Transform> pose) noexcept {
-  const float shape = headShape(h.lexeme, h.strokes, t);
+  const float shape = headShape(h.move, h.strokes, h.phases, t);
   if (shape == 0.0f) return;
-  const float angle = weight * h.amount * headPeakAngle(h.lexeme) * shape;
-  const glm::vec3 axis = headAxis(h.lexeme);
+  const glm::vec3 angles = glm::radians(h.move.degrees) * (weight * h.amount * shape);
   const RigJoints& j = rig.joints();
-  // The neck takes 40 % and the head the rest, in the model frame, so the total is the angle.
+  // The neck takes 40 % and the head the rest, in the model frame, so that the head's whole
+  // turn is the move's (head after neck: whole = head * neck).
   if (j.neck >= 0 && j.head >= 0) {
-    rotateInModelFrame(rig.skeleton(), pose, j.neck, glm::angleAxis(0.4f * angle, axis));
-    rotateInModelFrame(rig.skeleton(), pose, j.head, glm::angleAxis(0.6f * angle, axis));
+    const glm::quat neck = headRotation(0.4f * angles);
+    rotateInModelFrame(rig.skeleton(), pose, j.neck, neck);
+    rotateInModelFrame(rig.skeleton(), pose, j.head, headRotation(angles) * glm::inverse(neck));
   } else {
-    rotateInModelFrame(rig.skeleton(), pose, j.head >= 0 ? j.head : j.neck, glm::angleAxis(angle, axis));
+    rotateInModelFrame(rig.skeleton(), pose, j.head >= 0 ? j.head : j.neck, headRotation(angles));
   }
 }
 

@@ -6,6 +6,7 @@
 #include "marionette/speech/lipsync.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <cmath>
 #include <fstream>
@@ -54,7 +55,7 @@ class ProfileReader : JsonReaderBase {
         tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "comment"});
+    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "voices", "comment"});
     const Json& clips = section(doc, "clips");
     unknownKeys(clips, "/clips", {"idle", "walk", "run"});
     if (doc.contains("jointMap") && jointMap(doc["jointMap"], p)) {
@@ -91,6 +92,7 @@ class ProfileReader : JsonReaderBase {
       notes_.push_back("blendSpaces: " + std::to_string(n) + " (profile)");
     }
     if (doc.contains("lifeHeight")) p.lifeHeight = lifeHeight(doc["lifeHeight"]);
+    if (doc.contains("voices")) voices(doc["voices"], p);
     p.notes = std::move(notes_);
   }
 
@@ -424,6 +426,25 @@ class ProfileReader : JsonReaderBase {
     text << v;
     notes_.push_back("lifeHeight: " + text.str() + " m (profile)");
     return static_cast<float>(v);
+  }
+
+  // "voices": {"openmary": "en-us", "default": "en-gb"}; keys lower-cased, non-strings warned about.
+  void voices(const Json& j, CharacterProfile& p) {
+    if (!j.is_object()) {
+      warn("/voices", "expected an object of VOICE NAME: voice (\"openmary\": \"en-us\"); ignored");
+      return;
+    }
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string where = "/voices/" + JsonPlaces::escape(it.key());
+      if (it.key().empty() || !it->is_string() || it->get<std::string>().empty()) {
+        warn(where, "expected a non-empty voice name for a non-empty key; ignored", true);
+        continue;
+      }
+      std::string key = it.key();
+      for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      p.voices[key] = it->get<std::string>();
+    }
+    notes_.push_back("voices: " + std::to_string(p.voices.size()) + " (profile)");
   }
 
   bool gestures(const Json& j, CharacterProfile& p) {

@@ -173,7 +173,7 @@ std::shared_ptr<const speech::SpokenLine> Character::State::prepareSpeech(const 
     return nullptr;
   }
   std::string warning;
-  speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(request, warning));
+  speech::SpeechService::Result said = scene_->speech().speak(speech::withVoiceNames(speechRequestOf(request, warning), rig_->profile().voices));
   if (!said.line) diagnostics.error(request.id, said.error);
   return said.line;
 }
@@ -182,12 +182,12 @@ std::shared_ptr<const speech::SpeechService::Preparation> Character::State::prep
     const BehaviorRequest& request) const {
   if (!scene_) return nullptr;
   std::string warning;  // reported when the behavior is added
-  return scene_->speech().prepare(speechRequestOf(request, warning));
+  return scene_->speech().prepare(speech::withVoiceNames(speechRequestOf(request, warning), rig_->profile().voices));
 }
 
 std::string Character::State::bindSpeechEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   if (!scene_) return "a character outside a scene has no speech service";
-  speech::SpeechService::Result said = scene_->speech().speak(speechRequestOf(e.request, warning));
+  speech::SpeechService::Result said = scene_->speech().speak(speech::withVoiceNames(speechRequestOf(e.request, warning), rig_->profile().voices));
   if (!said.line) return "speech cannot be said: " + said.error;
   const std::shared_ptr<const speech::SpokenLine> line = said.line;
   SpeechState& speech = e.controller.emplace<SpeechState>();

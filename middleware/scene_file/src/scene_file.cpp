@@ -416,13 +416,28 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
   // Recorded voice lines: read now (errors name the line), added to the scene's speech below.
   std::shared_ptr<speech::RecordedSpeech> recorded;
   bool synthesizer = true;
+  std::map<std::string, std::string> voiceNames;
   if (doc.contains("speech")) {
     const Json& sp = doc["speech"];
     if (!sp.is_object()) {
       r.fail("/speech", "expected {\"lines\": [{\"text\", \"audio\", \"alignment\"}], \"synthesizer\": true}");
     } else {
-      r.unknownKeys(sp, "/speech", {"lines", "synthesizer", "comment"});
+      r.unknownKeys(sp, "/speech", {"lines", "synthesizer", "voices", "comment"});
       if (sp.contains("synthesizer")) r.boolean(sp["synthesizer"], "/speech/synthesizer", synthesizer);
+      if (sp.contains("voices")) {  // other engines' voice names to the synthesizer's
+        const Json& v = sp["voices"];
+        if (!v.is_object()) r.fail("/speech/voices", "expected an object of VOICE NAME: voice (\"openmary\": \"en-us\")");
+        for (auto it = v.begin(); v.is_object() && it != v.end(); ++it) {
+          std::string voice;
+          const std::string where = "/speech/voices/" + it.key();
+          if (!r.string(*it, where, voice)) continue;
+          if (it.key().empty() || voice.empty()) {
+            r.fail(where, "expected a non-empty voice name for a non-empty key");
+            continue;
+          }
+          voiceNames[it.key()] = voice;
+        }
+      }
       const Json* lines = sp.contains("lines") ? &sp["lines"] : nullptr;
       if (lines && !lines->is_array()) r.fail("/speech/lines", "expected an array of {\"text\", \"audio\", \"alignment\"}");
       for (std::size_t i = 0; lines && lines->is_array() && i < lines->size(); ++i) {
@@ -599,6 +614,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& name, 
 
   if (recorded) scene.speech().addBackend(recorded);
   if (!synthesizer) scene.speech().useDefaultSynthesizer(false);
+  if (!voiceNames.empty()) scene.speech().setVoiceNames(voiceNames);
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const CharacterSpec& c = specs[i];
     Character* ch = scene.addCharacter(c.name, rigOf[i]);

@@ -3,6 +3,7 @@
 #include "marionette/core/limits.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <system_error>
 
@@ -20,7 +21,7 @@ std::uint64_t fnv1a(const std::string& s) {
 }
 
 std::string cacheKey(const SpeechRequest& r) {
-  std::string key = r.voice + '\x1f' + std::to_string(r.wordsPerMinute) + '\x1f' + r.text;
+  std::string key = r.voice + '\x1f' + r.fallbackVoice + '\x1f' + std::to_string(r.wordsPerMinute) + '\x1f' + r.text;
   for (const TextMark& m : r.marks) key += '\x1f' + m.id + '@' + std::to_string(m.characterOffset);
   return key;
 }
@@ -38,7 +39,30 @@ std::string limitProblem(const SpeechRequest& request) {
   return {};
 }
 
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 }  // namespace
+
+std::map<std::string, std::string> voiceNameMap(const std::map<std::string, std::string>& names) {
+  std::map<std::string, std::string> out;
+  for (const auto& [k, v] : names) out[lower(k)] = v;
+  return out;
+}
+
+SpeechRequest withVoiceNames(SpeechRequest request, const std::map<std::string, std::string>& names) {
+  if (names.empty()) return request;
+  if (!request.voice.empty()) {
+    if (const auto it = names.find(lower(request.voice)); it != names.end()) request.voice = it->second;
+  }
+  if (const auto it = names.find("default"); it != names.end()) {
+    if (request.voice.empty()) request.voice = it->second;
+    if (request.fallbackVoice.empty()) request.fallbackVoice = it->second;
+  }
+  return request;
+}
 
 SpeechService::~SpeechService() {
   {
@@ -96,6 +120,13 @@ std::filesystem::path SpeechService::audioDirectory() const {
   return audioDirectory_;
 }
 
+void SpeechService::setVoiceNames(std::map<std::string, std::string> names) {
+  std::lock_guard lock(mutex_);
+  voiceNames_ = voiceNameMap(names);
+  cache_.clear();
+  ++generation_;
+}
+
 void SpeechService::setLipSyncSettings(const LipSyncSettings& settings) {
   std::lock_guard lock(mutex_);
   lipSync_ = settings;
@@ -103,8 +134,9 @@ void SpeechService::setLipSyncSettings(const LipSyncSettings& settings) {
   ++generation_;
 }
 
-std::shared_ptr<SpeechService::Preparation> SpeechService::findOrStart(const SpeechRequest& request, bool& fresh) {
+std::shared_ptr<SpeechService::Preparation> SpeechService::findOrStart(const SpeechRequest& asked, bool& fresh) {
   fresh = false;
+  const SpeechRequest request = withVoiceNames(asked, voiceNames_);  // other engines' voice names
   auto job = std::make_shared<Preparation>();
   job->key_ = cacheKey(request);
   for (const Cached& c : cache_)

@@ -232,7 +232,10 @@ class EspeakBackend final : public SpeechBackend {
     auto u = std::make_shared<Utterance>();
     u->text = request.text;
 
-    const std::string voice = request.voice.empty() ? kDefaultVoice : request.voice;
+    // The line's voice; one the engine lacks (another engine's name: "openmary", "marytts")
+    // falls back to the request's fallback voice, else the default, with a warning.
+    const std::string fallback = request.fallbackVoice.empty() ? std::string(kDefaultVoice) : request.fallbackVoice;
+    std::string voice = request.voice.empty() ? fallback : request.voice;
     int rate = request.wordsPerMinute == 0 ? kDefaultRate : request.wordsPerMinute;
     if (rate < kMinRate || rate > kMaxRate) {
       const int clamped = std::clamp(rate, kMinRate, kMaxRate);
@@ -247,10 +250,9 @@ class EspeakBackend final : public SpeechBackend {
     for (TextMark& m : marks) m.characterOffset = utf8Boundary(request.text, m.characterOffset);
     std::stable_sort(marks.begin(), marks.end(),
                      [](const TextMark& a, const TextMark& b) { return a.characterOffset < b.characterOffset; });
-    std::string key = voice + '\n' + std::to_string(rate) + '\n' + request.text;
-    for (const TextMark& m : marks) key += '\n' + std::to_string(m.characterOffset) + ':' + m.id;
     Engine& e = engine();
     int sampleRate = 0;
+    std::string key;
     {
       std::lock_guard lock(e.turn);
       startEngine(e);
@@ -258,6 +260,22 @@ class EspeakBackend final : public SpeechBackend {
         result.error = e.startError;
         return result;
       }
+      if (!selectVoice(voice)) {
+        if (voice == fallback || !selectVoice(fallback)) {
+          result.error = "espeak-ng has no voice '" + voice + "'" +
+                         (voice == fallback ? std::string() : " nor '" + fallback + "'") +
+                         " (neither a voice name such as 'en-us' nor a language such as 'en-gb'; voices are listed by "
+                         "`espeak-ng --voices`; data in '" + dataPath() + "')";
+          return result;
+        }
+        u->warnings.push_back("espeak-ng has no voice '" + voice + "' (another engine's name?); the line is said with '" +
+                              fallback + "' (\"voices\" in the scene or the character's profile maps names to voices)");
+        voice = fallback;
+      }
+      // The voice asked for too: a fallen-back line carries its warning, a line asked in the
+      // fallback voice does not.
+      key = request.voice + '\n' + voice + '\n' + std::to_string(rate) + '\n' + request.text;
+      for (const TextMark& m : marks) key += '\n' + std::to_string(m.characterOffset) + ':' + m.id;
       for (const auto& [k, done] : e.recent)
         if (k == key) {
           result.utterance = done;

@@ -29,6 +29,10 @@ struct ReadParameters {
 [[nodiscard]] BehaviorTarget readTarget(std::string_view text);
 // Case-insensitive BML names.
 [[nodiscard]] std::optional<HeadLexeme> headLexemeFromName(std::string_view name) noexcept;
+// A head direction as Greta names them (UP, DOWN_ASIDE_RIGHT, TILT_LEFT, ...; any case, words
+// split by '_', '-' or spaces): degrees about the character's +X (down), +Y (left), +Z (roll
+// right) for HeadLexeme::Orient; nothing for a name that is not one.
+[[nodiscard]] std::optional<glm::vec3> headDirectionFromName(std::string_view name);
 [[nodiscard]] std::optional<GazeInfluence> gazeInfluenceFromName(std::string_view name) noexcept;
 
 }  // namespace marionette::bml

@@ -41,12 +41,16 @@ struct BehaviorTarget {
   [[nodiscard]] bool empty() const noexcept { return !point && character.empty(); }
 };
 
-// Head movements (kind Head).
-enum class HeadLexeme : std::uint8_t { Nod, Shake, Tilt };
+// Head movements (kind Head; the catalogue with angles and shapes: head_motion.hpp).
+// Orient is a held direction (Greta's head signals: UP, DOWN_ASIDE_RIGHT, TILT_LEFT, ...):
+// the head turns by `orientDegrees` by ready, holds it until relax, returns by end.
+enum class HeadLexeme : std::uint8_t { Nod, Shake, Tilt, Toss, Wiggle, Waggle, Orient };
 struct HeadParameters {
   static constexpr float kMinAmount = -1.0f, kMaxAmount = 1.0f, kDefaultAmount = 0.5f;
   HeadLexeme lexeme = HeadLexeme::Nod;
   float amount = kDefaultAmount;  // of the lexeme's peak angle; negative reverses it
+  // Orient: degrees at amount 1 about the character's +X (down), +Y (to its left), +Z (roll to its right).
+  glm::vec3 orientDegrees{0.0f};
 };
 
 // Face expressions (kinds FaceLexeme, FaceFacs, Face, FaceShift): a name the

@@ -30,10 +30,12 @@ struct LocomotionPlan;
 
 // Per-controller state of a request (BehaviorTimeline::Entry::controller). Gaze, pointing
 // and speech keep theirs in their own headers (GazeState, PointingState, SpeechState).
-struct HeadMotionState {            // head: NOD, SHAKE, TILT
+struct HeadMotionState {            // head: the catalogue of head_motion.hpp
   HeadLexeme lexeme = HeadLexeme::Nod;
-  std::vector<HeadStroke> strokes;  // one per repetition
-  float amount = 1.0f;              // BML amount
+  HeadMove move;                    // its angles and shape
+  std::vector<HeadStroke> strokes;  // one per repetition (thinned to what a head can do)
+  HeadPhases phases;                // a held move's
+  float amount = 1.0f;              // BML amount (made smaller when faster than a head turns)
 };
 struct FaceExpressionState {                 // faceLexeme, faceFacs, face, faceShift
   std::vector<std::pair<int, float>> morphs;  // (morph target, weight at full expression)

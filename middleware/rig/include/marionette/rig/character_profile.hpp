@@ -58,6 +58,10 @@ struct CharacterProfile {
   // [0.05, 20]): for a file whose own size is not the character's (RobotExpressive's is 4.46 m
   // tall). Never guessed: nothing when the profile does not say (docs/authoring.md).
   std::optional<float> lifeHeight;
+  // Voice names in this character's BML to the synthesizer's ("openmary": "en-us"; "default":
+  // its voice when a <speech> names none, or one the synthesizer lacks): a profile's "voices",
+  // keys lower case (speech::withVoiceNames), applied before the scene's.
+  std::map<std::string, std::string> voices;
   // One line per guess made (what was found, or what was missing), for logs and --stats.
   std::vector<std::string> notes;
 };

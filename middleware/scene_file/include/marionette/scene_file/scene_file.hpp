@@ -26,7 +26,9 @@
 //                                            // character's own "bmlDialect" comes first)
 //   "speech": {                              // optional
 //     "lines": [ { "text": "Hello there.", "audio": "hello.wav", "alignment": "hello.phones.txt" } ],
-//     "synthesizer": true                    // false: recorded lines only, never espeak-ng
+//     "synthesizer": true,                   // false: recorded lines only, never espeak-ng
+//     "voices": { "openmary": "en-us", "default": "en-gb" }  // other engines' voice names;
+//                                            // "default": for lines naming none or an unknown one
 //   }
 // }
 //

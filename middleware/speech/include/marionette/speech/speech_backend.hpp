@@ -23,8 +23,12 @@ struct TextMark {
 struct SpeechRequest {
   std::string text{};             // plain text, UTF-8
   std::vector<TextMark> marks{};  // in text order
-  std::string voice{};            // empty: the backend's default ("en-us" for espeak-ng)
+  std::string voice{};            // empty: fallbackVoice
   int wordsPerMinute = 0;       // 0: the backend's default (175 for espeak-ng)
+  // The voice for a request without one, and for one whose voice the backend does not have
+  // (said with this one, with a warning in the utterance); empty: the backend's default
+  // ("en-us" for espeak-ng). SpeechService sets it from its voice names (setVoiceNames).
+  std::string fallbackVoice{};
 };
 
 struct SpeechResult {

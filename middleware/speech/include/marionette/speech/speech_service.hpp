@@ -16,6 +16,7 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -35,6 +36,13 @@ struct SpokenLine {
   std::filesystem::path audioFile;  // its WAV, when an audio directory is set and it has audio
   std::string audioError;           // why its WAV could not be written (the line still plays)
 };
+
+// `request` with its voice mapped through `names` (keys lower case; looked up case-insensitively):
+// a name found is replaced by its value, "default" fills an empty voice and an empty fallback.
+// What a character's profile ("voices") and the scene's speech settings do, in that order.
+[[nodiscard]] SpeechRequest withVoiceNames(SpeechRequest request, const std::map<std::string, std::string>& names);
+// A voice-name map as read from a file: keys lower-cased (the later of two equal ones wins).
+[[nodiscard]] std::map<std::string, std::string> voiceNameMap(const std::map<std::string, std::string>& names);
 
 class SpeechService {
  public:
@@ -57,6 +65,10 @@ class SpeechService {
   void setAudioDirectory(std::filesystem::path directory);
   [[nodiscard]] std::filesystem::path audioDirectory() const;
   void setLipSyncSettings(const LipSyncSettings& settings);
+  // Voice names of other engines to the backends' (a scene's "speech": {"voices"}): a request's
+  // voice found here (case-insensitive) is asked for by its mapped name; "default" names the
+  // voice for requests without one and for a voice the backend lacks (SpeechRequest::fallbackVoice).
+  void setVoiceNames(std::map<std::string, std::string> names);
 
   struct Result {
     std::shared_ptr<const SpokenLine> line;  // null on failure
@@ -124,6 +136,7 @@ class SpeechService {
   std::string defaultMissing_;                  // why it is not there
   std::filesystem::path audioDirectory_;
   LipSyncSettings lipSync_;
+  std::map<std::string, std::string> voiceNames_;  // keys lower case
   std::vector<Cached> cache_;  // oldest first
 };
 
