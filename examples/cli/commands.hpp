@@ -78,6 +78,8 @@ int prtReportCommand(const PrtReportOptions& o);  // prt_report.cpp
 struct BmlCheckOptions {
   std::vector<std::string> files;
   std::string character;
+  std::string scene;          // a scene file: its characters, objects, voices and dialects
+  std::string characterName;  // which of its characters (default: the block's characterId, else the first)
   std::string dialect = "auto";  // auto, bml, smartbody (bml::dialectFromName)
   bool json = false;
 };

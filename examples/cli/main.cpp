@@ -227,6 +227,13 @@ int parseAndRun(int argc, char** argv) {
   bmlCheckCmd->add_option("--dialect", bmlCheck.dialect,
                           "How the blocks are read: auto (default: SmartBody's forms when a block uses them), bml, smartbody")
       ->type_name("D")->check(oneOf({"auto", "bml", "smartbody"}, "auto, bml or smartbody"));
+  auto* sceneOption = bmlCheckCmd->add_option("--scene", bmlCheck.scene,
+                          "Check in this scene file: its characters (profiles, clips), objects (gaze and point targets), voices")
+      ->type_name("FILE");
+  bmlCheckCmd->add_option("--character-name", bmlCheck.characterName,
+                          "With --scene: the character the blocks are for (default: the block's characterId, else the first)")
+      ->type_name("NAME")->needs(sceneOption);
+  sceneOption->excludes(bmlCheckCmd->get_option("--character"));
   bmlCheckCmd->add_flag("--json", bmlCheck.json, "Print JSON");
 #endif
 

@@ -321,3 +321,39 @@ TEST(CliRunBml, WalkLookNodSmileScene) {
   EXPECT_NEAR(smileStart, nodStroke, 1e-6);  // she smiles at the nod's stroke
 }
 #endif
+
+// --scene (issue 45, 8): a block that gazes and points at a scene's object and asks for another
+// engine's voice is unrealizable against the character alone and fine in the scene written for
+// it (its objects; its voice names); --character-name picks the character, a wrong one is named.
+TEST(CliBmlCheck, InTheSceneItsObjectsAndVoicesCount) {
+  const std::string robot = sharedAsset("characters/RobotExpressive.glb");
+  MARIONETTE_REQUIRE_FILE(robot);
+  const std::string scene = tempFile("check_scene.json", "{\"characters\": [{\"name\": \"robot\", \"asset\": \"" + robot +
+                                                             "\"}],\n \"objects\": [{\"name\": \"bluebox\", \"position\": [1, 0.5, 1]}],\n"
+                                                             " \"speech\": {\"voices\": {\"openmary\": \"en-gb\"}}}\n");
+  const std::string bml = tempFile("check_scene.xml",
+                                   "<bml xmlns=\"http://www.bml-initiative.org/bml/bml-1.0\" id=\"p1\" characterId=\"robot\">\n"
+                                   "  <pointing id=\"pt\" target=\"bluebox\" mode=\"RIGHT_HAND\"/>\n"
+                                   "  <gaze id=\"g\" target=\"bluebox\"/>\n"
+                                   "  <speech id=\"s\" voice=\"openmary\"><text>That one.</text></speech>\n"
+                                   "</bml>\n");
+  const CliRun alone = run("bml-check --character " + robot + " " + bml);
+  EXPECT_EQ(alone.status, 1) << alone.out;
+  EXPECT_NE(alone.out.find("pointing target 'bluebox': the scene has no character or object 'bluebox'"), std::string::npos)
+      << alone.out;
+  EXPECT_NE(alone.out.find("espeak-ng has no voice 'openmary'"), std::string::npos) << alone.out;
+  const CliRun inScene = run("bml-check --scene " + scene + " " + bml);
+  EXPECT_EQ(inScene.status, 0) << inScene.out;
+  EXPECT_NE(inScene.out.find("block 'p1': ok"), std::string::npos) << inScene.out;
+  const CliRun named = run("bml-check --json --scene " + scene + " --character-name robot " + bml);
+  EXPECT_EQ(named.status, 0) << named.out;
+  auto j = nlohmann::json::parse(named.out, nullptr, false);
+  ASSERT_TRUE(j.is_array()) << named.out;
+  EXPECT_EQ(j[0]["blocks"][0]["realizability"], "checked in the scene " + scene);
+  const CliRun wrong = run("bml-check --scene " + scene + " --character-name nobody " + bml);
+  EXPECT_EQ(wrong.status, 2);
+  EXPECT_NE(wrong.out.find("--character-name 'nobody': the scene has no such character (it has 'robot')"), std::string::npos)
+      << wrong.out;
+  EXPECT_EQ(run("bml-check --scene " + scene + " --character " + robot + " " + bml).status, 2);  // one or the other
+  EXPECT_EQ(run("bml-check --scene /nonexistent.json " + bml).status, 2);
+}
