@@ -8,6 +8,8 @@
 #include <string>
 
 #include "marionette/behavior/procedural_gesture.hpp"
+#include "marionette/core/text_file.hpp"
+#include "marionette/rig/gesture_vocabulary.hpp"
 #include "marionette/scene/scene.hpp"
 #include "real_rig.hpp"
 #include "test_data.hpp"
@@ -115,4 +117,60 @@ TEST(ProceduralGesture, UnknownLexemesAndMissingArmsAreNamed) {
   const BehaviorResult none = d->addBehavior(gesture("WAVE"));
   EXPECT_FALSE(none.realized);
   EXPECT_NE(none.message.find("no arm to gesture with"), std::string::npos) << none.message;
+}
+
+// Other realizers' gesture names (issue 45, 4): the shipped vocabulary maps them to the procedural
+// set (the most specific pattern wins), a profile's "gestureVocabulary" comes first, and the
+// warning names the mapping; a name nothing maps stays unrealized, as before.
+TEST(GestureVocabulary, OtherRealizersNamesPlayTheProceduralGestureTheyMapTo) {
+  Diagnostics shipped;
+  std::string text;
+  ASSERT_TRUE(readTextFile(sourceFile("assets/gestures/vocabulary.json"), text, shipped, "cannot read")) << shipped.format();
+  const GestureVocabulary fromFile = parseGestureVocabulary(text, "vocabulary.json", shipped);
+  EXPECT_TRUE(shipped.items.empty()) << shipped.format();
+  EXPECT_EQ(fromFile.size(), defaultGestureVocabulary().size());  // the built-in copy is the file
+  for (const GestureVocabularyEntry& e : defaultGestureVocabulary())
+    EXPECT_TRUE(hasProceduralGesture(e.lexeme)) << e.pattern << " -> " << e.lexeme;
+  const struct {
+    const char* name;
+    const char* lexeme;
+  } cases[] = {{"greet_wave1", "WAVE"},          {"Greeting", "WAVE"},          {"deictic_self", "ME"},
+               {"Deictic_You_2", "YOU"},         {"deictic_there", "DEICTIC"},  {"INFORM_GES_3", "BEAT"},
+               {"ChrBrad@Idle01_BeatLowBt01", "BEAT"}, {"METAPHORIC", "OFFER"}, {"shrug_2", "SHRUG"}};
+  for (const auto& k : cases) {
+    const GestureVocabularyEntry* m = matchGestureVocabulary(k.name, defaultGestureVocabulary());
+    ASSERT_NE(m, nullptr) << k.name;
+    EXPECT_EQ(m->lexeme, k.lexeme) << k.name << " matched '" << m->pattern << "'";
+  }
+  EXPECT_EQ(matchGestureVocabulary("FROBNICATE", defaultGestureVocabulary()), nullptr);
+  EXPECT_TRUE(gesturePatternMatches("a*b?c*", "AxxBzCyy"));
+  EXPECT_FALSE(gesturePatternMatches("a*b?c", "abc"));
+  EXPECT_TRUE(gesturePatternMatches("*", ""));
+  Diagnostics bad;
+  EXPECT_TRUE(parseGestureVocabulary("[1]", "v.json", bad).empty());
+  EXPECT_FALSE(bad.ok());
+  Diagnostics odd;
+  EXPECT_EQ(parseGestureVocabulary(R"({"x*": 3, "y*": "beat"})", "v.json", odd).size(), 1u);
+  EXPECT_NE(odd.format().find("gesture vocabulary entry 'x*'"), std::string::npos) << odd.format();
+
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/RobotExpressive.glb"));
+  auto rig = loadRigWithProfile(sharedAsset("characters/RobotExpressive.glb"), "RobotExpressive.json");
+  ASSERT_TRUE(rig);
+  Scene scene;
+  Character* c = scene.addCharacter("c", rig);
+  const BehaviorResult greet = c->addBehavior(gesture("greet_wave1"));
+  ASSERT_TRUE(greet.realized) << greet.message;
+  EXPECT_NE(greet.message.find("gesture 'greet_wave1' is played as the procedural WAVE (assets/gestures/vocabulary.json: 'greet*')"),
+            std::string::npos)
+      << greet.message;
+  // The profile's vocabulary first.
+  CharacterProfile own = rig->profile();
+  own.gestureVocabulary = {{"greet*", "BEAT"}};
+  auto mine = std::make_shared<Rig>(*rig);
+  mine->setProfile(own);
+  Character* d = scene.addCharacter("d", mine);
+  const BehaviorResult beat = d->addBehavior(gesture("greet_wave1"));
+  ASSERT_TRUE(beat.realized) << beat.message;
+  EXPECT_NE(beat.message.find("as the procedural BEAT (the profile's gestureVocabulary: 'greet*')"), std::string::npos)
+      << beat.message;
 }

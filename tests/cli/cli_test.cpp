@@ -322,6 +322,7 @@ TEST(CliRunBml, WalkLookNodSmileScene) {
 }
 #endif
 
+#if defined(MARIONETTE_CLI_HAS_BML) && defined(MARIONETTE_CLI_HAS_TTS)  // the voice fallback is espeak-ng's
 // --scene (issue 45, 8): a block that gazes and points at a scene's object and asks for another
 // engine's voice is unrealizable against the character alone and fine in the scene written for
 // it (its objects; its voice names); --character-name picks the character, a wrong one is named.
@@ -357,3 +358,4 @@ TEST(CliBmlCheck, InTheSceneItsObjectsAndVoicesCount) {
   EXPECT_EQ(run("bml-check --scene " + scene + " --character " + robot + " " + bml).status, 2);  // one or the other
   EXPECT_EQ(run("bml-check --scene /nonexistent.json " + bml).status, 2);
 }
+#endif

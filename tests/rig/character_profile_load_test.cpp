@@ -465,3 +465,20 @@ TEST(CharacterProfileLoad, VoicesMapNamesAndBadEntriesAreWarnings) {
   EXPECT_TRUE(r.profile.voices.empty());
   EXPECT_NE(findDiag(r.diagnostics, "voices: expected an object"), nullptr) << r.diagnostics.format();
 }
+
+// "gestureVocabulary": other realizers' gesture names to procedural lexemes (rig/gesture_vocabulary.hpp).
+TEST(CharacterProfileLoad, GestureVocabularyIsReadAndBadEntriesAreWarnings) {
+  TempProfile f(R"({"gestureVocabulary": {"greet*": "wave", "*self*": "ME"}})");
+  auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  ASSERT_EQ(r.profile.gestureVocabulary.size(), 2u);
+  const GestureVocabularyEntry* m = matchGestureVocabulary("greet_1", r.profile.gestureVocabulary);
+  ASSERT_NE(m, nullptr);
+  EXPECT_EQ(m->lexeme, "WAVE");
+  EXPECT_TRUE(hasNote(r.profile, "gestureVocabulary: 2 (profile)")) << notes(r.profile);
+  f.write("{\"comment\": \"x\",\n \"gestureVocabulary\": {\"x*\": 1}}");
+  r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.ok());
+  EXPECT_TRUE(r.profile.gestureVocabulary.empty());
+  EXPECT_NE(findDiag(r.diagnostics, "gestureVocabulary/x*: expected a non-empty pattern"), nullptr) << r.diagnostics.format();
+}

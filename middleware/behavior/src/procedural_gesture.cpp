@@ -1,5 +1,7 @@
 #include "marionette/behavior/procedural_gesture.hpp"
 
+#include "marionette/rig/gesture_vocabulary.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -102,6 +104,21 @@ std::string bindProceduralGesture(const BehaviorRequest& request, const Rig& rig
   const GestureParameters* p = request.as<GestureParameters>();
   const std::string lexeme = p ? p->lexeme : std::string();
   st.shape = shapeOf(lexeme);
+  if (st.shape < 0 && !lexeme.empty()) {
+    // Another realizer's name (Greta's greet_*, SmartBody's METAPHORIC, ...): the profile's
+    // vocabulary, then the shipped one (rig/gesture_vocabulary.hpp), played as what it maps to.
+    const char* from = "the profile's gestureVocabulary";
+    const GestureVocabularyEntry* m = matchGestureVocabulary(lexeme, rig.profile().gestureVocabulary);
+    if (!m || shapeOf(m->lexeme) < 0) {
+      m = matchGestureVocabulary(lexeme, defaultGestureVocabulary());
+      from = "assets/gestures/vocabulary.json";
+    }
+    if (m && shapeOf(m->lexeme) >= 0) {
+      st.shape = shapeOf(m->lexeme);
+      warning += std::string(warning.empty() ? "" : "; ") + "gesture '" + lexeme.substr(0, 40) + "' is played as the procedural " +
+                 m->lexeme + " (" + from + ": '" + m->pattern + "')";
+    }
+  }
   if (st.shape < 0) {
     std::string known;
     for (std::string_view name : proceduralGestureLexemes()) known += (known.empty() ? "" : ", ") + std::string(name);

@@ -55,7 +55,7 @@ class ProfileReader : JsonReaderBase {
         tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "voices", "comment"});
+    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "voices", "gestureVocabulary", "comment"});
     const Json& clips = section(doc, "clips");
     unknownKeys(clips, "/clips", {"idle", "walk", "run"});
     if (doc.contains("jointMap") && jointMap(doc["jointMap"], p)) {
@@ -93,6 +93,7 @@ class ProfileReader : JsonReaderBase {
     }
     if (doc.contains("lifeHeight")) p.lifeHeight = lifeHeight(doc["lifeHeight"]);
     if (doc.contains("voices")) voices(doc["voices"], p);
+    if (doc.contains("gestureVocabulary")) gestureVocabulary(doc["gestureVocabulary"], p);
     p.notes = std::move(notes_);
   }
 
@@ -445,6 +446,25 @@ class ProfileReader : JsonReaderBase {
       p.voices[key] = it->get<std::string>();
     }
     notes_.push_back("voices: " + std::to_string(p.voices.size()) + " (profile)");
+  }
+
+  // "gestureVocabulary": {"greet*": "WAVE", ...}: other realizers' names to procedural lexemes.
+  void gestureVocabulary(const Json& j, CharacterProfile& p) {
+    if (!j.is_object()) {
+      warn("/gestureVocabulary", "expected an object of PATTERN: procedural lexeme (\"greet*\": \"WAVE\"); ignored");
+      return;
+    }
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string where = "/gestureVocabulary/" + JsonPlaces::escape(it.key());
+      if (it.key().empty() || !it->is_string() || it->get<std::string>().empty()) {
+        warn(where, "expected a non-empty pattern and a procedural lexeme; ignored", true);
+        continue;
+      }
+      std::string lexeme = it->get<std::string>();
+      for (char& c : lexeme) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      p.gestureVocabulary.push_back({it.key(), lexeme});
+    }
+    notes_.push_back("gestureVocabulary: " + std::to_string(p.gestureVocabulary.size()) + " (profile)");
   }
 
   bool gestures(const Json& j, CharacterProfile& p) {

@@ -14,6 +14,7 @@
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/asset/asset.hpp"
 #include "marionette/core/file_reader.hpp"
+#include "marionette/rig/gesture_vocabulary.hpp"
 #include "marionette/rig/joint_map.hpp"
 
 namespace marionette {
@@ -62,6 +63,9 @@ struct CharacterProfile {
   // its voice when a <speech> names none, or one the synthesizer lacks): a profile's "voices",
   // keys lower case (speech::withVoiceNames), applied before the scene's.
   std::map<std::string, std::string> voices;
+  // Other realizers' gesture names to procedural lexemes, looked up before the shipped
+  // vocabulary (a profile's "gestureVocabulary": rig/gesture_vocabulary.hpp).
+  GestureVocabulary gestureVocabulary;
   // One line per guess made (what was found, or what was missing), for logs and --stats.
   std::vector<std::string> notes;
 };
