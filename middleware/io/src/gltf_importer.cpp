@@ -30,8 +30,29 @@ using namespace gltf_detail;
 // (for the asset's embeddedImages) when meshes are loaded, and nothing otherwise.
 bool keepImageUndecoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
                         const unsigned char* bytes, int size, void* keep) {
-  if (keep && *static_cast<const bool*>(keep) && bytes && size > 0 && imageInsideFile(*image))
+  // A buffer view's bytes are copied after the load, checked against their buffer (tinygltf
+  // hands them over without that check: a view past its buffer's end was read out of bounds).
+  if (keep && *static_cast<const bool*>(keep) && bytes && size > 0 && imageInsideFile(*image) && image->bufferView < 0)
     image->image.assign(bytes, bytes + size);
+  return true;
+}
+
+// The encoded bytes of the images stored in buffer views, each view checked against its buffer.
+bool keepBufferViewImages(const std::string& path, tinygltf::Model& model, Diagnostics& diag) {
+  for (std::size_t i = 0; i < model.images.size(); ++i) {
+    tinygltf::Image& image = model.images[i];
+    if (image.bufferView < 0) continue;
+    const auto view = static_cast<std::size_t>(image.bufferView);
+    const tinygltf::BufferView* v = view < model.bufferViews.size() ? &model.bufferViews[view] : nullptr;
+    const tinygltf::Buffer* b =
+        v && v->buffer >= 0 && static_cast<std::size_t>(v->buffer) < model.buffers.size() ? &model.buffers[static_cast<std::size_t>(v->buffer)] : nullptr;
+    if (!b || v->byteOffset > b->data.size() || v->byteLength > b->data.size() - v->byteOffset) {
+      diag.error(path, "image " + std::to_string(i) + ": its buffer view lies outside its buffer");
+      return false;
+    }
+    const auto* first = b->data.data() + v->byteOffset;
+    image.image.assign(first, first + v->byteLength);
+  }
   return true;
 }
 
@@ -272,6 +293,7 @@ bool loadModel(const std::string& path, const Source& src, const ImportOptions& 
   // skipped; our schema check has already rejected every such case we rely on.
   addLines(path, err, !ok, diag);
   if (!ok && err.empty()) diag.error(path, "tinygltf could not load the file");
+  if (ok && options.loadMeshes) return keepBufferViewImages(path, model, diag);
   return ok;
 }
 
