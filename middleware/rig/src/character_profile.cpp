@@ -1,9 +1,11 @@
 // The public character-profile functions: the guess as it is
 // (profile_guess.hpp), and a profile file read against its asset, with the
 // guess for what the file leaves out or gets wrong.
+#include "marionette/core/text.hpp"
 #include "marionette/core/text_file.hpp"
 #include "marionette/rig/character_profile.hpp"
 #include "marionette/speech/lipsync.hpp"
+#include "marionette/speech/speech_service.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -429,41 +431,40 @@ class ProfileReader : JsonReaderBase {
     return static_cast<float>(v);
   }
 
-  // "voices": {"openmary": "en-us", "default": "en-gb"}; keys lower-cased, non-strings warned about.
-  void voices(const Json& j, CharacterProfile& p) {
+  // An object of non-empty names to non-empty strings ("voices", "gestureVocabulary"): its pairs,
+  // each other entry a warning at its place; nothing (a warning) when it is not an object.
+  std::vector<std::pair<std::string, std::string>> namePairs(const Json& j, const std::string& key, const char* expected,
+                                                             const char* entry) {
+    std::vector<std::pair<std::string, std::string>> out;
     if (!j.is_object()) {
-      warn("/voices", "expected an object of VOICE NAME: voice (\"openmary\": \"en-us\"); ignored");
-      return;
+      warn("/" + key, std::string("expected an object of ") + expected + "; ignored");
+      return out;
     }
     for (auto it = j.begin(); it != j.end(); ++it) {
-      const std::string where = "/voices/" + JsonPlaces::escape(it.key());
       if (it.key().empty() || !it->is_string() || it->get<std::string>().empty()) {
-        warn(where, "expected a non-empty voice name for a non-empty key; ignored", true);
+        warn("/" + key + "/" + JsonPlaces::escape(it.key()), std::string("expected ") + entry + "; ignored", true);
         continue;
       }
-      std::string key = it.key();
-      for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      p.voices[key] = it->get<std::string>();
+      out.emplace_back(it.key(), it->get<std::string>());
     }
+    return out;
+  }
+
+  // "voices": {"openmary": "en-us", "default": "en-gb"}; keys lower-cased (speech::voiceNameMap).
+  void voices(const Json& j, CharacterProfile& p) {
+    const auto pairs = namePairs(j, "voices", "VOICE NAME: voice (\"openmary\": \"en-us\")",
+                                 "a non-empty voice name for a non-empty key");
+    if (!j.is_object()) return;
+    p.voices = speech::voiceNameMap(std::map<std::string, std::string>(pairs.begin(), pairs.end()));
     notes_.push_back("voices: " + std::to_string(p.voices.size()) + " (profile)");
   }
 
   // "gestureVocabulary": {"greet*": "WAVE", ...}: other realizers' names to procedural lexemes.
   void gestureVocabulary(const Json& j, CharacterProfile& p) {
-    if (!j.is_object()) {
-      warn("/gestureVocabulary", "expected an object of PATTERN: procedural lexeme (\"greet*\": \"WAVE\"); ignored");
-      return;
-    }
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      const std::string where = "/gestureVocabulary/" + JsonPlaces::escape(it.key());
-      if (it.key().empty() || !it->is_string() || it->get<std::string>().empty()) {
-        warn(where, "expected a non-empty pattern and a procedural lexeme; ignored", true);
-        continue;
-      }
-      std::string lexeme = it->get<std::string>();
-      for (char& c : lexeme) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-      p.gestureVocabulary.push_back({it.key(), lexeme});
-    }
+    const auto pairs = namePairs(j, "gestureVocabulary", "PATTERN: procedural lexeme (\"greet*\": \"WAVE\")",
+                                 "a non-empty pattern and a procedural lexeme");
+    if (!j.is_object()) return;
+    for (const auto& [pattern, lexeme] : pairs) p.gestureVocabulary.push_back({pattern, toUpper(lexeme)});
     notes_.push_back("gestureVocabulary: " + std::to_string(p.gestureVocabulary.size()) + " (profile)");
   }
 
