@@ -166,7 +166,6 @@ class Parser {
       fatal(WarningType::ParsingFailure, "", "expected a <bml> element at the top", line, col);
       return std::move(result_);
     }
-    collectNamespaces(root);
     Block block;
     std::tie(block.line, block.column) = place(root);
     block.id = root.attribute("id").as_string();
@@ -230,7 +229,7 @@ class Parser {
       const std::string_view name = a.name();
       if (name == "xmlns" || name.substr(0, 6) == "xmlns:") continue;
       const std::string_view local = localName(name);
-      const std::string ns = prefixOf(name).empty() ? std::string(kBmlNamespace) : namespaceOf(name, true);
+      const std::string ns = prefixOf(name).empty() ? std::string(kBmlNamespace) : namespaceOf(root, name, true);
       if (ns == kBmlaNamespace) {
         std::vector<std::string>* list = local == "interrupt"     ? &block.bmla.interrupt
                                          : local == "appendAfter" ? &block.bmla.appendAfter
@@ -281,19 +280,16 @@ class Parser {
     }
   }
 
-  // xmlns and xmlns:prefix declarations (on the root; enough for BML blocks).
-  void collectNamespaces(const pugi::xml_node& n) {
-    for (pugi::xml_attribute a : n.attributes()) {
-      std::string_view name = a.name();
-      if (name == "xmlns") defaultNs_ = a.value();
-      else if (name.substr(0, 6) == "xmlns:") prefixes_[std::string(name.substr(6))] = a.value();
-    }
-  }
-  std::string namespaceOf(std::string_view qualified, bool isAttribute) const {
+  // The namespace of an element's or attribute's name, as XML scopes it: the nearest
+  // xmlns / xmlns:prefix declaration on the node or an ancestor (other realizers' tools
+  // declare a prefix on the behavior itself: <bmla:interrupt xmlns:bmla="...">).
+  static std::string namespaceOf(const pugi::xml_node& node, std::string_view qualified, bool isAttribute) {
     const std::string_view prefix = prefixOf(qualified);
-    if (prefix.empty()) return isAttribute ? std::string(kBmlNamespace) : defaultNs_;
-    auto it = prefixes_.find(std::string(prefix));
-    return it == prefixes_.end() ? "undeclared prefix '" + std::string(prefix) + "'" : it->second;
+    if (prefix.empty() && isAttribute) return std::string(kBmlNamespace);
+    const std::string declaration = prefix.empty() ? std::string("xmlns") : "xmlns:" + std::string(prefix);
+    for (pugi::xml_node n = node; n && n.type() == pugi::node_element; n = n.parent())
+      if (const pugi::xml_attribute a = n.attribute(declaration.c_str())) return a.value();
+    return prefix.empty() ? std::string() : "undeclared prefix '" + std::string(prefix) + "'";
   }
   static bool isBmlNamespace(std::string_view ns) {
     return ns.empty() || ns == kBmlNamespace || ns == kCoreExtensionsNamespace || ns == kDraftBmlNamespace;
@@ -307,7 +303,7 @@ class Parser {
       const std::string type(localName(qualified));
       auto [line, col] = place(n);
       const std::string id = n.attribute("id").as_string();
-      const std::string ns = namespaceOf(qualified, false);
+      const std::string ns = namespaceOf(n, qualified, false);
       // Inside <required>, a behavior that cannot be realized fails the block (BML 1.0).
       const std::string failsBlock = required ? "; being required, it made the block fail" : "";
       if (prefixOf(qualified) == "sbm" && isSmartBodyBehavior(type)) {  // <sbm:event>
@@ -358,7 +354,7 @@ class Parser {
         continue;
       }
       if (name == "xmlns" || name.substr(0, 6) == "xmlns:") continue;
-      const std::string ns = namespaceOf(name, true);
+      const std::string ns = namespaceOf(n, name, true);
       if (type == "saccade" && name == "sbm:duration") {  // SmartBody's own spelling of the saccade's length
         b.attributes.push_back({"duration", a.value(), b.line, b.column});
         continue;
@@ -419,6 +415,15 @@ class Parser {
             "the block has more than " + std::to_string(kMaxBehaviorsPerBlock) +
                 " behaviors; split it into several blocks (the limit bounds scheduling time and memory)",
             b.line, b.column);
+      return;
+    }
+    // BMLA's interrupt and activate act on the block they name: without one they do nothing,
+    // so they are left out, and behaviors timed by them are removed (NO_SUCH_TARGET).
+    if ((type == "interrupt" || type == "activate") &&
+        (!b.attribute("target") || b.attribute("target")->value.empty())) {
+      warn(WarningType::ParsingFailure, b.id,
+           "BMLA's <" + type + "> names no target (the block to " + type + "); it was left out", b.line, b.column,
+           required);
       return;
     }
     if (type == "speech") readSpeech(n, b);
@@ -558,8 +563,6 @@ class Parser {
   std::vector<std::string> generated_;  // what got an id, for the one warning
   ParseResult result_;
   std::string blockId_;
-  std::string defaultNs_;
-  std::map<std::string, std::string> prefixes_;
   std::size_t constraintSyncs_ = 0;
   bool tooLarge_ = false;
 };

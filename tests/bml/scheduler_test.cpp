@@ -416,3 +416,62 @@ TEST(Scheduler, APreparationThatWouldStartBeforeTheBlockIsShortenedNotDropped) {
   EXPECT_GE(*speech.time("h", "start"), 0.0);
   EXPECT_DOUBLE_EQ(*speech.time("h", "stroke"), *speech.time("s", "m"));
 }
+
+// Issue 45's three schedules, from the BML 1.0 text ("Behavior ... referring to a behavior
+// that is not in the block ... NO_SUCH_TARGET: the behavior is removed"; a sync point may
+// coincide with another when the constraints allow it).
+TEST(Scheduler, ASpeechTimedByAnInterruptThatWasLeftOutIsRemoved) {
+  // An interrupt that names no block does nothing: it is left out, and the speech timed by
+  // its end has nothing to start from.
+  Schedule s = scheduleText(
+      "<bml xmlns='http://www.bml-initiative.org/bml/bml-1.0' xmlns:bmla='http://www.asap-project.org/bmla' id='b1'>"
+      "<bmla:interrupt id='int1'/><speech id='s1' start='int1:end'><text>Hello.</text></speech></bml>");
+  EXPECT_EQ(s.find("int1"), nullptr);
+  EXPECT_EQ(s.find("s1"), nullptr);
+  EXPECT_TRUE(hasWarning(s, WarningType::ParsingFailure, "int1"));
+  EXPECT_TRUE(hasWarning(s, WarningType::NoSuchTarget, "s1"));
+  // A prefix declared in no scope: the element is a custom behavior, left out with the same result.
+  Schedule undeclared = scheduleText(
+      "<bml xmlns='http://www.bml-initiative.org/bml/bml-1.0' id='b1'>"
+      "<bmla:interrupt id='int1' target='x'/><speech id='s1' start='int1:end'><text>Hello.</text></speech></bml>");
+  EXPECT_EQ(undeclared.find("s1"), nullptr);
+  EXPECT_TRUE(hasWarning(undeclared, WarningType::NoSuchTarget, "s1"));
+}
+
+TEST(Scheduler, ANamespaceDeclaredOnTheBehaviorItselfIsInScope) {
+  // XML scopes xmlns:prefix to the element that declares it: AsapRealizer's tools write
+  // <bmla:interrupt xmlns:bmla="..."> inside a block that does not declare bmla.
+  Schedule s = scheduleText(
+      "<bml xmlns='http://www.bml-initiative.org/bml/bml-1.0' id='b1'>"
+      "<bmla:interrupt xmlns:bmla='http://www.asap-project.org/bmla' id='int1' target='x' start='0.5'/>"
+      "<speech id='s1' start='int1:end'><text>Hello.</text></speech></bml>");
+  ASSERT_NE(s.find("int1"), nullptr);
+  ASSERT_NE(s.find("s1"), nullptr);
+  EXPECT_NEAR(*s.find("s1")->time("start"), 0.5, 1e-9);
+  EXPECT_FALSE(hasWarning(s, WarningType::CustomBehaviorNotSupported));
+  // A sibling outside that element does not see the declaration.
+  Schedule sibling = scheduleText(
+      "<bml xmlns='http://www.bml-initiative.org/bml/bml-1.0' id='b1'>"
+      "<bmla:interrupt xmlns:bmla='http://www.asap-project.org/bmla' id='int1' target='x'/>"
+      "<bmla:activate id='act1' target='y'/></bml>");
+  EXPECT_NE(sibling.find("int1"), nullptr);
+  EXPECT_EQ(sibling.find("act1"), nullptr);
+  EXPECT_TRUE(hasWarning(sibling, WarningType::CustomBehaviorNotSupported, "act1"));
+}
+
+TEST(Scheduler, APostureReadyAndRelaxedAtZeroIsMet) {
+  // start = ready = relax = 0 satisfies start <= ready <= relax <= end: nothing is moved
+  // before the block's start, in either the BML 1.0 or the SmartBody form.
+  for (const char* text : {"<bml id='b2'><posture id='p1' stance='STANDING' ready='0' relax='0'/></bml>",
+                           "<bml id='b2' xmlns:sbm='http://ict.usc.edu'><body id='p1' posture='Idle' ready='0' relax='0'/>"
+                           "<gesture id='g' lexeme='BEAT' start='p1:relax'/></bml>"}) {
+    Schedule s = scheduleText(text);
+    const ScheduledBehavior* p = s.find("p1");
+    ASSERT_NE(p, nullptr) << text;
+    EXPECT_FALSE(hasWarning(s, WarningType::ImpossibleToSchedule)) << text;
+    EXPECT_NEAR(*p->time("start"), 0.0, 1e-9) << text;
+    EXPECT_NEAR(*p->time("ready"), 0.0, 1e-9) << text;
+    EXPECT_NEAR(*p->time("relax"), 0.0, 1e-9) << text;
+    EXPECT_GE(*p->time("end"), 0.0) << text;
+  }
+}
