@@ -86,6 +86,12 @@ void readFace(const Behavior& b, BehaviorKind kind, ReadParameters& out) {
       return;
     }
     f.expression = "AU" + std::string(au);
+    // BML's side (LEFT, RIGHT, BOTH: the character's own) picks one side of the unit.
+    if (const std::string side = toUpper(std::string(valueOf(b, "side"))); side == "LEFT" || side == "RIGHT")
+      f.expression += side == "LEFT" ? "_L" : "_R";
+    else if (!side.empty() && side != "BOTH")
+      out.warning += (out.warning.empty() ? "" : "; ") + std::string("side=\"") + std::string(valueOf(b, "side")).substr(0, 40) +
+                     "\" is not LEFT, RIGHT or BOTH; both sides are used";
   } else {
     f.expression = toUpper(valueOf(b, "lexeme"));
     if (f.expression.empty()) {

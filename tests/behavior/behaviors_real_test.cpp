@@ -2,6 +2,8 @@
 // through their shipped profiles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 
@@ -84,6 +86,55 @@ TEST(BehaviorsOnRealCharacters, GodetteSmiles) {
     EXPECT_NEAR(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], amount, 1e-6);
   scene.update(1.0);
   for (const auto& [morph, amount] : it->second)
+    EXPECT_EQ(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], 0.0f);
+}
+
+// Godette has no AU morphs: a WINK goes through FACS (AU46_L) to VRM's Blink_L, whose morphs
+// reach their full weight on the left eye only, and RAISE_BROWS (AU1 + AU2) to her brow joints.
+TEST(BehaviorsOnRealCharacters, GodetteWinksAndRaisesHerBrowsThroughFacs) {
+  MARIONETTE_REQUIRE_FILE(sharedAsset("characters/Godette_vrm_v4.vrm"));
+  auto rig = loadRigWithProfile(sharedAsset("characters/Godette_vrm_v4.vrm"), "Godette_vrm_v4.json");
+  ASSERT_TRUE(rig);
+  const auto left = rig->joints().facs.find("AU46_L");
+  ASSERT_NE(left, rig->joints().facs.end());
+  EXPECT_NE(left->second.source.find("VRM expression"), std::string::npos) << left->second.source;
+  for (const std::string& note : rig->profile().notes)  // the figure controllers.md gives
+    if (note.starts_with("facs:")) std::printf("Godette %s\n", note.c_str());
+  ASSERT_FALSE(left->second.morphs.empty());
+  Scene scene;
+  Character* g = scene.addCharacter("g", rig);
+  BehaviorRequest wink;
+  wink.id = "wink";
+  wink.kind = BehaviorKind::FaceLexeme;
+  wink.parameters = FaceParameters{"WINK"};
+  wink.syncs = {{"start", 0.0}, {"attackPeak", 0.1}, {"relax", 0.3}, {"end", 0.4}};
+  BehaviorResult r = g->addBehavior(wink);
+  ASSERT_TRUE(r.realized) << r.message;
+  EXPECT_NE(r.message.find("face 'WINK' is shown through FACS: AU46_L by VRM expression"), std::string::npos) << r.message;
+  BehaviorRequest brows = wink;
+  brows.id = "brows";
+  brows.parameters = FaceParameters{"RAISE_BROWS"};
+  r = g->addBehavior(brows);
+  ASSERT_TRUE(r.realized) << r.message;
+  EXPECT_NE(r.message.find("brow joints"), std::string::npos) << r.message;
+  const int brow = rig->skeleton().findJoint("brow1.l_Armature");
+  ASSERT_GE(brow, 0);
+  scene.update(0.0);
+  const glm::vec3 rest(g->transformBuffer().modelMatrices()[static_cast<std::size_t>(brow)][3]);
+  scene.update(0.2);
+  for (const auto& [morph, amount] : left->second.morphs)
+    EXPECT_NEAR(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], amount, 1e-6);
+  // The right eye stays open: no morph of Blink_R moves unless Blink_L shares it.
+  if (const auto right = rig->joints().facs.find("AU46_R"); right != rig->joints().facs.end())
+    for (const auto& [morph, amount] : right->second.morphs) {
+      const bool shared = std::any_of(left->second.morphs.begin(), left->second.morphs.end(),
+                                      [&](const auto& m) { return m.first == morph; });
+      if (!shared) EXPECT_EQ(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], 0.0f);
+    }
+  const glm::vec3 raised(g->transformBuffer().modelMatrices()[static_cast<std::size_t>(brow)][3]);
+  EXPECT_NEAR(raised.y - rest.y, 2 * 0.006f * rig->joints().eyeHeight, 1e-4f);  // AU1 and AU2 each lift it
+  scene.update(0.3);
+  for (const auto& [morph, amount] : left->second.morphs)
     EXPECT_EQ(g->transformBuffer().morphWeights()[static_cast<std::size_t>(morph)], 0.0f);
 }
 

@@ -77,6 +77,13 @@ TEST(BmlParameters, FaceLexemesAndUnits) {
   EXPECT_EQ(std::get<FaceParameters>(smile.parameters).amount, 0.8f);
   EXPECT_EQ(std::get<FaceParameters>(read("faceFacs", {{"au", "45"}}).parameters).expression, "AU45");
   EXPECT_NE(read("faceFacs", {}).error.find("needs an au"), std::string::npos);
+  // BML's side: the character's own left or right; BOTH (or none) both; anything else said.
+  EXPECT_EQ(std::get<FaceParameters>(read("faceFacs", {{"au", "45"}, {"side", "LEFT"}}).parameters).expression, "AU45_L");
+  EXPECT_EQ(std::get<FaceParameters>(read("faceFacs", {{"au", "12"}, {"side", "right"}}).parameters).expression, "AU12_R");
+  EXPECT_EQ(std::get<FaceParameters>(read("faceFacs", {{"au", "12"}, {"side", "BOTH"}}).parameters).expression, "AU12");
+  const auto odd = read("faceFacs", {{"au", "12"}, {"side", "UP"}});
+  EXPECT_EQ(std::get<FaceParameters>(odd.parameters).expression, "AU12");
+  EXPECT_NE(odd.warning.find("side=\"UP\" is not LEFT, RIGHT or BOTH"), std::string::npos) << odd.warning;
   EXPECT_NE(read("faceLexeme", {}).error.find("needs a lexeme"), std::string::npos);
   EXPECT_NE(read("faceLexeme", {{"lexeme", "SMILE"}, {"amount", "x"}}).warning.find("amount 'x' is not a number in [0, 1]; 1 is used"),
             std::string::npos);

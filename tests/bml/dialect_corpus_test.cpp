@@ -3,6 +3,8 @@
 //   dialect: smartbody | asaprealizer | greta   (smartbody files are sent in SmartBody mode)
 //   expect: B:S=T (seconds of block time) | B:S=B2:S2 (the same time) | block:start=T | FAILED
 //   unrealized-robot: ids | -      unrealized-godette: ids | -
+//   approximated-robot: ids        approximated-godette: ids   (optional: each of these is
+//     realized with a warning of its own saying how: FACS, a gesture vocabulary, ...)
 // Each block is performed on RobotExpressive and on Godette (their shipped profiles) in a
 // scene with the objects "camera" and "door", after two queued blocks ("asap1", 4 s, and
 // "asapOther") that BMLA blocks refer to. The test fails on any expectation that does not
@@ -34,6 +36,7 @@ struct Expectations {
   std::string dialect;
   std::vector<std::string> expect;
   std::set<std::string> unrealized[2];  // robot, godette
+  std::set<std::string> approximated[2];
 };
 
 std::string field(const std::string& text, const std::string& name) {
@@ -60,6 +63,8 @@ Expectations read(const std::string& text) {
   e.expect = words(field(text, "expect"));
   for (const std::string& id : words(field(text, "unrealized-robot"))) e.unrealized[0].insert(id);
   for (const std::string& id : words(field(text, "unrealized-godette"))) e.unrealized[1].insert(id);
+  for (const std::string& id : words(field(text, "approximated-robot"))) e.approximated[0].insert(id);
+  for (const std::string& id : words(field(text, "approximated-godette"))) e.approximated[1].insert(id);
   return e;
 }
 
@@ -82,10 +87,12 @@ Outcome perform(const std::string& file, const std::string& text, const Expectat
   if (e.dialect == "smartbody") r.setDialect(Dialect::SmartBody);
   EXPECT_FALSE(r.perform("<bml id=\"asap1\"><wait id=\"w\" start=\"0\" end=\"4\"/></bml>", "c").failed);
   EXPECT_FALSE(r.perform("<bml id=\"asapOther\"><wait id=\"w\" start=\"0\" end=\"10\"/></bml>", "c").failed);
-  std::set<std::string> unrealized;
+  std::set<std::string> unrealized, warned;
   r.addFeedbackListener([&](const Feedback& f) {
     if (f.kind == Feedback::Kind::Warning && f.warning.type == WarningType::CannotCreateBehavior)
       unrealized.insert(f.behaviorId);
+    else if (f.kind == Feedback::Kind::Warning)
+      warned.insert(f.behaviorId);
   });
   const Schedule s = r.perform(text, "c");
   Outcome out;
@@ -113,6 +120,9 @@ Outcome perform(const std::string& file, const std::string& text, const Expectat
     out.scheduledAsMeant &= ok;
   }
   EXPECT_EQ(unrealized, e.unrealized[who]) << file << (who ? " on Godette" : " on RobotExpressive");
+  for (const std::string& id : e.approximated[who])
+    EXPECT_TRUE(warned.count(id) && !unrealized.count(id))
+        << file << ": " << id << " should be realized with a warning" << (who ? " on Godette" : " on RobotExpressive");
   out.allRealized = !s.failed && unrealized.empty();
   for (int f = 0; f < 30; ++f) {  // the block runs: nothing breaks
     scene.update(1.0 / 10.0);

@@ -482,3 +482,28 @@ TEST(CharacterProfileLoad, GestureVocabularyIsReadAndBadEntriesAreWarnings) {
   EXPECT_TRUE(r.profile.gestureVocabulary.empty());
   EXPECT_NE(findDiag(r.diagnostics, "gestureVocabulary/x*: expected a non-empty pattern"), nullptr) << r.diagnostics.format();
 }
+
+// "facs": units the face shows by no AU, ARKit or VRM morph (rig/facs.hpp). They fill what
+// the guess left, or take the place of eyelid and brow joints; not of morphs it found.
+TEST(CharacterProfileLoad, FacsMapFillsTheUnitsTheFaceHasNoMorphFor) {
+  Asset asset = robot();
+  asset.morphTargets.push_back("mouthSmileLeft");
+  asset.morphTargets.push_back("mouthSmileRight");
+  TempProfile f(R"({"facs": {"AU10": "Angry", "AU15_L": [{"morph": "Angry", "amount": 0.5}], "AU12": "Smile",
+                   "AU999": "Smile", "AU14": "NoSuchMorph"}})");
+  auto r = loadCharacterProfile(f.path(), asset);
+  ASSERT_EQ(r.profile.facs.count("AU10"), 1u);
+  EXPECT_EQ(r.profile.facs.at("AU10").source, "the profile's facs map");
+  EXPECT_EQ(r.profile.facs.at("AU10").morphs.at(0).morph, "Angry");
+  EXPECT_EQ(r.profile.facs.at("AU9").source, "expression ANGER");  // the guess's Angry, before the profile
+  EXPECT_FLOAT_EQ(r.profile.facs.at("AU15_L").morphs.at(0).amount, 0.5f);
+  // AU12 is shown by the ARKit smiles: the profile's entry is said and not used.
+  EXPECT_EQ(r.profile.facs.at("AU12").source, "ARKit blendshapes");
+  EXPECT_TRUE(hasNote(r.profile, "facs AU12: the profile's entry is not used, the face has ARKit blendshapes")) << notes(r.profile);
+  EXPECT_NE(findDiag(r.diagnostics, "'AU999' is not a FACS unit"), nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "NoSuchMorph"), nullptr) << r.diagnostics.format();
+  EXPECT_EQ(r.profile.facs.count("AU14"), 0u);
+  f.write(R"({"facs": ["AU9"]})");
+  r = loadCharacterProfile(f.path(), asset);
+  EXPECT_NE(findDiag(r.diagnostics, "facs: expected an object"), nullptr) << r.diagnostics.format();
+}

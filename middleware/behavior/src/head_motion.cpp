@@ -191,4 +191,19 @@ void rotateInModelFrame(const Skeleton& skeleton, std::span<Transform> pose, int
   t.rotation = safeNormalize(glm::inverse(parent) * delta * parent * t.rotation);
 }
 
+void translateInModelFrame(const Skeleton& skeleton, std::span<Transform> pose, int joint, const glm::vec3& delta) noexcept {
+  if (joint < 0 || static_cast<std::size_t>(joint) >= pose.size()) return;
+  glm::mat3 parent(skeleton.rootTransform);
+  int chain[256];
+  int n = 0;
+  for (int p = skeleton.parents[static_cast<std::size_t>(joint)]; p >= 0 && n < 256; p = skeleton.parents[static_cast<std::size_t>(p)])
+    chain[n++] = p;
+  for (int i = n - 1; i >= 0; --i) parent = parent * glm::mat3(pose[static_cast<std::size_t>(chain[i])].matrix());
+  // A degenerate parent (a joint scaled to zero) cannot take the offset: left as it is.
+  if (!(std::fabs(glm::determinant(parent)) > 1e-12f)) return;
+  const glm::vec3 local = glm::inverse(parent) * delta;
+  if (std::isfinite(local.x) && std::isfinite(local.y) && std::isfinite(local.z))
+    pose[static_cast<std::size_t>(joint)].translation += local;
+}
+
 }  // namespace marionette

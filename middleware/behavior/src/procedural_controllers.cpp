@@ -76,15 +76,98 @@ std::string bindHead(BehaviorTimeline::Entry& e, const Rig& rig, std::string& wa
   return {};
 }
 
+namespace {
+
+// Adds a unit's morphs and joints to an expression, scaled by the unit's share; false when the
+// character shows the unit by nothing. `shownBy` says what shows it.
+bool addFacsUnit(const FacsUnitRequest& u, const Rig& rig, FaceExpressionState& f, std::string& shownBy) {
+  const RigJoints& j = rig.joints();
+  auto fromFace = [&](const std::string& key) {  // the profile's face table: AU morphs by name
+    auto it = j.face.find(key);
+    if (it == j.face.end() && key.size() > 2 && key[key.size() - 2] == '_')  // "AU12L" for "AU12_L"
+      it = j.face.find(key.substr(0, key.size() - 2) + key.back());
+    if (it == j.face.end()) return false;
+    for (const auto& [morph, amount] : it->second) f.morphs.emplace_back(morph, amount * u.amount);
+    shownBy = key + " by AU morphs";
+    return true;
+  };
+  auto fromFacs = [&](const std::string& key, const char* note) {
+    const auto it = j.facs.find(key);
+    // Joints have sides: a side with none does not borrow the other side's.
+    if (it == j.facs.end() || (*note && it->second.morphs.empty())) return false;
+    for (const auto& [morph, amount] : it->second.morphs) f.morphs.emplace_back(morph, amount * u.amount);
+    for (const RigJoints::FacsJoint& move : it->second.joints) {
+      const bool lid = move.rule.part == FacsFacePart::UpperLid;
+      f.joints.push_back({move.joint, move.rule.part,
+                          u.amount * (lid ? glm::radians(move.rule.closeDegrees) : move.rule.liftShare * j.eyeHeight)});
+    }
+    shownBy = key + " by " + it->second.source + note;
+    return true;
+  };
+  const std::string key = facsKey(u.au, u.side);
+  if (fromFace(key) || fromFacs(key, "")) return true;
+  if (u.side != 0) {  // one side asked, only both shown: both, said
+    const FacsUnitInfo* info = facsUnit(u.au);
+    const char* note = info && !info->sided ? " (one shape for both sides)" : " (both sides: the face has no one-sided shape)";
+    return fromFace(facsKey(u.au, 0)) || fromFacs(facsKey(u.au, 0), note);
+  }
+  // Both sides asked: the left and the right unit together.
+  FacsUnitRequest l = u, r = u;
+  l.side = -1, r.side = 1;
+  const std::size_t morphs = f.morphs.size(), joints = f.joints.size();
+  std::string left, right;
+  if (addFacsUnit(l, rig, f, left) && addFacsUnit(r, rig, f, right)) {
+    shownBy = left + " and " + right;
+    return true;
+  }
+  f.morphs.resize(morphs), f.joints.resize(joints);
+  return false;
+}
+
+}  // namespace
+
 std::string bindFace(BehaviorTimeline::Entry& e, const Rig& rig, std::string& warning) {
   const FaceParameters* p = e.request.as<FaceParameters>();
   if (!p || p->expression.empty()) return "a face behavior needs FaceParameters with an expression (a lexeme or AUn)";
   const std::string expression = toUpper(p->expression);
-  const auto it = rig.joints().face.find(expression);
-  if (it == rig.joints().face.end())
-    return "the character has no morphs for face expression '" + expression + "' (" + knownExpressions(rig.joints()) + ")";
   FaceExpressionState f;
-  f.morphs = it->second;
+  if (const auto it = rig.joints().face.find(expression); it != rig.joints().face.end()) {
+    f.morphs = it->second;
+  } else {
+    // FACS on any face: the expression's units through the character's AU, ARKit or VRM
+    // morphs, its profile's facs map, or its eyelid and brow joints.
+    const std::vector<FacsUnitRequest> units = facsUnitsOf(expression);
+    if (units.empty())
+      return "the character has no morphs for face expression '" + expression + "' (" + knownExpressions(rig.joints()) +
+             "), and it is neither a FACS unit (AUn, AUn_L, AUn_R) nor an expression of the FACS table";
+    std::string shown, missing;
+    bool exact = true;  // every unit by AU morphs of its own side: nothing to say
+    for (const FacsUnitRequest& u : units) {
+      std::string by;
+      if (addFacsUnit(u, rig, f, by)) {
+        shown += (shown.empty() ? "" : ", ") + by;
+        exact = exact && by.ends_with(" by AU morphs");
+      } else {
+        missing += (missing.empty() ? "" : ", ") + facsKey(u.au, u.side);
+      }
+    }
+    if (f.morphs.empty() && f.joints.empty())
+      return "the character has no morphs for face expression '" + expression + "' (" + knownExpressions(rig.joints()) +
+             "), and nothing shows its FACS units " + missing +
+             " (no AU, ARKit, VRM or expression morphs, no \"facs\" in its profile, no eyelid or brow joints)";
+    // Units that share a morph add up, to at most the morph's full weight.
+    std::sort(f.morphs.begin(), f.morphs.end());
+    std::vector<std::pair<int, float>> merged;
+    for (const auto& [morph, amount] : f.morphs) {
+      if (!merged.empty() && merged.back().first == morph) merged.back().second += amount;
+      else merged.emplace_back(morph, amount);
+    }
+    for (auto& m : merged) m.second = std::min(m.second, 1.0f);
+    f.morphs = std::move(merged);
+    if (!exact || !missing.empty())
+      warning += (warning.empty() ? "" : "; ") + std::string("face '") + expression + "' is shown through FACS: " + shown +
+                 (missing.empty() ? "" : "; not shown (nothing on this face moves it): " + missing);
+  }
   f.amount = checkedAmount(p->amount, FaceParameters::kDefaultAmount, FaceParameters::kMinAmount,
                            FaceParameters::kMaxAmount, warning);
   e.controller = std::move(f);
@@ -107,13 +190,21 @@ void applyHead(const HeadMotionState& h, float weight, double t, const Rig& rig,
   }
 }
 
-void applyFace(const FaceExpressionState& f, float weight, std::span<float> morphWeights) noexcept {
+void applyFace(const FaceExpressionState& f, float weight, std::span<float> morphWeights, const Rig& rig,
+               std::span<Transform> pose) noexcept {
   // Expressions add up, each morph clamped to [0, 1].
   for (const auto& [morph, amount] : f.morphs)
     if (morph >= 0 && static_cast<std::size_t>(morph) < morphWeights.size()) {
       float& w = morphWeights[static_cast<std::size_t>(morph)];
       w = std::clamp(w + weight * f.amount * amount, 0.0f, 1.0f);
     }
+  const float share = weight * f.amount;
+  for (const FaceExpressionState::JointMove& m : f.joints) {
+    if (m.part == FacsFacePart::UpperLid)  // about the character's left: positive turns the lid down
+      rotateInModelFrame(rig.skeleton(), pose, m.joint, glm::angleAxis(share * m.value, rig.joints().leftAxis));
+    else
+      translateInModelFrame(rig.skeleton(), pose, m.joint, glm::vec3(0.0f, share * m.value, 0.0f));
+  }
 }
 
 std::string bindGaze(BehaviorTimeline::Entry& e, const Rig& rig,

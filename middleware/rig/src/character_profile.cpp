@@ -57,7 +57,7 @@ class ProfileReader : JsonReaderBase {
         tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "voices", "gestureVocabulary", "comment"});
+    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "voices", "gestureVocabulary", "facs", "comment"});
     const Json& clips = section(doc, "clips");
     unknownKeys(clips, "/clips", {"idle", "walk", "run"});
     if (doc.contains("jointMap") && jointMap(doc["jointMap"], p)) {
@@ -69,6 +69,11 @@ class ProfileReader : JsonReaderBase {
     }
 
     if (!(doc.contains("face") && face(doc["face"], p))) p.face = guessed.profile.face, noteGuessed(guessed, "face");
+    // The FACS table is always found from the face (a profile's "facs" only fills its gaps).
+    p.facs = guessed.profile.facs;
+    for (const auto& [field, line] : guessed.notes)
+      if (field == "facs") notes_.push_back(line);
+    if (doc.contains("facs")) facs(doc["facs"], p);
     if (!(doc.contains("visemes") && visemes(doc["visemes"], p)))
       p.visemes = guessed.profile.visemes, noteGuessed(guessed, "visemes");
 
@@ -336,6 +341,35 @@ class ProfileReader : JsonReaderBase {
     }
     notes_.push_back("face: " + std::to_string(p.face.size()) + " expressions (profile)");
     return true;
+  }
+
+  // "facs": {"AU12": morphs, ...}: units the character shows by no AU, ARKit or VRM morph
+  // (rig/facs.hpp); they take the place of eyelid and brow joints, not of those morphs.
+  void facs(const Json& j, CharacterProfile& p) {
+    if (!j.is_object()) {
+      warn("/facs", "expected an object of AUn: [{\"morph\", \"amount\"}]; ignored");
+      return;
+    }
+    int used = 0;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string where = "/facs/" + JsonPlaces::escape(it.key());
+      const auto unit = parseFacsUnit(it.key());
+      if (!unit) {
+        warn(where, "'" + it.key() + "' is not a FACS unit (AUn, AUn_L, AUn_R); dropped");
+        continue;
+      }
+      std::vector<FaceMorph> morphs = morphList(*it, where);
+      if (morphs.empty()) continue;
+      const std::string key = facsKey(unit->au, unit->side);
+      auto found = p.facs.find(key);
+      if (found != p.facs.end() && found->second.joints.empty()) {
+        notes_.push_back("facs " + key + ": the profile's entry is not used, the face has " + found->second.source);
+        continue;
+      }
+      p.facs[key] = {std::move(morphs), {}, "the profile's facs map"};
+      ++used;
+    }
+    notes_.push_back("facs: " + std::to_string(used) + " units from the profile");
   }
 
   // False when the section is unusable (then it is guessed).

@@ -68,6 +68,7 @@ Guess guess(const Asset& asset) {
   take("leftToe", p.leftToe, fromMap.leftToe);
   take("rightToe", p.rightToe, fromMap.rightToe);
   guessFace(asset, p, g.notes);
+  guessFacs(asset, p, g.notes);
   guessVisemes(asset, p, g.notes);
   guessClips(asset, p, g.notes);
   return g;

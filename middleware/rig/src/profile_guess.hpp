@@ -47,6 +47,10 @@ struct JointGuess {
 // Fills p.face with notes tagged "face": VRM expressions first, then morph names.
 void guessFace(const Asset& asset, CharacterProfile& p, Notes& notes);
 
+// Fills p.facs with notes tagged "facs": each FACS unit and side of rig/facs.hpp's table
+// by AU-named morphs, else ARKit blendshapes, else VRM expressions, else eyelid and brow joints.
+void guessFacs(const Asset& asset, CharacterProfile& p, Notes& notes);
+
 // The lip-sync channels a character's morphs can show (speech/lipsync.hpp):
 // the file's VRM mouth shapes first (A I U E O, both VRM versions), then a full
 // set of OVR viseme morphs ("viseme_PP", ...), then an ARKit-style jaw opening.

@@ -7,6 +7,8 @@
 #include <map>
 #include <utility>
 
+#include "marionette/core/text.hpp"
+
 namespace marionette::profile_detail {
 
 namespace {
@@ -126,6 +128,158 @@ void guessFace(const Asset& asset, CharacterProfile& p, Notes& notes) {
   if (p.face.empty())
     notes.emplace_back("face", asset.morphTargets.empty() ? "face: none (no morph targets)"
                                                           : "face: none (no morph name matches a face lexeme)");
+}
+
+namespace {
+
+// A morph named after a unit ("AU12", "blendShape.AU_12_L", "AU45Left"): that unit, else none.
+std::optional<FacsUnitRequest> auMorph(std::string_view morph) {
+  if (const std::size_t cut = morph.find_last_of(".:|"); cut != std::string_view::npos) morph.remove_prefix(cut + 1);
+  if (morph.size() < 3 || lower(morph[0]) != 'a' || lower(morph[1]) != 'u') return std::nullopt;
+  std::string compact(morph.substr(0, 2));
+  for (std::size_t i = 2; i < morph.size(); ++i)
+    if (!(i == 2 && (morph[i] == '_' || morph[i] == '-'))) compact += morph[i];  // "AU_12" as "AU12"
+  return parseFacsUnit(compact);
+}
+
+// The side's names of a table target: "mouthSmile*" on the left is "mouthSmile" with side -1.
+struct SidedName {
+  std::string key;  // lower case, no side word
+  int side;
+};
+std::vector<SidedName> sidedNames(std::string_view target, int side) {
+  std::string key;
+  for (char c : target)
+    if (c != '*') key += lower(c);
+  if (target.empty() || target.back() != '*') return {{key, 0}};
+  if (side != 0) return {{key, side}};
+  return {{key, -1}, {key, 1}};
+}
+
+// The morphs showing one unit on one side, and where they come from; empty when nothing does.
+FacsMapping facsFromMorphs(const Asset& asset, const std::vector<NameParts>& morphs, const FacsUnitInfo& unit, int side) {
+  FacsMapping m;
+  // AU-named morphs: the unit itself (both sides from a left and a right one).
+  std::vector<FaceMorph> bySide[3];  // left, both, right
+  for (std::size_t i = 0; i < asset.morphTargets.size(); ++i)
+    if (auto u = auMorph(asset.morphTargets[i]); u && u->au == unit.au)
+      bySide[u->side + 1].push_back({asset.morphTargets[i], 1.0f});
+  m.morphs = bySide[side + 1];
+  if (side == 0 && m.morphs.empty() && !bySide[0].empty() && !bySide[2].empty()) {
+    m.morphs = bySide[0];
+    m.morphs.insert(m.morphs.end(), bySide[2].begin(), bySide[2].end());
+  }
+  if (!m.morphs.empty()) {
+    m.source = "AU morphs";
+    return m;
+  }
+  // ARKit: every name of the unit must be there.
+  for (const FacsTarget& t : unit.arkit)
+    for (const SidedName& n : sidedNames(t.name, side)) {
+      const auto it = std::find_if(morphs.begin(), morphs.end(),
+                                   [&](const NameParts& np) { return np.key() == n.key && np.side == n.side; });
+      if (it == morphs.end()) return {};
+      m.morphs.push_back({asset.morphTargets[static_cast<std::size_t>(it - morphs.begin())], t.weight});
+    }
+  if (!m.morphs.empty()) m.source = "ARKit blendshapes";
+  return m;
+}
+
+// The first VRM preset of the unit the file has (0.x or 1.0 names; a side's Blink_L / blinkLeft).
+FacsMapping facsFromVrm(const Asset& asset, const FacsUnitInfo& unit, int side) {
+  FacsMapping m;
+  if (!asset.hasHumanoid) return m;
+  for (const FacsTarget& t : unit.vrm) {
+    std::string base(t.name);
+    const bool sidedPreset = !base.empty() && base.back() == '*';
+    if (sidedPreset) base.pop_back();
+    if (!sidedPreset && side != 0) continue;  // a both-sides preset does not show one side
+    std::vector<std::string> names;
+    if (!sidedPreset || side == 0) names = {base};
+    else names = side < 0 ? std::vector<std::string>{base + "_l", base + "left"} : std::vector<std::string>{base + "_r", base + "right"};
+    for (const std::string& name : names)
+      for (const auto& [preset, binds] : asset.humanoid.expressions) {
+        if (!equalsIgnoringCase(preset, name)) continue;
+        for (const auto& [index, weight] : binds)
+          if (index >= 0 && static_cast<std::size_t>(index) < asset.morphTargets.size() && weight > 0.0f)
+            m.morphs.push_back({asset.morphTargets[static_cast<std::size_t>(index)], std::clamp(weight, 0.0f, 1.0f) * t.weight});
+        if (!m.morphs.empty()) {
+          m.source = "VRM expression '" + preset + "'";
+          return m;
+        }
+      }
+  }
+  return m;
+}
+
+// A character without VRM presets may still carry the same expressions as plain morphs
+// (RobotExpressive's Angry, Surprised, Sad), which the face guess found as emotion lexemes.
+FacsMapping facsFromExpressions(const CharacterProfile& p, const FacsUnitInfo& unit, int side) {
+  static const std::pair<std::string_view, const char*> kPresetLexemes[] = {
+      {"joy", "SMILE"}, {"happy", "SMILE"}, {"angry", "ANGER"}, {"sorrow", "SADNESS"},
+      {"sad", "SADNESS"}, {"surprised", "SURPRISE"}, {"blink*", "CLOSE_EYES"}};
+  FacsMapping m;
+  if (side != 0) return m;  // the lexemes are both sides
+  for (const FacsTarget& t : unit.vrm)
+    for (const auto& [preset, lexeme] : kPresetLexemes) {
+      const auto it = p.face.find(lexeme);
+      if (preset != t.name || it == p.face.end()) continue;
+      for (const FaceMorph& f : it->second) m.morphs.push_back({f.morph, f.amount * t.weight});
+      m.source = std::string("expression ") + lexeme;
+      return m;
+    }
+  return m;
+}
+
+// Eyelid and brow joints by name: upper lids ("eyelid", "lid_upper", "UpperLid.L"; not lower
+// ones) and brows ("brow", "eyebrow"), each with its side.
+struct FaceJoint {
+  std::string name;
+  FacsFacePart part;
+  int side;
+};
+std::vector<FaceJoint> faceJoints(const Skeleton& skeleton) {
+  std::vector<FaceJoint> out;
+  for (const std::string& name : skeleton.names) {
+    const NameParts np = parts(name, {});
+    auto has = [&](std::string_view w) { return std::find(np.core.begin(), np.core.end(), w) != np.core.end(); };
+    const bool lid = has("lid") || has("eyelid") || has("lids") || has("eyelids");
+    const bool lowerLid = has("low") || has("lower") || has("bottom") || has("bot") || has("down");
+    if (lid && !lowerLid) out.push_back({name, FacsFacePart::UpperLid, np.side});
+    else if (has("brow") || has("eyebrow") || has("brows") || has("eyebrows")) out.push_back({name, FacsFacePart::Brow, np.side});
+  }
+  return out;
+}
+
+}  // namespace
+
+void guessFacs(const Asset& asset, CharacterProfile& p, Notes& notes) {
+  std::vector<NameParts> morphs;  // "blendShape1.mouthSmileLeft": the name after its mesh's
+  for (std::string_view m : asset.morphTargets)
+    morphs.push_back(parts(m.substr(m.find_last_of(".:|") == std::string_view::npos ? 0 : m.find_last_of(".:|") + 1), kMorphNoise));
+  const std::vector<FaceJoint> joints = faceJoints(asset.skeleton);
+  std::map<std::string, int> bySource;
+  for (const FacsUnitInfo& unit : facsUnits())
+    for (int side : {0, -1, 1}) {
+      if (side != 0 && !unit.sided) break;
+      const std::string key = facsKey(unit.au, side);
+      if (p.facs.count(key)) continue;
+      FacsMapping m = facsFromMorphs(asset, morphs, unit, side);
+      if (m.morphs.empty()) m = facsFromVrm(asset, unit, side);
+      if (m.morphs.empty()) m = facsFromExpressions(p, unit, side);
+      if (m.morphs.empty() && unit.joint) {
+        for (const FaceJoint& j : joints)
+          if (j.part == unit.joint->part && (side == 0 || j.side == side || j.side == 0)) m.joints.push_back({j.name, *unit.joint});
+        if (!m.joints.empty()) m.source = unit.joint->part == FacsFacePart::UpperLid ? "eyelid joints" : "brow joints";
+      }
+      if (m.morphs.empty() && m.joints.empty()) continue;
+      ++bySource[m.source.substr(0, m.source.find(" '"))];
+      p.facs[key] = std::move(m);
+    }
+  std::string list;
+  for (const auto& [source, n] : bySource) list += (list.empty() ? "" : ", ") + std::to_string(n) + " by " + source;
+  notes.emplace_back("facs", p.facs.empty() ? std::string("facs: none (no AU, ARKit or VRM morphs, no eyelid or brow joints)")
+                                            : "facs: " + std::to_string(p.facs.size()) + " units and sides (" + list + ")");
 }
 
 void guessVisemes(const Asset& asset, CharacterProfile& p, Notes& notes) {

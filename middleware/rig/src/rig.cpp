@@ -72,6 +72,12 @@ void Rig::setProfile(CharacterProfile profile) {
   };
   for (const auto& [expression, list] : profile_.face)
     if (auto resolved = resolveMorphs(list); !resolved.empty()) joints_.face.emplace(expression, std::move(resolved));
+  for (const auto& [key, mapping] : profile_.facs) {
+    RigJoints::FacsUnit unit{resolveMorphs(mapping.morphs), {}, mapping.source};
+    for (const FacsJointMove& move : mapping.joints)
+      if (const int j = joint(move.joint); j >= 0) unit.joints.push_back({j, move.rule});
+    if (!unit.morphs.empty() || !unit.joints.empty()) joints_.facs.emplace(key, std::move(unit));
+  }
   for (const auto& [channelName, list] : profile_.visemes) {
     const std::optional<int> channel = speech::lipChannelFromName(channelName);
     for (const auto& [morph, amount] : resolveMorphs(list))

@@ -407,7 +407,7 @@ void Character::State::applyBehaviors(float dt) noexcept {
     if (e.as<SaccadeState>()) pass(Controller::Saccade).push_back(active);
     if (e.as<GestureState>()) pass(Controller::Gesture).push_back(active);
     if (e.as<PointingState>()) pass(Controller::Pointing).push_back(active);
-    if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !f->morphs.empty())
+    if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !(f->morphs.empty() && f->joints.empty()))
       pass(Controller::Face).push_back(active);
   }
   const bool timing = scene_ && scene_->statsEnabled();
@@ -458,7 +458,7 @@ void Character::State::applyBehaviors(float dt) noexcept {
   run(Controller::Face, [&] {
     const std::span<float> morphs = buffer_.writeMorphWeights();
     for (const ActiveEntry& a : pass(Controller::Face))
-      applyFace(*behaviors_.entries()[a.index].as<FaceExpressionState>(), a.weight, morphs);
+      applyFace(*behaviors_.entries()[a.index].as<FaceExpressionState>(), a.weight, morphs, *rig_, pose_);
     return !pass(Controller::Face).empty();
   });
   run(Controller::Speech, [&] { return applySpeechEntries(); });

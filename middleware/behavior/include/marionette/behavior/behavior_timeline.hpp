@@ -22,6 +22,7 @@
 #include "marionette/behavior/procedural_gesture.hpp"
 #include "marionette/behavior/saccade.hpp"
 #include "marionette/behavior/speech_controller.hpp"
+#include "marionette/rig/facs.hpp"
 
 namespace marionette {
 
@@ -39,6 +40,14 @@ struct HeadMotionState {            // head: the catalogue of head_motion.hpp
 };
 struct FaceExpressionState {                 // faceLexeme, faceFacs, face, faceShift
   std::vector<std::pair<int, float>> morphs;  // (morph target, weight at full expression)
+  // Eyelid and brow joints for FACS units the face has no morph for (rig/facs.hpp):
+  // an upper lid closes by `value` radians, a brow rises by `value` (model units).
+  struct JointMove {
+    int joint = -1;
+    FacsFacePart part = FacsFacePart::UpperLid;
+    float value = 0.0f;
+  };
+  std::vector<JointMove> joints;
   float amount = 1.0f;                         // BML amount
 };
 struct LocomotionEntryState {

@@ -73,5 +73,8 @@ inline constexpr double kMaxHeadDegreesPerSecond = 400.0;
 // Rotates joint `joint` of the local pose by `delta`, given in the model frame
 // (rootTransform included), by conjugating with the joint's parent model rotation.
 void rotateInModelFrame(const Skeleton& skeleton, std::span<Transform> pose, int joint, const glm::quat& delta) noexcept;
+// Moves joint `joint` of the local pose by `delta`, a model-frame offset (rootTransform
+// included: the parent's whole model matrix, scale too, takes it to the joint's parent frame).
+void translateInModelFrame(const Skeleton& skeleton, std::span<Transform> pose, int joint, const glm::vec3& delta) noexcept;
 
 }  // namespace marionette

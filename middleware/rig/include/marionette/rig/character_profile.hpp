@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "marionette/rig/facs.hpp"
 #include "marionette/animation/blend_space.hpp"
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/asset/asset.hpp"
@@ -23,6 +24,19 @@ namespace marionette {
 struct FaceMorph {
   std::string morph;   // a name in Asset::morphTargets
   float amount = 1.0f; // in [0, 1]
+};
+
+// How one FACS unit ("AU12", "AU45_L") shows on this character when it has no AU morph of
+// that name in `face` (rig/facs.hpp): morphs, or eyelid and brow joints, and where they came
+// from ("ARKit blendshapes", "VRM expression 'joy'", "the profile's facs map", "eyelid joints").
+struct FacsJointMove {
+  std::string joint;  // a joint of the skeleton
+  FacsJointRule rule;
+};
+struct FacsMapping {
+  std::vector<FaceMorph> morphs;
+  std::vector<FacsJointMove> joints;
+  std::string source;
 };
 
 // A leg or an arm as three joints by name, "" for any the character lacks. Leg:
@@ -44,6 +58,10 @@ struct CharacterProfile {
   std::string leftToe, rightToe;  // below the foot; "" when absent
   // BML faceLexeme names (SMILE, RAISE_BROWS, ...) and FACS units ("AU12") to morphs.
   std::map<std::string, std::vector<FaceMorph>> face;
+  // FACS units to what shows them when `face` has no morph of the unit's name: AU-named
+  // morphs, else ARKit blendshapes, else VRM expressions, else the profile's "facs" map, else
+  // eyelid and brow joints (guessFacs; docs/controllers.md, "FACS on any face").
+  std::map<std::string, FacsMapping> facs;
   // Lip-sync channels (speech/lipsync.hpp names: "PP", "aa", "vrm_aa", "jawOpen", ...) to morphs.
   std::map<std::string, std::vector<FaceMorph>> visemes;
   // Clip names of the rig; "" when absent.

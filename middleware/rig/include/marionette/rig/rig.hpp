@@ -35,6 +35,17 @@ struct RigJoints {
   int leftToe = -1, rightToe = -1;
   // Face expression name -> (morph target index, amount).
   std::map<std::string, std::vector<std::pair<int, float>>, std::less<>> face;
+  // FACS key ("AU12_L") -> what shows it when `face` has no such key (CharacterProfile::facs).
+  struct FacsJoint {
+    int joint = -1;
+    FacsJointRule rule;
+  };
+  struct FacsUnit {
+    std::vector<std::pair<int, float>> morphs;
+    std::vector<FacsJoint> joints;
+    std::string source;
+  };
+  std::map<std::string, FacsUnit, std::less<>> facs;
   // Lip-sync channel (speech/lipsync.hpp index) -> morph target, at full channel weight.
   struct LipMorph {
     int channel = 0, morph = 0;
