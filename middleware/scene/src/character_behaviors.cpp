@@ -62,7 +62,7 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
   // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
   // aims the arm) also binds it, when it has a target.
   using Bind = std::string (Character::State::*)(BehaviorTimeline::Entry&, std::string&);
-  static constexpr std::array<Bind, 17> kBindings = {{
+  static constexpr std::array<Bind, 19> kBindings = {{
       nullptr,                              // posture
       nullptr,                              // postureShift
       &Character::State::bindLocomotionEntry,      // locomotion
@@ -80,8 +80,10 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
       &Character::State::bindWaitEntry,            // wait
       nullptr,                              // clip
       &Character::State::bindSaccadeEntry,         // saccade
+      &Character::State::bindBlinkEntry,           // blinkemitter
+      &Character::State::bindBreathingEntry,       // breathingemitter
   }};
-  static_assert(static_cast<std::size_t>(BehaviorKind::Saccade) + 1 == kBindings.size(), "one binding per kind");
+  static_assert(static_cast<std::size_t>(BehaviorKind::BreathingEmitter) + 1 == kBindings.size(), "one binding per kind");
   const Bind bind = kBindings[static_cast<std::size_t>(kind)];
   if (clip) {
     bindClipEntry(e, std::move(clip));
@@ -260,6 +262,24 @@ std::string Character::State::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::
   return why;
 }
 
+std::string Character::State::bindBlinkEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  BlinkState blink;
+  std::string why = bindBlink(e.request, *rig_, idleLifeSeed(name_ + "/" + e.request.id), blink, warning);
+  if (why.empty()) e.controller = std::move(blink);
+  return why;
+}
+
+std::string Character::State::bindBreathingEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  BreathingState breathing;
+  std::string why = bindBreathing(e.request, *rig_, idleLifeSeed(name_ + "/" + e.request.id), breathing, warning);
+  if (!why.empty()) return why;
+  e.controller = std::move(breathing);
+  // No pop: it blends in (and over the emitter it replaces, or out for a stop) over a second.
+  e.blendInEnd = std::max(e.blendInEnd, e.request.start() + kBreathingBlendSeconds);
+  e.blendOutStart = std::max(e.blendOutStart, e.blendInEnd);
+  return {};
+}
+
 std::vector<float> Character::State::upperBodyMask() const {
   // The first spine joint and everything above it; empty when the profile has no spine.
   const RigJoints& j = rig_->joints();
@@ -405,6 +425,8 @@ void Character::State::applyBehaviors(float dt) noexcept {
     if (e.as<GazeState>()) pass(Controller::Gaze).push_back(active);
     if (const HeadMotionState* h = e.as<HeadMotionState>(); h && !h->strokes.empty()) pass(Controller::Head).push_back(active);
     if (e.as<SaccadeState>()) pass(Controller::Saccade).push_back(active);
+    if (e.as<BreathingState>()) pass(Controller::Breathing).push_back(active);
+    if (e.as<BlinkState>()) pass(Controller::Blink).push_back(active);
     if (e.as<GestureState>()) pass(Controller::Gesture).push_back(active);
     if (e.as<PointingState>()) pass(Controller::Pointing).push_back(active);
     if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !f->morphs.empty())
@@ -421,6 +443,21 @@ void Character::State::applyBehaviors(float dt) noexcept {
   run(Controller::ClipBehaviors, [&] { return applyBehaviorClips(pass(Controller::ClipBehaviors)); });
   if (locomotion_) run(Controller::Locomotion, [&] { return applyLocomotion(dt); });
   run(Controller::UpperBodyClips, [&] { return applyBehaviorClips(pass(Controller::UpperBodyClips)); });
+  // An emitter blends over the one it replaces: the later the entry, the more of the weight it takes.
+  auto crossfade = [&](Controller which, auto&& apply) {
+    float left = 1.0f;
+    const RuntimeVector<ActiveEntry>& p = pass(which);
+    for (auto it = p.rbegin(); it != p.rend() && left > 0.0f; ++it) {
+      apply(behaviors_.entries()[it->index], it->weight * left);
+      left *= 1.0f - it->weight;
+    }
+    return !p.empty();
+  };
+  run(Controller::Breathing, [&] {
+    return crossfade(Controller::Breathing, [&](BehaviorTimeline::Entry& e, float w) {
+      applyBreathing(*e.as<BreathingState>(), clock_, w, skeleton(), pose_);
+    });
+  });
   const glm::mat4 worldToModel = glm::inverse(worldMatrix());  // gaze and pointing targets
   run(Controller::Gaze, [&] {
     for (const ActiveEntry& a : pass(Controller::Gaze)) {
@@ -460,6 +497,10 @@ void Character::State::applyBehaviors(float dt) noexcept {
     for (const ActiveEntry& a : pass(Controller::Face))
       applyFace(*behaviors_.entries()[a.index].as<FaceExpressionState>(), a.weight, morphs);
     return !pass(Controller::Face).empty();
+  });
+  run(Controller::Blink, [&] {
+    const std::span<float> morphs = buffer_.writeMorphWeights();
+    return crossfade(Controller::Blink, [&](BehaviorTimeline::Entry& e, float w) { applyBlink(*e.as<BlinkState>(), clock_, w, morphs); });
   });
   run(Controller::Speech, [&] { return applySpeechEntries(); });
 }
