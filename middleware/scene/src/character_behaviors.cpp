@@ -280,6 +280,31 @@ std::string Character::State::bindBreathingEntry(BehaviorTimeline::Entry& e, std
   return {};
 }
 
+void Character::State::startIdleLife() {
+  const IdleLifeProfile& idle = rig_->profile().idleLife;
+  auto start = [&](const char* id, BehaviorKind kind, BehaviorParameters parameters) {
+    BehaviorRequest r{.id = id, .kind = kind, .syncs = {{"start", clock_}, {"end", clock_}}, .parameters = std::move(parameters)};
+    r.persistent = true;
+    const BehaviorResult result = addBehavior(std::move(r));
+    if (!result.message.empty() && scene_)
+      scene_->log(result.realized ? LogLevel::Info : LogLevel::Warning,
+                  "character '" + name_ + "': its profile's idleLife " + (kind == BehaviorKind::BlinkEmitter ? "blink" : "breathing") +
+                      ": " + result.message);
+  };
+  if (idle.blink) {
+    BlinkParameters p;
+    p.meanIntervalSeconds = idle.blinkMeanInterval.value_or(p.meanIntervalSeconds);
+    p.variation = idle.blinkVariation.value_or(p.variation);
+    start("idleLife:blink", BehaviorKind::BlinkEmitter, p);
+  }
+  if (idle.breathing) {
+    BreathingParameters p;
+    p.breathsPerMinute = idle.breathsPerMinute.value_or(p.breathsPerMinute);
+    p.amplitudeDegrees = idle.breathingAmplitude.value_or(p.amplitudeDegrees);
+    start("idleLife:breathing", BehaviorKind::BreathingEmitter, p);
+  }
+}
+
 std::vector<float> Character::State::upperBodyMask() const {
   // The first spine joint and everything above it; empty when the profile has no spine.
   const RigJoints& j = rig_->joints();

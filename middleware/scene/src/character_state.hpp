@@ -128,6 +128,8 @@ struct Character::State : RuntimeAllocated {
 
   // Behaviors (character_behaviors.cpp).
   BehaviorResult addBehavior(BehaviorRequest request);
+  // The profile's idleLife (blinking, breathing) as persistent requests from now (Scene::addCharacter).
+  void startIdleLife();
   bool cancelBehavior(std::string_view id, double blendOut);
   std::size_t cancelBehaviors(std::string_view idPrefix, double blendOut);
   void setLocomotionSettings(const LocomotionSettings& settings) noexcept;
