@@ -188,7 +188,8 @@ struct EmitterTimes {
   std::optional<float> average, range;
   bool stop = false;
 };
-EmitterTimes readEmitterTimes(const Behavior& b, const char* what, float defaultAverage, std::string& warning) {
+EmitterTimes readEmitterTimes(const Behavior& b, const char* what, float defaultAverage, const char* defaultRange,
+                              std::string& warning) {
   EmitterTimes t;
   char then[80];
   if (const std::string_view text = valueOf(b, "avgwaitingtime"); !text.empty()) {
@@ -205,7 +206,7 @@ EmitterTimes readEmitterTimes(const Behavior& b, const char* what, float default
     const auto v = oneNumber(text);
     const float average = t.average.value_or(defaultAverage);
     if (!v || !std::isfinite(*v) || *v < 0.0f) {
-      note(warning, notANumber("range", text, 0.0, average, "the default spread is used"));
+      note(warning, notANumber("range", text, 0.0, average, std::string("the default spread, ") + defaultRange + ", is used"));
     } else if (*v >= average && !t.stop) {
       std::snprintf(then, sizeof then, "%g", static_cast<double>(average));
       note(warning, "range '" + std::string(text.substr(0, 40)) + "' is not below avgwaitingtime " + then +
@@ -222,7 +223,7 @@ EmitterTimes readEmitterTimes(const Behavior& b, const char* what, float default
 // as the log-normal's coefficient of variation.
 void readBlinkEmitter(const Behavior& b, ReadParameters& out) {
   BlinkParameters p;
-  const EmitterTimes t = readEmitterTimes(b, "blink emitter", p.meanIntervalSeconds, out.warning);
+  const EmitterTimes t = readEmitterTimes(b, "blink emitter", p.meanIntervalSeconds, "variation 0.6", out.warning);
   p.stop = t.stop;
   if (t.average && !t.stop) p.meanIntervalSeconds = *t.average;
   if (t.range && !t.stop) p.variation = *t.range / (std::sqrt(3.0f) * p.meanIntervalSeconds);
@@ -231,7 +232,7 @@ void readBlinkEmitter(const Behavior& b, ReadParameters& out) {
 
 void readBreathingEmitter(const Behavior& b, ReadParameters& out) {
   BreathingParameters p;
-  const EmitterTimes t = readEmitterTimes(b, "breathing emitter", 60.0f / p.breathsPerMinute, out.warning);
+  const EmitterTimes t = readEmitterTimes(b, "breathing emitter", 60.0f / p.breathsPerMinute, "0 s", out.warning);
   p.stop = t.stop;
   if (t.average && !t.stop) p.breathsPerMinute = 60.0f / *t.average;
   if (t.range && !t.stop) p.periodRangeSeconds = *t.range;
