@@ -76,12 +76,14 @@ std::string bindBlink(const BehaviorRequest& request, const Rig& rig, std::uint6
   if (!p) return "a blink emitter needs BlinkParameters";
   st.stopped = p->stop;
   if (p->stop) return {};  // moves nothing: it replaces the running emitter
+  // The lids' morphs: the profile's CLOSE_EYES, else a BLINK, else FACS's blink (AU45) or eyes closed (AU43).
   const auto& face = rig.joints().face;
-  auto it = face.find("CLOSE_EYES");
-  if (it == face.end()) it = face.find("BLINK");
+  auto it = face.end();
+  for (const char* name : {"CLOSE_EYES", "BLINK", "AU45", "AU43"})
+    if (it = face.find(name); it != face.end() && !it->second.empty()) break;
   if (it == face.end() || it->second.empty())
-    return "the character has no blink morphs (its profile's face table has no CLOSE_EYES) and its rig has no "
-           "eyelid joints; blinking needs one of them";
+    return "the character has no blink morphs (its profile's face table has no CLOSE_EYES, BLINK, AU45 or AU43) and "
+           "its rig has no eyelid joints; blinking needs one of them";
   st.morphs = it->second;
   const float mean = checked(p->meanIntervalSeconds, BlinkParameters::kDefaultMeanInterval, BlinkParameters::kMinMeanInterval,
                              BlinkParameters::kMaxMeanInterval, "blink emitter meanIntervalSeconds", " s", warning);

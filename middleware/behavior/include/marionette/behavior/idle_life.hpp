@@ -66,7 +66,7 @@ struct BreathingState {
 [[nodiscard]] std::uint64_t idleLifeSeed(std::string_view text) noexcept;
 
 // Binds a blink emitter (BlinkParameters). Empty when it can be performed, else why not (no
-// blink morphs: the profile's face table has no CLOSE_EYES). Values out of range are replaced,
+// blink morphs: the profile's face table has none of CLOSE_EYES, BLINK, AU45 (FACS's blink), AU43). Values out of range are replaced,
 // with `warning` naming them. `seed`: used when the parameters give none.
 [[nodiscard]] std::string bindBlink(const BehaviorRequest& request, const Rig& rig, std::uint64_t seed, BlinkState& state,
                                     std::string& warning);
