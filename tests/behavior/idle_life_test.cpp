@@ -353,3 +353,25 @@ TEST(IdleLife, TheProfileTurnsThemOnWhenTheCharacterJoinsTheScene) {
   }
   EXPECT_EQ(after, 0.0f);
 }
+
+TEST(IdleLife, StoppingInTheMiddleOfABlinkFadesTheLidsOpen) {
+  Scene scene;
+  Character* c = scene.addCharacter("c", idleRig());
+  ASSERT_TRUE(c->addBehavior(emitter("blink", BehaviorKind::BlinkEmitter,
+                                     BlinkParameters{.meanIntervalSeconds = 0.5f, .variation = 0.0f})).realized);
+  const double dt = 1.0 / 120.0;
+  int f = 0;
+  for (; f < 600 && c->transformBuffer().morphWeights()[1] < 0.99f; ++f) scene.update(dt);
+  ASSERT_LT(f, 600);  // closed
+  ASSERT_TRUE(c->addBehavior(emitter("stop", BehaviorKind::BlinkEmitter, BlinkParameters{.stop = true}, scene.time())).realized);
+  float previous = c->transformBuffer().morphWeights()[1], step = 0.0f;
+  for (int k = 0; k < 240; ++k) {
+    scene.update(dt);
+    const float w = c->transformBuffer().morphWeights()[1];
+    step = std::max(step, std::fabs(w - previous));
+    previous = w;
+  }
+  EXPECT_EQ(previous, 0.0f);
+  // The fade's slope (1.5 / 0.26 s) and the opening's (1.5 / 0.16 s) at most: no snap.
+  EXPECT_LT(step, static_cast<float>((1.5 / kBlinkSeconds + 1.5 / kBlinkOpenSeconds) * dt) * 1.1f);
+}

@@ -265,8 +265,12 @@ std::string Character::State::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::
 std::string Character::State::bindBlinkEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   BlinkState blink;
   std::string why = bindBlink(e.request, *rig_, idleLifeSeed(name_ + "/" + e.request.id), blink, warning);
-  if (why.empty()) e.controller = std::move(blink);
-  return why;
+  if (!why.empty()) return why;
+  e.controller = std::move(blink);
+  // Over the emitter it replaces, or a stop: a blink in progress fades, the lids do not snap open.
+  e.blendInEnd = std::max(e.blendInEnd, e.request.start() + kBlinkSeconds);
+  e.blendOutStart = std::max(e.blendOutStart, e.blendInEnd);
+  return {};
 }
 
 std::string Character::State::bindBreathingEntry(BehaviorTimeline::Entry& e, std::string& warning) {
