@@ -64,6 +64,13 @@ std::vector<double> blinkIntervals(const BlinkParameters& p, std::uint64_t seed,
   return out;
 }
 
+// A character of idleRig() blinking with `p` from time 0.
+Character* blinkingCharacter(Scene& scene, const BlinkParameters& p) {
+  Character* c = scene.addCharacter("c", idleRig());
+  EXPECT_TRUE(c->addBehavior(emitter("blink", BehaviorKind::BlinkEmitter, p)).realized);
+  return c;
+}
+
 double percentile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
   return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
@@ -115,9 +122,7 @@ TEST(IdleLife, BlinksAreTheSameForASeedAndDifferAcrossSeeds) {
 
 TEST(IdleLife, ABlinkClosesTheLidsFullyAndOpensThemWithoutAJump) {
   Scene scene;
-  Character* c = scene.addCharacter("c", idleRig());
-  ASSERT_TRUE(c->addBehavior(emitter("blink", BehaviorKind::BlinkEmitter,
-                                     BlinkParameters{.meanIntervalSeconds = 1.0f, .variation = 0.2f})).realized);
+  Character* c = blinkingCharacter(scene, BlinkParameters{.meanIntervalSeconds = 1.0f, .variation = 0.2f});
   const double dt = 1.0 / 120.0;
   float peak = 0.0f, previous = 0.0f, step = 0.0f;
   int closures = 0;
@@ -356,9 +361,7 @@ TEST(IdleLife, TheProfileTurnsThemOnWhenTheCharacterJoinsTheScene) {
 
 TEST(IdleLife, StoppingInTheMiddleOfABlinkFadesTheLidsOpen) {
   Scene scene;
-  Character* c = scene.addCharacter("c", idleRig());
-  ASSERT_TRUE(c->addBehavior(emitter("blink", BehaviorKind::BlinkEmitter,
-                                     BlinkParameters{.meanIntervalSeconds = 0.5f, .variation = 0.0f})).realized);
+  Character* c = blinkingCharacter(scene, BlinkParameters{.meanIntervalSeconds = 0.5f, .variation = 0.0f});
   const double dt = 1.0 / 120.0;
   int f = 0;
   for (; f < 600 && c->transformBuffer().morphWeights()[1] < 0.99f; ++f) scene.update(dt);

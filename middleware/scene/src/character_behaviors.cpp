@@ -262,26 +262,29 @@ std::string Character::State::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::
   return why;
 }
 
-std::string Character::State::bindBlinkEntry(BehaviorTimeline::Entry& e, std::string& warning) {
-  BlinkState blink;
-  std::string why = bindBlink(e.request, *rig_, idleLifeSeed(name_ + "/" + e.request.id), blink, warning);
+namespace {
+// An idle-life emitter: bound with a seed of the character's own, then blended in (and over the
+// emitter it replaces, or out for a stop) over at least `blend` seconds: nothing pops or snaps.
+template <class State, class Bind>
+std::string bindIdleEmitter(BehaviorTimeline::Entry& e, const Rig& rig, const std::string& character, double blend,
+                            Bind bind, std::string& warning) {
+  State state;
+  std::string why = bind(e.request, rig, idleLifeSeed(character + "/" + e.request.id), state, warning);
   if (!why.empty()) return why;
-  e.controller = std::move(blink);
-  // Over the emitter it replaces, or a stop: a blink in progress fades, the lids do not snap open.
-  e.blendInEnd = std::max(e.blendInEnd, e.request.start() + kBlinkSeconds);
+  e.controller = std::move(state);
+  e.blendInEnd = std::max(e.blendInEnd, e.request.start() + blend);
   e.blendOutStart = std::max(e.blendOutStart, e.blendInEnd);
   return {};
 }
+}  // namespace
+
+std::string Character::State::bindBlinkEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  // A blink in progress fades in a blink's length; the lids do not snap open.
+  return bindIdleEmitter<BlinkState>(e, *rig_, name_, kBlinkSeconds, bindBlink, warning);
+}
 
 std::string Character::State::bindBreathingEntry(BehaviorTimeline::Entry& e, std::string& warning) {
-  BreathingState breathing;
-  std::string why = bindBreathing(e.request, *rig_, idleLifeSeed(name_ + "/" + e.request.id), breathing, warning);
-  if (!why.empty()) return why;
-  e.controller = std::move(breathing);
-  // No pop: it blends in (and over the emitter it replaces, or out for a stop) over a second.
-  e.blendInEnd = std::max(e.blendInEnd, e.request.start() + kBreathingBlendSeconds);
-  e.blendOutStart = std::max(e.blendOutStart, e.blendInEnd);
-  return {};
+  return bindIdleEmitter<BreathingState>(e, *rig_, name_, kBreathingBlendSeconds, bindBreathing, warning);
 }
 
 void Character::State::startIdleLife() {
