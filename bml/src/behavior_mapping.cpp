@@ -193,9 +193,11 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
     m.warning = blend.warning;
   }
   r.loop = r.kind == BehaviorKind::Posture || r.kind == BehaviorKind::PostureShift;
-  // A saccade model runs (and a finish holds) until a later saccade request replaces it.
+  // A saccade model runs (and a finish holds) until a later saccade request replaces it; so do
+  // the idle-life emitters.
   const SaccadeParameters* saccade = r.as<SaccadeParameters>();
   r.persistent = (saccade && (saccade->mode != SaccadeMode::None || saccade->finish)) ||
+                 r.kind == BehaviorKind::BlinkEmitter || r.kind == BehaviorKind::BreathingEmitter ||
                  r.kind == BehaviorKind::PostureShift || r.kind == BehaviorKind::FaceShift ||
                  r.kind == BehaviorKind::GazeShift || r.kind == BehaviorKind::HeadDirectionShift;
   return m;

@@ -187,6 +187,70 @@ void readSaccade(const Behavior& b, ReadParameters& out) {
   out.parameters = s;
 }
 
+// AsapRealizer's emitters (bmlt:blinkemitter, bmlt:breathingemitter): avgwaitingtime, the mean
+// seconds between blinks or breaths (0 stops the emitter), and range, the half-width of their
+// uniform spread around it. A value that is not a number >= 0 is named with the value used.
+struct EmitterTimes {
+  std::optional<float> average, range;
+  bool stop = false;
+};
+EmitterTimes readEmitterTimes(const Behavior& b, const char* what, float defaultAverage, const char* defaultRange,
+                              std::string& warning) {
+  EmitterTimes t;
+  char then[80];
+  if (const std::string_view text = valueOf(b, "avgwaitingtime"); !text.empty()) {
+    const auto v = oneNumber(text);
+    if (v && std::isfinite(*v) && *v >= 0.0f) {
+      t.average = *v;
+      t.stop = *v == 0.0f;
+    } else {
+      std::snprintf(then, sizeof then, "the %s's default %g s is used", what, static_cast<double>(defaultAverage));
+      note(warning, notANumber("avgwaitingtime", text, 0.0, 600.0, then));
+    }
+  }
+  if (const std::string_view text = valueOf(b, "range"); !text.empty()) {
+    const auto v = oneNumber(text);
+    const float average = t.average.value_or(defaultAverage);
+    if (!v || !std::isfinite(*v) || *v < 0.0f) {
+      note(warning, notANumber("range", text, 0.0, average, std::string("the default spread, ") + defaultRange + ", is used"));
+    } else if (*v >= average && !t.stop) {
+      std::snprintf(then, sizeof then, "%g", static_cast<double>(average));
+      note(warning, "range '" + std::string(text.substr(0, 40)) + "' is not below avgwaitingtime " + then +
+                        " (AsapRealizer requires it); " + then + " is used");
+      t.range = average;
+    } else {
+      t.range = *v;
+    }
+  }
+  return t;
+}
+
+// The same spread as AsapRealizer's uniform avg +- range (standard deviation range / sqrt 3),
+// as the log-normal's coefficient of variation.
+void readBlinkEmitter(const Behavior& b, ReadParameters& out) {
+  BlinkParameters p;
+  const EmitterTimes t = readEmitterTimes(b, "blink emitter", p.meanIntervalSeconds, "variation 0.6", out.warning);
+  p.stop = t.stop;
+  if (t.average && !t.stop) p.meanIntervalSeconds = *t.average;
+  if (t.range && !t.stop) p.variation = *t.range / (std::sqrt(3.0f) * p.meanIntervalSeconds);
+  out.parameters = p;
+}
+
+void readBreathingEmitter(const Behavior& b, ReadParameters& out) {
+  BreathingParameters p;
+  const EmitterTimes t = readEmitterTimes(b, "breathing emitter", 60.0f / p.breathsPerMinute, "0 s", out.warning);
+  p.stop = t.stop;
+  if (t.average && !t.stop) p.breathsPerMinute = 60.0f / *t.average;
+  if (t.range && !t.stop) p.periodRangeSeconds = *t.range;
+  if (const std::string_view text = valueOf(b, "amplitude"); !text.empty()) {
+    // A number goes to the emitter, which clamps it with a warning; anything else is named here.
+    if (const auto v = oneNumber(text)) p.amplitudeDegrees = *v;
+    else note(out.warning, notANumber("amplitude", text, 0.0, BreathingParameters::kMaxAmplitudeDegrees,
+                                      "the default 1.5 degrees is used"));
+  }
+  out.parameters = p;
+}
+
 void readLocomotion(const Behavior& b, ReadParameters& out) {
   LocomotionParameters l;
   const std::string_view target = valueOf(b, "target");
@@ -329,6 +393,8 @@ ReadParameters readParameters(const Behavior& b, BehaviorKind kind) {
     case BehaviorKind::Pointing: readPointing(b, out); break;
     case BehaviorKind::Gesture: readGesture(b, out); break;
     case BehaviorKind::Saccade: readSaccade(b, out); break;
+    case BehaviorKind::BlinkEmitter: readBlinkEmitter(b, out); break;
+    case BehaviorKind::BreathingEmitter: readBreathingEmitter(b, out); break;
     case BehaviorKind::Locomotion: readLocomotion(b, out); break;
     case BehaviorKind::Speech: readSpeech(b, out); break;
     default: break;  // postures, waits and clips have no parameters

@@ -58,6 +58,9 @@ const KnownAttributes kKnownAttributes[] = {
     // BMLA's behaviors: interrupt or activate the target block at their start.
     {"interrupt", {"start", "end", "target"}},
     {"activate", {"start", "end", "target"}},
+    // BMLT's idle life (AsapRealizer): seconds between blinks or breaths, +- range; amplitude is ours.
+    {"blinkemitter", {"start", "end", "range", "avgwaitingtime"}},
+    {"breathingemitter", {"start", "end", "range", "avgwaitingtime", "amplitude"}},
 };
 
 // Behaviors only SmartBody has, read in every dialect (their use makes Auto read the block
@@ -311,6 +314,10 @@ class Parser {
         continue;
       }
       if (ns == kBmlaNamespace && (type == "interrupt" || type == "activate")) {  // <bmla:interrupt target>
+        readBehavior(n, type, required, block);
+        continue;
+      }
+      if (ns == kBmltNamespace && (type == "blinkemitter" || type == "breathingemitter")) {  // idle life
         readBehavior(n, type, required, block);
         continue;
       }

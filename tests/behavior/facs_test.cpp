@@ -205,3 +205,51 @@ TEST(Facs, BrowJointsRiseInTheModelFrame) {
     EXPECT_NEAR(moved.z, 0.0f, 1e-5f);
   }
 }
+
+// A face with upper eyelid joints and no blink morph blinks with its lids (FACS's AU45 by
+// eyelid joints), and a face expression that already closes them is not closed further.
+TEST(Facs, BlinksCloseEyelidJointsAndNeverBeyondAFaceThatClosesThem) {
+  auto asset = std::make_shared<Asset>();
+  asset->skeleton = test::makeChain(4);
+  for (const char* name : {"UpperEyelid_L", "UpperEyelid_R"}) {
+    Transform t;
+    t.translation = {0.0f, 0.1f, 0.05f};
+    asset->skeleton.addJoint(name, 3, t, glm::mat4(1.0f), true);
+  }
+  auto rig = std::make_shared<Rig>(*asset);
+  CharacterProfile p = guessCharacterProfile(*asset);
+  p.hips = "j0", p.spine = {"j1"}, p.neck = "j2", p.head = "j3";
+  rig->setProfile(p);
+  ASSERT_EQ(rig->joints().facs.at("AU45").source, "eyelid joints");
+  const int lid = rig->skeleton().findJoint("UpperEyelid_L");
+  for (float faceClosed : {0.0f, 1.0f, 0.5f}) {
+    Scene scene;
+    Character* c = scene.addCharacter("c", rig);
+    BehaviorRequest blink;
+    blink.id = "blink";
+    blink.kind = BehaviorKind::BlinkEmitter;
+    blink.parameters = BlinkParameters{.meanIntervalSeconds = 1.0f, .seed = 7};
+    blink.syncs = {{"start", 0.0}, {"end", 20.0}};
+    BehaviorResult r = c->addBehavior(blink);
+    ASSERT_TRUE(r.realized) << r.message;
+    if (faceClosed > 0.0f) {
+      BehaviorRequest close = face("close", BehaviorKind::FaceLexeme, "CLOSE_EYES", faceClosed);
+      close.syncs = {{"start", 0.0}, {"attackPeak", 0.01}, {"relax", 20.0}, {"end", 20.0}};
+      ASSERT_TRUE(c->addBehavior(close).realized);
+    }
+    scene.update(0.0);
+    const glm::quat rest = test::modelRotation(*c, rig->skeleton().findJoint("j3"));
+    float most = 0.0f, least = 180.0f;
+    for (int f = 0; f < 600; ++f) {  // 10 s at 60 Hz: about 10 blinks
+      scene.update(1.0 / 60.0);
+      // The lid's turn against the head's (it has no rest turn of its own here).
+      const float angle = glm::degrees(test::preciseAngleBetween(rest, test::modelRotation(*c, lid)));
+      most = std::max(most, angle);
+      least = std::min(least, angle);
+    }
+    SCOPED_TRACE(faceClosed);
+    EXPECT_GT(most, 34.0f);   // a blink closes the lid (35 degrees at full)
+    EXPECT_LE(most, 35.01f);  // and never beyond, whatever the face already closed
+    EXPECT_NEAR(least, 35.0f * faceClosed, 0.01f);  // between blinks: the face's own closure
+  }
+}

@@ -507,3 +507,28 @@ TEST(CharacterProfileLoad, FacsMapFillsTheUnitsTheFaceHasNoMorphFor) {
   r = loadCharacterProfile(f.path(), asset);
   EXPECT_NE(findDiag(r.diagnostics, "facs: expected an object"), nullptr) << r.diagnostics.format();
 }
+
+// "idleLife": blinking and breathing from the character's creation (behavior/idle_life.hpp).
+TEST(CharacterProfileLoad, IdleLifeIsReadAndBadEntriesAreWarnings) {
+  TempProfile f(R"({"idleLife": {"blink": true, "breathing": {"rate": 14, "amplitude": 2}}})");
+  auto r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.items.empty()) << r.diagnostics.format();
+  EXPECT_TRUE(r.profile.idleLife.blink);
+  EXPECT_TRUE(r.profile.idleLife.breathing);
+  EXPECT_FALSE(r.profile.idleLife.blinkMeanInterval);
+  EXPECT_EQ(r.profile.idleLife.breathsPerMinute, 14.0f);
+  EXPECT_EQ(r.profile.idleLife.breathingAmplitude, 2.0f);
+  EXPECT_TRUE(hasNote(r.profile, "idleLife: blink on, breathing on (profile)")) << notes(r.profile);
+  f.write("{\"idleLife\": {\"blink\": {\"meanInterval\": -2, \"rate\": 3},\n \"breathing\": \"yes\", \"sneeze\": true}}");
+  r = loadCharacterProfile(f.path(), robot());
+  EXPECT_TRUE(r.diagnostics.ok()) << r.diagnostics.format();  // warnings: the profile still loads
+  EXPECT_TRUE(r.profile.idleLife.blink);
+  EXPECT_FALSE(r.profile.idleLife.blinkMeanInterval);  // the default
+  EXPECT_FALSE(r.profile.idleLife.breathing);
+  EXPECT_NE(findDiag(r.diagnostics, "idleLife/blink/meanInterval: expected a number >= 0"), nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "rate"), nullptr) << r.diagnostics.format();
+  EXPECT_NE(findDiag(r.diagnostics, "sneeze"), nullptr) << r.diagnostics.format();
+  const Diagnostic* d = findDiag(r.diagnostics, "idleLife/breathing: expected true, false or an object");
+  ASSERT_NE(d, nullptr) << r.diagnostics.format();
+  EXPECT_EQ(d->line, 2);
+}

@@ -157,6 +157,36 @@ TEST(Allocation, ProceduralGesturesAndObjectTargetsAllocateNothingPerFrame) {
     EXPECT_TRUE(c->stats().used(Controller::Gaze) && c->stats().used(Controller::Gesture));
 }
 
+// Idle life: blinks (on morphs) and breathing on four characters, over blinks, breaths and a
+// replacement of each emitter's request made before the counted frames.
+TEST(Allocation, IdleLifeAllocatesNothingPerFrame) {
+  Scene scene;
+  for (int i = 0; i < 4; ++i) {
+    auto asset = marionette::test::makeUpperBodyAsset();
+    asset->morphTargets = {"blink_left", "blink_right"};
+    auto rig = std::make_shared<Rig>(*asset);
+    CharacterProfile p = marionette::test::upperBodyProfile();
+    p.face["CLOSE_EYES"] = {{"blink_left", 1.0f}, {"blink_right", 1.0f}};
+    p.idleLife.blink = p.idleLife.breathing = true;
+    rig->setProfile(p);
+    Character* c = scene.addCharacter("c" + std::to_string(i), rig);
+    BehaviorRequest faster{.id = "breath", .kind = BehaviorKind::BreathingEmitter, .syncs = {{"start", 0.5}, {"end", 0.5}},
+                           .parameters = BreathingParameters{.breathsPerMinute = 40.0f, .periodRangeSeconds = 0.3f}};
+    faster.persistent = true;
+    ASSERT_TRUE(c->addBehavior(faster).realized);
+    BehaviorRequest blink{.id = "blink", .kind = BehaviorKind::BlinkEmitter, .syncs = {{"start", 0.5}, {"end", 0.5}},
+                          .parameters = BlinkParameters{.meanIntervalSeconds = 0.5f}};
+    blink.persistent = true;
+    ASSERT_TRUE(c->addBehavior(blink).realized);
+  }
+  scene.update(1.0 / 60.0);  // warm-up
+  const long before = g_allocations.load();
+  for (int f = 0; f < 600; ++f) scene.update(1.0 / 60.0);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  for (const auto& c : scene.characters())
+    EXPECT_TRUE(c->stats().used(Controller::Blink) && c->stats().used(Controller::Breathing));
+}
+
 // The same with two threads: waking the workers, the shared chunk index, the
 // per-thread scratch and the serialized listener calls allocate nothing either.
 TEST(Allocation, NoHeapAllocationPerFrameWithTwoThreads) {

@@ -6,10 +6,10 @@
 namespace marionette {
 
 namespace {
-constexpr std::array<std::string_view, 17> kKindNames = {
+constexpr std::array<std::string_view, 19> kKindNames = {
     "posture",   "postureShift", "locomotion", "gaze", "gazeShift", "head",    "headDirectionShift", "faceLexeme",
     "faceFacs", "face",         "faceShift",  "gesture", "pointing", "speech", "wait",               "clip",
-    "saccade"};
+    "saccade",   "blinkemitter", "breathingemitter"};
 }  // namespace
 
 std::string_view toString(BehaviorKind kind) noexcept {
@@ -34,13 +34,15 @@ BodyChannel defaultChannels(BehaviorKind kind) noexcept {
     case BehaviorKind::Pointing: return BodyChannel::Hands;
     case BehaviorKind::Speech: return BodyChannel::Voice;
     case BehaviorKind::Saccade: return BodyChannel::Eyes;
+    case BehaviorKind::BlinkEmitter: return BodyChannel::Blink;
+    case BehaviorKind::BreathingEmitter: return BodyChannel::Breath;
     case BehaviorKind::Clip: return BodyChannel::Posture;  // a whole-body clip stands in for the posture
     default: return BodyChannel::None;                     // face behaviors combine; wait drives nothing
   }
 }
 
 std::string channelNames(BodyChannel channels) {
-  static constexpr std::array<std::pair<BodyChannel, std::string_view>, 7> kNames = {{
+  static constexpr std::array<std::pair<BodyChannel, std::string_view>, 9> kNames = {{
       {BodyChannel::Posture, "posture"},
       {BodyChannel::Locomotion, "locomotion"},
       {BodyChannel::Hands, "hands"},  // before the single hands, so both read "hands"
@@ -48,6 +50,8 @@ std::string channelNames(BodyChannel channels) {
       {BodyChannel::Gaze, "gaze"},
       {BodyChannel::Voice, "voice"},
       {BodyChannel::Eyes, "eyes"},
+      {BodyChannel::Blink, "blink"},
+      {BodyChannel::Breath, "breath"},
   }};
   std::string out;
   auto append = [&](std::string_view s) {
@@ -70,7 +74,8 @@ BodyChannel channelFromName(std::string_view name) noexcept {
   if (name == "leftHand") return BodyChannel::LeftHand;
   if (name == "rightHand") return BodyChannel::RightHand;
   for (BodyChannel bits : {BodyChannel::Posture, BodyChannel::Locomotion, BodyChannel::Hands, BodyChannel::Head,
-                           BodyChannel::Gaze, BodyChannel::Voice, BodyChannel::Eyes})
+                           BodyChannel::Gaze, BodyChannel::Voice, BodyChannel::Eyes, BodyChannel::Blink,
+                           BodyChannel::Breath})
     if (channelNames(bits) == name) return bits;
   return BodyChannel::None;
 }

@@ -6,6 +6,7 @@
 
 #include "marionette/animation/pose.hpp"
 #include "marionette/core/finite.hpp"
+#include "random_draws.hpp"
 
 namespace marionette {
 
@@ -29,13 +30,7 @@ constexpr Model kThink{{5.46f, 10.54f, 24.69f, 6.44f, 6.89f, 12.80f, 26.38f, 6.7
 
 const Model& modelOf(SaccadeMode m) noexcept { return m == SaccadeMode::Listen ? kListen : m == SaccadeMode::Think ? kThink : kTalk; }
 
-double uniform(std::uint64_t& s) noexcept {  // splitmix64 -> [0, 1)
-  std::uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * (1.0 / 9007199254740992.0);
-}
+double uniform(std::uint64_t& s) noexcept { return detail::uniformDraw(s); }
 
 double saccadeSeconds(float degrees) noexcept { return 0.025 + 0.0024 * static_cast<double>(degrees); }
 
@@ -89,9 +84,7 @@ std::string bindSaccade(const BehaviorRequest& request, const Rig& rig, const Sk
   st.left = glm::length(j.leftAxis) > 1e-6f ? glm::normalize(j.leftAxis) : glm::vec3(1.0f, 0.0f, 0.0f);
   st.mode = p->mode;
   st.start = st.next = request.start();
-  std::uint64_t seed = 1469598103934665603ull;  // FNV-1a of the id: the same draws every run
-  for (char c : request.id) seed = (seed ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-  st.random = seed;
+  st.random = detail::textSeed(request.id);  // the same draws every run
   if (st.mode == SaccadeMode::None) {
     float magnitude = p->magnitudeDegrees, direction = p->directionDegrees;
     if (!std::isfinite(magnitude) || !std::isfinite(direction)) {

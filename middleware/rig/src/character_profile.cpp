@@ -57,7 +57,7 @@ class ProfileReader : JsonReaderBase {
         tree_(asset.skeleton) {}
 
   void read(const Json& doc, CharacterProfile& p, const Guess& guessed) {
-    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "voices", "gestureVocabulary", "facs", "comment"});
+    unknownKeys(doc, "", {"jointMap", "joints", "limbs", "face", "visemes", "clips", "gestures", "events", "blendSpaces", "lifeHeight", "voices", "gestureVocabulary", "facs", "idleLife", "comment"});
     const Json& clips = section(doc, "clips");
     unknownKeys(clips, "/clips", {"idle", "walk", "run"});
     if (doc.contains("jointMap") && jointMap(doc["jointMap"], p)) {
@@ -101,6 +101,7 @@ class ProfileReader : JsonReaderBase {
     if (doc.contains("lifeHeight")) p.lifeHeight = lifeHeight(doc["lifeHeight"]);
     if (doc.contains("voices")) voices(doc["voices"], p);
     if (doc.contains("gestureVocabulary")) gestureVocabulary(doc["gestureVocabulary"], p);
+    if (doc.contains("idleLife")) idleLife(doc["idleLife"], p.idleLife);
     p.notes = std::move(notes_);
   }
 
@@ -500,6 +501,41 @@ class ProfileReader : JsonReaderBase {
     if (!j.is_object()) return;
     for (const auto& [pattern, lexeme] : pairs) p.gestureVocabulary.push_back({pattern, toUpper(lexeme)});
     notes_.push_back("gestureVocabulary: " + std::to_string(p.gestureVocabulary.size()) + " (profile)");
+  }
+
+  // "idleLife": {"blink": true | {"meanInterval": s, "variation": cv}, "breathing": true | {"rate":
+  // breaths a minute, "amplitude": degrees}}. The emitters check the ranges when they start.
+  void idleLife(const Json& j, IdleLifeProfile& out) {
+    if (!j.is_object()) {
+      warn("/idleLife", "expected an object {\"blink\": true, \"breathing\": true}; ignored");
+      return;
+    }
+    unknownKeys(j, "/idleLife", {"blink", "breathing"});
+    auto emitter = [&](const char* key, std::initializer_list<const char*> known,
+                       std::initializer_list<std::pair<const char*, std::optional<float>*>> fields) {
+      if (!j.contains(key)) return false;
+      const Json& e = j[key];
+      const std::string at = std::string("/idleLife/") + key;
+      if (e.is_boolean()) return e.get<bool>();
+      if (!e.is_object()) {
+        warn(at, "expected true, false or an object of parameters; ignored");
+        return false;
+      }
+      for (const auto& [name, value] : fields) {
+        if (!e.contains(name)) continue;
+        const Json& v = e[name];
+        if (v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0.0) *value = v.get<float>();
+        else warn(at + "/" + name, "expected a number >= 0; ignored, the default used");
+      }
+      unknownKeys(e, at, known);
+      return true;
+    };
+    out.blink = emitter("blink", {"meanInterval", "variation"},
+                        {{"meanInterval", &out.blinkMeanInterval}, {"variation", &out.blinkVariation}});
+    out.breathing = emitter("breathing", {"rate", "amplitude"},
+                            {{"rate", &out.breathsPerMinute}, {"amplitude", &out.breathingAmplitude}});
+    notes_.push_back(std::string("idleLife: blink ") + (out.blink ? "on" : "off") + ", breathing " +
+                     (out.breathing ? "on" : "off") + " (profile)");
   }
 
   bool gestures(const Json& j, CharacterProfile& p) {

@@ -17,12 +17,14 @@ std::string_view controllerName(Controller controller) noexcept {
     case Controller::ClipBehaviors: return "clip behaviors";
     case Controller::Locomotion: return "locomotion";
     case Controller::UpperBodyClips: return "upper-body clips";
+    case Controller::Breathing: return "breathing";
     case Controller::Gaze: return "gaze";
     case Controller::Head: return "head";
     case Controller::Saccade: return "saccade";
     case Controller::Gesture: return "gesture";
     case Controller::Pointing: return "pointing";
     case Controller::Face: return "face";
+    case Controller::Blink: return "blink";
     case Controller::Speech: return "speech";
   }
   return "?";

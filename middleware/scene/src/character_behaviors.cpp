@@ -62,7 +62,7 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
   // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
   // aims the arm) also binds it, when it has a target.
   using Bind = std::string (Character::State::*)(BehaviorTimeline::Entry&, std::string&);
-  static constexpr std::array<Bind, 17> kBindings = {{
+  static constexpr std::array<Bind, 19> kBindings = {{
       nullptr,                              // posture
       nullptr,                              // postureShift
       &Character::State::bindLocomotionEntry,      // locomotion
@@ -80,8 +80,10 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
       &Character::State::bindWaitEntry,            // wait
       nullptr,                              // clip
       &Character::State::bindSaccadeEntry,         // saccade
+      &Character::State::bindBlinkEntry,           // blinkemitter
+      &Character::State::bindBreathingEntry,       // breathingemitter
   }};
-  static_assert(static_cast<std::size_t>(BehaviorKind::Saccade) + 1 == kBindings.size(), "one binding per kind");
+  static_assert(static_cast<std::size_t>(BehaviorKind::BreathingEmitter) + 1 == kBindings.size(), "one binding per kind");
   const Bind bind = kBindings[static_cast<std::size_t>(kind)];
   if (clip) {
     bindClipEntry(e, std::move(clip));
@@ -260,6 +262,56 @@ std::string Character::State::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::
   return why;
 }
 
+namespace {
+// An idle-life emitter: bound with a seed of the character's own, then blended in (and over the
+// emitter it replaces, or out for a stop) over at least `blend` seconds: nothing pops or snaps.
+template <class State, class Bind>
+std::string bindIdleEmitter(BehaviorTimeline::Entry& e, const Rig& rig, const std::string& character, double blend,
+                            Bind bind, std::string& warning) {
+  State state;
+  std::string why = bind(e.request, rig, idleLifeSeed(character + "/" + e.request.id), state, warning);
+  if (!why.empty()) return why;
+  e.controller = std::move(state);
+  e.blendInEnd = std::max(e.blendInEnd, e.request.start() + blend);
+  e.blendOutStart = std::max(e.blendOutStart, e.blendInEnd);
+  return {};
+}
+}  // namespace
+
+std::string Character::State::bindBlinkEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  // A blink in progress fades in a blink's length; the lids do not snap open.
+  return bindIdleEmitter<BlinkState>(e, *rig_, name_, kBlinkSeconds, bindBlink, warning);
+}
+
+std::string Character::State::bindBreathingEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  return bindIdleEmitter<BreathingState>(e, *rig_, name_, kBreathingBlendSeconds, bindBreathing, warning);
+}
+
+void Character::State::startIdleLife() {
+  const IdleLifeProfile& idle = rig_->profile().idleLife;
+  auto start = [&](const char* id, BehaviorKind kind, BehaviorParameters parameters) {
+    BehaviorRequest r{.id = id, .kind = kind, .syncs = {{"start", clock_}, {"end", clock_}}, .parameters = std::move(parameters)};
+    r.persistent = true;
+    const BehaviorResult result = addBehavior(std::move(r));
+    if (!result.message.empty() && scene_)
+      scene_->log(result.realized ? LogLevel::Info : LogLevel::Warning,
+                  "character '" + name_ + "': its profile's idleLife " + (kind == BehaviorKind::BlinkEmitter ? "blink" : "breathing") +
+                      ": " + result.message);
+  };
+  if (idle.blink) {
+    BlinkParameters p;
+    p.meanIntervalSeconds = idle.blinkMeanInterval.value_or(p.meanIntervalSeconds);
+    p.variation = idle.blinkVariation.value_or(p.variation);
+    start("idleLife:blink", BehaviorKind::BlinkEmitter, p);
+  }
+  if (idle.breathing) {
+    BreathingParameters p;
+    p.breathsPerMinute = idle.breathsPerMinute.value_or(p.breathsPerMinute);
+    p.amplitudeDegrees = idle.breathingAmplitude.value_or(p.amplitudeDegrees);
+    start("idleLife:breathing", BehaviorKind::BreathingEmitter, p);
+  }
+}
+
 std::vector<float> Character::State::upperBodyMask() const {
   // The first spine joint and everything above it; empty when the profile has no spine.
   const RigJoints& j = rig_->joints();
@@ -405,6 +457,8 @@ void Character::State::applyBehaviors(float dt) noexcept {
     if (e.as<GazeState>()) pass(Controller::Gaze).push_back(active);
     if (const HeadMotionState* h = e.as<HeadMotionState>(); h && !h->strokes.empty()) pass(Controller::Head).push_back(active);
     if (e.as<SaccadeState>()) pass(Controller::Saccade).push_back(active);
+    if (e.as<BreathingState>()) pass(Controller::Breathing).push_back(active);
+    if (e.as<BlinkState>()) pass(Controller::Blink).push_back(active);
     if (e.as<GestureState>()) pass(Controller::Gesture).push_back(active);
     if (e.as<PointingState>()) pass(Controller::Pointing).push_back(active);
     if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !(f->morphs.empty() && f->joints.empty()))
@@ -421,6 +475,21 @@ void Character::State::applyBehaviors(float dt) noexcept {
   run(Controller::ClipBehaviors, [&] { return applyBehaviorClips(pass(Controller::ClipBehaviors)); });
   if (locomotion_) run(Controller::Locomotion, [&] { return applyLocomotion(dt); });
   run(Controller::UpperBodyClips, [&] { return applyBehaviorClips(pass(Controller::UpperBodyClips)); });
+  // An emitter blends over the one it replaces: the later the entry, the more of the weight it takes.
+  auto crossfade = [&](Controller which, auto&& apply) {
+    float left = 1.0f;
+    const RuntimeVector<ActiveEntry>& p = pass(which);
+    for (auto it = p.rbegin(); it != p.rend() && left > 0.0f; ++it) {
+      apply(behaviors_.entries()[it->index], it->weight * left);
+      left *= 1.0f - it->weight;
+    }
+    return !p.empty();
+  };
+  run(Controller::Breathing, [&] {
+    return crossfade(Controller::Breathing, [&](BehaviorTimeline::Entry& e, float w) {
+      applyBreathing(*e.as<BreathingState>(), clock_, w, skeleton(), pose_);
+    });
+  });
   const glm::mat4 worldToModel = glm::inverse(worldMatrix());  // gaze and pointing targets
   run(Controller::Gaze, [&] {
     for (const ActiveEntry& a : pass(Controller::Gaze)) {
@@ -460,6 +529,18 @@ void Character::State::applyBehaviors(float dt) noexcept {
     for (const ActiveEntry& a : pass(Controller::Face))
       applyFace(*behaviors_.entries()[a.index].as<FaceExpressionState>(), a.weight, morphs, *rig_, pose_);
     return !pass(Controller::Face).empty();
+  });
+  run(Controller::Blink, [&] {
+    const std::span<float> morphs = buffer_.writeMorphWeights();
+    float lidsClosed = 0.0f;  // by face expressions through eyelid joints: a blink closes no further than both
+    for (const ActiveEntry& a : pass(Controller::Face)) {
+      const FaceExpressionState& f = *behaviors_.entries()[a.index].as<FaceExpressionState>();
+      for (const FaceExpressionState::JointMove& m : f.joints)
+        if (m.part == FacsFacePart::UpperLid) lidsClosed = std::max(lidsClosed, a.weight * f.amount * m.value);
+    }
+    return crossfade(Controller::Blink, [&](BehaviorTimeline::Entry& e, float w) {
+      applyBlink(*e.as<BlinkState>(), clock_, w, morphs, *rig_, pose_, lidsClosed);
+    });
   });
   run(Controller::Speech, [&] { return applySpeechEntries(); });
 }

@@ -128,6 +128,8 @@ struct Character::State : RuntimeAllocated {
 
   // Behaviors (character_behaviors.cpp).
   BehaviorResult addBehavior(BehaviorRequest request);
+  // The profile's idleLife (blinking, breathing) as persistent requests from now (Scene::addCharacter).
+  void startIdleLife();
   bool cancelBehavior(std::string_view id, double blendOut);
   std::size_t cancelBehaviors(std::string_view idPrefix, double blendOut);
   void setLocomotionSettings(const LocomotionSettings& settings) noexcept;
@@ -160,6 +162,8 @@ struct Character::State : RuntimeAllocated {
   [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindGestureEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindSaccadeEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindBlinkEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindBreathingEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindWaitEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   void ensureScratch();

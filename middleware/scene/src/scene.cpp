@@ -78,6 +78,7 @@ Character* Scene::addCharacter(std::string name, std::shared_ptr<const Rig> rig)
     for (auto& s : parallel_->scratch) s->reserve(c->skeleton().jointCount());
   if (parallelFor_) reserveChunkScratch();
   c->state_->scratch_ = scratch_.get();
+  c->state_->startIdleLife();
   forEachListener([&](SceneListener& l) { l.onCharacterCreated(*c); });
   return c;
 }

@@ -130,10 +130,40 @@ struct SaccadeParameters {
   float magnitudeDegrees = 0.0f;
 };
 
+// Idle life (kinds BlinkEmitter, BreathingEmitter; behavior/idle_life.hpp): emitters that run
+// until a later request of their kind replaces them; `stop` ends the running one (blended out).
+// Blink onsets are a renewal process: the interval between two onsets is log-normal with mean
+// `meanIntervalSeconds` and coefficient of variation `variation` (docs/controllers.md, "Idle
+// life", says where the defaults come from). `seed` 0: from the character and the request id.
+struct BlinkParameters {
+  static constexpr float kDefaultMeanInterval = 3.5f;  // s: 17 blinks a minute at rest
+  static constexpr float kDefaultVariation = 0.6f;
+  static constexpr float kMinMeanInterval = 0.5f, kMaxMeanInterval = 600.0f;
+  static constexpr float kMaxVariation = 1.5f;
+  float meanIntervalSeconds = kDefaultMeanInterval;
+  float variation = kDefaultVariation;
+  float amount = 1.0f;  // of the blink morphs' full closure, in [0, 1]
+  bool stop = false;
+  std::uint64_t seed = 0;
+};
+// Breathing: the chest pitches back and the shoulders rise by `amplitudeDegrees` at the top of
+// each breath, `breathsPerMinute` times a minute; each breath's period varies uniformly by
+// +-`periodRangeSeconds` (AsapRealizer's `range`).
+struct BreathingParameters {
+  static constexpr float kDefaultRate = 15.0f;  // breaths a minute: an adult at rest
+  static constexpr float kMinRate = 2.0f, kMaxRate = 60.0f;
+  static constexpr float kDefaultAmplitudeDegrees = 1.5f, kMaxAmplitudeDegrees = 8.0f;
+  float breathsPerMinute = kDefaultRate;
+  float periodRangeSeconds = 0.0f;
+  float amplitudeDegrees = kDefaultAmplitudeDegrees;
+  bool stop = false;
+  std::uint64_t seed = 0;
+};
+
 // The parameters of one request: none (postures, clips and waits need only their clip
 // and times), or the struct of its kind's controller.
 using BehaviorParameters = std::variant<std::monostate, HeadParameters, FaceParameters, GazeParameters,
                                         PointingParameters, LocomotionParameters, SpeechParameters, GestureParameters,
-                                        SaccadeParameters>;
+                                        SaccadeParameters, BlinkParameters, BreathingParameters>;
 
 }  // namespace marionette

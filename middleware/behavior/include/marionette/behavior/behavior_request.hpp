@@ -37,6 +37,7 @@ enum class BehaviorKind : std::uint8_t {
   FaceLexeme, FaceFacs, Face, FaceShift, Gesture, Pointing, Speech, Wait,
   Clip,  // play a clip of the rig, nothing more (no BML element)
   Saccade,  // rapid eye movements: a model's (talk, listen, think) or one (SmartBody's <saccade>)
+  BlinkEmitter, BreathingEmitter,  // idle life (AsapRealizer's bmlt:blinkemitter, bmlt:breathingemitter)
 };
 [[nodiscard]] std::string_view toString(BehaviorKind kind) noexcept;
 [[nodiscard]] std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept;
@@ -61,6 +62,8 @@ enum class BodyChannel : std::uint32_t {
   Gaze = 1u << 5,
   Voice = 1u << 6,
   Eyes = 1u << 7,  // saccades, over whatever the gaze does
+  Blink = 1u << 8,   // the blink emitter, over the face's eyelids
+  Breath = 1u << 9,  // the breathing emitter, added on the chest and shoulders
 };
 [[nodiscard]] constexpr BodyChannel operator|(BodyChannel a, BodyChannel b) noexcept {
   return static_cast<BodyChannel>(static_cast<std::uint32_t>(a) | static_cast<std::uint32_t>(b));

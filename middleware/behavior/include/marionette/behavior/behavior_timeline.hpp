@@ -18,6 +18,7 @@
 #include "marionette/behavior/behavior_request.hpp"
 #include "marionette/behavior/gaze.hpp"
 #include "marionette/behavior/head_motion.hpp"
+#include "marionette/behavior/idle_life.hpp"
 #include "marionette/behavior/pointing.hpp"
 #include "marionette/behavior/procedural_gesture.hpp"
 #include "marionette/behavior/saccade.hpp"
@@ -55,7 +56,8 @@ struct LocomotionEntryState {
   glm::vec3 resolvedTarget{0.0f};              // a target character's place before this frame
 };
 using ControllerState = std::variant<std::monostate, HeadMotionState, FaceExpressionState, GazeState, PointingState,
-                                     SpeechState, LocomotionEntryState, GestureState, SaccadeState>;
+                                     SpeechState, LocomotionEntryState, GestureState, SaccadeState,
+                                     BlinkState, BreathingState>;
 
 class BehaviorTimeline {
  public:

@@ -47,6 +47,14 @@ struct Limb {
   std::string upper, lower, end;
 };
 
+// Idle life the character has from its creation (a profile's "idleLife"; behavior/idle_life.hpp):
+// blinking and breathing, each with its parameters (unset: the emitter's defaults).
+struct IdleLifeProfile {
+  bool blink = false, breathing = false;
+  std::optional<float> blinkMeanInterval, blinkVariation;    // seconds; coefficient of variation
+  std::optional<float> breathsPerMinute, breathingAmplitude;  // degrees
+};
+
 struct CharacterProfile {
   // The body's joints by name in the character's skeleton; "" when the character has none.
   // They come from the character's joint map (setProfileJoints), the one description of its
@@ -84,6 +92,8 @@ struct CharacterProfile {
   // Other realizers' gesture names to procedural lexemes, looked up before the shipped
   // vocabulary (a profile's "gestureVocabulary": rig/gesture_vocabulary.hpp).
   GestureVocabulary gestureVocabulary;
+  // Blinking and breathing from the character's creation (a profile's "idleLife").
+  IdleLifeProfile idleLife;
   // One line per guess made (what was found, or what was missing), for logs and --stats.
   std::vector<std::string> notes;
 };
