@@ -58,6 +58,8 @@ const KnownAttributes kKnownAttributes[] = {
     // BMLA's behaviors: interrupt or activate the target block at their start.
     {"interrupt", {"start", "end", "target"}},
     {"activate", {"start", "end", "target"}},
+    // AsapRealizer's <bmlt:audiofile>: a WAV played from its start (audio_files.hpp).
+    {"audiofile", {"start", "end", "fileName"}},
 };
 
 // Behaviors only SmartBody has, read in every dialect (their use makes Auto read the block
@@ -315,6 +317,10 @@ class Parser {
         continue;
       }
       if (ns == kBmlaNamespace && (type == "interrupt" || type == "activate")) {  // <bmla:interrupt target>
+        readBehavior(n, type, required, block);
+        continue;
+      }
+      if (ns == kBmltNamespace && type == "audiofile") {  // <bmlt:audiofile fileName>
         readBehavior(n, type, required, block);
         continue;
       }

@@ -6,10 +6,10 @@
 namespace marionette {
 
 namespace {
-constexpr std::array<std::string_view, 17> kKindNames = {
+constexpr std::array<std::string_view, 18> kKindNames = {
     "posture",   "postureShift", "locomotion", "gaze", "gazeShift", "head",    "headDirectionShift", "faceLexeme",
     "faceFacs", "face",         "faceShift",  "gesture", "pointing", "speech", "wait",               "clip",
-    "saccade"};
+    "saccade",   "audiofile"};
 }  // namespace
 
 std::string_view toString(BehaviorKind kind) noexcept {
@@ -35,7 +35,7 @@ BodyChannel defaultChannels(BehaviorKind kind) noexcept {
     case BehaviorKind::Speech: return BodyChannel::Voice;
     case BehaviorKind::Saccade: return BodyChannel::Eyes;
     case BehaviorKind::Clip: return BodyChannel::Posture;  // a whole-body clip stands in for the posture
-    default: return BodyChannel::None;                     // face behaviors combine; wait drives nothing
+    default: return BodyChannel::None;  // face behaviors combine; wait and audio drive nothing
   }
 }
 

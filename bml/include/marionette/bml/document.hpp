@@ -19,6 +19,8 @@ inline constexpr std::string_view kCoreExtensionsNamespace = "http://www.bml-ini
 inline constexpr std::string_view kDraftBmlNamespace = "http://www.mindmakers.org/projects/BML";
 // AsapRealizer's BML Agent extensions (BMLA): how a block is planned and started.
 inline constexpr std::string_view kBmlaNamespace = "http://www.asap-project.org/bmla";
+// AsapRealizer's (Elckerlyc's) behavior extensions (BMLT): <bmlt:audiofile fileName> is read.
+inline constexpr std::string_view kBmltNamespace = "http://hmi.ewi.utwente.nl/bmlt";
 
 // Size limits of one block. Real blocks have tens of behaviors; the limits keep
 // scheduling time and memory bounded on any input (a block over them fails with
