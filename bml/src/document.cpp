@@ -61,6 +61,8 @@ const KnownAttributes kKnownAttributes[] = {
     // BMLT's idle life (AsapRealizer): seconds between blinks or breaths, +- range; amplitude is ours.
     {"blinkemitter", {"start", "end", "range", "avgwaitingtime"}},
     {"breathingemitter", {"start", "end", "range", "avgwaitingtime", "amplitude"}},
+    // AsapRealizer's <bmlt:audiofile>: a WAV played from its start (audio_files.hpp).
+    {"audiofile", {"start", "end", "fileName"}},
 };
 
 // Behaviors only SmartBody has, read in every dialect (their use makes Auto read the block
@@ -317,7 +319,7 @@ class Parser {
         readBehavior(n, type, required, block);
         continue;
       }
-      if (ns == kBmltNamespace && (type == "blinkemitter" || type == "breathingemitter")) {  // idle life
+      if (ns == kBmltNamespace && (type == "blinkemitter" || type == "breathingemitter" || type == "audiofile")) {  // idle life, sound
         readBehavior(n, type, required, block);
         continue;
       }

@@ -195,7 +195,12 @@ void Realizer::waitForSpeech() {
 
 Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, std::string_view character,
                            const SchedulerOptions& options, std::optional<double> at, bool activation) {
-  const ParseResult parsed = parseBlock(bmlText, parse);
+  ParseResult parsed = parseBlock(bmlText, parse);
+  // <bmlt:audiofile>: the WAVs are read now; one that cannot be played leaves the block here.
+  AudioFileAccess files = files_;
+  if (!options.fileDirectory.empty()) files.directory = options.fileDirectory;
+  const std::vector<LoadedAudio> audio =
+      parsed.block ? loadAudioFiles(*parsed.block, files, parsed.warnings) : std::vector<LoadedAudio>{};
   // Plain variables, not a structured binding: lambdas below capture them (clang 14 cannot capture bindings).
   const std::pair<std::string, Character*> performed = performer(parsed, character);
   const std::string& who = performed.first;
@@ -218,6 +223,13 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
     opts.defaultDuration = [target](const Behavior& b) { return naturalDuration(b, *target); };
   if (!opts.speechTiming && target)
     opts.speechTiming = [target](const Behavior& b) { return speechTiming(b, *target); };
+  if (!audio.empty())  // a sound lasts as long as its WAV, whatever else gives durations
+    opts.defaultDuration = [&audio, other = opts.defaultDuration](const Behavior& b) -> std::optional<double> {
+      if (b.type != "audiofile") return other ? other(b) : std::nullopt;
+      for (const LoadedAudio& a : audio)
+        if (a.behaviorId == b.id) return a.clip->duration();
+      return std::nullopt;
+    };
   Schedule schedule = scheduleParsed(parsed, opts);
 
   if (!schedule.failed && !target) {
@@ -313,7 +325,7 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
   std::stable_sort(a.events.begin(), a.events.end(), [](const Event& x, const Event& y) { return x.sceneTime < y.sceneTime; });
   a.end = start + blockEnd;
   a.relaxed = start + relaxed;
-  if (!submit(*target, a, *parsed.block, schedule)) return schedule;
+  if (!submit(*target, a, *parsed.block, schedule, audio)) return schedule;
   for (const Event& e : a.events) emit(syncFeedback(Feedback::Kind::Prediction, a, e));
   blocks_.push_back(std::move(a));
   if (startsNow)
@@ -321,13 +333,16 @@ Schedule Realizer::realize(std::string_view bmlText, const ParseOptions& parse, 
   return schedule;
 }
 
-bool Realizer::submit(Character& character, const Active& a, const Block& block, Schedule& schedule) {
+bool Realizer::submit(Character& character, const Active& a, const Block& block, Schedule& schedule,
+                      const std::vector<LoadedAudio>& audio) {
   const double now = scene_.time();
   for (const ScheduledBehavior& sb : schedule.behaviors) {
     auto parsedIt = std::find_if(block.behaviors.begin(), block.behaviors.end(),
                                  [&](const Behavior& b) { return b.id == sb.id; });
     if (parsedIt == block.behaviors.end() || sb.syncs.empty()) continue;
     MappedRequest mapped = toRequest(*parsedIt, sb, a.blockId, a.start, character.rig());
+    for (const LoadedAudio& sound : audio)  // the clip read for it (realize)
+      if (sound.behaviorId == sb.id) mapped.request.parameters = AudioParameters{sound.clip, sound.file};
     BehaviorResult res = character.addBehavior(std::move(mapped.request));
     // The attributes' own reasons come first: the character saw only what could be read of them.
     if (!mapped.error.empty()) {  // e.g. a saccade: on the timeline as a wait, yet nothing moves

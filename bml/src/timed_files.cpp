@@ -2,6 +2,7 @@
 #include "marionette/bml/timed_files.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -21,7 +22,9 @@ void TimedFiles::sendDue(double now, const std::function<void(const Diagnostic&)
       for (const Diagnostic& d : unread.items) report(d);
       continue;
     }
-    const Schedule s = realizer_.perform(text, f.character, {}, f.time);
+    SchedulerOptions options;  // the file's own folder holds what it names (<bmlt:audiofile fileName>)
+    options.fileDirectory = std::filesystem::path(f.path).parent_path().generic_string();
+    const Schedule s = realizer_.perform(text, f.character, options, f.time);
     for (const Warning& w : s.warnings)
       report(Diagnostic{w.fatal ? Severity::Error : Severity::Warning, f.path, w.line, w.column,
                         std::string(toString(w.type)) + ": " +

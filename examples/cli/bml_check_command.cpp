@@ -123,7 +123,9 @@ int bmlCheckCommand(const BmlCheckOptions& o) {
     realizer.setForwardWarningsToScene(false);
     realizer.setReportUnrealized(inScene || !characterFile.empty());
     realizer.setSpeechSynthesis(bml::Realizer::SpeechSynthesis::Inline);  // the schedule is the answer
-    const bml::Schedule s = realizer.perform(content, name);
+    bml::SchedulerOptions options;  // <bmlt:audiofile fileName> is beside the file
+    options.fileDirectory = std::filesystem::path(file).parent_path().generic_string();
+    const bml::Schedule s = realizer.perform(content, name, options);
     scene.removeListener(&said);
     worst = std::max(worst, s.failed ? 2 : (s.warnings.empty() && said.lines.empty() ? 0 : 1));
     if (json) {

@@ -84,6 +84,7 @@ Outcome perform(const std::string& file, const std::string& text, const Expectat
   Realizer r(scene);
   r.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);
   r.setForwardWarningsToScene(false);
+  r.setFiles({}, test::sharedAsset("speech"));  // <bmlt:audiofile fileName="arctic_a0009.wav">
   if (e.dialect == "smartbody") r.setDialect(Dialect::SmartBody);
   EXPECT_FALSE(r.perform("<bml id=\"asap1\"><wait id=\"w\" start=\"0\" end=\"4\"/></bml>", "c").failed);
   EXPECT_FALSE(r.perform("<bml id=\"asapOther\"><wait id=\"w\" start=\"0\" end=\"10\"/></bml>", "c").failed);

@@ -10,6 +10,7 @@ typedef char mn_clip_event_kind_is_32_bits[sizeof(mn_clip_event_kind) == 4 ? 1 :
 typedef char mn_log_level_is_32_bits[sizeof(mn_log_level) == 4 ? 1 : -1];
 typedef char mn_animation_event_kind_is_32_bits[sizeof(mn_animation_event_kind) == 4 ? 1 : -1];
 typedef char mn_foot_side_is_32_bits[sizeof(mn_foot_side) == 4 ? 1 : -1];
+typedef char mn_audio_event_kind_is_32_bits[sizeof(mn_audio_event_kind) == 4 ? 1 : -1];
 
 size_t marionette_c_header_check(const mn_character* character);
 size_t marionette_c_header_check(const mn_character* character) {

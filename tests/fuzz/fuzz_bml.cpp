@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include "marionette/bml/realizer.hpp"
@@ -29,6 +30,26 @@ std::shared_ptr<const marionette::Rig> fuzzRig() {
   asset->clips.push_back(beat);
   return std::make_shared<Rig>(*asset);
 }
+
+// <bmlt:audiofile fileName>: "a.wav" is 0.1 s of 8 kHz 8-bit silence; any other name reads
+// the input itself as a WAV. Nothing comes from the disk.
+bool fuzzFiles(std::string_view input, const std::string& path, std::string& bytes) {
+  if (path != "a.wav") {
+    bytes.assign(input);
+    return true;
+  }
+  static const std::string wav = [] {
+    auto le = [](std::uint32_t v, int n) {
+      std::string s;
+      for (int i = 0; i < n; ++i) s += static_cast<char>(v >> (8 * i));
+      return s;
+    };
+    return "RIFF" + le(36 + 800, 4) + "WAVEfmt " + le(16, 4) + le(1, 2) + le(1, 2) + le(8000, 4) + le(8000, 4) +
+           le(1, 2) + le(8, 2) + "data" + le(800, 4) + std::string(800, '\x80');
+  }();
+  bytes = wav;
+  return true;
+}
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -48,6 +69,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Character* c = scene.addCharacter("c", rig);
   scene.setObject("camera", {0.0f, 1.6f, 3.0f});  // targets scripts name (issue 24)
   bml::Realizer realizer(scene);
+  realizer.setFiles([text](const std::string& path, std::string& bytes, std::string&) { return fuzzFiles(text, path, bytes); });
   realizer.perform(text);
   scene.update(0.25);
   realizer.update();

@@ -15,12 +15,14 @@
 
 #include "marionette/speech/alignment_io.hpp"
 #include "test_data.hpp"
+#include "wav_bytes.hpp"
 
 namespace {
 
 using namespace marionette::speech;
 using marionette::test::readFile;
 using marionette::test::sharedAsset;
+using namespace marionette::test::wav;
 
 namespace fs = std::filesystem;
 
@@ -44,35 +46,6 @@ class WavIoTest : public ::testing::Test {
   }
   fs::path dir_;
 };
-
-void put(std::string& s, std::uint32_t v, int bytes) {
-  for (int i = 0; i < bytes; ++i) s += static_cast<char>((v >> (8 * i)) & 0xff);
-}
-
-// A WAV file assembled by hand: optional chunks before fmt, the fmt chunk body, data.
-std::string makeWav(const std::string& fmtBody, const std::string& data, const std::string& before = "") {
-  std::string chunks = before;
-  chunks += "fmt ";
-  put(chunks, static_cast<std::uint32_t>(fmtBody.size()), 4);
-  chunks += fmtBody;
-  chunks += "data";
-  put(chunks, static_cast<std::uint32_t>(data.size()), 4);
-  chunks += data;
-  std::string wav = "RIFF";
-  put(wav, static_cast<std::uint32_t>(4 + chunks.size()), 4);
-  return wav + "WAVE" + chunks;
-}
-
-std::string fmtBody(std::uint16_t tag, std::uint16_t channels, std::uint32_t rate, std::uint16_t bits) {
-  std::string f;
-  put(f, tag, 2);
-  put(f, channels, 2);
-  put(f, rate, 4);
-  put(f, rate * channels * bits / 8, 4);
-  put(f, channels * bits / 8, 2);
-  put(f, bits, 2);
-  return f;
-}
 
 TEST_F(WavIoTest, ReadsTheArcticRecording) {
   const std::string path = sharedAsset("speech/arctic_a0009.wav");
@@ -179,12 +152,7 @@ TEST_F(WavIoTest, SampleFormatsAndMixdown) {
     EXPECT_EQ(a.samples[1], -2000);
   }
   {  // WAVE_FORMAT_EXTENSIBLE 16-bit PCM, after an odd-sized LIST chunk and its pad byte
-    std::string ext = fmtBody(0xFFFE, 1, 16000, 16);
-    put(ext, 22, 2);      // cbSize
-    put(ext, 16, 2);      // valid bits
-    put(ext, 4, 4);       // channel mask: front centre
-    put(ext, 0x0001, 2);  // sub-format: PCM
-    ext += std::string("\x00\x00\x00\x00\x10\x00\x80\x00\x00\xAA\x00\x38\x9B\x71", 14);
+    std::string ext = extensibleFmt(1, 1, 16000, 16);
     std::string list = "LIST";
     put(list, 3, 4);
     list += std::string("abc") + '\0';  // 3 bytes and the pad

@@ -43,22 +43,28 @@ bool toImportOptions(const mn_scene* scene, const char* call, const mn_import_op
   out.isolateThirdPartyParsers = o.isolate != 0;
   out.allowFilesOutsideModelFolder = o.allow_files_outside_model_folder != 0;
   out.extraScale = o.extra_scale;
-  if (o.read_file) {
-    out.readFile = [fn = o.read_file, user = o.read_file_user](const std::string& path, std::string& bytes,
-                                                             std::string& why) {
-      bytes.clear();
-      mn_file_sink sink{&bytes};
-      const int found = fn(user, path.c_str(), &sink);
-      if (sink.tooLarge) {
-        why = "the file reader gave more than " + std::to_string(marionette::limits::kMaxModelFileBytes >> 20) + " MiB";
-        return false;
-      }
-      return found != 0;
-    };
-  }
+  out.readFile = marionette::capi::engineReader(o.read_file, o.read_file_user);
   profilePath = o.profile_path;
   return true;
 }
+
+}  // namespace
+
+marionette::FileReader marionette::capi::engineReader(mn_read_file_fn fn, void* user) {
+  if (!fn) return {};
+  return [fn, user](const std::string& path, std::string& bytes, std::string& why) {
+    bytes.clear();
+    mn_file_sink sink{&bytes};
+    const int found = fn(user, path.c_str(), &sink);
+    if (sink.tooLarge) {
+      why = "the file reader gave more than " + std::to_string(marionette::limits::kMaxModelFileBytes >> 20) + " MiB";
+      return false;
+    }
+    return found != 0;
+  };
+}
+
+namespace {
 
 // A missing file is MN_ERROR_IO, a file that is not valid MN_ERROR_LOAD.
 bool unreadable(const marionette::Diagnostics& d) {

@@ -134,7 +134,9 @@ void sendDueBml(mn_scene& s, double until) {
       for (const marionette::Diagnostic& d : unread.items) s.scene.log(marionette::LogLevel::Error, d.format());
       continue;
     }
-    s.realizer->perform(text, f.character, {}, f.time);  // problems arrive as warning feedback
+    marionette::bml::SchedulerOptions options;  // what the file names is beside it (<bmlt:audiofile>)
+    options.fileDirectory = std::filesystem::path(f.path).parent_path().generic_string();
+    s.realizer->perform(text, f.character, options, f.time);  // problems arrive as warning feedback
   }
 }
 #endif

@@ -115,6 +115,9 @@ class CallbackForwarder final : public marionette::SceneListener {
   void onCharacterChanged(const marionette::Character& character, marionette::ChangeKind kind,
                           std::string_view what) override;
   void onAnimationEvent(const marionette::Character& character, const marionette::AnimationEvent& event) override;  // c_events.cpp
+  void onAudio(const marionette::Character& character, std::string_view behaviorId, const marionette::speech::AudioClip& clip,
+               std::string_view file, double sceneStart) override;  // c_audio.cpp
+  void onAudioStopped(const marionette::Character& character, std::string_view behaviorId, double time) override;
   void reserveEventText();  // c_events.cpp: at mn_scene_set_event_callback, so that events allocate nothing
 
  private:
@@ -161,6 +164,8 @@ struct mn_scene : marionette::capi::Registered {
   void* clipUser = nullptr;
   mn_animation_event_fn eventFn = nullptr;  // c_events.cpp
   void* eventUser = nullptr;
+  mn_audio_fn audioFn = nullptr;  // c_audio.cpp
+  void* audioUser = nullptr;
 
   // Handles for characters the scene gained (added or loaded from a file).
   void syncHandles();
@@ -173,6 +178,9 @@ struct mn_scene : marionette::capi::Registered {
 };
 
 namespace marionette::capi {
+
+// The engine's read function (mn_read_file_fn) as a FileReader; empty for NULL (the disk). c_asset.cpp.
+[[nodiscard]] marionette::FileReader engineReader(mn_read_file_fn fn, void* user);
 
 // Records a failure: on the scene when there is one, else on the thread.
 mn_status fail(const mn_scene* scene, mn_status status, std::string_view message) noexcept;

@@ -6,10 +6,10 @@
 namespace marionette {
 
 namespace {
-constexpr std::array<std::string_view, 19> kKindNames = {
+constexpr std::array<std::string_view, 20> kKindNames = {
     "posture",   "postureShift", "locomotion", "gaze", "gazeShift", "head",    "headDirectionShift", "faceLexeme",
     "faceFacs", "face",         "faceShift",  "gesture", "pointing", "speech", "wait",               "clip",
-    "saccade",   "blinkemitter", "breathingemitter"};
+    "saccade",   "blinkemitter", "breathingemitter", "audiofile"};
 }  // namespace
 
 std::string_view toString(BehaviorKind kind) noexcept {
@@ -37,7 +37,7 @@ BodyChannel defaultChannels(BehaviorKind kind) noexcept {
     case BehaviorKind::BlinkEmitter: return BodyChannel::Blink;
     case BehaviorKind::BreathingEmitter: return BodyChannel::Breath;
     case BehaviorKind::Clip: return BodyChannel::Posture;  // a whole-body clip stands in for the posture
-    default: return BodyChannel::None;                     // face behaviors combine; wait drives nothing
+    default: return BodyChannel::None;  // face behaviors combine; wait and audio drive nothing
   }
 }
 

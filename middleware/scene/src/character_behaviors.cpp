@@ -62,7 +62,7 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
   // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
   // aims the arm) also binds it, when it has a target.
   using Bind = std::string (Character::State::*)(BehaviorTimeline::Entry&, std::string&);
-  static constexpr std::array<Bind, 19> kBindings = {{
+  static constexpr std::array<Bind, 20> kBindings = {{
       nullptr,                              // posture
       nullptr,                              // postureShift
       &Character::State::bindLocomotionEntry,      // locomotion
@@ -82,8 +82,9 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
       &Character::State::bindSaccadeEntry,         // saccade
       &Character::State::bindBlinkEntry,           // blinkemitter
       &Character::State::bindBreathingEntry,       // breathingemitter
+      &Character::State::bindAudioEntry,           // audio
   }};
-  static_assert(static_cast<std::size_t>(BehaviorKind::BreathingEmitter) + 1 == kBindings.size(), "one binding per kind");
+  static_assert(static_cast<std::size_t>(BehaviorKind::Audio) + 1 == kBindings.size(), "one binding per kind");
   const Bind bind = kBindings[static_cast<std::size_t>(kind)];
   if (clip) {
     bindClipEntry(e, std::move(clip));
@@ -215,6 +216,24 @@ std::string Character::State::bindSpeechEntry(BehaviorTimeline::Entry& e, std::s
   if (std::string face = speechFaceNote(*rig_); !face.empty()) scene_->log(LogLevel::Info, who + face);
   const std::string audio = line->audioFile.string();
   scene_->forEachListener([&](SceneListener& l) { l.onSpeech(self_, id, *line->utterance, audio, start); });
+  return {};
+}
+
+std::string Character::State::bindAudioEntry(BehaviorTimeline::Entry& e, std::string&) {
+  const AudioParameters* p = e.request.as<AudioParameters>();
+  if (!p || !p->clip || p->clip->frames() == 0 || p->clip->sampleRate <= 0)
+    return "an audio request needs a clip with samples (AudioParameters::clip, speech/audio_clip.hpp)";
+  // The clip plays from the start; a request that ends first cuts it there (the engine is told).
+  const double clipEnd = e.request.start() + p->clip->duration();
+  AudioState& audio = e.controller.emplace<AudioState>();
+  audio.cut = e.request.end() < clipEnd - 1e-9;
+  audio.playEnd = audio.cut ? e.request.end() : clipEnd;
+  if (!scene_) return {};
+  // Listeners may add or cancel behaviors (moving `e`): copies only.
+  const std::shared_ptr<const speech::AudioClip> clip = p->clip;
+  const std::string id = e.request.id, file = p->file;
+  const double start = e.request.start();
+  scene_->forEachListener([&](SceneListener& l) { l.onAudio(self_, id, *clip, file, start); });
   return {};
 }
 
@@ -410,33 +429,41 @@ LocomotionStatus Character::State::locomotionStatus(std::string_view id) const n
 }
 
 bool Character::State::cancelBehavior(std::string_view id, double blendOut) {
-  const std::vector<std::string> stopped = speechStoppedBy(id, false);
+  const std::vector<StoppedSound> stopped = soundsStoppedBy(id, false);
   const bool known = behaviors_.cancel(id, clock_, blendOut);
-  notifySpeechStopped(stopped);
+  notifySoundsStopped(stopped);
   return known;
 }
 
 std::size_t Character::State::cancelBehaviors(std::string_view idPrefix, double blendOut) {
-  const std::vector<std::string> stopped = speechStoppedBy(idPrefix, true);
+  const std::vector<StoppedSound> stopped = soundsStoppedBy(idPrefix, true);
   const std::size_t n = behaviors_.cancelPrefix(idPrefix, clock_, blendOut);
-  notifySpeechStopped(stopped);
+  notifySoundsStopped(stopped);
   return n;
 }
 
-std::vector<std::string> Character::State::speechStoppedBy(std::string_view id, bool prefix) const {
-  // Speech whose audio the engine was told to play and that has not ended yet.
-  std::vector<std::string> ids;
-  for (const BehaviorTimeline::Entry& e : behaviors_.entries())
-    if (e.as<SpeechState>() && !e.cancelled() && clock_ < e.request.end() &&
-        (prefix ? std::string_view(e.request.id).substr(0, id.size()) == id : e.request.id == id))
-      ids.push_back(e.request.id);
-  return ids;
+std::vector<Character::State::StoppedSound> Character::State::soundsStoppedBy(std::string_view id, bool prefix) {
+  // Speech and sounds the engine was told to play that have not ended yet (each sound once).
+  std::vector<StoppedSound> out;
+  for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
+    if (e.cancelled() || !(prefix ? std::string_view(e.request.id).substr(0, id.size()) == id : e.request.id == id))
+      continue;
+    if (e.as<SpeechState>() && clock_ < e.request.end()) out.push_back({e.request.id, false});
+    if (AudioState* a = e.as<AudioState>(); a && !a->stopped && clock_ < a->playEnd) {
+      a->stopped = true;
+      out.push_back({e.request.id, true});
+    }
+  }
+  return out;
 }
 
-void Character::State::notifySpeechStopped(const std::vector<std::string>& ids) const {
+void Character::State::notifySoundsStopped(const std::vector<StoppedSound>& sounds) const {
   if (!scene_) return;
-  for (const std::string& id : ids)
-    scene_->forEachListener([&](SceneListener& l) { l.onSpeechStopped(self_, id, clock_); });
+  for (const StoppedSound& s : sounds)
+    scene_->forEachListener([&](SceneListener& l) {
+      if (s.audio) l.onAudioStopped(self_, s.id, clock_);
+      else l.onSpeechStopped(self_, s.id, clock_);
+    });
 }
 
 void Character::State::applyBehaviors(float dt) noexcept {
@@ -447,9 +474,13 @@ void Character::State::applyBehaviors(float dt) noexcept {
   for (auto& p : passes_) p.clear();
   const std::span<BehaviorTimeline::Entry> entries = behaviors_.entries();
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    const BehaviorTimeline::Entry& e = entries[i];
+    BehaviorTimeline::Entry& e = entries[i];
     const float w = BehaviorTimeline::weightAt(e, clock_);
     const ActiveEntry active{static_cast<std::uint32_t>(i), w, e.order};
+    if (AudioState* a = e.as<AudioState>(); a && a->cut && !a->stopped && clock_ >= a->playEnd) {
+      a->stopped = true;  // the request ended before its clip: the engine stops it where it ends
+      if (scene_) scene_->forEachListener([&](SceneListener& l) { l.onAudioStopped(self_, e.request.id, a->playEnd); });
+    }
     if (e.as<SpeechState>()) pass(Controller::Speech).push_back(active);
     if (e.as<LocomotionEntryState>()) pass(Controller::Locomotion).push_back(active);
     if (w <= 0.0f) continue;

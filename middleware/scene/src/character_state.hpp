@@ -168,8 +168,14 @@ struct Character::State : RuntimeAllocated {
   [[nodiscard]] std::string bindWaitEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   void ensureScratch();
   void reserveBehaviorPasses();
-  [[nodiscard]] std::vector<std::string> speechStoppedBy(std::string_view id, bool prefix) const;
-  void notifySpeechStopped(const std::vector<std::string>& ids) const;
+  [[nodiscard]] std::string bindAudioEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  // Speech and sounds a cancel stops (marking each sound told), and telling the listeners.
+  struct StoppedSound {
+    std::string id;
+    bool audio = false;  // onAudioStopped, else onSpeechStopped
+  };
+  [[nodiscard]] std::vector<StoppedSound> soundsStoppedBy(std::string_view id, bool prefix);
+  void notifySoundsStopped(const std::vector<StoppedSound>& sounds) const;
   bool applySpeechEntries() noexcept;
   [[nodiscard]] std::string bindLocomotion(const BehaviorRequest& request, std::shared_ptr<LocomotionPlan>& plan,
                                            std::string& warning) const;

@@ -24,6 +24,7 @@
 #include <system_error>
 
 #include "marionette/speech/alignment_io.hpp"
+#include "wav_format.hpp"
 
 namespace marionette::speech {
 namespace {
@@ -411,78 +412,11 @@ Alignment readAlignment(const FileReader& files, const std::filesystem::path& fi
 namespace {
 
 constexpr std::uintmax_t kMaxWavBytes = 1u << 30;
-constexpr std::uint16_t kFormatPcm = 1, kFormatFloat = 3, kFormatExtensible = 0xFFFE;
-
-std::uint16_t le16(const unsigned char* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
-std::uint32_t le32(const unsigned char* p) {
-  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
-         (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
-}
-
-struct WavFormat {
-  std::uint16_t tag = 0, channels = 0, blockAlign = 0, bits = 0;
-  std::uint32_t sampleRate = 0;
-};
-
-// One sample of a frame as a value in [-1, 1) scaled to 16-bit (so 16-bit PCM is exact).
-double sampleAt(const unsigned char* p, const WavFormat& f) {
-  if (f.tag == kFormatFloat) {
-    double v = 0.0;
-    if (f.bits == 32) {
-      float x;
-      std::memcpy(&x, p, 4);  // little-endian host (x86-64, ARM64)
-      v = x;
-    } else {
-      std::memcpy(&v, p, 8);
-    }
-    return std::isfinite(v) ? v * 32768.0 : 0.0;
-  }
-  switch (f.bits) {
-    case 8: return (static_cast<int>(p[0]) - 128) * 256.0;
-    case 16: return static_cast<std::int16_t>(le16(p));
-    case 24: {
-      std::int32_t v = static_cast<std::int32_t>(p[0] | (p[1] << 8) | (p[2] << 16));
-      if (v & 0x800000) v -= 0x1000000;
-      return v / 256.0;
-    }
-    default: return static_cast<std::int32_t>(le32(p)) / 65536.0;
-  }
-}
+constexpr std::uint16_t kFormatPcm = 1;
 
 std::int16_t toInt16(double v) {
   const double r = std::round(v);
   return static_cast<std::int16_t>(std::clamp(r, -32768.0, 32767.0));
-}
-
-std::string parseFmt(const unsigned char* p, std::uint32_t size, WavFormat& f) {
-  if (size < 16) return "fmt chunk is " + std::to_string(size) + " bytes, expected at least 16";
-  f.tag = le16(p);
-  f.channels = le16(p + 2);
-  f.sampleRate = le32(p + 4);
-  f.blockAlign = le16(p + 12);
-  f.bits = le16(p + 14);
-  if (f.tag == kFormatExtensible) {
-    if (size < 40) return "WAVE_FORMAT_EXTENSIBLE fmt chunk is " + std::to_string(size) + " bytes, expected 40";
-    // The sub-format GUID's first two bytes are the real format tag; the rest is fixed.
-    static const unsigned char kGuidTail[14] = {0x00, 0x00, 0x00, 0x00, 0x10, 0x00, 0x80,
-                                               0x00, 0x00, 0xAA, 0x00, 0x38, 0x9B, 0x71};
-    if (std::memcmp(p + 26, kGuidTail, sizeof kGuidTail) != 0) return "unknown WAVE_FORMAT_EXTENSIBLE sub-format";
-    f.tag = le16(p + 24);
-  }
-  if (f.tag != kFormatPcm && f.tag != kFormatFloat)
-    return "format tag " + std::to_string(f.tag) + " is not supported (expected PCM or IEEE float)";
-  if (f.channels == 0 || f.channels > 64) return std::to_string(f.channels) + " channels (expected 1 to 64)";
-  if (f.sampleRate == 0 || f.sampleRate > 1'000'000)
-    return "sample rate " + std::to_string(f.sampleRate) + " Hz (expected 1 to 1000000)";
-  const bool pcmBits = f.tag == kFormatPcm && (f.bits == 8 || f.bits == 16 || f.bits == 24 || f.bits == 32);
-  const bool floatBits = f.tag == kFormatFloat && (f.bits == 32 || f.bits == 64);
-  if (!pcmBits && !floatBits)
-    return std::to_string(f.bits) + "-bit " + (f.tag == kFormatPcm ? "PCM" : "float") +
-           " is not supported (expected PCM 8/16/24/32 or float 32/64)";
-  if (f.blockAlign != f.channels * (f.bits / 8))
-    return "block align " + std::to_string(f.blockAlign) + " does not match " + std::to_string(f.channels) +
-           " channels of " + std::to_string(f.bits) + " bits";
-  return {};
 }
 
 }  // namespace
@@ -496,63 +430,20 @@ std::string readWav(const FileReader& files, const std::filesystem::path& file, 
   if (!readWholeFile(files, file.generic_string(), kMaxWavBytes, text, unread))
     return name + ": cannot read the WAV file (" + unread + ")";
   const std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(text.data()), text.size());
-
-  if (bytes.size() < 12 || std::memcmp(bytes.data(), "RIFF", 4) != 0 || std::memcmp(bytes.data() + 8, "WAVE", 4) != 0)
-    return name + ": not a RIFF/WAVE file";
-  // Writers disagree on the RIFF size; the file's real length bounds the chunks.
-  const std::size_t end = bytes.size();
-  std::size_t pos = 12;
-  WavFormat format;
-  bool haveFormat = false;
-  const unsigned char* data = nullptr;
-  std::size_t dataSize = 0;
-  while (pos + 8 <= end) {
-    const unsigned char* header = bytes.data() + pos;
-    const std::uint32_t size = le32(header + 4);
-    const std::size_t body = pos + 8;
-    const std::size_t available = end - body;
-    const std::string id(reinterpret_cast<const char*>(header), 4);
-    if (id == "data") {
-      // Streaming writers leave 0xFFFFFFFF; any other size must fit the file.
-      if (size == 0xFFFFFFFFu) {
-        dataSize = available;
-      } else if (size > available) {
-        return name + ": truncated: the data chunk declares " + std::to_string(size) + " bytes, the file holds " +
-               std::to_string(available);
-      } else {
-        dataSize = size;
-      }
-      data = bytes.data() + body;
-      if (haveFormat) break;
-    } else {
-      if (size > available)
-        return name + ": truncated: chunk " + shown(id) + " at byte " + std::to_string(pos) + " declares " +
-               std::to_string(size) + " bytes, " + std::to_string(available) + " remain";
-      if (id == "fmt ") {
-        if (haveFormat) return name + ": two fmt chunks";
-        if (std::string why = parseFmt(header + 8, size, format); !why.empty()) return name + ": " + why;
-        haveFormat = true;
-        if (data) break;
-      }
-    }
-    const std::size_t next = body + static_cast<std::size_t>(id == "data" ? dataSize : size);
-    pos = next + (next & 1u);  // chunks are padded to an even size
-  }
-  if (!haveFormat) return name + ": no fmt chunk";
-  if (!data) return name + ": no data chunk";
-
-  const std::size_t frames = dataSize / format.blockAlign;
+  detail::WavLayout wav;
+  if (std::string why = detail::parseWavLayout(bytes, wav); !why.empty()) return name + ": " + why;
+  const detail::WavFormat& format = wav.format;
   const std::size_t bytesPerSample = format.bits / 8u;
   out.sampleRate = static_cast<int>(format.sampleRate);
-  out.samples.resize(frames);
-  for (std::size_t i = 0; i < frames; ++i) {
-    const unsigned char* frame = data + i * format.blockAlign;
+  out.samples.resize(wav.frames);
+  for (std::size_t i = 0; i < wav.frames; ++i) {
+    const unsigned char* frame = wav.data + i * format.blockAlign;
     if (format.channels == 1 && format.tag == kFormatPcm && format.bits == 16) {
-      out.samples[i] = static_cast<std::int16_t>(le16(frame));
+      out.samples[i] = static_cast<std::int16_t>(frame[0] | (frame[1] << 8));
       continue;
     }
-    double sum = 0.0;
-    for (std::size_t c = 0; c < format.channels; ++c) sum += sampleAt(frame + c * bytesPerSample, format);
+    double sum = 0.0;  // mixed down, scaled to 16 bits
+    for (std::size_t c = 0; c < format.channels; ++c) sum += detail::wavSample(frame + c * bytesPerSample, format) * 32768.0;
     out.samples[i] = toInt16(sum / format.channels);
   }
   return {};

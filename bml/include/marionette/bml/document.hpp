@@ -20,7 +20,7 @@ inline constexpr std::string_view kDraftBmlNamespace = "http://www.mindmakers.or
 // AsapRealizer's BML Agent extensions (BMLA): how a block is planned and started.
 inline constexpr std::string_view kBmlaNamespace = "http://www.asap-project.org/bmla";
 // AsapRealizer's (Elckerlyc's) own behaviors, BMLT: read here, <bmlt:blinkemitter> and
-// <bmlt:breathingemitter> (idle life).
+// <bmlt:breathingemitter> (idle life), and <bmlt:audiofile fileName>.
 inline constexpr std::string_view kBmltNamespace = "http://hmi.ewi.utwente.nl/bmlt";
 
 // Size limits of one block. Real blocks have tens of behaviors; the limits keep

@@ -38,6 +38,7 @@
 #include <string_view>
 #include <vector>
 
+#include "marionette/bml/audio_files.hpp"
 #include "marionette/bml/behavior_mapping.hpp"
 #include "marionette/bml/scheduler.hpp"
 #include "marionette/scene/scene.hpp"
@@ -100,6 +101,14 @@ class Realizer {
     blendLayer_ = layer >= 0 && layer < Character::kMaxLayers ? layer : blendLayer_;
   }
   [[nodiscard]] int blendLayer() const noexcept { return blendLayer_; }
+  // Where behaviors' files are read (<bmlt:audiofile fileName>, audio_files.hpp): relative
+  // names in `directory` (a scene's asset folder; "" = the working directory; a block's
+  // SchedulerOptions::fileDirectory comes first), through `reader` (empty: the disk). Each
+  // file is read when its block is realized, never per frame.
+  void setFiles(FileReader reader, std::string directory = {}) {
+    files_ = {std::move(reader), std::move(directory)};
+  }
+  [[nodiscard]] const AudioFileAccess& files() const noexcept { return files_; }
 
   // Parses and schedules `bmlText` for `character` (the block's characterId
   // when empty) and queues it. Returns the schedule (with its warnings, which are
@@ -210,7 +219,8 @@ class Realizer {
   bool arrived(Active& block, Event& event, double now);
   static Feedback syncFeedback(Feedback::Kind kind, const Active& block, const Event& event);
   void warn(const std::string& character, const std::string& blockId, double sceneTime, Warning warning);
-  bool submit(Character& character, const Active& block, const Block& parsed, Schedule& schedule);
+  bool submit(Character& character, const Active& block, const Block& parsed, Schedule& schedule,
+              const std::vector<LoadedAudio>& audio);
   void reportConflicts(const Character& character, const Active& block, const BehaviorTimeline::Entry& added,
                        const Behavior& behavior, Schedule& schedule);
   [[nodiscard]] SchedulerOptions::ExternalSync resolveExternal(const SyncRef& ref, double blockStart) const;
@@ -231,6 +241,7 @@ class Realizer {
   std::size_t performed_ = 0;  // perform() calls: generated block ids
   double replaceBlend_ = 0.3;
   int blendLayer_ = 0;  // SmartBody's <blend> (setBlendLayer)
+  AudioFileAccess files_;  // setFiles
   void startBlend(const std::string& character, const Event& e);
 };
 

@@ -63,6 +63,10 @@ struct SchedulerOptions {
   // A speech's real timing (the realizer asks the character's speech service).
   // Marks it does not name keep the per-character estimate, clamped into the speech.
   std::function<std::optional<SpeechTiming>(const Behavior&)> speechTiming;
+
+  // Where the block's relative file names are found (<bmlt:audiofile fileName>): the BML
+  // file's folder. "" = the realizer's (Realizer::setFiles). The scheduler itself reads no file.
+  std::string fileDirectory;
 };
 
 struct SyncTime {

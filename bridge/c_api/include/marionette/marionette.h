@@ -509,6 +509,40 @@ typedef struct mn_animation_event {
 typedef void (*mn_animation_event_fn)(void* user, const mn_animation_event* event);
 MN_API mn_status mn_scene_set_event_callback(mn_scene* scene, mn_animation_event_fn fn, void* user);
 
+/* Sounds a behavior plays (AsapRealizer's <bmlt:audiofile fileName>; docs/bridge.md). PLAY
+ * comes once, when the block is realized, before its start: play `samples` from `scene_time`.
+ * STOP comes at most once, when the sound must end before its own end: its block was
+ * interrupted or replaced, or the BML gave an earlier end (then `scene_time` is that end).
+ * Samples are decoded floats, interleaved (frame after frame, `channels` samples each);
+ * PCM files give [-1, 1). Valid during the call only; threads as the other callbacks. */
+typedef enum mn_audio_event_kind {
+  MN_AUDIO_PLAY = 0,
+  MN_AUDIO_STOP = 1,
+  MN_AUDIO_EVENT_MIN_ENUM_ = -0x7FFFFFFF - 1, /* not kinds: 32 bits wide (ABI) */
+  MN_AUDIO_EVENT_MAX_ENUM_ = 0x7FFFFFFF
+} mn_audio_event_kind;
+typedef struct mn_audio {
+  mn_audio_event_kind kind;
+  const char* character;
+  const char* behavior;   /* "block:behavior" for BML */
+  const float* samples;   /* PLAY: frame_count * channels samples; STOP: NULL */
+  size_t frame_count;     /* STOP: 0 */
+  int channels;           /* STOP: 0 */
+  int sample_rate;        /* frames per second; STOP: 0 */
+  const char* file;       /* PLAY: the WAV as it was read (resolved); STOP: "" */
+  double scene_time;      /* PLAY: when to start; STOP: when to stop */
+  double duration;        /* PLAY: the clip's seconds; STOP: 0 */
+} mn_audio;
+typedef void (*mn_audio_fn)(void* user, const mn_audio* audio);
+MN_API mn_status mn_scene_set_audio_callback(mn_scene* scene, mn_audio_fn fn, void* user);
+/* Where <bmlt:audiofile fileName> is read, when its block is realized: relative names in
+ * `directory` (NULL or "": the working directory; a scene file's BML files read theirs beside
+ * themselves), through `read_file` (as mn_import_options' read_file; NULL: the disk). A file
+ * that cannot be read or is not a WAV removes its behavior with MN_FEEDBACK_WARNING feedback
+ * naming the file. MN_ERROR_UNSUPPORTED when built without BML. */
+MN_API mn_status mn_scene_set_audio_files(mn_scene* scene, const char* directory, mn_read_file_fn read_file,
+                                          void* read_file_user);
+
 #ifdef __cplusplus
 }
 #endif

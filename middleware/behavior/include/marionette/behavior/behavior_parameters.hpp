@@ -14,6 +14,7 @@
 // the request impossible (no target, a point that is not finite) fails it.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -22,6 +23,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "marionette/speech/audio_clip.hpp"
 #include "marionette/speech/speech_backend.hpp"
 
 namespace marionette {
@@ -159,11 +161,17 @@ struct BreathingParameters {
   bool stop = false;
   std::uint64_t seed = 0;
 };
+// A sound (kind Audio): the decoded clip and the file it came from, handed to the engine
+// when the request is added (SceneListener::onAudio). A null or empty clip is an error.
+struct AudioParameters {
+  std::shared_ptr<const speech::AudioClip> clip{};
+  std::string file{};
+};
 
 // The parameters of one request: none (postures, clips and waits need only their clip
 // and times), or the struct of its kind's controller.
 using BehaviorParameters = std::variant<std::monostate, HeadParameters, FaceParameters, GazeParameters,
                                         PointingParameters, LocomotionParameters, SpeechParameters, GestureParameters,
-                                        SaccadeParameters, BlinkParameters, BreathingParameters>;
+                                        SaccadeParameters, BlinkParameters, BreathingParameters, AudioParameters>;
 
 }  // namespace marionette

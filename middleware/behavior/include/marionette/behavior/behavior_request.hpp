@@ -38,6 +38,7 @@ enum class BehaviorKind : std::uint8_t {
   Clip,  // play a clip of the rig, nothing more (no BML element)
   Saccade,  // rapid eye movements: a model's (talk, listen, think) or one (SmartBody's <saccade>)
   BlinkEmitter, BreathingEmitter,  // idle life (AsapRealizer's bmlt:blinkemitter, bmlt:breathingemitter)
+  Audio,    // a sound handed to the engine (AsapRealizer's <bmlt:audiofile>); moves nothing
 };
 [[nodiscard]] std::string_view toString(BehaviorKind kind) noexcept;
 [[nodiscard]] std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept;

@@ -55,9 +55,16 @@ struct LocomotionEntryState {
   std::shared_ptr<const LocomotionPlan> plan;  // where to go
   glm::vec3 resolvedTarget{0.0f};              // a target character's place before this frame
 };
+// A sound the engine plays: when it stops (the request's end if that comes before the clip's),
+// and whether the engine was told it stopped (once: a cut, a cancel).
+struct AudioState {
+  double playEnd = 0.0;  // scene time
+  bool cut = false;      // the request ends before the clip: the engine is told to stop at playEnd
+  bool stopped = false;
+};
 using ControllerState = std::variant<std::monostate, HeadMotionState, FaceExpressionState, GazeState, PointingState,
                                      SpeechState, LocomotionEntryState, GestureState, SaccadeState,
-                                     BlinkState, BreathingState>;
+                                     BlinkState, BreathingState, AudioState>;
 
 class BehaviorTimeline {
  public:

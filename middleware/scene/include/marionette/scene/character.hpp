@@ -91,12 +91,13 @@ class Character : public RuntimeAllocated {
   // controller, blended over the layers on the joints the clip animates, time-warped onto
   // [start, end] and weighted by the request's envelope. Head and face requests are
   // procedural (face through the rig's profile); gaze, pointing, gestures, saccades and
-  // locomotion have their controllers; speech is said by the scene's speech service.
+  // locomotion have their controllers; speech is said by the scene's speech service; a
+  // sound (kind Audio) is handed to the listeners (onAudio) as it is added.
   // BehaviorResult::realized says whether a controller moves the body; `message` says why
   // not, or notes a replaced bad parameter. Command time: may allocate.
   BehaviorResult addBehavior(BehaviorRequest request);
   // Ends requests now, blending them out over `blendOut` seconds. A speech cut off before
-  // its end is reported to the listeners (onSpeechStopped: stop its audio).
+  // its end is reported to the listeners (onSpeechStopped, onAudioStopped: stop its audio).
   bool cancelBehavior(std::string_view id, double blendOut);
   std::size_t cancelBehaviors(std::string_view idPrefix, double blendOut);
   [[nodiscard]] const BehaviorTimeline& behaviors() const noexcept;

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "marionette/scene/animation_event.hpp"
+#include "marionette/speech/audio_clip.hpp"
 #include "marionette/speech/utterance.hpp"
 
 namespace marionette {
@@ -44,6 +45,14 @@ class SceneListener {
   // A speech was cut off before its end (BML REPLACE, interrupt, Character::cancelBehavior):
   // stop its audio. `time` is the scene time of the cut; the lips blend out from there.
   virtual void onSpeechStopped(const Character& /*character*/, std::string_view /*behaviorId*/, double /*time*/) {}
+  // A sound behavior was realized (at command time, before its start; AsapRealizer's
+  // <bmlt:audiofile>, or a request of kind Audio): play `clip` (decoded, every channel),
+  // read from `file`, from scene time `sceneStart`. Once per behavior.
+  virtual void onAudio(const Character& /*character*/, std::string_view /*behaviorId*/,
+                       const speech::AudioClip& /*clip*/, std::string_view /*file*/, double /*sceneStart*/) {}
+  // A sound stops before the clip's end: its behavior was cut off (REPLACE, interrupt,
+  // Character::cancelBehavior) or ends earlier (a BML end before the clip's). At most once.
+  virtual void onAudioStopped(const Character& /*character*/, std::string_view /*behaviorId*/, double /*time*/) {}
   // A script's message at a moment of its performance (BML <event message>, SmartBody's
   // <sbm:event>): a game cue, a sound, a camera cut. `time` is the scene time it was due.
   virtual void onMessage(const Character& /*character*/, std::string_view /*message*/, double /*time*/) {}
