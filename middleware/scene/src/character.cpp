@@ -24,6 +24,7 @@ std::string_view controllerName(Controller controller) noexcept {
     case Controller::Pointing: return "pointing";
     case Controller::Face: return "face";
     case Controller::Speech: return "speech";
+    case Controller::Reach: return "reach";
   }
   return "?";
 }

@@ -62,7 +62,7 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
   // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
   // aims the arm) also binds it, when it has a target.
   using Bind = std::string (Character::State::*)(BehaviorTimeline::Entry&, std::string&);
-  static constexpr std::array<Bind, 17> kBindings = {{
+  static constexpr std::array<Bind, 18> kBindings = {{
       nullptr,                              // posture
       nullptr,                              // postureShift
       &Character::State::bindLocomotionEntry,      // locomotion
@@ -80,8 +80,9 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
       &Character::State::bindWaitEntry,            // wait
       nullptr,                              // clip
       &Character::State::bindSaccadeEntry,         // saccade
+      &Character::State::bindReachEntry,           // reach
   }};
-  static_assert(static_cast<std::size_t>(BehaviorKind::Saccade) + 1 == kBindings.size(), "one binding per kind");
+  static_assert(static_cast<std::size_t>(BehaviorKind::Reach) + 1 == kBindings.size(), "one binding per kind");
   const Bind bind = kBindings[static_cast<std::size_t>(kind)];
   if (clip) {
     bindClipEntry(e, std::move(clip));
@@ -251,6 +252,28 @@ std::string Character::State::bindGestureEntry(BehaviorTimeline::Entry& e, std::
   return why;
 }
 
+std::string Character::State::bindReachEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  ReachState reach;
+  if (std::string why = bindReach(e.request, *rig_, skeleton(), targetJointFinder(true), reach, warning); !why.empty())
+    return why;
+  // The arm on the target's side as it stands now (a target character not yet placed: at
+  // the first frame), its hand alone on the timeline, and whether the target is too far.
+  resolveTarget(reach.target);
+  if (reach.target.known()) {
+    const glm::vec3 target(glm::inverse(worldMatrix()) * glm::vec4(reach.target.world(), 1.0f));
+    chooseReachArm(reach, target, skeleton(), pose_);
+    const std::string far = reachDistanceNote(reach, e.request.id, target, reachSettings_, skeleton(), pose_);
+    if (!far.empty()) warning += (warning.empty() ? "" : "; ") + far;
+  }
+  if (reach.side >= 0) e.request.channels = reach.side == 0 ? BodyChannel::LeftHand : BodyChannel::RightHand;
+  const ReachTiming timing = reachTiming(e.request, reachSettings_, warning);
+  e.blendInEnd = timing.blendInEnd;
+  e.blendOutStart = timing.blendOutStart;
+  e.request.weight *= timing.peak;
+  e.controller = std::move(reach);
+  return {};
+}
+
 std::string Character::State::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
   const SaccadeParameters* p = e.request.as<SaccadeParameters>();
   if (p && p->finish) return {};  // persistent and moving nothing: it replaces the running models
@@ -407,6 +430,7 @@ void Character::State::applyBehaviors(float dt) noexcept {
     if (e.as<SaccadeState>()) pass(Controller::Saccade).push_back(active);
     if (e.as<GestureState>()) pass(Controller::Gesture).push_back(active);
     if (e.as<PointingState>()) pass(Controller::Pointing).push_back(active);
+    if (e.as<ReachState>()) pass(Controller::Reach).push_back(active);
     if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !f->morphs.empty())
       pass(Controller::Face).push_back(active);
   }
@@ -454,6 +478,15 @@ void Character::State::applyBehaviors(float dt) noexcept {
                      skeleton(), pose_);
     }
     return !pass(Controller::Pointing).empty();
+  });
+  run(Controller::Reach, [&] {
+    for (const ActiveEntry& a : pass(Controller::Reach)) {
+      ReachState& r = *behaviors_.entries()[a.index].as<ReachState>();
+      const SpatialTarget& t = r.target;
+      updateReach(r, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), a.weight, reachSettings_,
+                  skeleton(), pose_);
+    }
+    return !pass(Controller::Reach).empty();
   });
   run(Controller::Face, [&] {
     const std::span<float> morphs = buffer_.writeMorphWeights();
@@ -529,26 +562,29 @@ void Character::State::resolveExternalTargets() noexcept {
         l->resolvedTarget = glm::vec3(o->x, 0.0f, o->z);
       }
     }
-  auto resolve = [this](SpatialTarget& target) {
-    if (!target.external()) return;
-    const Character* t = scene_->findCharacter(target.character);
-    if (!t) {  // an object (a place), or gone: then the direction holds
-      const auto o = scene_->findObject(target.character);
-      target.resolvedKnown = o.has_value();
-      if (o) target.resolvedPoint = *o;
-      return;
-    }
-    target.resolvedKnown = true;
-    const auto models = t->transformBuffer().modelMatrices();
-    const auto j = static_cast<std::size_t>(target.jointIndex);
-    target.resolvedPoint = target.jointIndex >= 0 && j < models.size()
-                               ? glm::vec3(t->worldMatrix() * models[j][3])
-                               : glm::vec3(t->worldMatrix() * glm::vec4(0.0f, t->rig().joints().eyeHeight, 0.0f, 1.0f));
-  };
+  auto resolve = [this](SpatialTarget& target) { resolveTarget(target); };
   for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (GazeState* g = e.as<GazeState>()) resolve(g->target);
     if (PointingState* p = e.as<PointingState>()) resolve(p->target);
+    if (ReachState* r = e.as<ReachState>()) resolve(r->target);
   }
+}
+
+void Character::State::resolveTarget(SpatialTarget& target) const noexcept {
+  if (!scene_ || !target.external()) return;
+  const Character* t = scene_->findCharacter(target.character);
+  if (!t) {  // an object (a place), or gone: then the direction holds
+    const auto o = scene_->findObject(target.character);
+    target.resolvedKnown = o.has_value();
+    if (o) target.resolvedPoint = *o;
+    return;
+  }
+  target.resolvedKnown = true;
+  const auto models = t->transformBuffer().modelMatrices();
+  const auto j = static_cast<std::size_t>(target.jointIndex);
+  target.resolvedPoint = target.jointIndex >= 0 && j < models.size()
+                             ? glm::vec3(t->worldMatrix() * models[j][3])
+                             : glm::vec3(t->worldMatrix() * glm::vec4(0.0f, t->rig().joints().eyeHeight, 0.0f, 1.0f));
 }
 
 bool Character::State::applyLocomotion(float dt) noexcept {

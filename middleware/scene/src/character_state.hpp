@@ -160,6 +160,8 @@ struct Character::State : RuntimeAllocated {
   [[nodiscard]] std::string bindPointingEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindGestureEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindSaccadeEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindReachEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  void resolveTarget(SpatialTarget& target) const noexcept;  // a character's or object's place now
   [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindWaitEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   void ensureScratch();
@@ -182,6 +184,7 @@ struct Character::State : RuntimeAllocated {
   std::array<RuntimeVector<ActiveEntry>, kControllerCount> passes_;  // reserved at addBehavior, filled each frame
   GazeSettings gazeSettings_;
   PointingSettings pointingSettings_;
+  ReachSettings reachSettings_;
   LocomotionSettings locomotionSettings_;
   mutable std::shared_ptr<const LocomotionSet> locomotionSet_;  // made on first use (command time)
   std::unique_ptr<LocomotionController> locomotion_;

@@ -37,6 +37,7 @@ enum class BehaviorKind : std::uint8_t {
   FaceLexeme, FaceFacs, Face, FaceShift, Gesture, Pointing, Speech, Wait,
   Clip,  // play a clip of the rig, nothing more (no BML element)
   Saccade,  // rapid eye movements: a model's (talk, listen, think) or one (SmartBody's <saccade>)
+  Reach,    // a hand to a target and back (SmartBody's <sbm:reach>; behavior/reach.hpp)
 };
 [[nodiscard]] std::string_view toString(BehaviorKind kind) noexcept;
 [[nodiscard]] std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept;

@@ -20,6 +20,7 @@
 #include "marionette/behavior/head_motion.hpp"
 #include "marionette/behavior/pointing.hpp"
 #include "marionette/behavior/procedural_gesture.hpp"
+#include "marionette/behavior/reach.hpp"
 #include "marionette/behavior/saccade.hpp"
 #include "marionette/behavior/speech_controller.hpp"
 
@@ -46,7 +47,7 @@ struct LocomotionEntryState {
   glm::vec3 resolvedTarget{0.0f};              // a target character's place before this frame
 };
 using ControllerState = std::variant<std::monostate, HeadMotionState, FaceExpressionState, GazeState, PointingState,
-                                     SpeechState, LocomotionEntryState, GestureState, SaccadeState>;
+                                     SpeechState, LocomotionEntryState, GestureState, SaccadeState, ReachState>;
 
 class BehaviorTimeline {
  public:

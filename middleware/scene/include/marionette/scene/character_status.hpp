@@ -35,11 +35,12 @@ struct PlacementDelta {
 // (postures) over the layers, locomotion, upper-body clips (gestures), gaze, head movements
 // added on top of it, saccades, procedural gestures and pointing (after the gaze has turned
 // the torso, so the arms move from where it ends up), face expressions, speech. One list:
-// each frame's passes and the stats below are indexed by it.
+// each frame's passes and the stats below are indexed by it. Reach came later: it runs
+// right after pointing (its arms likewise), though listed last.
 enum class Controller : std::uint8_t {
-  ClipBehaviors, Locomotion, UpperBodyClips, Gaze, Head, Saccade, Gesture, Pointing, Face, Speech
+  ClipBehaviors, Locomotion, UpperBodyClips, Gaze, Head, Saccade, Gesture, Pointing, Face, Speech, Reach
 };
-inline constexpr std::size_t kControllerCount = static_cast<std::size_t>(Controller::Speech) + 1;
+inline constexpr std::size_t kControllerCount = static_cast<std::size_t>(Controller::Reach) + 1;
 [[nodiscard]] std::string_view controllerName(Controller controller) noexcept;  // "clip behaviors", ...
 
 struct CharacterStats {
