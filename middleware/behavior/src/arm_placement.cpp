@@ -57,6 +57,12 @@ glm::vec3 orthonormalTo(const glm::vec3& v, const glm::vec3& unit) noexcept {
 
 }  // namespace
 
+bool makeArms(const RigJoints& j, const Skeleton& s, LimbIk (&arms)[2]) noexcept {
+  arms[0] = makeLimbIk(s, limbWithEnd(j.leftArm, s));
+  arms[1] = makeLimbIk(s, limbWithEnd(j.rightArm, s));
+  return arms[0].upper >= 0 || arms[1].upper >= 0;
+}
+
 bool measureArm(const Skeleton& s, std::span<const Transform> pose, const LimbIk& limb, const LimbIk& other, int side,
                 const glm::vec3& target, ArmMemory& memory, ArmAim& out) noexcept {
   if (limb.upper < 0) return false;

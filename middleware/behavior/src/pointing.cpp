@@ -44,12 +44,9 @@ void aimArm(PointingState& st, int side, const glm::vec3& target, float weight, 
 
 std::string bindPointing(const BehaviorRequest& request, const Rig& rig, const Skeleton& skeleton,
                          const TargetJointFinder& findJoint, PointingState& st, std::string& warning) {
-  const RigJoints& j = rig.joints();
-  st.limb[0] = makeLimbIk(skeleton, limbWithEnd(j.leftArm, skeleton));
-  st.limb[1] = makeLimbIk(skeleton, limbWithEnd(j.rightArm, skeleton));
-  const bool usable[2] = {st.limb[0].upper >= 0, st.limb[1].upper >= 0};
-  if (!usable[0] && !usable[1])
+  if (!makeArms(rig.joints(), skeleton, st.limb))
     return "the character has no arm to point with (set leftArm / rightArm in its profile)";
+  const bool usable[2] = {st.limb[0].upper >= 0, st.limb[1].upper >= 0};
   const PointingParameters* p = request.as<PointingParameters>();
   if (std::string why = resolveSpatialTarget(p ? p->target : BehaviorTarget{}, "pointing", findJoint, st.target);
       !why.empty())

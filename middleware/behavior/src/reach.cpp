@@ -103,11 +103,9 @@ ReachTiming reachTiming(const BehaviorRequest& r, const ReachSettings& settings,
 
 std::string bindReach(const BehaviorRequest& request, const Rig& rig, const Skeleton& skeleton,
                       const TargetJointFinder& findJoint, ReachState& st, std::string& warning) {
-  const RigJoints& j = rig.joints();
-  st.limb[0] = makeLimbIk(skeleton, limbWithEnd(j.leftArm, skeleton));
-  st.limb[1] = makeLimbIk(skeleton, limbWithEnd(j.rightArm, skeleton));
+  if (!makeArms(rig.joints(), skeleton, st.limb))
+    return "the character has no arm to reach with (set leftArm / rightArm in its profile)";
   const bool usable[2] = {st.limb[0].upper >= 0, st.limb[1].upper >= 0};
-  if (!usable[0] && !usable[1]) return "the character has no arm to reach with (set leftArm / rightArm in its profile)";
   const ReachParameters* p = request.as<ReachParameters>();
   if (std::string why = resolveSpatialTarget(p ? p->target : BehaviorTarget{}, "reach", findJoint, st.target); !why.empty())
     return why;

@@ -27,6 +27,10 @@ struct ArmAim {
   glm::vec3 elbowSide{0.0f};  // unit, across `direction`: where the elbow goes
 };
 
+// The profile's arms (left, right) as pointing and reaching move them (limbWithEnd); an arm
+// the rig lacks is unusable (upper < 0). False when neither is usable.
+bool makeArms(const RigJoints& joints, const Skeleton& skeleton, LimbIk (&arms)[2]) noexcept;
+
 // Measures `limb` (side 0 left, 1 right; `other` the opposite arm, possibly unusable) for an
 // aim at `target` (model frame) and updates memory.pole. False when the arm or the aim is
 // degenerate (a zero-length bone, the target at the shoulder or not finite).
