@@ -104,6 +104,7 @@ struct Run {
   float meanError = 0.0f, worstError = 0.0f, drift = 0.0f, worstTurn = 0.0f, backAtEnd = 0.0f;
   float lineOff = 0.0f, palmDistance = 0.0f;  // for unreachable targets: off the shoulder line, distance
   float leastBend = 10.0f;                   // the elbow's bend while held, radians
+  float elbowUp = -1.0f;  // the most the elbow rose above the line shoulder to palm (its unit offset's up part)
   int side = -1;
   bool finite = true;
 };
@@ -158,6 +159,8 @@ Run reachFor(const Body& b, const glm::vec3& target, std::vector<BehaviorSync> s
       const glm::vec3 shoulder = worldOf(*c, limb.upper), elbow = worldOf(*c, limb.lower), wrist = worldOf(*c, limb.end);
       out.leastBend = std::min(out.leastBend, std::acos(std::clamp(glm::dot(glm::normalize(elbow - shoulder),
                                                                             glm::normalize(wrist - elbow)), -1.0f, 1.0f)));
+      const glm::vec3 line = glm::normalize(palm - shoulder), across = (elbow - shoulder) - line * glm::dot(elbow - shoulder, line);
+      if (glm::length(across) > 1e-6f) out.elbowUp = std::max(out.elbowUp, glm::normalize(across).y);
       const glm::vec3 d = glm::normalize(target - shoulder);
       const glm::vec3 off = (palm - shoulder) - d * glm::dot(palm - shoulder, d);
       out.lineOff = std::max(out.lineOff, glm::length(off));
@@ -204,6 +207,7 @@ void checkReaching(const Case& k) {
     EXPECT_LT(run.worstError, 0.005f * b.arm);  // half a percent of the arm: under 3 mm on Godette
     EXPECT_LT(run.drift, 0.005f * b.arm);       // the target holds still: so does the palm
     EXPECT_LT(run.backAtEnd, 1e-4f * b.height);  // back in the pose by end
+    if (t.at.y < 0.0f) EXPECT_LT(run.elbowUp, -0.3f) << "the elbow does not hang down";  // for the raised arm: out
     sum += run.meanError, worst = std::max(worst, run.worstError), drift = std::max(drift, run.drift);
     turn = std::max(turn, run.worstTurn), back = std::max(back, run.backAtEnd), bend = std::min(bend, run.leastBend);
   }
