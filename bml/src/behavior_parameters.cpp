@@ -183,7 +183,7 @@ void readReach(const Behavior& b, ReadParameters& out) {
   for (const char* name : {"handle", "reach-velocity", "grab-speed", "cons-joint", "cons-target", "fade-in", "fade-out"})
     if (b.attribute(name)) ignored += (ignored.empty() ? "sbm:" : ", sbm:") + std::string(name);
   if (!ignored.empty()) note(out.warning, ignored + " ignored (the reach is timed by its sync points; nothing is grasped)");
-  if (r.target.empty()) {
+  if (r.target.empty() && r.action != ReachAction::PutDown) {  // put-down: SmartBody's place in front
     out.error = finish == "TRUE" ? "a reach without a target: SmartBody's sbm:reach-finish ends a held reach, and reaches "
                                    "here return by their own end, so there is nothing to do"
                                  : "a reach needs a target: an object, a character (name or name:joint), or \"x y z\"";

@@ -139,7 +139,8 @@ void reachForTheBox(const char* asset, const char* profile) {
 TEST(BmlReach, RobotExpressiveTouchesTheBlueBox) { reachForTheBox("characters/RobotExpressive.glb", "RobotExpressive.json"); }
 TEST(BmlReach, GodetteTouchesTheBlueBox) { reachForTheBox("characters/Godette_vrm_v4.vrm", "Godette_vrm_v4.json"); }
 
-// SmartBody's actions: pick-up and put-down reach with a warning saying nothing is carried;
+// SmartBody's actions: pick-up and put-down reach with a warning saying nothing is carried (a
+// put-down without a place puts the hand in front of the character, as SmartBody does);
 // point-at points; a reach that only finishes has nothing to do; ignored attributes are named.
 TEST(BmlReach, SmartBodyActionsAreReachesPointingsOrNamedAsLeftOut) {
   MARIONETTE_REQUIRE_FILE(test::sharedAsset("characters/RobotExpressive.glb"));
@@ -157,7 +158,8 @@ TEST(BmlReach, SmartBodyActionsAreReachesPointingsOrNamedAsLeftOut) {
       "<act><bml><sbm:reach sbm:action=\"pick-up\" target=\"pawn1\" sbm:fade-in=\"1.0\" sbm:use-locomotion=\"true\"/>"
       "<sbm:reach sbm:action=\"put-down\" sbm:target-pos=\".4, 1.4, .4\" sbm:reach-finish=\"true\" sbm:reach-type=\"left\"/>"
       "<sbm:reach sbm:action=\"point-at\" sbm:reach-duration=\"1\" target=\"pawn1\"/>"
-      "<sbm:reach sbm:action=\"pick-up\" sbm:reach-finish=\"true\"/></bml></act>",
+      "<sbm:reach sbm:action=\"pick-up\" sbm:reach-finish=\"true\"/>"
+      "<sbm:reach sbm:action=\"put-down\" sbm:reach-finish=\"true\"/></bml></act>",
       "c");
   ASSERT_FALSE(s.failed);
   const std::string realized = w.of(WarningType::ParsingFailure), refused = w.of(WarningType::CannotCreateBehavior);
@@ -171,6 +173,13 @@ TEST(BmlReach, SmartBodyActionsAreReachesPointingsOrNamedAsLeftOut) {
   EXPECT_EQ(refused.find("reach_1"), std::string::npos) << refused;
   EXPECT_EQ(refused.find("reach_2"), std::string::npos) << refused;
   EXPECT_EQ(refused.find("reach_3"), std::string::npos) << refused;
+  EXPECT_EQ(refused.find("reach_5"), std::string::npos) << refused;
+  EXPECT_NE(realized.find("reach_5: put-down without a target: the place in front of the character; put-down is a reach"),
+            std::string::npos) << realized;
+  const BehaviorTimeline::Entry* inFront = entryEndingWith(*c, ":reach_5");  // RobotExpressive faces +Z
+  ASSERT_TRUE(inFront && inFront->as<ReachState>());
+  EXPECT_GT(inFront->as<ReachState>()->target.point.z, 0.0f);
+  EXPECT_NEAR(inFront->as<ReachState>()->target.point.x, 0.0f, 1e-4f);
   const BehaviorTimeline::Entry* put = entryEndingWith(*c, ":reach_2");
   ASSERT_TRUE(put && put->as<ReachState>());
   EXPECT_EQ(put->request.channelBits(), BodyChannel::LeftHand);

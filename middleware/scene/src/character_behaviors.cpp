@@ -253,6 +253,14 @@ std::string Character::State::bindGestureEntry(BehaviorTimeline::Entry& e, std::
 }
 
 std::string Character::State::bindReachEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  // A put-down without a place: SmartBody's, 0.2 of the height ahead at 0.6 of it (eye height here).
+  if (ReachParameters* p = std::get_if<ReachParameters>(&e.request.parameters);
+      p && p->target.empty() && p->action == ReachAction::PutDown) {
+    const RigJoints& j = rig_->joints();
+    const glm::vec3 ahead = glm::cross(j.leftAxis, glm::vec3(0.0f, 1.0f, 0.0f)) * (0.2f * j.eyeHeight);
+    p->target = BehaviorTarget::at(glm::vec3(worldMatrix() * glm::vec4(ahead + glm::vec3(0.0f, 0.6f * j.eyeHeight, 0.0f), 1.0f)));
+    warning += std::string(warning.empty() ? "" : "; ") + "put-down without a target: the place in front of the character";
+  }
   ReachState reach;
   if (std::string why = bindReach(e.request, *rig_, skeleton(), targetJointFinder(true), reach, warning); !why.empty())
     return why;
