@@ -39,10 +39,13 @@ std::string clipName(const Behavior& b) {
 BodyChannel channelsOf(const Behavior& b) {
   const auto kind = behaviorKindFromName(b.type);
   if (!kind) return BodyChannel::None;
-  if (*kind == BehaviorKind::Gesture || *kind == BehaviorKind::Pointing) {
+  if (*kind == BehaviorKind::Gesture || *kind == BehaviorKind::Pointing || *kind == BehaviorKind::Reach) {
     const Attribute* mode = b.attribute("mode");
     if (mode && mode->value == "LEFT_HAND") return BodyChannel::LeftHand;
     if (mode && mode->value == "RIGHT_HAND") return BodyChannel::RightHand;
+    const Attribute* side = *kind == BehaviorKind::Reach ? b.attribute("reach-type") : nullptr;  // SmartBody's
+    if (side && equalsIgnoringCase(side->value, "left")) return BodyChannel::LeftHand;
+    if (side && equalsIgnoringCase(side->value, "right")) return BodyChannel::RightHand;
   }
   return defaultChannels(*kind);
 }
@@ -185,6 +188,7 @@ MappedRequest toRequest(const Behavior& b, const ScheduledBehavior& s, const std
     m.error = std::move(read.error);
     m.warning = std::move(read.warning);
   }
+  if (r.kind == BehaviorKind::Reach && r.as<PointingParameters>()) r.kind = BehaviorKind::Pointing;  // sbm:action="point-at"
   // SmartBody's parametric state: a blend space of the character's profile, played by the
   // realizer at the behavior's start (Realizer: blendLayer()); on the timeline as a wait.
   if (b.type == "blend") {

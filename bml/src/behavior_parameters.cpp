@@ -152,6 +152,56 @@ void readPointing(const Behavior& b, ReadParameters& out) {
   out.parameters = std::move(p);
 }
 
+// A reach (SmartBody's <sbm:reach>, its sbm: attributes without the prefix; Marionette's
+// <reach target mode>). SmartBody's point-at is a pointing (PointingParameters).
+void readReach(const Behavior& b, ReadParameters& out) {
+  ReachParameters r;
+  r.target = readTarget(valueOf(b, "target"));
+  if (const std::string_view pos = valueOf(b, "target-pos"); !pos.empty()) {  // SmartBody: "x y z", y up
+    const auto v = parseNumberList(pos);
+    if (!r.target.empty()) note(out.warning, "sbm:target-pos ignored: target names the target");
+    else if (v && v->size() == 3) r.target = BehaviorTarget::at({(*v)[0], (*v)[1], (*v)[2]});
+    else note(out.warning, "sbm:target-pos '" + std::string(pos.substr(0, 40)) + "' is not three numbers x y z; ignored");
+  }
+  const std::string type = toUpper(valueOf(b, "reach-type"));
+  if (type == "LEFT") r.arm = PointingArms::Left;
+  else if (type == "RIGHT") r.arm = PointingArms::Right;
+  else if (!type.empty() && type != "NONE")
+    note(out.warning, "sbm:reach-type '" + type.substr(0, 40) + "' is not left or right; the arm on the target's side reaches");
+  if (!valueOf(b, "mode").empty()) r.arm = handsOf(b, "the arm on the target's side reaches", out.warning);
+  const std::string action = toUpper(valueOf(b, "action"));
+  if (action == "PICK-UP") r.action = ReachAction::PickUp;
+  else if (action == "PUT-DOWN") r.action = ReachAction::PutDown;
+  else if (!action.empty() && action != "TOUCH" && action != "POINT-AT")
+    note(out.warning, "sbm:action '" + action.substr(0, 40) + "' is not touch, pick-up, put-down or point-at; touch is used");
+  const std::string finish = toUpper(valueOf(b, "reach-finish"));
+  if (finish == "FALSE")
+    note(out.warning, "sbm:reach-finish=\"false\" (hold until a later reach) is not kept: the hand returns by the reach's end");
+  else if (!finish.empty() && finish != "TRUE")
+    note(out.warning, "sbm:reach-finish '" + finish.substr(0, 40) + "' is not true or false; the hand returns by the reach's end");
+  if (equalsIgnoringCase(valueOf(b, "use-locomotion"), "true"))
+    note(out.warning, "sbm:use-locomotion: the character does not walk to the target; it reaches from where it stands");
+  if (const std::string_view d = valueOf(b, "reach-duration"); !d.empty()) {
+    const auto v = oneNumber(d);
+    if (!v || !(*v > 0.0f && *v <= 3600.0f)) note(out.warning, notANumber("sbm:reach-duration", d, 0.0, 3600.0, "1 s is used"));
+  }
+  std::string ignored;
+  for (const char* name : {"handle", "reach-velocity", "grab-speed", "cons-joint", "cons-target", "fade-in", "fade-out"})
+    if (b.attribute(name)) ignored += (ignored.empty() ? "sbm:" : ", sbm:") + std::string(name);
+  if (!ignored.empty()) note(out.warning, ignored + " ignored (the reach is timed by its sync points; nothing is grasped)");
+  if (r.target.empty() && r.action != ReachAction::PutDown) {  // put-down: SmartBody's place in front
+    out.error = finish == "TRUE" ? "a reach without a target: SmartBody's sbm:reach-finish ends a held reach, and reaches "
+                                   "here return by their own end, so there is nothing to do"
+                                 : "a reach needs a target: an object, a character (name or name:joint), or \"x y z\"";
+    return;
+  }
+  if (action == "POINT-AT") {
+    out.parameters = PointingParameters{r.target, r.arm};
+    return;
+  }
+  out.parameters = std::move(r);
+}
+
 // A gesture the character has no clip for: the procedural set's lexeme, the hands (mode),
 // and for DEICTIC / POINT a target.
 void readGesture(const Behavior& b, ReadParameters& out) {
@@ -395,6 +445,7 @@ ReadParameters readParameters(const Behavior& b, BehaviorKind kind) {
     case BehaviorKind::Saccade: readSaccade(b, out); break;
     case BehaviorKind::BlinkEmitter: readBlinkEmitter(b, out); break;
     case BehaviorKind::BreathingEmitter: readBreathingEmitter(b, out); break;
+    case BehaviorKind::Reach: readReach(b, out); break;
     case BehaviorKind::Locomotion: readLocomotion(b, out); break;
     case BehaviorKind::Speech: readSpeech(b, out); break;
     default: break;  // postures, waits and clips have no parameters

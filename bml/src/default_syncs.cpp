@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "marionette/bml/scheduler.hpp"
+#include "marionette/core/number_list.hpp"
 
 namespace marionette::bml {
 
@@ -106,6 +107,13 @@ SyncTemplate defaultSyncs(const Behavior& b, const SchedulerOptions& options) {
   // Gestures and head movements have the full BML 1.0 phase structure.
   if (detail::repeats(t)) return repeatedStroke(natural.value_or(t == "head" ? 1.0 : 2.0), repetitionsOf(b));
   if (t == "animation") return repeatedStroke(natural.value_or(2.0), 1);  // a gesture's phases, once
+  if (t == "reach") {  // there (sbm:reach-duration, else 1 s), held 1 s, back as long; contact = ready
+    const Attribute* a = b.attribute("reach-duration");
+    const auto v = a ? parseNumberList(a->value) : std::nullopt;
+    const double go = v && v->size() == 1 && (*v)[0] > 0.0f && (*v)[0] <= 3600.0f ? (*v)[0] : 1.0, total = 2.0 * go + 1.0;
+    return fromProportions({{"start", 0}, {"ready", go / total}, {"stroke", go / total}, {"relax", (go + 1.0) / total}, {"end", 1}},
+                           total);
+  }
   if (t == "gaze" || t == "posture" || t == "locomotion")
     return fromProportions({{"start", 0}, {"ready", .25}, {"relax", .75}, {"end", 1}}, natural.value_or(2.0));
   if (t == "faceLexeme" || t == "faceFacs" || t == "face")

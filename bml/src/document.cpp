@@ -53,6 +53,11 @@ const KnownAttributes kKnownAttributes[] = {
     {"animation", {"start", "ready", "strokeStart", "stroke", "strokeEnd", "relax", "end", "name", "speed"}},
     {"event", {"start", "stroke", "end", "message"}},
     {"saccade", {"start", "end", "mode", "finish", "direction", "magnitude", "duration"}},
+    // SmartBody's <sbm:reach> (its sbm: attributes read without the prefix) and Marionette's
+    // <reach target mode> (behavior/reach.hpp); the last ones are SmartBody's, read to be named.
+    {"reach", {"start", "ready", "stroke", "relax", "end", "target", "mode", "action", "reach-type", "target-pos",
+               "reach-duration", "reach-finish", "handle", "use-locomotion", "foot-ik", "fade-in", "fade-out",
+               "reach-velocity", "grab-speed", "cons-joint", "cons-target"}},
     // Read so that it is named for what it is, not as unknown: not realized (yet).
     {"blend", {"start", "ready", "relax", "end", "name", "x", "y", "z"}},
     // BMLA's behaviors: interrupt or activate the target block at their start.
@@ -66,9 +71,10 @@ const KnownAttributes kKnownAttributes[] = {
 };
 
 // Behaviors only SmartBody has, read in every dialect (their use makes Auto read the block
-// as SmartBody's): <animation name>, <event message> (also as <sbm:event>).
+// as SmartBody's): <animation name>, <event message> (also as <sbm:event>), <saccade>, <blend>,
+// <reach> (also as <sbm:reach>).
 bool isSmartBodyBehavior(std::string_view name) {
-  return name == "animation" || name == "event" || name == "saccade" || name == "blend";
+  return name == "animation" || name == "event" || name == "saccade" || name == "blend" || name == "reach";
 }
 
 // "" when `type` has `attribute`, else the list of what it has (for the warning).
@@ -368,7 +374,9 @@ class Parser {
         b.attributes.push_back({"duration", a.value(), b.line, b.column});
         continue;
       }
-      if (!isBmlNamespace(ns) || prefixOf(name) == "sbm") {
+      // A reach's attributes are SmartBody's, with or without its prefix (sbm:action).
+      const bool sbmReach = type == "reach" && prefixOf(name) == "sbm";
+      if (!sbmReach && (!isBmlNamespace(ns) || prefixOf(name) == "sbm")) {
         warn(WarningType::CustomAttributeNotSupported, b.id,
              "attribute '" + std::string(name) + "' (" + (prefixOf(name) == "sbm" ? "SmartBody" : ns) +
                  ") is not supported and was ignored",

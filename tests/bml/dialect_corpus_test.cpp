@@ -6,8 +6,8 @@
 //   approximated-robot: ids        approximated-godette: ids   (optional: each of these is
 //     realized with a warning of its own saying how: FACS, a gesture vocabulary, ...)
 // Each block is performed on RobotExpressive and on Godette (their shipped profiles) in a
-// scene with the objects "camera" and "door", after two queued blocks ("asap1", 4 s, and
-// "asapOther") that BMLA blocks refer to. The test fails on any expectation that does not
+// scene with the objects "camera", "door" and "bluebox" (SmartBody's prop), after two
+// queued blocks ("asap1", 4 s, and "asapOther") that BMLA blocks refer to. The test fails on any expectation that does not
 // hold and prints the figures docs/bml-compliance.md publishes.
 #include <gtest/gtest.h>
 
@@ -81,6 +81,7 @@ Outcome perform(const std::string& file, const std::string& text, const Expectat
   scene.addCharacter("c", rig);
   scene.setObject("camera", {0.0f, 1.6f, 3.0f});
   scene.setObject("door", {2.0f, 0.0f, 1.0f});
+  scene.setObject("bluebox", {0.3f, 1.0f, 0.5f});  // before RobotExpressive, behind Godette
   Realizer r(scene);
   r.setSpeechSynthesis(Realizer::SpeechSynthesis::Inline);
   r.setForwardWarningsToScene(false);

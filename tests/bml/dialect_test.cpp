@@ -73,8 +73,14 @@ TEST(BmlDialect, RequiredAroundAnUnsupportedBehaviorFailsTheBlock) {
   EXPECT_NE(r.format("r").find("being required, it made the block fail"), std::string::npos) << r.format("r");
   EXPECT_TRUE(bml::scheduleText(unsupported).failed);
   const std::string custom =
-      "<bml id=\"c\" xmlns:sbm=\"http://ict.usc.edu\"><required><sbm:reach id=\"a\" target=\"ball\"/></required></bml>";
+      "<bml id=\"c\" xmlns:sbm=\"http://ict.usc.edu\"><required><sbm:grab id=\"a\" target=\"ball\"/></required></bml>";
   EXPECT_TRUE(bml::scheduleText(custom).failed);
+  // SmartBody's <sbm:reach> is a behavior here (issue 45, 7): required, it schedules.
+  const std::string reach =
+      "<bml id=\"c\" xmlns:sbm=\"http://ict.usc.edu\"><required><sbm:reach id=\"a\" target=\"ball\"/></required></bml>";
+  const bml::Schedule reached = bml::scheduleText(reach);
+  EXPECT_FALSE(reached.failed);
+  EXPECT_EQ(reached.behaviors.size(), 1u);
   // The same outside <required>: left out with a warning, the head still scheduled.
   const bml::Schedule free = bml::scheduleText(
       "<bml id=\"o\"><head id=\"h\" lexeme=\"NOD\"/><frobnicate id=\"f\"/></bml>");

@@ -124,8 +124,8 @@ TEST(Allocation, NoHeapAllocationPerFrameAfterWarmUp) {
   EXPECT_GT(g_allocations.load() - before, 0);
 }
 
-// Procedural gestures (repeated strokes, both hands) and a gaze at a scene object that moves
-// every frame (issue 24): bound at command time, nothing allocated per frame.
+// Procedural gestures (repeated strokes, both hands), a gaze and a reach at a scene object that
+// moves every frame (issue 24): bound at command time, nothing allocated per frame.
 TEST(Allocation, ProceduralGesturesAndObjectTargetsAllocateNothingPerFrame) {
   Scene scene;
   ASSERT_TRUE(scene.setObject("camera", {0.0f, 1.6f, 3.0f}));
@@ -145,6 +145,12 @@ TEST(Allocation, ProceduralGesturesAndObjectTargetsAllocateNothingPerFrame) {
     look.parameters = GazeParameters{BehaviorTarget::of("camera"), GazeInfluence::Neck};
     look.syncs = {{"start", 0.0}, {"ready", 0.3}, {"relax", 1.5}, {"end", 2.0}};
     ASSERT_TRUE(c->addBehavior(look).realized);
+    BehaviorRequest reach;  // for the same moving object, out of reach (issue 45, 7)
+    reach.id = "reach";
+    reach.kind = BehaviorKind::Reach;
+    reach.parameters = ReachParameters{BehaviorTarget::of("camera")};
+    reach.syncs = {{"start", 0.0}, {"ready", 0.4}, {"relax", 1.4}, {"end", 1.9}};
+    ASSERT_TRUE(c->addBehavior(reach).realized);
   }
   scene.update(1.0 / 60.0);  // warm-up
   const long before = g_allocations.load();
@@ -154,7 +160,7 @@ TEST(Allocation, ProceduralGesturesAndObjectTargetsAllocateNothingPerFrame) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
   for (const auto& c : scene.characters())
-    EXPECT_TRUE(c->stats().used(Controller::Gaze) && c->stats().used(Controller::Gesture));
+    EXPECT_TRUE(c->stats().used(Controller::Gaze) && c->stats().used(Controller::Gesture) && c->stats().used(Controller::Reach));
 }
 
 // Idle life: blinks (on morphs) and breathing on four characters, over blinks, breaths and a

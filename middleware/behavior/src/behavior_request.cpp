@@ -6,10 +6,10 @@
 namespace marionette {
 
 namespace {
-constexpr std::array<std::string_view, 20> kKindNames = {
+constexpr std::array<std::string_view, 21> kKindNames = {
     "posture",   "postureShift", "locomotion", "gaze", "gazeShift", "head",    "headDirectionShift", "faceLexeme",
     "faceFacs", "face",         "faceShift",  "gesture", "pointing", "speech", "wait",               "clip",
-    "saccade",   "blinkemitter", "breathingemitter", "audiofile"};
+    "saccade",   "blinkemitter", "breathingemitter", "audiofile", "reach"};
 }  // namespace
 
 std::string_view toString(BehaviorKind kind) noexcept {
@@ -31,7 +31,8 @@ BodyChannel defaultChannels(BehaviorKind kind) noexcept {
     case BehaviorKind::Head:
     case BehaviorKind::HeadDirectionShift: return BodyChannel::Head;
     case BehaviorKind::Gesture:
-    case BehaviorKind::Pointing: return BodyChannel::Hands;
+    case BehaviorKind::Pointing:
+    case BehaviorKind::Reach: return BodyChannel::Hands;  // a reach's bind narrows it to its arm
     case BehaviorKind::Speech: return BodyChannel::Voice;
     case BehaviorKind::Saccade: return BodyChannel::Eyes;
     case BehaviorKind::BlinkEmitter: return BodyChannel::Blink;

@@ -26,6 +26,7 @@ std::string_view controllerName(Controller controller) noexcept {
     case Controller::Face: return "face";
     case Controller::Blink: return "blink";
     case Controller::Speech: return "speech";
+    case Controller::Reach: return "reach";
   }
   return "?";
 }

@@ -62,7 +62,7 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
   // over its clip (controllerRunsOverClip: pointing, the clip shapes the hand, the controller
   // aims the arm) also binds it, when it has a target.
   using Bind = std::string (Character::State::*)(BehaviorTimeline::Entry&, std::string&);
-  static constexpr std::array<Bind, 20> kBindings = {{
+  static constexpr std::array<Bind, 21> kBindings = {{
       nullptr,                              // posture
       nullptr,                              // postureShift
       &Character::State::bindLocomotionEntry,      // locomotion
@@ -83,8 +83,9 @@ BehaviorResult Character::State::addBehavior(BehaviorRequest request) {
       &Character::State::bindBlinkEntry,           // blinkemitter
       &Character::State::bindBreathingEntry,       // breathingemitter
       &Character::State::bindAudioEntry,           // audio
+      &Character::State::bindReachEntry,           // reach
   }};
-  static_assert(static_cast<std::size_t>(BehaviorKind::Audio) + 1 == kBindings.size(), "one binding per kind");
+  static_assert(static_cast<std::size_t>(BehaviorKind::Reach) + 1 == kBindings.size(), "one binding per kind");
   const Bind bind = kBindings[static_cast<std::size_t>(kind)];
   if (clip) {
     bindClipEntry(e, std::move(clip));
@@ -270,6 +271,36 @@ std::string Character::State::bindGestureEntry(BehaviorTimeline::Entry& e, std::
   std::string why = bindProceduralGesture(e.request, *rig_, skeleton(), gesture, warning);
   if (why.empty()) e.controller = std::move(gesture);
   return why;
+}
+
+std::string Character::State::bindReachEntry(BehaviorTimeline::Entry& e, std::string& warning) {
+  // A put-down without a place: SmartBody's, 0.2 of the height ahead at 0.6 of it (eye height here).
+  if (ReachParameters* p = std::get_if<ReachParameters>(&e.request.parameters);
+      p && p->target.empty() && p->action == ReachAction::PutDown) {
+    const RigJoints& j = rig_->joints();
+    const glm::vec3 ahead = glm::cross(j.leftAxis, glm::vec3(0.0f, 1.0f, 0.0f)) * (0.2f * j.eyeHeight);
+    p->target = BehaviorTarget::at(glm::vec3(worldMatrix() * glm::vec4(ahead + glm::vec3(0.0f, 0.6f * j.eyeHeight, 0.0f), 1.0f)));
+    warning += std::string(warning.empty() ? "" : "; ") + "put-down without a target: the place in front of the character";
+  }
+  ReachState reach;
+  if (std::string why = bindReach(e.request, *rig_, skeleton(), targetJointFinder(true), reach, warning); !why.empty())
+    return why;
+  // The arm on the target's side as it stands now (a target character not yet placed: at
+  // the first frame), its hand alone on the timeline, and whether the target is too far.
+  resolveTarget(reach.target);
+  if (reach.target.known()) {
+    const glm::vec3 target(glm::inverse(worldMatrix()) * glm::vec4(reach.target.world(), 1.0f));
+    chooseReachArm(reach, target, skeleton(), pose_);
+    const std::string far = reachDistanceNote(reach, e.request.id, target, reachSettings_, skeleton(), pose_);
+    if (!far.empty()) warning += (warning.empty() ? "" : "; ") + far;
+  }
+  if (reach.side >= 0) e.request.channels = reach.side == 0 ? BodyChannel::LeftHand : BodyChannel::RightHand;
+  const ReachTiming timing = reachTiming(e.request, reachSettings_, warning);
+  e.blendInEnd = timing.blendInEnd;
+  e.blendOutStart = timing.blendOutStart;
+  e.request.weight *= timing.peak;
+  e.controller = std::move(reach);
+  return {};
 }
 
 std::string Character::State::bindSaccadeEntry(BehaviorTimeline::Entry& e, std::string& warning) {
@@ -492,6 +523,7 @@ void Character::State::applyBehaviors(float dt) noexcept {
     if (e.as<BlinkState>()) pass(Controller::Blink).push_back(active);
     if (e.as<GestureState>()) pass(Controller::Gesture).push_back(active);
     if (e.as<PointingState>()) pass(Controller::Pointing).push_back(active);
+    if (e.as<ReachState>()) pass(Controller::Reach).push_back(active);
     if (const FaceExpressionState* f = e.as<FaceExpressionState>(); f && !(f->morphs.empty() && f->joints.empty()))
       pass(Controller::Face).push_back(active);
   }
@@ -554,6 +586,15 @@ void Character::State::applyBehaviors(float dt) noexcept {
                      skeleton(), pose_);
     }
     return !pass(Controller::Pointing).empty();
+  });
+  run(Controller::Reach, [&] {
+    for (const ActiveEntry& a : pass(Controller::Reach)) {
+      ReachState& r = *behaviors_.entries()[a.index].as<ReachState>();
+      const SpatialTarget& t = r.target;
+      updateReach(r, glm::vec3(worldToModel * glm::vec4(t.world(), 1.0f)), t.known(), a.weight, reachSettings_,
+                  skeleton(), pose_);
+    }
+    return !pass(Controller::Reach).empty();
   });
   run(Controller::Face, [&] {
     const std::span<float> morphs = buffer_.writeMorphWeights();
@@ -641,26 +682,29 @@ void Character::State::resolveExternalTargets() noexcept {
         l->resolvedTarget = glm::vec3(o->x, 0.0f, o->z);
       }
     }
-  auto resolve = [this](SpatialTarget& target) {
-    if (!target.external()) return;
-    const Character* t = scene_->findCharacter(target.character);
-    if (!t) {  // an object (a place), or gone: then the direction holds
-      const auto o = scene_->findObject(target.character);
-      target.resolvedKnown = o.has_value();
-      if (o) target.resolvedPoint = *o;
-      return;
-    }
-    target.resolvedKnown = true;
-    const auto models = t->transformBuffer().modelMatrices();
-    const auto j = static_cast<std::size_t>(target.jointIndex);
-    target.resolvedPoint = target.jointIndex >= 0 && j < models.size()
-                               ? glm::vec3(t->worldMatrix() * models[j][3])
-                               : glm::vec3(t->worldMatrix() * glm::vec4(0.0f, t->rig().joints().eyeHeight, 0.0f, 1.0f));
-  };
+  auto resolve = [this](SpatialTarget& target) { resolveTarget(target); };
   for (BehaviorTimeline::Entry& e : behaviors_.entries()) {
     if (GazeState* g = e.as<GazeState>()) resolve(g->target);
     if (PointingState* p = e.as<PointingState>()) resolve(p->target);
+    if (ReachState* r = e.as<ReachState>()) resolve(r->target);
   }
+}
+
+void Character::State::resolveTarget(SpatialTarget& target) const noexcept {
+  if (!scene_ || !target.external()) return;
+  const Character* t = scene_->findCharacter(target.character);
+  if (!t) {  // an object (a place), or gone: then the direction holds
+    const auto o = scene_->findObject(target.character);
+    target.resolvedKnown = o.has_value();
+    if (o) target.resolvedPoint = *o;
+    return;
+  }
+  target.resolvedKnown = true;
+  const auto models = t->transformBuffer().modelMatrices();
+  const auto j = static_cast<std::size_t>(target.jointIndex);
+  target.resolvedPoint = target.jointIndex >= 0 && j < models.size()
+                             ? glm::vec3(t->worldMatrix() * models[j][3])
+                             : glm::vec3(t->worldMatrix() * glm::vec4(0.0f, t->rig().joints().eyeHeight, 0.0f, 1.0f));
 }
 
 bool Character::State::applyLocomotion(float dt) noexcept {

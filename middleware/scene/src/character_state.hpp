@@ -164,6 +164,8 @@ struct Character::State : RuntimeAllocated {
   [[nodiscard]] std::string bindSaccadeEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindBlinkEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindBreathingEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  [[nodiscard]] std::string bindReachEntry(BehaviorTimeline::Entry& entry, std::string& warning);
+  void resolveTarget(SpatialTarget& target) const noexcept;  // a character's or object's place now
   [[nodiscard]] std::string bindSpeechEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   [[nodiscard]] std::string bindWaitEntry(BehaviorTimeline::Entry& entry, std::string& warning);
   void ensureScratch();
@@ -192,6 +194,7 @@ struct Character::State : RuntimeAllocated {
   std::array<RuntimeVector<ActiveEntry>, kControllerCount> passes_;  // reserved at addBehavior, filled each frame
   GazeSettings gazeSettings_;
   PointingSettings pointingSettings_;
+  ReachSettings reachSettings_;
   LocomotionSettings locomotionSettings_;
   mutable std::shared_ptr<const LocomotionSet> locomotionSet_;  // made on first use (command time)
   std::unique_ptr<LocomotionController> locomotion_;

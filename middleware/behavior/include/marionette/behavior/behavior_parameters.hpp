@@ -167,11 +167,21 @@ struct AudioParameters {
   std::shared_ptr<const speech::AudioClip> clip{};
   std::string file{};
 };
+// A reach (kind Reach; behavior/reach.hpp): the hand goes to the target by ready, holds it
+// until relax and is back by end. The action is SmartBody's sbm:action; none grasps or
+// carries the object here (the hand reaches it, that is all).
+enum class ReachAction : std::uint8_t { Touch, PickUp, PutDown };
+struct ReachParameters {
+  BehaviorTarget target{};
+  PointingArms arm = PointingArms::Nearest;  // Nearest: the arm on the target's side; Both is not a reach
+  ReachAction action = ReachAction::Touch;
+};
 
 // The parameters of one request: none (postures, clips and waits need only their clip
 // and times), or the struct of its kind's controller.
 using BehaviorParameters = std::variant<std::monostate, HeadParameters, FaceParameters, GazeParameters,
                                         PointingParameters, LocomotionParameters, SpeechParameters, GestureParameters,
-                                        SaccadeParameters, BlinkParameters, BreathingParameters, AudioParameters>;
+                                        SaccadeParameters, BlinkParameters, BreathingParameters, AudioParameters,
+                                        ReachParameters>;
 
 }  // namespace marionette

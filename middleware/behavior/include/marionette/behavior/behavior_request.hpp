@@ -39,6 +39,7 @@ enum class BehaviorKind : std::uint8_t {
   Saccade,  // rapid eye movements: a model's (talk, listen, think) or one (SmartBody's <saccade>)
   BlinkEmitter, BreathingEmitter,  // idle life (AsapRealizer's bmlt:blinkemitter, bmlt:breathingemitter)
   Audio,    // a sound handed to the engine (AsapRealizer's <bmlt:audiofile>); moves nothing
+  Reach,    // a hand to a target and back (SmartBody's <sbm:reach>; behavior/reach.hpp)
 };
 [[nodiscard]] std::string_view toString(BehaviorKind kind) noexcept;
 [[nodiscard]] std::optional<BehaviorKind> behaviorKindFromName(std::string_view name) noexcept;

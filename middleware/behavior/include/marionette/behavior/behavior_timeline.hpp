@@ -21,6 +21,7 @@
 #include "marionette/behavior/idle_life.hpp"
 #include "marionette/behavior/pointing.hpp"
 #include "marionette/behavior/procedural_gesture.hpp"
+#include "marionette/behavior/reach.hpp"
 #include "marionette/behavior/saccade.hpp"
 #include "marionette/behavior/speech_controller.hpp"
 #include "marionette/rig/facs.hpp"
@@ -64,7 +65,7 @@ struct AudioState {
 };
 using ControllerState = std::variant<std::monostate, HeadMotionState, FaceExpressionState, GazeState, PointingState,
                                      SpeechState, LocomotionEntryState, GestureState, SaccadeState,
-                                     BlinkState, BreathingState, AudioState>;
+                                     BlinkState, BreathingState, AudioState, ReachState>;
 
 class BehaviorTimeline {
  public:

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 
+#include "marionette/behavior/arm_placement.hpp"
 #include "marionette/behavior/spatial_target.hpp"
 #include "marionette/behavior/two_bone_ik.hpp"
 #include "marionette/core/transform.hpp"
@@ -29,9 +30,7 @@ struct PointingState {
   SpatialTarget target;        // a character without a joint: its chest
   bool arm[2] = {};            // left, right in use; both false until the first frame picks one
   LimbIk limb[2];              // left, right (unusable where the rig has no such arm)
-  glm::vec3 pole[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // the last elbow direction, model frame
-  glm::vec3 hingeLocal[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // the elbow's axis in the upper arm's frame
-  bool hingeKnown[2] = {};
+  ArmMemory memory[2];         // the elbow's direction and hinge, per arm
   glm::vec3 lastTarget{0.0f};  // model frame: held when the target is lost or at the shoulder
   bool started = false;
 };

@@ -34,12 +34,12 @@ struct PlacementDelta {
 // The behavior controllers, in the order a frame runs them (DESIGN.md): clip behaviors
 // (postures) over the layers, locomotion, upper-body clips (gestures), breathing (added on the
 // chest before the aiming controllers, which then aim from where it leaves the body), gaze,
-// head movements added on top of it, saccades, procedural gestures and pointing (after the
-// gaze has turned the torso, so the arms move from where it ends up), face expressions,
-// blinks (over the face's lids), speech. One list: each frame's passes and the stats below
-// are indexed by it.
+// head movements added on top of it, saccades, procedural gestures, pointing and reaching
+// (after the gaze has turned the torso, so the arms move from where it ends up), face
+// expressions, blinks (over the face's lids), speech. One list: each frame's passes and the
+// stats below are indexed by it.
 enum class Controller : std::uint8_t {
-  ClipBehaviors, Locomotion, UpperBodyClips, Breathing, Gaze, Head, Saccade, Gesture, Pointing, Face, Blink, Speech
+  ClipBehaviors, Locomotion, UpperBodyClips, Breathing, Gaze, Head, Saccade, Gesture, Pointing, Reach, Face, Blink, Speech
 };
 inline constexpr std::size_t kControllerCount = static_cast<std::size_t>(Controller::Speech) + 1;
 [[nodiscard]] std::string_view controllerName(Controller controller) noexcept;  // "clip behaviors", ...
