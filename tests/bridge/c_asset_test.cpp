@@ -107,7 +107,9 @@ TEST(CAsset, HundredCharactersShareOneAsset) {
 #if !defined(__SANITIZE_ADDRESS__)  // ASan's heap is not the one mallinfo2 reports
   EXPECT_GT(perCharacter, arrays);
   EXPECT_LT(perCharacter, 8.0 * 1024.0);
-  EXPECT_LT(perCharacter - arrays, 2048.0);  // what is not per joint stays small
+  // What is not per joint stays small: 2.25 KiB (each controller kind adds a frame pass and a
+  // timing slot to every character: 13 controllers since breathing, blink and reach came).
+  EXPECT_LT(perCharacter - arrays, 2304.0);
 #endif
   EXPECT_EQ(mn_scene_character_count(scene), 100u);
   mn_asset_release(robot);
