@@ -42,7 +42,6 @@ class OcclusionSource {
                            Diagnostics& diagnostics);
   // Mean time of frame() per frame asked, ms.
   [[nodiscard]] double meanMilliseconds() const noexcept { return frames_ ? ms_ / double(frames_) : 0.0; }
-  [[nodiscard]] bool fromFiles() const noexcept { return !files_.empty(); }
 
  private:
   std::vector<std::string> files_;  // the "masks" folder's images, in name order
