@@ -126,8 +126,16 @@ Run reachFor(const Body& b, const glm::vec3& target, std::vector<BehaviorSync> s
   out.realized = added.realized;
   out.message = added.message;
   if (!added.realized) return out;
-  const BehaviorTimeline::Entry& e = *c->behaviors().find("r");
-  const double ready = e.blendInEnd, relax = e.blendOutStart, end = e.request.end();
+  // The entry is looked up again each frame: the timeline drops it once it has ended (a
+  // reference kept across updates would dangle).
+  const BehaviorTimeline::Entry* entry = c->behaviors().find("r");
+  if (!entry) {
+    ADD_FAILURE() << "the realized reach is not on the timeline";
+    return out;
+  }
+  const double ready = entry->blendInEnd, relax = entry->blendOutStart, end = entry->request.end();
+  int ends[2] = {-1, -1};  // each arm's end joint, for after the entry is dropped
+  if (const ReachState* first = entry->as<ReachState>()) ends[0] = first->limb[0].end, ends[1] = first->limb[1].end;
   const RigJoints& j = b.rig->joints();
   std::vector<glm::quat> last, now;
   glm::vec3 held(0.0f);
@@ -144,9 +152,10 @@ Run reachFor(const Body& b, const glm::vec3& target, std::vector<BehaviorSync> s
     reachTurns(models, p->transformBuffer().modelMatrices(), now);
     if (!last.empty()) out.worstTurn = std::max(out.worstTurn, largestTurn(last, now));
     std::swap(last, now);
-    const ReachState* st = e.as<ReachState>();
-    out.side = st->side;
-    if (t > ready + 1e-9 && t < relax - 1e-9 && end > 0.0) {
+    const BehaviorTimeline::Entry* current = c->behaviors().find("r");
+    const ReachState* st = current ? current->as<ReachState>() : nullptr;
+    if (st) out.side = st->side;
+    if (st && t > ready + 1e-9 && t < relax - 1e-9 && end > 0.0) {
       const glm::vec3 palm = palmWorld(*c, "r");
       const float err = glm::length(palm - target);
       out.meanError += err;
@@ -167,8 +176,7 @@ Run reachFor(const Body& b, const glm::vec3& target, std::vector<BehaviorSync> s
       out.palmDistance = glm::length(palm - shoulder);
     }
     if (t >= end + 1.0 / 60.0 && end > 0.0) {
-      const int side = std::max(st->side, 0);
-      const int endJoint = st->limb[side].end;
+      const int endJoint = ends[std::max(out.side, 0)];
       out.backAtEnd = std::max(out.backAtEnd, glm::length(worldOf(*c, endJoint) - worldOf(*p, endJoint)));
     }
   }
