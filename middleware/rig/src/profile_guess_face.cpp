@@ -133,8 +133,14 @@ void guessFace(const Asset& asset, CharacterProfile& p, Notes& notes) {
 namespace {
 
 // A morph named after a unit ("AU12", "blendShape.AU_12_L", "AU45Left"): that unit, else none.
+// A morph's own name without its mesh's prefix ("blendShape1.mouthSmileLeft": "mouthSmileLeft").
+std::string_view withoutMeshPrefix(std::string_view morph) {
+  const std::size_t cut = morph.find_last_of(".:|");
+  return cut == std::string_view::npos ? morph : morph.substr(cut + 1);
+}
+
 std::optional<FacsUnitRequest> auMorph(std::string_view morph) {
-  if (const std::size_t cut = morph.find_last_of(".:|"); cut != std::string_view::npos) morph.remove_prefix(cut + 1);
+  morph = withoutMeshPrefix(morph);
   if (morph.size() < 3 || lower(morph[0]) != 'a' || lower(morph[1]) != 'u') return std::nullopt;
   std::string compact(morph.substr(0, 2));
   for (std::size_t i = 2; i < morph.size(); ++i)
@@ -215,15 +221,13 @@ FacsMapping facsFromVrm(const Asset& asset, const FacsUnitInfo& unit, int side) 
 // A character without VRM presets may still carry the same expressions as plain morphs
 // (RobotExpressive's Angry, Surprised, Sad), which the face guess found as emotion lexemes.
 FacsMapping facsFromExpressions(const CharacterProfile& p, const FacsUnitInfo& unit, int side) {
-  static const std::pair<std::string_view, const char*> kPresetLexemes[] = {
-      {"joy", "SMILE"}, {"happy", "SMILE"}, {"angry", "ANGER"}, {"sorrow", "SADNESS"},
-      {"sad", "SADNESS"}, {"surprised", "SURPRISE"}, {"blink*", "CLOSE_EYES"}};
   FacsMapping m;
   if (side != 0) return m;  // the lexemes are both sides
   for (const FacsTarget& t : unit.vrm)
-    for (const auto& [preset, lexeme] : kPresetLexemes) {
+    for (const auto& [preset, lexeme] : kVrmExpressions) {  // the presets the face guess reads as lexemes
+      if (std::string_view(t.name).substr(0, std::string_view(t.name).find('*')) != preset) continue;
       const auto it = p.face.find(lexeme);
-      if (preset != t.name || it == p.face.end()) continue;
+      if (it == p.face.end()) continue;
       for (const FaceMorph& f : it->second) m.morphs.push_back({f.morph, f.amount * t.weight});
       m.source = std::string("expression ") + lexeme;
       return m;
@@ -256,7 +260,7 @@ std::vector<FaceJoint> faceJoints(const Skeleton& skeleton) {
 void guessFacs(const Asset& asset, CharacterProfile& p, Notes& notes) {
   std::vector<NameParts> morphs;  // "blendShape1.mouthSmileLeft": the name after its mesh's
   for (std::string_view m : asset.morphTargets)
-    morphs.push_back(parts(m.substr(m.find_last_of(".:|") == std::string_view::npos ? 0 : m.find_last_of(".:|") + 1), kMorphNoise));
+    morphs.push_back(parts(withoutMeshPrefix(m), kMorphNoise));
   const std::vector<FaceJoint> joints = faceJoints(asset.skeleton);
   std::map<std::string, int> bySource;
   for (const FacsUnitInfo& unit : facsUnits())
