@@ -1,5 +1,7 @@
 #include "marionette/bml/behavior_parameters.hpp"
 
+#include "marionette/core/float_chars.hpp"
+
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -38,7 +40,7 @@ void note(std::string& warning, const std::string& w) { warning += (warning.empt
 // the middleware names them when it checks the range).
 std::optional<float> oneNumber(std::string_view text) {
   float v = 0.0f;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  const auto [end, ec] = floatFromChars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
   return v;
 }

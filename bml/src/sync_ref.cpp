@@ -1,5 +1,7 @@
 #include "marionette/bml/sync_ref.hpp"
 
+#include "marionette/core/float_chars.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -30,7 +32,7 @@ std::optional<double> readNumber(std::string_view s, std::size_t& i) {
   }
   if (i == begin) return std::nullopt;
   double v = 0.0;
-  auto [ptr, ec] = std::from_chars(s.data() + begin, s.data() + i, v);
+  auto [ptr, ec] = floatFromChars(s.data() + begin, s.data() + i, v);
   if (ec != std::errc() || ptr != s.data() + i || !std::isfinite(v)) return std::nullopt;
   return v;
 }

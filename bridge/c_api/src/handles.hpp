@@ -126,6 +126,10 @@ class CallbackForwarder final : public marionette::SceneListener {
   std::string eventName_, eventClip_;  // the same for animation events
 };
 
+namespace marionette::speech {
+class RecordedSpeech;
+}
+
 struct mn_scene : marionette::capi::Registered {
   mn_scene();
   ~mn_scene();
@@ -148,6 +152,7 @@ struct mn_scene : marionette::capi::Registered {
     std::weak_ptr<const marionette::Asset> asset;
   };
   std::map<std::string, LoadedFile, std::less<>> loadedFiles;
+  std::shared_ptr<marionette::speech::RecordedSpeech> recordedLines;  // mn_scene_add_speech_line's (c_speech_lines.cpp)
   std::vector<marionette::TimedFile> pendingBml;       // scene files' "bml" lists, sent by update
   std::size_t nextBml = 0;
   mutable std::string lastError;  // set by failing calls, const ones included

@@ -1,6 +1,6 @@
 // Sampling a compact clip (compact_clip.hpp): per-frame code, no allocation.
 #include <algorithm>
-#include <bit>
+#include <cstring>
 #include <cmath>
 #include <cstddef>
 
@@ -11,6 +11,14 @@
 namespace marionette {
 
 namespace {
+
+// A lane mask of all ones as a float (memcpy: emscripten's libc++ 14 has no std::bit_cast).
+inline float allBitsSet() noexcept {
+  const std::uint32_t bits = 0xFFFFFFFFu;
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
 
 using namespace compact;
 
@@ -349,7 +357,7 @@ void sample4(const CompactTrack* first, std::size_t count, const std::uint8_t* b
       const KeyAt key = locate(*t[k], base, time, hints ? hints + k : nullptr);
       in.first[k] = key.i, in.second[k] = key.single ? key.i : key.i + 1;
       f[k] = key.f;
-      hold[k] = key.single || t[k]->step ? std::bit_cast<float>(0xFFFFFFFFu) : 0.0f;
+      hold[k] = key.single || t[k]->step ? allBitsSet() : 0.0f;
     }
     at = _mm_load_ps(f), held = _mm_load_ps(hold);
   }

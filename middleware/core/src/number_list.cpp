@@ -1,5 +1,7 @@
 #include "marionette/core/number_list.hpp"
 
+#include "marionette/core/float_chars.hpp"
+
 #include <charconv>
 #include <cmath>
 
@@ -28,7 +30,7 @@ std::optional<std::vector<float>> parseNumberList(std::string_view text) {
     } else {
       float v = 0.0f;
       const char* first = !token.empty() && token.front() == '+' ? p + 1 : p;
-      const auto [next, ec] = std::from_chars(first, tokenEnd, v);
+      const auto [next, ec] = floatFromChars(first, tokenEnd, v);
       if (ec == std::errc::result_out_of_range) v = negative ? -INFINITY : INFINITY;
       else if (ec != std::errc() || next != tokenEnd) return std::nullopt;
       out.push_back(v);

@@ -3,6 +3,7 @@
 // position channels and which carry scale, the second writes the text.
 #include "marionette/io/bvh_writer.hpp"
 
+#include "marionette/core/float_chars.hpp"
 #include "marionette/core/finite.hpp"
 
 #include <algorithm>
@@ -410,7 +411,7 @@ glm::dvec3 BvhBuilder::endSiteOffset(int joint) const {
 void BvhBuilder::number(double v) {
   if (std::abs(v) < zeroBelow_) v = 0.0;  // no "-0.000000"
   char buffer[400];                       // fixed notation of any finite double fits
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, v, std::chars_format::fixed, options_.precision);
+  const auto r = floatToChars(buffer, buffer + sizeof buffer, v, std::chars_format::fixed, options_.precision);
   text_.append(buffer, r.ptr);
 }
 
@@ -462,7 +463,7 @@ void BvhBuilder::writeHierarchy() {
 
 bool BvhBuilder::writeMotion() {
   char frameTime[64];
-  const auto r = std::to_chars(frameTime, frameTime + sizeof frameTime, frameTime_, std::chars_format::general, 9);
+  const auto r = floatToChars(frameTime, frameTime + sizeof frameTime, frameTime_, std::chars_format::general, 9);
   text_ += "MOTION\nFrames: " + std::to_string(frames_) + "\nFrame Time: " + std::string(frameTime, r.ptr) + "\n";
   std::vector<BvhEuler> previous(order_.size());
   cursor_.reset(clip_);

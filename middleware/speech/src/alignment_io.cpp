@@ -12,6 +12,8 @@
 // Rhubarb: each shape lasts until the next one's time. Rhubarb closes its output
 // with an X at the end of the recording, so the last row marks that end: it is
 // kept with zero length (start == end) rather than given an invented duration.
+#include "marionette/core/float_chars.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -81,7 +83,7 @@ std::optional<double> parseNumber(std::string_view field) {
   if (!field.empty() && field.front() == '+') field.remove_prefix(1);
   if (field.empty()) return std::nullopt;
   double value = 0.0;
-  const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
+  const auto [end, ec] = floatFromChars(field.data(), field.data() + field.size(), value);
   if (ec == std::errc::result_out_of_range) {
     return field.front() == '-' ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
   }

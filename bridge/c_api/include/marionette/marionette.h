@@ -184,6 +184,14 @@ typedef enum mn_speech_synthesis {
 MN_API mn_status mn_scene_set_speech_synthesis(mn_scene* scene, mn_speech_synthesis mode);
 /* Waits until the speech of the blocks that wait for it is said and starts them now. */
 MN_API mn_status mn_scene_wait_for_speech(mn_scene* scene);
+/* Adds a recorded voice line: a <speech> whose text matches `text` (ignoring case, punctuation
+ * and spacing) is said with this recording and its phoneme alignment, before any synthesizer
+ * (docs/speech.md). `audio_path` is a WAV (NULL or "": a line without audio, lips only);
+ * `alignment_path` the phones (HTK .lab, CMU ARCTIC .phones, or start,end,phoneme CSV). Both are
+ * read now through `read_file` (as mn_import_options' read_file; NULL: the disk). A file that
+ * cannot be read or is not valid is MN_ERROR_LOAD, with a message naming it. */
+MN_API mn_status mn_scene_add_speech_line(mn_scene* scene, const char* text, const char* audio_path,
+                                          const char* alignment_path, mn_read_file_fn read_file, void* read_file_user);
 /* Advances the clock by dt seconds (finite, >= 0, at most 3600: MN_ERROR_INVALID_ARGUMENT
  * otherwise, and the clock stays) and updates every character and the BML realizer;
  * callbacks come from here. */

@@ -1,0 +1,509 @@
+// Marionette for the web: the C API (bridge/c_api/include/marionette/marionette.h) compiled to
+// WebAssembly, as JavaScript classes (docs/web.md). Each class owns one C handle; dispose()
+// frees it. Failures throw MarionetteError with the library's message (file or block,
+// line:column, problem). Palettes and morph weights are Float32Array views on the module's
+// memory, written in place by each call: nothing is copied per frame on the JS side.
+import createMarionetteWasm from './marionette_wasm.mjs';
+
+const STATUS = ['MN_OK', 'MN_ERROR_INVALID_ARGUMENT', 'MN_ERROR_NOT_FOUND', 'MN_ERROR_IO', 'MN_ERROR_LOAD',
+  'MN_ERROR_BML', 'MN_ERROR_UNSUPPORTED', 'MN_ERROR_OUT_OF_MEMORY', 'MN_ERROR_INTERNAL'];
+const FEEDBACK_KINDS = ['prediction', 'blockProgress', 'syncPoint', 'warning', 'event'];
+const LOG_LEVELS = ['info', 'warning', 'error'];
+const EVENT_KINDS = ['footDown', 'footUp', 'marker'];
+const FOOT_SIDES = ['none', 'left', 'right'];
+export const PaletteLayout = Object.freeze({ MAT4_COLUMN_MAJOR: 0, MAT4_ROW_MAJOR: 1, MAT3X4_ROW_MAJOR: 2 });
+
+/** A failed call: `message` is the library's, `status` the C status name ("MN_ERROR_BML", ...). */
+export class MarionetteError extends Error {
+  constructor(message, status) {
+    super(message);
+    this.name = 'MarionetteError';
+    this.status = status;
+  }
+}
+
+// Struct layouts on wasm32 (pointers and size_t are 4 bytes, doubles 8-aligned); checked
+// against the C header by static_asserts in bridge/web/src/web_module.cpp.
+const LAYOUT = {
+  importOptions: { size: 28, readFile: 4, readFileUser: 8, profilePath: 12 },
+  bindingOptions: { size: 16, throughJointMaps: 4, engineJointMap: 8, characterJointMap: 12 },
+  playOptions: { size: 40, weight: 4, speed: 8, loop: 12, startTime: 16, fadeIn: 24, additive: 28, rootMotion: 32 },
+  engineSkeleton: { size: 20, boneNames: 0, parents: 4, boneCount: 8, morphNames: 12, morphCount: 16 },
+};
+
+/**
+ * Loads the WebAssembly module. `options` go to emscripten's module factory (e.g. `wasmBinary`
+ * when the page fetches the .wasm itself, or `locateFile`).
+ */
+export async function loadMarionette(options = {}) {
+  const settings = { ...options };
+  // Under Node.js (tests, tools) the module is built for browsers: read the .wasm here.
+  if (!settings.wasmBinary && typeof process === 'object' && process.versions && process.versions.node) {
+    const { readFile } = await import('node:fs/promises');
+    settings.wasmBinary = await readFile(new URL('./marionette_wasm.wasm', import.meta.url));
+  }
+  const wasm = await createMarionetteWasm(settings);
+  return new Marionette(wasm);
+}
+
+class Marionette {
+  constructor(wasm) {
+    this.wasm = wasm;
+    this.version = wasm.UTF8ToString(wasm._mn_version());
+  }
+
+  /** A new scene (characters, BML, callbacks). Speech is said inline: the web build has no threads. */
+  createScene() {
+    return new Scene(this);
+  }
+
+  /** Loads a character file (glTF, GLB, VRM) from bytes once; characters of any scene share it. */
+  loadAsset(bytes, name, options = {}) {
+    return new Asset(this, bytes, name, options);
+  }
+
+  // ---- memory helpers ----
+  heapF32() { return this.wasm.HEAPF32; }
+  string(ptr) { return ptr ? this.wasm.UTF8ToString(ptr) : ''; }
+  allocString(text) {
+    const n = this.wasm.lengthBytesUTF8(text) + 1;
+    const ptr = this.wasm._malloc(n);
+    this.wasm.stringToUTF8(text, ptr, n);
+    return ptr;
+  }
+  allocBytes(bytes) {
+    const u8 = bytes instanceof Uint8Array ? bytes : new Uint8Array(bytes);
+    const ptr = this.wasm._malloc(Math.max(1, u8.length));
+    this.wasm.HEAPU8.set(u8, ptr);
+    return { ptr, size: u8.length };
+  }
+  // Runs fn(alloc) and frees what alloc(...) allocated, whatever happens.
+  withTemp(fn) {
+    const owned = [];
+    const alloc = (n) => { const p = this.wasm._malloc(n); owned.push(p); return p; };
+    const str = (s) => { if (s === undefined || s === null) return 0; const p = this.allocString(String(s)); owned.push(p); return p; };
+    const bytes = (b) => { const r = this.allocBytes(b); owned.push(r.ptr); return r; };
+    try {
+      return fn({ alloc, str, bytes });
+    } finally {
+      for (const p of owned) this.wasm._free(p);
+    }
+  }
+  check(status, scene, what) {
+    if (status === 0) return;
+    const message = this.string(this.wasm._mn_scene_last_error(scene || 0)) || `${what} failed`;
+    throw new MarionetteError(message, STATUS[status] || `status ${status}`);
+  }
+  // A read_file function (mn_read_file_fn) that serves `files` (a Map or object of name -> bytes).
+  fileReader(files) {
+    const wasm = this.wasm;
+    const lookup = (path) => {
+      if (!files) return undefined;
+      const get = (k) => (files instanceof Map ? files.get(k) : files[k]);
+      let bytes = get(path);
+      if (bytes === undefined) bytes = get(path.replace(/^\.\//, ''));
+      if (bytes === undefined) bytes = get(path.split('/').pop());
+      return bytes;
+    };
+    return wasm.addFunction((user, pathPtr, sink) => {
+      const bytes = lookup(wasm.UTF8ToString(pathPtr));
+      if (bytes === undefined) return 0;
+      const data = typeof bytes === 'string' ? new TextEncoder().encode(bytes) : new Uint8Array(bytes);
+      const ptr = wasm._malloc(Math.max(1, data.length));
+      try {
+        wasm.HEAPU8.set(data, ptr);
+        return wasm._mn_file_sink_write(sink, ptr, data.length) === 0 ? 1 : 0;
+      } finally {
+        wasm._free(ptr);
+      }
+    }, 'iiii');
+  }
+}
+
+/** A loaded character file, shared by the characters made from it. */
+class Asset {
+  constructor(mn, bytes, name, { files, profile } = {}) {
+    this.mn = mn;
+    const wasm = mn.wasm;
+    const reader = files || profile ? mn.fileReader(files) : 0;
+    try {
+      this.handle = mn.withTemp(({ alloc, str, bytes: put }) => {
+        const o = LAYOUT.importOptions;
+        const opts = alloc(o.size);
+        wasm._mn_import_options_default(opts);  // returned through a hidden result pointer
+        wasm.HEAPU32[(opts + o.readFile) >> 2] = reader;
+        wasm.HEAPU32[(opts + o.profilePath) >> 2] = str(profile);
+        const data = put(bytes);
+        const out = alloc(4);
+        mn.check(wasm._mn_asset_load_memory(data.ptr, data.size, str(name), opts, out), 0, 'loadAsset');
+        return wasm.HEAPU32[out >> 2];
+      });
+    } finally {
+      if (reader) wasm.removeFunction(reader);
+    }
+    this.name = mn.string(wasm._mn_asset_name(this.handle));
+    this.report = mn.string(wasm._mn_asset_report(this.handle));
+  }
+  /** Drops this reference; the characters made from it keep the data. */
+  dispose() {
+    if (this.handle) this.mn.wasm._mn_asset_release(this.handle);
+    this.handle = 0;
+  }
+}
+
+/** A scene: characters, the BML realizer, named objects and callbacks. */
+class Scene {
+  constructor(mn) {
+    this.mn = mn;
+    const wasm = mn.wasm;
+    this.handle = mn.withTemp(({ alloc }) => {
+      const out = alloc(4);
+      mn.check(wasm._mn_scene_create(out), 0, 'createScene');
+      return wasm.HEAPU32[out >> 2];
+    });
+    mn.check(wasm._mn_scene_set_speech_synthesis(this.handle, 1), this.handle, 'setSpeechSynthesis');  // INLINE
+    this.characters = new Map();
+    this.callbacks = new Map();  // kind -> table index
+    /** Files the library may read (recorded lines, WAVs of <bmlt:audiofile>): name -> bytes. */
+    this.files = new Map();
+    this.audioReader = mn.fileReader(this.files);
+    mn.check(wasm._mn_scene_set_audio_files(this.handle, 0, this.audioReader, 0), this.handle, 'setAudioFiles');
+  }
+
+  /** Adds a character made from an Asset (or from bytes: `source` then needs `name` as the file name). */
+  addCharacter(name, source, options = {}) {
+    const mn = this.mn;
+    const wasm = mn.wasm;
+    const asset = source instanceof Asset ? source : mn.loadAsset(source, options.fileName || `${name}.glb`, options);
+    try {
+      const handle = mn.withTemp(({ alloc, str }) => {
+        const out = alloc(4);
+        mn.check(wasm._mn_scene_add_character_from_asset(this.handle, str(name), asset.handle, out), this.handle,
+          'addCharacter');
+        return wasm.HEAPU32[out >> 2];
+      });
+      const character = new Character(this, handle);
+      this.characters.set(character.name, character);
+      return character;
+    } finally {
+      if (!(source instanceof Asset)) asset.dispose();
+    }
+  }
+
+  /** Sends one BML block (for `character`, or the block's characterId). Throws on a failed block. */
+  sendBml(bml, character) {
+    const mn = this.mn;
+    mn.withTemp(({ str }) => {
+      const who = character === undefined || character === null ? 0 : str(typeof character === 'string' ? character : character.name);
+      mn.check(mn.wasm._mn_scene_send_bml(this.handle, who, str(bml)), this.handle, 'sendBml');
+    });
+  }
+
+  /** Advances the scene by dt seconds; callbacks come from here. */
+  update(dt) {
+    const status = this.mn.wasm._mn_scene_update(this.handle, dt);
+    if (status !== 0) this.mn.check(status, this.handle, 'update');
+  }
+
+  get time() { return this.mn.wasm._mn_scene_time(this.handle); }
+
+  /** Places a named object ("camera" for the viewer) that gaze, pointing and locomotion may target. */
+  setObject(name, x, y, z) {
+    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_set_object(this.handle, str(name), x, y, z),
+      this.handle, 'setObject'));
+  }
+  removeObject(name) {
+    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_remove_object(this.handle, str(name)),
+      this.handle, 'removeObject'));
+  }
+  interruptBlock(id) {
+    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_interrupt_block(this.handle, str(id)),
+      this.handle, 'interruptBlock'));
+  }
+  /** "auto", "bml" or "smartbody", for one character or (none given) the scene. */
+  setBmlDialect(dialect, character) {
+    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_set_bml_dialect(this.handle,
+      character ? str(typeof character === 'string' ? character : character.name) : 0, str(dialect)), this.handle,
+    'setBmlDialect'));
+  }
+
+  /**
+   * A recorded voice line: a <speech> with this text is said with the recording (WAV bytes,
+   * optional) and its phoneme alignment (HTK .lab, ARCTIC .phones or CSV text or bytes).
+   */
+  addSpeechLine(text, { audio, alignment, audioName = 'line.wav', alignmentName = 'line.lab' }) {
+    const files = new Map([[alignmentName, alignment]]);
+    if (audio) files.set(audioName, audio);
+    const reader = this.mn.fileReader(files);
+    try {
+      this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_add_speech_line(this.handle, str(text),
+        audio ? str(audioName) : 0, str(alignmentName), reader, 0), this.handle, 'addSpeechLine'));
+    } finally {
+      this.mn.wasm.removeFunction(reader);
+    }
+  }
+
+  // ---- callbacks: fn(object) or null to remove ----
+  setCallback(kind, setter, signature, fn, wrap) {
+    const wasm = this.mn.wasm;
+    const old = this.callbacks.get(kind);
+    const index = fn ? wasm.addFunction(wrap(fn), signature) : 0;
+    this.mn.check(wasm[setter](this.handle, index, 0), this.handle, setter);
+    if (old) wasm.removeFunction(old);
+    if (index) this.callbacks.set(kind, index); else this.callbacks.delete(kind);
+  }
+  /** BML feedback: {kind, character, block, behavior, syncPoint, message, blockTime, sceneTime}. */
+  onFeedback(fn) {
+    const mn = this.mn;
+    this.setCallback('feedback', '_mn_scene_set_feedback_callback', 'vii', fn, (f) => (user, p) => {
+      const u32 = mn.wasm.HEAPU32, f64 = mn.wasm.HEAPF64;
+      f({ kind: FEEDBACK_KINDS[mn.wasm.HEAP32[p >> 2]], character: mn.string(u32[(p + 4) >> 2]),
+        block: mn.string(u32[(p + 8) >> 2]), behavior: mn.string(u32[(p + 12) >> 2]),
+        syncPoint: mn.string(u32[(p + 16) >> 2]), message: mn.string(u32[(p + 20) >> 2]),
+        blockTime: f64[(p + 24) >> 3], sceneTime: f64[(p + 32) >> 3] });
+    });
+  }
+  /** Visemes as speech reaches them: {character, viseme, weight, time}. */
+  onViseme(fn) {
+    const mn = this.mn;
+    this.setCallback('viseme', '_mn_scene_set_viseme_callback', 'vii', fn, (f) => (user, p) => {
+      f({ character: mn.string(mn.wasm.HEAPU32[p >> 2]), viseme: mn.string(mn.wasm.HEAPU32[(p + 4) >> 2]),
+        weight: mn.wasm.HEAPF32[(p + 8) >> 2], time: mn.wasm.HEAPF64[(p + 16) >> 3] });
+    });
+  }
+  /** The library's log: fn(level, message), level "info" | "warning" | "error". */
+  onLog(fn) {
+    const mn = this.mn;
+    this.setCallback('log', '_mn_scene_set_log_callback', 'viii', fn, (f) => (user, level, msg) => f(LOG_LEVELS[level] || String(level), mn.string(msg)));
+  }
+  /** A line starts: {character, behavior, samples (Int16Array copy), sampleRate, startTime, duration}. */
+  onSpeech(fn) {
+    const mn = this.mn;
+    this.setCallback('speech', '_mn_scene_set_speech_callback', 'vii', fn, (f) => (user, p) => {
+      const u32 = mn.wasm.HEAPU32;
+      const samplesPtr = u32[(p + 8) >> 2], count = u32[(p + 12) >> 2];
+      f({ character: mn.string(u32[p >> 2]), behavior: mn.string(u32[(p + 4) >> 2]),
+        samples: samplesPtr ? mn.wasm.HEAP16.slice(samplesPtr >> 1, (samplesPtr >> 1) + count) : null,
+        sampleRate: mn.wasm.HEAP32[(p + 16) >> 2], audioFile: mn.string(u32[(p + 20) >> 2]),
+        startTime: mn.wasm.HEAPF64[(p + 24) >> 3], duration: mn.wasm.HEAPF64[(p + 32) >> 3] });
+    });
+  }
+  /** Animation events: {kind: "footDown" | "footUp" | "marker", foot, character, name, clip, layer, weight, clipTime, sceneTime}. */
+  onEvent(fn) {
+    const mn = this.mn;
+    this.setCallback('event', '_mn_scene_set_event_callback', 'vii', fn, (f) => (user, p) => {
+      const u32 = mn.wasm.HEAPU32, i32 = mn.wasm.HEAP32;
+      f({ kind: EVENT_KINDS[i32[p >> 2]], foot: FOOT_SIDES[i32[(p + 4) >> 2]], character: mn.string(u32[(p + 8) >> 2]),
+        name: mn.string(u32[(p + 12) >> 2]), clip: mn.string(u32[(p + 16) >> 2]), layer: i32[(p + 20) >> 2],
+        weight: mn.wasm.HEAPF32[(p + 24) >> 2], clipTime: mn.wasm.HEAPF64[(p + 32) >> 3],
+        sceneTime: mn.wasm.HEAPF64[(p + 40) >> 3] });
+    });
+  }
+  /** Sounds of <bmlt:audiofile>: {kind: "play" | "stop", character, behavior, samples (Float32Array copy), channels, sampleRate, file, sceneTime, duration}. */
+  onAudio(fn) {
+    const mn = this.mn;
+    this.setCallback('audio', '_mn_scene_set_audio_callback', 'vii', fn, (f) => (user, p) => {
+      const u32 = mn.wasm.HEAPU32, i32 = mn.wasm.HEAP32;
+      const samples = u32[(p + 12) >> 2], frames = u32[(p + 16) >> 2], channels = i32[(p + 20) >> 2];
+      f({ kind: i32[p >> 2] === 0 ? 'play' : 'stop', character: mn.string(u32[(p + 4) >> 2]),
+        behavior: mn.string(u32[(p + 8) >> 2]),
+        samples: samples ? mn.wasm.HEAPF32.slice(samples >> 2, (samples >> 2) + frames * channels) : null,
+        channels, sampleRate: i32[(p + 24) >> 2], file: mn.string(u32[(p + 28) >> 2]),
+        sceneTime: mn.wasm.HEAPF64[(p + 32) >> 3], duration: mn.wasm.HEAPF64[(p + 40) >> 3] });
+    });
+  }
+
+  /** Frees the scene, its characters, their bindings and the callbacks. */
+  dispose() {
+    const wasm = this.mn.wasm;
+    for (const c of this.characters.values()) c.release();
+    this.characters.clear();
+    if (this.handle) wasm._mn_scene_destroy(this.handle);
+    this.handle = 0;
+    for (const index of this.callbacks.values()) wasm.removeFunction(index);
+    this.callbacks.clear();
+    if (this.audioReader) wasm.removeFunction(this.audioReader);
+    this.audioReader = 0;
+  }
+}
+
+// A Float32Array on the module's memory at ptr, made again when memory grows (the old
+// ArrayBuffer is then detached).
+class HeapFloats {
+  constructor(mn, count) {
+    this.mn = mn;
+    this.count = count;
+    this.ptr = mn.wasm._malloc(Math.max(4, count * 4));
+    mn.wasm.HEAPF32.fill(0, this.ptr >> 2, (this.ptr >> 2) + count);
+    this.view = null;
+  }
+  get array() {
+    const heap = this.mn.wasm.HEAPF32;
+    if (!this.view || this.view.buffer !== heap.buffer) this.view = new Float32Array(heap.buffer, this.ptr, this.count);
+    return this.view;
+  }
+  free() {
+    if (this.ptr) this.mn.wasm._free(this.ptr);
+    this.ptr = 0;
+    this.view = null;
+  }
+}
+
+/** A character of a scene. */
+class Character {
+  constructor(scene, handle) {
+    this.scene = scene;
+    this.mn = scene.mn;
+    this.handle = handle;
+    const wasm = this.mn.wasm;
+    this.name = this.mn.string(wasm._mn_character_name(handle));
+    const joints = wasm._mn_character_joint_count(handle);
+    this.jointNames = Array.from({ length: joints }, (_, j) => this.mn.string(wasm._mn_character_joint_name(handle, j)));
+    this.parents = Int32Array.from({ length: joints }, (_, j) => wasm._mn_character_joint_parent(handle, j));
+    const morphs = wasm._mn_character_morph_count(handle);
+    this.morphNames = Array.from({ length: morphs }, (_, m) => this.mn.string(wasm._mn_character_morph_name(handle, m)));
+    const clips = wasm._mn_character_clip_count(handle);
+    this.clipNames = Array.from({ length: clips }, (_, c) => this.mn.string(wasm._mn_character_clip_name(handle, c)));
+    this.buffers = new Map();
+    this.bindings = new Set();
+  }
+
+  buffer(key, count) {
+    let b = this.buffers.get(key);
+    if (!b) { b = new HeapFloats(this.mn, count); this.buffers.set(key, b); }
+    return b;
+  }
+  /** Every joint's matrix in the skeleton's order (16 or 12 floats each), as of the last update. */
+  palette(layout = PaletteLayout.MAT4_COLUMN_MAJOR, inverseBind = true) {
+    const n = this.jointNames.length * this.mn.wasm._mn_palette_floats_per_joint(layout);
+    const b = this.buffer(`palette${layout}${inverseBind ? 1 : 0}`, n);
+    this.mn.check(this.mn.wasm._mn_character_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n),
+      this.scene.handle, 'palette');
+    return b.array;
+  }
+  /** Morph weights in morphNames order. */
+  morphWeights() {
+    const b = this.buffer('morphs', this.morphNames.length);
+    this.mn.check(this.mn.wasm._mn_character_morph_weights(this.handle, b.ptr, this.morphNames.length),
+      this.scene.handle, 'morphWeights');
+    return b.array;
+  }
+  /** The world-from-model matrix (column-major 16 floats): place the skinned mesh with it. */
+  worldMatrix() {
+    const b = this.buffer('world', 16);
+    this.mn.check(this.mn.wasm._mn_character_world_matrix(this.handle, b.ptr), this.scene.handle, 'worldMatrix');
+    return b.array;
+  }
+  setPosition(x, y, z) { this.mn.check(this.mn.wasm._mn_character_set_position(this.handle, x, y, z), this.scene.handle, 'setPosition'); }
+  setHeading(radians) { this.mn.check(this.mn.wasm._mn_character_set_heading(this.handle, radians), this.scene.handle, 'setHeading'); }
+
+  /** Plays a clip on a layer (0..7). Options: weight, speed, loop, startTime, fadeIn, additive, rootMotion. */
+  play(clip, layer = 0, options = {}) {
+    const mn = this.mn, wasm = mn.wasm;
+    mn.withTemp(({ alloc, str }) => {
+      const o = LAYOUT.playOptions;
+      const p = alloc(o.size);
+      wasm._mn_play_options_default(p);
+      if (options.weight !== undefined) wasm.HEAPF32[(p + o.weight) >> 2] = options.weight;
+      if (options.speed !== undefined) wasm.HEAPF32[(p + o.speed) >> 2] = options.speed;
+      if (options.loop !== undefined) wasm.HEAP32[(p + o.loop) >> 2] = options.loop ? 1 : 0;
+      if (options.startTime !== undefined) wasm.HEAPF64[(p + o.startTime) >> 3] = options.startTime;
+      if (options.fadeIn !== undefined) wasm.HEAPF32[(p + o.fadeIn) >> 2] = options.fadeIn;
+      if (options.additive !== undefined) wasm.HEAP32[(p + o.additive) >> 2] = options.additive ? 1 : 0;
+      if (options.rootMotion !== undefined) wasm.HEAP32[(p + o.rootMotion) >> 2] = options.rootMotion ? 1 : 0;
+      mn.check(wasm._mn_character_play(this.handle, layer, str(clip), p), this.scene.handle, 'play');
+    });
+  }
+  stop(layer = 0, fadeOut = 0) { this.mn.check(this.mn.wasm._mn_character_stop(this.handle, layer, fadeOut), this.scene.handle, 'stop'); }
+
+  /**
+   * Binds to an engine skeleton: `bones` (names in the engine's palette order), `parents`
+   * (slots, -1 for roots; optional), `morphs` (the engine's morph slot names). Options:
+   * throughJointMaps (bind by canonical joint where names differ).
+   */
+  bind({ bones, parents, morphs = [], throughJointMaps = false }) {
+    const binding = new Binding(this, bones, parents, morphs, throughJointMaps);
+    this.bindings.add(binding);
+    return binding;
+  }
+
+  /** Removes the character from its scene. */
+  remove() {
+    const status = this.mn.wasm._mn_scene_remove_character(this.scene.handle, this.handle);
+    this.scene.characters.delete(this.name);
+    this.release();
+    this.mn.check(status, this.scene.handle, 'remove');
+  }
+  release() {
+    for (const b of this.bindings) b.dispose();
+    this.bindings.clear();
+    for (const b of this.buffers.values()) b.free();
+    this.buffers.clear();
+    this.handle = 0;
+  }
+}
+
+/** A character bound to an engine skeleton: the palette and morphs in the engine's order. */
+class Binding {
+  constructor(character, bones, parents, morphs, throughJointMaps) {
+    const mn = character.mn, wasm = mn.wasm;
+    this.character = character;
+    this.mn = mn;
+    this.boneCount = bones.length;
+    this.morphSlotCount = morphs.length;
+    this.handle = mn.withTemp(({ alloc, str }) => {
+      const names = alloc(4 * Math.max(1, bones.length));
+      bones.forEach((n, i) => { wasm.HEAPU32[(names >> 2) + i] = str(n); });
+      let parentPtr = 0;
+      if (parents) {
+        parentPtr = alloc(4 * Math.max(1, bones.length));
+        wasm.HEAP32.set(Int32Array.from(parents), parentPtr >> 2);
+      }
+      const morphNames = morphs.length ? alloc(4 * morphs.length) : 0;
+      morphs.forEach((n, i) => { wasm.HEAPU32[(morphNames >> 2) + i] = str(n); });
+      const s = LAYOUT.engineSkeleton;
+      const skeleton = alloc(s.size);
+      wasm.HEAPU32[(skeleton + s.boneNames) >> 2] = names;
+      wasm.HEAPU32[(skeleton + s.parents) >> 2] = parentPtr;
+      wasm.HEAPU32[(skeleton + s.boneCount) >> 2] = bones.length;
+      wasm.HEAPU32[(skeleton + s.morphNames) >> 2] = morphNames;
+      wasm.HEAPU32[(skeleton + s.morphCount) >> 2] = morphs.length;
+      const o = LAYOUT.bindingOptions;
+      const opts = alloc(o.size);
+      wasm._mn_binding_options_default(opts);
+      wasm.HEAP32[(opts + o.throughJointMaps) >> 2] = throughJointMaps ? 1 : 0;
+      const out = alloc(4);
+      mn.check(wasm._mn_binding_create(character.handle, skeleton, opts, out), character.scene.handle, 'bind');
+      return wasm.HEAPU32[out >> 2];
+    });
+    this.report = mn.string(wasm._mn_binding_report(this.handle));
+    this.jointForBone = Int32Array.from({ length: bones.length }, (_, i) => wasm._mn_binding_joint_for_bone(this.handle, i));
+    this.morphForSlot = Int32Array.from({ length: morphs.length }, (_, i) => wasm._mn_binding_morph_for_slot(this.handle, i));
+    this.paletteBuffers = new Map();
+    this.morphBuffer = new HeapFloats(mn, this.morphSlotCount);
+  }
+  /** The palette in the engine's bone order (a view on wasm memory, rewritten by each call). */
+  palette(layout = PaletteLayout.MAT4_COLUMN_MAJOR, inverseBind = true) {
+    const wasm = this.mn.wasm;
+    const n = this.boneCount * wasm._mn_palette_floats_per_joint(layout);
+    const key = layout * 2 + (inverseBind ? 1 : 0);
+    let b = this.paletteBuffers.get(key);
+    if (!b) { b = new HeapFloats(this.mn, n); this.paletteBuffers.set(key, b); }
+    this.mn.check(wasm._mn_binding_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n), this.character.scene.handle, 'palette');
+    return b.array;
+  }
+  /** Weights of the engine's morph slots (slots without a morph keep their values). */
+  morphWeights() {
+    this.mn.check(this.mn.wasm._mn_binding_morph_weights(this.handle, this.morphBuffer.ptr, this.morphSlotCount),
+      this.character.scene.handle, 'morphWeights');
+    return this.morphBuffer.array;
+  }
+  dispose() {
+    if (this.handle) this.mn.wasm._mn_binding_destroy(this.handle);
+    this.handle = 0;
+    for (const b of this.paletteBuffers.values()) b.free();
+    this.paletteBuffers.clear();
+    this.morphBuffer.free();
+    this.character.bindings.delete(this);
+  }
+}

@@ -1,0 +1,47 @@
+// web.trace_matches_native (Node.js): the package and the native C API play the same scenario;
+// every bone world matrix of every frame agrees within 1e-4 (docs/web.md).
+//   node tests/web/trace_test.mjs NATIVE_TRACE_PROGRAM PACKAGE_DIR SHARED_ASSETS_DIR
+import { execFileSync } from 'node:child_process';
+import { readFileSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { pathToFileURL } from 'node:url';
+import { runTrace, compareTraces } from './trace_runner.mjs';
+
+const [nativeProgram, packageDir, assetsDir] = process.argv.slice(2);
+if (!nativeProgram || !packageDir || !assetsDir) {
+  console.error('usage: node trace_test.mjs NATIVE_TRACE_PROGRAM PACKAGE_DIR SHARED_ASSETS_DIR');
+  process.exit(2);
+}
+const scenarioPath = new URL('./trace_scenario.json', import.meta.url);
+const scenario = JSON.parse(readFileSync(scenarioPath, 'utf8'));
+const work = mkdtempSync(join(tmpdir(), 'marionette-trace-'));
+try {
+  const nativeOut = join(work, 'native.bin');
+  const log = execFileSync(nativeProgram, [scenarioPath.pathname, assetsDir, nativeOut], { encoding: 'utf8' });
+  process.stdout.write(log);
+  const bytes = readFileSync(nativeOut);
+  const native = new Float32Array(bytes.buffer, bytes.byteOffset, bytes.byteLength / 4);
+  const { loadMarionette } = await import(pathToFileURL(join(packageDir, 'marionette.mjs')).href);
+  const marionette = await loadMarionette();
+  const web = await runTrace(marionette, scenario, async (p) => new Uint8Array(readFileSync(join(assetsDir, p))));
+  const r = compareTraces(native, web.matrices);
+  const starts = web.feedback.filter((f) => f.kind === 'blockProgress' && f.syncPoint === 'start').length;
+  const warnings = web.feedback.filter((f) => f.kind === 'warning').map((f) => f.message);
+  console.log(`web trace: ${scenario.frames} frames, joints ${web.joints.join('+')}, median update ${web.medianMicros.toFixed(1)} us, ` +
+    `max |native - web| ${r.maxAbs.toExponential(2)} (relative ${r.maxRel.toExponential(2)}), ${starts} block starts`);
+  if (warnings.length) console.log(`BML warnings:\n  ${warnings.join('\n  ')}`);
+  let failed = false;
+  if (!r.sameLength) { console.error(`FAIL: native ${native.length} floats, web ${web.matrices.length}`); failed = true; }
+  if (!(r.maxAbs <= 1e-4)) { console.error(`FAIL: the traces differ by ${r.maxAbs} at float ${r.at} (> 1e-4)`); failed = true; }
+  const blocks = scenario.characters.reduce((n, c) => n + c.bml.length, 0);
+  if (starts !== blocks) { console.error(`FAIL: ${starts} of ${blocks} blocks started`); failed = true; }
+  // The trace must show motion, or matching would prove nothing.
+  let moved = 0;
+  const per = web.matrices.length / scenario.frames;
+  for (let i = 0; i < per; ++i) moved = Math.max(moved, Math.abs(web.matrices[i] - web.matrices[(scenario.frames - 1) * per + i]));
+  if (!(moved > 0.01)) { console.error(`FAIL: nothing moved (${moved})`); failed = true; }
+  process.exit(failed ? 1 : 0);
+} finally {
+  rmSync(work, { recursive: true, force: true });
+}
