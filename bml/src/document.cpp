@@ -8,9 +8,8 @@
 #include <set>
 #include <tuple>
 
-#include <pugixml.hpp>
-
 #include "dialect_forms.hpp"
+#include "document_detail.hpp"
 #include "marionette/core/diagnostic.hpp"
 #include "marionette/core/enum_names.hpp"
 
@@ -123,17 +122,17 @@ std::string collapse(const std::string& s) {
 
 // SmartBody's forms: an sbm: prefix on any element or attribute, or its declaration.
 // Iterative: blocks may nest deeply (DeepNestingAndHugeBlocksFailCleanlyAndQuickly).
-bool usesSmartBodyForms(const pugi::xml_node& root) {
-  std::vector<pugi::xml_node> stack{root};
+bool usesSmartBodyForms(const detail::XmlTree& tree, int root) {
+  std::vector<int> stack{root};
   while (!stack.empty()) {
-    const pugi::xml_node n = stack.back();
+    const detail::XmlNode& n = tree[stack.back()];
     stack.pop_back();
-    if (prefixOf(n.name()) == "sbm") return true;
-    if (isSmartBodyBehavior(n.name()) || (std::string_view(n.name()) == "body" && n.attribute("posture"))) return true;
-    for (pugi::xml_attribute a : n.attributes())
-      if (prefixOf(a.name()) == "sbm" || std::string_view(a.name()) == "xmlns:sbm") return true;
-    for (pugi::xml_node c : n.children())
-      if (c.type() == pugi::node_element) stack.push_back(c);
+    if (prefixOf(n.name) == "sbm") return true;
+    if (isSmartBodyBehavior(n.name) || (n.name == "body" && n.attribute("posture"))) return true;
+    for (const detail::XmlAttribute& a : n.attributes)
+      if (prefixOf(a.name) == "sbm" || a.name == "xmlns:sbm") return true;
+    for (int c = n.firstChild; c >= 0; c = tree[c].nextSibling)
+      if (tree[c].type == detail::XmlNode::Type::Element) stack.push_back(c);
   }
   return false;
 }
@@ -149,41 +148,41 @@ std::string textHash(std::string_view text) {
 
 class Parser {
  public:
-  Parser(std::string_view text, const ParseOptions& options) : text_(text), lines_(text), options_(options) {}
+  Parser(std::string_view text, const ParseOptions& options, detail::XmlParser xml)
+      : text_(text), lines_(text), options_(options), xml_(xml) {}
 
   ParseResult run() {
-    pugi::xml_document doc;
-    const pugi::xml_parse_result parsed =
-        doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
-    if (!parsed) {
-      auto [line, col] = lines_.at(parsed.offset);
-      fatal(WarningType::ParsingFailure, "", std::string("malformed XML: ") + parsed.description(), line, col);
+    detail::XmlParseResult parsed = xml_(text_);
+    if (!parsed.ok) {
+      auto [line, col] = lines_.at(parsed.errorOffset);
+      fatal(WarningType::ParsingFailure, "", "malformed XML: " + parsed.errorMessage, line, col);
       return std::move(result_);
     }
-    pugi::xml_node root = doc.document_element();
+    tree_ = std::move(parsed.tree);
+    int root = tree_.root;
     smartBody_ = options_.dialect == Dialect::SmartBody ||
-                 (options_.dialect == Dialect::Auto && root &&
-                  (localName(root.name()) == "act" || usesSmartBodyForms(root)));
+                 (options_.dialect == Dialect::Auto && root >= 0 &&
+                  (localName(tree_[root].name) == "act" || usesSmartBodyForms(tree_, root)));
     // SmartBody dialect: <act><bml>...</bml></act>.
-    if (root && localName(root.name()) == "act") {
-      pugi::xml_node inner = root.child("bml");
-      if (!inner)
-        for (pugi::xml_node c : root.children())
-          if (c.type() == pugi::node_element && localName(c.name()) == "bml") inner = c;
-      if (inner) root = inner;
+    if (root >= 0 && localName(tree_[root].name) == "act") {
+      int inner = tree_.childElement(root, "bml");
+      if (inner < 0)
+        for (int c = tree_[root].firstChild; c >= 0; c = tree_[c].nextSibling)
+          if (isElement(c) && localName(tree_[c].name) == "bml") inner = c;
+      if (inner >= 0) root = inner;
     }
-    if (!root || localName(root.name()) != "bml") {
-      auto [line, col] = root ? place(root) : std::pair{0, 0};
+    if (root < 0 || localName(tree_[root].name) != "bml") {
+      auto [line, col] = root >= 0 ? place(root) : std::pair{0, 0};
       fatal(WarningType::ParsingFailure, "", "expected a <bml> element at the top", line, col);
       return std::move(result_);
     }
     Block block;
     std::tie(block.line, block.column) = place(root);
-    block.id = root.attribute("id").as_string();
+    block.id = attribute(root, "id");
     blockId_ = block.id;
-    block.characterId = root.attribute("characterId").as_string();
+    block.characterId = attribute(root, "characterId");
     // Compositions case-insensitively: Greta writes "append".
-    block.composition = root.attribute("composition").as_string("MERGE");
+    block.composition = tree_[root].attribute("composition") ? attribute(root, "composition") : "MERGE";
     for (char& c : block.composition) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     block.smartBody = smartBody_;
     collectIds(root);
@@ -204,7 +203,7 @@ class Parser {
     }
     if (block.composition != "MERGE" && block.composition != "APPEND" && block.composition != "REPLACE") {
       warn(WarningType::ParsingFailure, "",
-           "composition '" + std::string(root.attribute("composition").as_string()) +
+           "composition '" + std::string(attribute(root, "composition")) +
                "' is not MERGE, APPEND or REPLACE; using MERGE",
            block.line, block.column);
       block.composition = "MERGE";
@@ -225,7 +224,14 @@ class Parser {
   }
 
  private:
-  std::pair<int, int> place(const pugi::xml_node& n) const { return lines_.at(n.offset_debug() - 1); }
+  // Where an element starts: its '<', one byte before its name.
+  std::pair<int, int> place(int n) const { return lines_.at(tree_[n].offset - 1); }
+  bool isElement(int n) const { return tree_[n].type == detail::XmlNode::Type::Element; }
+  // The attribute's value, "" when the element has none (as pugixml's as_string()).
+  const char* attribute(int n, std::string_view name) const {
+    const std::string* value = tree_[n].attribute(name);
+    return value ? value->c_str() : "";
+  }
 
   void warn(WarningType type, std::string behavior, std::string message, int line, int col, bool isFatal = false) {
     result_.warnings.push_back({type, blockId_, std::move(behavior), line, col, std::move(message), isFatal});
@@ -235,9 +241,9 @@ class Parser {
   }
 
   // The <bml> element's other attributes: BMLA's (Block::Bmla) read, any other named.
-  void readBlockAttributes(const pugi::xml_node& root, Block& block) {
-    for (pugi::xml_attribute a : root.attributes()) {
-      const std::string_view name = a.name();
+  void readBlockAttributes(int root, Block& block) {
+    for (const detail::XmlAttribute& a : tree_[root].attributes) {
+      const std::string_view name = a.name;
       if (name == "xmlns" || name.substr(0, 6) == "xmlns:") continue;
       const std::string_view local = localName(name);
       const std::string ns = prefixOf(name).empty() ? std::string(kBmlNamespace) : namespaceOf(root, name, true);
@@ -249,7 +255,7 @@ class Parser {
                                                                   : nullptr;
         if (list) {
           std::string id;
-          for (const char* c = a.value();; ++c) {  // "b1,b2" or "b1 b2"
+          for (const char* c = a.value.c_str();; ++c) {  // "b1,b2" or "b1 b2"
             if (*c && *c != ',' && *c != ' ' && *c != '\t' && *c != '\n') {
               id += *c;
               continue;
@@ -259,9 +265,9 @@ class Parser {
             if (!*c) break;
           }
         } else if (local == "preplan") {
-          block.bmla.preplan = std::string_view(a.value()) == "true";
-          if (!block.bmla.preplan && std::string_view(a.value()) != "false")
-            warn(WarningType::ParsingFailure, "", "bmla:preplan=\"" + std::string(a.value()).substr(0, 40) +
+          block.bmla.preplan = a.value == "true";
+          if (!block.bmla.preplan && a.value != "false")
+            warn(WarningType::ParsingFailure, "", "bmla:preplan=\"" + a.value.substr(0, 40) +
                                                       "\" is not true or false; the block starts as planned", block.line,
                  block.column);
         } else {
@@ -283,37 +289,37 @@ class Parser {
 
   // Every id the block's behaviors give themselves, so that a generated one takes none of them.
   // Behaviors stand under <bml> or one <required> (readChildren goes no deeper).
-  void collectIds(const pugi::xml_node& n, bool inRequired = false) {
-    for (pugi::xml_node c : n.children()) {
-      if (c.type() != pugi::node_element) continue;
-      if (const char* id = c.attribute("id").as_string(); *id) usedIds_.insert(id);
-      if (!inRequired && localName(c.name()) == "required") collectIds(c, true);
+  void collectIds(int n, bool inRequired = false) {
+    for (int c = tree_[n].firstChild; c >= 0; c = tree_[c].nextSibling) {
+      if (!isElement(c)) continue;
+      if (const char* id = attribute(c, "id"); *id) usedIds_.insert(id);
+      if (!inRequired && localName(tree_[c].name) == "required") collectIds(c, true);
     }
   }
 
   // The namespace of an element's or attribute's name, as XML scopes it: the nearest
   // xmlns / xmlns:prefix declaration on the node or an ancestor (other realizers' tools
   // declare a prefix on the behavior itself: <bmla:interrupt xmlns:bmla="...">).
-  static std::string namespaceOf(const pugi::xml_node& node, std::string_view qualified, bool isAttribute) {
+  std::string namespaceOf(int node, std::string_view qualified, bool isAttribute) const {
     const std::string_view prefix = prefixOf(qualified);
     if (prefix.empty() && isAttribute) return std::string(kBmlNamespace);
     const std::string declaration = prefix.empty() ? std::string("xmlns") : "xmlns:" + std::string(prefix);
-    for (pugi::xml_node n = node; n && n.type() == pugi::node_element; n = n.parent())
-      if (const pugi::xml_attribute a = n.attribute(declaration.c_str())) return a.value();
+    for (int n = node; n >= 0 && isElement(n); n = tree_[n].parent)
+      if (const std::string* value = tree_[n].attribute(declaration)) return value->c_str();
     return prefix.empty() ? std::string() : "undeclared prefix '" + std::string(prefix) + "'";
   }
   static bool isBmlNamespace(std::string_view ns) {
     return ns.empty() || ns == kBmlNamespace || ns == kCoreExtensionsNamespace || ns == kDraftBmlNamespace;
   }
 
-  void readChildren(const pugi::xml_node& parent, bool required, Block& block) {
-    for (pugi::xml_node n : parent.children()) {
-      if (n.type() != pugi::node_element) continue;
+  void readChildren(int parent, bool required, Block& block) {
+    for (int n = tree_[parent].firstChild; n >= 0; n = tree_[n].nextSibling) {
+      if (!isElement(n)) continue;
       if (tooLarge_) return;
-      const std::string_view qualified = n.name();
+      const std::string_view qualified = tree_[n].name;
       const std::string type(localName(qualified));
       auto [line, col] = place(n);
-      const std::string id = n.attribute("id").as_string();
+      const std::string id = attribute(n, "id");
       const std::string ns = namespaceOf(n, qualified, false);
       // Inside <required>, a behavior that cannot be realized fails the block (BML 1.0).
       const std::string failsBlock = required ? "; being required, it made the block fail" : "";
@@ -344,7 +350,7 @@ class Parser {
         readChildren(n, true, block);
       } else if (type == "constraint") {
         readConstraint(n, required, block);
-      } else if (type == "body" && prefixOf(qualified).empty() && n.attribute("posture")) {
+      } else if (type == "body" && prefixOf(qualified).empty() && tree_[n].attribute("posture")) {
         readBehavior(n, "posture", required, block);  // SmartBody <body posture="..."/>
       } else if (isCoreBehavior(type) || (prefixOf(qualified).empty() && isSmartBodyBehavior(type))) {
         readBehavior(n, type, required, block);
@@ -355,23 +361,23 @@ class Parser {
     }
   }
 
-  void readBehavior(const pugi::xml_node& n, const std::string& type, bool required, Block& block) {
+  void readBehavior(int n, const std::string& type, bool required, Block& block) {
     Behavior b;
     b.type = type;
     b.required = required;
     std::tie(b.line, b.column) = place(n);
     std::vector<std::string> unknown;  // named together in one warning, after the id is known
     std::string knownList;
-    for (pugi::xml_attribute a : n.attributes()) {
-      const std::string_view name = a.name();
+    for (const detail::XmlAttribute& a : tree_[n].attributes) {
+      const std::string_view name = a.name;
       if (name == "id") {
-        b.id = a.value();
+        b.id = a.value;
         continue;
       }
       if (name == "xmlns" || name.substr(0, 6) == "xmlns:") continue;
       const std::string ns = namespaceOf(n, name, true);
       if (type == "saccade" && name == "sbm:duration") {  // SmartBody's own spelling of the saccade's length
-        b.attributes.push_back({"duration", a.value(), b.line, b.column});
+        b.attributes.push_back({"duration", a.value, b.line, b.column});
         continue;
       }
       // A reach's attributes are SmartBody's, with or without its prefix (sbm:action).
@@ -389,7 +395,7 @@ class Parser {
         knownList = known;
         continue;
       }
-      b.attributes.push_back({local, a.value(), b.line, b.column});
+      b.attributes.push_back({local, a.value, b.line, b.column});
     }
     if (b.id.empty() && smartBody_) {
       for (int k = ++typeCount_[type];; k = ++typeCount_[type])
@@ -453,25 +459,25 @@ class Parser {
   // Text and word marks, with character offsets into the collapsed text. Marks are BML's
   // <sync id>, SSML's <mark name> (SmartBody, Greta) and AsapRealizer's <tm id>; other
   // elements (SSML's <speak>, <prosody>, <emphasis>, ...) give their text. The walk is
-  // iterative and bounded by the document, which pugixml has already read.
-  void readSpeech(const pugi::xml_node& n, Behavior& b) {
-    pugi::xml_node textNode = n.child("text");
-    if (!textNode)
-      for (pugi::xml_node c : n.children())
-        if (c.type() == pugi::node_element && localName(c.name()) == "text") textNode = c;
-    const pugi::xml_node source = textNode ? textNode : n;
+  // iterative and bounded by the document, which the XML parser has already read.
+  void readSpeech(int n, Behavior& b) {
+    int textNode = tree_.childElement(n, "text");
+    if (textNode < 0)
+      for (int c = tree_[n].firstChild; c >= 0; c = tree_[c].nextSibling)
+        if (isElement(c) && localName(tree_[c].name) == "text") textNode = c;
+    const int source = textNode >= 0 ? textNode : n;
     std::string raw;
     // The collapsed text's length so far, kept as the text is read: a mark's offset without
     // collapsing the text again at every mark (quadratic in a line of thousands of marks).
     std::size_t collapsedLength = 0;
     bool pendingSpace = false, lastWasSpace = false;
-    std::vector<pugi::xml_node> stack;  // siblings still to visit, last first
-    for (pugi::xml_node c = source.last_child(); c; c = c.previous_sibling()) stack.push_back(c);
+    std::vector<int> stack;  // siblings still to visit, last first
+    for (int c = tree_[source].lastChild; c >= 0; c = tree_[c].previousSibling) stack.push_back(c);
     while (!stack.empty()) {
-      const pugi::xml_node c = stack.back();
+      const int c = stack.back();
       stack.pop_back();
-      if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) {
-        for (const char* p = c.value(); *p; ++p) {  // as collapse() does
+      if (!isElement(c)) {  // text or CDATA
+        for (const char* p = tree_[c].value.c_str(); *p; ++p) {  // as collapse() does
           lastWasSpace = *p == ' ' || *p == '\t' || *p == '\n' || *p == '\r';
           if (lastWasSpace) {
             pendingSpace = collapsedLength > 0;
@@ -480,17 +486,16 @@ class Parser {
           collapsedLength += pendingSpace ? 2 : 1;
           pendingSpace = false;
         }
-        raw += c.value();
+        raw += tree_[c].value;
         continue;
       }
-      if (c.type() != pugi::node_element) continue;
-      const std::string_view kind = localName(c.name());
+      const std::string_view kind = localName(tree_[c].name);
       const char* idAttribute = kind == "sync" || kind == "tm" ? "id" : kind == "mark" ? "name" : nullptr;
       if (!idAttribute) {
-        for (pugi::xml_node g = c.last_child(); g; g = g.previous_sibling()) stack.push_back(g);
+        for (int g = tree_[c].lastChild; g >= 0; g = tree_[g].previousSibling) stack.push_back(g);
         continue;
       }
-      const std::string id = c.attribute(idAttribute).as_string();
+      const std::string id = attribute(c, idAttribute);
       auto [line, col] = place(c);
       if (id.empty()) {
         warn(WarningType::ParsingFailure, b.id,
@@ -510,12 +515,12 @@ class Parser {
   // BML 1.0's element form of a posture: <stance type="SITTING"/> and <pose part="WHOLEBODY"
   // lexeme="..."/> children, read as the stance and lexeme attributes (an attribute given
   // on the behavior itself comes first).
-  void readPostureChildren(const pugi::xml_node& n, Behavior& b) {
-    for (pugi::xml_node c : n.children()) {
-      if (c.type() != pugi::node_element) continue;
-      const std::string_view kind = localName(c.name());
+  void readPostureChildren(int n, Behavior& b) {
+    for (int c = tree_[n].firstChild; c >= 0; c = tree_[c].nextSibling) {
+      if (!isElement(c)) continue;
+      const std::string_view kind = localName(tree_[c].name);
       const char* name = kind == "stance" ? "stance" : kind == "pose" ? "lexeme" : nullptr;
-      const char* value = kind == "stance" ? c.attribute("type").as_string() : c.attribute("lexeme").as_string();
+      const char* value = kind == "stance" ? attribute(c, "type") : attribute(c, "lexeme");
       auto [line, col] = place(c);
       if (!name) {
         warn(WarningType::ParsingFailure, b.id, "<" + std::string(kind) + "> in <" + b.type +
@@ -530,12 +535,12 @@ class Parser {
     }
   }
 
-  void readConstraint(const pugi::xml_node& n, bool required, Block& block) {
-    for (pugi::xml_node c : n.children()) {
-      if (c.type() != pugi::node_element) continue;
-      const std::string kind(localName(c.name()));
+  void readConstraint(int n, bool required, Block& block) {
+    for (int c = tree_[n].firstChild; c >= 0; c = tree_[c].nextSibling) {
+      if (!isElement(c)) continue;
+      const std::string kind(localName(tree_[c].name));
       Constraint k;
-      k.id = n.attribute("id").as_string();
+      k.id = attribute(n, "id");
       k.required = required;
       std::tie(k.line, k.column) = place(c);
       if (kind == "synchronize") k.kind = Constraint::Kind::Synchronize;
@@ -547,15 +552,15 @@ class Parser {
         continue;
       }
       if (k.kind != Constraint::Kind::Synchronize) {
-        k.anchor = {c.attribute("ref").as_string(), k.line, k.column};
+        k.anchor = {attribute(c, "ref"), k.line, k.column};
         if (k.anchor.ref.empty()) {
           warn(WarningType::ParsingFailure, k.id, "<" + kind + "> needs a ref attribute; the constraint was left out", k.line,
                k.column);
           continue;
         }
       }
-      for (pugi::xml_node s : c.children()) {
-        if (s.type() != pugi::node_element || localName(s.name()) != "sync") continue;
+      for (int s = tree_[c].firstChild; s >= 0; s = tree_[s].nextSibling) {
+        if (!isElement(s) || localName(tree_[s].name) != "sync") continue;
         auto [line, col] = place(s);
         if (++constraintSyncs_ > kMaxConstraintSyncsPerBlock) {
           tooLarge_ = true;
@@ -565,7 +570,7 @@ class Parser {
                 line, col);
           return;
         }
-        k.syncs.push_back({s.attribute("ref").as_string(), line, col});
+        k.syncs.push_back({attribute(s, "ref"), line, col});
       }
       block.constraints.push_back(std::move(k));
     }
@@ -574,6 +579,8 @@ class Parser {
   std::string_view text_;
   LineIndex lines_;
   const ParseOptions& options_;
+  detail::XmlParser xml_;
+  detail::XmlTree tree_;
   bool smartBody_ = false;
   std::set<std::string> usedIds_;
   std::map<std::string, int> typeCount_;
@@ -604,7 +611,13 @@ std::string ParseResult::format(const std::string& source) const {
   return out;
 }
 
-ParseResult parseBlock(std::string_view text, const ParseOptions& options) { return Parser(text, options).run(); }
+ParseResult parseBlock(std::string_view text, const ParseOptions& options) {
+  return Parser(text, options, detail::parseXml).run();
+}
+
+ParseResult detail::parseBlockWith(std::string_view text, const ParseOptions& options, XmlParser xml) {
+  return Parser(text, options, xml).run();
+}
 
 constexpr EnumName<Dialect> kDialectNames[] = {
     {"auto", Dialect::Auto}, {"bml", Dialect::Bml}, {"smartbody", Dialect::SmartBody}};

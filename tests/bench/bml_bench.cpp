@@ -1,5 +1,7 @@
 // BML/ParseSchedule: parse + schedule a typical block of 10 behaviors with
 // speech (two word marks) and 4 cross references. Target: at most 20 us per block.
+// BML/Parse: the same block parsed alone (parseBlock: the XML parser and the walk over its
+// tree), to compare XML parsers (MARIONETTE_BML_XML).
 // BML/Perform: the same block through the Realizer (composition, 10 requests on
 // the character's timeline, predictions), then interrupted; the ratio of the two
 // is what the realizer adds.
@@ -37,6 +39,17 @@ static void BmlParseSchedule(benchmark::State& state) {
   state.counters["behaviors"] = static_cast<double>(behaviors);
 }
 BENCHMARK(BmlParseSchedule)->Name("BML/ParseSchedule/typical10")->Unit(benchmark::kMicrosecond);
+
+static void BmlParse(benchmark::State& state) {
+  std::size_t behaviors = 0;
+  for (auto _ : state) {
+    marionette::bml::ParseResult r = marionette::bml::parseBlock(kTypicalBlock);
+    behaviors = r.block ? r.block->behaviors.size() : 0;
+    benchmark::DoNotOptimize(r);
+  }
+  if (behaviors != 10) state.SkipWithError("the typical block did not parse into 10 behaviors");
+}
+BENCHMARK(BmlParse)->Name("BML/Parse/typical10")->Unit(benchmark::kMicrosecond);
 
 static void BmlPerform(benchmark::State& state) {
   marionette::Scene scene;
