@@ -43,3 +43,4 @@ add_library(Threads::Threads INTERFACE IMPORTED GLOBAL)  # one thread: the scene
 # exception handling costs nothing until something throws.
 add_compile_options(-msimd128 -msse2 -fwasm-exceptions)
 add_link_options(-fwasm-exceptions)
+set(MARIONETTE_RAPIDXML_INCLUDE_DIR ${_web_deps} CACHE PATH "rapidxml, staged for the web build" FORCE)

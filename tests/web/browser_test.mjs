@@ -99,7 +99,7 @@ try {
   }, scenario);
   const webBytes = Buffer.from(web.b64, 'base64');
   const r = compareTraces(native, new Float32Array(webBytes.buffer, webBytes.byteOffset, webBytes.byteLength / 4));
-  check(r.sameLength && r.maxAbs <= 1e-4, `page trace vs native: max |difference| ${r.maxAbs.toExponential(2)} (relative ${r.maxRel.toExponential(2)}) over ${scenario.frames} frames`);
+  check(r.sameLength && r.maxAbs <= 1e-4, `page trace vs native: max |difference| ${r.maxAbs.toExponential(2)} (translation ${r.maxTranslation.toExponential(2)} m, axes ${r.maxAxis.toExponential(2)}; largest raw float difference ${r.maxRaw.toExponential(2)}) over ${scenario.frames} frames`);
   console.log(`page trace: median update ${web.medianMicros.toFixed(1)} us for ${scenario.characters.length} characters`);
 
   check(consoleErrors.length === 0, `no console error${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);

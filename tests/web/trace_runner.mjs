@@ -56,16 +56,30 @@ export async function runTrace(marionette, scenario, readAsset) {
   }
 }
 
-// The largest difference between two traces, absolute and relative to the entry's magnitude
-// (a joint 100 units from the origin in a centimetre skeleton carries float rounding of 1e-5).
+// How far two traces are apart, per bone world matrix: the translation column in metres, and
+// the other three columns relative to their length (a joint in a centimetre skeleton under a
+// 0.01 scale, or the reverse, has columns of length 100 or 0.01: their entries carry float
+// rounding of that size). `maxAbs` is the largest of both over every matrix; `maxRaw` the
+// largest plain difference of one float, for the record. NaN counts as the worst.
 export function compareTraces(a, b) {
-  if (a.length !== b.length) return { sameLength: false, maxAbs: Infinity, maxRel: Infinity, at: -1 };
-  let maxAbs = 0, maxRel = 0, at = -1;
-  for (let i = 0; i < a.length; ++i) {
-    const d = Math.abs(a[i] - b[i]);
-    if (!(d <= maxAbs)) { maxAbs = d; at = i; }  // NaN counts as the worst
-    const rel = d / Math.max(1, Math.abs(a[i]));
-    if (!(rel <= maxRel)) maxRel = rel;
+  if (a.length !== b.length) return { sameLength: false, maxAbs: Infinity, maxRaw: Infinity, at: -1 };
+  let maxAbs = 0, maxRaw = 0, maxTranslation = 0, maxAxis = 0, at = -1;
+  for (let m = 0; m < a.length; m += 16) {
+    for (let col = 0; col < 4; ++col) {
+      let scale = 1;
+      if (col < 3) {
+        const o = m + col * 4;
+        scale = Math.max(1e-6, Math.hypot(a[o], a[o + 1], a[o + 2]));
+      }
+      for (let row = 0; row < 4; ++row) {
+        const i = m + col * 4 + row;
+        const raw = Math.abs(a[i] - b[i]);
+        if (!(raw <= maxRaw)) maxRaw = raw;
+        const d = col < 3 ? raw / scale : raw;
+        if (col < 3) { if (!(d <= maxAxis)) maxAxis = d; } else if (!(d <= maxTranslation)) maxTranslation = d;
+        if (!(d <= maxAbs)) { maxAbs = d; at = i; }
+      }
+    }
   }
-  return { sameLength: true, maxAbs, maxRel, at };
+  return { sameLength: true, maxAbs, maxRaw, maxTranslation, maxAxis, at };
 }

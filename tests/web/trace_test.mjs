@@ -29,7 +29,7 @@ try {
   const starts = web.feedback.filter((f) => f.kind === 'blockProgress' && f.syncPoint === 'start').length;
   const warnings = web.feedback.filter((f) => f.kind === 'warning').map((f) => f.message);
   console.log(`web trace: ${scenario.frames} frames, joints ${web.joints.join('+')}, median update ${web.medianMicros.toFixed(1)} us, ` +
-    `max |native - web| ${r.maxAbs.toExponential(2)} (relative ${r.maxRel.toExponential(2)}), ${starts} block starts`);
+    `max |native - web| ${r.maxAbs.toExponential(2)} (translation ${r.maxTranslation.toExponential(2)} m, axes ${r.maxAxis.toExponential(2)}; largest raw float difference ${r.maxRaw.toExponential(2)}), ${starts} block starts`);
   if (warnings.length) console.log(`BML warnings:\n  ${warnings.join('\n  ')}`);
   let failed = false;
   if (!r.sameLength) { console.error(`FAIL: native ${native.length} floats, web ${web.matrices.length}`); failed = true; }

@@ -6,6 +6,9 @@
 #include <string>
 
 #include "handles.hpp"
+#if MARIONETTE_C_SHIPPED_DATA
+#include "shipped_data.hpp"
+#endif
 #include "marionette/core/limits.hpp"
 #include "marionette/io/import.hpp"
 #include "marionette/rig/character_profile.hpp"
@@ -118,7 +121,13 @@ mn_status loadAsset(const mn_scene* scene, const char* call, const std::string& 
                   std::string(call) + ": " + p.diagnostics.format());
     addLines(warnings, p.diagnostics);
     rig->setProfile(std::move(p.profile));
-  } else if (auto shipped = findShippedProfile(*asset, shippedProfileFolders(libraryFolder(), MARIONETTE_SOURCE_PROFILES))) {
+  } else if (auto shipped =
+#if MARIONETTE_C_SHIPPED_DATA  // no file system: the profiles built in
+                 findShippedProfile(*asset, {kShippedProfileFolder}, shippedFileReader())
+#else
+                 findShippedProfile(*asset, shippedProfileFolders(libraryFolder(), MARIONETTE_SOURCE_PROFILES))
+#endif
+             ) {
     warnings += "profile: " + shipped->file + " (the installed profile of this asset)\n";
     rig->setProfile(std::move(shipped->profile));
   }

@@ -15,17 +15,18 @@ std::vector<std::string> shippedProfileFolders(const std::string& binaryFolder, 
   return out;
 }
 
-std::optional<ProfileMatch> findShippedProfile(const Asset& asset, const std::vector<std::string>& folders) {
+std::optional<ProfileMatch> findShippedProfile(const Asset& asset, const std::vector<std::string>& folders,
+                                               const FileReader& files) {
   namespace fs = std::filesystem;
   const std::string stem = fs::path(asset.sourcePath).stem().string();
   if (stem.empty()) return std::nullopt;
   for (const std::string& folder : folders) {
     const fs::path file = fs::path(folder) / (stem + ".json");
     std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) continue;
+    if (!files && !fs::is_regular_file(file, ec)) continue;  // a reader says so by failing to read it
     // The file of the same name, if it fits: a profile written for another asset of that
     // name names joints this one lacks (warnings) and is passed over.
-    CharacterProfileResult r = loadCharacterProfile(file.string(), asset);
+    CharacterProfileResult r = loadCharacterProfile(file.generic_string(), asset, files);
     if (r.diagnostics.items.empty()) return ProfileMatch{file.string(), std::move(r.profile)};
   }
   return std::nullopt;

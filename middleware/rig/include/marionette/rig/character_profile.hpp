@@ -127,8 +127,9 @@ struct ProfileMatch {
 // The installed profile of a known asset: the file named after the asset's file
 // (RobotExpressive.glb: RobotExpressive.json) in the first folder that has one that loads
 // for this asset without a warning. Nothing when none does (the profile is then guessed).
-[[nodiscard]] std::optional<ProfileMatch> findShippedProfile(const Asset& asset,
-                                                               const std::vector<std::string>& folders);
+// `files`: where the folders are read (empty: the disk); the web build's are built in.
+[[nodiscard]] std::optional<ProfileMatch> findShippedProfile(const Asset& asset, const std::vector<std::string>& folders,
+                                                               const FileReader& files = {});
 
 // `files`: where the profile and its joint map are read (core/file_reader.hpp; empty: the disk).
 [[nodiscard]] CharacterProfileResult loadCharacterProfile(const std::string& path, const Asset& asset,
