@@ -107,7 +107,8 @@ std::string decodeText(std::string_view s, bool entities) {
       out += s[i++];
     }
   }
-  return out.substr(0, out.find('\0'));  // pugixml's strings end at a NUL ("&#0;")
+  out.resize(std::min(out.size(), out.find('\0')));  // pugixml's strings end at a NUL ("&#0;")
+  return out;
 }
 
 // Attribute values: each space, tab or line end a space ("\r\n" one), entities decoded.
@@ -127,7 +128,8 @@ std::string decodeAttribute(std::string_view s) {
       out += s[i++];
     }
   }
-  return out.substr(0, out.find('\0'));
+  out.resize(std::min(out.size(), out.find('\0')));
+  return out;
 }
 
 struct Failure {
@@ -148,6 +150,7 @@ class Reader {
     XmlParseResult result;
     // pugixml reads up to a NUL byte; so does rapidxml, on the zero-terminated copy.
     const std::size_t end = std::min(text_.size(), text_.find('\0'));
+    result.tree.reserveFor(text_);
     std::size_t start = 0;
     std::optional<Failure> failure;
     std::size_t failedAt = 0;  // rapidxml's own offset of the failure
@@ -232,6 +235,9 @@ class Reader {
       if (node.type == XmlNode::Type::Element) {
         node.name.assign(n->name(), n->name_size());
         node.offset = offsetOf(n->name());
+        std::size_t count = 0;
+        for (const rapidxml::xml_attribute<char>* a = n->first_attribute(); a; a = a->next_attribute()) ++count;
+        node.attributes.reserve(count);
         for (const rapidxml::xml_attribute<char>* a = n->first_attribute(); a; a = a->next_attribute()) {
           node.attributes.push_back({std::string(a->name(), a->name_size()), decodeAttribute({a->value(), a->value_size()})});
         }
