@@ -20,6 +20,7 @@ XmlParseResult parseXmlWithPugixml(std::string_view text) {
     result.errorMessage = parsed.description();
     return result;
   }
+  result.tree.reserveFor(text);
   // Iterative: the tree may be deep (up to kMaxXmlDepth).
   std::vector<std::pair<pugi::xml_node, int>> stack;  // a node still to copy, its parent's index
   for (pugi::xml_node c = doc.last_child(); c; c = c.previous_sibling()) stack.push_back({c, -1});
@@ -38,6 +39,9 @@ XmlParseResult parseXmlWithPugixml(std::string_view text) {
     node.value = n.value();
     if (node.type == XmlNode::Type::Element) {
       node.offset = static_cast<std::size_t>(n.offset_debug());
+      std::size_t count = 0;
+      for (pugi::xml_attribute a = n.first_attribute(); a; a = a.next_attribute()) ++count;
+      node.attributes.reserve(count);
       for (pugi::xml_attribute a : n.attributes()) node.attributes.push_back({a.name(), a.value()});
     }
     const int index = result.tree.append(parent, std::move(node));

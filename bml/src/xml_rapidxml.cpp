@@ -5,18 +5,22 @@
 // whitespace are decoded here as pugixml's parse_default does.
 //
 // Errors: rapidxml stops at the first problem, as pugixml does, but not always at the same
-// byte. The rules that make the offsets pugixml's (tests/bml/xml_parser_test.cpp checks them
-// on malformed inputs; docs/bml-compliance.md, "XML parsers"):
-// - the end of the text: pugixml reports the last byte, rapidxml the byte after it;
-// - a mismatched end tag: pugixml reports the start of its name, rapidxml its end;
-// - what rapidxml accepts and pugixml does not (text at the top level is skipped by both;
-//   names pugixml's grammar does not allow, attributes without a space between them, no
-//   element at all) is checked here after rapidxml's parse, at pugixml's offset.
-// Elsewhere the offset is rapidxml's own, which may differ from pugixml's by a few bytes.
+// byte, and it accepts some texts pugixml rejects. The rules that make the offsets pugixml's
+// (tests/bml/xml_parser_test.cpp checks them; docs/bml-compliance.md, "XML parsers"):
+// - the end of the text: pugixml reports its last byte, rapidxml the byte after it;
+// - a mismatched end tag: pugixml reports the start of its name, rapidxml its end; a missing
+//   '=': pugixml one byte past rapidxml; a quoted value or CDATA that runs to the end (or to
+//   a NUL byte): pugixml where its content starts;
+// - what pugixml rejects and rapidxml accepts (names pugixml's grammar does not allow, no
+//   space between attributes, "<!-x", a DOCTYPE inside an element, ...) and how pugixml
+//   reads end tags and DOCTYPEs come from scanXml (xml_tree.cpp), at pugixml's offsets;
+// - text at the top level is skipped by both (rapidxml fails there: it is read again after
+//   it); a text without an element fails at its end, as pugixml's "no document element".
 #include <rapidxml/rapidxml.hpp>
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <optional>
 
 #include "xml_tree.hpp"
@@ -107,7 +111,8 @@ std::string decodeText(std::string_view s, bool entities) {
       out += s[i++];
     }
   }
-  return out.substr(0, out.find('\0'));  // pugixml's strings end at a NUL ("&#0;")
+  out.resize(std::min(out.size(), out.find('\0')));  // pugixml's strings end at a NUL ("&#0;")
+  return out;
 }
 
 // Attribute values: each space, tab or line end a space ("\r\n" one), entities decoded.
@@ -127,7 +132,8 @@ std::string decodeAttribute(std::string_view s) {
       out += s[i++];
     }
   }
-  return out.substr(0, out.find('\0'));
+  out.resize(std::min(out.size(), out.find('\0')));
+  return out;
 }
 
 struct Failure {
@@ -141,27 +147,31 @@ class Reader {
     buffer_.push_back('\0');
     // DOCTYPEs as spaces (rapidxml skips them at the top level, the only place pugixml
     // allows one): rapidxml may end one elsewhere than pugixml does, and neither keeps it.
-    for (const auto& [begin, end] : scan_.doctypes) std::fill(buffer_.begin() + static_cast<std::ptrdiff_t>(begin), buffer_.begin() + static_cast<std::ptrdiff_t>(end), ' ');
+    for (const auto& [begin, end] : scan_.doctypes)
+      std::fill(buffer_.data() + begin, buffer_.data() + end, ' ');
   }
 
   XmlParseResult run() {
     XmlParseResult result;
     // pugixml reads up to a NUL byte; so does rapidxml, on the zero-terminated copy.
     const std::size_t end = std::min(text_.size(), text_.find('\0'));
+    result.tree.reserveFor(text_);
     std::size_t start = 0;
     std::optional<Failure> failure;
     std::size_t failedAt = 0;  // rapidxml's own offset of the failure
+    // On the heap: a rapidxml document holds a 64 KB memory pool, the web build's whole stack.
+    const auto doc = std::make_unique<rapidxml::xml_document<char>>();
     while (!failure) {
-      rapidxml::xml_document<char> doc;
+      doc->clear();
       try {
-        doc.parse<kFlags>(buffer_.data() + start);
-        copy(doc, result.tree);
+        doc->parse<kFlags>(buffer_.data() + start);
+        copy(*doc, result.tree);
         break;
       } catch (const rapidxml::parse_error& e) {
         const auto where = static_cast<std::size_t>(e.where<char>() - buffer_.data());
         if (std::string_view(e.what()) == "expected <") {
           // Text at the top level: pugixml skips it, up to the next '<'.
-          copy(doc, result.tree);
+          copy(*doc, result.tree);
           const std::size_t next = text_.find('<', where);
           if (next == std::string_view::npos || next >= end) break;
           start = next;
@@ -232,6 +242,9 @@ class Reader {
       if (node.type == XmlNode::Type::Element) {
         node.name.assign(n->name(), n->name_size());
         node.offset = offsetOf(n->name());
+        std::size_t count = 0;
+        for (const rapidxml::xml_attribute<char>* a = n->first_attribute(); a; a = a->next_attribute()) ++count;
+        node.attributes.reserve(count);
         for (const rapidxml::xml_attribute<char>* a = n->first_attribute(); a; a = a->next_attribute()) {
           node.attributes.push_back({std::string(a->name(), a->name_size()), decodeAttribute({a->value(), a->value_size()})});
         }

@@ -29,6 +29,10 @@ int XmlTree::append(int parent, XmlNode node) {
   return index;
 }
 
+void XmlTree::reserveFor(std::string_view text) {
+  nodes.reserve(2 * static_cast<std::size_t>(std::count(text.begin(), text.end(), '<')) + 1);
+}
+
 int XmlTree::childElement(int parent, std::string_view name) const {
   for (int c = (*this)[parent].firstChild; c >= 0; c = (*this)[c].nextSibling)
     if ((*this)[c].type == XmlNode::Type::Element && (*this)[c].name == name) return c;

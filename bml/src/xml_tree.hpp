@@ -45,6 +45,9 @@ struct XmlTree {
   const XmlNode& operator[](int i) const { return nodes[static_cast<std::size_t>(i)]; }
   // Appends `node` as the last child of `parent` (-1: top level); its index.
   int append(int parent, XmlNode node);
+  // Room for the nodes `text` can have (one element or text per '<', and one more text):
+  // the tree is built without moving nodes.
+  void reserveFor(std::string_view text);
   // The first child element of `parent` with this name, or -1.
   [[nodiscard]] int childElement(int parent, std::string_view name) const;
 };
