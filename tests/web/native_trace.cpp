@@ -2,11 +2,13 @@
 // the C API, as bridge/web/js/marionette.mjs does in the browser, and writes every character's
 // bone world matrices (world * model-space joint matrix, column-major, float32) for every frame.
 //   marionette_web_trace_native SCENARIO SHARED_ASSETS_DIR OUT.bin
+//   marionette_web_trace_native --bench N FRAMES CHARACTER_FILE   (docs/benchmarks.md, scripts/bench-web)
 // OUT.bin: for each frame, for each character in the scenario's order, joint_count * 16 floats.
 // Also prints the update cost per frame (median of the frames, microseconds).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <string>
@@ -30,7 +32,47 @@ std::string readFile(const std::string& path) {
 
 }  // namespace
 
+// --bench N FRAMES ASSET: N copies of a character (its "Idle" clip looping, a gaze at the
+// camera), FRAMES updates at 60 Hz after at least 1.5 s of warm-up; prints the update cost per character
+// (the median of 5 runs of FRAMES/5 updates each), as bench_runner.mjs measures it in the page.
+int bench(int n, int frames, const std::string& file) {
+  const std::string bytes = readFile(file);
+  mn_asset* asset = nullptr;
+  const std::string hint = file.substr(file.find_last_of('/') + 1);
+  if (mn_asset_load_memory(bytes.data(), bytes.size(), hint.c_str(), nullptr, &asset) != MN_OK)
+    return failWith(nullptr, "asset " + file);
+  mn_scene* scene = nullptr;
+  mn_scene_create(&scene);
+  mn_scene_set_speech_synthesis(scene, MN_SPEECH_INLINE);
+  mn_scene_set_object(scene, "camera", 0.0f, 1.5f, 6.0f);
+  for (int k = 0; k < n; ++k) {
+    const std::string name = "c" + std::to_string(k);
+    mn_character* c = nullptr;
+    if (mn_scene_add_character_from_asset(scene, name.c_str(), asset, &c) != MN_OK) return failWith(scene, "character");
+    mn_character_set_position(c, static_cast<float>(k % 10) - 4.5f, 0.0f, -static_cast<float>(k / 10));
+    mn_character_play(c, 0, "Idle", nullptr);
+    const std::string bml = "<bml id=\"b" + name + "\" characterId=\"" + name + "\"><gaze id=\"g\" target=\"camera\"/></bml>";
+    if (mn_scene_send_bml(scene, nullptr, bml.c_str()) != MN_OK) return failWith(scene, "bml");
+  }
+  mn_asset_release(asset);
+  const auto warm = std::chrono::steady_clock::now();  // as long as the page warms up (bench_runner.mjs)
+  for (int f = 0; f < 60 || std::chrono::steady_clock::now() - warm < std::chrono::milliseconds(1500); ++f)
+    mn_scene_update(scene, 1.0 / 60.0);
+  std::vector<double> perCharacter;
+  for (int run = 0; run < 5; ++run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int f = 0; f < frames / 5; ++f) mn_scene_update(scene, 1.0 / 60.0);
+    const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+    perCharacter.push_back(us / (frames / 5) / n);
+  }
+  std::sort(perCharacter.begin(), perCharacter.end());
+  std::printf("{\"characters\": %d, \"frames\": %d, \"usPerCharacter\": %.3f}\n", n, frames, perCharacter[2]);
+  mn_scene_destroy(scene);
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 5 && std::string(argv[1]) == "--bench") return bench(std::atoi(argv[2]), std::atoi(argv[3]), argv[4]);
   if (argc != 4) {
     std::fprintf(stderr, "usage: marionette_web_trace_native SCENARIO SHARED_ASSETS_DIR OUT.bin\n");
     return 2;

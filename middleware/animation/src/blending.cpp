@@ -331,6 +331,7 @@ void makeAdditiveDelta(std::span<const Transform> pose, std::span<const Transfor
   }
 }
 
+#if MARIONETTE_SIMD4
 namespace {
 constexpr int kOverGroups = 2;  // two groups of four joints at a time, whose slerps overlap
 constexpr std::size_t kOverJoints = 4 * kOverGroups;
@@ -410,6 +411,35 @@ struct BlendOverArgs {
 
 MARIONETTE_SIMD_KERNEL(blendOver8, BlendOverArgs, blendOverBody)
 }  // namespace
+#else
+namespace {
+// Without SSE2 (MARIONETTE_NO_SIMD, or a CPU without it): one joint at a time, the
+// operations the 4-wide code does lane by lane.
+struct BlendOverArgs {
+  std::span<Transform> pose;
+  std::span<const Transform> layer;
+  float weight;
+  std::span<const float> jointWeights;
+  std::size_t n;
+};
+void blendOver8(const BlendOverArgs& a) noexcept {
+  for (std::size_t j = 0; j < a.n; ++j) {
+    const float w = std::min(jointWeight(a.weight, a.jointWeights, j), 1.0f);
+    if (!(w > 0.0f)) continue;
+    Transform& p = a.pose[j];
+    const Transform& l = a.layer[j];
+    if (w >= 1.0f) {
+      p = l;
+      continue;
+    }
+    const float keep = 1.0f - w;
+    p.translation = p.translation * keep + l.translation * w;
+    p.rotation = slerpShortest(p.rotation, l.rotation, w);
+    p.scale = p.scale * keep + l.scale * w;
+  }
+}
+}  // namespace
+#endif
 
 void blendOver(std::span<Transform> pose, std::span<const Transform> layer, float weight,
                std::span<const float> jointWeights) noexcept {
