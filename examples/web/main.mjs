@@ -11,7 +11,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { loadMarionette, PaletteLayout } from 'marionette';
 
 const params = new URLSearchParams(location.search);
-const characterFile = params.get('character') || 'Godette_vrm_v4.vrm';
+const characterFile = params.get('character') || 'RobotExpressive.glb';
 const assetBase = params.get('assets') || '/assets/';
 const $ = (id) => document.getElementById(id);
 
@@ -22,7 +22,7 @@ const EXAMPLES = {
   walk: '<bml id="walk1" characterId="c">\n  <locomotion id="w" target="floorTarget" manner="WALK"/>\n</bml>',
 };
 
-const demo = { ready: false, frames: 0, feedback: [], errors: [] };
+const demo = { ready: false, frames: 0, feedback: [], errors: [], visemes: [], morphPeaks: {} };
 window.marionetteDemo = demo;
 
 function log(line) {
@@ -62,12 +62,21 @@ function collectBones(gltf) {
   };
 }
 
-// Every morph slot of the character's meshes: the engine's morph slots, by target name.
+// Every morph slot of the character's meshes: the engine's morph slots, by target name. three
+// names targets from the mesh's extras.targetNames only; VRM exporters write them on the
+// primitive, which three leaves as numbers: those are read from the glTF itself.
 function collectMorphs(gltf) {
   const slots = [];
+  const json = gltf.parser.json;
   gltf.scene.traverse((o) => {
     if (!o.isMesh || !o.morphTargetDictionary) return;
-    for (const [name, index] of Object.entries(o.morphTargetDictionary)) slots.push({ mesh: o, index, name });
+    const a = gltf.parser.associations.get(o);
+    const mesh = a && a.meshes !== undefined ? json.meshes[a.meshes] : null;
+    const primitive = mesh && a.primitives !== undefined ? mesh.primitives[a.primitives] : null;
+    const names = (mesh && mesh.extras && mesh.extras.targetNames) || (primitive && primitive.extras && primitive.extras.targetNames);
+    for (const [key, index] of Object.entries(o.morphTargetDictionary)) {
+      slots.push({ mesh: o, index, name: names && names[index] !== undefined ? names[index] : key });
+    }
   });
   return slots;
 }
@@ -111,6 +120,24 @@ async function main() {
   const asset = marionette.loadAsset(bytes, characterFile);
   const character = scene.addCharacter('c', asset);
   asset.dispose();
+  // VRM 0.x characters face -Z (three-vrm turns them too); the camera looks from +Z.
+  const json = gltf.parser.json;
+  if (json.extensions && json.extensions.VRM && !(json.extensions.VRMC_vrm)) character.setHeading(Math.PI);
+  // A character with an idle clip stands in it (without one, it keeps its rest pose).
+  const idle = character.clipNames.find((c) => /^idle$/i.test(c));
+  if (idle) character.play(idle, 0, { loop: true });
+  // Frame the character, whatever its size (RobotExpressive is 4.5 units tall).
+  gltf.scene.updateMatrixWorld(true);
+  const bounds = new THREE.Box3().setFromObject(gltf.scene);
+  const height = Math.max(0.5, bounds.max.y - bounds.min.y);
+  controls.target.set(0, bounds.min.y + 0.5 * height, 0);
+  camera.position.set(0, bounds.min.y + 0.7 * height, 2.6 * height);
+  camera.near = height / 100;
+  camera.far = height * 50;
+  camera.updateProjectionMatrix();
+  controls.update();
+  const unit = height / 1.7;  // a person's height, in this character's units
+  scene.setObject('floorTarget', 0.8 * unit, 0, 1.2 * unit);
   const skeleton = collectBones(gltf);
   const morphs = collectMorphs(gltf);
   const binding = character.bind({ bones: skeleton.names, parents: skeleton.parents, morphs: morphs.map((m) => m.name) });
@@ -128,12 +155,12 @@ async function main() {
   } catch (e) {
     log(`no recorded line: ${e.message}`);
   }
-  scene.setObject('floorTarget', 0.8, 0, 1.2);
 
   scene.onFeedback((f) => {
     demo.feedback.push(f);
     log(`${f.sceneTime.toFixed(2)} ${f.kind} ${f.block}${f.behavior ? ':' + f.behavior : ''} ${f.syncPoint}${f.message ? ' ' + f.message : ''}`);
   });
+  scene.onViseme((v) => demo.visemes.push(v));
   let audio = null;
   scene.onSpeech((s) => {
     if (!s.samples || typeof AudioContext === 'undefined') return;
@@ -181,10 +208,11 @@ async function main() {
   const characterWorld = new THREE.Matrix4();
   const jointModel = new THREE.Matrix4();
   const cameraLocal = new THREE.Vector3();
-  const clock = new THREE.Clock();
+  let last = performance.now();
   function frame(time, xrFrame) {
     if (xrFrame) placeOnHitTest(xrFrame);
-    const dt = Math.min(clock.getDelta(), 0.1);
+    const dt = Math.min(Math.max((time - last) / 1000, 0), 0.1);  // rAF times may precede the set-up
+    last = time;
     // The viewer (the tracked camera in AR) is what "camera" names in BML.
     const viewer = renderer.xr.isPresenting ? renderer.xr.getCamera() : camera;
     viewer.getWorldPosition(cameraLocal);
@@ -202,7 +230,9 @@ async function main() {
     }
     const weights = binding.morphWeights();
     for (let k = 0; k < morphs.length; ++k) {
-      if (binding.morphForSlot[k] >= 0) morphs[k].mesh.morphTargetInfluences[morphs[k].index] = weights[k];
+      if (binding.morphForSlot[k] < 0) continue;
+      morphs[k].mesh.morphTargetInfluences[morphs[k].index] = weights[k];
+      demo.morphPeaks[morphs[k].name] = Math.max(demo.morphPeaks[morphs[k].name] || 0, weights[k]);
     }
     renderer.render(scene3, camera);
     demo.frames++;

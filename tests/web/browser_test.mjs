@@ -1,7 +1,7 @@
 // web.browser: the three.js example in headless Chromium (Debian's, driven by playwright-core),
 // served from 127.0.0.1 (docs/web.md). Checks: the page loads with no console error; the
 // character animates (pixels change inside its box on screen); BML feedback arrives; a
-// malformed block shows its line:column error on the page; the trace scenario played in the
+// malformed block shows its line:column error on the page; visemes reach a VRM's mouth morphs; the trace scenario played in the
 // page matches the native C API within 1e-4. Writes a screenshot and figures to OUT_DIR.
 //   node tests/web/browser_test.mjs NATIVE_TRACE_PROGRAM PACKAGE_DIR SHARED_ASSETS_DIR NODE_MODULES OUT_DIR
 import { execFileSync } from 'node:child_process';
@@ -81,6 +81,21 @@ try {
   check(/\b3:\d+\b/.test(error) && /bad|malformed|mismatch/i.test(error), `a malformed block shows its line:column: "${error.trim()}"`);
 
   await page.screenshot({ path: join(outDir, 'web_example.png') });
+
+  // Visemes reach three's morph targets: Godette (VRM) says the recorded line.
+  const vrm = await browser.newPage({ viewport: { width: 960, height: 640 } });
+  vrm.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  vrm.on('pageerror', (e) => consoleErrors.push(String(e)));
+  await vrm.goto(`${server.url}/examples/web/index.html?character=Godette_vrm_v4.vrm`);
+  await vrm.waitForFunction(() => window.marionetteDemo && window.marionetteDemo.ready && window.marionetteDemo.frames > 5, null, { timeout: 120000 });
+  await vrm.click('button[data-bml="speech"]');
+  await vrm.waitForTimeout(2500);
+  const mouth = await vrm.evaluate(() => ({ visemes: window.marionetteDemo.visemes.length, peaks: window.marionetteDemo.morphPeaks }));
+  const mouthPeak = Math.max(...['ah', 'ih', 'uu', 'ee', 'oh'].map((m) => mouth.peaks[m] || 0));
+  check(mouth.visemes > 10 && mouthPeak > 0.3,
+    `visemes reach the VRM's mouth morphs: ${mouth.visemes} visemes, largest mouth weight ${mouthPeak.toFixed(2)}`);
+  await vrm.screenshot({ path: join(outDir, 'web_example_vrm.png') });
+  await vrm.close();
 
   // The trace scenario in the page against the native C API.
   const scenario = JSON.parse(readFileSync(new URL('./trace_scenario.json', import.meta.url), 'utf8'));
