@@ -24,7 +24,11 @@ export async function runTrace(marionette, scenario, readAsset) {
     const out = new Float32Array(scenario.frames * floatsPerFrame);
     const micros = [];
     const feedback = [];
+    const events = [];
+    const visemes = [];
     scene.onFeedback((f) => feedback.push(f));
+    scene.onEvent((e) => events.push(e));
+    scene.onViseme((v) => visemes.push(v));
     let at = 0;
     for (let frame = 0; frame < scenario.frames; ++frame) {
       scenario.characters.forEach((c) => {
@@ -49,7 +53,7 @@ export async function runTrace(marionette, scenario, readAsset) {
       }
     }
     micros.sort((a, b) => a - b);
-    return { matrices: out, medianMicros: micros[micros.length >> 1], feedback,
+    return { matrices: out, medianMicros: micros[micros.length >> 1], feedback, events, visemes,
       joints: characters.map((c) => c.jointNames.length) };
   } finally {
     scene.dispose();

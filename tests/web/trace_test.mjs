@@ -36,6 +36,33 @@ try {
   if (!(r.maxAbs <= 1e-4)) { console.error(`FAIL: the traces differ by ${r.maxAbs} at float ${r.at} (> 1e-4)`); failed = true; }
   const blocks = scenario.characters.reduce((n, c) => n + c.bml.length, 0);
   if (starts !== blocks) { console.error(`FAIL: ${starts} of ${blocks} blocks started`); failed = true; }
+  // The callbacks reach JavaScript: the line's visemes, and the foot contacts of a walk clip
+  // (animation events come from clip layers: docs/animation-events.md).
+  const walker = marionette.createScene();
+  const feet = [];
+  walker.onEvent((e) => feet.push(e));
+  const robot = walker.addCharacter('walker', new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))),
+    { fileName: 'RobotExpressive.glb' });
+  robot.play('Walking');
+  for (let f = 0; f < 120; ++f) walker.update(1 / 60);
+  walker.dispose();
+  console.log(`callbacks: ${feet.length} foot events in 2 s of Walking (${[...new Set(feet.map((e) => e.name))].join(', ')}), ${web.visemes.length} visemes`);
+  if (feet.length < 4 || !feet.every((e) => e.character === 'walker' && e.clip === 'Walking' && (e.foot === 'left' || e.foot === 'right'))) {
+    console.error('FAIL: the walk\'s foot contacts did not arrive as events'); failed = true;
+  }
+  if (web.visemes.length < 10 || !web.visemes.every((v) => v.character === 'godette' && v.weight >= 0 && v.weight <= 1)) {
+    console.error('FAIL: the line\'s visemes did not arrive'); failed = true;
+  }
+  // Errors are MarionetteErrors with the library's message, naming the file.
+  try {
+    marionette.loadAsset(new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))).slice(0, 200), 'broken.glb');
+    console.error('FAIL: a truncated GLB loaded'); failed = true;
+  } catch (e) {
+    console.log(`a truncated GLB: ${e.name} ${e.status}: ${e.message.split('\n')[0]}`);
+    if (e.name !== 'MarionetteError' || e.status !== 'MN_ERROR_LOAD' || !e.message.includes('broken.glb')) {
+      console.error('FAIL: expected a MarionetteError MN_ERROR_LOAD naming broken.glb'); failed = true;
+    }
+  }
   // The trace must show motion, or matching would prove nothing.
   let moved = 0;
   const per = web.matrices.length / scenario.frames;
