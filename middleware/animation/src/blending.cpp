@@ -331,6 +331,16 @@ void makeAdditiveDelta(std::span<const Transform> pose, std::span<const Transfor
   }
 }
 
+namespace {
+struct BlendOverArgs {
+  std::span<Transform> pose;
+  std::span<const Transform> layer;
+  float weight;
+  std::span<const float> jointWeights;
+  std::size_t n;
+};
+}  // namespace
+
 #if MARIONETTE_SIMD4
 namespace {
 constexpr int kOverGroups = 2;  // two groups of four joints at a time, whose slerps overlap
@@ -387,13 +397,6 @@ constexpr std::size_t kOverJoints = 4 * kOverGroups;
   }
 }
 
-struct BlendOverArgs {
-  std::span<Transform> pose;
-  std::span<const Transform> layer;
-  float weight;
-  std::span<const float> jointWeights;
-  std::size_t n;
-};
 
 [[gnu::always_inline]] inline void blendOverBody(const BlendOverArgs& a) noexcept {
   const std::size_t n = a.n;
@@ -415,13 +418,6 @@ MARIONETTE_SIMD_KERNEL(blendOver8, BlendOverArgs, blendOverBody)
 namespace {
 // Without SSE2 (MARIONETTE_NO_SIMD, or a CPU without it): one joint at a time, the
 // operations the 4-wide code does lane by lane.
-struct BlendOverArgs {
-  std::span<Transform> pose;
-  std::span<const Transform> layer;
-  float weight;
-  std::span<const float> jointWeights;
-  std::size_t n;
-};
 void blendOver8(const BlendOverArgs& a) noexcept {
   for (std::size_t j = 0; j < a.n; ++j) {
     const float w = std::min(jointWeight(a.weight, a.jointWeights, j), 1.0f);
