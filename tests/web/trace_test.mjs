@@ -53,6 +53,32 @@ try {
   if (web.visemes.length < 10 || !web.visemes.every((v) => v.character === 'godette' && v.weight >= 0 && v.weight <= 1)) {
     console.error('FAIL: the line\'s visemes did not arrive'); failed = true;
   }
+  // The TypeScript declarations promise what the classes have, and declare every public method.
+  {
+    const dts = readFileSync(join(packageDir, 'marionette.d.ts'), 'utf8');
+    const declared = (name) => {
+      const block = dts.match(new RegExp(`export interface ${name} \\{([\\s\\S]*?)\\n\\}`));
+      return block ? [...block[1].matchAll(/^\s+(\w+)\(/gm)].map((m) => m[1]) : null;
+    };
+    const internal = new Set(['constructor', 'heapF32', 'string', 'allocString', 'allocBytes', 'withTemp', 'check', 'fileReader',
+      'setCallback', 'buffer', 'release']);
+    const s2 = marionette.createScene();
+    const c2 = s2.addCharacter('typed', new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))),
+      { fileName: 'RobotExpressive.glb' });
+    const b2 = c2.bind({ bones: c2.jointNames });
+    const a2 = marionette.loadAsset(new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))), 'r.glb');
+    for (const [name, object] of [['Marionette', marionette], ['Scene', s2], ['Character', c2], ['Binding', b2], ['Asset', a2]]) {
+      const methods = declared(name);
+      const actual = Object.getOwnPropertyNames(Object.getPrototypeOf(object)).filter((m) => typeof object[m] === 'function' && !internal.has(m));
+      const missing = (methods || []).filter((m) => typeof object[m] !== 'function');
+      const undeclared = actual.filter((m) => !(methods || []).includes(m));
+      if (!methods || missing.length || undeclared.length) {
+        console.error(`FAIL: marionette.d.ts ${name}: declared but missing [${missing}], undeclared [${undeclared}]`); failed = true;
+      }
+    }
+    a2.dispose();
+    s2.dispose();
+  }
   // Errors are MarionetteErrors with the library's message, naming the file.
   try {
     marionette.loadAsset(new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))).slice(0, 200), 'broken.glb');
