@@ -61,7 +61,7 @@ try {
       return block ? [...block[1].matchAll(/^\s+(\w+)\(/gm)].map((m) => m[1]) : null;
     };
     const internal = new Set(['constructor', 'heapF32', 'string', 'allocString', 'allocBytes', 'withTemp', 'check', 'fileReader',
-      'setCallback', 'buffer', 'release']);
+      'setCallback', 'buffer', 'release', 'rethrowCallbackError']);
     const s2 = marionette.createScene();
     const c2 = s2.addCharacter('typed', new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))),
       { fileName: 'RobotExpressive.glb' });
@@ -78,6 +78,23 @@ try {
     }
     a2.dispose();
     s2.dispose();
+  }
+  // A callback that throws: the update finishes, then the exception reaches the caller.
+  {
+    const s3 = marionette.createScene();
+    s3.addCharacter('r', new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))), { fileName: 'RobotExpressive.glb' });
+    s3.onFeedback(() => { throw new Error('from the callback'); });
+    let caught = null;
+    try { s3.sendBml('<bml id="t1"><head id="h" lexeme="NOD"/></bml>'); } catch (e) { caught = e; }
+    let after = null;
+    try { for (let f = 0; f < 5; ++f) s3.update(1 / 60); } catch (e) { after = e; }
+    s3.onFeedback(null);
+    s3.update(1 / 60);  // the scene still works
+    if (!caught || caught.message !== 'from the callback' || s3.time <= 0) {
+      console.error(`FAIL: a throwing callback: ${caught}`); failed = true;
+    }
+    s3.dispose();
+    void after;
   }
   // Errors are MarionetteErrors with the library's message, naming the file.
   try {

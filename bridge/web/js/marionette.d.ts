@@ -73,6 +73,8 @@ export interface Scene {
   interruptBlock(id: string): void;
   setBmlDialect(dialect: 'auto' | 'bml' | 'smartbody', character?: string | Character): void;
   addSpeechLine(text: string, line: { audio?: Uint8Array | ArrayBuffer; alignment: Uint8Array | ArrayBuffer | string; audioName?: string; alignmentName?: string }): void;
+  // Callbacks run during update() and sendBml(); one that throws does not stop the library:
+  // its exception is thrown again by the update() or sendBml() that ran it.
   onFeedback(fn: ((f: Feedback) => void) | null): void;
   onViseme(fn: ((v: Viseme) => void) | null): void;
   onLog(fn: ((level: 'info' | 'warning' | 'error', message: string) => void) | null): void;

@@ -195,14 +195,24 @@ class Scene {
     const mn = this.mn;
     mn.withTemp(({ str }) => {
       const who = character === undefined || character === null ? 0 : str(typeof character === 'string' ? character : character.name);
-      mn.check(mn.wasm._mn_scene_send_bml(this.handle, who, str(bml)), this.handle, 'sendBml');
+      const status = mn.wasm._mn_scene_send_bml(this.handle, who, str(bml));
+      this.rethrowCallbackError();
+      mn.check(status, this.handle, 'sendBml');
     });
   }
 
   /** Advances the scene by dt seconds; callbacks come from here. */
   update(dt) {
     const status = this.mn.wasm._mn_scene_update(this.handle, dt);
+    this.rethrowCallbackError();
     if (status !== 0) this.mn.check(status, this.handle, 'update');
+  }
+
+  rethrowCallbackError() {
+    if (this.callbackError === undefined) return;
+    const e = this.callbackError;
+    this.callbackError = undefined;
+    throw e;
   }
 
   get time() { return this.mn.wasm._mn_scene_time(this.handle); }
@@ -244,10 +254,20 @@ class Scene {
   }
 
   // ---- callbacks: fn(object) or null to remove ----
+  // A callback must not throw into the library (the C API's rule): an exception is kept and
+  // thrown again when the call that ran the callback returns (rethrowCallbackError).
   setCallback(kind, setter, signature, fn, wrap) {
     const wasm = this.mn.wasm;
     const old = this.callbacks.get(kind);
-    const index = fn ? wasm.addFunction(wrap(fn), signature) : 0;
+    const guard = (f) => (...args) => {
+      try {
+        return f(...args);
+      } catch (e) {
+        if (this.callbackError === undefined) this.callbackError = e;
+        return undefined;
+      }
+    };
+    const index = fn ? wasm.addFunction(guard(wrap(fn)), signature) : 0;
     this.mn.check(wasm[setter](this.handle, index, 0), this.handle, setter);
     if (old) wasm.removeFunction(old);
     if (index) this.callbacks.set(kind, index); else this.callbacks.delete(kind);
