@@ -20,7 +20,14 @@ export async function startServer({ port = 0, packageDir = join(root, 'build-web
   const routes = [['/examples/web/', here], ['/package/', packageDir], ['/three/', join(nodeModules, 'three')],
     ['/assets/', assets], ['/tests/web/', join(root, 'tests', 'web')]];
   const server = createServer(async (req, res) => {
-    const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    let path;
+    try {
+      path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    } catch {
+      res.writeHead(400);
+      res.end('bad request');
+      return;
+    }
     const route = routes.find(([prefix]) => path.startsWith(prefix));
     if (path === '/' || path === '/index.html') {
       res.writeHead(302, { Location: '/examples/web/index.html' });

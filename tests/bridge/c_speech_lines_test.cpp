@@ -97,6 +97,40 @@ TEST(CSpeechLines, TheEnginesReaderServesTheFiles) {
   mn_scene_destroy(scene);
 }
 
+TEST(CSpeechLines, ALineAddedForATextSaidBeforeIsSaidFromThen) {
+  MARIONETTE_REQUIRE_FILE(kWav);
+  Said said;
+  mn_scene* scene = sceneWithGodette(said);
+  ASSERT_EQ(mn_scene_add_speech_line(scene, kText, kWav.c_str(), kLab.c_str(), nullptr, nullptr), MN_OK);
+  sayTheLine(scene);
+  ASSERT_NEAR(said.duration, 3.095, 0.01);
+  // The same text again, now a 0.6 s line without audio (start,end,phoneme CSV).
+  std::string csv = "0,0.3,HH\n0.3,0.6,AY\n";
+  const auto read = [](void* user, const char*, mn_file_sink* sink) -> int {
+    const auto* text = static_cast<const std::string*>(user);
+    return mn_file_sink_write(sink, text->data(), text->size()) == MN_OK;
+  };
+  ASSERT_EQ(mn_scene_add_speech_line(scene, kText, nullptr, "short.csv", read, &csv), MN_OK) << mn_scene_last_error(scene);
+  said = Said{};
+  const std::string bml = std::string("<bml id='b2'><speech id='s'><text>") + kText + "</text></speech></bml>";
+  ASSERT_EQ(mn_scene_send_bml(scene, nullptr, bml.c_str()), MN_OK) << mn_scene_last_error(scene);
+  for (int f = 0; f < 20; ++f) ASSERT_EQ(mn_scene_update(scene, 0.1), MN_OK);
+  EXPECT_NEAR(said.duration, 0.6, 0.01) << "the cached 3.1 s line must not be said again";
+  EXPECT_EQ(said.samples, 0u);
+  mn_scene_destroy(scene);
+}
+
+TEST(CSpeechLines, AReaderThatDestroysTheSceneDoesNotFreeItUnderTheCall) {
+  mn_scene* scene = nullptr;
+  ASSERT_EQ(mn_scene_create(&scene), MN_OK);
+  const auto read = [](void* user, const char*, mn_file_sink*) -> int {
+    mn_scene_destroy(static_cast<mn_scene*>(user));  // waits for the call's end
+    return 0;
+  };
+  EXPECT_EQ(mn_scene_add_speech_line(scene, kText, nullptr, "a.lab", read, scene), MN_ERROR_LOAD);
+  EXPECT_EQ(mn_scene_update(scene, 0.1), MN_ERROR_INVALID_ARGUMENT) << "destroyed when the call returned";
+}
+
 TEST(CSpeechLines, BadFilesAndArgumentsAreRefusedByName) {
   Said said;
   mn_scene* scene = sceneWithGodette(said);

@@ -41,7 +41,13 @@ const std::vector<std::string>& samples() {
       "infin", "nan", "-NaN", "nan(123)", "nan(", "nanx", "", "-", ".", "-.", "+1", " 1", "0x1p3", "0x10", "1.5 2",
       "1,5", "abc", "e5", "00012", "1.2.3", "9999999999999999999999999999999999999999999999999999999999999999999.5",
       std::string(200, '1'), "0." + std::string(100, '0') + "1", "1.17549435e-38", "1.4e-45", "0.7e-45",
-      "3.4028235e38", "3.4028236e38", "2.2250738585072014e-308", "4.9e-324", "2.4e-324"};
+      "3.4028235e38", "3.4028236e38", "2.2250738585072014e-308", "4.9e-324", "2.4e-324",
+      // Halfway and just past it: a double rounded again to float is not the nearest float.
+      "1.000000059604644775390625", "1.000000059604644775390625000001", "1.0000000596046447753906249999",
+      "16777217", "16777217.000000001", "3.4028235677973366e38", "3.40282357e38", "1.1754942e-38",
+      "7.00649232162408535461864791644958065640130970938257885878534141944895541342930300743319094181060791015625e-46",
+      "7.0064923216240862e-46", "1.401298464324817e-45", "2.4703282292062327e-324", "2.4703282292062328e-324",
+      "9007199254740993", "0.1000000000000000055511151231257827"};
   return s;
 }
 
@@ -89,6 +95,11 @@ TEST(FloatChars, TheSnprintfShimWritesWhatToCharsWritesWithAPrecision) {
         ASSERT_EQ(static_cast<int>(b.ec), static_cast<int>(a.ec)) << v;
         EXPECT_EQ(std::string(got, b.ptr), std::string(want, a.ptr)) << v << " precision " << precision;
       }
+  char big[2000], want[2000];  // longer than the shim's own buffer
+  const auto a = std::to_chars(want, want + sizeof want, 1e300, std::chars_format::fixed, 600);
+  const auto b = toCharsViaSnprintf(big, big + sizeof big, 1e300, std::chars_format::fixed, 600);
+  ASSERT_EQ(static_cast<int>(b.ec), static_cast<int>(a.ec));
+  EXPECT_EQ(std::string(big, b.ptr), std::string(want, a.ptr));
   char tiny[4];
   EXPECT_EQ(toCharsViaSnprintf(tiny, tiny + sizeof tiny, 12345.0, std::chars_format::fixed, 2).ec, std::errc::value_too_large);
 }

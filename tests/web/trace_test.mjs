@@ -16,6 +16,7 @@ if (!nativeProgram || !packageDir || !assetsDir) {
 const scenarioPath = new URL('./trace_scenario.json', import.meta.url);
 const scenario = JSON.parse(readFileSync(scenarioPath, 'utf8'));
 const work = mkdtempSync(join(tmpdir(), 'marionette-trace-'));
+let failed = false;
 try {
   const nativeOut = join(work, 'native.bin');
   const log = execFileSync(nativeProgram, [scenarioPath.pathname, assetsDir, nativeOut], { encoding: 'utf8' });
@@ -31,7 +32,6 @@ try {
   console.log(`web trace: ${scenario.frames} frames, joints ${web.joints.join('+')}, median update ${web.medianMicros.toFixed(1)} us, ` +
     `max |native - web| ${r.maxAbs.toExponential(2)} (translation ${r.maxTranslation.toExponential(2)} m, axes ${r.maxAxis.toExponential(2)}; largest raw float difference ${r.maxRaw.toExponential(2)}), ${starts} block starts`);
   if (warnings.length) console.log(`BML warnings:\n  ${warnings.join('\n  ')}`);
-  let failed = false;
   if (!r.sameLength) { console.error(`FAIL: native ${native.length} floats, web ${web.matrices.length}`); failed = true; }
   if (!(r.maxAbs <= 1e-4)) { console.error(`FAIL: the traces differ by ${r.maxAbs} at float ${r.at} (> 1e-4)`); failed = true; }
   const blocks = scenario.characters.reduce((n, c) => n + c.bml.length, 0);
@@ -60,8 +60,8 @@ try {
       const block = dts.match(new RegExp(`export interface ${name} \\{([\\s\\S]*?)\\n\\}`));
       return block ? [...block[1].matchAll(/^\s+(\w+)\(/gm)].map((m) => m[1]) : null;
     };
-    const internal = new Set(['constructor', 'heapF32', 'string', 'allocString', 'allocBytes', 'withTemp', 'check', 'fileReader',
-      'setCallback', 'buffer', 'release', 'rethrowCallbackError']);
+    const internal = new Set(['constructor', 'malloc', 'string', 'allocString', 'allocBytes', 'withTemp', 'check', 'alive',
+      'fileReader', 'call', 'setCallback', 'buffer', 'release', 'rethrowCallbackError', 'playOptions']);
     const s2 = marionette.createScene();
     const c2 = s2.addCharacter('typed', new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))),
       { fileName: 'RobotExpressive.glb' });
@@ -96,6 +96,36 @@ try {
     s3.dispose();
     void after;
   }
+  // The review's cases: a file reader that throws, a removal refused inside a callback, calls on
+  // a removed character, parents that do not match the bones.
+  {
+    const robotBytes = new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb')));
+    let thrown = null;
+    try {
+      marionette.loadAsset(robotBytes, 'r.glb', { profile: 'p.json', files: { get 'p.json'() { throw new Error('reader boom'); } } });
+    } catch (e) { thrown = e; }
+    if (!thrown || thrown.message !== 'reader boom') { console.error(`FAIL: a throwing file reader gave ${thrown}`); failed = true; }
+    const s4 = marionette.createScene();
+    const c4 = s4.addCharacter('r', robotBytes, { fileName: 'RobotExpressive.glb' });
+    s4.onFeedback(() => c4.remove());  // refused: from a callback of the same scene
+    let refused = null;
+    try { s4.sendBml('<bml id="t2"><head id="h" lexeme="NOD"/></bml>'); } catch (e) { refused = e; }
+    s4.onFeedback(null);
+    const stillThere = c4.palette().length === c4.jointNames.length * 16 && s4.characters.has('r');
+    if (!refused || refused.status !== 'MN_ERROR_INVALID_ARGUMENT' || !stillThere) {
+      console.error(`FAIL: a removal refused in a callback: ${refused}, character kept: ${stillThere}`); failed = true;
+    }
+    c4.remove();
+    let dead = null;
+    try { c4.setPosition(0, 0, 0); } catch (e) { dead = e; }
+    if (!dead || !/removed/.test(dead.message)) { console.error(`FAIL: a call on a removed character: ${dead}`); failed = true; }
+    const c5 = s4.addCharacter('q', robotBytes, { fileName: 'RobotExpressive.glb' });
+    let mismatch = null;
+    try { c5.bind({ bones: c5.jointNames, parents: [-1] }); } catch (e) { mismatch = e; }
+    if (!mismatch || mismatch.status !== 'MN_ERROR_INVALID_ARGUMENT') { console.error(`FAIL: parents for the wrong bones: ${mismatch}`); failed = true; }
+    s4.update(1 / 60);
+    s4.dispose();
+  }
   // Errors are MarionetteErrors with the library's message, naming the file.
   try {
     marionette.loadAsset(new Uint8Array(readFileSync(join(assetsDir, 'characters/RobotExpressive.glb'))).slice(0, 200), 'broken.glb');
@@ -111,7 +141,7 @@ try {
   const per = web.matrices.length / scenario.frames;
   for (let i = 0; i < per; ++i) moved = Math.max(moved, Math.abs(web.matrices[i] - web.matrices[(scenario.frames - 1) * per + i]));
   if (!(moved > 0.01)) { console.error(`FAIL: nothing moved (${moved})`); failed = true; }
-  process.exit(failed ? 1 : 0);
 } finally {
   rmSync(work, { recursive: true, force: true });
 }
+process.exit(failed ? 1 : 0);

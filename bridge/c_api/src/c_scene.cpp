@@ -23,23 +23,12 @@
 
 using marionette::capi::fail;
 using marionette::capi::guarded;
+using marionette::capi::inCall;
 using marionette::capi::isLive;
 using marionette::capi::notLive;
 
 
 namespace {
-
-// A call on `scene` that may reach its callbacks. From inside a callback of the same
-// scene the call is refused; a mn_scene_destroy from a callback waits for its end.
-template <class Body>
-mn_status inCall(mn_scene* scene, const char* what, Body&& body) {
-  if (scene->callDepth > 0)
-    return fail(scene, MN_ERROR_INVALID_ARGUMENT, std::string(what) + ": called from a callback of the same scene");
-  ++scene->callDepth;
-  const mn_status status = guarded(scene, body);
-  if (--scene->callDepth == 0 && scene->destroyRequested) delete scene;
-  return status;
-}
 
 thread_local std::string t_lastError;  // failures without a valid scene
 

@@ -18,7 +18,8 @@ mn_status mn_scene_add_speech_line(mn_scene* scene, const char* text, const char
   if (!text || !*text) return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_speech_line: text is NULL or empty");
   if (!alignment_path || !*alignment_path)
     return fail(scene, MN_ERROR_INVALID_ARGUMENT, "mn_scene_add_speech_line: alignment_path is NULL or empty");
-  return guarded(scene, [&] {
+  // inCall: the engine's read function may not destroy the scene under this call.
+  return inCall(scene, "mn_scene_add_speech_line", [&] {
     // Added to the speech service with its first line: lines come before any synthesizer.
     auto lines = scene->recordedLines ? scene->recordedLines : std::make_shared<marionette::speech::RecordedSpeech>();
     const std::string error = lines->addLine(text, audio_path && *audio_path ? audio_path : std::filesystem::path(),
@@ -27,6 +28,8 @@ mn_status mn_scene_add_speech_line(mn_scene* scene, const char* text, const char
     if (!scene->recordedLines) {
       scene->recordedLines = lines;
       scene->scene.speech().addBackend(lines);
+    } else {
+      scene->scene.speech().forgetCachedLines();  // a text said before is said with this line now
     }
     return MN_OK;
   });

@@ -204,4 +204,17 @@ mn_status guarded(const mn_scene* scene, Body&& body) noexcept {
   }
 }
 
+// A call on `scene` that may reach its callbacks (or the engine's read function). From inside
+// a callback of the same scene the call is refused; a mn_scene_destroy from a callback waits
+// for its end.
+template <class Body>
+mn_status inCall(mn_scene* scene, const char* what, Body&& body) {
+  if (scene->callDepth > 0)
+    return fail(scene, MN_ERROR_INVALID_ARGUMENT, std::string(what) + ": called from a callback of the same scene");
+  ++scene->callDepth;
+  const mn_status status = guarded(scene, body);
+  if (--scene->callDepth == 0 && scene->destroyRequested) delete scene;
+  return status;
+}
+
 }  // namespace marionette::capi

@@ -4,7 +4,8 @@
 export declare const PaletteLayout: Readonly<{ MAT4_COLUMN_MAJOR: 0; MAT4_ROW_MAJOR: 1; MAT3X4_ROW_MAJOR: 2 }>;
 export type PaletteLayoutValue = 0 | 1 | 2;
 
-/** A failed call: the library's message names the file or block, line:column and the problem. */
+/** A failed call: the library's message names the file or block, line:column and the problem.
+ * Calls on a disposed or removed object throw one too (status "MN_ERROR_INVALID_ARGUMENT"). */
 export declare class MarionetteError extends Error {
   /** The C API's status name: "MN_ERROR_BML", "MN_ERROR_LOAD", ... */
   readonly status: string;
@@ -50,6 +51,7 @@ export interface AnimationEvent {
   kind: 'footDown' | 'footUp' | 'marker'; foot: 'none' | 'left' | 'right'; character: string; name: string;
   clip: string; layer: number; weight: number; clipTime: number; sceneTime: number;
 }
+export interface ClipEvent { kind: 'started' | 'stopped'; character: string; clip: string; sceneTime: number }
 export interface AudioEvent {
   kind: 'play' | 'stop'; character: string; behavior: string; samples: Float32Array | null; channels: number;
   sampleRate: number; file: string; sceneTime: number; duration: number;
@@ -81,6 +83,7 @@ export interface Scene {
   onSpeech(fn: ((s: SpeechLine) => void) | null): void;
   onEvent(fn: ((e: AnimationEvent) => void) | null): void;
   onAudio(fn: ((a: AudioEvent) => void) | null): void;
+  onClip(fn: ((c: ClipEvent) => void) | null): void;
   dispose(): void;
 }
 
@@ -91,6 +94,7 @@ export interface Character {
   readonly parents: Int32Array;
   readonly morphNames: string[];
   readonly clipNames: string[];
+  readonly blendSpaceNames: string[];
   /** Every joint's matrix (skinning matrices with inverseBind, else model space); a view on wasm memory rewritten by each call. */
   palette(layout?: PaletteLayoutValue, inverseBind?: boolean): Float32Array;
   morphWeights(): Float32Array;
@@ -100,7 +104,11 @@ export interface Character {
   setHeading(radians: number): void;
   play(clip: string, layer?: number, options?: PlayOptions): void;
   stop(layer?: number, fadeOut?: number): void;
-  /** Binds to an engine skeleton: bone names in palette order, parents (-1 roots), morph slot names. */
+  /** Plays a blend space of the rig on a layer (options as play; additive is refused). */
+  playBlend(blendSpace: string, layer?: number, options?: PlayOptions): void;
+  /** Moves the parameter point of the blend space on `layer`; no allocation, fine every frame. */
+  setBlendParameter(layer: number, x: number, y?: number): void;
+  /** Binds to an engine skeleton: bone names in palette order, parents (-1 roots; as many as bones), morph slot names. */
   bind(engine: { bones: string[]; parents?: ArrayLike<number>; morphs?: string[]; throughJointMaps?: boolean }): Binding;
   remove(): void;
 }

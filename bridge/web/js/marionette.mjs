@@ -63,24 +63,32 @@ class Marionette {
   }
 
   // ---- memory helpers ----
-  heapF32() { return this.wasm.HEAPF32; }
+  // malloc, or a MarionetteError: with memory growth on, a failed malloc returns 0, and
+  // writing through 0 would overwrite the module's own data.
+  malloc(n) {
+    const ptr = this.wasm._malloc(Math.max(1, n));
+    if (!ptr) throw new MarionetteError(`out of memory (${n} bytes)`, 'MN_ERROR_OUT_OF_MEMORY');
+    return ptr;
+  }
   string(ptr) { return ptr ? this.wasm.UTF8ToString(ptr) : ''; }
   allocString(text) {
     const n = this.wasm.lengthBytesUTF8(text) + 1;
-    const ptr = this.wasm._malloc(n);
+    const ptr = this.malloc(n);
     this.wasm.stringToUTF8(text, ptr, n);
     return ptr;
   }
   allocBytes(bytes) {
     const u8 = bytes instanceof Uint8Array ? bytes : new Uint8Array(bytes);
-    const ptr = this.wasm._malloc(Math.max(1, u8.length));
-    this.wasm.HEAPU8.set(u8, ptr);
+    const ptr = this.malloc(u8.length);
+    this.wasm.HEAPU8.set(u8, ptr);  // HEAPU8 read after the malloc: it may have grown the memory
     return { ptr, size: u8.length };
   }
-  // Runs fn(alloc) and frees what alloc(...) allocated, whatever happens.
+  // Runs fn(alloc) and frees what alloc(...) allocated, whatever happens. Every allocation
+  // may grow the memory and detach the heap views: allocate first, then write through
+  // wasm.HEAP* read afresh (never `wasm.HEAPU32[i] = str(x)`, which writes the old view).
   withTemp(fn) {
     const owned = [];
-    const alloc = (n) => { const p = this.wasm._malloc(n); owned.push(p); return p; };
+    const alloc = (n) => { const p = this.malloc(n); owned.push(p); return p; };
     const str = (s) => { if (s === undefined || s === null) return 0; const p = this.allocString(String(s)); owned.push(p); return p; };
     const bytes = (b) => { const r = this.allocBytes(b); owned.push(r.ptr); return r; };
     try {
@@ -89,13 +97,22 @@ class Marionette {
       for (const p of owned) this.wasm._free(p);
     }
   }
-  check(status, scene, what) {
+  // Throws for a failed status: the message the library recorded (on the live scene, else on
+  // the thread), after any exception a JS callback threw during the call.
+  check(status, owner, what) {
+    if (owner && owner.rethrowCallbackError) owner.rethrowCallbackError();
     if (status === 0) return;
-    const message = this.string(this.wasm._mn_scene_last_error(scene || 0)) || `${what} failed`;
+    const scene = owner && owner.handle ? owner.handle : 0;
+    const message = this.string(this.wasm._mn_scene_last_error(scene)) || `${what} failed`;
     throw new MarionetteError(message, STATUS[status] || `status ${status}`);
   }
+  alive(handle, what) {
+    if (!handle) throw new MarionetteError(`${what}: it was disposed or removed`, 'MN_ERROR_INVALID_ARGUMENT');
+  }
   // A read_file function (mn_read_file_fn) that serves `files` (a Map or object of name -> bytes).
-  fileReader(files) {
+  // An exception inside it must not unwind the library: it is kept in holder.callbackError
+  // (thrown again by the call's wrapper) and the file counts as missing.
+  fileReader(files, holder) {
     const wasm = this.wasm;
     const lookup = (path) => {
       if (!files) return undefined;
@@ -106,17 +123,31 @@ class Marionette {
       return bytes;
     };
     return wasm.addFunction((user, pathPtr, sink) => {
-      const bytes = lookup(wasm.UTF8ToString(pathPtr));
-      if (bytes === undefined) return 0;
-      const data = typeof bytes === 'string' ? new TextEncoder().encode(bytes) : new Uint8Array(bytes);
-      const ptr = wasm._malloc(Math.max(1, data.length));
+      let ptr = 0;
       try {
+        const bytes = lookup(wasm.UTF8ToString(pathPtr));
+        if (bytes === undefined) return 0;
+        const data = typeof bytes === 'string' ? new TextEncoder().encode(bytes) : new Uint8Array(bytes);
+        ptr = this.malloc(data.length);
         wasm.HEAPU8.set(data, ptr);
         return wasm._mn_file_sink_write(sink, ptr, data.length) === 0 ? 1 : 0;
+      } catch (e) {
+        if (holder && holder.callbackError === undefined) holder.callbackError = e;
+        return 0;
       } finally {
-        wasm._free(ptr);
+        if (ptr) wasm._free(ptr);
       }
     }, 'iiii');
+  }
+}
+
+// Holds an exception from a JS function the library called (a file reader during a load).
+class ErrorHolder {
+  rethrowCallbackError() {
+    if (this.callbackError === undefined) return;
+    const e = this.callbackError;
+    this.callbackError = undefined;
+    throw e;
   }
 }
 
@@ -125,17 +156,20 @@ class Asset {
   constructor(mn, bytes, name, { files, profile } = {}) {
     this.mn = mn;
     const wasm = mn.wasm;
-    const reader = files || profile ? mn.fileReader(files) : 0;
+    const errors = new ErrorHolder();
+    const reader = files || profile ? mn.fileReader(files, errors) : 0;
     try {
       this.handle = mn.withTemp(({ alloc, str, bytes: put }) => {
         const o = LAYOUT.importOptions;
         const opts = alloc(o.size);
-        wasm._mn_import_options_default(opts);  // returned through a hidden result pointer
-        wasm.HEAPU32[(opts + o.readFile) >> 2] = reader;
-        wasm.HEAPU32[(opts + o.profilePath) >> 2] = str(profile);
+        const profilePtr = str(profile);
         const data = put(bytes);
         const out = alloc(4);
-        mn.check(wasm._mn_asset_load_memory(data.ptr, data.size, str(name), opts, out), 0, 'loadAsset');
+        wasm._mn_import_options_default(opts);  // returned through a hidden result pointer
+        wasm.HEAPU32[(opts + o.readFile) >> 2] = reader;
+        wasm.HEAPU32[(opts + o.profilePath) >> 2] = profilePtr;
+        const status = wasm._mn_asset_load_memory(data.ptr, data.size, str(name), opts, out);
+        mn.check(status, errors, 'loadAsset');
         return wasm.HEAPU32[out >> 2];
       });
     } finally {
@@ -156,30 +190,51 @@ class Scene {
   constructor(mn) {
     this.mn = mn;
     const wasm = mn.wasm;
-    this.handle = mn.withTemp(({ alloc }) => {
-      const out = alloc(4);
-      mn.check(wasm._mn_scene_create(out), 0, 'createScene');
-      return wasm.HEAPU32[out >> 2];
-    });
-    mn.check(wasm._mn_scene_set_speech_synthesis(this.handle, 1), this.handle, 'setSpeechSynthesis');  // INLINE
     this.characters = new Map();
     this.callbacks = new Map();  // kind -> table index
-    /** Files the library may read (recorded lines, WAVs of <bmlt:audiofile>): name -> bytes. */
+    /** Files the library may read (the WAVs of <bmlt:audiofile>): name -> bytes. */
     this.files = new Map();
-    this.audioReader = mn.fileReader(this.files);
-    mn.check(wasm._mn_scene_set_audio_files(this.handle, 0, this.audioReader, 0), this.handle, 'setAudioFiles');
+    this.handle = mn.withTemp(({ alloc }) => {
+      const out = alloc(4);
+      mn.check(wasm._mn_scene_create(out), null, 'createScene');
+      return wasm.HEAPU32[out >> 2];
+    });
+    try {
+      this.call('setSpeechSynthesis', () => wasm._mn_scene_set_speech_synthesis(this.handle, 1));  // INLINE: no threads
+      this.audioReader = mn.fileReader(this.files, this);
+      this.call('setAudioFiles', () => wasm._mn_scene_set_audio_files(this.handle, 0, this.audioReader, 0));
+    } catch (e) {
+      this.dispose();
+      throw e;
+    }
   }
 
-  /** Adds a character made from an Asset (or from bytes: `source` then needs `name` as the file name). */
+  // Runs one C call on this scene and throws for its status (after a callback's exception).
+  call(what, fn) {
+    this.mn.alive(this.handle, `Scene.${what}`);
+    const status = fn();
+    this.mn.check(status, this, what);
+    return status;
+  }
+  rethrowCallbackError() {
+    if (this.callbackError === undefined) return;
+    const e = this.callbackError;
+    this.callbackError = undefined;
+    throw e;
+  }
+
+  /** Adds a character made from an Asset (or from bytes: `options.fileName` then names the file). */
   addCharacter(name, source, options = {}) {
     const mn = this.mn;
     const wasm = mn.wasm;
+    mn.alive(this.handle, 'Scene.addCharacter');
     const asset = source instanceof Asset ? source : mn.loadAsset(source, options.fileName || `${name}.glb`, options);
     try {
+      mn.alive(asset.handle, 'Scene.addCharacter: the asset');
       const handle = mn.withTemp(({ alloc, str }) => {
         const out = alloc(4);
-        mn.check(wasm._mn_scene_add_character_from_asset(this.handle, str(name), asset.handle, out), this.handle,
-          'addCharacter');
+        const namePtr = str(name);
+        this.call('addCharacter', () => wasm._mn_scene_add_character_from_asset(this.handle, namePtr, asset.handle, out));
         return wasm.HEAPU32[out >> 2];
       });
       const character = new Character(this, handle);
@@ -192,49 +247,37 @@ class Scene {
 
   /** Sends one BML block (for `character`, or the block's characterId). Throws on a failed block. */
   sendBml(bml, character) {
-    const mn = this.mn;
-    mn.withTemp(({ str }) => {
+    this.mn.withTemp(({ str }) => {
       const who = character === undefined || character === null ? 0 : str(typeof character === 'string' ? character : character.name);
-      const status = mn.wasm._mn_scene_send_bml(this.handle, who, str(bml));
-      this.rethrowCallbackError();
-      mn.check(status, this.handle, 'sendBml');
+      const text = str(bml);
+      this.call('sendBml', () => this.mn.wasm._mn_scene_send_bml(this.handle, who, text));
     });
   }
 
   /** Advances the scene by dt seconds; callbacks come from here. */
   update(dt) {
-    const status = this.mn.wasm._mn_scene_update(this.handle, dt);
-    this.rethrowCallbackError();
-    if (status !== 0) this.mn.check(status, this.handle, 'update');
+    this.call('update', () => this.mn.wasm._mn_scene_update(this.handle, dt));
   }
 
-  rethrowCallbackError() {
-    if (this.callbackError === undefined) return;
-    const e = this.callbackError;
-    this.callbackError = undefined;
-    throw e;
-  }
-
-  get time() { return this.mn.wasm._mn_scene_time(this.handle); }
+  get time() { return this.handle ? this.mn.wasm._mn_scene_time(this.handle) : 0; }
 
   /** Places a named object ("camera" for the viewer) that gaze, pointing and locomotion may target. */
   setObject(name, x, y, z) {
-    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_set_object(this.handle, str(name), x, y, z),
-      this.handle, 'setObject'));
+    this.mn.withTemp(({ str }) => { const n = str(name); this.call('setObject', () => this.mn.wasm._mn_scene_set_object(this.handle, n, x, y, z)); });
   }
   removeObject(name) {
-    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_remove_object(this.handle, str(name)),
-      this.handle, 'removeObject'));
+    this.mn.withTemp(({ str }) => { const n = str(name); this.call('removeObject', () => this.mn.wasm._mn_scene_remove_object(this.handle, n)); });
   }
   interruptBlock(id) {
-    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_interrupt_block(this.handle, str(id)),
-      this.handle, 'interruptBlock'));
+    this.mn.withTemp(({ str }) => { const n = str(id); this.call('interruptBlock', () => this.mn.wasm._mn_scene_interrupt_block(this.handle, n)); });
   }
   /** "auto", "bml" or "smartbody", for one character or (none given) the scene. */
   setBmlDialect(dialect, character) {
-    this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_set_bml_dialect(this.handle,
-      character ? str(typeof character === 'string' ? character : character.name) : 0, str(dialect)), this.handle,
-    'setBmlDialect'));
+    this.mn.withTemp(({ str }) => {
+      const who = character ? str(typeof character === 'string' ? character : character.name) : 0;
+      const d = str(dialect);
+      this.call('setBmlDialect', () => this.mn.wasm._mn_scene_set_bml_dialect(this.handle, who, d));
+    });
   }
 
   /**
@@ -244,10 +287,13 @@ class Scene {
   addSpeechLine(text, { audio, alignment, audioName = 'line.wav', alignmentName = 'line.lab' }) {
     const files = new Map([[alignmentName, alignment]]);
     if (audio) files.set(audioName, audio);
-    const reader = this.mn.fileReader(files);
+    this.mn.alive(this.handle, 'Scene.addSpeechLine');
+    const reader = this.mn.fileReader(files, this);
     try {
-      this.mn.withTemp(({ str }) => this.mn.check(this.mn.wasm._mn_scene_add_speech_line(this.handle, str(text),
-        audio ? str(audioName) : 0, str(alignmentName), reader, 0), this.handle, 'addSpeechLine'));
+      this.mn.withTemp(({ str }) => {
+        const t = str(text), a = audio ? str(audioName) : 0, l = str(alignmentName);
+        this.call('addSpeechLine', () => this.mn.wasm._mn_scene_add_speech_line(this.handle, t, a, l, reader, 0));
+      });
     } finally {
       this.mn.wasm.removeFunction(reader);
     }
@@ -255,9 +301,10 @@ class Scene {
 
   // ---- callbacks: fn(object) or null to remove ----
   // A callback must not throw into the library (the C API's rule): an exception is kept and
-  // thrown again when the call that ran the callback returns (rethrowCallbackError).
+  // thrown again when the call that ran the callback returns.
   setCallback(kind, setter, signature, fn, wrap) {
     const wasm = this.mn.wasm;
+    this.mn.alive(this.handle, `Scene.${kind}`);
     const old = this.callbacks.get(kind);
     const guard = (f) => (...args) => {
       try {
@@ -268,7 +315,12 @@ class Scene {
       }
     };
     const index = fn ? wasm.addFunction(guard(wrap(fn)), signature) : 0;
-    this.mn.check(wasm[setter](this.handle, index, 0), this.handle, setter);
+    try {
+      this.call(setter, () => wasm[setter](this.handle, index, 0));
+    } catch (e) {
+      if (index) wasm.removeFunction(index);
+      throw e;
+    }
     if (old) wasm.removeFunction(old);
     if (index) this.callbacks.set(kind, index); else this.callbacks.delete(kind);
   }
@@ -333,6 +385,16 @@ class Scene {
     });
   }
 
+  /** A clip starts or stops on a layer: {kind: "started" | "stopped", character, clip, sceneTime}. */
+  onClip(fn) {
+    const mn = this.mn;
+    this.setCallback('clip', '_mn_scene_set_clip_callback', 'vii', fn, (f) => (user, p) => {
+      const u32 = mn.wasm.HEAPU32;
+      f({ kind: mn.wasm.HEAP32[p >> 2] === 0 ? 'started' : 'stopped', character: mn.string(u32[(p + 4) >> 2]),
+        clip: mn.string(u32[(p + 8) >> 2]), sceneTime: mn.wasm.HEAPF64[(p + 16) >> 3] });
+    });
+  }
+
   /** Frees the scene, its characters, their bindings and the callbacks. */
   dispose() {
     const wasm = this.mn.wasm;
@@ -353,7 +415,7 @@ class HeapFloats {
   constructor(mn, count) {
     this.mn = mn;
     this.count = count;
-    this.ptr = mn.wasm._malloc(Math.max(4, count * 4));
+    this.ptr = mn.malloc(Math.max(4, count * 4));
     mn.wasm.HEAPF32.fill(0, this.ptr >> 2, (this.ptr >> 2) + count);
     this.view = null;
   }
@@ -384,10 +446,19 @@ class Character {
     this.morphNames = Array.from({ length: morphs }, (_, m) => this.mn.string(wasm._mn_character_morph_name(handle, m)));
     const clips = wasm._mn_character_clip_count(handle);
     this.clipNames = Array.from({ length: clips }, (_, c) => this.mn.string(wasm._mn_character_clip_name(handle, c)));
+    const spaces = wasm._mn_character_blend_space_count(handle);
+    this.blendSpaceNames = Array.from({ length: spaces }, (_, b) => this.mn.string(wasm._mn_character_blend_space_name(handle, b)));
     this.buffers = new Map();
     this.bindings = new Set();
   }
 
+  // One C call on this character (checked alive first: a removed one's handle is 0).
+  call(what, fn) {
+    this.mn.alive(this.handle, `Character.${what}`);
+    const status = fn();
+    this.mn.check(status, this.scene, what);
+    return status;
+  }
   buffer(key, count) {
     let b = this.buffers.get(key);
     if (!b) { b = new HeapFloats(this.mn, count); this.buffers.set(key, b); }
@@ -395,67 +466,89 @@ class Character {
   }
   /** Every joint's matrix in the skeleton's order (16 or 12 floats each), as of the last update. */
   palette(layout = PaletteLayout.MAT4_COLUMN_MAJOR, inverseBind = true) {
+    this.mn.alive(this.handle, 'Character.palette');
     const n = this.jointNames.length * this.mn.wasm._mn_palette_floats_per_joint(layout);
     const b = this.buffer(`palette${layout}${inverseBind ? 1 : 0}`, n);
-    this.mn.check(this.mn.wasm._mn_character_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n),
-      this.scene.handle, 'palette');
+    this.call('palette', () => this.mn.wasm._mn_character_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n));
     return b.array;
   }
   /** Morph weights in morphNames order. */
   morphWeights() {
+    this.mn.alive(this.handle, 'Character.morphWeights');
     const b = this.buffer('morphs', this.morphNames.length);
-    this.mn.check(this.mn.wasm._mn_character_morph_weights(this.handle, b.ptr, this.morphNames.length),
-      this.scene.handle, 'morphWeights');
+    this.call('morphWeights', () => this.mn.wasm._mn_character_morph_weights(this.handle, b.ptr, this.morphNames.length));
     return b.array;
   }
   /** The world-from-model matrix (column-major 16 floats): place the skinned mesh with it. */
   worldMatrix() {
+    this.mn.alive(this.handle, 'Character.worldMatrix');
     const b = this.buffer('world', 16);
-    this.mn.check(this.mn.wasm._mn_character_world_matrix(this.handle, b.ptr), this.scene.handle, 'worldMatrix');
+    this.call('worldMatrix', () => this.mn.wasm._mn_character_world_matrix(this.handle, b.ptr));
     return b.array;
   }
-  setPosition(x, y, z) { this.mn.check(this.mn.wasm._mn_character_set_position(this.handle, x, y, z), this.scene.handle, 'setPosition'); }
-  setHeading(radians) { this.mn.check(this.mn.wasm._mn_character_set_heading(this.handle, radians), this.scene.handle, 'setHeading'); }
+  setPosition(x, y, z) { this.call('setPosition', () => this.mn.wasm._mn_character_set_position(this.handle, x, y, z)); }
+  setHeading(radians) { this.call('setHeading', () => this.mn.wasm._mn_character_set_heading(this.handle, radians)); }
 
+  // mn_play_options from {weight, speed, loop, startTime, fadeIn, additive, rootMotion}.
+  playOptions(alloc, options) {
+    const wasm = this.mn.wasm;
+    const o = LAYOUT.playOptions;
+    const p = alloc(o.size);
+    wasm._mn_play_options_default(p);
+    if (options.weight !== undefined) wasm.HEAPF32[(p + o.weight) >> 2] = options.weight;
+    if (options.speed !== undefined) wasm.HEAPF32[(p + o.speed) >> 2] = options.speed;
+    if (options.loop !== undefined) wasm.HEAP32[(p + o.loop) >> 2] = options.loop ? 1 : 0;
+    if (options.startTime !== undefined) wasm.HEAPF64[(p + o.startTime) >> 3] = options.startTime;
+    if (options.fadeIn !== undefined) wasm.HEAPF32[(p + o.fadeIn) >> 2] = options.fadeIn;
+    if (options.additive !== undefined) wasm.HEAP32[(p + o.additive) >> 2] = options.additive ? 1 : 0;
+    if (options.rootMotion !== undefined) wasm.HEAP32[(p + o.rootMotion) >> 2] = options.rootMotion ? 1 : 0;
+    return p;
+  }
   /** Plays a clip on a layer (0..7). Options: weight, speed, loop, startTime, fadeIn, additive, rootMotion. */
   play(clip, layer = 0, options = {}) {
-    const mn = this.mn, wasm = mn.wasm;
-    mn.withTemp(({ alloc, str }) => {
-      const o = LAYOUT.playOptions;
-      const p = alloc(o.size);
-      wasm._mn_play_options_default(p);
-      if (options.weight !== undefined) wasm.HEAPF32[(p + o.weight) >> 2] = options.weight;
-      if (options.speed !== undefined) wasm.HEAPF32[(p + o.speed) >> 2] = options.speed;
-      if (options.loop !== undefined) wasm.HEAP32[(p + o.loop) >> 2] = options.loop ? 1 : 0;
-      if (options.startTime !== undefined) wasm.HEAPF64[(p + o.startTime) >> 3] = options.startTime;
-      if (options.fadeIn !== undefined) wasm.HEAPF32[(p + o.fadeIn) >> 2] = options.fadeIn;
-      if (options.additive !== undefined) wasm.HEAP32[(p + o.additive) >> 2] = options.additive ? 1 : 0;
-      if (options.rootMotion !== undefined) wasm.HEAP32[(p + o.rootMotion) >> 2] = options.rootMotion ? 1 : 0;
-      mn.check(wasm._mn_character_play(this.handle, layer, str(clip), p), this.scene.handle, 'play');
+    this.mn.withTemp(({ alloc, str }) => {
+      const name = str(clip);
+      const p = this.playOptions(alloc, options);
+      this.call('play', () => this.mn.wasm._mn_character_play(this.handle, layer, name, p));
     });
   }
-  stop(layer = 0, fadeOut = 0) { this.mn.check(this.mn.wasm._mn_character_stop(this.handle, layer, fadeOut), this.scene.handle, 'stop'); }
+  stop(layer = 0, fadeOut = 0) { this.call('stop', () => this.mn.wasm._mn_character_stop(this.handle, layer, fadeOut)); }
+  /** Plays a blend space of the rig (blendSpaceNames) on a layer; the same options as play. */
+  playBlend(blendSpace, layer = 0, options = {}) {
+    this.mn.withTemp(({ alloc, str }) => {
+      const name = str(blendSpace);
+      const p = this.playOptions(alloc, options);
+      this.call('playBlend', () => this.mn.wasm._mn_character_play_blend(this.handle, layer, name, p));
+    });
+  }
+  /** Moves the parameter point of the blend space playing on `layer` (no allocation: every frame is fine). */
+  setBlendParameter(layer, x, y = 0) {
+    this.call('setBlendParameter', () => this.mn.wasm._mn_character_set_blend_parameter(this.handle, layer, x, y));
+  }
 
   /**
    * Binds to an engine skeleton: `bones` (names in the engine's palette order), `parents`
-   * (slots, -1 for roots; optional), `morphs` (the engine's morph slot names). Options:
-   * throughJointMaps (bind by canonical joint where names differ).
+   * (slots, -1 for roots; optional, as many as bones), `morphs` (the engine's morph slot
+   * names). Options: throughJointMaps (bind by canonical joint where names differ).
    */
   bind({ bones, parents, morphs = [], throughJointMaps = false }) {
+    this.mn.alive(this.handle, 'Character.bind');
+    if (parents && parents.length !== bones.length) {
+      throw new MarionetteError(`Character.bind: ${parents.length} parents for ${bones.length} bones`, 'MN_ERROR_INVALID_ARGUMENT');
+    }
     const binding = new Binding(this, bones, parents, morphs, throughJointMaps);
     this.bindings.add(binding);
     return binding;
   }
 
-  /** Removes the character from its scene. */
+  /** Removes the character from its scene (refused from inside a callback: then it stays). */
   remove() {
-    const status = this.mn.wasm._mn_scene_remove_character(this.scene.handle, this.handle);
+    this.call('remove', () => this.mn.wasm._mn_scene_remove_character(this.scene.handle, this.handle));
     this.scene.characters.delete(this.name);
     this.release();
-    this.mn.check(status, this.scene.handle, 'remove');
   }
   release() {
-    for (const b of this.bindings) b.dispose();
+    for (const b of [...this.bindings]) b.dispose();
     this.bindings.clear();
     for (const b of this.buffers.values()) b.free();
     this.buffers.clear();
@@ -472,28 +565,28 @@ class Binding {
     this.boneCount = bones.length;
     this.morphSlotCount = morphs.length;
     this.handle = mn.withTemp(({ alloc, str }) => {
+      // Every allocation first (each may grow the memory), then the writes.
+      const namePtrs = bones.map((n) => str(n));
+      const morphPtrs = morphs.map((n) => str(n));
       const names = alloc(4 * Math.max(1, bones.length));
-      bones.forEach((n, i) => { wasm.HEAPU32[(names >> 2) + i] = str(n); });
-      let parentPtr = 0;
-      if (parents) {
-        parentPtr = alloc(4 * Math.max(1, bones.length));
-        wasm.HEAP32.set(Int32Array.from(parents), parentPtr >> 2);
-      }
+      const parentPtr = parents ? alloc(4 * Math.max(1, bones.length)) : 0;
       const morphNames = morphs.length ? alloc(4 * morphs.length) : 0;
-      morphs.forEach((n, i) => { wasm.HEAPU32[(morphNames >> 2) + i] = str(n); });
       const s = LAYOUT.engineSkeleton;
       const skeleton = alloc(s.size);
+      const o = LAYOUT.bindingOptions;
+      const opts = alloc(o.size);
+      const out = alloc(4);
+      wasm.HEAPU32.set(namePtrs, names >> 2);
+      if (parentPtr) wasm.HEAP32.set(Int32Array.from(parents), parentPtr >> 2);
+      if (morphNames) wasm.HEAPU32.set(morphPtrs, morphNames >> 2);
       wasm.HEAPU32[(skeleton + s.boneNames) >> 2] = names;
       wasm.HEAPU32[(skeleton + s.parents) >> 2] = parentPtr;
       wasm.HEAPU32[(skeleton + s.boneCount) >> 2] = bones.length;
       wasm.HEAPU32[(skeleton + s.morphNames) >> 2] = morphNames;
       wasm.HEAPU32[(skeleton + s.morphCount) >> 2] = morphs.length;
-      const o = LAYOUT.bindingOptions;
-      const opts = alloc(o.size);
       wasm._mn_binding_options_default(opts);
       wasm.HEAP32[(opts + o.throughJointMaps) >> 2] = throughJointMaps ? 1 : 0;
-      const out = alloc(4);
-      mn.check(wasm._mn_binding_create(character.handle, skeleton, opts, out), character.scene.handle, 'bind');
+      character.call('bind', () => wasm._mn_binding_create(character.handle, skeleton, opts, out));
       return wasm.HEAPU32[out >> 2];
     });
     this.report = mn.string(wasm._mn_binding_report(this.handle));
@@ -502,20 +595,26 @@ class Binding {
     this.paletteBuffers = new Map();
     this.morphBuffer = new HeapFloats(mn, this.morphSlotCount);
   }
+  call(what, fn) {
+    this.mn.alive(this.handle, `Binding.${what}`);
+    const status = fn();
+    this.mn.check(status, this.character.scene, what);
+    return status;
+  }
   /** The palette in the engine's bone order (a view on wasm memory, rewritten by each call). */
   palette(layout = PaletteLayout.MAT4_COLUMN_MAJOR, inverseBind = true) {
+    this.mn.alive(this.handle, 'Binding.palette');
     const wasm = this.mn.wasm;
     const n = this.boneCount * wasm._mn_palette_floats_per_joint(layout);
     const key = layout * 2 + (inverseBind ? 1 : 0);
     let b = this.paletteBuffers.get(key);
     if (!b) { b = new HeapFloats(this.mn, n); this.paletteBuffers.set(key, b); }
-    this.mn.check(wasm._mn_binding_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n), this.character.scene.handle, 'palette');
+    this.call('palette', () => wasm._mn_binding_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n));
     return b.array;
   }
   /** Weights of the engine's morph slots (slots without a morph keep their values). */
   morphWeights() {
-    this.mn.check(this.mn.wasm._mn_binding_morph_weights(this.handle, this.morphBuffer.ptr, this.morphSlotCount),
-      this.character.scene.handle, 'morphWeights');
+    this.call('morphWeights', () => this.mn.wasm._mn_binding_morph_weights(this.handle, this.morphBuffer.ptr, this.morphSlotCount));
     return this.morphBuffer.array;
   }
   dispose() {

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <type_traits>
 
 namespace marionette {
 namespace {
@@ -77,13 +78,16 @@ std::from_chars_result viaStrtod(const char* first, const char* last, T& value) 
   }
   errno = 0;
   char* end = nullptr;
-  const double d = std::strtod(text, &end);
+  // strtof for float: a double rounded again to float is not always the nearest float.
+  T v;
+  if constexpr (std::is_same_v<T, float>) v = std::strtof(text, &end);
+  else v = std::strtod(text, &end);
   const bool rangeError = errno == ERANGE;
-  T v = static_cast<T>(d);
-  // from_chars: out of range when the result overflows (a finite double that overflows
-  // float included), or underflows to zero from a number that is not zero.
-  const bool overflow = std::isinf(v) && (rangeError || std::isfinite(d));
-  const bool underflow = v == T(0) && (d != 0.0 || rangeError);
+  // from_chars: out of range when the value overflows to infinity ("inf" itself sets no
+  // ERANGE), or underflows to zero from a number that is not zero (a subnormal result is a
+  // value: some C libraries set ERANGE for it anyway).
+  const bool overflow = std::isinf(v) && rangeError;
+  const bool underflow = v == T(0) && rangeError;
   if (overflow || underflow) return {first + n, std::errc::result_out_of_range};
   value = v;
   return {first + n, std::errc()};
@@ -104,9 +108,19 @@ std::to_chars_result toCharsViaSnprintf(char* first, char* last, double value, s
   const std::ptrdiff_t room = last - first;
   char buffer[512];
   const int n = std::snprintf(buffer, sizeof buffer, spec, precision, value);
-  if (n < 0 || n >= static_cast<int>(sizeof buffer) || n > room) return {last, std::errc::value_too_large};
-  std::memcpy(first, buffer, static_cast<std::size_t>(n));
-  return {first + n, std::errc()};
+  if (n < 0 || n > room) return {last, std::errc::value_too_large};
+  if (n < static_cast<int>(sizeof buffer)) {
+    std::memcpy(first, buffer, static_cast<std::size_t>(n));
+    return {first + n, std::errc()};
+  }
+  try {  // longer than the buffer (a large precision): once more, at its length
+    std::string text(static_cast<std::size_t>(n) + 1, '\0');
+    std::snprintf(text.data(), text.size(), spec, precision, value);
+    std::memcpy(first, text.data(), static_cast<std::size_t>(n));
+    return {first + n, std::errc()};
+  } catch (...) {
+    return {last, std::errc::value_too_large};
+  }
 }
 
 }  // namespace marionette

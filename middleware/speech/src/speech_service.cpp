@@ -86,6 +86,12 @@ void SpeechService::addBackend(std::shared_ptr<SpeechBackend> backend) {
   ++generation_;
 }
 
+void SpeechService::forgetCachedLines() {
+  std::lock_guard lock(mutex_);
+  cache_.clear();
+  ++generation_;
+}
+
 void SpeechService::setSynthesizer(SynthesizerFactory factory) {
   std::lock_guard lock(mutex_);
   synthesizerFactory_ = std::move(factory);

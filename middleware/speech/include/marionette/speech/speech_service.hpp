@@ -57,6 +57,9 @@ class SpeechService {
   // library marionette::tts_espeak (GPL), set with speech::useEspeak(service).
   using SynthesizerFactory = std::function<std::shared_ptr<SpeechBackend>(std::string* whyNot)>;
   void addBackend(std::shared_ptr<SpeechBackend> backend);
+  // A backend now says some text differently (a recorded line added to it): cached lines are
+  // said again when next asked for. addBackend does this itself.
+  void forgetCachedLines();
   void setSynthesizer(SynthesizerFactory factory);
   void useDefaultSynthesizer(bool use);
   [[nodiscard]] std::size_t backendCount() const;
