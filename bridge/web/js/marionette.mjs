@@ -141,7 +141,16 @@ class Marionette {
   }
 }
 
-// Holds an exception from a JS function the library called (a file reader during a load).
+// One C call on `object` (a Scene, Character or Binding): refused when its handle is gone
+// (disposed or removed), then checked, errors read from `owner` (the scene). `status` is
+// the call's result; the per-frame methods pass it directly (no closure to allocate).
+function checked(object, owner, what, status) {
+  object.mn.check(status, owner, what);
+  return status;
+}
+
+// Holds an exception from a JS function the library called (a file reader during a load,
+// a callback during an update); the scene is one too.
 class ErrorHolder {
   rethrowCallbackError() {
     if (this.callbackError === undefined) return;
@@ -186,8 +195,9 @@ class Asset {
 }
 
 /** A scene: characters, the BML realizer, named objects and callbacks. */
-class Scene {
+class Scene extends ErrorHolder {
   constructor(mn) {
+    super();
     this.mn = mn;
     const wasm = mn.wasm;
     this.characters = new Map();
@@ -212,15 +222,7 @@ class Scene {
   // Runs one C call on this scene and throws for its status (after a callback's exception).
   call(what, fn) {
     this.mn.alive(this.handle, `Scene.${what}`);
-    const status = fn();
-    this.mn.check(status, this, what);
-    return status;
-  }
-  rethrowCallbackError() {
-    if (this.callbackError === undefined) return;
-    const e = this.callbackError;
-    this.callbackError = undefined;
-    throw e;
+    return checked(this, this, what, fn());
   }
 
   /** Adds a character made from an Asset (or from bytes: `options.fileName` then names the file). */
@@ -256,7 +258,8 @@ class Scene {
 
   /** Advances the scene by dt seconds; callbacks come from here. */
   update(dt) {
-    this.call('update', () => this.mn.wasm._mn_scene_update(this.handle, dt));
+    this.mn.alive(this.handle, 'Scene.update');
+    checked(this, this, 'update', this.mn.wasm._mn_scene_update(this.handle, dt));
   }
 
   get time() { return this.handle ? this.mn.wasm._mn_scene_time(this.handle) : 0; }
@@ -431,6 +434,10 @@ class HeapFloats {
   }
 }
 
+// Keys of a character's buffers: palettes are layout * 2 + inverse bind (0..5).
+const kMorphBuffer = 6;
+const kWorldBuffer = 7;
+
 /** A character of a scene. */
 class Character {
   constructor(scene, handle) {
@@ -455,9 +462,7 @@ class Character {
   // One C call on this character (checked alive first: a removed one's handle is 0).
   call(what, fn) {
     this.mn.alive(this.handle, `Character.${what}`);
-    const status = fn();
-    this.mn.check(status, this.scene, what);
-    return status;
+    return checked(this, this.scene, what, fn());
   }
   buffer(key, count) {
     let b = this.buffers.get(key);
@@ -468,22 +473,22 @@ class Character {
   palette(layout = PaletteLayout.MAT4_COLUMN_MAJOR, inverseBind = true) {
     this.mn.alive(this.handle, 'Character.palette');
     const n = this.jointNames.length * this.mn.wasm._mn_palette_floats_per_joint(layout);
-    const b = this.buffer(`palette${layout}${inverseBind ? 1 : 0}`, n);
-    this.call('palette', () => this.mn.wasm._mn_character_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n));
+    const b = this.buffer(layout * 2 + (inverseBind ? 1 : 0), n);
+    checked(this, this.scene, 'palette', this.mn.wasm._mn_character_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n));
     return b.array;
   }
   /** Morph weights in morphNames order. */
   morphWeights() {
     this.mn.alive(this.handle, 'Character.morphWeights');
-    const b = this.buffer('morphs', this.morphNames.length);
-    this.call('morphWeights', () => this.mn.wasm._mn_character_morph_weights(this.handle, b.ptr, this.morphNames.length));
+    const b = this.buffer(kMorphBuffer, this.morphNames.length);
+    checked(this, this.scene, 'morphWeights', this.mn.wasm._mn_character_morph_weights(this.handle, b.ptr, this.morphNames.length));
     return b.array;
   }
   /** The world-from-model matrix (column-major 16 floats): place the skinned mesh with it. */
   worldMatrix() {
     this.mn.alive(this.handle, 'Character.worldMatrix');
-    const b = this.buffer('world', 16);
-    this.call('worldMatrix', () => this.mn.wasm._mn_character_world_matrix(this.handle, b.ptr));
+    const b = this.buffer(kWorldBuffer, 16);
+    checked(this, this.scene, 'worldMatrix', this.mn.wasm._mn_character_world_matrix(this.handle, b.ptr));
     return b.array;
   }
   setPosition(x, y, z) { this.call('setPosition', () => this.mn.wasm._mn_character_set_position(this.handle, x, y, z)); }
@@ -597,9 +602,7 @@ class Binding {
   }
   call(what, fn) {
     this.mn.alive(this.handle, `Binding.${what}`);
-    const status = fn();
-    this.mn.check(status, this.character.scene, what);
-    return status;
+    return checked(this, this.character.scene, what, fn());
   }
   /** The palette in the engine's bone order (a view on wasm memory, rewritten by each call). */
   palette(layout = PaletteLayout.MAT4_COLUMN_MAJOR, inverseBind = true) {
@@ -609,12 +612,14 @@ class Binding {
     const key = layout * 2 + (inverseBind ? 1 : 0);
     let b = this.paletteBuffers.get(key);
     if (!b) { b = new HeapFloats(this.mn, n); this.paletteBuffers.set(key, b); }
-    this.call('palette', () => wasm._mn_binding_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n));
+    checked(this, this.character.scene, 'palette', wasm._mn_binding_palette(this.handle, layout, inverseBind ? 1 : 0, b.ptr, n));
     return b.array;
   }
   /** Weights of the engine's morph slots (slots without a morph keep their values). */
   morphWeights() {
-    this.call('morphWeights', () => this.mn.wasm._mn_binding_morph_weights(this.handle, this.morphBuffer.ptr, this.morphSlotCount));
+    this.mn.alive(this.handle, 'Binding.morphWeights');
+    checked(this, this.character.scene, 'morphWeights',
+      this.mn.wasm._mn_binding_morph_weights(this.handle, this.morphBuffer.ptr, this.morphSlotCount));
     return this.morphBuffer.array;
   }
   dispose() {
