@@ -234,8 +234,10 @@ TEST(TrackingAllocation, CountersSeeCppAndOpenCvAllocations) {
 // The markerless tracker's per-frame path allocates nothing once warm: the warp, pyramids,
 // KLT, RANSAC, pose and motion blur are ours (examples/ar/tracking/src), sized at
 // construction. Over a sharp orbit and over the blurred one (the template smeared, the KLT
-// window grown), frames 12..35, none relocalizing. (36 frames: rendering them is most of the
-// test's time, 60 s under the sanitizers at 60 frames.)
+// window grown), frames 12..35, none relocalizing. A frame that adds a keyframe allocates: the
+// map grows (the floor around the target as the camera moves, at most PlanarMap::kMaxKeyframes),
+// as PTAM's mapping does; such frames are few and counted apart. (36 frames: rendering them is
+// most of the test's time, 60 s under the sanitizers at 60 frames.)
 TEST(TrackingAllocation, MarkerlessTrackingAllocatesNothingPerFrame) {
   cv::setNumThreads(1);
   const synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
@@ -267,20 +269,29 @@ TEST(TrackingAllocation, MarkerlessTrackingAllocatesNothingPerFrame) {
       keyframeAdded[k] = tracker->lastFrame().keyframeAdded;
     }
     Counts total;
+    int keyframeFrames = 0;
     for (std::size_t k = 0; k < counts.size(); ++k) {
-      // The steady path: tracking against a keyframe, no relocalization, no new keyframe.
+      // The steady path: tracking against a keyframe, no relocalization.
       EXPECT_TRUE(posed[k]) << scenario.scenario.name << " frame " << k + kWarm;
       EXPECT_FALSE(relocalized[k]) << scenario.scenario.name << " frame " << k + kWarm;
-      EXPECT_FALSE(keyframeAdded[k]) << scenario.scenario.name << " frame " << k + kWarm;
+      if (keyframeAdded[k]) {
+        ++keyframeFrames;
+        EXPECT_GT(counts[k].news, 0) << "a keyframe is new memory: the count sees it";
+        continue;
+      }
       EXPECT_EQ(counts[k].news, 0) << scenario.scenario.name << " frame " << k + kWarm;
 #if MN_COUNT_MALLOC
       EXPECT_EQ(counts[k].mallocs, 0) << scenario.scenario.name << " frame " << k + kWarm;
 #endif
       total += counts[k];
     }
-    std::printf("[ markerless %s ] per update(), frames %d..%d: %.1f operator new (%.1f ours), %.1f malloc family%s\n",
-                scenario.scenario.name.c_str(), kWarm, kFrames - 1, perFrame(total.news, counts.size()),
-                perFrame(total.ownNews, counts.size()), perFrame(total.mallocs, counts.size()), MN_COUNT_MALLOC ? "" : " (not counted in this build)");
+    // A new floor keyframe once the camera has moved 0.3 of its distance from every other one:
+    // the orbit (3 deg a frame) adds 8 over its 150 frames.
+    EXPECT_LE(keyframeFrames, 2) << scenario.scenario.name;
+    const std::size_t steady = counts.size() - static_cast<std::size_t>(keyframeFrames);
+    std::printf("[ markerless %s ] per update(), frames %d..%d without a new keyframe (%zu; %d added one): %.1f operator new (%.1f ours), %.1f malloc family%s\n",
+                scenario.scenario.name.c_str(), kWarm, kFrames - 1, steady, keyframeFrames, perFrame(total.news, steady),
+                perFrame(total.ownNews, steady), perFrame(total.mallocs, steady), MN_COUNT_MALLOC ? "" : " (not counted in this build)");
   }
 }
 

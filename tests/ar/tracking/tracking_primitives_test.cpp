@@ -20,6 +20,7 @@
 #include "homography_ransac.hpp"
 #include "lucas_kanade.hpp"
 #include "perspective_warp.hpp"
+#include "planar_geometry.hpp"
 #include "planar_pose.hpp"
 #include "test_data.hpp"
 #include "tracking/scenario_run.hpp"
@@ -636,3 +637,47 @@ TEST(TrackingPrimitives, SameInputGivesTheSameBits) {
 }
 
 }  // namespace
+
+// The share of the image a target covers (the floor around it makes the rest: map extension,
+// issue 40): a camera looking straight down sees a w x h target as fx w / d by fy h / d pixels;
+// tilted towards the horizon, the sky (rays that meet the plane behind the camera) counts for
+// nothing, however the homography maps it.
+namespace {
+double bruteForceShare(const cv::Matx33d& K, const CameraModel& camera, const PlanarPose& pose, double w, double h) {
+  const cv::Matx33d g = planeToImageHomography(K, pose), toPlane = g.inv();
+  int inside = 0;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const cv::Vec3d q = toPlane * cv::Vec3d(x, y, 1);
+      const double px = q[0] / q[2], pz = q[1] / q[2];
+      inside += (g * cv::Vec3d(px, pz, 1))[2] > 0 && std::abs(px) <= w / 2 && std::abs(pz) <= h / 2;
+    }
+  return static_cast<double>(inside) / (camera.width * camera.height);
+}
+}  // namespace
+
+TEST(TrackingPrimitives, TargetImageShareIsTheShareOfPixelsOnTheTarget) {
+  CameraModel camera;
+  camera.width = 640, camera.height = 480, camera.fx = camera.fy = 600, camera.cx = 319.5, camera.cy = 239.5;
+  const double w = 0.3, h = 0.2;
+  // Straight down from d: camera x = X, y = Z, z = d - Y.
+  for (const double d : {0.5, 0.8, 1.5}) {
+    PlanarPose down;
+    down.rvec = rodriguesFromRotation(cv::Matx33d(1, 0, 0, 0, 0, 1, 0, -1, 0));
+    down.tvec = cv::Vec3d(0, 0, d);
+    const double expected = std::min(1.0, 600 * w / d / 640) * std::min(1.0, 600 * h / d / 480);
+    EXPECT_NEAR(targetImageShare(kK, camera, down, w, h), expected, 0.04) << d;
+    EXPECT_NEAR(targetImageShare(kK, camera, down, w, h), bruteForceShare(kK, camera, down, w, h), 0.03) << d;
+  }
+  // 80 deg from straight down, 1 m above the plane: the top of the image is sky.
+  const double tilt = 80 * 3.14159265358979323846 / 180;
+  const cv::Matx33d down(1, 0, 0, 0, 0, 1, 0, -1, 0);
+  const cv::Matx33d pitch(1, 0, 0, 0, std::cos(tilt), -std::sin(tilt), 0, std::sin(tilt), std::cos(tilt));
+  PlanarPose oblique;
+  oblique.rvec = rodriguesFromRotation(pitch * down);
+  oblique.tvec = pitch * cv::Vec3d(0, 0, 1.0);
+  const double grid = targetImageShare(kK, camera, oblique, 40, 40);  // a plane 40 m wide: all of the ground in view
+  EXPECT_NEAR(grid, bruteForceShare(kK, camera, oblique, 40, 40), 0.05);
+  EXPECT_GT(grid, 0.2);
+  EXPECT_LT(grid, 0.8) << "the sky is not the target";
+}

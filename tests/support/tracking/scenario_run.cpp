@@ -103,7 +103,7 @@ ScenarioRun runMarkerless(const RenderedScenario& rendered, const CameraModel& c
       const bool lost = p.state == TrackingState::Lost;
       std::fprintf(stderr,
                    "%s %zu: %s vis %.2f err %.1f mm %.2f deg sigma %.1f mm %.3f deg inl %d/%d rms %.2f spread %.2f "
-                   "ncc %.2f motion %.1f/%.1f mm %.2f/%.2f deg rej %d reloc %d bg %d%s%s extra %d kf %d added %d judged %.1f mm %.2f deg ms %.2f pred %.1f mm %.2f deg blur %.1f smear %.1f share %.2f vis %.2f parts %d/%d span %.2f stages %.1f %.1f %.1f %.1f hidden %.2f carry %d given %.1f mm %.3f deg\n",
+                   "ncc %.2f motion %.1f/%.1f mm %.2f/%.2f deg rej %d reloc %d bg %d%s%s extra %d kf %d added %d judged %.1f mm %.2f deg ms %.2f pred %.1f mm %.2f deg blur %.1f smear %.1f share %.2f vis %.2f frame %.2f parts %d/%d span %.2f stages %.1f %.1f %.1f %.1f hidden %.2f carry %d given %.1f mm %.3f deg\n",
                    rendered.scenario.name.c_str(), i, std::string(trackingStateName(p.state)).c_str(),
                    rendered.scenario.visibleFraction[i], lost ? -1.0 : 1000 * glm::length(p.position() - glm::dvec3(truth[3])),
                    lost ? -1.0 : rotationErrorDeg(p.cameraToWorld, truth), 1000 * st.positionSigmaM, st.rotationSigmaDeg,
@@ -114,7 +114,7 @@ ScenarioRun runMarkerless(const RenderedScenario& rendered, const CameraModel& c
                    st.inliers > 0 ? rotationErrorDeg(st.judgedCameraToWorld, truth) : -1.0, run.ms.back(),
                    st.predicted ? 1000 * glm::length(glm::dvec3(st.predictedCameraToWorld[3]) - glm::dvec3(truth[3])) : -1.0,
                    st.predicted ? rotationErrorDeg(st.predictedCameraToWorld, truth) : -1.0, st.blurPx,
-                   i < rendered.scenario.smearPx.size() ? rendered.scenario.smearPx[i] : 0.0, st.inlierShare, st.visibleShare,
+                   i < rendered.scenario.smearPx.size() ? rendered.scenario.smearPx[i] : 0.0, st.inlierShare, st.visibleShare, st.frameShare,
                    st.agreeingParts, st.parts, st.agreeingSpan, st.motionMs, st.kltMs, st.denseMs, st.relocalizationMs,
                    i < rendered.scenario.hiddenFraction.size() ? rendered.scenario.hiddenFraction[i] : 0.0, st.carried,
                    1000 * p.positionSigmaM, p.rotationSigmaDeg);

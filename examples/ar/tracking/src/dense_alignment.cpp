@@ -575,6 +575,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   out.sigma = fit.sigma;
   out.samples = fit.valid;
   out.visibleShare = std::min(1.0, fit.valid * lv.stride * lv.stride / std::max(lv.area, 1.0));
+  out.frameShare = std::min(1.0, fit.valid * lv.stride * lv.stride / (static_cast<double>(lv.frame.width) * lv.frame.height));
   out.inlierShare = static_cast<double>(inliers) / fit.valid;
   judgeParts(lv, out);
   out.smearPx = meanSmear * (1 << lv.index);
@@ -602,6 +603,7 @@ bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const
   out.zncc = moments.zncc();
   out.samples = moments.n;
   out.visibleShare = std::min(1.0, moments.n * lv.stride * lv.stride / std::max(lv.area, 1.0));
+  out.frameShare = std::min(1.0, moments.n * lv.stride * lv.stride / (static_cast<double>(lv.frame.width) * lv.frame.height));
   out.smearPx = meanSmearOf(lv) * (1 << lv.index);
   judgeParts(lv, out);
   return std::isfinite(out.zncc);

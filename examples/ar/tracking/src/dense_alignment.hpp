@@ -63,6 +63,7 @@ struct DenseAlignment {
   int samples = 0;       // at the fine level
   double inlierShare = 0;  // of the samples with a full Huber weight
   double visibleShare = 0;  // of the keyframe's area, seen (in the image) by the samples
+  double frameShare = 0;    // of the frame, covered by those samples
   // Agreement by parts: the samples' extent cut into kPartGrid x kPartGrid parts; a part counts
   // when its model varies (texture to judge by) and agrees when its own ZNCC (its own gain and
   // bias) is high. A hand hides some parts and leaves the rest agreeing; a wrong pose

@@ -20,8 +20,10 @@ cv::Vec3d MarkerlessTracker::Impl::frameIntervalTurn(const PlanarPose& predictio
   return haveMotion ? smearTurnFromMotion(K, motion, 1.0) : cv::Vec3d(0, 0, 0);
 }
 
-Measurement MarkerlessTracker::Impl::denseEvidence(const DenseAlignment& a) noexcept {
+Measurement MarkerlessTracker::Impl::denseEvidence(const DenseAlignment& a, const KeyframeData& kf) noexcept {
   Measurement m;
+  m.onFloor = !kf.reference;
+  m.frameShare = a.frameShare;
   m.pose = a.pose;
   m.dense = true;
   m.ncc = a.zncc;
@@ -40,11 +42,11 @@ bool MarkerlessTracker::Impl::carriedPoseShows(const PlanarPose& pose, int keyfr
   DenseAlignment at;
   if (!dense.verify(K, DenseTarget{kf.denseLevels, kf.planeToImage}, framePyramid(), smearTurn, pose, denseParams, at))
     return false;
-  const Measurement seen = denseEvidence(at);
+  const Measurement seen = denseEvidence(at, kf);
   notePhotometricEvidence(seen);
   // The by-parts gate of a dense pose, at the pose as carried: what shows of the target is where
   // the pose puts it.
-  return seen.visibleShare >= settings.minDenseVisibleShare && agreesByParts(seen);
+  return seen.viewShare() >= settings.minDenseVisibleShare && agreesByParts(seen);
 }
 
 bool MarkerlessTracker::Impl::carry(const PlanarPose& prediction, double seconds, StampedPose& out) {
@@ -113,7 +115,7 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   }
   const glm::dvec3 c = cameraPosition(result.pose);
   if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;
-  out = denseEvidence(result);
+  out = denseEvidence(result, kf);
   out.exposure = measuredExposure;
   out.rms = result.sigma;
   // As counts (the per-frame logs show them as inliers/tried): the samples within Huber's

@@ -15,8 +15,8 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
     // Explained as a whole, or by parts where something covers the rest (docs/tracking.md).
     const bool whole = m.ncc >= settings.minDenseZncc && m.inlierShare >= settings.minDenseInlierShare;
     const bool byParts = agreesByParts(m);
-    const bool inView = m.visibleShare >= settings.minDenseVisibleShare;
-    const bool sliver = m.visibleShare >= settings.minDenseSliverShare && m.parts >= settings.minDenseSliverParts &&
+    const bool inView = m.viewShare() >= settings.minDenseVisibleShare;
+    const bool sliver = m.viewShare() >= settings.minDenseSliverShare && m.parts >= settings.minDenseSliverParts &&
                         m.agreeingParts == m.parts && whole;
     const bool limited = ((inView && (whole || byParts)) || sliver) && 3 * m.positionSigma <= drawnM &&
                          3 * m.rotationSigmaDeg <= settings.maxDrawnErrorDeg;
@@ -51,6 +51,7 @@ void MarkerlessTracker::Impl::notePhotometricEvidence(const Measurement& m) noex
   stats.ncc = m.ncc;
   stats.inlierShare = m.inlierShare;
   stats.visibleShare = m.visibleShare;
+  stats.frameShare = m.frameShare;
   stats.parts = m.parts;
   stats.agreeingParts = m.agreeingParts;
   stats.agreeingSpan = m.agreeingSpan;

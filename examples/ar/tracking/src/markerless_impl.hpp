@@ -56,6 +56,12 @@ inline constexpr double kDenseFloorPositionM = 0.0025;
 // Past this smear KLT on corners rarely gives a pose (docs/tracking.md: 13 % at 25-40 px): after a
 // dense pose with such a smear, the next frame aligns densely first.
 inline constexpr double kDenseFirstSmearPx = 25;
+// A floor keyframe is tried where tracking against the reference failed when this many of its
+// corners fall in the predicted view (twice what TRACKING needs agreeing).
+inline constexpr int kMinFloorRetryCorners = 60;
+// After the floor gave the pose where the reference failed, the floor goes first for this many
+// frames; then the reference is tried first again (the hand may have left).
+inline constexpr int kFloorFirstFrames = 8;
 // The dense alignment's turn over the exposure against the image's measured motion over the frame
 // interval: at most this share of it (an exposure is at most the interval, and the turn's speed
 // changes a little within it), about an axis within acos(this) of it.
@@ -123,6 +129,11 @@ struct Measurement {
   bool dense = false;        // from the dense alignment: ncc over all the target's pixels
   double inlierShare = 0;    // dense: the pixels within Huber's threshold
   double visibleShare = 0;   // dense: the keyframe's area in view
+  double frameShare = 0;     // dense: the frame's area the keyframe's samples cover
+  bool onFloor = false;      // dense: against a keyframe of the floor, not the reference
+  // How much of the keyframe is seen: of the reference, its area in view; of a floor keyframe (a
+  // camera frame, whose area on the plane may reach the horizon), that or the frame it covers.
+  [[nodiscard]] double viewShare() const noexcept { return onFloor ? std::max(visibleShare, frameShare) : visibleShare; }
   int parts = 0, agreeingParts = 0;  // dense: textured parts of the target, and those that agree
   double agreeingSpan = 0;   // dense: the agreeing parts' extent, narrower axis, 0..1
   double smearPx = 0;        // dense: the mean smear over the target, pixels
@@ -179,6 +190,9 @@ struct MarkerlessTracker::Impl {
   // motion moves it, and its covariance grows by the carry's error).
   StampedPose lastGiven;
   int carriedFrames = 0;  // consecutive frames given as carried
+  // Through this update() call, tracking tries a floor keyframe before the reference: the
+  // reference failed and the floor gave the pose (a hand over the target stays a while).
+  long floorFirstUntil = -1;
   // Frames since the last pose given through which the image's motion carried it (nothing
   // given, LOST): -1 once that chain broke (no motion measured, a pending pose in between).
   int chainedSinceGiven = -1;
@@ -272,7 +286,8 @@ struct MarkerlessTracker::Impl {
   // to `out` when it has more inliers than `bestInliers`.
   void matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels, const cv::Matx33d& imageToPlane,
                      bool unique, PlanarPose& out, int& bestInliers);
-  PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage);
+  // Its corners for KLT, and (withFeatures) ORB features for relocalization.
+  PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage, bool withFeatures = true);
   bool track(const PlanarPose& prediction, int keyframe, Measurement& out);
   // The smear the image's motion measured this frame makes over the exposure a dense pose
   // measured (0: either unknown; a camera with a short exposure smears nothing, whatever its turn).
@@ -286,7 +301,7 @@ struct MarkerlessTracker::Impl {
   // frame, else from the last frame's pose to `prediction` (haveMotion false: neither).
   [[nodiscard]] cv::Vec3d frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion) const noexcept;
   // A dense alignment's pose and evidence as a measurement (no covariance yet).
-  [[nodiscard]] static Measurement denseEvidence(const DenseAlignment& a) noexcept;
+  [[nodiscard]] static Measurement denseEvidence(const DenseAlignment& a, const KeyframeData& kf) noexcept;
   // Whether the target shows where the pose carried by the image's motion puts it (blurred by
   // `smearTurn`): enough of its parts agree there, as the dense gate asks (markerless_dense.cpp).
   bool carriedPoseShows(const PlanarPose& pose, int keyframe, const cv::Vec3d& smearTurn);
@@ -318,10 +333,17 @@ struct MarkerlessTracker::Impl {
   void forgetOld(double seconds) noexcept;
   void forgetAll() noexcept;
   void confirm(const Measurement& m, double seconds) noexcept;
-  int chooseKeyframe(const PlanarPose& prediction);
+  // The keyframe that sees most of the predicted view (the reference counts a quarter more); with
+  // floorOnly, the floor keyframe that does, with at least minCorners of its corners in view, or -1.
+  int chooseKeyframe(const PlanarPose& prediction, int minCorners = 0, bool floorOnly = false);
+  // chooseKeyframe, or a floor keyframe first while floorFirstUntil says so.
+  int keyframeToTrack(const PlanarPose& prediction);
   bool relocalize(PlanarPose& out);
   void maybeExtendMap(const Measurement& m);
   // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
+  // A view of the floor around the target: less than extendBelowVisible of the target in view,
+  // or the target covering less than extendBelowImageShare of the image.
+  [[nodiscard]] bool viewsFloor(const PlanarPose& p) const;
   [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;
   // Past this the target is a few pixels wide and any homography fits it: not a pose.
   [[nodiscard]] double maxDistance() const noexcept { return 40.0 * std::max(map.targetWidth, map.targetHeight); }

@@ -5,7 +5,8 @@
 
 namespace marionette::ar {
 
-PlanarKeyframe MarkerlessTracker::Impl::makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage) {
+PlanarKeyframe MarkerlessTracker::Impl::makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage,
+                                                    bool withFeatures) {
   PlanarKeyframe k;
   k.width = image.cols;
   k.height = image.rows;
@@ -19,6 +20,7 @@ PlanarKeyframe MarkerlessTracker::Impl::makeKeyframe(const cv::Mat& image, const
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(image, corners, kCornersPerKeyframe, 0.01, 8, cv::noArray(), 5);
   for (const auto& c : corners) k.corners.push_back({c.x, c.y});
+  if (!withFeatures) return k;
   // 12 levels (a 7.4x range of scales): a keyframe is matched from close up and from afar.
   auto detector = cv::ORB::create(settings.referenceFeatures, 1.2f, 12, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
   std::vector<cv::KeyPoint> kps;
@@ -110,7 +112,7 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
     // TRACKING's bounds; half of them is taken (the whole bound would leave a pose measured
     // against it no room for its own error, never TRACKING again after a relaunch). A keyframe
     // of the target itself (closing in) is left out: its error is small and near (docs/tracking.md).
-    if (havePose && visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible) {
+    if (havePose && viewsFloor(p)) {
       const double distance = glm::length(d.cameraPosition);
       const double position = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance) / 6;
       const double rotation = settings.maxTrackingErrorDeg / 6 / kDegrees;
@@ -133,10 +135,11 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
 }
 
 
-int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
+int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction, int minCorners, bool floorOnly) {
   const cv::Matx33d G = planeToImageHomography(K, prediction);
-  int best = 0, bestCount = -1;
+  int best = floorOnly ? -1 : 0, bestCount = floorOnly ? minCorners - 1 : -1;
   for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    if (floorOnly && keyframes[k].reference) continue;
     int count = 0;
     for (const cv::Point2f& p : keyframes[k].cornerPlane) {
       const cv::Vec3d h = G * cv::Vec3d(p.x, p.y, 1.0);
@@ -155,6 +158,13 @@ int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction) {
     }
   }
   return best;
+}
+
+int MarkerlessTracker::Impl::keyframeToTrack(const PlanarPose& prediction) {
+  const int chosen = chooseKeyframe(prediction);
+  if (frames > floorFirstUntil || !keyframes[static_cast<std::size_t>(chosen)].reference) return chosen;
+  const int floor = chooseKeyframe(prediction, kMinFloorRetryCorners, true);
+  return floor > 0 ? floor : chosen;
 }
 
 bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
@@ -213,6 +223,11 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   // camera closes in) when the keyframe tracked against is seen much larger than it was taken:
   // its texture, magnified, no longer matches the frame's detail.
   const bool pastTarget = visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible;
+  // Or the floor around a target that is in view (PTAM adds keyframes as the view moves): a look
+  // away that comes back with the target at the image's edge finds the floor in the map. On a
+  // sharp frame (a blurred keyframe would blur every later template).
+  const bool aroundTarget = !pastTarget && !blur.any() &&
+                            targetImageShare(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowImageShare;
   // Closing in on the target itself (floor keyframes carry their pose's error: no chains of them).
   const bool closer = stats.keyframe >= 0 && keyframes[static_cast<std::size_t>(stats.keyframe)].reference &&
                       keyframeMagnification(p, stats.keyframe) > kMaxMagnification;
@@ -228,7 +243,7 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   // keyframe of it would keep the occluder).
   const bool fading = rms > 0.5 * settings.maxTrackingRmsPx && 5 * inliers >= 4 * tried && !blur.any() &&
                       nearest > 0.05 * distance;
-  if (!pastTarget && !closer && !fading) return;
+  if (!pastTarget && !aroundTarget && !closer && !fading) return;
   for (std::size_t k = 0; k < keyframes.size() && !fading; ++k) {
     const KeyframeData& kf = keyframes[k];
     if (kf.reference) continue;
@@ -237,11 +252,18 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
         keyframeMagnification(p, static_cast<int>(k)) <= kMaxMagnification)
       return;
   }
-  map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p)));
+  // Around a target in view, no ORB features (11 of a keyframe's 16 ms): relocalizing there, the
+  // reference is in view too, and a floor keyframe relocalizes only near the last pose anyway.
+  map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p), !aroundTarget));
   prepareKeyframe(map.keyframes.size() - 1);
   // A keyframe of the floor keeps the error of the pose it was taken from (prepareKeyframe).
-  if (pastTarget) keyframes.back().covariance = m.covariance;
+  if (pastTarget || aroundTarget) keyframes.back().covariance = m.covariance;
   stats.keyframeAdded = true;
+}
+
+bool MarkerlessTracker::Impl::viewsFloor(const PlanarPose& p) const {
+  return visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible ||
+         targetImageShare(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowImageShare;
 }
 
 double MarkerlessTracker::Impl::keyframeMagnification(const PlanarPose& p, int keyframe) const {

@@ -110,7 +110,10 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
     planePoints.clear();
     levelPoints.clear();
     const float margin = static_cast<float>(settings.kltWindow);
-    for (std::size_t c = 0; c < kf.corners.size() && static_cast<int>(predicted.size()) < settings.trackedCorners; ++c) {
+    // Fewer against the floor: its keyframe is a whole frame, and what its corners add past 100
+    // buys less than the time they take (docs/tracking.md, "The floor around the target").
+    const int wanted = kf.reference ? settings.trackedCorners : std::min(settings.trackedCorners, settings.floorTrackedCorners);
+    for (std::size_t c = 0; c < kf.corners.size() && static_cast<int>(predicted.size()) < wanted; ++c) {
       const cv::Vec3d h = W0 * cv::Vec3d(kf.corners[c].x, kf.corners[c].y, 1.0);
       if (h[2] <= 1e-9) continue;
       const float u = static_cast<float>(h[0] / h[2]), v = static_cast<float>(h[1] / h[2]);

@@ -54,6 +54,7 @@ void MarkerlessTracker::Impl::forgetAll() noexcept {
   haveAnchor = havePending = gaveLast = havePreviousFrame = havePreviousFramePose = haveLastImageMotion = previousFrameChained = false;
   chainedSinceGiven = -1;
   carriedFrames = 0;
+  floorFirstUntil = -1;
   blur = {};
   lastDenseSmearPx = 0;
   filter.reset();
@@ -115,7 +116,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     if (backgroundPrediction(prediction, moved, predictionHasVelocity)) prediction = moved, stats.backgroundMotion = true;
   }
   if (havePrediction) {
-    stats.keyframe = chooseKeyframe(prediction);
+    stats.keyframe = keyframeToTrack(prediction);
     if (!(smeared && tryDense(prediction)) && track(prediction, stats.keyframe, m)) verdict = judge(m, seconds, false);
   }
   // The constant-velocity prediction found nothing usable (a sudden turn, a smear hiding the
@@ -126,7 +127,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       blur = blurBefore;
       stats.backgroundMotion = true;
       prediction = moved;
-      stats.keyframe = chooseKeyframe(prediction);
+      stats.keyframe = keyframeToTrack(prediction);
       denseTried = false;
       Measurement retried;
       // Where the image's motion makes a long smear, so would KLT: 2 of 35 retries where the
@@ -143,6 +144,29 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   // (A smear proposed by the KLT attempts that failed is not kept: the dense pose measured its own.)
   if (havePrediction && verdict == Verdict::Rejected && settings.denseAlignment && !denseTried && tryDense(prediction))
     blur = blurBefore;
+  // Still nothing: the other kind of keyframe. Against the reference, the floor around it where
+  // a keyframe of the floor sees the view (a hand over most of the target leaves the floor in
+  // sight: its corners under the hand are RANSAC's outliers); the floor goes first for the next
+  // frames. Against the floor first, the reference (the hand has left). Not under a smear that
+  // KLT cannot follow.
+  if (havePrediction && verdict == Verdict::Rejected && stats.keyframe >= 0 &&
+      (expectedSmearPx() < kDenseFirstSmearPx || !settings.denseAlignment)) {
+    const bool onReference = keyframes[static_cast<std::size_t>(stats.keyframe)].reference;
+    const bool floorWentFirst = !onReference && frames <= floorFirstUntil;
+    const int other = onReference ? chooseKeyframe(prediction, kMinFloorRetryCorners, true) : floorWentFirst ? 0 : -1;
+    Measurement retried;
+    if (other >= 0 && other != stats.keyframe) {
+      blur = blurBefore;
+      stats.keyframe = other;
+      if (track(prediction, other, retried)) {
+        const Verdict v = judge(retried, seconds, false);
+        if (v != Verdict::Rejected) {
+          m = retried, verdict = v;
+          floorFirstUntil = onReference ? frames + kFloorFirstFrames : -1;
+        }
+      }
+    }
+  }
   // A LIMITED pose of KLT under a smear, from a loose fit (that a bare majority of corners
   // supports), is checked against all of the target's pixels: the dense pose replaces it where it
   // passes.
@@ -350,6 +374,7 @@ namespace {
 
 std::string checkSettings(const MarkerlessSettings& s) {
   if (s.trackedCorners < 8 || s.trackedCorners > 2000) return "trackedCorners must be 8..2000";
+  if (s.floorTrackedCorners < 8 || s.floorTrackedCorners > 2000) return "floorTrackedCorners must be 8..2000";
   if (s.pyramidLevels < 0 || s.pyramidLevels > 6) return "pyramidLevels must be 0..6";
   if (s.kltWindow < 5 || s.kltWindow > 61) return "kltWindow must be 5..61";
   if (s.refinements < 0 || s.refinements > 5) return "refinements must be 0..5";
@@ -376,7 +401,7 @@ std::string checkSettings(const MarkerlessSettings& s) {
     if (!(v > 0) || !std::isfinite(v))
       return "the motion model, drawn-error bounds, minFeatureSigmaPx, effectiveFeatures and denseCovarianceScale must be "
              "positive";
-  for (const double v : {s.maxDrawnErrorFraction, s.maxTrackingErrorFraction, s.minTrackingSpread, s.minLimitedSpread,
+  for (const double v : {s.maxDrawnErrorFraction, s.maxTrackingErrorFraction, s.extendBelowImageShare, s.minTrackingSpread, s.minLimitedSpread,
                          s.minTrackingNcc, s.minLimitedNcc, s.minDenseZncc, s.minDenseInlierShare, s.minDenseVisibleShare,
                          s.minDenseAgreeingShare, s.minDenseAgreeingSpan, s.minDenseSliverShare})
     if (!(v >= 0) || !std::isfinite(v)) return "the error fractions, spreads and NCC thresholds must be >= 0";

@@ -182,6 +182,23 @@ double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, co
   return targetSamplesInView(k, camera, pose, width, height, 0.0) / 100.0;
 }
 
+double targetImageShare(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width,
+                        double height) {
+  const cv::Matx33d g = planeToImageHomography(k, pose), toPlane = g.inv();
+  constexpr int kColumns = 16, kRows = 12;
+  int inside = 0;
+  for (int i = 0; i < kColumns; ++i)
+    for (int j = 0; j < kRows; ++j) {
+      const cv::Vec3d q = toPlane * cv::Vec3d((i + 0.5) * camera.width / kColumns - 0.5,
+                                              (j + 0.5) * camera.height / kRows - 0.5, 1.0);
+      if (!(std::abs(q[2]) > 1e-12)) continue;
+      const double x = q[0] / q[2], z = q[1] / q[2];
+      // Where the ray meets the plane behind the camera (past the horizon), the point's depth is negative.
+      inside += (g * cv::Vec3d(x, z, 1.0))[2] > 0 && std::abs(x) <= 0.5 * width && std::abs(z) <= 0.5 * height;
+    }
+  return inside / static_cast<double>(kColumns * kRows);
+}
+
 bool targetNearView(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width, double height,
                     double marginPx) {
   return targetSamplesInView(k, camera, pose, width, height, marginPx) > 0;

@@ -36,6 +36,7 @@ namespace marionette::ar {
 
 struct MarkerlessSettings {
   int trackedCorners = 200;      // KLT points per frame
+  int floorTrackedCorners = 100; // ... against a keyframe of the floor around the target
   int pyramidLevels = 3;         // KLT pyramid levels above the full image
   int kltWindow = 15;            // KLT window side, pixels
   int refinements = 0;           // extra warp + KLT passes from the new pose (the work-precision table: no gain)
@@ -48,6 +49,10 @@ struct MarkerlessSettings {
   int minLimitedInliers = 12;    // LIMITED needs this many
   double maxTrackingRmsPx = 1.0;
   double extendBelowVisible = 0.6;  // add a keyframe when less of the target is in view
+  // ... or when the target covers less of the image than this (the view is mostly floor around
+  // it), on a sharp frame, no floor keyframe within 30 % of the distance: a look away that comes
+  // back at the image's edge then finds the floor in the map. 0 turns it off.
+  double extendBelowImageShare = 0.5;
   bool smoothing = true;
   double smoothingMinCutoffHz = 1.0;  // one-euro filter: cut-off at rest
   double smoothingBeta = 100.0;       // how fast the cut-off rises with speed (per m/s)
@@ -87,6 +92,8 @@ struct MarkerlessSettings {
   // target's pixels) with this share of them within Huber's threshold, and this share of the
   // keyframe in view (a sliver at the image's edge fits poses 4 deg apart alike).
   bool denseAlignment = true;
+  // (Against a keyframe of the floor, a camera frame whose area on the plane may reach the
+  // horizon, the share of the frame it covers counts too, where larger.)
   double minDenseZncc = 0.8, minDenseInlierShare = 0.6, minDenseVisibleShare = 0.3;
   // Or, where something covers part of the target (a hand), its parts (a 4 x 4 grid over the
   // pixels in view) that agree on their own (ZNCC >= 0.85): at least this many, this share of
@@ -170,7 +177,7 @@ class MarkerlessTracker final : public Tracker {
     double ncc = 0;                  // mean normalized cross-correlation at the inliers
     // Dense poses: the share of the target's pixels within Huber's threshold, of its area in
     // view, and its textured parts that agree of those it has.
-    double inlierShare = 0, visibleShare = 0;
+    double inlierShare = 0, visibleShare = 0, frameShare = 0;
     int parts = 0, agreeingParts = 0;
     double agreeingSpan = 0;
     // Where the frame's time went (milliseconds, summed over the attempts): the image's motion,
