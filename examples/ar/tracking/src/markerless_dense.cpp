@@ -44,8 +44,8 @@ bool MarkerlessTracker::Impl::carriedPoseShows(const PlanarPose& pose, int keyfr
     return false;
   const Measurement seen = denseEvidence(at, kf);
   notePhotometricEvidence(seen);
-  // The by-parts gate of a dense pose, at the pose as carried: what shows of the target is where
-  // the pose puts it.
+  // The by-parts gate of a dense pose, at the pose as carried: what shows of the keyframe seen
+  // most (the target, or the floor around it, on the same plane) is where the pose puts it.
   return seen.viewShare() >= settings.minDenseVisibleShare && agreesByParts(seen);
 }
 

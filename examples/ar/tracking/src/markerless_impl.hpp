@@ -56,9 +56,6 @@ inline constexpr double kDenseFloorPositionM = 0.0025;
 // Past this smear KLT on corners rarely gives a pose (docs/tracking.md: 13 % at 25-40 px): after a
 // dense pose with such a smear, the next frame aligns densely first.
 inline constexpr double kDenseFirstSmearPx = 25;
-// A floor keyframe is tried where tracking against the reference failed when this many of its
-// corners fall in the predicted view (twice what TRACKING needs agreeing).
-inline constexpr int kMinFloorRetryCorners = 60;
 // After the floor gave the pose where the reference failed, the floor goes first for this many
 // frames; then the reference is tried first again (the hand may have left).
 inline constexpr int kFloorFirstFrames = 8;
@@ -338,12 +335,12 @@ struct MarkerlessTracker::Impl {
   int chooseKeyframe(const PlanarPose& prediction, int minCorners = 0, bool floorOnly = false);
   // chooseKeyframe, or a floor keyframe first while floorFirstUntil says so.
   int keyframeToTrack(const PlanarPose& prediction);
+  // A floor keyframe is tried where tracking against the reference failed when this many of its
+  // corners fall in the predicted view: twice what TRACKING needs agreeing.
+  [[nodiscard]] int minFloorRetryCorners() const noexcept { return 2 * settings.minTrackingInliers; }
   bool relocalize(PlanarPose& out);
   void maybeExtendMap(const Measurement& m);
   // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
-  // A view of the floor around the target: less than extendBelowVisible of the target in view,
-  // or the target covering less than extendBelowImageShare of the image.
-  [[nodiscard]] bool viewsFloor(const PlanarPose& p) const;
   [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;
   // Past this the target is a few pixels wide and any homography fits it: not a pose.
   [[nodiscard]] double maxDistance() const noexcept { return 40.0 * std::max(map.targetWidth, map.targetHeight); }

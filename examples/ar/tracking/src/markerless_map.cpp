@@ -112,7 +112,10 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
     // TRACKING's bounds; half of them is taken (the whole bound would leave a pose measured
     // against it no room for its own error, never TRACKING again after a relaunch). A keyframe
     // of the target itself (closing in) is left out: its error is small and near (docs/tracking.md).
-    if (havePose && viewsFloor(p)) {
+    // The floor around a target in view is the keyframe without ORB features (maybeExtendMap):
+    // told apart by what it holds, not by a setting that may differ from the run that made it.
+    if (havePose && (k.features.empty() ||
+                     visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible)) {
       const double distance = glm::length(d.cameraPosition);
       const double position = std::max(settings.maxTrackingErrorM, settings.maxTrackingErrorFraction * distance) / 6;
       const double rotation = settings.maxTrackingErrorDeg / 6 / kDegrees;
@@ -163,7 +166,7 @@ int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction, int mi
 int MarkerlessTracker::Impl::keyframeToTrack(const PlanarPose& prediction) {
   const int chosen = chooseKeyframe(prediction);
   if (frames > floorFirstUntil || !keyframes[static_cast<std::size_t>(chosen)].reference) return chosen;
-  const int floor = chooseKeyframe(prediction, kMinFloorRetryCorners, true);
+  const int floor = chooseKeyframe(prediction, minFloorRetryCorners(), true);
   return floor > 0 ? floor : chosen;
 }
 
@@ -226,7 +229,8 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   // Or the floor around a target that is in view (PTAM adds keyframes as the view moves): a look
   // away that comes back with the target at the image's edge finds the floor in the map. On a
   // sharp frame (a blurred keyframe would blur every later template).
-  const bool aroundTarget = !pastTarget && !blur.any() &&
+  // Most of the corners tried agreeing: not under a hand (a keyframe of it would keep the hand).
+  const bool aroundTarget = !pastTarget && !blur.any() && 5 * inliers >= 4 * tried &&
                             targetImageShare(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowImageShare;
   // Closing in on the target itself (floor keyframes carry their pose's error: no chains of them).
   const bool closer = stats.keyframe >= 0 && keyframes[static_cast<std::size_t>(stats.keyframe)].reference &&
@@ -246,7 +250,8 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   if (!pastTarget && !aroundTarget && !closer && !fading) return;
   for (std::size_t k = 0; k < keyframes.size() && !fading; ++k) {
     const KeyframeData& kf = keyframes[k];
-    if (kf.reference) continue;
+    // (Past the target, one without ORB features does not count: relocalizing there needs them.)
+    if (kf.reference || (pastTarget && kf.descriptors.rows == 0)) continue;
     // One near enough already, seen at about its own scale.
     if (glm::length(kf.cameraPosition - c) < 0.3 * distance &&
         keyframeMagnification(p, static_cast<int>(k)) <= kMaxMagnification)
@@ -259,11 +264,6 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   // A keyframe of the floor keeps the error of the pose it was taken from (prepareKeyframe).
   if (pastTarget || aroundTarget) keyframes.back().covariance = m.covariance;
   stats.keyframeAdded = true;
-}
-
-bool MarkerlessTracker::Impl::viewsFloor(const PlanarPose& p) const {
-  return visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible ||
-         targetImageShare(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowImageShare;
 }
 
 double MarkerlessTracker::Impl::keyframeMagnification(const PlanarPose& p, int keyframe) const {

@@ -147,18 +147,22 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   // Still nothing: the other kind of keyframe. Against the reference, the floor around it where
   // a keyframe of the floor sees the view (a hand over most of the target leaves the floor in
   // sight: its corners under the hand are RANSAC's outliers); the floor goes first for the next
-  // frames. Against the floor first, the reference (the hand has left). Not under a smear that
-  // KLT cannot follow.
+  // frames. Against the floor first, the reference (the hand has left). Not where the image's
+  // motion measured this frame makes a smear KLT cannot follow (as the retry above).
   if (havePrediction && verdict == Verdict::Rejected && stats.keyframe >= 0 &&
       (expectedSmearPx() < kDenseFirstSmearPx || !settings.denseAlignment)) {
     const bool onReference = keyframes[static_cast<std::size_t>(stats.keyframe)].reference;
     const bool floorWentFirst = !onReference && frames <= floorFirstUntil;
-    const int other = onReference ? chooseKeyframe(prediction, kMinFloorRetryCorners, true) : floorWentFirst ? 0 : -1;
+    const int other =
+        onReference ? chooseKeyframe(prediction, minFloorRetryCorners(), true) : floorWentFirst ? 0 : -1;
     Measurement retried;
     if (other >= 0 && other != stats.keyframe) {
       blur = blurBefore;
+      const int before = stats.keyframe;
       stats.keyframe = other;
-      if (track(prediction, other, retried)) {
+      if (!track(prediction, other, retried)) {
+        stats.keyframe = before;  // the figures logged are still the earlier attempt's
+      } else {
         const Verdict v = judge(retried, seconds, false);
         if (v != Verdict::Rejected) {
           m = retried, verdict = v;
@@ -375,6 +379,8 @@ namespace {
 std::string checkSettings(const MarkerlessSettings& s) {
   if (s.trackedCorners < 8 || s.trackedCorners > 2000) return "trackedCorners must be 8..2000";
   if (s.floorTrackedCorners < 8 || s.floorTrackedCorners > 2000) return "floorTrackedCorners must be 8..2000";
+  if (std::min(s.trackedCorners, s.floorTrackedCorners) < s.minTrackingInliers)
+    return "trackedCorners and floorTrackedCorners must be at least minTrackingInliers";
   if (s.pyramidLevels < 0 || s.pyramidLevels > 6) return "pyramidLevels must be 0..6";
   if (s.kltWindow < 5 || s.kltWindow > 61) return "kltWindow must be 5..61";
   if (s.refinements < 0 || s.refinements > 5) return "refinements must be 0..5";

@@ -47,11 +47,11 @@ struct PlanarPoseSolver {
                                     const std::vector<cv::Point2f>& image, double thresholdPx, double maxDistance,
                                     PlanarPoseSolver& solver, std::vector<unsigned char>& mask, PlanarPose& out,
                                     double& rmsPx, int& inliers, cv::Matx33d* homography = nullptr) noexcept;
-// The share of the target rectangle (width x height metres, centred) inside the image.
 // The share of the image the target covers (a 16 x 12 grid of the image's cells, their centres
 // taken back to the plane): what is left of the view is the floor around it.
 [[nodiscard]] double targetImageShare(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose,
                                       double width, double height);
+// The share of the target rectangle (width x height metres, centred) inside the image.
 [[nodiscard]] double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose,
                                            double width, double height);
 // Whether any of those sample points lands within the image grown by marginPx on every side.

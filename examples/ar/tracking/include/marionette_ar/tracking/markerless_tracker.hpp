@@ -17,9 +17,11 @@
 //    keyframe's, a RANSAC homography, then the tracking step from that pose as a photometric
 //    check; the pose is given only once confirmed: it agrees with the motion model of a recent
 //    confirmed pose, or the next frame tracks from it consistently.
-//  - Map extension: while TRACKING with less than `extendBelowVisible` of the target in view, or
-//    with the view much closer or farther than every keyframe's, the frame becomes a keyframe
-//    (its texture around the target lies on the same plane).
+//  - Map extension: while TRACKING with less than `extendBelowVisible` of the target in view,
+//    with the target covering less than `extendBelowImageShare` of the image (the floor around
+//    it), or with the view much closer or farther than every keyframe's, the frame becomes a
+//    keyframe (its texture around the target lies on the same plane). Where tracking against the
+//    target fails (a hand over most of it), a keyframe of the floor is tried, then goes first.
 //  - Smoothing: a one-euro filter (Casiez et al. 2012) on position and rotation, which
 //    removes jitter on a still camera and lags under a frame when it moves (docs/tracking.md).
 #pragma once
