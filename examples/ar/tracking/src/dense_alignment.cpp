@@ -360,6 +360,12 @@ double DenseAligner::meanSmearOf(const Level& level) const noexcept {
   return n > 0 ? sum / n : 0.0;
 }
 
+void DenseAligner::noteCoverage(const Level& level, int samples, DenseAlignment& out) noexcept {
+  const double covered = samples * level.stride * level.stride;  // level pixels
+  out.visibleShare = std::min(1.0, covered / std::max(level.area, 1.0));
+  out.frameShare = std::min(1.0, covered / (static_cast<double>(level.frame.width) * level.frame.height));
+}
+
 void DenseAligner::judgeParts(const Level& level, DenseAlignment& out) const noexcept {
   constexpr int g = DenseAlignment::kPartGrid;
   // A part's ZNCC past which its texture is taken as aligned, and the least it must hold: a few
@@ -574,8 +580,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   out.zncc = fit.zncc;
   out.sigma = fit.sigma;
   out.samples = fit.valid;
-  out.visibleShare = std::min(1.0, fit.valid * lv.stride * lv.stride / std::max(lv.area, 1.0));
-  out.frameShare = std::min(1.0, fit.valid * lv.stride * lv.stride / (static_cast<double>(lv.frame.width) * lv.frame.height));
+  noteCoverage(lv, fit.valid, out);
   out.inlierShare = static_cast<double>(inliers) / fit.valid;
   judgeParts(lv, out);
   out.smearPx = meanSmear * (1 << lv.index);
@@ -602,8 +607,7 @@ bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const
   out.smearTurn = smearTurn;
   out.zncc = moments.zncc();
   out.samples = moments.n;
-  out.visibleShare = std::min(1.0, moments.n * lv.stride * lv.stride / std::max(lv.area, 1.0));
-  out.frameShare = std::min(1.0, moments.n * lv.stride * lv.stride / (static_cast<double>(lv.frame.width) * lv.frame.height));
+  noteCoverage(lv, moments.n, out);
   out.smearPx = meanSmearOf(lv) * (1 << lv.index);
   judgeParts(lv, out);
   return std::isfinite(out.zncc);

@@ -133,6 +133,8 @@ class DenseAligner {
   bool searchShift(const Level& level, int radius, PlanarPose& pose) noexcept;
   [[nodiscard]] double meanSmearOf(const Level& level) const noexcept;  // over the valid samples, level pixels
   void judgeParts(const Level& level, DenseAlignment& out) const noexcept;
+  // visibleShare and frameShare of `samples` valid samples on the level's grid.
+  static void noteCoverage(const Level& level, int samples, DenseAlignment& out) noexcept;
 };
 
 }  // namespace marionette::ar

@@ -137,6 +137,13 @@ struct Measurement {
   double exposure = 0;       // dense: the exposure's share of the frame interval it measured (0: none)
 };
 
+// Which keyframe to track against: the one seeing most of the predicted view, and the floor
+// keyframe seeing most of it with at least minFloorRetryCorners of its corners in view (-1: none).
+struct KeyframeChoice {
+  int best = 0;
+  int floor = -1;
+};
+
 // A pose with its time and uncertainty: the history the motion model works from.
 struct StampedPose {
   PlanarPose pose;
@@ -330,11 +337,13 @@ struct MarkerlessTracker::Impl {
   void forgetOld(double seconds) noexcept;
   void forgetAll() noexcept;
   void confirm(const Measurement& m, double seconds) noexcept;
-  // The keyframe that sees most of the predicted view (the reference counts a quarter more); with
-  // floorOnly, the floor keyframe that does, with at least minCorners of its corners in view, or -1.
-  int chooseKeyframe(const PlanarPose& prediction, int minCorners = 0, bool floorOnly = false);
-  // chooseKeyframe, or a floor keyframe first while floorFirstUntil says so.
-  int keyframeToTrack(const PlanarPose& prediction);
+  // The keyframe that sees most of the predicted view (the reference counts a quarter more), and
+  // the floor keyframe that does (one pass over their corners).
+  KeyframeChoice chooseKeyframes(const PlanarPose& prediction);
+  int chooseKeyframe(const PlanarPose& prediction) { return chooseKeyframes(prediction).best; }
+  // The best keyframe, or the floor's while it goes first (floorFirstUntil).
+  [[nodiscard]] int keyframeToTrack(const KeyframeChoice& choice) const noexcept;
+  [[nodiscard]] bool floorGoesFirst() const noexcept { return frames <= floorFirstUntil; }
   // A floor keyframe is tried where tracking against the reference failed when this many of its
   // corners fall in the predicted view: twice what TRACKING needs agreeing.
   [[nodiscard]] int minFloorRetryCorners() const noexcept { return 2 * settings.minTrackingInliers; }

@@ -138,11 +138,11 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
 }
 
 
-int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction, int minCorners, bool floorOnly) {
+KeyframeChoice MarkerlessTracker::Impl::chooseKeyframes(const PlanarPose& prediction) {
   const cv::Matx33d G = planeToImageHomography(K, prediction);
-  int best = floorOnly ? -1 : 0, bestCount = floorOnly ? minCorners - 1 : -1;
+  KeyframeChoice choice;
+  int bestScore = -1, floorScore = minFloorRetryCorners() - 1;
   for (std::size_t k = 0; k < keyframes.size(); ++k) {
-    if (floorOnly && keyframes[k].reference) continue;
     int count = 0;
     for (const cv::Point2f& p : keyframes[k].cornerPlane) {
       const cv::Vec3d h = G * cv::Vec3d(p.x, p.y, 1.0);
@@ -155,19 +155,15 @@ int MarkerlessTracker::Impl::chooseKeyframe(const PlanarPose& prediction, int mi
     int score = keyframes[k].reference ? count + count / 4 : count;
     const double magnification = keyframeMagnification(prediction, static_cast<int>(k));
     if (magnification > kMaxMagnification) score = static_cast<int>(score * kMaxMagnification / magnification);
-    if (score > bestCount) {
-      bestCount = score;
-      best = static_cast<int>(k);
-    }
+    if (score > bestScore) bestScore = score, choice.best = static_cast<int>(k);
+    if (!keyframes[k].reference && score > floorScore) floorScore = score, choice.floor = static_cast<int>(k);
   }
-  return best;
+  return choice;
 }
 
-int MarkerlessTracker::Impl::keyframeToTrack(const PlanarPose& prediction) {
-  const int chosen = chooseKeyframe(prediction);
-  if (frames > floorFirstUntil || !keyframes[static_cast<std::size_t>(chosen)].reference) return chosen;
-  const int floor = chooseKeyframe(prediction, minFloorRetryCorners(), true);
-  return floor > 0 ? floor : chosen;
+int MarkerlessTracker::Impl::keyframeToTrack(const KeyframeChoice& choice) const noexcept {
+  const bool floorFirst = floorGoesFirst() && keyframes[static_cast<std::size_t>(choice.best)].reference && choice.floor > 0;
+  return floorFirst ? choice.floor : choice.best;
 }
 
 bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
@@ -228,9 +224,10 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   const bool pastTarget = visibleTargetFraction(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowVisible;
   // Or the floor around a target that is in view (PTAM adds keyframes as the view moves): a look
   // away that comes back with the target at the image's edge finds the floor in the map. On a
-  // sharp frame (a blurred keyframe would blur every later template).
-  // Most of the corners tried agreeing: not under a hand (a keyframe of it would keep the hand).
-  const bool aroundTarget = !pastTarget && !blur.any() && 5 * inliers >= 4 * tried &&
+  // sharp frame (a blurred keyframe would blur every later template) where most of the corners
+  // tried agree (not under a hand: a keyframe of it would keep the hand), as `fading` asks too.
+  const bool sharpAndAgreeing = !blur.any() && 5 * inliers >= 4 * tried;
+  const bool aroundTarget = !pastTarget && sharpAndAgreeing &&
                             targetImageShare(K, camera, p, map.targetWidth, map.targetHeight) < settings.extendBelowImageShare;
   // Closing in on the target itself (floor keyframes carry their pose's error: no chains of them).
   const bool closer = stats.keyframe >= 0 && keyframes[static_cast<std::size_t>(stats.keyframe)].reference &&
@@ -245,8 +242,7 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   // Looser inliers, most of the corners still agreeing, on a frame without a smear (a smear
   // loosens them too, and would make a blurred keyframe; an occluder takes corners away, and a
   // keyframe of it would keep the occluder).
-  const bool fading = rms > 0.5 * settings.maxTrackingRmsPx && 5 * inliers >= 4 * tried && !blur.any() &&
-                      nearest > 0.05 * distance;
+  const bool fading = rms > 0.5 * settings.maxTrackingRmsPx && sharpAndAgreeing && nearest > 0.05 * distance;
   if (!pastTarget && !aroundTarget && !closer && !fading) return;
   for (std::size_t k = 0; k < keyframes.size() && !fading; ++k) {
     const KeyframeData& kf = keyframes[k];

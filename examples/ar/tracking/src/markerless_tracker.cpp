@@ -115,8 +115,10 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     PlanarPose moved;
     if (backgroundPrediction(prediction, moved, predictionHasVelocity)) prediction = moved, stats.backgroundMotion = true;
   }
+  KeyframeChoice choice;  // for the current prediction
   if (havePrediction) {
-    stats.keyframe = keyframeToTrack(prediction);
+    choice = chooseKeyframes(prediction);
+    stats.keyframe = keyframeToTrack(choice);
     if (!(smeared && tryDense(prediction)) && track(prediction, stats.keyframe, m)) verdict = judge(m, seconds, false);
   }
   // The constant-velocity prediction found nothing usable (a sudden turn, a smear hiding the
@@ -127,7 +129,8 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       blur = blurBefore;
       stats.backgroundMotion = true;
       prediction = moved;
-      stats.keyframe = keyframeToTrack(prediction);
+      choice = chooseKeyframes(prediction);
+      stats.keyframe = keyframeToTrack(choice);
       denseTried = false;
       Measurement retried;
       // Where the image's motion makes a long smear, so would KLT: 2 of 35 retries where the
@@ -152,9 +155,8 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   if (havePrediction && verdict == Verdict::Rejected && stats.keyframe >= 0 &&
       (expectedSmearPx() < kDenseFirstSmearPx || !settings.denseAlignment)) {
     const bool onReference = keyframes[static_cast<std::size_t>(stats.keyframe)].reference;
-    const bool floorWentFirst = !onReference && frames <= floorFirstUntil;
-    const int other =
-        onReference ? chooseKeyframe(prediction, minFloorRetryCorners(), true) : floorWentFirst ? 0 : -1;
+    const bool floorWentFirst = !onReference && floorGoesFirst();
+    const int other = onReference ? choice.floor : floorWentFirst ? 0 : -1;
     Measurement retried;
     if (other >= 0 && other != stats.keyframe) {
       blur = blurBefore;

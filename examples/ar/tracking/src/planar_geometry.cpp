@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "marionette_ar/tracking/tracker.hpp"
+#include "perspective_warp.hpp"
 #include "planar_pose.hpp"
 
 namespace marionette::ar {
@@ -184,7 +185,9 @@ double visibleTargetFraction(const cv::Matx33d& k, const CameraModel& camera, co
 
 double targetImageShare(const cv::Matx33d& k, const CameraModel& camera, const PlanarPose& pose, double width,
                         double height) {
-  const cv::Matx33d g = planeToImageHomography(k, pose), toPlane = g.inv();
+  const cv::Matx33d g = planeToImageHomography(k, pose);
+  cv::Matx33d toPlane;
+  if (!invertHomography(g, toPlane)) return 0;  // a camera in the plane: no target to cover the view
   constexpr int kColumns = 16, kRows = 12;
   int inside = 0;
   for (int i = 0; i < kColumns; ++i)
