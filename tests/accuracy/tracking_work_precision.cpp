@@ -2,7 +2,7 @@
 // truth; tests/support/tracking), one thread, as docs/tracking.md reports it.
 //
 //   marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]
-//   marionette_tracking_eval --stress SEEDS [--first-seed S] [--split] [--frames N] [--no-smoothing] [--verbose]
+//   marionette_tracking_eval --stress SEEDS [--first-seed S] [--split] [--class CLASS] [--frames N] [--no-smoothing] [--verbose]
 //   marionette_tracking_eval --case CLASS/SEED [--frames N]     (one stress sequence: a worst case again;
 //                                                                MN_FRAMES=1 prints its frames' gates)
 //
@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   int frames = 0, stressSeeds = 0, firstSeed = 1;
   bool sweep = false, smoothing = true, split = false, verbose = false;
   std::string oneCase;  // --case CLASS/SEED
+  std::string onlyClass;  // --class CLASS: the seeds of one class (calibrating on it)
   std::vector<std::string> names;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
@@ -57,9 +58,10 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--first-seed") && i + 1 < argc) firstSeed = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--verbose")) verbose = true;
     else if (!std::strcmp(argv[i], "--case") && i + 1 < argc) oneCase = argv[++i];
+    else if (!std::strcmp(argv[i], "--class") && i + 1 < argc) onlyClass = argv[++i];
     else {
       std::fprintf(stderr, "usage: marionette_tracking_eval [--frames N] [--scenario NAME]... [--sweep] [--no-smoothing]\n"
-                           "       marionette_tracking_eval --stress SEEDS [--first-seed S] [--split] [--frames N] [--no-smoothing] [--verbose]\n"
+                           "       marionette_tracking_eval --stress SEEDS [--first-seed S] [--split] [--class CLASS] [--frames N] [--no-smoothing] [--verbose]\n"
                            "       marionette_tracking_eval --case CLASS/SEED [--frames N]\n");
       return 2;
     }
@@ -85,10 +87,20 @@ int main(int argc, char** argv) {
     MarkerlessSettings settings;
     settings.smoothing = smoothing;
     if (std::getenv("MN_NO_DENSE")) settings.denseAlignment = false;  // KLT on corners alone
+    if (std::getenv("MN_NO_REENTRY")) settings.reentrySearch = false;  // no search from the way out
     StressRunOptions options;
     options.log = verbose ? stderr : nullptr;
     const auto start = std::chrono::steady_clock::now();
     if (cases.empty()) cases = stressCases(stressSeeds, split, frames, firstSeed);
+    if (!onlyClass.empty()) {
+      const auto kind = stressClassNamed(onlyClass);
+      if (!kind) {
+        std::fprintf(stderr, "marionette_tracking_eval: --class '%s' is not a stress class (pan, reentry, hands, photometric)\n",
+                     onlyClass.c_str());
+        return 2;
+      }
+      std::erase_if(cases, [&](const StressCase& c) { return c.kind != *kind; });
+    }
     const StressReport report = runStressSeeds(renderer, cases, settings, options);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s\n", stressTable(report).c_str());
@@ -109,6 +121,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("MN_REF")) settings.referenceFeatures = std::atoi(v);
     if (std::getenv("MN_NO_BACKGROUND")) settings.backgroundMotion = false;  // the prediction without the image's motion
     if (std::getenv("MN_NO_DENSE")) settings.denseAlignment = false;  // KLT on corners alone
+    if (std::getenv("MN_NO_REENTRY")) settings.reentrySearch = false;  // no search from the way out
     std::printf("| scenario | frames | visible | TRACKING | visible within 2 cm | ATE rms cm | ATE max cm | rot mean deg "
                 "| false poses | jitter mm | frames to relocalize | ms median | ms p95 | keyframes |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");

@@ -103,13 +103,13 @@ ScenarioRun runMarkerless(const RenderedScenario& rendered, const CameraModel& c
       const bool lost = p.state == TrackingState::Lost;
       std::fprintf(stderr,
                    "%s %zu: %s vis %.2f err %.1f mm %.2f deg sigma %.1f mm %.3f deg inl %d/%d rms %.2f spread %.2f "
-                   "ncc %.2f motion %.1f/%.1f mm %.2f/%.2f deg rej %d reloc %d bg %d%s%s extra %d kf %d added %d judged %.1f mm %.2f deg ms %.2f pred %.1f mm %.2f deg blur %.1f smear %.1f share %.2f vis %.2f frame %.2f parts %d/%d span %.2f stages %.1f %.1f %.1f %.1f hidden %.2f carry %d given %.1f mm %.3f deg\n",
+                   "ncc %.2f motion %.1f/%.1f mm %.2f/%.2f deg rej %d reloc %d bg %d%s%s%s extra %d kf %d added %d judged %.1f mm %.2f deg ms %.2f pred %.1f mm %.2f deg blur %.1f smear %.1f share %.2f vis %.2f frame %.2f parts %d/%d span %.2f stages %.1f %.1f %.1f %.1f hidden %.2f carry %d given %.1f mm %.3f deg\n",
                    rendered.scenario.name.c_str(), i, std::string(trackingStateName(p.state)).c_str(),
                    rendered.scenario.visibleFraction[i], lost ? -1.0 : 1000 * glm::length(p.position() - glm::dvec3(truth[3])),
                    lost ? -1.0 : rotationErrorDeg(p.cameraToWorld, truth), 1000 * st.positionSigmaM, st.rotationSigmaDeg,
                    st.inliers, st.corners, st.rmsPx, st.spread, st.ncc, 1000 * st.motionPositionM,
                    1000 * st.motionPositionLimitM, st.motionRotationDeg, st.motionRotationLimitDeg,
-                   static_cast<int>(st.rejection), st.relocalized, st.backgroundMotion, st.imageShift ? "s" : "", st.dense ? "d" : "", st.extrapolated, st.keyframe,
+                   static_cast<int>(st.rejection), st.relocalized, st.backgroundMotion, st.imageShift ? "s" : "", st.dense ? "d" : "", st.reentry ? "r" : "", st.extrapolated, st.keyframe,
                    st.keyframeAdded, st.inliers > 0 ? 1000 * glm::length(glm::dvec3(st.judgedCameraToWorld[3]) - glm::dvec3(truth[3])) : -1.0,
                    st.inliers > 0 ? rotationErrorDeg(st.judgedCameraToWorld, truth) : -1.0, run.ms.back(),
                    st.predicted ? 1000 * glm::length(glm::dvec3(st.predictedCameraToWorld[3]) - glm::dvec3(truth[3])) : -1.0,

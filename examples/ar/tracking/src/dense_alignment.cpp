@@ -278,7 +278,8 @@ int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::V
   return valid;
 }
 
-bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose) noexcept {
+bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose, double& score) noexcept {
+  score = -2;
   if (radius <= 0) return true;
   const GreyLevel& f = level.frame;
   constexpr int g = DenseAlignment::kPartGrid;
@@ -312,18 +313,20 @@ bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose)
       int textured = 0;
       for (const Moments& m : parts)
         if (m.n >= 8 && m.textured()) scores[static_cast<std::size_t>(textured++)] = m.zncc();
-      double score = moments.zncc();
+      double shiftScore = moments.zncc();
       if (textured >= 4) {
         const int half = (textured + 1) / 2;
         std::partial_sort(scores.begin(), scores.begin() + half, scores.begin() + textured, std::greater<>());
-        score = 0;
-        for (int k = 0; k < half; ++k) score += scores[static_cast<std::size_t>(k)];
-        score /= half;
+        shiftScore = 0;
+        for (int k = 0; k < half; ++k) shiftScore += scores[static_cast<std::size_t>(k)];
+        shiftScore /= half;
       }
       // Ties go to the smaller shift (the start's).
-      if (score > best + 1e-9 || (std::abs(score - best) <= 1e-9 && dx * dx + dy * dy < bestX * bestX + bestY * bestY))
-        best = score, bestX = dx, bestY = dy;
+      if (shiftScore > best + 1e-9 ||
+          (std::abs(shiftScore - best) <= 1e-9 && dx * dx + dy * dy < bestX * bestX + bestY * bestY))
+        best = shiftScore, bestX = dx, bestY = dy;
     }
+  score = best;
   if (!(best > 0.3)) return false;
   if (bestX == 0 && bestY == 0) return true;
   // The turn about the camera's centre that moves the samples' centre by the shift.
@@ -493,7 +496,8 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
     if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16) return false;
     if (!searched) {  // the first level that shows the target
       searched = true;
-      if (!searchShift(lv, params.searchRadius, pose)) return false;
+      double score = 0;
+      if (!searchShift(lv, params.searchRadius, pose, score)) return false;
       if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16) return false;
     }
     if (!fitOf(lv, 0, fit)) return false;
@@ -611,6 +615,19 @@ bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const
   out.smearPx = meanSmearOf(lv) * (1 << lv.index);
   judgeParts(lv, out);
   return std::isfinite(out.zncc);
+}
+
+bool DenseAligner::probe(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame,
+                         const cv::Vec3d& smearTurn, const PlanarPose& start, const DenseAlignmentOptions& params,
+                         PlanarPose& shifted, double& score) noexcept {
+  score = -2;
+  if (capacity_ == 0 || params.searchRadius <= 0 || params.coarseLevel < 0) return false;
+  Level lv;
+  if (!prepareLevel(K, target, frame, start, std::min(params.coarseLevel, frame.levels()), params, lv)) return false;
+  const cv::Vec<double, 6> smear(smearTurn[0], smearTurn[1], smearTurn[2], 0, 0, 0);
+  if (render(lv, start, smear, params.maxTaps) < 16) return false;
+  shifted = start;
+  return searchShift(lv, params.searchRadius, shifted, score);
 }
 
 cv::Vec3d smearTurnFromMotion(const cv::Matx33d& K, const cv::Matx33d& imageMotion, double exposure) noexcept {

@@ -107,6 +107,14 @@ class DenseAligner {
   bool verify(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const cv::Vec3d& smearTurn,
               const PlanarPose& pose, const DenseAlignmentOptions& params, DenseAlignment& out) noexcept;
 
+  // A start for align() where the start is only a guess among several (the poses of the way out,
+  // for the way back): at params.coarseLevel, `start` turned by the best shift within
+  // params.searchRadius, and that shift's score (align's own search's: the mean ZNCC of the
+  // better half of the textured parts). False when the target shows too few pixels there or no
+  // shift correlates. Allocates nothing once reserved.
+  bool probe(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const cv::Vec3d& smearTurn,
+             const PlanarPose& start, const DenseAlignmentOptions& params, PlanarPose& shifted, double& score) noexcept;
+
  private:
   struct Sample {
     float x = 0, y = 0;        // frame-level pixel
@@ -129,8 +137,8 @@ class DenseAligner {
                     int level, const DenseAlignmentOptions& params, Level& out) noexcept;
   int render(const Level& level, const PlanarPose& pose, const cv::Vec<double, 6>& smear, int maxTaps) noexcept;
   // The rendered samples' best integer shift against the frame (ZNCC), applied to `pose` as a
-  // turn of the camera about its centre. False when no shift correlates.
-  bool searchShift(const Level& level, int radius, PlanarPose& pose) noexcept;
+  // turn of the camera about its centre, and its score. False when no shift correlates.
+  bool searchShift(const Level& level, int radius, PlanarPose& pose, double& score) noexcept;
   [[nodiscard]] double meanSmearOf(const Level& level) const noexcept;  // over the valid samples, level pixels
   void judgeParts(const Level& level, DenseAlignment& out) const noexcept;
   // visibleShare and frameShare of `samples` valid samples on the level's grid.

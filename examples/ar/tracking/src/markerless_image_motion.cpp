@@ -18,19 +18,24 @@ bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, Plan
   // Started from the last motion, a second call this frame (the chain's prediction, then the
   // fallback after tracking failed) would repeat a failed search to the bit.
   if (fromLastMotion && lastMotionFailed) return false;
-  cv::Matx33d motion;
-  if (!gridImageMotion(guessMotion, motion) && !shiftImageMotion(guessMotion, motion)) {
+  if (!measureImageMotion(guessMotion)) {
     lastMotionFailed = lastMotionFailed || fromLastMotion;
     return false;
   }
-  lastImageMotion = motion;
-  haveLastImageMotion = true;
-  imageMotionFound = true;
   PlanarPose moved;
-  if (!poseFromPlaneHomography(K, motion * previousG, moved)) return false;
+  if (!poseFromPlaneHomography(K, lastImageMotion * previousG, moved)) return false;
   const glm::dvec3 c = cameraPosition(moved);
   if (!(c.y > 1e-3) || !(glm::length(c) <= maxDistance())) return false;
   out = moved;
+  return true;
+}
+
+bool MarkerlessTracker::Impl::measureImageMotion(const cv::Matx33d& guessMotion) {
+  cv::Matx33d motion;
+  if (!gridImageMotion(guessMotion, motion) && !shiftImageMotion(guessMotion, motion)) return false;
+  lastImageMotion = motion;
+  haveLastImageMotion = true;
+  imageMotionFound = true;
   return true;
 }
 

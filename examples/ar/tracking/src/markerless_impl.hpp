@@ -2,8 +2,10 @@
 // markerless_tracker.cpp runs a frame (predict, track, judge, relocalize) and builds trackers,
 // markerless_track.cpp measures a pose from a prediction (KLT against the keyframe, the blur
 // model, the evidence), markerless_gates.cpp judges a measurement (evidence, motion model,
-// confirmation), markerless_image_motion.cpp carries the pose by the image's own motion, and
-// markerless_map.cpp keeps the keyframes (relocalization, map growth).
+// confirmation), markerless_image_motion.cpp carries the pose by the image's own motion,
+// markerless_dense.cpp aligns the whole keyframe under a smear, markerless_reentry.cpp searches
+// for a target coming back from the poses of the way out, and markerless_map.cpp keeps the
+// keyframes (relocalization, map growth).
 #pragma once
 #include "marionette_ar/tracking/markerless_tracker.hpp"
 
@@ -69,6 +71,12 @@ inline constexpr double kMinSmearAxisCosine = 0.8;
 inline constexpr int kMeasuredStartSearchRadius = 2;
 // A LIMITED KLT pose with the template blurred this much or more is checked by the dense alignment.
 inline constexpr double kDenseCheckBlurPx = 10;
+// The poses of the way out kept for the re-entry search (newest first), this far apart: the
+// dense alignment's shift search covers +-48 px (5 deg at fx 525) around each.
+inline constexpr int kExitPathPoses = 16;
+inline constexpr double kExitPathStepDeg = 3.0;
+// The re-entry search's best start must correlate this well (align's search score, 0.3 at least).
+inline constexpr double kMinReentryScore = 0.5;
 inline constexpr double kDenseFloorRotationRad = 0.15 * 3.14159265358979323846 / 180;  // inliers' rms past which the fit is a smeared template's
 
 // cv::Mat::setTo allocates a scratch buffer on every call: this does not.
@@ -224,6 +232,10 @@ struct MarkerlessTracker::Impl {
   bool haveLastImageMotion = false, imageMotionFound = false;
   bool lastMotionFailed = false;  // this frame's search from lastImageMotion found nothing
   double lastGivenTime = -1e300;
+  // The poses of the way out (given, or carried by the image's motion), newest first, at least
+  // kExitPathStepDeg apart: where the re-entry search starts (markerless_reentry.cpp).
+  std::array<PlanarPose, kExitPathPoses> exitPath{};
+  int exitPathCount = 0;
   std::vector<cv::Point2f> backgroundGrid, backgroundFrom, backgroundTo, backgroundFound;
   std::vector<unsigned char> backgroundStatus, backgroundMask;
   HomographyRansac backgroundRansac;
@@ -332,6 +344,8 @@ struct MarkerlessTracker::Impl {
   // The last frame's pixel -> this frame's: KLT on the grid and RANSAC, or (where a smear
   // defeats the grid) the whole image's shift read as a turn of the camera (image_shift.hpp).
   bool gridImageMotion(const cv::Matx33d& guessMotion, cv::Matx33d& motion);
+  // Either of them, kept as this frame's measured motion (lastImageMotion).
+  bool measureImageMotion(const cv::Matx33d& guessMotion);
   bool shiftImageMotion(const cv::Matx33d& guessMotion, cv::Matx33d& motion);
   bool loadFrame(const ImageView& frame);
   void forgetOld(double seconds) noexcept;
@@ -348,6 +362,12 @@ struct MarkerlessTracker::Impl {
   // corners fall in the predicted view: twice what TRACKING needs agreeing.
   [[nodiscard]] int minFloorRetryCorners() const noexcept { return 2 * settings.minTrackingInliers; }
   bool relocalize(PlanarPose& out);
+  // A pose given, or carried by the image's motion through a look away: the newest of the way
+  // out when the target is near the view and it turned kExitPathStepDeg from the last kept.
+  void rememberExitPath(const PlanarPose& pose);
+  // Where nothing predicts the pose and ORB found nothing: the reference aligned densely from
+  // the best-correlating pose of the way out (markerless_reentry.cpp).
+  bool searchReentry(double seconds, Measurement& out);
   void maybeExtendMap(const Measurement& m);
   // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.
   [[nodiscard]] double keyframeMagnification(const PlanarPose& p, int keyframe) const;

@@ -55,6 +55,7 @@ void MarkerlessTracker::Impl::forgetAll() noexcept {
   chainedSinceGiven = -1;
   carriedFrames = 0;
   floorFirstUntil = -1;
+  exitPathCount = 0;
   blur = {};
   lastDenseSmearPx = 0;
   filter.reset();
@@ -228,6 +229,12 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
         verdict = judge(m, seconds, true);
       }
     }
+    // Nothing predicted the pose and ORB found nothing (a smear): the way out, as starts.
+    Measurement returned;
+    if (verdict == Verdict::Rejected && !havePrediction && searchReentry(seconds, returned)) {
+      m = returned;
+      verdict = judge(m, seconds, true);
+    }
   }
 
   if (verdict == Verdict::Rejected) blur = blurBefore;
@@ -304,6 +311,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   havePreviousFramePose = true;
   previousFrameChained = false;
   if (result.state != TrackingState::Lost) {
+    rememberExitPath(shown);
     previousFramePose = shown;
     previousFrameChained = carried;  // the next frame carries it on (nothing measured)
     lastGiven = StampedPose{shown, seconds, result.covariance, result.positionSigmaM, result.rotationSigmaDeg};
@@ -313,6 +321,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     chainedSinceGiven = -1;
   } else if (stats.backgroundMotion && imageMotionFound) {
     previousFramePose = prediction, previousFrameChained = true;
+    rememberExitPath(prediction);
     if (chainedSinceGiven >= 0) ++chainedSinceGiven;
   } else {
     havePreviousFramePose = false;
@@ -403,6 +412,7 @@ std::string checkSettings(const MarkerlessSettings& s) {
       !std::isfinite(s.smoothingBeta))
     return "smoothing cut-off must be positive and beta non-negative";
   if (!(s.holdLimitedSeconds >= 0) || !std::isfinite(s.holdLimitedSeconds)) return "holdLimitedSeconds must be >= 0";
+  if (!(s.reentrySearchSeconds >= 0) || !std::isfinite(s.reentrySearchSeconds)) return "reentrySearchSeconds must be >= 0";
   for (const double v : {s.maxSpeed, s.maxAcceleration, s.maxAngularSpeedDeg, s.maxAngularAccelerationDeg,
                          s.maxDrawnErrorM, s.maxDrawnErrorDeg, s.maxTrackingErrorM, s.maxTrackingErrorDeg,
                          s.minFeatureSigmaPx, s.effectiveFeatures, s.denseCovarianceScale})

@@ -117,6 +117,13 @@ struct MarkerlessSettings {
   // Neighbouring pixels' errors are correlated beyond the smear's length: the covariance of a
   // dense pose is multiplied by this (calibrated on the stress sequences: docs/tracking.md).
   double denseCovarianceScale = 0.5;
+  // Where the target comes back after the image's motion lost it (a look away through a smear,
+  // or at a blank sky) and ORB finds nothing in the smear: the reference aligned densely from
+  // the poses given on the way out (a way back passes near them), for reentrySearchSeconds after
+  // the last pose given. Such a pose waits for the next frame's confirmation, as a relocalized
+  // one does (docs/tracking.md, "Re-entry along the way out").
+  bool reentrySearch = true;
+  double reentrySearchSeconds = 2.0;
   // occlusionMask()'s (target_occlusion.hpp): made from the map's reference on its first call.
   OcclusionSettings occlusion{};
 };
@@ -170,6 +177,7 @@ class MarkerlessTracker final : public Tracker {
     bool backgroundMotion = false;  // the prediction used the frame-to-frame motion of the image
     bool imageShift = false;        // that motion came from the whole image's shift (a smear defeated the grid)
     bool dense = false;             // the pose judged last came from the dense alignment (KLT gave none)
+    bool reentry = false;           // ... started from a pose of the way out (the re-entry search)
     int keyframe = -1;             // the keyframe tracked against
     int corners = 0, inliers = 0;  // KLT points tried, inliers of the pose
     double rmsPx = 0;
