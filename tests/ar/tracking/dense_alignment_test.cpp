@@ -153,6 +153,40 @@ TEST(DenseAlignment, RecoversThePoseSharpAndUnderASmearFromTwoDegreesOff) {
 // the rest, and the parts the hand leaves must agree on their own while the whole does not
 // (what lets the tracker draw such a frame, docs/tracking.md); a frame of another picture must
 // leave no such agreement.
+// The re-entry search's probe (markerless_reentry.cpp): from a start 4 deg off under a 30 px
+// smear, the best shift at the coarse level brings the start within a level pixel's turn (8 px,
+// under a degree) and scores well; a start 25 deg off (the target out of the search) scores
+// lower, and under the search's bar (a smear correlates a little wherever it is put).
+TEST(DenseAlignment, ProbeBringsANearStartWithinTheAlignmentsReach) {
+  const PlanarPose truth = lookAt(cv::Vec3d(0.15, 0.55, 0.5), cv::Vec3d(0.02, 0, -0.03));
+  cv::setRNGSeed(5);
+  DenseAligner aligner;
+  DenseAlignmentOptions params;
+  aligner.reserve(params);
+  View v;
+  render(v, truth, {0, 1, 0}, 6.5 * kPi / 180, 0.5);
+  const DenseTarget target{v.levels, v.planeToImage};
+  const cv::Vec3d smear = smearTurnFromMotion(kK, v.motion, 0.5);
+  const PlanarPose near = turned(truth, {1, -0.6, 0}, 4.0 * kPi / 180);
+  PlanarPose shifted;
+  double score = 0;
+  ASSERT_TRUE(aligner.probe(kK, target, v.pyramid, smear, near, params, shifted, score));
+  std::printf("probe from 4 deg off: %.2f deg after the shift, score %.3f\n", rotationErrorDeg(shifted, truth), score);
+  EXPECT_LT(rotationErrorDeg(shifted, truth), 1.0);
+  EXPECT_GT(score, 0.7);
+  const PlanarPose far = turned(truth, {1, -0.6, 0}, 25.0 * kPi / 180);
+  PlanarPose farShifted;
+  double farScore = -2;
+  const bool farFound = aligner.probe(kK, target, v.pyramid, smear, far, params, farShifted, farScore);
+  std::printf("probe from 25 deg off: %s, score %.3f\n", farFound ? "a shift" : "none", farScore);
+  EXPECT_LT(farScore, score);
+  EXPECT_LT(farScore, 0.8) << "the re-entry search's kMinReentryScore must refuse it";
+  // A probe needs a search: radius 0 is refused, not a score of the start as it is.
+  DenseAlignmentOptions none = params;
+  none.searchRadius = 0;
+  EXPECT_FALSE(aligner.probe(kK, target, v.pyramid, smear, near, none, shifted, score));
+}
+
 TEST(DenseAlignment, AHandOverTheTargetLeavesTheOtherPartsAgreeing) {
   const PlanarPose truth = lookAt(cv::Vec3d(0.05, 0.5, 0.35), cv::Vec3d(0.0, 0, -0.02));
   cv::setRNGSeed(11);

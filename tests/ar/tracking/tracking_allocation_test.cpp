@@ -613,15 +613,21 @@ TEST(TrackingAllocation, DenseAlignmentAllocatesNothingPerFrame) {
                      cv::Vec3d(t.x, t.y, t.z)};
     ASSERT_TRUE(pyramid.build(grey[i]));
     DenseAlignment result;
+    PlanarPose shifted;
+    double score = 0;
     const Counts c0 = now();
+    // The re-entry search's probe (a start among several, at the coarse level), then the alignment.
+    const bool probed = aligner.probe(k, target, pyramid, cv::Vec3d(0.0, 0.01, 0.0), start, params, shifted, score);
     const bool aligned = aligner.align(k, target, pyramid, cv::Vec3d(0.0, 0.01, 0.0), start, params, result);
     const Counts used = since(c0);
+    EXPECT_TRUE(probed) << "frame " << i;
+    EXPECT_GT(score, 0.5) << "frame " << i;
     EXPECT_TRUE(aligned) << "frame " << i;
     EXPECT_GT(result.zncc, 0.9) << "frame " << i;
     if (i < 2) continue;  // warm-up
     expectNoAllocation(used, i, news, mallocs);
   }
-  std::printf("[ dense ] align per frame, frames 2..11: %.1f operator new, %.1f malloc family%s\n",
+  std::printf("[ dense ] probe and align per frame, frames 2..11: %.1f operator new, %.1f malloc family%s\n",
               perFrame(news, grey.size() - 2), perFrame(mallocs, grey.size() - 2),
               MN_COUNT_MALLOC ? "" : " (not counted in this build)");
 }

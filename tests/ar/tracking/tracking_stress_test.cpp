@@ -54,7 +54,7 @@ TEST(TrackingStress, NoDrawnPoseIsWildlyWrongOnTwentySeeds) {
 // A look away whose chain of image motions breaks (up at a blank sky, or through a smear the
 // image's motion cannot follow) leaves nothing to predict from; the target then comes back
 // smeared by 40-100 px, where ORB finds no features. The re-entry search aligns the reference
-// densely from the poses given on the way out (docs/tracking.md, "Re-entry along the way out"):
+// densely from the poses of the way out (docs/tracking.md, "Re-entry along the way out"):
 // on `pan/12` the target is drawn again frames earlier, each such pose confirmed by the next
 // frame, and nothing drawn is off.
 TEST(TrackingStress, ATargetComingBackThroughASmearIsFoundFromTheWayOut) {
@@ -65,7 +65,7 @@ TEST(TrackingStress, ATargetComingBackThroughASmearIsFoundFromTheWayOut) {
   const RenderedScenario rendered = cachedRender(renderer, sequence, StressOptions{}, 2, renderMs);
   const Scenario& truth = rendered.scenario;
   struct Outcome {
-    int within2cm = 0, searched = 0, foundThenDrawn = 0;
+    int within2cm = 0, found = 0, foundThenDrawn = 0;
     double worstCm = 0, worstDeg = 0;
   };
   auto run = [&](const MarkerlessSettings& settings) {
@@ -88,7 +88,7 @@ TEST(TrackingStress, ATargetComingBackThroughASmearIsFoundFromTheWayOut) {
       }
       o.foundThenDrawn += foundLast && drawn;
       const auto& st = tracker->lastFrame();
-      o.searched += st.reentry;
+      o.found += st.reentry;
       foundLast = st.reentry && st.rejection == MarkerlessTracker::Rejection::Unconfirmed;
     }
     return o;
@@ -97,14 +97,14 @@ TEST(TrackingStress, ATargetComingBackThroughASmearIsFoundFromTheWayOut) {
   MarkerlessSettings off;
   off.reentrySearch = false;
   const Outcome without = run(off);
-  std::printf("pan/12: %d visible frames within 2 cm with the re-entry search (%d frames searched, %d found and drawn "
-              "the next frame; worst drawn %.2f cm, %.2f deg), %d without\n",
-              with.within2cm, with.searched, with.foundThenDrawn, with.worstCm, with.worstDeg, without.within2cm);
+  std::printf("pan/12: %d visible frames within 2 cm with the re-entry search (%d poses found from the way out, %d "
+              "confirmed and drawn the next frame; worst drawn %.2f cm, %.2f deg), %d without\n",
+              with.within2cm, with.found, with.foundThenDrawn, with.worstCm, with.worstDeg, without.within2cm);
   EXPECT_GE(with.foundThenDrawn, 1) << "a pose found from the way out, confirmed by the next frame";
   EXPECT_GE(with.within2cm, without.within2cm + 3) << "the target drawn again earlier";
   EXPECT_LT(with.worstCm, 5.0);
   EXPECT_LT(with.worstDeg, 2.0);
-  EXPECT_EQ(without.searched, 0);
+  EXPECT_EQ(without.found, 0);
 }
 
 }  // namespace

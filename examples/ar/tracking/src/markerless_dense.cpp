@@ -5,14 +5,15 @@
 
 namespace marionette::ar {
 
-cv::Vec3d MarkerlessTracker::Impl::frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion) const noexcept {
+cv::Vec3d MarkerlessTracker::Impl::frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion,
+                                                     bool poseDifference) const noexcept {
   // The image's motion over the last frame interval: measured this frame, else the one the
   // last frame's pose and the prediction imply for the plane (the smear is the plane's).
   cv::Matx33d motion = cv::Matx33d::eye();
   haveMotion = imageMotionFound && haveLastImageMotion;
   if (haveMotion) {
     motion = lastImageMotion;
-  } else if (havePreviousFramePose) {
+  } else if (havePreviousFramePose && poseDifference) {
     cv::Matx33d previousInverse;
     haveMotion = invertHomography(planeToImage(K, previousFramePose), previousInverse);
     if (haveMotion) motion = planeToImage(K, prediction) * previousInverse;
@@ -74,13 +75,14 @@ bool MarkerlessTracker::Impl::carry(const PlanarPose& prediction, double seconds
          carriedPoseShows(prediction, chooseKeyframe(prediction), smearTurn);
 }
 
-bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out) {
+bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyframe, Measurement& out,
+                                         bool poseDifference) {
   const StageTimer timer(stats.denseMs);
   const KeyframeData& kf = keyframes[static_cast<std::size_t>(keyframe)];
   stats.predicted = true;
   stats.predictedCameraToWorld = cameraToWorld(prediction);
   bool haveMotion = false;
-  const cv::Vec3d frameTurn = frameIntervalTurn(prediction, haveMotion);
+  const cv::Vec3d frameTurn = frameIntervalTurn(prediction, haveMotion, poseDifference);
   DenseAlignment result;
   const DenseTarget target{kf.denseLevels, kf.planeToImage};
   // The turn over the exposure is at most the interval's as measured (kMaxExposureShare of it,

@@ -31,6 +31,7 @@ bool MarkerlessTracker::Impl::backgroundPrediction(const PlanarPose& guess, Plan
 }
 
 bool MarkerlessTracker::Impl::measureImageMotion(const cv::Matx33d& guessMotion) {
+  imageMotionTried = true;
   cv::Matx33d motion;
   if (!gridImageMotion(guessMotion, motion) && !shiftImageMotion(guessMotion, motion)) return false;
   lastImageMotion = motion;

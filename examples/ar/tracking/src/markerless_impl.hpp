@@ -75,8 +75,10 @@ inline constexpr double kDenseCheckBlurPx = 10;
 // dense alignment's shift search covers +-48 px (5 deg at fx 525) around each.
 inline constexpr int kExitPathPoses = 16;
 inline constexpr double kExitPathStepDeg = 3.0;
-// The re-entry search's best start must correlate this well (align's search score, 0.3 at least).
-inline constexpr double kMinReentryScore = 0.5;
+inline constexpr double kExitPathStepShare = 0.05;  // ... or the camera moved this share of its distance
+// The re-entry search's best start must correlate this well (align's search score; its own search
+// keeps 0.3): a start 25 deg off scored 0.66 under a smear (dense_alignment_test).
+inline constexpr double kMinReentryScore = 0.8;
 inline constexpr double kDenseFloorRotationRad = 0.15 * 3.14159265358979323846 / 180;  // inliers' rms past which the fit is a smeared template's
 
 // cv::Mat::setTo allocates a scratch buffer on every call: this does not.
@@ -231,6 +233,7 @@ struct MarkerlessTracker::Impl {
   cv::Matx33d lastImageMotion = cv::Matx33d::eye();
   bool haveLastImageMotion = false, imageMotionFound = false;
   bool lastMotionFailed = false;  // this frame's search from lastImageMotion found nothing
+  bool imageMotionTried = false;  // this frame measured the image's motion (found or not)
   double lastGivenTime = -1e300;
   // The poses of the way out (given, or carried by the image's motion), newest first, at least
   // kExitPathStepDeg apart: where the re-entry search starts (markerless_reentry.cpp).
@@ -312,10 +315,14 @@ struct MarkerlessTracker::Impl {
                                                 : 0.0;
   }
   // The pose by the dense alignment of the keyframe from `prediction` (markerless_dense.cpp).
-  bool alignDense(const PlanarPose& prediction, int keyframe, Measurement& out);
+  // (poseDifference false: where the image's motion was not measured this frame, no smear rather
+  // than the one the last frame's pose and `prediction` imply: the re-entry search's starts are
+  // no prediction.)
+  bool alignDense(const PlanarPose& prediction, int keyframe, Measurement& out, bool poseDifference = true);
   // The camera's turn over the last frame interval: from the image's motion measured this
   // frame, else from the last frame's pose to `prediction` (haveMotion false: neither).
-  [[nodiscard]] cv::Vec3d frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion) const noexcept;
+  [[nodiscard]] cv::Vec3d frameIntervalTurn(const PlanarPose& prediction, bool& haveMotion,
+                                            bool poseDifference = true) const noexcept;
   // A dense alignment's pose and evidence as a measurement (no covariance yet).
   [[nodiscard]] static Measurement denseEvidence(const DenseAlignment& a, const KeyframeData& kf) noexcept;
   // Whether the target shows where the pose carried by the image's motion puts it (blurred by
@@ -365,8 +372,8 @@ struct MarkerlessTracker::Impl {
   // A pose given, or carried by the image's motion through a look away: the newest of the way
   // out when the target is near the view and it turned kExitPathStepDeg from the last kept.
   void rememberExitPath(const PlanarPose& pose);
-  // Where nothing predicts the pose and ORB found nothing: the reference aligned densely from
-  // the best-correlating pose of the way out (markerless_reentry.cpp).
+  // Where nothing predicts the pose and relocalization gave none: the reference aligned densely
+  // from the best-correlating pose of the way out (markerless_reentry.cpp).
   bool searchReentry(double seconds, Measurement& out);
   void maybeExtendMap(const Measurement& m);
   // Frame pixels per keyframe pixel at the keyframe's centre, seen from p.

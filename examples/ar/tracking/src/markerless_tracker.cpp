@@ -43,6 +43,7 @@ void MarkerlessTracker::Impl::forgetOld(double seconds) noexcept {
   const double hold = settings.holdLimitedSeconds + 1e-9;
   if (confirmedCount > 0 && seconds - confirmed[0].time > hold) confirmedCount = 0;
   if (havePending && seconds - pending.time > hold) havePending = false;
+  if (seconds - lastGivenTime > settings.reentrySearchSeconds) exitPathCount = 0;  // too long ago to search from
   if (haveAnchor && seconds - anchor.time > hold) {
     haveAnchor = false;
     blur = {};
@@ -80,7 +81,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   if (!loadFrame(frame)) return result;
   forgetOld(seconds);
   haveChainPrediction = false;
-  imageMotionFound = lastMotionFailed = false;
+  imageMotionFound = lastMotionFailed = imageMotionTried = false;
 
   // The smear is the last accepted measurement's: an attempt judged wrong leaves it as it was
   // (a smear proposed on a wrong prediction would blur the template of every later attempt).
@@ -185,7 +186,6 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
     const FrameStats kltStats = stats;  // the logs describe the pose given
     if (!tryDense(klt.pose)) m = klt, verdict = kltVerdict, blur = kltBlur, stats = kltStats;
   }
-  lastDenseSmearPx = m.dense && verdict != Verdict::Rejected ? m.smearPx : 0.0;
   const bool fromPending = havePending && (verdict == Verdict::Tracking || verdict == Verdict::Limited);
   // Relocalize when tracking found nothing, or had nothing to start from. A measurement that
   // failed only its gates while the anchor is recent saw the target: ORB on the same frame (a
@@ -229,15 +229,20 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
         verdict = judge(m, seconds, true);
       }
     }
-    // Nothing predicted the pose and ORB found nothing (a smear): the way out, as starts.
+    // Nothing predicted the pose and relocalization gave none (ORB finds nothing in a smear):
+    // the way out, as starts.
     Measurement returned;
     if (verdict == Verdict::Rejected && !havePrediction && searchReentry(seconds, returned)) {
       m = returned;
+      stats.keyframe = 0;
+      stats.reentry = true;
       verdict = judge(m, seconds, true);
+      if (verdict != Verdict::Rejected && m.exposure > 0) exposure = m.exposure, exposureMeasured = true;
     }
   }
 
   if (verdict == Verdict::Rejected) blur = blurBefore;
+  lastDenseSmearPx = m.dense && verdict != Verdict::Rejected ? m.smearPx : 0.0;
   // Nothing measured passed: the last pose carried by the image's motion, where the target's
   // parts agree at it (docs/tracking.md, "Partly hidden targets").
   StampedPose carriedPose;

@@ -119,9 +119,10 @@ struct MarkerlessSettings {
   double denseCovarianceScale = 0.5;
   // Where the target comes back after the image's motion lost it (a look away through a smear,
   // or at a blank sky) and ORB finds nothing in the smear: the reference aligned densely from
-  // the poses given on the way out (a way back passes near them), for reentrySearchSeconds after
-  // the last pose given. Such a pose waits for the next frame's confirmation, as a relocalized
-  // one does (docs/tracking.md, "Re-entry along the way out").
+  // the poses of the way out (given, or carried by the image's motion; a way back passes near
+  // them), for reentrySearchSeconds after the last pose given. Such a pose must agree as a whole
+  // and by parts, and waits for the next frame's confirmation, as a relocalized one does
+  // (docs/tracking.md, "Re-entry along the way out").
   bool reentrySearch = true;
   double reentrySearchSeconds = 2.0;
   // occlusionMask()'s (target_occlusion.hpp): made from the map's reference on its first call.
@@ -177,7 +178,7 @@ class MarkerlessTracker final : public Tracker {
     bool backgroundMotion = false;  // the prediction used the frame-to-frame motion of the image
     bool imageShift = false;        // that motion came from the whole image's shift (a smear defeated the grid)
     bool dense = false;             // the pose judged last came from the dense alignment (KLT gave none)
-    bool reentry = false;           // ... started from a pose of the way out (the re-entry search)
+    bool reentry = false;           // ... from the re-entry search, started from a pose of the way out
     int keyframe = -1;             // the keyframe tracked against
     int corners = 0, inliers = 0;  // KLT points tried, inliers of the pose
     double rmsPx = 0;
@@ -199,7 +200,8 @@ class MarkerlessTracker final : public Tracker {
     Rejection rejection = Rejection::None;
     // The last pose judged this frame, given or not (camera to target frame), to weigh the gates.
     glm::dmat4 judgedCameraToWorld{1.0};
-    // The prediction tracking started from last (identity: none), to weigh the predictions.
+    // The prediction tracking started from last (identity: none; the re-entry search's start
+    // counts), to weigh the predictions.
     glm::dmat4 predictedCameraToWorld{1.0};
     bool predicted = false;
     // The RANSAC homography (X, Z, 1) -> pixel of the last tracking pass, row-major, before
