@@ -149,10 +149,6 @@ TEST(DenseAlignment, RecoversThePoseSharpAndUnderASmearFromTwoDegreesOff) {
   }
 }
 
-// A hand over the target: a textured occluder over ~40 % of its projection. The fit must hold on
-// the rest, and the parts the hand leaves must agree on their own while the whole does not
-// (what lets the tracker draw such a frame, docs/tracking.md); a frame of another picture must
-// leave no such agreement.
 // The re-entry search's probe (markerless_reentry.cpp): from a start 4 deg off under a 30 px
 // smear, the best shift at the coarse level brings the start within a level pixel's turn (8 px,
 // under a degree) and scores well; a start 25 deg off (the target out of the search) scores
@@ -187,6 +183,10 @@ TEST(DenseAlignment, ProbeBringsANearStartWithinTheAlignmentsReach) {
   EXPECT_FALSE(aligner.probe(kK, target, v.pyramid, smear, near, none, shifted, score));
 }
 
+// A hand over the target: a textured occluder over ~40 % of its projection. The fit must hold on
+// the rest, and the parts the hand leaves must agree on their own while the whole does not
+// (what lets the tracker draw such a frame, docs/tracking.md); a frame of another picture must
+// leave no such agreement.
 TEST(DenseAlignment, AHandOverTheTargetLeavesTheOtherPartsAgreeing) {
   const PlanarPose truth = lookAt(cv::Vec3d(0.05, 0.5, 0.35), cv::Vec3d(0.0, 0, -0.02));
   cv::setRNGSeed(11);
