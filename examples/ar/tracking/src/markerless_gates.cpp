@@ -13,7 +13,7 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
     // The whole target's pixels explained by the blurred keyframe: LIMITED at best (the smear
     // leaves the pose less certain along it, and the model is the frame's motion's, not seen).
     // Explained as a whole, or by parts where something covers the rest (docs/tracking.md).
-    const bool whole = m.ncc >= settings.minDenseZncc && m.inlierShare >= settings.minDenseInlierShare;
+    const bool whole = explainedAsWhole(m);
     const bool byParts = agreesByParts(m);
     const bool inView = m.viewShare() >= settings.minDenseVisibleShare;
     const bool sliver = m.viewShare() >= settings.minDenseSliverShare && m.parts >= settings.minDenseSliverParts &&
@@ -40,6 +40,10 @@ Evidence MarkerlessTracker::Impl::evidenceOf(const Measurement& m) const noexcep
   const bool tracking = isStrong(m) && m.spread >= settings.minTrackingSpread && m.ncc >= settings.minTrackingNcc &&
                         3 * m.positionSigma <= trackingM && 3 * m.rotationSigmaDeg <= settings.maxTrackingErrorDeg;
   return tracking ? Evidence::Tracking : Evidence::Limited;
+}
+
+bool MarkerlessTracker::Impl::explainedAsWhole(const Measurement& m) const noexcept {
+  return m.ncc >= settings.minDenseZncc && m.inlierShare >= settings.minDenseInlierShare;
 }
 
 bool MarkerlessTracker::Impl::agreesByParts(const Measurement& m) const noexcept {

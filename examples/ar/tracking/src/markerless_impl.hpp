@@ -335,6 +335,9 @@ struct MarkerlessTracker::Impl {
   // The dense gate's agreement by parts: enough of the target's textured parts agree on their own,
   // spread over it (markerless_gates.cpp).
   [[nodiscard]] bool agreesByParts(const Measurement& m) const noexcept;
+  // The dense gate's whole: the blurred keyframe explains the frame (ZNCC) with enough of its
+  // pixels within Huber's threshold (markerless_gates.cpp).
+  [[nodiscard]] bool explainedAsWhole(const Measurement& m) const noexcept;
   // A measurement's photometric evidence (its ncc; a dense one's shares and parts) into this
   // frame's stats, for the logs and calibration.
   void notePhotometricEvidence(const Measurement& m) noexcept;

@@ -58,9 +58,7 @@ bool MarkerlessTracker::Impl::searchReentry(double seconds, Measurement& out) {
   if (!alignDense(best, 0, aligned, false)) return false;
   // The next frame confirms it from this pose, densely again: the two are not independent, so
   // this one must be explained both as a whole and by its parts (either suffices elsewhere).
-  if (!(aligned.ncc >= settings.minDenseZncc && aligned.inlierShare >= settings.minDenseInlierShare &&
-        agreesByParts(aligned)))
-    return false;
+  if (!explainedAsWhole(aligned) || !agreesByParts(aligned)) return false;
   out = aligned;
   return true;
 }
