@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 
 namespace marionette::ar {
 
@@ -42,52 +43,88 @@ inline float pixel(const cv::Mat& m, int x, int y) noexcept {
   return m.ptr<std::uint8_t>(y)[x];
 }
 
-// The line blur over `r`, each value handed to sink(x, y, v). Rows are taken along the digital
-// line (row b holds pixel (major, b + shift(major))), box-filtered by running sums, then read
-// back at b = minor - shift(major). False when the scratch was not reserved for `r`.
-template <class Sink>
-bool lineBlur(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, MotionBlurScratch& scratch, Sink&& sink) noexcept {
-  const int majorBegin = g.alongX ? r.x : r.y, n = g.alongX ? r.width : r.height;
-  const int minorBegin = g.alongX ? r.y : r.x, minorEnd = minorBegin + (g.alongX ? r.height : r.width);
+// The line blur over `r`, each value handed to sink(x, y, v) once. Rows are taken along the
+// digital line (row b holds pixel (major, b + shift(major))) and box-filtered by a running sum;
+// of each row only the span that lands in `r` is read. The sums are integers (exact in a float:
+// the same bits as summing the taps in floats, in any order). False when the scratch was
+// not reserved for `r`.
+template <bool AlongX, class Sink>
+bool lineBlurAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, MotionBlurScratch& scratch, Sink&& sink) noexcept {
+  const int majorBegin = AlongX ? r.x : r.y, n = AlongX ? r.width : r.height;
+  const int minorBegin = AlongX ? r.y : r.x, minorEnd = minorBegin + (AlongX ? r.height : r.width);
   if (n <= 0 || minorEnd <= minorBegin) return true;
-  const int s0 = g.shift(majorBegin), s1 = g.shift(majorBegin + n - 1);
-  const int bBegin = minorBegin - std::max(s0, s1), bEnd = minorEnd - std::min(s0, s1);
   const int K = g.half, lineLength = n + 2 * K;
-  const std::size_t rowsNeeded = static_cast<std::size_t>(bEnd - bBegin) * static_cast<std::size_t>(n);
-  if (rowsNeeded > scratch.rows.capacity() || static_cast<std::size_t>(2 * lineLength + 1) > scratch.line.capacity())
+  if (static_cast<std::size_t>(lineLength) > scratch.line.capacity() ||
+      static_cast<std::size_t>(lineLength) > scratch.shifts.capacity())
     return false;
-  if (static_cast<std::size_t>(lineLength) > scratch.shifts.capacity()) return false;
-  scratch.rows.resize(rowsNeeded);  // within capacity: no allocation
-  scratch.line.resize(static_cast<std::size_t>(2 * lineLength + 1));
+  scratch.line.resize(static_cast<std::size_t>(lineLength));  // within capacity: no allocation
   scratch.shifts.resize(static_cast<std::size_t>(lineLength));
-  float* line = scratch.line.data();
-  float* prefix = line + lineLength;  // prefix[j] = sum of line[0 .. j-1]
-  int* shift = scratch.shifts.data();  // shift[j] = g.shift(majorBegin + j - K)
+  int* line = scratch.line.data();
+  int* shift = scratch.shifts.data();  // shift[j] = g.shift(majorBegin + j - K): monotonic in j
   for (int j = 0; j < lineLength; ++j) shift[j] = g.shift(majorBegin + j - K);
+  const int s0 = shift[K], s1 = shift[K + n - 1];
+  const bool rising = g.slope >= 0;  // shift[] is non-decreasing, else non-increasing
+  const int bBegin = minorBegin - std::max(s0, s1), bEnd = minorEnd - std::min(s0, s1);
   const int rows = image.rows, cols = image.cols;
   for (int b = bBegin; b < bEnd; ++b) {
-    prefix[0] = 0;
-    for (int j = 0; j < lineLength; ++j) {
-      const int major = majorBegin + j - K, minor = b + shift[j];
-      const int x = std::clamp(g.alongX ? major : minor, 0, cols - 1), y = std::clamp(g.alongX ? minor : major, 0, rows - 1);
-      line[j] = image.ptr<std::uint8_t>(y)[x];
-      prefix[j + 1] = prefix[j] + line[j];
+    // The outputs i of this row whose pixel (majorBegin + i, b + shift[i + K]) is in `r`: a run.
+    const int* first = shift + K;
+    const int lo = static_cast<int>((rising ? std::lower_bound(first, first + n, minorBegin - b)
+                                            : std::lower_bound(first, first + n, minorEnd - 1 - b, std::greater<>())) - first);
+    const int hi = static_cast<int>((rising ? std::lower_bound(first, first + n, minorEnd - b)
+                                            : std::lower_bound(first, first + n, minorBegin - 1 - b, std::greater<>())) - first);
+    if (lo >= hi) continue;
+    // Taps j = lo .. hi - 1 + 2K of the line.
+    const int jEnd = hi + 2 * K;
+    // The taps inside the image read it directly; those past its edges clamp (a run at either
+    // end: the shifts are monotonic).
+    const int majorSize = AlongX ? cols : rows, minorSize = AlongX ? rows : cols;
+    const int insideMinorBegin = static_cast<int>(
+        (rising ? std::lower_bound(shift, shift + lineLength, -b)
+                : std::lower_bound(shift, shift + lineLength, minorSize - 1 - b, std::greater<>())) - shift);
+    const int insideMinorEnd = static_cast<int>(
+        (rising ? std::lower_bound(shift, shift + lineLength, minorSize - b)
+                : std::lower_bound(shift, shift + lineLength, -1 - b, std::greater<>())) - shift);
+    const int insideBegin = std::clamp(std::max(K - majorBegin, insideMinorBegin), lo, jEnd);
+    const int insideEnd = std::clamp(std::min(majorSize + K - majorBegin, insideMinorEnd), insideBegin, jEnd);
+    const std::uint8_t* data = image.data;
+    const std::size_t stride = image.step[0];
+    auto at = [&](int major, int minor) {
+      return AlongX ? data[static_cast<std::size_t>(minor) * stride + static_cast<std::size_t>(major)]
+                    : data[static_cast<std::size_t>(major) * stride + static_cast<std::size_t>(minor)];
+    };
+    auto clamped = [&](int j) {
+      line[j] = at(std::clamp(majorBegin + j - K, 0, majorSize - 1), std::clamp(b + shift[j], 0, minorSize - 1));
+    };
+    for (int j = lo; j < insideBegin; ++j) clamped(j);
+    for (int j = insideBegin; j < insideEnd; ++j) line[j] = at(majorBegin + j - K, b + shift[j]);
+    for (int j = insideEnd; j < jEnd; ++j) clamped(j);
+    if (K == 0) {
+      for (int i = lo; i < hi; ++i) {
+        const int major = majorBegin + i, minor = b + shift[i];
+        if constexpr (AlongX) sink(major, minor, static_cast<float>(line[i]));
+        else sink(minor, major, static_cast<float>(line[i]));
+      }
+      continue;
     }
-    float* out = scratch.rows.data() + static_cast<std::size_t>(b - bBegin) * static_cast<std::size_t>(n);
-    for (int i = 0; i < n; ++i) {
-      const int c = i + K;  // the output's index in line
-      out[i] = K == 0 ? line[c]
-                      : g.scale * (prefix[c + K] - prefix[c - K + 1] + g.end * (line[c - K] + line[c + K]));
+    // inner: the taps strictly between the two ends, c - K + 1 .. c + K - 1 for c = i + K.
+    int inner = 0;
+    for (int j = lo + 1; j < lo + 2 * K; ++j) inner += line[j];
+    for (int i = lo; i < hi; ++i) {
+      const int c = i + K;
+      const float v = g.scale * (static_cast<float>(inner) + g.end * static_cast<float>(line[c - K] + line[c + K]));
+      const int major = majorBegin + i, minor = b + shift[c];
+      if constexpr (AlongX) sink(major, minor, v);
+      else sink(minor, major, v);
+      inner += line[c + K] - line[c - K + 1];
     }
   }
-  for (int minor = minorBegin; minor < minorEnd; ++minor)
-    for (int i = 0; i < n; ++i) {
-      const int major = majorBegin + i, b = minor - shift[i + K];
-      const float v = scratch.rows[static_cast<std::size_t>(b - bBegin) * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)];
-      if (g.alongX) sink(major, minor, v);
-      else sink(minor, major, v);
-    }
   return true;
+}
+
+template <class Sink>
+bool lineBlur(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, MotionBlurScratch& scratch, Sink&& sink) noexcept {
+  return g.alongX ? lineBlurAlong<true>(image, g, r, scratch, sink) : lineBlurAlong<false>(image, g, r, scratch, sink);
 }
 
 // The structure tensor of a patch (gxx, gxy, gyy), normalized by its trace.
@@ -266,7 +303,7 @@ void applyMotionBlur(const cv::Mat& image, const MotionBlur& blur, const cv::Rec
   if (!blur.any() || image.type() != CV_8UC1 || out.size() != image.size() || out.type() != CV_8UC1) return;
   const cv::Rect r = region & cv::Rect(0, 0, image.cols, image.rows);
   (void)lineBlur(image, LineGeometry(blur), r, scratch, [&](int x, int y, float v) {
-    out.ptr<std::uint8_t>(y)[x] = static_cast<std::uint8_t>(std::clamp(v + 0.5f, 0.0f, 255.0f));
+    out.ptr<std::uint8_t>(y)[x] = static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));  // minss/maxss: no branch
   });
 }
 

@@ -27,14 +27,14 @@ struct MotionBlur {
   [[nodiscard]] bool any() const noexcept { return lengthPx >= 2; }
 };
 
-// Scratch rows of the line blur, sized once for the largest region (reserve) and reused.
+// Scratch of the line blur (one sheared row and its shifts) and of the blur search, sized once
+// for the largest region (reserve) and reused.
 struct MotionBlurScratch {
-  std::vector<float> rows, line, patches;
-  std::vector<int> shifts;
+  std::vector<float> patches;
+  std::vector<int> line, shifts;
   void reserve(int width, int height) {
     const std::size_t side = static_cast<std::size_t>(std::max(width, height)) + 2;
-    rows.reserve(side * (static_cast<std::size_t>(width) + static_cast<std::size_t>(height) + 2));
-    line.reserve(2 * side + 2 * kMaxLineTaps + 4);
+    line.reserve(side + 2 * kMaxLineTaps + 2);
     shifts.reserve(side + 2 * kMaxLineTaps + 2);
     patches.reserve(32 * 17 * 17);  // refineMotionBlur's frame patches
   }
