@@ -34,6 +34,11 @@
 //                                  warped region only); RANSAC (2 px) on 200 pairs with 30 %
 //                                  outliers and 0.5 px noise; the pose from 140 inliers
 //                                  (IPPE + LM + projectPoints against ours). Time per call.
+//   Tracking/MotionBlur{Apply,Search}  the template's motion blur (src/motion_blur): that template
+//                                  blurred over the warped region by a pan's smear (18 px at
+//                                  20 deg); the blur found from the sharp template and that
+//                                  blurred frame at the 200 corners (estimateMotionBlur, then
+//                                  refineMotionBlur from its estimate). Time per call.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -56,6 +61,7 @@
 #include "homography_ransac.hpp"
 #include "image_shift.hpp"
 #include "lucas_kanade.hpp"
+#include "motion_blur.hpp"
 #include "marionette_ar/tracking/apriltag_tracker.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
 #include "marionette_ar/tracking/target_occlusion.hpp"
@@ -376,6 +382,32 @@ void kltOwn(benchmark::State& state, bool regionOnly) {
   state.counters["found"] = found;
 }
 
+void motionBlurApply(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  MotionBlurScratch scratch;
+  scratch.reserve(640, 480);
+  cv::Mat out = d.templ.clone();
+  for (auto _ : state) {
+    applyMotionBlur(d.templ, {18.0, 20.0 * 3.14159265358979 / 180}, d.region, out, scratch);
+    benchmark::DoNotOptimize(out.data);
+  }
+}
+
+void motionBlurSearch(benchmark::State& state) {
+  MN_PRIMITIVES_DATA(d)
+  MotionBlurScratch scratch;
+  scratch.reserve(640, 480);
+  cv::Mat frame = d.templ.clone();
+  applyMotionBlur(d.templ, {18.0, 20.0 * 3.14159265358979 / 180}, d.region, frame, scratch);
+  MotionBlur found;
+  for (auto _ : state) {
+    const MotionBlur start = estimateMotionBlur(d.templ, frame, d.from, 128, scratch);
+    found = refineMotionBlur(d.templ, frame, d.from, d.from, start, 128, scratch);
+    benchmark::DoNotOptimize(found);
+  }
+  state.counters["length"] = found.lengthPx;
+}
+
 // The whole image's shift between two frames of the orbit (image_shift.hpp): what the markerless
 // tracker falls back on when a smear defeats KLT on its grid. Smeared: both frames blurred along
 // x by 41 px, as a pan smears them. The pyramids are the tracker's, built anyway: not timed.
@@ -612,6 +644,8 @@ BENCHMARK(warpOpenCv)->Name("Tracking/WarpOpenCv")->Unit(benchmark::kMicrosecond
 BENCHMARK_CAPTURE(kltOwn, full, false)->Name("Tracking/KltOwn")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kltOwn, region, true)->Name("Tracking/KltOwnRegion")->Unit(benchmark::kMicrosecond);
 BENCHMARK(kltOpenCv)->Name("Tracking/KltOpenCv")->Unit(benchmark::kMicrosecond);
+BENCHMARK(motionBlurApply)->Name("Tracking/MotionBlurApply")->Unit(benchmark::kMicrosecond);
+BENCHMARK(motionBlurSearch)->Name("Tracking/MotionBlurSearch")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(imageShift, sharp, 0)->Name("Tracking/ImageShift")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(imageShift, smeared, 41)->Name("Tracking/ImageShiftSmeared")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(denseAlignment, sharp, 0)->Name("Tracking/DenseAlignment")->Unit(benchmark::kMicrosecond);

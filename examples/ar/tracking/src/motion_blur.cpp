@@ -127,6 +127,88 @@ bool lineBlur(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, Mo
   return g.alongX ? lineBlurAlong<true>(image, g, r, scratch, sink) : lineBlurAlong<false>(image, g, r, scratch, sink);
 }
 
+// The line blur of square patches along one direction, for every length up to a maximum: each
+// sheared row's taps read once, kept as prefix sums, so that a length reads four of them per
+// pixel. The blur searches try ten or more lengths along one direction (the bisection of
+// estimateMotionBlur, the golden section of refineMotionBlur); lineBlur would read every tap
+// again for each. The same bits as lineBlur: the sums are integers either way.
+class PatchLines {
+ public:
+  // Patch p covers `side` x `side` pixels from (round(points[p]) - offset); `direction` gives the
+  // line's slope, `maxHalf` the longest kernel's half. False when the scratch is too small.
+  bool build(const cv::Mat& image, const std::vector<cv::Point2f>& points, int count, int side, int offset,
+             const LineGeometry& direction, int maxHalf, MotionBlurScratch& scratch) noexcept {
+    g_ = direction, side_ = side, offset_ = offset, maxHalf_ = maxHalf;
+    lineLength_ = side + 2 * maxHalf;
+    rows_ = 2 * side;  // |slope| <= 1: a patch's rows span at most side + side - 1 sheared rows
+    const std::size_t need = static_cast<std::size_t>(count) * static_cast<std::size_t>(rows_) *
+                             static_cast<std::size_t>(lineLength_ + 1);
+    const std::size_t needShifts = static_cast<std::size_t>(count) * static_cast<std::size_t>(lineLength_);
+    if (need > scratch.patchLines.capacity() || needShifts > scratch.patchShifts.capacity()) return false;
+    scratch.patchLines.resize(need);  // within capacity: no allocation
+    scratch.patchShifts.resize(needShifts);
+    prefix_ = scratch.patchLines.data();
+    shifts_ = scratch.patchShifts.data();
+    const int rows = image.rows, cols = image.cols;
+    for (int p = 0; p < count; ++p) {
+      int majorBegin = 0, minorBegin = 0;
+      origin(points, p, majorBegin, minorBegin);
+      int* shift = shifts_ + static_cast<std::ptrdiff_t>(p) * lineLength_;
+      for (int j = 0; j < lineLength_; ++j) shift[j] = g_.shift(majorBegin + j - maxHalf_);
+      const int bBegin = minorBegin - std::max(shift[maxHalf_], shift[maxHalf_ + side - 1]);
+      const int used = side + std::abs(shift[maxHalf_ + side - 1] - shift[maxHalf_]);  // the rows the patch reads
+      for (int r = 0; r < used; ++r) {
+        int* prefix = row(p, r);
+        prefix[0] = 0;
+        for (int j = 0; j < lineLength_; ++j) {
+          const int major = majorBegin + j - maxHalf_, minor = bBegin + r + shift[j];
+          const int x = std::clamp(g_.alongX ? major : minor, 0, cols - 1), y = std::clamp(g_.alongX ? minor : major, 0, rows - 1);
+          prefix[j + 1] = prefix[j] + image.ptr<std::uint8_t>(y)[x];
+        }
+      }
+    }
+    return true;
+  }
+  // Patch p blurred by `g` (the direction built for, g.half <= maxHalf): sink(column, row, value)
+  // for every pixel of the patch.
+  template <class Sink>
+  void blur(const std::vector<cv::Point2f>& points, int p, const LineGeometry& g, Sink&& sink) const noexcept {
+    int majorBegin = 0, minorBegin = 0;
+    origin(points, p, majorBegin, minorBegin);
+    const int* shift = shifts_ + static_cast<std::ptrdiff_t>(p) * lineLength_;
+    const int bBegin = minorBegin - std::max(shift[maxHalf_], shift[maxHalf_ + side_ - 1]);
+    const int K = g.half;
+    for (int i = 0; i < side_; ++i) {
+      const int c = i + maxHalf_;
+      for (int m = 0; m < side_; ++m) {
+        const int* prefix = row(p, minorBegin + m - shift[c] - bBegin);
+        const auto tap = [&](int j) { return prefix[j + 1] - prefix[j]; };
+        const float v = K == 0 ? static_cast<float>(tap(c))
+                               : g.scale * (static_cast<float>(prefix[c + K] - prefix[c - K + 1]) +
+                                            g.end * static_cast<float>(tap(c - K) + tap(c + K)));
+        if (g_.alongX) sink(i, m, v);
+        else sink(m, i, v);
+      }
+    }
+  }
+  [[nodiscard]] int maxHalf() const noexcept { return maxHalf_; }
+
+ private:
+  LineGeometry g_{MotionBlur{}};
+  int side_ = 0, offset_ = 0, maxHalf_ = 0, lineLength_ = 0, rows_ = 0;
+  int* prefix_ = nullptr;
+  int* shifts_ = nullptr;
+  void origin(const std::vector<cv::Point2f>& points, int p, int& majorBegin, int& minorBegin) const noexcept {
+    const int x0 = static_cast<int>(std::lround(points[static_cast<std::size_t>(p)].x)) - offset_;
+    const int y0 = static_cast<int>(std::lround(points[static_cast<std::size_t>(p)].y)) - offset_;
+    majorBegin = g_.alongX ? x0 : y0;
+    minorBegin = g_.alongX ? y0 : x0;
+  }
+  [[nodiscard]] int* row(int p, int r) const noexcept {
+    return prefix_ + (static_cast<std::ptrdiff_t>(p) * rows_ + r) * (lineLength_ + 1);
+  }
+};
+
 // The structure tensor of a patch (gxx, gxy, gyy), normalized by its trace.
 struct Tensor {
   double xx = 0, xy = 0, yy = 0;
@@ -137,20 +219,21 @@ struct Tensor {
   [[nodiscard]] double along(double c, double s) const noexcept { return c * c * xx + 2 * c * s * xy + s * s * yy; }
 };
 
-// Sum over the patches of the tensors of `image` (or its blur by `taps`), each patch weighted
-// equally after normalizing: a strongly textured patch must not decide alone.
+// Sum over the patches of the tensors of `image` (or its blur), each patch weighted equally
+// after normalizing: a strongly textured patch must not decide alone.
+constexpr int kTensorSide = 2 * kPatchHalf + 3;  // one pixel more each side for the differences
+
+// ... of `image` blurred by `line` (lines built along its direction, for its length or longer).
 Tensor patchTensor(const cv::Mat& image, const std::vector<cv::Point2f>& points, int count, const LineGeometry* line,
-                   MotionBlurScratch& scratch) noexcept {
-  constexpr int kSide = 2 * kPatchHalf + 3;  // one pixel more each side for the differences
+                   const PatchLines* lines) noexcept {
+  constexpr int kSide = kTensorSide;
   std::array<float, kSide * kSide> v{};
   Tensor total;
   for (int p = 0; p < count; ++p) {
     const int x0 = static_cast<int>(std::lround(points[static_cast<std::size_t>(p)].x)) - kPatchHalf - 1;
     const int y0 = static_cast<int>(std::lround(points[static_cast<std::size_t>(p)].y)) - kPatchHalf - 1;
     if (line) {
-      if (!lineBlur(image, *line, cv::Rect(x0, y0, kSide, kSide), scratch,
-                    [&](int x, int y, float value) { v[static_cast<std::size_t>((y - y0) * kSide + x - x0)] = value; }))
-        return {};
+      lines->blur(points, p, *line, [&](int i, int j, float value) { v[static_cast<std::size_t>(j * kSide + i)] = value; });
     } else {
       for (int j = 0; j < kSide; ++j)
         for (int i = 0; i < kSide; ++i) v[static_cast<std::size_t>(j * kSide + i)] = pixel(image, x0 + i, y0 + j);
@@ -198,16 +281,21 @@ void sampleFramePatches(const cv::Mat& frame, const std::vector<cv::Point2f>& fr
 
 // How badly the template blurred by `line` explains the frame's patches: the sum of 1 - NCC
 // (gain and bias per patch cancel).
+// (Blurred from `lines` where given: built along `line`'s direction, for its length or longer.)
 double mismatch(const cv::Mat& sharp, const std::vector<cv::Point2f>& from, const float* framePatches, int count,
-                const LineGeometry& line, MotionBlurScratch& scratch) noexcept {
+                const LineGeometry& line, const PatchLines* lines, MotionBlurScratch& scratch) noexcept {
   std::array<float, kRefineSide * kRefineSide> t{};
   double total = 0;
   for (int p = 0; p < count; ++p) {
     const cv::Point2f a = from[static_cast<std::size_t>(p)];
     const int x0 = static_cast<int>(std::lround(a.x)) - kPatchHalf, y0 = static_cast<int>(std::lround(a.y)) - kPatchHalf;
-    if (!lineBlur(sharp, line, cv::Rect(x0, y0, kRefineSide, kRefineSide), scratch,
-                  [&](int x, int y, float value) { t[static_cast<std::size_t>((y - y0) * kRefineSide + x - x0)] = value; }))
+    if (lines) {
+      lines->blur(from, p, line, [&](int i, int j, float value) { t[static_cast<std::size_t>(j * kRefineSide + i)] = value; });
+    } else if (!lineBlur(sharp, line, cv::Rect(x0, y0, kRefineSide, kRefineSide), scratch, [&](int x, int y, float value) {
+                 t[static_cast<std::size_t>((y - y0) * kRefineSide + x - x0)] = value;
+               })) {
       return 1e30;
+    }
     const float* f = framePatches + static_cast<std::ptrdiff_t>(p) * kRefineSide * kRefineSide;
     double st = 0, sf = 0, stt = 0, sff = 0, stf = 0;
     for (int k = 0; k < kRefineSide * kRefineSide; ++k) {
@@ -232,7 +320,7 @@ MotionBlur estimateMotionBlur(const cv::Mat& sharp, const cv::Mat& frame, const 
   MotionBlur none;
   const int count = std::min(static_cast<int>(points.size()), kMaxPatches);
   if (count < 6 || sharp.size() != frame.size() || sharp.type() != CV_8UC1 || frame.type() != CV_8UC1) return none;
-  const Tensor t = patchTensor(sharp, points, count, nullptr, scratch), f = patchTensor(frame, points, count, nullptr, scratch);
+  const Tensor t = patchTensor(sharp, points, count, nullptr, nullptr), f = patchTensor(frame, points, count, nullptr, nullptr);
   // The energy lost in the frame: the largest eigenvalue of T - F and its direction.
   const double a = t.xx - f.xx, b = t.xy - f.xy, d = t.yy - f.yy;
   const double mean = 0.5 * (a + d), radius = std::sqrt(0.25 * (a - d) * (a - d) + b * b);
@@ -247,10 +335,14 @@ MotionBlur estimateMotionBlur(const cv::Mat& sharp, const cv::Mat& frame, const 
   const double goal = f.along(c, s);
   // Bisection on the length: the share of energy along the smear falls as it grows.
   double lo = 0, hi = std::clamp(maxLengthPx, 2.0, double(kMaxTaps - 1));
+  PatchLines lines;
+  if (!lines.build(sharp, points, count, kTensorSide, kPatchHalf + 1, LineGeometry(MotionBlur{hi, angle}),
+                   LineGeometry(MotionBlur{hi, angle}).half, scratch))
+    return none;
   for (int it = 0; it < 7; ++it) {
     const double mid = 0.5 * (lo + hi);
     const LineGeometry line(MotionBlur{mid, angle});
-    if (patchTensor(sharp, points, count, &line, scratch).along(c, s) > goal) lo = mid;
+    if (patchTensor(sharp, points, count, &line, &lines).along(c, s) > goal) lo = mid;
     else hi = mid;
   }
   MotionBlur out{0.5 * (lo + hi), angle};
@@ -267,13 +359,19 @@ MotionBlur refineMotionBlur(const cv::Mat& sharp, const cv::Mat& frame, const st
   scratch.patches.resize(static_cast<std::size_t>(count * kRefineSide * kRefineSide));  // within capacity
   sampleFramePatches(frame, from, to, count, scratch.patches.data());
   const double maxLength = std::clamp(maxLengthPx, 2.0, double(kMaxTaps - 1));
-  auto cost = [&](double length, double angle) {
-    return mismatch(sharp, from, scratch.patches.data(), count, LineGeometry(MotionBlur{std::max(1.0, length), angle}), scratch);
-  };
   // Golden-section search on the length around the start (the blur changes little from one
   // frame to the next), then the direction within +-6 degrees.
   double angle = start.angleRad;
   double lo = std::max(0.0, 0.5 * start.lengthPx - 2), hi = std::min(maxLength, 1.6 * start.lengthPx + 4);
+  // The lengths along the start's direction read one set of lines.
+  PatchLines lines;
+  const int maxHalf = LineGeometry(MotionBlur{std::max(1.0, hi), angle}).half;
+  const bool haveLines = lines.build(sharp, from, count, kRefineSide, kPatchHalf, LineGeometry(MotionBlur{hi, angle}), maxHalf, scratch);
+  auto cost = [&](double length, double along) {
+    const LineGeometry line(MotionBlur{std::max(1.0, length), along});
+    const bool cached = haveLines && along == start.angleRad && line.half <= maxHalf;
+    return mismatch(sharp, from, scratch.patches.data(), count, line, cached ? &lines : nullptr, scratch);
+  };
   constexpr double kGolden = 0.6180339887498949;
   double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
   double f1 = cost(x1, angle), f2 = cost(x2, angle);

@@ -32,11 +32,15 @@ struct MotionBlur {
 struct MotionBlurScratch {
   std::vector<float> patches;
   std::vector<int> line, shifts;
+  std::vector<int> patchLines, patchShifts;  // the searches' sheared rows around their patches
   void reserve(int width, int height) {
     const std::size_t side = static_cast<std::size_t>(std::max(width, height)) + 2;
     line.reserve(side + 2 * kMaxLineTaps + 2);
     shifts.reserve(side + 2 * kMaxLineTaps + 2);
     patches.reserve(32 * 17 * 17);  // refineMotionBlur's frame patches
+    // Up to 64 patches of 19 px (the estimate's), rows of 19 + 2 * 64 taps, two rows per pixel.
+    patchLines.reserve(64 * 2 * 19 * (19 + 2 * kMaxLineTaps / 2 + 1));
+    patchShifts.reserve(64 * (19 + 2 * kMaxLineTaps / 2));
   }
   static constexpr int kMaxLineTaps = 129;
 };
