@@ -239,11 +239,12 @@ TEST(TrackingPrimitives, KltSimdAndPortableLoopsGiveTheSameBits) {
     c.guess.push_back(p + cv::Point2f(0.7f, -0.4f));
     c.truth.push_back(p);
   }
-  for (int window : {15, 25, 61}) {
+  for (const LkGradient gradient : {LkGradient::Scharr, LkGradient::Central})
+  for (int window : {3, 7, 15, 17, 25, 61}) {
     std::vector<cv::Point2f> simd, portable;
     std::vector<unsigned char> simdStatus, portableStatus;
-    runOurs(c, LkGradient::Scharr, &simd, true, &simdStatus, window);
-    runOurs(c, LkGradient::Scharr, &portable, false, &portableStatus, window);
+    runOurs(c, gradient, &simd, true, &simdStatus, window);
+    runOurs(c, gradient, &portable, false, &portableStatus, window);
     ASSERT_EQ(simd.size(), portable.size());
     int found = 0;
     for (std::size_t i = 0; i < simd.size(); ++i) {

@@ -110,7 +110,7 @@ void ImagePyramid::downsample(int level, cv::Rect dstRegion) noexcept {
 }
 
 LucasKanade::LucasKanade()
-    : patch_(static_cast<std::size_t>((kMaxWindow + 2) * padded(kMaxWindow + 2))),
+    : patch_(static_cast<std::size_t>((kMaxWindow + 2) * padded(kMaxWindow + 2) + kLanes)),  // + the last lanes' reads
       values_(static_cast<std::size_t>(kMaxWindow) * padded(kMaxWindow)),
       gx_(values_.size()),
       gy_(values_.size()),
@@ -220,6 +220,57 @@ void sumProductsSse2(const std::int16_t* samples, const std::int16_t* values, co
     sy += std::int64_t{ly[0]} + ly[1] + ly[2] + ly[3];
   }
 }
+
+// The template's values, gradients and gradient matrix over an n x n window (trackOne), 8 lanes
+// at a time: the same integers as the scalar loop. Each gradient is a pair (A, B) weighted
+// (3, 10) for Scharr, (0, 16) for the central difference, by one multiply-add into 32 bits;
+// lanes past n are zero (the padding's gradient must be). Reads up to 2 values past a patch
+// row's padded width (the buffer has room).
+void gradientsSse2(const std::int16_t* P, int patchStride, int n, int stride, bool scharr, std::int16_t* values,
+                   std::int16_t* gx, std::int16_t* gy, std::int64_t& a11, std::int64_t& a12, std::int64_t& a22) noexcept {
+  const __m128i weights = scharr ? _mm_set1_epi32(3 | (10 << 16)) : _mm_set1_epi32(16 << 16);
+  const __m128i round = _mm_set1_epi32(16);
+  const __m128i lane = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m128i limit = _mm_set1_epi16(static_cast<std::int16_t>(n));
+  auto load = [](const std::int16_t* q) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(q)); };
+  auto weigh = [&](__m128i a, __m128i b) {  // (3a + 10b + 16) >> 5 (or 16b), as 16 bits
+    const __m128i lo = _mm_srai_epi32(_mm_add_epi32(_mm_madd_epi16(_mm_unpacklo_epi16(a, b), weights), round), kFraction);
+    const __m128i hi = _mm_srai_epi32(_mm_add_epi32(_mm_madd_epi16(_mm_unpackhi_epi16(a, b), weights), round), kFraction);
+    return _mm_packs_epi32(lo, hi);
+  };
+  a11 = a12 = a22 = 0;
+  for (int r = 0; r < n; ++r) {
+    const std::int16_t* up = P + r * patchStride + 1;
+    const std::int16_t* mid = up + patchStride;
+    const std::int16_t* down = mid + patchStride;
+    __m128i s11 = _mm_setzero_si128(), s12 = _mm_setzero_si128(), s22 = _mm_setzero_si128();
+    for (int c = 0; c < stride; c += 8) {
+      const __m128i ul = load(up + c - 1), uc = load(up + c), ur = load(up + c + 1);
+      const __m128i ml = load(mid + c - 1), mc = load(mid + c), mr = load(mid + c + 1);
+      const __m128i dl = load(down + c - 1), dc = load(down + c), dr = load(down + c + 1);
+      const __m128i inside = _mm_cmplt_epi16(_mm_add_epi16(lane, _mm_set1_epi16(static_cast<std::int16_t>(c))), limit);
+      const __m128i x = _mm_and_si128(
+          weigh(_mm_add_epi16(_mm_sub_epi16(ur, ul), _mm_sub_epi16(dr, dl)), _mm_sub_epi16(mr, ml)), inside);
+      const __m128i y = _mm_and_si128(
+          weigh(_mm_add_epi16(_mm_sub_epi16(dl, ul), _mm_sub_epi16(dr, ur)), _mm_sub_epi16(dc, uc)), inside);
+      const std::ptrdiff_t i = static_cast<std::ptrdiff_t>(r) * stride + c;
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(gx + i), x);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(gy + i), y);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(values + i), _mm_and_si128(mc, inside));
+      s11 = _mm_add_epi32(s11, _mm_madd_epi16(x, x));
+      s12 = _mm_add_epi32(s12, _mm_madd_epi16(x, y));
+      s22 = _mm_add_epi32(s22, _mm_madd_epi16(y, y));
+    }
+    // A row's sums fit 32 bits (at most 64 * 4080^2), as in the scalar loop.
+    alignas(16) std::int32_t l11[4], l12[4], l22[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(l11), s11);
+    _mm_store_si128(reinterpret_cast<__m128i*>(l12), s12);
+    _mm_store_si128(reinterpret_cast<__m128i*>(l22), s22);
+    a11 += static_cast<std::int32_t>(l11[0] + l11[1] + l11[2] + l11[3]);
+    a12 += static_cast<std::int32_t>(l12[0] + l12[1] + l12[2] + l12[3]);
+    a22 += static_cast<std::int32_t>(l22[0] + l22[1] + l22[2] + l22[3]);
+  }
+}
 #endif
 
 void sampleFixed(bool simd, const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,
@@ -276,13 +327,23 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
   // exactly nothing to the sums whatever the frame's samples there.
   const int stride = static_cast<int>(padded(n));
   const auto lanes = static_cast<std::size_t>(n * stride);
-  std::fill_n(values_.begin(), lanes, std::int16_t{0});
-  std::fill_n(gx_.begin(), lanes, std::int16_t{0});
-  std::fill_n(gy_.begin(), lanes, std::int16_t{0});
   sample(t, ix - 1, iy - 1, p.x - static_cast<float>(ix), p.y - static_cast<float>(iy), patchStride, m, patch_.data(), params.simd);
   const std::int16_t* P = patch_.data();
   std::int64_t a11i = 0, a12i = 0, a22i = 0;
-  for (int r = 0; r < n; ++r) {
+#if defined(__SSE2__)
+  const bool simdGradients = params.simd;
+  if (simdGradients)
+    gradientsSse2(P, patchStride, n, stride, params.gradient == LkGradient::Scharr, values_.data(), gx_.data(), gy_.data(),
+                  a11i, a12i, a22i);
+#else
+  const bool simdGradients = false;
+#endif
+  if (!simdGradients) {
+    std::fill_n(values_.begin(), lanes, std::int16_t{0});
+    std::fill_n(gx_.begin(), lanes, std::int16_t{0});
+    std::fill_n(gy_.begin(), lanes, std::int16_t{0});
+  }
+  for (int r = 0; r < n && !simdGradients; ++r) {
     const std::int16_t* up = P + r * patchStride + 1;
     const std::int16_t* mid = up + patchStride;
     const std::int16_t* down = mid + patchStride;
