@@ -150,12 +150,16 @@ bool MarkerlessTracker::Impl::track(const PlanarPose& prediction, int keyframe, 
     const auto meanGrey = static_cast<std::uint8_t>(std::clamp(kf.meanGrey + 0.5, 0.0, 255.0));
     if (!warpPerspectiveRegion(level0, W0 * levelToBase, warped, region, meanGrey)) return false;
     // The exposure after the warp (the same up to rounding, and only over the region).
-    if (adjust)
+    if (adjust) {
+      // A table of the 256 grey levels (the same expression per level as per pixel).
+      std::array<std::uint8_t, 256> adjusted;
+      for (int v = 0; v < 256; ++v)
+        adjusted[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(std::clamp(v * gain + bias + 0.5, 0.0, 255.0));
       for (int y = region.y; y < region.y + region.height; ++y) {
         std::uint8_t* row = warped.ptr<std::uint8_t>(y);
-        for (int x = region.x; x < region.x + region.width; ++x)
-          row[x] = static_cast<std::uint8_t>(std::clamp(row[x] * gain + bias + 0.5, 0.0, 255.0));
+        for (int x = region.x; x < region.x + region.width; ++x) row[x] = adjusted[row[x]];
       }
+    }
     // Motion blur: the template is smeared as the frame is (motion_blur.hpp). The blur found
     // last frame is used first; without one, the frame's statistics may propose one, which
     // the aligned search then confirms (or not) after KLT.
