@@ -137,8 +137,13 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       Measurement retried;
       // Where the image's motion makes a long smear, so would KLT: 2 of 35 retries where the
       // grid failed gave a pose on the stress sequences (but a fast turn that only outran the
-      // grid is no smear: fast_turn needs the retry).
-      if ((expectedSmearPx() < kDenseFirstSmearPx || !settings.denseAlignment) &&
+      // grid is no smear: fast_turn needs the retry). Nor where KLT already ran under the blur
+      // model (a smear of kDenseCheckBlurPx or more) and found nothing usable: from this
+      // prediction it meets the same smear, which the dense alignment models (on the stress
+      // sequences the retry cost 10-15 ms on such frames and the dense pose was given after it
+      // anyway; skipped, p95 17.1 -> 15.3 ms, every class as accurate: docs/tracking.md).
+      const bool kltFailedUnderSmear = settings.denseAlignment && stats.blurPx >= kDenseCheckBlurPx;
+      if ((expectedSmearPx() < kDenseFirstSmearPx || !settings.denseAlignment) && !kltFailedUnderSmear &&
           track(prediction, stats.keyframe, retried)) {
         const Verdict v = judge(retried, seconds, false);
         if (v != Verdict::Rejected) m = retried, verdict = v;
