@@ -44,6 +44,8 @@ inline constexpr double kMaxBlurFraction = 0.1;  // longest motion blur modelled
 // How long the background's frame-to-frame motion alone may carry the pose (never given, only
 // where tracking starts): a look away and back within it tracks again without relocalizing.
 inline constexpr double kMaxChainSeconds = 1.5;
+// Frames a keyframe added while tracking may wait for its ORB features (makeKeyframe).
+inline constexpr long kMaxFeatureDelayFrames = 10;
 inline constexpr int kMinBackgroundPoints = 16;
 inline constexpr int kMaxRelocalizationSkips = 3;
 inline constexpr double kAwayMarginFraction = 0.25;  // of the image's larger side
@@ -210,6 +212,9 @@ struct MarkerlessTracker::Impl {
   // Frames since the last pose given through which the image's motion carried it (nothing
   // given, LOST): -1 once that chain broke (no motion measured, a pending pose in between).
   int chainedSinceGiven = -1;
+  // The keyframe whose ORB features are still to come (-1: none), and the frame that added it.
+  int featuresPending = -1;
+  long featuresPendingSince = 0;
 
   // Buffers reused every frame.
   cv::Mat warped, blurred;
@@ -301,11 +306,23 @@ struct MarkerlessTracker::Impl {
   }
 
   void prepareKeyframe(std::size_t i);
+  // A keyframe's ORB features (from its grey image) and their per-frame copy.
+  void addFeatures(PlanarKeyframe& k);
+  void prepareFeatures(std::size_t i);
+  // The ORB features of the keyframe added last, when they are still to come (featuresPending):
+  // false when OpenCV failed (the keyframe then has none). inFrame: called by update(), noted in
+  // this frame's stats.
+  bool finishKeyframeFeatures(bool inFrame) noexcept;
   // Matches this frame's ORB features to a feature set; the pose from the best match so far goes
   // to `out` when it has more inliers than `bestInliers`.
   void matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels, const cv::Matx33d& imageToPlane,
                      bool unique, PlanarPose& out, int& bestInliers);
   // Its corners for KLT, and (withFeatures) ORB features for relocalization.
+  // A keyframe added while tracking gets its features on a later frame: one that tracked at its
+  // first attempt (a few milliseconds), or at the latest kMaxFeatureDelayFrames after it, or
+  // before a relocalization or the map is read. ORB on a keyframe takes about 8 ms, a frame that
+  // adds one has tracked already (PTAM and ORB-SLAM make keyframes in a thread of their own:
+  // here a frame's time stays bounded, the same on every run).
   PlanarKeyframe makeKeyframe(const cv::Mat& image, const cv::Matx33d& planeToImage, bool withFeatures = true);
   bool track(const PlanarPose& prediction, int keyframe, Measurement& out);
   // The smear the image's motion measured this frame makes over the exposure a dense pose

@@ -20,12 +20,18 @@ PlanarKeyframe MarkerlessTracker::Impl::makeKeyframe(const cv::Mat& image, const
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(image, corners, kCornersPerKeyframe, 0.01, 8, cv::noArray(), 5);
   for (const auto& c : corners) k.corners.push_back({c.x, c.y});
-  if (!withFeatures) return k;
+  if (withFeatures) addFeatures(k);
+  return k;
+}
+
+void MarkerlessTracker::Impl::addFeatures(PlanarKeyframe& k) {
+  const cv::Mat image(k.height, k.width, CV_8UC1, k.grey.data());
   // 12 levels (a 7.4x range of scales): a keyframe is matched from close up and from afar.
   auto detector = cv::ORB::create(settings.referenceFeatures, 1.2f, 12, 19, 0, 2, cv::ORB::HARRIS_SCORE, 19, 15);
   std::vector<cv::KeyPoint> kps;
   cv::Mat desc;
   detector->detectAndCompute(image, cv::noArray(), kps, desc);
+  k.features.clear();
   for (std::size_t i = 0; i < kps.size(); ++i) {
     PlanarFeature f;
     f.x = kps[i].pt.x;
@@ -37,7 +43,36 @@ PlanarKeyframe MarkerlessTracker::Impl::makeKeyframe(const cv::Mat& image, const
     std::copy_n(desc.ptr<std::uint8_t>(static_cast<int>(i)), 32, f.descriptor.begin());
     k.features.push_back(f);
   }
-  return k;
+}
+
+void MarkerlessTracker::Impl::prepareFeatures(std::size_t i) {
+  const PlanarKeyframe& k = map.keyframes[i];
+  KeyframeData& d = keyframes[i];
+  d.descriptors.create(static_cast<int>(k.features.size()), 32, CV_8UC1);
+  d.featurePixels.clear();
+  for (std::size_t f = 0; f < k.features.size(); ++f) {
+    std::copy_n(k.features[f].descriptor.begin(), 32, d.descriptors.ptr<std::uint8_t>(static_cast<int>(f)));
+    d.featurePixels.emplace_back(k.features[f].x, k.features[f].y);
+  }
+}
+
+bool MarkerlessTracker::Impl::finishKeyframeFeatures(bool inFrame) noexcept {
+  if (featuresPending < 0) return true;
+  const auto i = static_cast<std::size_t>(featuresPending);
+  featuresPending = -1;
+  if (inFrame) stats.keyframeFeatures = true;
+  try {
+    addFeatures(map.keyframes[i]);
+    prepareFeatures(i);
+  } catch (...) {
+    // Out of memory inside OpenCV: the keyframe stays without features (it still tracks; it
+    // does not relocalize).
+    map.keyframes[i].features.clear();
+    keyframes[i].descriptors.release();
+    keyframes[i].featurePixels.clear();
+    return false;
+  }
+  return true;
 }
 
 void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
@@ -75,11 +110,6 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
   for (const auto& [rank, c] : order) {
     d.corners.emplace_back(k.corners[c][0], k.corners[c][1]);
     d.cornerPlane.push_back(applyHomography(d.imageToPlane, d.corners.back()));
-  }
-  d.descriptors.create(static_cast<int>(k.features.size()), 32, CV_8UC1);
-  for (std::size_t f = 0; f < k.features.size(); ++f) {
-    std::copy_n(k.features[f].descriptor.begin(), 32, d.descriptors.ptr<std::uint8_t>(static_cast<int>(f)));
-    d.featurePixels.emplace_back(k.features[f].x, k.features[f].y);
   }
   if (!d.reference) {
     // The camera centre from the plane-to-image homography K [r1 r3 t].
@@ -135,6 +165,7 @@ void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
                                   settings.tiltedViewFeatures);
   if (i < keyframes.size()) keyframes[i] = std::move(d);
   else keyframes.push_back(std::move(d));
+  prepareFeatures(i);
 }
 
 
@@ -169,6 +200,7 @@ int MarkerlessTracker::Impl::keyframeToTrack(const KeyframeChoice& choice) const
 bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
   const StageTimer timer(stats.relocalizationMs);
   stats.relocalized = true;
+  (void)finishKeyframeFeatures(true);  // the keyframe added last may be the one this view matches
   const cv::Mat& frame = grey.pinhole();
   orb->detectAndCompute(frame, cv::noArray(), frameKeypoints, frameDescriptors);
   if (frameKeypoints.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) return false;
@@ -247,7 +279,7 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   for (std::size_t k = 0; k < keyframes.size() && !fading; ++k) {
     const KeyframeData& kf = keyframes[k];
     // (Past the target, one without ORB features does not count: relocalizing there needs them.)
-    if (kf.reference || (pastTarget && kf.descriptors.rows == 0)) continue;
+    if (kf.reference || (pastTarget && kf.descriptors.rows == 0 && static_cast<int>(k) != featuresPending)) continue;
     // One near enough already, seen at about its own scale.
     if (glm::length(kf.cameraPosition - c) < 0.3 * distance &&
         keyframeMagnification(p, static_cast<int>(k)) <= kMaxMagnification)
@@ -255,10 +287,16 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   }
   // Around a target in view, no ORB features (11 of a keyframe's 16 ms): relocalizing there, the
   // reference is in view too, and a floor keyframe relocalizes only near the last pose anyway.
-  map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p), !aroundTarget));
+  // Elsewhere the features come on a later frame with time to spare (finishKeyframeFeatures):
+  // the keyframe tracks from now on.
+  (void)finishKeyframeFeatures(true);  // one pending at a time
+  map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p), false));
   prepareKeyframe(map.keyframes.size() - 1);
-  // A keyframe of the floor keeps the error of the pose it was taken from (prepareKeyframe).
-  if (pastTarget || aroundTarget) keyframes.back().covariance = m.covariance;
+  if (!aroundTarget) featuresPending = static_cast<int>(map.keyframes.size()) - 1, featuresPendingSince = frames;
+  // A keyframe of the floor keeps the error of the pose it was taken from; one of the target
+  // (closing in, fading) none (prepareKeyframe takes a keyframe without features for the floor
+  // around the target, as a map read from disk holds it).
+  keyframes.back().covariance = pastTarget || aroundTarget ? m.covariance : std::array<double, 36>{};
   stats.keyframeAdded = true;
 }
 

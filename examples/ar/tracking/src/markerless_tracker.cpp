@@ -315,6 +315,12 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       addIsotropicVariance(result.covariance.data(), growRotation, grow);
     }
   }
+  // The ORB features of a keyframe added on an earlier frame, on one with time to spare: its
+  // pose came from the first KLT attempt on a sharp frame, nothing else tried (makeKeyframe).
+  const bool firstAttempt = verdict == Verdict::Tracking && !stats.backgroundMotion && !stats.dense &&
+                            !stats.relocalized && !blur.any() && !carried && !stats.keyframeAdded;
+  if (featuresPending >= 0 && (firstAttempt || frames - featuresPendingSince >= kMaxFeatureDelayFrames))
+    (void)finishKeyframeFeatures(true);
   // What the next frame's background motion starts from.
   haveLastImageMotion = haveLastImageMotion && imageMotionFound;
   havePreviousFrame = true;
@@ -392,7 +398,10 @@ const OcclusionMask* MarkerlessTracker::occlusionMask() noexcept {
 }
 
 const CameraModel& MarkerlessTracker::camera() const noexcept { return impl_->camera; }
-const PlanarMap& MarkerlessTracker::map() const noexcept { return impl_->map; }
+const PlanarMap& MarkerlessTracker::map() const noexcept {
+  (void)impl_->finishKeyframeFeatures(false);  // the map as saved holds every keyframe's features
+  return impl_->map;
+}
 const MarkerlessTracker::FrameStats& MarkerlessTracker::lastFrame() const noexcept { return impl_->stats; }
 
 namespace {

@@ -173,6 +173,7 @@ class MarkerlessTracker final : public Tracker {
   struct FrameStats {
     bool relocalized = false;      // ORB relocalization ran this frame
     bool keyframeAdded = false;
+    bool keyframeFeatures = false;  // the ORB features of a keyframe added on an earlier frame came now
     bool extrapolated = false;     // the pose given is the motion model's, not measured
     bool carried = false;          // the pose given is the last one carried by the image's motion, checked by parts
     bool backgroundMotion = false;  // the prediction used the frame-to-frame motion of the image
