@@ -139,6 +139,11 @@ TEST(MotionBlur, LineBlurIsItsDefinitionToTheBit) {
             differing += ours.at<std::uint8_t>(y, x) != (length >= 2 ? lineBlurByDefinition(image, length, angle, x, y)
                                                                         : image.at<std::uint8_t>(y, x));
         EXPECT_EQ(differing, 0) << "angle " << angleDeg << " length " << length << " region " << region;
+        // Nothing outside the region is written.
+        cv::Mat outside = cv::Mat::ones(image.size(), CV_8UC1);
+        outside(inside).setTo(0);
+        EXPECT_EQ(cv::countNonZero((ours != image) & outside), 0) << "angle " << angleDeg << " length " << length
+                                                                  << " region " << region;
       }
 }
 

@@ -285,7 +285,7 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
         keyframeMagnification(p, static_cast<int>(k)) <= kMaxMagnification)
       return;
   }
-  // Around a target in view, no ORB features (11 of a keyframe's 16 ms): relocalizing there, the
+  // Around a target in view, no ORB features (most of a keyframe's time): relocalizing there, the
   // reference is in view too, and a floor keyframe relocalizes only near the last pose anyway.
   // Elsewhere the features come on a later frame with time to spare (finishKeyframeFeatures):
   // the keyframe tracks from now on.

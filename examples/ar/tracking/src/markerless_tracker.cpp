@@ -138,10 +138,12 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       // Where the image's motion makes a long smear, so would KLT: 2 of 35 retries where the
       // grid failed gave a pose on the stress sequences (but a fast turn that only outran the
       // grid is no smear: fast_turn needs the retry). Nor where KLT already ran under the blur
-      // model (a smear of kDenseCheckBlurPx or more) and found nothing usable: from this
-      // prediction it meets the same smear, which the dense alignment models (on the stress
-      // sequences the retry cost 10-15 ms on such frames and the dense pose was given after it
-      // anyway; skipped, p95 17.1 -> 15.3 ms, every class as accurate: docs/tracking.md).
+      // model (a smear of kDenseCheckBlurPx or more: the last frame's, or the one this frame's
+      // statistics proposed and its aligned patches did not refute) and found nothing usable:
+      // from this prediction it meets the same frame, and the dense alignment, which measures
+      // the smear from the image's motion, goes next (on the stress sequences the retry cost
+      // 10-15 ms on such frames and the dense pose was given after it anyway; skipped, p95 17.1
+      // -> 15.3 ms, every class within 2 cm as often or more: docs/tracking.md).
       const bool kltFailedUnderSmear = settings.denseAlignment && stats.blurPx >= kDenseCheckBlurPx;
       if ((expectedSmearPx() < kDenseFirstSmearPx || !settings.denseAlignment) && !kltFailedUnderSmear &&
           track(prediction, stats.keyframe, retried)) {
@@ -315,8 +317,11 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
       addIsotropicVariance(result.covariance.data(), growRotation, grow);
     }
   }
-  // The ORB features of a keyframe added on an earlier frame, on one with time to spare: its
-  // pose came from the first KLT attempt on a sharp frame, nothing else tried (makeKeyframe).
+  // The ORB features of a keyframe added on an earlier frame, on one with time to spare: KLT from
+  // the first prediction gave its pose on a sharp frame, with no retry from the image's motion,
+  // no dense alignment, no relocalization (makeKeyframe). (Asking also for a single KLT pass,
+  // one keyframe and one blur, left more of them to the tenth frame, wherever it fell: p95 +0.5
+  // ms on the stress sequences.)
   const bool firstAttempt = verdict == Verdict::Tracking && !stats.backgroundMotion && !stats.dense &&
                             !stats.relocalized && !blur.any() && !carried && !stats.keyframeAdded;
   if (featuresPending >= 0 && (firstAttempt || frames - featuresPendingSince >= kMaxFeatureDelayFrames))

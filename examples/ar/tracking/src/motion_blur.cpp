@@ -222,6 +222,8 @@ struct Tensor {
 // Sum over the patches of the tensors of `image` (or its blur), each patch weighted equally
 // after normalizing: a strongly textured patch must not decide alone.
 constexpr int kTensorSide = 2 * kPatchHalf + 3;  // one pixel more each side for the differences
+static_assert(kMaxPatches <= MotionBlurScratch::kMaxSearchPatches && kTensorSide <= MotionBlurScratch::kMaxSearchSide,
+              "the scratch's patch lines are reserved for the searches' patches");
 
 // ... of `image` blurred by `line` (lines built along its direction, for its length or longer).
 Tensor patchTensor(const cv::Mat& image, const std::vector<cv::Point2f>& points, int count, const LineGeometry* line,

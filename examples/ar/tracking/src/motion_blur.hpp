@@ -38,11 +38,13 @@ struct MotionBlurScratch {
     line.reserve(side + 2 * kMaxLineTaps + 2);
     shifts.reserve(side + 2 * kMaxLineTaps + 2);
     patches.reserve(32 * 17 * 17);  // refineMotionBlur's frame patches
-    // Up to 64 patches of 19 px (the estimate's), rows of 19 + 2 * 64 taps, two rows per pixel.
-    patchLines.reserve(64 * 2 * 19 * (19 + 2 * kMaxLineTaps / 2 + 1));
-    patchShifts.reserve(64 * (19 + 2 * kMaxLineTaps / 2));
+    // Up to kMaxSearchPatches patches of kMaxSearchSide px (the estimate's), each 2 x side
+    // sheared rows of side + 2 * 64 taps and their prefix.
+    patchLines.reserve(kMaxSearchPatches * 2 * kMaxSearchSide * (kMaxSearchSide + 2 * (kMaxLineTaps / 2) + 1));
+    patchShifts.reserve(kMaxSearchPatches * (kMaxSearchSide + 2 * (kMaxLineTaps / 2)));
   }
   static constexpr int kMaxLineTaps = 129;
+  static constexpr int kMaxSearchPatches = 64, kMaxSearchSide = 19;  // motion_blur.cpp asserts its own fit
 };
 
 // `sharp` and `frame` are grey 8-bit images of the same size and geometry (the template warped

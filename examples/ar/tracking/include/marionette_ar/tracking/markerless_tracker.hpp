@@ -160,7 +160,9 @@ class MarkerlessTracker final : public Tracker {
   [[nodiscard]] bool hasOcclusionMask() const noexcept override { return true; }
   [[nodiscard]] const OcclusionMask* occlusionMask() noexcept override;
 
-  // The map as it is now (the reference and any keyframes added while tracking).
+  // The map as it is now (the reference and any keyframes added while tracking). It completes
+  // the ORB features of a keyframe added last, when they are still to come (a few milliseconds
+  // of ORB): call it from the thread that calls update(), as the tracker's other calls.
   [[nodiscard]] const PlanarMap& map() const noexcept;
   // What the last update() did (for logs and the evaluation).
   // Why the frame's measured pose was not given (the first check it failed).
