@@ -309,17 +309,17 @@ struct MarkerlessTracker::Impl {
   // A keyframe's ORB features (from its grey image) and their per-frame copy.
   void addFeatures(PlanarKeyframe& k);
   void prepareFeatures(std::size_t i);
-  // The ORB features of the keyframe added last, when they are still to come (featuresPending):
-  // false when OpenCV failed (the keyframe then has none). inFrame: called by update(), noted in
-  // this frame's stats.
-  bool finishKeyframeFeatures(bool inFrame) noexcept;
+  // The ORB features of the keyframe added last, when they are still to come (featuresPending;
+  // where OpenCV fails, the keyframe keeps none). inFrame: called by update(), noted in this
+  // frame's stats.
+  void finishKeyframeFeatures(bool inFrame) noexcept;
   // Matches this frame's ORB features to a feature set; the pose from the best match so far goes
   // to `out` when it has more inliers than `bestInliers`.
   void matchFeatures(const cv::Mat& descriptors, const std::vector<cv::Point2f>& pixels, const cv::Matx33d& imageToPlane,
                      bool unique, PlanarPose& out, int& bestInliers);
   // Its corners for KLT, and (withFeatures) ORB features for relocalization.
-  // A keyframe added while tracking gets its features on a later frame: one that tracked at its
-  // first attempt (a few milliseconds), or at the latest kMaxFeatureDelayFrames after it, or
+  // A keyframe added while tracking gets its features on a later frame: one whose pose KLT gave
+  // from the first prediction on a sharp frame, or at the latest kMaxFeatureDelayFrames after it, or
   // before a relocalization or the map is read. ORB on a keyframe takes about 8 ms, a frame that
   // adds one has tracked already (PTAM and ORB-SLAM make keyframes in a thread of their own:
   // here a frame's time stays bounded, the same on every run).

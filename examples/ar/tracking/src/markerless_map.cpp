@@ -56,8 +56,8 @@ void MarkerlessTracker::Impl::prepareFeatures(std::size_t i) {
   }
 }
 
-bool MarkerlessTracker::Impl::finishKeyframeFeatures(bool inFrame) noexcept {
-  if (featuresPending < 0) return true;
+void MarkerlessTracker::Impl::finishKeyframeFeatures(bool inFrame) noexcept {
+  if (featuresPending < 0) return;
   const auto i = static_cast<std::size_t>(featuresPending);
   featuresPending = -1;
   if (inFrame) stats.keyframeFeatures = true;
@@ -70,9 +70,7 @@ bool MarkerlessTracker::Impl::finishKeyframeFeatures(bool inFrame) noexcept {
     map.keyframes[i].features.clear();
     keyframes[i].descriptors.release();
     keyframes[i].featurePixels.clear();
-    return false;
   }
-  return true;
 }
 
 void MarkerlessTracker::Impl::prepareKeyframe(std::size_t i) {
@@ -200,7 +198,7 @@ int MarkerlessTracker::Impl::keyframeToTrack(const KeyframeChoice& choice) const
 bool MarkerlessTracker::Impl::relocalize(PlanarPose& out) {
   const StageTimer timer(stats.relocalizationMs);
   stats.relocalized = true;
-  (void)finishKeyframeFeatures(true);  // the keyframe added last may be the one this view matches
+  finishKeyframeFeatures(true);  // the keyframe added last may be the one this view matches
   const cv::Mat& frame = grey.pinhole();
   orb->detectAndCompute(frame, cv::noArray(), frameKeypoints, frameDescriptors);
   if (frameKeypoints.size() < static_cast<std::size_t>(kMinRelocalizationInliers)) return false;
@@ -289,7 +287,7 @@ void MarkerlessTracker::Impl::maybeExtendMap(const Measurement& m) {
   // reference is in view too, and a floor keyframe relocalizes only near the last pose anyway.
   // Elsewhere the features come on a later frame with time to spare (finishKeyframeFeatures):
   // the keyframe tracks from now on.
-  (void)finishKeyframeFeatures(true);  // one pending at a time
+  finishKeyframeFeatures(true);  // one pending at a time
   map.keyframes.push_back(makeKeyframe(grey.pinhole(), planeToImageHomography(K, p), false));
   prepareKeyframe(map.keyframes.size() - 1);
   if (!aroundTarget) featuresPending = static_cast<int>(map.keyframes.size()) - 1, featuresPendingSince = frames;

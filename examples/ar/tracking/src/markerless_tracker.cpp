@@ -325,7 +325,7 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
   const bool firstAttempt = verdict == Verdict::Tracking && !stats.backgroundMotion && !stats.dense &&
                             !stats.relocalized && !blur.any() && !carried && !stats.keyframeAdded;
   if (featuresPending >= 0 && (firstAttempt || frames - featuresPendingSince >= kMaxFeatureDelayFrames))
-    (void)finishKeyframeFeatures(true);
+    finishKeyframeFeatures(true);
   // What the next frame's background motion starts from.
   haveLastImageMotion = haveLastImageMotion && imageMotionFound;
   havePreviousFrame = true;
@@ -404,7 +404,7 @@ const OcclusionMask* MarkerlessTracker::occlusionMask() noexcept {
 
 const CameraModel& MarkerlessTracker::camera() const noexcept { return impl_->camera; }
 const PlanarMap& MarkerlessTracker::map() const noexcept {
-  (void)impl_->finishKeyframeFeatures(false);  // the map as saved holds every keyframe's features
+  impl_->finishKeyframeFeatures(false);  // the map as saved holds every keyframe's features
   return impl_->map;
 }
 const MarkerlessTracker::FrameStats& MarkerlessTracker::lastFrame() const noexcept { return impl_->stats; }
