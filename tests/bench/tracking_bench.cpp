@@ -15,6 +15,8 @@
 //                                  tracking = share of frames found TRACKING from nothing.
 //   Tracking/AprilTagFrame         AprilTagTracker::update on ViSP's tag36_11_640x480.png
 //                                  (fx = fy = 700, tag 0.2 m, decimate 2). Counters: tags, inliers.
+//   Tracking/HammingMatch          relocalization's matcher (src/hamming_matcher): 600 random ORB
+//                                  descriptors against 1200, the nearest two of each.
 //   Tracking/Memcpy640x480         a memcpy of one 640x480 RGB frame: the floor for a ratio.
 //   Tracking/TargetOcclusion[Smeared]  the occlusion mask over the target (1/4 resolution) at the
 //                                  orbit's exact poses, sharp or every frame smeared 24 px along x;
@@ -58,6 +60,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "dense_alignment.hpp"
+#include "hamming_matcher.hpp"
 #include "homography_ransac.hpp"
 #include "image_shift.hpp"
 #include "lucas_kanade.hpp"
@@ -557,6 +560,22 @@ void kltOpenCv(benchmark::State& state) {
   state.counters["found"] = static_cast<double>(std::count(status.begin(), status.end(), 1));
 }
 
+// Relocalization's matching of a frame's ORB descriptors (600) against a keyframe's (1200):
+// random descriptors, the nearest two of each by Hamming distance.
+void hammingMatch(benchmark::State& state) {
+  cv::RNG rng(3);
+  cv::Mat query(600, 32, CV_8UC1), train(1200, 32, CV_8UC1);
+  rng.fill(query, cv::RNG::UNIFORM, 0, 256);
+  rng.fill(train, cv::RNG::UNIFORM, 0, 256);
+  std::vector<HammingMatch> matches;
+  matches.reserve(600);
+  for (auto _ : state) {
+    matchNearestTwo(query, train, matches);
+    benchmark::DoNotOptimize(matches.data());
+  }
+  state.counters["pairs"] = 600.0 * 1200.0;
+}
+
 void ransacOwn(benchmark::State& state) {
   MN_PRIMITIVES_DATA(d)
   HomographyRansac ransac;
@@ -639,6 +658,7 @@ BENCHMARK(markerlessRelocalizeNoTarget)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(aprilTagFrame)->Name("Tracking/AprilTagFrame")->Unit(benchmark::kMillisecond);
 BENCHMARK(memcpy640x480)->Name("Tracking/Memcpy640x480")->Unit(benchmark::kMicrosecond);
+BENCHMARK(hammingMatch)->Name("Tracking/HammingMatch")->Unit(benchmark::kMicrosecond);
 BENCHMARK(warpOwn)->Name("Tracking/WarpOwn")->Unit(benchmark::kMicrosecond);
 BENCHMARK(warpOpenCv)->Name("Tracking/WarpOpenCv")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kltOwn, full, false)->Name("Tracking/KltOwn")->Unit(benchmark::kMicrosecond);

@@ -393,9 +393,28 @@ TEST(StressRun, ReportKeepsTheWorstDrawnPosesWithSeedAndFrame) {
   EXPECT_EQ(reentry.worstPosition.seed, 9u);
   EXPECT_EQ(reentry.worstPosition.frame, 2);
   EXPECT_EQ(reentry.falsePoses, 1);
+  // Pooled: every frame of both classes, the worst of either (naming its class in the table).
+  const StressClassReport& all = report.all;
+  EXPECT_EQ(all.sequences, 2);
+  EXPECT_EQ(all.frames, 10);
+  EXPECT_EQ(all.visibleFrames, pan.visibleFrames + reentry.visibleFrames);
+  EXPECT_EQ(all.drawnFrames, pan.drawnFrames + reentry.drawnFrames);
+  EXPECT_EQ(all.within2cm, pan.within2cm + reentry.within2cm);
+  EXPECT_EQ(all.halfShownWithin2cm, pan.halfShownWithin2cm + reentry.halfShownWithin2cm);
+  EXPECT_EQ(all.falsePoses, 2);
+  EXPECT_NEAR(all.worstPosition.value, 0.1, 1e-12);
+  EXPECT_EQ(all.worstPosition.seed, 9u);
+  EXPECT_NEAR(all.worstRotation.value, 3.0, 1e-9);
+  EXPECT_EQ(all.worstRotation.seed, 7u);
+  EXPECT_EQ(all.ms.size(), 10u);
+  EXPECT_DOUBLE_EQ(all.msP95, 2.0);
+  EXPECT_NEAR(all.trackingRmsM,
+              std::sqrt((pan.sumSqTracking + reentry.sumSqTracking) / (pan.trackingFrames + reentry.trackingFrames)), 1e-12);
   const std::string table = stressTable(report);
   EXPECT_NE(table.find("| pan | 1 | 5 | 4 | 4 | 50.0 % | 66.7 % of 3 | 3.00 (seed 7, frame 1) | 3.00 (seed 7, frame 3) | 1 |"), std::string::npos)
       << table;
+  EXPECT_NE(table.find("| **all** | 2 | 10 | "), std::string::npos) << table;
+  EXPECT_NE(table.find("reentry 10.00 (seed 9, frame 2) | pan 3.00 (seed 7, frame 3) | 2 |"), std::string::npos) << table;
   EXPECT_NE(table.find("10.00 (seed 9, frame 2)"), std::string::npos) << table;
   EXPECT_THROW(addStressRun(report, StressClass::Pan, 1, truth, {first[0]}, {1.0}), std::invalid_argument);
 

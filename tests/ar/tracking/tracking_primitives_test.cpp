@@ -13,10 +13,12 @@
 #include <vector>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "hamming_matcher.hpp"
 #include "homography_ransac.hpp"
 #include "lucas_kanade.hpp"
 #include "perspective_warp.hpp"
@@ -681,4 +683,44 @@ TEST(TrackingPrimitives, TargetImageShareIsTheShareOfPixelsOnTheTarget) {
   EXPECT_NEAR(grid, bruteForceShare(kK, camera, oblique, 40, 40), 0.05);
   EXPECT_GT(grid, 0.2);
   EXPECT_LT(grid, 0.8) << "the sky is not the target";
+}
+
+// Relocalization's matcher against OpenCV's brute force (cv::BFMatcher, NORM_HAMMING, k = 2) on
+// random ORB-sized descriptors, with duplicates planted so that ties occur: the nearest and
+// second-nearest distances are OpenCV's, the nearest row the lowest of those at that distance.
+// (It read each descriptor through a 32-byte copy: the words must be the same ones.)
+TEST(TrackingPrimitives, HammingMatcherIsBruteForceToTheBit) {
+  cv::RNG rng(11);
+  cv::Mat query(300, 32, CV_8UC1), train(450, 32, CV_8UC1);
+  rng.fill(query, cv::RNG::UNIFORM, 0, 256);
+  rng.fill(train, cv::RNG::UNIFORM, 0, 256);
+  // Near copies (a few bits flipped) and exact duplicates in the train set.
+  for (int i = 0; i < 60; ++i) {
+    query.row(i).copyTo(train.row(3 * i));
+    train.at<std::uint8_t>(3 * i, i % 32) ^= static_cast<std::uint8_t>(1u << (i % 8));
+  }
+  train.row(7).copyTo(train.row(400));  // a tie: rows 7 and 400 equally near any query
+  std::vector<HammingMatch> ours;
+  ours.reserve(static_cast<std::size_t>(query.rows));
+  matchNearestTwo(query, train, ours);
+  ASSERT_EQ(ours.size(), static_cast<std::size_t>(query.rows));
+  std::vector<std::vector<cv::DMatch>> theirs;
+  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(query, train, theirs, 2);
+  ASSERT_EQ(theirs.size(), ours.size());
+  for (int q = 0; q < query.rows; ++q) {
+    const HammingMatch& m = ours[static_cast<std::size_t>(q)];
+    ASSERT_EQ(theirs[static_cast<std::size_t>(q)].size(), 2u);
+    EXPECT_EQ(m.query, q);
+    EXPECT_EQ(m.distance, static_cast<int>(theirs[static_cast<std::size_t>(q)][0].distance)) << q;
+    EXPECT_EQ(m.second, static_cast<int>(theirs[static_cast<std::size_t>(q)][1].distance)) << q;
+    int lowest = -1;
+    for (int t = 0; t < train.rows && lowest < 0; ++t)
+      if (cv::norm(query.row(q), train.row(t), cv::NORM_HAMMING) == m.distance) lowest = t;
+    EXPECT_EQ(m.train, lowest) << q;
+  }
+  EXPECT_LE(ours[0].distance, 1);  // the planted near copies are found
+  EXPECT_EQ(ours[0].train, 0);
+  // Wrong shapes give nothing.
+  matchNearestTwo(query.colRange(0, 16), train.colRange(0, 16), ours);
+  EXPECT_TRUE(ours.empty());
 }

@@ -49,6 +49,11 @@ TEST(TrackingStress, NoDrawnPoseIsWildlyWrongOnTwentySeeds) {
     EXPECT_GE(double(c.within2cm) / c.visibleFrames, minimum[static_cast<std::size_t>(c.kind)])
         << stressClassName(c.kind);
   }
+  // The goal itself, over every visible frame of the plan (fast pans and edge re-entries
+  // included, as issue 40 counts it): 95.7 % measured (784 of 819 frames).
+  EXPECT_GE(double(report.all.within2cm) / report.all.visibleFrames, 0.95)
+      << report.all.within2cm << " of " << report.all.visibleFrames;
+  EXPECT_EQ(report.all.falsePoses, 0);
 }
 
 // A look away whose chain of image motions breaks (up at a blank sky, or through a smear the

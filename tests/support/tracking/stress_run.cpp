@@ -128,12 +128,30 @@ void addStressRun(StressReport& report, StressClass kind, std::uint64_t seed, co
 }
 
 void finishStressReport(StressReport& report) {
-  for (StressClassReport& c : report.classes) {
+  auto finish = [](StressClassReport& c) {
     c.trackingRmsM = c.trackingFrames > 0 ? std::sqrt(c.sumSqTracking / c.trackingFrames)
                                           : std::numeric_limits<double>::quiet_NaN();
     c.msMedian = percentile(c.ms, 0.5);
     c.msP95 = percentile(c.ms, 0.95);
+  };
+  StressClassReport& all = report.all;
+  all = StressClassReport{};
+  for (StressClassReport& c : report.classes) {
+    finish(c);
+    all.sequences += c.sequences, all.frames += c.frames, all.visibleFrames += c.visibleFrames;
+    all.drawnFrames += c.drawnFrames, all.trackingFrames += c.trackingFrames, all.within2cm += c.within2cm;
+    all.halfShownFrames += c.halfShownFrames, all.halfShownWithin2cm += c.halfShownWithin2cm;
+    all.falsePoses += c.falsePoses;
+    all.sumSqTracking += c.sumSqTracking;
+    all.ms.insert(all.ms.end(), c.ms.begin(), c.ms.end());
+    // The worst of the classes (the earlier class keeps a tie, as the earlier frame does).
+    auto worse = [](StressWorst& w, const StressWorst& v) {
+      if (v.frame >= 0 && (w.frame < 0 || (std::isnan(v.value) && !std::isnan(w.value)) || v.value > w.value)) w = v;
+    };
+    worse(all.worstPosition, c.worstPosition);
+    worse(all.worstRotation, c.worstRotation);
   }
+  finish(all);
   report.renderedFrames = static_cast<int>(report.renderMs.size());
   double sum = 0;
   for (double v : report.renderMs) sum += v;
@@ -178,14 +196,26 @@ std::string stressTable(const StressReport& report) {
       "| class | sequences | frames | visible | drawn | visible within 2 cm | half shown: within 2 cm | "
       "worst drawn position cm | worst drawn rotation deg | false poses | TRACKING rms cm | ms median | ms p95 |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const StressClassReport& c : report.classes) {
+  std::vector<std::pair<std::string, const StressClassReport*>> rows;
+  for (const StressClassReport& c : report.classes) rows.emplace_back(std::string(stressClassName(c.kind)), &c);
+  // The worst cells name their class's seed: the pooled row names the class too.
+  if (report.classes.size() > 1) rows.emplace_back("**all**", &report.all);
+  for (const auto& [name, row] : rows) {
+    const StressClassReport& c = *row;
+    std::string worstPosition = worst(c.worstPosition, 100), worstRotation = worst(c.worstRotation, 1);
+    if (row == &report.all)
+      for (const StressClassReport& k : report.classes) {
+        const std::string n(stressClassName(k.kind));
+        auto same = [](const StressWorst& a, const StressWorst& b) { return a.frame == b.frame && a.seed == b.seed && a.value == b.value; };
+        if (same(k.worstPosition, c.worstPosition)) worstPosition = n + " " + worstPosition;
+        if (same(k.worstRotation, c.worstRotation)) worstRotation = n + " " + worstRotation;
+      }
     char line[512];
     std::snprintf(line, sizeof line, "| %s | %d | %d | %d | %d | %.1f %% | %.1f %% of %d | %s | %s | %d | %.2f | %.2f | %.2f |\n",
-                  std::string(stressClassName(c.kind)).c_str(), c.sequences, c.frames, c.visibleFrames, c.drawnFrames,
+                  name.c_str(), c.sequences, c.frames, c.visibleFrames, c.drawnFrames,
                   c.visibleFrames > 0 ? 100.0 * c.within2cm / c.visibleFrames : 0.0,
                   c.halfShownFrames > 0 ? 100.0 * c.halfShownWithin2cm / c.halfShownFrames : 0.0, c.halfShownFrames,
-                  worst(c.worstPosition, 100).c_str(),
-                  worst(c.worstRotation, 1).c_str(), c.falsePoses, c.trackingRmsM * 100, c.msMedian, c.msP95);
+                  worstPosition.c_str(), worstRotation.c_str(), c.falsePoses, c.trackingRmsM * 100, c.msMedian, c.msP95);
     out += line;
   }
   return out;
