@@ -406,8 +406,13 @@ TEST(StressRun, ReportKeepsTheWorstDrawnPosesWithSeedAndFrame) {
   EXPECT_EQ(all.worstPosition.seed, 9u);
   EXPECT_NEAR(all.worstRotation.value, 3.0, 1e-9);
   EXPECT_EQ(all.worstRotation.seed, 7u);
+  EXPECT_EQ(all.halfShownFrames, pan.halfShownFrames + reentry.halfShownFrames);
+  EXPECT_EQ(all.trackingFrames, pan.trackingFrames + reentry.trackingFrames);
   EXPECT_EQ(all.ms.size(), 10u);
+  EXPECT_DOUBLE_EQ(all.msMedian, 1.5);  // five frames at 1 ms and five at 2 ms: both classes pooled
   EXPECT_DOUBLE_EQ(all.msP95, 2.0);
+  EXPECT_EQ(report.allWorstPositionClass, "reentry");
+  EXPECT_EQ(report.allWorstRotationClass, "pan");
   EXPECT_NEAR(all.trackingRmsM,
               std::sqrt((pan.sumSqTracking + reentry.sumSqTracking) / (pan.trackingFrames + reentry.trackingFrames)), 1e-12);
   const std::string table = stressTable(report);
@@ -415,6 +420,20 @@ TEST(StressRun, ReportKeepsTheWorstDrawnPosesWithSeedAndFrame) {
       << table;
   EXPECT_NE(table.find("| **all** | 2 | 10 | "), std::string::npos) << table;
   EXPECT_NE(table.find("reentry 10.00 (seed 9, frame 2) | pan 3.00 (seed 7, frame 3) | 2 |"), std::string::npos) << table;
+  // Finishing again gives the same pooled row; classes with nothing drawn name no class.
+  finishStressReport(report);
+  EXPECT_EQ(report.all.frames, 10);
+  EXPECT_EQ(report.all.within2cm, pan.within2cm + reentry.within2cm);
+  StressReport blind;
+  const std::vector<TrackedPose> lost(5, pose(0, TrackingState::Lost, {}));
+  addStressRun(blind, StressClass::Pan, 1, truth, lost, std::vector<double>(5, 1.0));
+  addStressRun(blind, StressClass::Hands, 2, truth, lost, std::vector<double>(5, 1.0));
+  finishStressReport(blind);
+  EXPECT_EQ(blind.all.drawnFrames, 0);
+  EXPECT_EQ(blind.all.worstPosition.frame, -1);
+  EXPECT_TRUE(blind.allWorstPositionClass.empty());
+  EXPECT_NE(stressTable(blind).find("| **all** | 2 | 10 | 8 | 0 | 0.0 % | 0.0 % of 6 | - | - | 0 |"), std::string::npos)
+      << stressTable(blind);
   EXPECT_NE(table.find("10.00 (seed 9, frame 2)"), std::string::npos) << table;
   EXPECT_THROW(addStressRun(report, StressClass::Pan, 1, truth, {first[0]}, {1.0}), std::invalid_argument);
 

@@ -694,12 +694,14 @@ TEST(TrackingPrimitives, HammingMatcherIsBruteForceToTheBit) {
   cv::Mat query(300, 32, CV_8UC1), train(450, 32, CV_8UC1);
   rng.fill(query, cv::RNG::UNIFORM, 0, 256);
   rng.fill(train, cv::RNG::UNIFORM, 0, 256);
-  // Near copies (a few bits flipped) and exact duplicates in the train set.
+  // Near copies (one bit flipped) of the first 60 queries in the train set, and a tie: query 100
+  // copied exactly into train rows 420 and 200 (the lower one wins).
   for (int i = 0; i < 60; ++i) {
     query.row(i).copyTo(train.row(3 * i));
     train.at<std::uint8_t>(3 * i, i % 32) ^= static_cast<std::uint8_t>(1u << (i % 8));
   }
-  train.row(7).copyTo(train.row(400));  // a tie: rows 7 and 400 equally near any query
+  query.row(100).copyTo(train.row(420));
+  query.row(100).copyTo(train.row(200));
   std::vector<HammingMatch> ours;
   ours.reserve(static_cast<std::size_t>(query.rows));
   matchNearestTwo(query, train, ours);
@@ -718,8 +720,16 @@ TEST(TrackingPrimitives, HammingMatcherIsBruteForceToTheBit) {
       if (cv::norm(query.row(q), train.row(t), cv::NORM_HAMMING) == m.distance) lowest = t;
     EXPECT_EQ(m.train, lowest) << q;
   }
-  EXPECT_LE(ours[0].distance, 1);  // the planted near copies are found
+  EXPECT_EQ(ours[0].distance, 1);  // the planted near copies are found
   EXPECT_EQ(ours[0].train, 0);
+  EXPECT_EQ(ours[100].train, 200);
+  EXPECT_EQ(ours[100].distance, 0);
+  EXPECT_EQ(ours[100].second, 0);
+  // One train row: no second (257, past any distance).
+  matchNearestTwo(query, train.rowRange(5, 6), ours);
+  ASSERT_EQ(ours.size(), static_cast<std::size_t>(query.rows));
+  EXPECT_EQ(ours[7].train, 0);
+  EXPECT_EQ(ours[7].second, 257);
   // Wrong shapes give nothing.
   matchNearestTwo(query.colRange(0, 16), train.colRange(0, 16), ours);
   EXPECT_TRUE(ours.empty());

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <ctime>
 #include <limits>
 #include <stdexcept>
@@ -136,6 +137,15 @@ void finishStressReport(StressReport& report) {
   };
   StressClassReport& all = report.all;
   all = StressClassReport{};
+  report.allWorstPositionClass.clear();
+  report.allWorstRotationClass.clear();
+  // The worst of the classes (the earlier class keeps a tie, as the earlier frame does).
+  auto worse = [](StressWorst& w, std::string& name, const StressWorst& v, StressClass kind) {
+    if (v.frame >= 0 && (w.frame < 0 || (std::isnan(v.value) && !std::isnan(w.value)) || v.value > w.value)) {
+      w = v;
+      name = std::string(stressClassName(kind));
+    }
+  };
   for (StressClassReport& c : report.classes) {
     finish(c);
     all.sequences += c.sequences, all.frames += c.frames, all.visibleFrames += c.visibleFrames;
@@ -144,12 +154,8 @@ void finishStressReport(StressReport& report) {
     all.falsePoses += c.falsePoses;
     all.sumSqTracking += c.sumSqTracking;
     all.ms.insert(all.ms.end(), c.ms.begin(), c.ms.end());
-    // The worst of the classes (the earlier class keeps a tie, as the earlier frame does).
-    auto worse = [](StressWorst& w, const StressWorst& v) {
-      if (v.frame >= 0 && (w.frame < 0 || (std::isnan(v.value) && !std::isnan(w.value)) || v.value > w.value)) w = v;
-    };
-    worse(all.worstPosition, c.worstPosition);
-    worse(all.worstRotation, c.worstRotation);
+    worse(all.worstPosition, report.allWorstPositionClass, c.worstPosition, c.kind);
+    worse(all.worstRotation, report.allWorstRotationClass, c.worstRotation, c.kind);
   }
   finish(all);
   report.renderedFrames = static_cast<int>(report.renderMs.size());
@@ -198,18 +204,15 @@ std::string stressTable(const StressReport& report) {
       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::vector<std::pair<std::string, const StressClassReport*>> rows;
   for (const StressClassReport& c : report.classes) rows.emplace_back(std::string(stressClassName(c.kind)), &c);
-  // The worst cells name their class's seed: the pooled row names the class too.
+  // The worst cells name their seed; the pooled row names the class too.
   if (report.classes.size() > 1) rows.emplace_back("**all**", &report.all);
   for (const auto& [name, row] : rows) {
     const StressClassReport& c = *row;
     std::string worstPosition = worst(c.worstPosition, 100), worstRotation = worst(c.worstRotation, 1);
-    if (row == &report.all)
-      for (const StressClassReport& k : report.classes) {
-        const std::string n(stressClassName(k.kind));
-        auto same = [](const StressWorst& a, const StressWorst& b) { return a.frame == b.frame && a.seed == b.seed && a.value == b.value; };
-        if (same(k.worstPosition, c.worstPosition)) worstPosition = n + " " + worstPosition;
-        if (same(k.worstRotation, c.worstRotation)) worstRotation = n + " " + worstRotation;
-      }
+    if (row == &report.all) {
+      if (!report.allWorstPositionClass.empty()) worstPosition = report.allWorstPositionClass + " " + worstPosition;
+      if (!report.allWorstRotationClass.empty()) worstRotation = report.allWorstRotationClass + " " + worstRotation;
+    }
     char line[512];
     std::snprintf(line, sizeof line, "| %s | %d | %d | %d | %d | %.1f %% | %.1f %% of %d | %s | %s | %d | %.2f | %.2f | %.2f |\n",
                   name.c_str(), c.sequences, c.frames, c.visibleFrames, c.drawnFrames,

@@ -59,6 +59,8 @@ struct StressReport {
   // Every frame of every class pooled (finishStressReport): the goals' own measure, "95 % of the
   // visible frames within 2 cm" and "median / p95 over all frames" (issue 40). Its kind is unused.
   StressClassReport all;
+  // The class of all's worst drawn position and rotation (empty while nothing was drawn).
+  std::string allWorstPositionClass, allWorstRotationClass;
   int renderedFrames = 0;
   double renderMsMean = 0, renderMsMedian = 0;  // one frame's rendering on one thread
   double renderSeconds = 0, trackSeconds = 0;   // wall time (generating the sequences counts as rendering)

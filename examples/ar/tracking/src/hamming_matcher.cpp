@@ -7,7 +7,8 @@ namespace marionette::ar {
 namespace {
 
 // A descriptor's four 64-bit words, each loaded on its own: a 32-byte copy through the stack
-// followed by 8-byte reads of it defeats store forwarding (about 17 cycles a distance, 4 here).
+// followed by 8-byte reads of it defeats store forwarding (Tracking/HammingMatch: 2.9 ns a pair
+// that way, 1.6 ns this way).
 struct Descriptor {
   std::uint64_t w[4];
 };
