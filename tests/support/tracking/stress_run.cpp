@@ -36,6 +36,12 @@ StressClassReport& classReport(StressReport& report, StressClass kind) {
   return *report.classes.insert(at, c);
 }
 
+// Whether `value` replaces the worst held so far: the first (frame, then class) of the worst
+// error keeps it; a NaN pose is the worst of all.
+bool worseThanHeld(const StressWorst& held, double value) noexcept {
+  return held.frame < 0 || (std::isnan(value) && !std::isnan(held.value)) || value > held.value;
+}
+
 }  // namespace
 
 // MN_STRESS_CACHE=DIR keeps each sequence's frames there (raw RGB8, one file a sequence) and
@@ -118,10 +124,8 @@ void addStressRun(StressReport& report, StressClass kind, std::uint64_t seed, co
       ++c.trackingFrames;
       c.sumSqTracking += position * position;
     }
-    // The first frame of the worst error keeps it; a NaN pose is the worst of all.
     auto keep = [&](StressWorst& w, double value) {
-      if (w.frame < 0 || (std::isnan(value) && !std::isnan(w.value)) || value > w.value)
-        w = {value, seed, static_cast<int>(i)};
+      if (worseThanHeld(w, value)) w = {value, seed, static_cast<int>(i)};
     };
     keep(c.worstPosition, position);
     keep(c.worstRotation, rotation);
@@ -141,7 +145,7 @@ void finishStressReport(StressReport& report) {
   report.allWorstRotationClass.clear();
   // The worst of the classes (the earlier class keeps a tie, as the earlier frame does).
   auto worse = [](StressWorst& w, std::string& name, const StressWorst& v, StressClass kind) {
-    if (v.frame >= 0 && (w.frame < 0 || (std::isnan(v.value) && !std::isnan(w.value)) || v.value > w.value)) {
+    if (v.frame >= 0 && worseThanHeld(w, v.value)) {
       w = v;
       name = std::string(stressClassName(kind));
     }
