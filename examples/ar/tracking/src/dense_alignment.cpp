@@ -369,7 +369,8 @@ void DenseAligner::noteCoverage(const Level& level, int samples, DenseAlignment&
   out.frameShare = std::min(1.0, covered / (static_cast<double>(level.frame.width) * level.frame.height));
 }
 
-void DenseAligner::judgeParts(const Level& level, DenseAlignment& out) const noexcept {
+void DenseAligner::judgeParts(const Level& level, DenseAlignment& out,
+                              std::array<bool, DenseAlignment::kPartGrid * DenseAlignment::kPartGrid>* agreeing) const noexcept {
   constexpr int g = DenseAlignment::kPartGrid;
   // A part's ZNCC past which its texture is taken as aligned, and the least it must hold: a few
   // samples correlate by chance, a flat part (sky of a poster, a smear along its only edge) not at all.
@@ -378,6 +379,7 @@ void DenseAligner::judgeParts(const Level& level, DenseAlignment& out) const noe
   constexpr double kMinPartModelStd = 3.0;  // grey levels
   out.parts = out.agreeingParts = 0;
   out.agreeingSpan = 0;
+  if (agreeing) agreeing->fill(false);
   const PartGrid grid = partGridOf(samples_.data(), level.count);
   if (!grid.valid) return;
   std::array<Moments, g * g> parts{};
@@ -393,6 +395,7 @@ void DenseAligner::judgeParts(const Level& level, DenseAlignment& out) const noe
       ++out.parts;
       if (!m.textured() || m.zncc() < kPartAgreement) continue;
       ++out.agreeingParts;
+      if (agreeing) (*agreeing)[static_cast<std::size_t>(py * g + px)] = true;
       ax0 = std::min(ax0, px), ax1 = std::max(ax1, px), ay0 = std::min(ay0, py), ay1 = std::max(ay1, py);
     }
   if (out.agreeingParts > 0) out.agreeingSpan = std::min(ax1 - ax0 + 1, ay1 - ay0 + 1) / static_cast<double>(g);
@@ -443,7 +446,10 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   // The normal equations at the rendered pose. The residual r = frame - gain model - bias; a
   // pose step moves a plane point's pixel by J_pix step, so the model by -gradient . that; a
   // change of the turn moves a tap at offset c along the smear by c J_turn change.
-  auto normalEquations = [&](const Level& lv, const PlanarPose& p, const Fit& f, Mat12& h, Vec12& b, int& inliers) {
+  // Over every valid sample, or (with `only`) over those in the marked parts of `grid`.
+  using PartMask = std::array<bool, DenseAlignment::kPartGrid * DenseAlignment::kPartGrid>;
+  auto normalEquations = [&](const Level& lv, const PlanarPose& p, const Fit& f, Mat12& h, Vec12& b, int& inliers,
+                             const PartMask* only = nullptr, const PartGrid* grid = nullptr) {
     h = Mat12::zeros();
     b = Vec12::all(0);
     inliers = 0;
@@ -452,7 +458,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
     const double threshold = params.huber * f.sigma;
     for (int i = 0; i < lv.count; ++i) {
       const Sample& s = samples_[static_cast<std::size_t>(i)];
-      if (!s.valid) continue;
+      if (!s.valid || (only && !(*only)[grid->of(s.x, s.y)])) continue;
       const double rx = (s.x - cx) / fx, ry = (s.y - cy) / fy;
       const double Z = plane.depth(rx, ry);
       if (!(Z > 1e-6)) continue;
@@ -570,15 +576,18 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   const cv::Matx33d rt = r.t();
   // The pose block of the inverse (the turn marginalized), in world axes: the orientation error
   // is R^T w, the camera centre's -R^T v (first order).
-  for (int bi = 0; bi < 2; ++bi)
-    for (int bj = 0; bj < 2; ++bj) {
-      cv::Matx33d block;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) block(i, j) = hInverse(bi * 3 + i, bj * 3 + j) * scale;
-      const cv::Matx33d world = rt * block * r;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) out.covariance[static_cast<std::size_t>((bi * 3 + i) * 6 + bj * 3 + j)] = world(i, j);
-    }
+  const auto toWorld = [&](const Mat12& inverse, std::array<double, 36>& covariance) {
+    for (int bi = 0; bi < 2; ++bi)
+      for (int bj = 0; bj < 2; ++bj) {
+        cv::Matx33d block;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) block(i, j) = inverse(bi * 3 + i, bj * 3 + j) * scale;
+        const cv::Matx33d world = rt * block * r;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) covariance[static_cast<std::size_t>((bi * 3 + i) * 6 + bj * 3 + j)] = world(i, j);
+      }
+  };
+  toWorld(hInverse, out.covariance);
   out.pose = pose;
   out.smearTurn = cv::Vec3d(turn[0], turn[1], turn[2]);
   out.zncc = fit.zncc;
@@ -586,7 +595,23 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   out.samples = fit.valid;
   noteCoverage(lv, fit.valid, out);
   out.inlierShare = static_cast<double>(inliers) / fit.valid;
-  judgeParts(lv, out);
+  PartMask agreeing{};
+  judgeParts(lv, out, &agreeing);
+  out.haveAgreeingCovariance = false;
+  if (out.agreeingParts > 0) {
+    const PartGrid grid = partGridOf(samples_.data(), lv.count);
+    Mat12 hAgreeing;
+    Vec12 bAgreeing;
+    int agreeingInliers = 0;
+    normalEquations(lv, pose, fit, hAgreeing, bAgreeing, agreeingInliers, &agreeing, &grid);
+    bool agreeingInvertible = false;
+    const Mat12 agreeingInverse = hAgreeing.inv(cv::DECOMP_CHOLESKY, &agreeingInvertible);
+    if (agreeingInvertible) {
+      toWorld(agreeingInverse, out.agreeingCovariance);
+      out.haveAgreeingCovariance = true;
+      for (const double v : out.agreeingCovariance) out.haveAgreeingCovariance = out.haveAgreeingCovariance && std::isfinite(v);
+    }
+  }
   out.smearPx = meanSmear * (1 << lv.index);
   covarianceSigmas(out.covariance.data(), out.positionSigma, out.rotationSigmaDeg);
   for (const double v : out.covariance)

@@ -80,6 +80,11 @@ struct DenseAlignment {
   // row-major 6x6 of (rotation vector in world axes, radians; camera position, metres).
   std::array<double, 36> covariance{};
   double positionSigma = 0, rotationSigmaDeg = 0;
+  // The same from the agreeing parts' samples alone: what a pose that only those parts support
+  // knows (the others' samples, on a hand, add terms to H but no information). False where no
+  // part agrees or their normal equations are singular.
+  std::array<double, 36> agreeingCovariance{};
+  bool haveAgreeingCovariance = false;
 };
 
 // The camera's turn over the exposure from the image's motion over a frame interval (last
@@ -140,7 +145,8 @@ class DenseAligner {
   // turn of the camera about its centre, and its score. False when no shift correlates.
   bool searchShift(const Level& level, int radius, PlanarPose& pose, double& score) noexcept;
   [[nodiscard]] double meanSmearOf(const Level& level) const noexcept;  // over the valid samples, level pixels
-  void judgeParts(const Level& level, DenseAlignment& out) const noexcept;
+  // Counts the parts; `agreeing` (when given) marks the agreeing ones, per part of `grid`.
+  void judgeParts(const Level& level, DenseAlignment& out, std::array<bool, DenseAlignment::kPartGrid * DenseAlignment::kPartGrid>* agreeing = nullptr) const noexcept;
   // visibleShare and frameShare of `samples` valid samples on the level's grid.
   static void noteCoverage(const Level& level, int samples, DenseAlignment& out) noexcept;
 };

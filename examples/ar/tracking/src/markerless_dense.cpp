@@ -125,7 +125,12 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   out.tried = result.samples;
   out.inliers = static_cast<int>(std::lround(result.inlierShare * result.samples));
   out.spread = 1;
-  for (std::size_t i = 0; i < 36; ++i) out.covariance[i] = result.covariance[i] * settings.denseCovarianceScale;
+  // A pose that only parts of the target support (not explained as a whole: a hand over the
+  // rest) knows what those parts' samples tell: the covariance from theirs alone. (Without one,
+  // fewer than the by-parts gate asks agree.)
+  const bool byPartsOnly = !explainedAsWhole(out) && result.haveAgreeingCovariance;
+  const std::array<double, 36>& fitted = byPartsOnly ? result.agreeingCovariance : result.covariance;
+  for (std::size_t i = 0; i < 36; ++i) out.covariance[i] = fitted[i] * settings.denseCovarianceScale;
   // The model's own error (line smears of a turn, no camera translation over the exposure, the
   // pyramid's smoothing): a floor under the pixels' statistics.
   addIsotropicVariance(out.covariance.data(), kDenseFloorRotationRad * kDenseFloorRotationRad,
