@@ -135,14 +135,15 @@ TEST(DenseAlignment, RecoversThePoseSharpAndUnderASmearFromTwoDegreesOff) {
     EXPECT_GT(result.zncc, 0.9) << c.name;
     // Nothing hidden: where every textured part agrees, they tell what the whole does (the flat
     // parts they leave out add next to nothing).
+    // (The agreeing parts' equations are a subset of the whole's, so theirs can only be larger:
+    // the bound that can fail is the upper one.)
     std::printf("  parts %d of %d agree\n", result.agreeingParts, result.parts);
-    if (result.agreeingParts == result.parts) {
-      ASSERT_TRUE(result.haveAgreeingCovariance) << c.name;
-      double agreeingPosition = 0, agreeingRotation = 0;
-      covarianceSigmas(result.agreeingCovariance.data(), agreeingPosition, agreeingRotation);
-      EXPECT_NEAR(agreeingRotation, result.rotationSigmaDeg, 0.25 * result.rotationSigmaDeg) << c.name;
-      EXPECT_NEAR(agreeingPosition, result.positionSigma, 0.25 * result.positionSigma) << c.name;
-    }
+    EXPECT_EQ(result.agreeingParts, result.parts) << c.name << ": nothing hides the target";
+    ASSERT_TRUE(result.haveAgreeingCovariance) << c.name;
+    double agreeingPosition = 0, agreeingRotation = 0;
+    covarianceSigmas(result.agreeingCovariance.data(), agreeingPosition, agreeingRotation);
+    EXPECT_LT(agreeingRotation, 1.25 * result.rotationSigmaDeg) << c.name;
+    EXPECT_LT(agreeingPosition, 1.25 * result.positionSigma) << c.name;
     // The turn over the exposure, started 30-65 % short and 30 deg off its axis: the blur's own.
     const cv::Vec3d trueTurn = cv::normalize(c.axis) * (c.degreesPerFrame * kPi / 180 * c.exposure);
     if (c.exposure > 0) {

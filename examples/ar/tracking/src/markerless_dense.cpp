@@ -126,9 +126,10 @@ bool MarkerlessTracker::Impl::alignDense(const PlanarPose& prediction, int keyfr
   out.inliers = static_cast<int>(std::lround(result.inlierShare * result.samples));
   out.spread = 1;
   // A pose that only parts of the target support (not explained as a whole: a hand over the
-  // rest) knows what those parts' samples tell: the covariance from theirs alone. (Without one,
-  // fewer than the by-parts gate asks agree.)
-  const bool byPartsOnly = !explainedAsWhole(out) && result.haveAgreeingCovariance;
+  // rest) knows what those parts' samples tell: the covariance from theirs alone, and no pose
+  // without one (no part agrees, or theirs leave the pose undetermined).
+  const bool byPartsOnly = !explainedAsWhole(out);
+  if (byPartsOnly && !result.haveAgreeingCovariance) return false;
   const std::array<double, 36>& fitted = byPartsOnly ? result.agreeingCovariance : result.covariance;
   for (std::size_t i = 0; i < 36; ++i) out.covariance[i] = fitted[i] * settings.denseCovarianceScale;
   // The model's own error (line smears of a turn, no camera translation over the exposure, the

@@ -250,11 +250,14 @@ TrackedPose MarkerlessTracker::Impl::update(const ImageView& frame, double secon
 
   if (verdict == Verdict::Rejected) blur = blurBefore;
   lastDenseSmearPx = m.dense && verdict != Verdict::Rejected ? m.smearPx : 0.0;
-  // A dense pose measured the smear over the target: a blur model KLT kept from before it, twice
-  // as long or more, has ended (a 25 px template blur carried over two dense frames onto a sharp
-  // one gave a floor pose 2.6 deg off, 15 of 28 corners agreeing: docs/tracking.md). KLT starts
-  // sharp again, and the frame's statistics propose a blur if there is one.
-  if (m.dense && verdict != Verdict::Rejected && blur.any() && m.smearPx < 0.5 * blur.lengthPx) blur = {};
+  // A dense pose given (TRACKING or LIMITED) explained the frame with its smear, fitted or none: a
+  // blur model KLT kept from before it, twice as long or more, has ended (a 25 px template blur
+  // carried over two dense frames onto a sharp one gave a floor pose 2.6 deg off, 15 of 28 corners
+  // agreeing: docs/tracking.md). KLT starts sharp again, and the frame's statistics propose a blur
+  // if there is one.
+  if (m.dense && (verdict == Verdict::Tracking || verdict == Verdict::Limited) && blur.any() &&
+      m.smearPx < 0.5 * blur.lengthPx)
+    blur = {};
   // Nothing measured passed: the last pose carried by the image's motion, where the target's
   // parts agree at it (docs/tracking.md, "Partly hidden targets").
   StampedPose carriedPose;
