@@ -17,6 +17,14 @@ namespace {
 using namespace marionette::ar;
 using namespace marionette::ar::synthetic;
 
+// One stress sequence of `kind` and `seed`, rendered from sub-frame exposures (or read back from
+// the tests' cache), as the single-sequence tests below track it.
+RenderedScenario renderedStress(const SequenceRenderer& renderer, StressClass kind, int seed) {
+  const StressSequence sequence = stressSequence(renderer, kind, seed, defaultStressFrames(kind));
+  std::vector<double> renderMs;
+  return cachedRender(renderer, sequence, StressOptions{}, 2, renderMs);
+}
+
 TEST(TrackingStress, NoDrawnPoseIsWildlyWrongOnTwentySeeds) {
   cv::setNumThreads(1);
   const SequenceRenderer renderer = standardRenderer();
@@ -65,9 +73,7 @@ TEST(TrackingStress, NoDrawnPoseIsWildlyWrongOnTwentySeeds) {
 TEST(TrackingStress, ATargetComingBackThroughASmearIsFoundFromTheWayOut) {
   cv::setNumThreads(1);
   const SequenceRenderer renderer = standardRenderer();
-  const StressSequence sequence = stressSequence(renderer, StressClass::Pan, 12, defaultStressFrames(StressClass::Pan));
-  std::vector<double> renderMs;
-  const RenderedScenario rendered = cachedRender(renderer, sequence, StressOptions{}, 2, renderMs);
+  const RenderedScenario rendered = renderedStress(renderer, StressClass::Pan, 12);
   const Scenario& truth = rendered.scenario;
   struct Outcome {
     int within2cm = 0, found = 0, foundThenDrawn = 0;
@@ -120,9 +126,7 @@ TEST(TrackingStress, ATargetComingBackThroughASmearIsFoundFromTheWayOut) {
 TEST(TrackingStress, ABlurModelEndsWhereADensePoseMeasuresNoSmear) {
   cv::setNumThreads(1);
   const SequenceRenderer renderer = standardRenderer();
-  const StressSequence sequence = stressSequence(renderer, StressClass::Reentry, 54, defaultStressFrames(StressClass::Reentry));
-  std::vector<double> renderMs;
-  const RenderedScenario rendered = cachedRender(renderer, sequence, StressOptions{}, 2, renderMs);
+  const RenderedScenario rendered = renderedStress(renderer, StressClass::Reentry, 54);
   const Scenario& truth = rendered.scenario;
   marionette::Diagnostics d;
   auto tracker = MarkerlessTracker::fromTarget(renderer.camera(), standardTargetImage(), kStandardTargetWidth, {}, d);
