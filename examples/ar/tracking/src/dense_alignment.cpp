@@ -11,6 +11,18 @@
 
 namespace marionette::ar {
 
+// The valid samples' extent cut into kPartGrid x kPartGrid parts: which part a sample falls in.
+struct DensePartGrid {
+  static constexpr int g = DenseAlignment::kPartGrid;
+  float x0 = 0, y0 = 0, sx = 0, sy = 0;
+  bool valid = false;
+  [[nodiscard]] std::size_t of(float x, float y) const noexcept {
+    const int px = std::clamp(static_cast<int>((x - x0) * sx), 0, g - 1);
+    const int py = std::clamp(static_cast<int>((y - y0) * sy), 0, g - 1);
+    return static_cast<std::size_t>(py * g + px);
+  }
+};
+
 namespace {
 
 // Bilinear sample of a grey level and its gradient (the bilinear patch's, from the same four
@@ -84,17 +96,6 @@ double huberLoss(double r, double threshold) noexcept {
   return a <= threshold ? 0.5 * r * r : threshold * (a - 0.5 * threshold);
 }
 
-// The valid samples' extent cut into kPartGrid x kPartGrid parts: which part a sample falls in.
-struct PartGrid {
-  static constexpr int g = DenseAlignment::kPartGrid;
-  float x0 = 0, y0 = 0, sx = 0, sy = 0;
-  bool valid = false;
-  [[nodiscard]] std::size_t of(float x, float y) const noexcept {
-    const int px = std::clamp(static_cast<int>((x - x0) * sx), 0, g - 1);
-    const int py = std::clamp(static_cast<int>((y - y0) * sy), 0, g - 1);
-    return static_cast<std::size_t>(py * g + px);
-  }
-};
 
 // The model's and the frame's moments over the valid samples.
 template <class Sample>
@@ -106,18 +107,18 @@ Moments momentsOf(const Sample* samples, int count) noexcept {
 }
 
 template <class Sample>
-PartGrid partGridOf(const Sample* samples, int count) noexcept {
+DensePartGrid partGridOf(const Sample* samples, int count) noexcept {
   float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
   for (int i = 0; i < count; ++i) {
     const Sample& s = samples[i];
     if (!s.valid) continue;
     x0 = std::min(x0, s.x), x1 = std::max(x1, s.x), y0 = std::min(y0, s.y), y1 = std::max(y1, s.y);
   }
-  PartGrid grid;
+  DensePartGrid grid;
   grid.valid = x1 > x0 && y1 > y0;
   if (!grid.valid) return grid;
   grid.x0 = x0, grid.y0 = y0;
-  grid.sx = PartGrid::g / (x1 - x0 + 1e-3f), grid.sy = PartGrid::g / (y1 - y0 + 1e-3f);
+  grid.sx = DensePartGrid::g / (x1 - x0 + 1e-3f), grid.sy = DensePartGrid::g / (y1 - y0 + 1e-3f);
   return grid;
 }
 
@@ -294,7 +295,7 @@ bool DenseAligner::searchShift(const Level& level, int radius, PlanarPose& pose,
   // Scored by parts, not as a whole: a hand over a third of the target pulls the whole's ZNCC
   // under any threshold while the parts it leaves still peak at the true shift. The score is
   // the mean of the better half of the textured parts' ZNCC (the whole's where parts are few).
-  const PartGrid grid = partGridOf(samples_.data(), level.count);
+  const DensePartGrid grid = partGridOf(samples_.data(), level.count);
   for (int dy = -radius; dy <= radius; ++dy)
     for (int dx = -radius; dx <= radius; ++dx) {
       Moments moments;
@@ -369,8 +370,8 @@ void DenseAligner::noteCoverage(const Level& level, int samples, DenseAlignment&
   out.frameShare = std::min(1.0, covered / (static_cast<double>(level.frame.width) * level.frame.height));
 }
 
-void DenseAligner::judgeParts(const Level& level, DenseAlignment& out,
-                              std::array<bool, DenseAlignment::kPartGrid * DenseAlignment::kPartGrid>* agreeing) const noexcept {
+void DenseAligner::judgeParts(const Level& level, const DensePartGrid& grid, DenseAlignment& out,
+                              DensePartMask* agreeing) const noexcept {
   constexpr int g = DenseAlignment::kPartGrid;
   // A part's ZNCC past which its texture is taken as aligned, and the least it must hold: a few
   // samples correlate by chance, a flat part (sky of a poster, a smear along its only edge) not at all.
@@ -380,7 +381,6 @@ void DenseAligner::judgeParts(const Level& level, DenseAlignment& out,
   out.parts = out.agreeingParts = 0;
   out.agreeingSpan = 0;
   if (agreeing) agreeing->fill(false);
-  const PartGrid grid = partGridOf(samples_.data(), level.count);
   if (!grid.valid) return;
   std::array<Moments, g * g> parts{};
   for (int i = 0; i < level.count; ++i) {
@@ -447,9 +447,8 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   // pose step moves a plane point's pixel by J_pix step, so the model by -gradient . that; a
   // change of the turn moves a tap at offset c along the smear by c J_turn change.
   // Over every valid sample, or (with `only`) over those in the marked parts of `grid`.
-  using PartMask = std::array<bool, DenseAlignment::kPartGrid * DenseAlignment::kPartGrid>;
   auto normalEquations = [&](const Level& lv, const PlanarPose& p, const Fit& f, Mat12& h, Vec12& b, int& inliers,
-                             const PartMask* only = nullptr, const PartGrid* grid = nullptr) {
+                             const DensePartMask* only = nullptr, const DensePartGrid* grid = nullptr) {
     h = Mat12::zeros();
     b = Vec12::all(0);
     inliers = 0;
@@ -595,11 +594,11 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
   out.samples = fit.valid;
   noteCoverage(lv, fit.valid, out);
   out.inlierShare = static_cast<double>(inliers) / fit.valid;
-  PartMask agreeing{};
-  judgeParts(lv, out, &agreeing);
+  const DensePartGrid grid = partGridOf(samples_.data(), lv.count);
+  DensePartMask agreeing{};
+  judgeParts(lv, grid, out, &agreeing);
   out.haveAgreeingCovariance = false;
   if (out.agreeingParts > 0) {
-    const PartGrid grid = partGridOf(samples_.data(), lv.count);
     Mat12 hAgreeing;
     Vec12 bAgreeing;
     int agreeingInliers = 0;
@@ -638,7 +637,7 @@ bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const
   out.samples = moments.n;
   noteCoverage(lv, moments.n, out);
   out.smearPx = meanSmearOf(lv) * (1 << lv.index);
-  judgeParts(lv, out);
+  judgeParts(lv, partGridOf(samples_.data(), lv.count), out);
   return std::isfinite(out.zncc);
 }
 

@@ -92,6 +92,10 @@ struct DenseAlignment {
 // exposure's share of the interval.
 [[nodiscard]] cv::Vec3d smearTurnFromMotion(const cv::Matx33d& K, const cv::Matx33d& imageMotion, double exposure) noexcept;
 
+// The parts of a dense alignment's samples (dense_alignment.cpp), and a mark per part.
+struct DensePartGrid;
+using DensePartMask = std::array<bool, DenseAlignment::kPartGrid * DenseAlignment::kPartGrid>;
+
 class DenseAligner {
  public:
   // Sizes the buffers for `params.maxSamples` (allocates: the only call that does).
@@ -145,8 +149,10 @@ class DenseAligner {
   // turn of the camera about its centre, and its score. False when no shift correlates.
   bool searchShift(const Level& level, int radius, PlanarPose& pose, double& score) noexcept;
   [[nodiscard]] double meanSmearOf(const Level& level) const noexcept;  // over the valid samples, level pixels
-  // Counts the parts; `agreeing` (when given) marks the agreeing ones, per part of `grid`.
-  void judgeParts(const Level& level, DenseAlignment& out, std::array<bool, DenseAlignment::kPartGrid * DenseAlignment::kPartGrid>* agreeing = nullptr) const noexcept;
+  // Counts the parts of `grid` (partGridOf the level's samples); `agreeing` (when given) marks
+  // the agreeing ones.
+  void judgeParts(const Level& level, const DensePartGrid& grid, DenseAlignment& out,
+                  DensePartMask* agreeing = nullptr) const noexcept;
   // visibleShare and frameShare of `samples` valid samples on the level's grid.
   static void noteCoverage(const Level& level, int samples, DenseAlignment& out) noexcept;
 };
