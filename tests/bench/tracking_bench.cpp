@@ -341,11 +341,12 @@ const PrimitivesData& primitives() {
     return;                                   \
   }
 
+// range(0): 1 for the widest build the CPU runs (AVX2), 0 for the scalar loop.
 void warpOwn(benchmark::State& state) {
   MN_PRIMITIVES_DATA(d)
   cv::Mat out(480, 640, CV_8UC1, cv::Scalar(d.background));
   for (auto _ : state) {
-    warpPerspectiveRegion(d.source, d.warp, out, d.region, d.background);
+    warpPerspectiveRegion(d.source, d.warp, out, d.region, d.background, state.range(0) != 0);
     benchmark::DoNotOptimize(out.data);
   }
   state.counters["pixels"] = d.region.area();
@@ -659,7 +660,8 @@ BENCHMARK(markerlessRelocalizeNoTarget)
 BENCHMARK(aprilTagFrame)->Name("Tracking/AprilTagFrame")->Unit(benchmark::kMillisecond);
 BENCHMARK(memcpy640x480)->Name("Tracking/Memcpy640x480")->Unit(benchmark::kMicrosecond);
 BENCHMARK(hammingMatch)->Name("Tracking/HammingMatch")->Unit(benchmark::kMicrosecond);
-BENCHMARK(warpOwn)->Name("Tracking/WarpOwn")->Unit(benchmark::kMicrosecond);
+BENCHMARK(warpOwn)->Name("Tracking/WarpOwn")->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(warpOwn)->Name("Tracking/WarpOwnScalar")->Arg(0)->Unit(benchmark::kMicrosecond);
 BENCHMARK(warpOpenCv)->Name("Tracking/WarpOpenCv")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kltOwn, full, false)->Name("Tracking/KltOwn")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kltOwn, region, true)->Name("Tracking/KltOwnRegion")->Unit(benchmark::kMicrosecond);

@@ -230,6 +230,39 @@ TEST(TrackingPrimitives, KltRecoversKnownMotionAsWellAsOpenCv) {
   }
 }
 
+// The AVX2 warp (where the CPU has it) and the scalar loop give the same bits: over the
+// tracker's kind of view, across the source's edges and corners (the gathers' fast path needs
+// columns to spare and a row below), outside it, for tiny and strided sources, and for
+// homographies that put the horizon in the region (w through 0, huge and NaN-free clamps).
+TEST(TrackingPrimitives, WarpWideAndScalarLoopsGiveTheSameBits) {
+  const cv::Mat g = graf640();
+  cv::Mat strided(300, 400, CV_8UC1, cv::Scalar(0));
+  g(cv::Rect(0, 0, 397, 300)).copyTo(strided(cv::Rect(0, 0, 397, 300)));
+  const cv::Mat sources[] = {g, g(cv::Rect(10, 20, 397, 301)), strided(cv::Rect(0, 0, 397, 300)),
+                             g(cv::Rect(0, 0, 1, 1)).clone(), g(cv::Rect(0, 0, 3, 2)).clone(), g(cv::Rect(5, 5, 4, 7)).clone()};
+  cv::RNG rng(7);
+  int compared = 0, inside = 0;
+  for (const cv::Mat& src : sources) {
+    std::vector<cv::Matx33d> homographies = {motion(8, 0.7, 40, -25, 3e-4), motion(0, 1, 0, 0, 0), motion(30, 2.5, -300, 200, 0),
+                                             motion(5, 1, 0, 0, 4e-3), motion(-12, 0.5, 100, 50, -3e-3)};
+    for (int i = 0; i < 20; ++i)
+      homographies.push_back(motion(rng.uniform(-180., 180.), rng.uniform(0.2, 4.), rng.uniform(-400., 400.),
+                                    rng.uniform(-300., 300.), rng.uniform(-5e-3, 5e-3)));
+    for (const cv::Matx33d& h : homographies)
+      for (const cv::Rect region : {cv::Rect(0, 0, 640, 480), cv::Rect(3, 1, 37, 5), cv::Rect(601, 470, 100, 100)}) {
+        cv::Mat wide(480, 640, CV_8UC1, cv::Scalar(9)), scalar(480, 640, CV_8UC1, cv::Scalar(9));
+        const bool a = warpPerspectiveRegion(src, h, wide, region, 77, true);
+        const bool b = warpPerspectiveRegion(src, h, scalar, region, 77, false);
+        ASSERT_EQ(a, b);
+        ASSERT_EQ(cv::norm(wide, scalar, cv::NORM_INF), 0) << src.size() << " region " << region << " h " << h;
+        ++compared;
+        inside += cv::countNonZero(scalar != 77) > 1000;
+      }
+  }
+  EXPECT_EQ(compared, 6 * 25 * 3);
+  EXPECT_GT(inside, 40) << "views that show the source, not only its border";
+}
+
 // KLT's arithmetic is integer (fixed point, as OpenCV's): the SSE2 loops and the portable ones
 // give the same bits, at the windows the tracker uses and at the image's border.
 TEST(TrackingPrimitives, KltSimdAndPortableLoopsGiveTheSameBits) {

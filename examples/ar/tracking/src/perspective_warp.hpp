@@ -17,8 +17,10 @@ namespace marionette::ar {
 // maps src pixels to dst pixels (the full image's, not the region's). Like OpenCV, the source
 // position is rounded to 1/32 px and the weights are exact integers, so the result matches
 // cv::warpPerspective's to the bit but for rare ties. False (dst untouched) when src or dst
-// is not 8-bit single-channel, or H is singular or not finite. Allocates nothing.
+// is not 8-bit single-channel, or H is singular or not finite. Allocates nothing. `wide`:
+// four pixels at a time with AVX2 where the CPU has it (the same bits; false for the scalar
+// loop, which the tests compare it with).
 bool warpPerspectiveRegion(const cv::Mat& src, const cv::Matx33d& srcToDst, cv::Mat& dst, cv::Rect region,
-                           std::uint8_t border) noexcept;
+                           std::uint8_t border, bool wide = true) noexcept;
 
 }  // namespace marionette::ar
