@@ -365,7 +365,8 @@ void warpOpenCv(benchmark::State& state) {
   state.counters["pixels"] = d.region.area();
 }
 
-void kltOwn(benchmark::State& state, bool regionOnly) {
+// wide: AVX2 where the CPU has it (else SSE2); window: the level-0 side (a smear widens it to 25).
+void kltOwn(benchmark::State& state, bool regionOnly, bool wide = true, int window = 15) {
   MN_PRIMITIVES_DATA(d)
   ImagePyramid t, f;
   t.configure(640, 480, 3);
@@ -379,7 +380,11 @@ void kltOwn(benchmark::State& state, bool regionOnly) {
     else t.build(d.templ);
     f.build(d.frame);
     std::copy(d.from.begin(), d.from.end(), to.begin());
-    found = lk.track(t, f, d.from, to, status, LucasKanadeOptions{});
+    LucasKanadeOptions params;
+    params.wide = wide;
+    params.window = window;
+    params.coarseWindow = 15;
+    found = lk.track(t, f, d.from, to, status, params);
     benchmark::DoNotOptimize(to.data());
   }
   state.counters["points"] = static_cast<double>(d.from.size());
@@ -665,6 +670,9 @@ BENCHMARK(warpOwn)->Name("Tracking/WarpOwnScalar")->Arg(0)->Unit(benchmark::kMic
 BENCHMARK(warpOpenCv)->Name("Tracking/WarpOpenCv")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kltOwn, full, false)->Name("Tracking/KltOwn")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(kltOwn, region, true)->Name("Tracking/KltOwnRegion")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kltOwn, region, true, false)->Name("Tracking/KltOwnRegionSse2")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kltOwn, region, true, true, 25)->Name("Tracking/KltOwnRegionWindow25")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(kltOwn, region, true, false, 25)->Name("Tracking/KltOwnRegionWindow25Sse2")->Unit(benchmark::kMicrosecond);
 BENCHMARK(kltOpenCv)->Name("Tracking/KltOpenCv")->Unit(benchmark::kMicrosecond);
 BENCHMARK(motionBlurApply)->Name("Tracking/MotionBlurApply")->Unit(benchmark::kMicrosecond);
 BENCHMARK(motionBlurSearch)->Name("Tracking/MotionBlurSearch")->Unit(benchmark::kMicrosecond);

@@ -181,7 +181,7 @@ KltScore score(const std::vector<cv::Point2f>& found, const std::vector<unsigned
 }
 
 KltScore runOurs(const KltCase& c, LkGradient gradient, std::vector<cv::Point2f>* out = nullptr, bool simd = true,
-                 std::vector<unsigned char>* outStatus = nullptr, int window = 15) {
+                 std::vector<unsigned char>* outStatus = nullptr, int window = 15, bool wide = true) {
   ImagePyramid a, b;
   a.configure(c.prev.cols, c.prev.rows, 3);
   b.configure(c.next.cols, c.next.rows, 3);
@@ -193,6 +193,7 @@ KltScore runOurs(const KltCase& c, LkGradient gradient, std::vector<cv::Point2f>
   LucasKanadeOptions params;
   params.gradient = gradient;
   params.simd = simd;
+  params.wide = wide;
   params.window = window;
   lk.track(a, b, c.from, to, status, params);
   if (out) *out = to;
@@ -263,8 +264,9 @@ TEST(TrackingPrimitives, WarpWideAndScalarLoopsGiveTheSameBits) {
   EXPECT_GT(inside, 40) << "views that show the source, not only its border";
 }
 
-// KLT's arithmetic is integer (fixed point, as OpenCV's): the SSE2 loops and the portable ones
-// give the same bits, at the windows the tracker uses and at the image's border.
+// KLT's arithmetic is integer (fixed point, as OpenCV's): the AVX2 loops (where the CPU has
+// them), the SSE2 loops and the portable ones give the same bits, at the windows the tracker
+// uses, at windows whose padded rows end halfway through sixteen lanes, and at the image's border.
 TEST(TrackingPrimitives, KltSimdAndPortableLoopsGiveTheSameBits) {
   KltCase c = knownMotion(motion(1, 1.01, 9.2, 3.1, 1e-5));
   ASSERT_GT(c.from.size(), 150u);
@@ -275,16 +277,18 @@ TEST(TrackingPrimitives, KltSimdAndPortableLoopsGiveTheSameBits) {
     c.truth.push_back(p);
   }
   for (const LkGradient gradient : {LkGradient::Scharr, LkGradient::Central})
-  for (int window : {3, 7, 15, 17, 25, 61}) {
+  for (int window : {3, 7, 9, 15, 17, 21, 25, 33, 49, 55, 61})
+  for (const bool wide : {true, false}) {
     std::vector<cv::Point2f> simd, portable;
     std::vector<unsigned char> simdStatus, portableStatus;
-    runOurs(c, gradient, &simd, true, &simdStatus, window);
+    runOurs(c, gradient, &simd, true, &simdStatus, window, wide);
     runOurs(c, gradient, &portable, false, &portableStatus, window);
     ASSERT_EQ(simd.size(), portable.size());
     int found = 0;
     for (std::size_t i = 0; i < simd.size(); ++i) {
-      EXPECT_EQ(simdStatus[i], portableStatus[i]) << "window " << window << " point " << i;
-      EXPECT_EQ(std::memcmp(&simd[i], &portable[i], sizeof(cv::Point2f)), 0) << "window " << window << " point " << i;
+      EXPECT_EQ(simdStatus[i], portableStatus[i]) << "window " << window << " wide " << wide << " point " << i;
+      EXPECT_EQ(std::memcmp(&simd[i], &portable[i], sizeof(cv::Point2f)), 0)
+          << "window " << window << " wide " << wide << " point " << i;
       found += simdStatus[i];
     }
     EXPECT_GT(found, 150) << "window " << window;

@@ -8,6 +8,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define MARIONETTE_LK_AVX2 1
+#endif
 
 namespace marionette::ar {
 
@@ -273,21 +277,172 @@ void gradientsSse2(const std::int16_t* P, int patchStride, int n, int stride, bo
 }
 #endif
 
-void sampleFixed(bool simd, const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,
-                 std::int16_t* out) noexcept {
-#if defined(__SSE2__)
-  if (simd) return sampleFixedSse2(first, stride, w, cols8, rows, out);
+#if MARIONETTE_LK_AVX2
+// Loads for the AVX2 loops (lambdas would not inherit their target).
+[[gnu::target("avx2")]] inline __m256i widenBytes(const std::uint8_t* q) noexcept {
+  return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
+}
+[[gnu::target("avx2")]] inline __m256i load16(const std::int16_t* q) noexcept {
+  return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(q));
+}
+[[gnu::target("avx2")]] inline __m256i load8Low(const std::int16_t* q) noexcept {  // the high half zero
+  return _mm256_zextsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
+}
+// Eight 32-bit lanes as four 64-bit sums of two (exact), and four 64-bit lanes' total.
+[[gnu::target("avx2")]] inline __m256i widenSum(__m256i v) noexcept {
+  return _mm256_add_epi64(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(v)), _mm256_cvtepi32_epi64(_mm256_extracti128_si256(v, 1)));
+}
+[[gnu::target("avx2")]] inline std::int64_t horizontalSum(__m256i v) noexcept {
+  alignas(32) std::int64_t l[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(l), v);
+  return l[0] + l[1] + l[2] + l[3];
+}
+// (3a + 10b + 16) >> 5 per lane (or (16b + 16) >> 5), as 16 bits: `weights` pairs (3, 10) or (0, 16).
+[[gnu::target("avx2")]] inline __m256i weighGradient(__m256i a, __m256i b, __m256i weights) noexcept {
+  const __m256i round = _mm256_set1_epi32(16);
+  const __m256i lo =
+      _mm256_srai_epi32(_mm256_add_epi32(_mm256_madd_epi16(_mm256_unpacklo_epi16(a, b), weights), round), kFraction);
+  const __m256i hi =
+      _mm256_srai_epi32(_mm256_add_epi32(_mm256_madd_epi16(_mm256_unpackhi_epi16(a, b), weights), round), kFraction);
+  return _mm256_packs_epi32(lo, hi);
+}
+
+// The same three loops sixteen lanes at a time (and a last eight where a row's padded width is
+// not a multiple of 16): the same integers, summed in the same exact widths, so the same bits.
+// AVX2 keeps its 128-bit halves apart in unpack and pack, which pair up here: each half's
+// products pack back in order.
+[[gnu::target("avx2")]] void sampleFixedAvx2(const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8,
+                                             int rows, std::int16_t* out) noexcept {
+  const __m256i top = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint16_t>(w.w00)) |
+                                        (static_cast<int>(static_cast<std::uint16_t>(w.w01)) << 16));
+  const __m256i bottom = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint16_t>(w.w10)) |
+                                           (static_cast<int>(static_cast<std::uint16_t>(w.w11)) << 16));
+  const __m256i round = _mm256_set1_epi32(1 << (kShift - 1));
+  const int wide = cols8 & ~15;
+  for (int r = 0; r < rows; ++r) {
+    const std::uint8_t* a = first + r * stride;
+    const std::uint8_t* b = a + stride;
+    std::int16_t* o = out + r * cols8;
+    for (int c = 0; c < wide; c += 16) {
+      const __m256i a0 = widenBytes(a + c), a1 = widenBytes(a + c + 1), b0 = widenBytes(b + c), b1 = widenBytes(b + c + 1);
+      const __m256i lo = _mm256_add_epi32(_mm256_madd_epi16(_mm256_unpacklo_epi16(a0, a1), top),
+                                          _mm256_madd_epi16(_mm256_unpacklo_epi16(b0, b1), bottom));
+      const __m256i hi = _mm256_add_epi32(_mm256_madd_epi16(_mm256_unpackhi_epi16(a0, a1), top),
+                                          _mm256_madd_epi16(_mm256_unpackhi_epi16(b0, b1), bottom));
+      const __m256i v = _mm256_packs_epi32(_mm256_srai_epi32(_mm256_add_epi32(lo, round), kShift),
+                                           _mm256_srai_epi32(_mm256_add_epi32(hi, round), kShift));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(o + c), v);
+    }
+    if (wide < cols8) sampleFixedSse2(a + wide, stride, w, 8, 1, o + wide);
+  }
+}
+
+[[gnu::target("avx2")]] void sumProductsAvx2(const std::int16_t* samples, const std::int16_t* values,
+                                             const std::int16_t* gx, const std::int16_t* gy, int cols8, int rows,
+                                             std::int64_t& sx, std::int64_t& sy) noexcept {
+  const int wide = cols8 & ~15;
+  __m256i sumX = _mm256_setzero_si256(), sumY = _mm256_setzero_si256();  // 64-bit lanes
+  for (int r = 0; r < rows; ++r) {
+    // A row in 32-bit lanes (exact: see the SSE2 loop), then widened: no lane-by-lane sum per row.
+    __m256i ax = _mm256_setzero_si256(), ay = _mm256_setzero_si256();
+    const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(r) * cols8;
+    for (int c = 0; c < wide; c += 16) {
+      const std::ptrdiff_t i = row + c;
+      const __m256i d = _mm256_sub_epi16(load16(samples + i), load16(values + i));
+      ax = _mm256_add_epi32(ax, _mm256_madd_epi16(d, load16(gx + i)));
+      ay = _mm256_add_epi32(ay, _mm256_madd_epi16(d, load16(gy + i)));
+    }
+    if (wide < cols8) {  // the last eight in the low half (the high half's zeros add nothing)
+      const std::ptrdiff_t i = row + wide;
+      const __m256i d = _mm256_sub_epi16(load8Low(samples + i), load8Low(values + i));
+      ax = _mm256_add_epi32(ax, _mm256_madd_epi16(d, load8Low(gx + i)));
+      ay = _mm256_add_epi32(ay, _mm256_madd_epi16(d, load8Low(gy + i)));
+    }
+    sumX = _mm256_add_epi64(sumX, widenSum(ax));
+    sumY = _mm256_add_epi64(sumY, widenSum(ay));
+  }
+  sx = horizontalSum(sumX);
+  sy = horizontalSum(sumY);
+}
+
+[[gnu::target("avx2")]] void gradientsAvx2(const std::int16_t* P, int patchStride, int n, int stride, bool scharr,
+                                           std::int16_t* values, std::int16_t* gx, std::int16_t* gy, std::int64_t& a11,
+                                           std::int64_t& a12, std::int64_t& a22) noexcept {
+  const __m256i weights = scharr ? _mm256_set1_epi32(3 | (10 << 16)) : _mm256_set1_epi32(16 << 16);
+  const __m256i lane = _mm256_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m256i limit = _mm256_set1_epi16(static_cast<std::int16_t>(n));
+  __m256i t11 = _mm256_setzero_si256(), t12 = _mm256_setzero_si256(), t22 = _mm256_setzero_si256();  // 64-bit lanes
+  for (int r = 0; r < n; ++r) {
+    const std::int16_t* up = P + r * patchStride + 1;
+    const std::int16_t* mid = up + patchStride;
+    const std::int16_t* down = mid + patchStride;
+    __m256i s11 = _mm256_setzero_si256(), s12 = _mm256_setzero_si256(), s22 = _mm256_setzero_si256();
+    // Sixteen at a time; where the padded width ends halfway, the last lanes read past the
+    // row (inside the patch buffer, which has rows to spare), are masked out of the sums
+    // (lane >= n) and are not stored.
+    for (int c = 0; c < stride; c += 16) {
+      const __m256i ul = load16(up + c - 1), uc = load16(up + c), ur = load16(up + c + 1);
+      const __m256i ml = load16(mid + c - 1), mc = load16(mid + c), mr = load16(mid + c + 1);
+      const __m256i dl = load16(down + c - 1), dc = load16(down + c), dr = load16(down + c + 1);
+      const __m256i inside =
+          _mm256_cmpgt_epi16(limit, _mm256_add_epi16(lane, _mm256_set1_epi16(static_cast<std::int16_t>(c))));
+      const __m256i x = _mm256_and_si256(
+          weighGradient(_mm256_add_epi16(_mm256_sub_epi16(ur, ul), _mm256_sub_epi16(dr, dl)), _mm256_sub_epi16(mr, ml), weights),
+          inside);
+      const __m256i y = _mm256_and_si256(
+          weighGradient(_mm256_add_epi16(_mm256_sub_epi16(dl, ul), _mm256_sub_epi16(dr, ur)), _mm256_sub_epi16(dc, uc), weights),
+          inside);
+      const std::ptrdiff_t i = static_cast<std::ptrdiff_t>(r) * stride + c;
+      if (c + 16 <= stride) {
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gx + i), x);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gy + i), y);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(values + i), _mm256_and_si256(mc, inside));
+      } else {  // the last eight of the row
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(gx + i), _mm256_castsi256_si128(x));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(gy + i), _mm256_castsi256_si128(y));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(values + i), _mm256_castsi256_si128(_mm256_and_si256(mc, inside)));
+      }
+      s11 = _mm256_add_epi32(s11, _mm256_madd_epi16(x, x));
+      s12 = _mm256_add_epi32(s12, _mm256_madd_epi16(x, y));
+      s22 = _mm256_add_epi32(s22, _mm256_madd_epi16(y, y));
+    }
+    // A row's sums fit 32 bits (at most 64 * 4080^2), as in the scalar loop.
+    t11 = _mm256_add_epi64(t11, widenSum(s11));
+    t12 = _mm256_add_epi64(t12, widenSum(s12));
+    t22 = _mm256_add_epi64(t22, widenSum(s22));
+  }
+  a11 = horizontalSum(t11);
+  a12 = horizontalSum(t12);
+  a22 = horizontalSum(t22);
+}
+
+bool haveAvx2() noexcept {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
 #endif
-  static_cast<void>(simd);
+
+void sampleFixed(LkKernels k, const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,
+                 std::int16_t* out) noexcept {
+#if MARIONETTE_LK_AVX2
+  if (k == LkKernels::Avx2) return sampleFixedAvx2(first, stride, w, cols8, rows, out);
+#endif
+#if defined(__SSE2__)
+  if (k != LkKernels::Portable) return sampleFixedSse2(first, stride, w, cols8, rows, out);
+#endif
+  static_cast<void>(k);
   sampleFixedPortable(first, stride, w, cols8, rows, out);
 }
 
-void sumProducts(bool simd, const std::int16_t* samples, const std::int16_t* values, const std::int16_t* gx,
+void sumProducts(LkKernels k, const std::int16_t* samples, const std::int16_t* values, const std::int16_t* gx,
                  const std::int16_t* gy, int cols8, int rows, std::int64_t& sx, std::int64_t& sy) noexcept {
-#if defined(__SSE2__)
-  if (simd) return sumProductsSse2(samples, values, gx, gy, cols8, rows, sx, sy);
+#if MARIONETTE_LK_AVX2
+  if (k == LkKernels::Avx2) return sumProductsAvx2(samples, values, gx, gy, cols8, rows, sx, sy);
 #endif
-  static_cast<void>(simd);
+#if defined(__SSE2__)
+  if (k != LkKernels::Portable) return sumProductsSse2(samples, values, gx, gy, cols8, rows, sx, sy);
+#endif
+  static_cast<void>(k);
   sumProductsPortable(samples, values, gx, gy, cols8, rows, sx, sy);
 }
 
@@ -296,10 +451,10 @@ void sumProducts(bool simd, const std::int16_t* samples, const std::int16_t* val
 // Samples of `img` over a rows x cols8 grid whose first sample is at (x + ax, y + ay): read in
 // place, or near the border from a reflect-101 copy (as OpenCV's padded pyramids).
 void LucasKanade::sample(const GreyLevel& img, int x, int y, float ax, float ay, int cols8, int rows,
-                         std::int16_t* out, bool simd) noexcept {
+                         std::int16_t* out, LkKernels kernels) noexcept {
   const Weights w = weightsOf(ax, ay);
   if (x >= 0 && y >= 0 && x + cols8 < img.width && y + rows < img.height) {
-    sampleFixed(simd, img.row(y) + x, img.stride, w, cols8, rows, out);
+    sampleFixed(kernels, img.row(y) + x, img.stride, w, cols8, rows, out);
     return;
   }
   const int width = cols8 + 1;
@@ -309,11 +464,11 @@ void LucasKanade::sample(const GreyLevel& img, int x, int y, float ax, float ay,
     for (int c = 0; c < width; ++c) dst[c] = src[reflect101(x + c, img.width)];
   }
   // The SIMD loads read up to 8 bytes from the last pair's start: the buffer has room.
-  sampleFixed(simd, border_.data(), width, w, cols8, rows, out);
+  sampleFixed(kernels, border_.data(), width, w, cols8, rows, out);
 }
 
 bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f prev, cv::Point2f& next, int n,
-                           const LucasKanadeOptions& params) noexcept {
+                           const LucasKanadeOptions& params, LkKernels kernels) noexcept {
   const float half = static_cast<float>(n - 1) * 0.5f;
   const cv::Point2f p = prev - cv::Point2f(half, half);
   const int ix = static_cast<int>(std::floor(p.x)), iy = static_cast<int>(std::floor(p.y));
@@ -327,16 +482,22 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
   // exactly nothing to the sums whatever the frame's samples there.
   const int stride = static_cast<int>(padded(n));
   const auto lanes = static_cast<std::size_t>(n * stride);
-  sample(t, ix - 1, iy - 1, p.x - static_cast<float>(ix), p.y - static_cast<float>(iy), patchStride, m, patch_.data(), params.simd);
+  sample(t, ix - 1, iy - 1, p.x - static_cast<float>(ix), p.y - static_cast<float>(iy), patchStride, m, patch_.data(), kernels);
   const std::int16_t* P = patch_.data();
   std::int64_t a11i = 0, a12i = 0, a22i = 0;
+  const bool scharr = params.gradient == LkGradient::Scharr;
+  bool simdGradients = false;
+#if MARIONETTE_LK_AVX2
+  if (kernels == LkKernels::Avx2) {
+    gradientsAvx2(P, patchStride, n, stride, scharr, values_.data(), gx_.data(), gy_.data(), a11i, a12i, a22i);
+    simdGradients = true;
+  }
+#endif
 #if defined(__SSE2__)
-  const bool simdGradients = params.simd;
-  if (simdGradients)
-    gradientsSse2(P, patchStride, n, stride, params.gradient == LkGradient::Scharr, values_.data(), gx_.data(), gy_.data(),
-                  a11i, a12i, a22i);
-#else
-  const bool simdGradients = false;
+  if (kernels == LkKernels::Sse2) {
+    gradientsSse2(P, patchStride, n, stride, scharr, values_.data(), gx_.data(), gy_.data(), a11i, a12i, a22i);
+    simdGradients = true;
+  }
 #endif
   if (!simdGradients) {
     std::fill_n(values_.begin(), lanes, std::int16_t{0});
@@ -353,7 +514,7 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
     std::int32_t s11 = 0, s12 = 0, s22 = 0;  // a row: at most 64 * 4080^2 < 2^31
     for (int c = 0; c < n; ++c) {
       int x, y;
-      if (params.gradient == LkGradient::Scharr) {
+      if (scharr) {
         x = 3 * (up[c + 1] - up[c - 1] + down[c + 1] - down[c - 1]) + 10 * (mid[c + 1] - mid[c - 1]);
         y = 3 * (down[c - 1] - up[c - 1] + down[c + 1] - up[c + 1]) + 10 * (down[c] - up[c]);
       } else {
@@ -386,9 +547,9 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
     if (!std::isfinite(q.x) || !std::isfinite(q.y)) return false;
     const int jx = static_cast<int>(std::floor(q.x)), jy = static_cast<int>(std::floor(q.y));
     if (jx < -n || jx >= f.width || jy < -n || jy >= f.height) return false;  // left the image
-    sample(f, jx, jy, q.x - static_cast<float>(jx), q.y - static_cast<float>(jy), stride, n, samples_.data(), params.simd);
+    sample(f, jx, jy, q.x - static_cast<float>(jx), q.y - static_cast<float>(jy), stride, n, samples_.data(), kernels);
     std::int64_t sx = 0, sy = 0;
-    sumProducts(params.simd, samples_.data(), values_.data(), gx_.data(), gy_.data(), stride, n, sx, sy);
+    sumProducts(kernels, samples_.data(), values_.data(), gx_.data(), gy_.data(), stride, n, sx, sy);
     // Per grey level: the differences are 32 times, the gradients 32 times.
     const double b1 = static_cast<double>(sx) / 1024.0, b2 = static_cast<double>(sy) / 1024.0;
     const cv::Point2f delta(static_cast<float>((a12 * b2 - a22 * b1) * inv), static_cast<float>((a12 * b1 - a11 * b2) * inv));
@@ -420,6 +581,13 @@ int LucasKanade::track(const ImagePyramid& templ, const ImagePyramid& frame, std
   int top = std::min({params.levels, templ.levels(), frame.levels()});
   while (top > 0 && (templ.level(top).width <= coarse || templ.level(top).height <= coarse)) --top;
   if (top < 0) top = 0;
+  LkKernels kernels = params.simd ? LkKernels::Sse2 : LkKernels::Portable;
+#if MARIONETTE_LK_AVX2
+  if (params.simd && params.wide && haveAvx2()) kernels = LkKernels::Avx2;
+#endif
+#if !defined(__SSE2__)
+  if (kernels == LkKernels::Sse2) kernels = LkKernels::Portable;
+#endif
   int found = 0;
   for (std::size_t i = 0; i < count; ++i) {
     if (!std::isfinite(from[i].x) || !std::isfinite(from[i].y) || !std::isfinite(to[i].x) || !std::isfinite(to[i].y))
@@ -430,7 +598,7 @@ int LucasKanade::track(const ImagePyramid& templ, const ImagePyramid& frame, std
       const float scale = 1.f / static_cast<float>(1 << level);
       next = level == top ? to[i] * scale : next * 2.f;
       // A coarse level without a result leaves the guess as it was; level 0 decides.
-      ok = trackOne(templ.level(level), frame.level(level), from[i] * scale, next, level == 0 ? n : coarse, params);
+      ok = trackOne(templ.level(level), frame.level(level), from[i] * scale, next, level == 0 ? n : coarse, params, kernels);
     }
     to[i] = next;
     if (ok && std::isfinite(next.x) && std::isfinite(next.y)) {

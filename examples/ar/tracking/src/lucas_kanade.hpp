@@ -57,6 +57,9 @@ class ImagePyramid {
   void downsample(int level, cv::Rect dstRegion) noexcept;  // level - 1 -> level over dstRegion
 };
 
+// The loops a track() call runs: the portable ones, SSE2 or AVX2 (all give the same bits).
+enum class LkKernels { Portable, Sse2, Avx2 };
+
 // How the template's gradient is taken: OpenCV's 3x3 Scharr (cv::calcOpticalFlowPyrLK), or
 // the central difference (tracking_primitives_test measures both: a wash).
 enum class LkGradient { Scharr, Central };
@@ -72,6 +75,8 @@ struct LucasKanadeOptions {
   // SSE2 where the machine has it; false: the portable loops, which give the same bits (the
   // arithmetic is integer: tracking_primitives_test compares them).
   bool simd = true;
+  // With `simd`: AVX2 where the CPU has it (sixteen lanes, the same bits again); false: SSE2.
+  bool wide = true;
 };
 
 class LucasKanade {
@@ -96,9 +101,9 @@ class LucasKanade {
   std::vector<std::uint8_t> border_;
 
   void sample(const GreyLevel& img, int x, int y, float ax, float ay, int cols8, int rows, std::int16_t* out,
-              bool simd) noexcept;
+              LkKernels kernels) noexcept;
   bool trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f prev, cv::Point2f& next, int window,
-                const LucasKanadeOptions& params) noexcept;
+                const LucasKanadeOptions& params, LkKernels kernels) noexcept;
 };
 
 }  // namespace marionette::ar
