@@ -118,8 +118,9 @@ std::uint8_t lineBlurByDefinition(const cv::Mat& image, double length, double an
   return static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));
 }
 
-// The running sums, the runs read without clamping and the rows skipped outside the region are
-// only speed: every pixel is its definition's, to the bit, at any angle, length and region.
+// The running sums, the runs read without clamping, the rows skipped outside the region and the
+// AVX2 loop (where the CPU has it) are only speed: every pixel is its definition's, to the bit,
+// at any angle, length and region, with the AVX2 loop and without.
 TEST(MotionBlur, LineBlurIsItsDefinitionToTheBit) {
   const cv::Mat image = graf();
   MotionBlurScratch scratch;
@@ -128,17 +129,18 @@ TEST(MotionBlur, LineBlurIsItsDefinitionToTheBit) {
                                          cv::Rect(300, 200, 17, 17)};
   for (double angleDeg : {0.0, 8.0, -20.0, 45.0, -45.0, 60.0, 90.0, 112.0, 160.0, 200.0})
     for (double length : {1.5, 3.0, 6.3, 24.0, 90.0, 400.0})
-      for (const cv::Rect& region : regions) {
+      for (const cv::Rect& region : regions)
+      for (const bool wide : {true, false}) {
         const double angle = angleDeg * kPi / 180;
         cv::Mat ours = image.clone();
-        applyMotionBlur(image, {length, angle}, region, ours, scratch);
+        applyMotionBlur(image, {length, angle}, region, ours, scratch, wide);
         const cv::Rect inside = region & cv::Rect(0, 0, image.cols, image.rows);
         int differing = 0;
         for (int y = inside.y; y < inside.y + inside.height; y += 3)
           for (int x = inside.x; x < inside.x + inside.width; x += 3)
             differing += ours.at<std::uint8_t>(y, x) != (length >= 2 ? lineBlurByDefinition(image, length, angle, x, y)
                                                                         : image.at<std::uint8_t>(y, x));
-        EXPECT_EQ(differing, 0) << "angle " << angleDeg << " length " << length << " region " << region;
+        EXPECT_EQ(differing, 0) << "angle " << angleDeg << " length " << length << " region " << region << " wide " << wide;
         // Nothing outside the region is written.
         cv::Mat outside = cv::Mat::ones(image.size(), CV_8UC1);
         outside(inside).setTo(0);

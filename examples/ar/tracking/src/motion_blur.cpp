@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <functional>
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 namespace marionette::ar {
 
@@ -43,13 +47,15 @@ inline float pixel(const cv::Mat& m, int x, int y) noexcept {
   return m.ptr<std::uint8_t>(y)[x];
 }
 
-// The line blur over `r`, each value handed to sink(x, y, v) once. Rows are taken along the
-// digital line (row b holds pixel (major, b + shift(major))) and box-filtered by a running sum;
-// of each row only the span that lands in `r` is read. The sums are integers (exact in a float:
-// the same bits as summing the taps in floats, in any order). False when the scratch was
-// not reserved for `r`.
-template <bool AlongX, class Sink>
-bool lineBlurAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, MotionBlurScratch& scratch, Sink&& sink) noexcept {
+// The sheared rows of the line blur over `r`: row b holds pixel (major, b + shift(major)) along
+// the digital line. For each row with outputs in `r`, rowSink(b, lo, hi, line, shift) with the
+// outputs i = lo .. hi - 1 (major = majorBegin + i) and their taps line[lo .. hi - 1 + 2K]
+// (output i's taps are line[i .. i + 2K], centred on c = i + K; its minor is b + shift[c]).
+// Of each row only the span that lands in `r` is read. False when the scratch was not reserved
+// for `r`.
+template <bool AlongX, class RowSink>
+bool forEachLineRow(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, MotionBlurScratch& scratch,
+                    RowSink&& rowSink) noexcept {
   const int majorBegin = AlongX ? r.x : r.y, n = AlongX ? r.width : r.height;
   const int minorBegin = AlongX ? r.y : r.x, minorEnd = minorBegin + (AlongX ? r.height : r.width);
   if (n <= 0 || minorEnd <= minorBegin) return true;
@@ -99,13 +105,25 @@ bool lineBlurAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& 
     for (int j = lo; j < insideBegin; ++j) clamped(j);
     for (int j = insideBegin; j < insideEnd; ++j) line[j] = at(majorBegin + j - K, b + shift[j]);
     for (int j = insideEnd; j < jEnd; ++j) clamped(j);
+    rowSink(b, lo, hi, static_cast<const int*>(line), static_cast<const int*>(shift));
+  }
+  return true;
+}
+
+// The line blur over `r`, each value handed to sink(x, y, v) once: each sheared row
+// box-filtered by a running sum. The sums are integers (exact in a float: the same bits as
+// summing the taps in floats, in any order).
+template <bool AlongX, class Sink>
+bool lineBlurAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, MotionBlurScratch& scratch, Sink&& sink) noexcept {
+  const int majorBegin = AlongX ? r.x : r.y, K = g.half;
+  return forEachLineRow<AlongX>(image, g, r, scratch, [&](int b, int lo, int hi, const int* line, const int* shift) {
     if (K == 0) {
       for (int i = lo; i < hi; ++i) {
         const int major = majorBegin + i, minor = b + shift[i];
         if constexpr (AlongX) sink(major, minor, static_cast<float>(line[i]));
         else sink(minor, major, static_cast<float>(line[i]));
       }
-      continue;
+      return;
     }
     // inner: the taps strictly between the two ends, c - K + 1 .. c + K - 1 for c = i + K.
     int inner = 0;
@@ -118,8 +136,7 @@ bool lineBlurAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& 
       else sink(minor, major, v);
       inner += line[c + K] - line[c - K + 1];
     }
-  }
-  return true;
+  });
 }
 
 template <class Sink>
@@ -398,13 +415,106 @@ MotionBlur refineMotionBlur(const cv::Mat& sharp, const cv::Mat& frame, const st
   return {length, angle};
 }
 
+namespace {
+
+// Outputs lo .. hi - 1 of a sheared row as applyMotionBlur stores them: the line blur's value
+// (lineBlurAlong's, with the running sum's integers taken from prefix sums: the same integers,
+// the same float operations after them), rounded and clamped to a byte. `prefix` has room for
+// hi + 2K + 1 - lo entries.
+void blurredRowBytes(const int* line, int lo, int hi, int K, float scale, float end, int* prefix,
+                     std::uint8_t* out) noexcept {
+  if (K == 0) {
+    for (int i = lo; i < hi; ++i)
+      out[i] = static_cast<std::uint8_t>(std::min(std::max(static_cast<float>(line[i]) + 0.5f, 0.0f), 255.0f));
+    return;
+  }
+  // prefix[j - lo] = line[lo] + ... + line[j - 1]; output i's inner taps sum to
+  // prefix[i + 2K - lo] - prefix[i + 1 - lo].
+  const int jEnd = hi + 2 * K;
+  prefix[0] = 0;
+  for (int j = lo; j < jEnd; ++j) prefix[j - lo + 1] = prefix[j - lo] + line[j];
+  for (int i = lo; i < hi; ++i) {
+    const int inner = prefix[i + 2 * K - lo] - prefix[i + 1 - lo];
+    const float v = scale * (static_cast<float>(inner) + end * static_cast<float>(line[i] + line[i + 2 * K]));
+    out[i] = static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));  // minss/maxss: no branch
+  }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The same, eight outputs at a time (the same integer sums, the same float operations per lane,
+// truncation to an integer as the scalar cast): the same bits.
+[[gnu::target("avx2")]] void blurredRowBytesAvx2(const int* line, int lo, int hi, int K, float scale, float end,
+                                                 int* prefix, std::uint8_t* out) noexcept {
+  if (K == 0) return blurredRowBytes(line, lo, hi, K, scale, end, prefix, out);
+  const int jEnd = hi + 2 * K;
+  prefix[0] = 0;
+  for (int j = lo; j < jEnd; ++j) prefix[j - lo + 1] = prefix[j - lo] + line[j];
+  const __m256 vs = _mm256_set1_ps(scale), ve = _mm256_set1_ps(end), half = _mm256_set1_ps(0.5f);
+  const __m256 zero = _mm256_setzero_ps(), top = _mm256_set1_ps(255.0f);
+  int i = lo;
+  for (; i + 8 <= hi; i += 8) {
+    const __m256i inner = _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(prefix + i + 2 * K - lo)),
+                                           _mm256_loadu_si256(reinterpret_cast<const __m256i*>(prefix + i + 1 - lo)));
+    const __m256i ends = _mm256_add_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(line + i)),
+                                          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(line + i + 2 * K)));
+    const __m256 v = _mm256_mul_ps(vs, _mm256_add_ps(_mm256_cvtepi32_ps(inner), _mm256_mul_ps(ve, _mm256_cvtepi32_ps(ends))));
+    const __m256i q = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(_mm256_add_ps(v, half), zero), top));
+    const __m128i words = _mm_packus_epi32(_mm256_castsi256_si128(q), _mm256_extracti128_si256(q, 1));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(words, words));
+  }
+  for (; i < hi; ++i) {
+    const int inner = prefix[i + 2 * K - lo] - prefix[i + 1 - lo];
+    const float v = scale * (static_cast<float>(inner) + end * static_cast<float>(line[i] + line[i + 2 * K]));
+    out[i] = static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));
+  }
+}
+
+bool haveAvx2() noexcept {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
+#endif
+
+// applyMotionBlur along one axis: each sheared row's values computed together, then stored (a
+// run of one shift at a time along x).
+template <bool AlongX>
+bool applyAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, cv::Mat& out, MotionBlurScratch& scratch,
+                bool wide) noexcept {
+  const int majorBegin = AlongX ? r.x : r.y, n = AlongX ? r.width : r.height, K = g.half;
+  const auto need = static_cast<std::size_t>(n + 2 * K + 1);
+  if (need > scratch.prefix.capacity() || need > scratch.rowBytes.capacity()) return false;
+  scratch.prefix.resize(need);  // within capacity: no allocation
+  scratch.rowBytes.resize(need);
+  int* prefix = scratch.prefix.data();
+  std::uint8_t* bytes = scratch.rowBytes.data();
+  static_cast<void>(wide);
+  return forEachLineRow<AlongX>(image, g, r, scratch, [&](int b, int lo, int hi, const int* line, const int* shift) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (wide) blurredRowBytesAvx2(line, lo, hi, K, g.scale, g.end, prefix, bytes);
+    else blurredRowBytes(line, lo, hi, K, g.scale, g.end, prefix, bytes);
+#else
+    blurredRowBytes(line, lo, hi, K, g.scale, g.end, prefix, bytes);
+#endif
+    std::uint8_t* const data = out.data;
+    const auto step = static_cast<std::ptrdiff_t>(out.step[0]);
+    for (int i = lo; i < hi; ++i) {
+      const std::ptrdiff_t major = majorBegin + i, minor = b + shift[i + K];
+      data[AlongX ? minor * step + major : major * step + minor] = bytes[i];
+    }
+  });
+}
+
+}  // namespace
+
 void applyMotionBlur(const cv::Mat& image, const MotionBlur& blur, const cv::Rect& region, cv::Mat& out,
-                     MotionBlurScratch& scratch) noexcept {
+                     MotionBlurScratch& scratch, bool wide) noexcept {
   if (!blur.any() || image.type() != CV_8UC1 || out.size() != image.size() || out.type() != CV_8UC1) return;
   const cv::Rect r = region & cv::Rect(0, 0, image.cols, image.rows);
-  (void)lineBlur(image, LineGeometry(blur), r, scratch, [&](int x, int y, float v) {
-    out.ptr<std::uint8_t>(y)[x] = static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));  // minss/maxss: no branch
-  });
+  const LineGeometry g(blur);
+#if defined(__x86_64__) && defined(__GNUC__)
+  wide = wide && haveAvx2();
+#endif
+  (void)(g.alongX ? applyAlong<true>(image, g, r, out, scratch, wide) : applyAlong<false>(image, g, r, out, scratch, wide));
 }
 
 }  // namespace marionette::ar

@@ -15,6 +15,7 @@
 // falls monotonically with the length: bisection).
 #pragma once
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -32,11 +33,15 @@ struct MotionBlur {
 struct MotionBlurScratch {
   std::vector<float> patches;
   std::vector<int> line, shifts;
+  std::vector<int> prefix;             // applyMotionBlur's prefix sums of a sheared row
+  std::vector<std::uint8_t> rowBytes;  // ... and its blurred values, before they are stored
   std::vector<int> patchLines, patchShifts;  // the searches' sheared rows around their patches
   void reserve(int width, int height) {
     const std::size_t side = static_cast<std::size_t>(std::max(width, height)) + 2;
     line.reserve(side + 2 * kMaxLineTaps + 2);
     shifts.reserve(side + 2 * kMaxLineTaps + 2);
+    prefix.reserve(side + 2 * kMaxLineTaps + 3);
+    rowBytes.reserve(side + 2 * kMaxLineTaps + 2);
     patches.reserve(32 * 17 * 17);  // refineMotionBlur's frame patches
     // Up to kMaxSearchPatches patches of kMaxSearchSide px (the estimate's), each 2 x side
     // sheared rows of side + 2 * 64 taps and their prefix.
@@ -65,8 +70,9 @@ struct MotionBlurScratch {
 // The line blur of `image` inside `region`, written to the same pixels of `out` (same size and
 // type, preallocated; outside `region` untouched). The line is digital (each tap on the nearest
 // row or column), pixels outside the image clamp to its edge. O(1) per pixel: running sums
-// along the sheared rows.
+// along the sheared rows. `wide`: eight values at a time with AVX2 where the CPU has it (the
+// same bits; false for the scalar loop, which the tests compare it with).
 void applyMotionBlur(const cv::Mat& image, const MotionBlur& blur, const cv::Rect& region, cv::Mat& out,
-                     MotionBlurScratch& scratch) noexcept;
+                     MotionBlurScratch& scratch, bool wide = true) noexcept;
 
 }  // namespace marionette::ar
