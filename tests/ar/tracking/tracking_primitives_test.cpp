@@ -57,13 +57,17 @@ cv::Matx33d motion(double degrees, double scale, double dx, double dy, double pe
 
 bool sameBits(const void* a, const void* b, std::size_t n) { return std::memcmp(a, b, n) == 0; }
 
+// With the AVX2 loops (where the CPU has them) and without, at sizes whose rows end inside a
+// vector's lanes.
 TEST(TrackingPrimitives, PyramidIsCvPyrDownToTheBit) {
   const cv::Mat g = graf640();
-  for (const cv::Size size : {cv::Size(640, 480), cv::Size(333, 257), cv::Size(7, 5), cv::Size(1, 1)}) {
+  for (const bool wide : {true, false})
+  for (const cv::Size size : {cv::Size(640, 480), cv::Size(333, 257), cv::Size(37, 21), cv::Size(18, 9), cv::Size(7, 5),
+                              cv::Size(1, 1)}) {
     cv::Mat image;
     cv::resize(g, image, size, 0, 0, cv::INTER_AREA);
     ImagePyramid pyramid;
-    ASSERT_TRUE(pyramid.configure(size.width, size.height, 3));
+    ASSERT_TRUE(pyramid.configure(size.width, size.height, 3, wide));
     ASSERT_TRUE(pyramid.build(image));
     ASSERT_EQ(pyramid.levels(), 3);
     cv::Mat expected = image;
@@ -73,7 +77,7 @@ TEST(TrackingPrimitives, PyramidIsCvPyrDownToTheBit) {
       expected = down;
       const cv::Mat ours = pyramid.levelMat(l);
       ASSERT_EQ(ours.size(), expected.size()) << size << " level " << l;
-      EXPECT_EQ(cv::norm(ours, expected, cv::NORM_INF), 0) << size << " level " << l;
+      EXPECT_EQ(cv::norm(ours, expected, cv::NORM_INF), 0) << size << " level " << l << " wide " << wide;
     }
   }
 }
@@ -82,11 +86,15 @@ TEST(TrackingPrimitives, RegionPyramidMatchesTheFullOneInsideTheRegion) {
   cv::Mat image(480, 640, CV_8UC1, cv::Scalar(90));
   const cv::Rect region(200, 120, 240, 200);
   graf640()(region).copyTo(image(region));  // outside the region: the background, as the template
-  ImagePyramid full, part;
+  ImagePyramid full, part, scalar;
   ASSERT_TRUE(full.configure(640, 480, 3));
   ASSERT_TRUE(part.configure(640, 480, 3));
+  ASSERT_TRUE(scalar.configure(640, 480, 3, false));
   ASSERT_TRUE(full.build(image));
   ASSERT_TRUE(part.buildRegion(image, region, 90));
+  ASSERT_TRUE(scalar.buildRegion(image, region, 90));
+  for (int l = 1; l <= 3; ++l)
+    EXPECT_EQ(cv::norm(part.levelMat(l), scalar.levelMat(l), cv::NORM_INF), 0) << "AVX2 and scalar, level " << l;
   for (int l = 1; l <= 3; ++l) {
     const int f = 1 << l, inset = 4;  // a few pixels per level near the border may differ
     const cv::Rect inside(region.x / f + inset, region.y / f + inset, region.width / f - 2 * inset,

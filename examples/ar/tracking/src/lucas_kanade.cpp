@@ -29,8 +29,9 @@ constexpr std::size_t padded(int n) noexcept { return static_cast<std::size_t>((
 
 }  // namespace
 
-bool ImagePyramid::configure(int width, int height, int levels) {
+bool ImagePyramid::configure(int width, int height, int levels, bool wide) {
   if (width < 1 || height < 1 || levels < 0 || levels > kMaxLevels) return false;
+  wide_ = wide;
   width_ = width;
   height_ = height;
   configured_ = levels;
@@ -43,7 +44,7 @@ bool ImagePyramid::configure(int width, int height, int levels) {
     buffer.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
     views_[static_cast<std::size_t>(l)] = GreyLevel{buffer.data(), w, h, w};
   }
-  columnSums_.assign(static_cast<std::size_t>(2 * width + 8), 0);
+  columnSums_.assign(static_cast<std::size_t>(2 * width + 40), 0);  // + what the AVX2 loads read past a row
   return true;
 }
 
@@ -87,26 +88,86 @@ cv::Mat ImagePyramid::levelMat(int l) const noexcept {
   return cv::Mat(v.height, v.width, CV_8UC1, const_cast<std::uint8_t*>(v.data), static_cast<std::size_t>(v.stride));
 }
 
+namespace {
+
+#if MARIONETTE_LK_AVX2
+bool haveAvx2() noexcept {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
+
+// The vertical 5-tap sums of columns c .. c + count - 1 (inside the rows), sixteen at a time
+// in 16 bits (at most 16 x 255): the same integers as the scalar loop. Returns the columns done.
+[[gnu::target("avx2")]] int verticalSumsAvx2(const std::uint8_t* const r[5], int c, int count, std::uint16_t* out) noexcept {
+  int done = 0;
+  for (; done + 16 <= count; done += 16) {
+    __m256i v[5];
+    for (int k = 0; k < 5; ++k) v[k] = _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(r[k] + c + done)));
+    const __m256i s = _mm256_add_epi16(_mm256_add_epi16(_mm256_add_epi16(v[0], v[4]), _mm256_slli_epi16(_mm256_add_epi16(v[1], v[3]), 2)),
+                                       _mm256_mullo_epi16(v[2], _mm256_set1_epi16(6)));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + done), s);
+  }
+  return done;
+}
+
+// Outputs x .. x + count - 1 of a row from the vertical sums, eight at a time: each 32-bit lane
+// of a load holds a pair (even, odd) of sums, and loads one and two pairs further give the
+// rest of the 5 taps; the sum (at most 65280 + 128) and the shift are the scalar loop's.
+// `q` points at the sums of output x's first tap; reads one sum past the last output's.
+[[gnu::target("avx2")]] int horizontalAvx2(const std::uint16_t* q, int count, std::uint8_t* out) noexcept {
+  const __m256i low = _mm256_set1_epi32(0xffff), round = _mm256_set1_epi32(128);
+  int done = 0;
+  for (; done + 8 <= count; done += 8) {
+    const std::uint16_t* p = q + 2 * done;
+    const __m256i v0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+    const __m256i v1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p + 2));
+    const __m256i v2 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p + 4));
+    const __m256i q0 = _mm256_and_si256(v0, low), q1 = _mm256_srli_epi32(v0, 16);
+    const __m256i q2 = _mm256_and_si256(v1, low), q3 = _mm256_srli_epi32(v1, 16), q4 = _mm256_and_si256(v2, low);
+    const __m256i sum = _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(q0, q4), _mm256_slli_epi32(_mm256_add_epi32(q1, q3), 2)),
+                                         _mm256_mullo_epi32(q2, _mm256_set1_epi32(6)));
+    const __m256i v = _mm256_srli_epi32(_mm256_add_epi32(sum, round), 8);
+    const __m128i words = _mm_packus_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + done), _mm_packus_epi16(words, words));
+  }
+  return done;
+}
+#endif
+
+}  // namespace
+
 void ImagePyramid::downsample(int level, cv::Rect dstRegion) noexcept {
   const GreyLevel& s = views_[static_cast<std::size_t>(level - 1)];
   const GreyLevel& d = views_[static_cast<std::size_t>(level)];
   // Source columns c0..c1 feed the outputs x0..x1 - 1 (2x - 2 .. 2x + 2).
   const int c0 = 2 * dstRegion.x - 2, c1 = 2 * (dstRegion.x + dstRegion.width - 1) + 2;
   const int inner0 = std::max(c0, 0), inner1 = std::min(c1, s.width - 1);
-  int* sums = columnSums_.data();
+  std::uint16_t* sums = columnSums_.data();
+  bool wide = false;
+#if MARIONETTE_LK_AVX2
+  wide = wide_ && haveAvx2();
+#endif
   for (int y = dstRegion.y; y < dstRegion.y + dstRegion.height; ++y) {
-    const std::uint8_t* r0 = s.row(reflect101(2 * y - 2, s.height));
-    const std::uint8_t* r1 = s.row(reflect101(2 * y - 1, s.height));
-    const std::uint8_t* r2 = s.row(reflect101(2 * y, s.height));
-    const std::uint8_t* r3 = s.row(reflect101(2 * y + 1, s.height));
-    const std::uint8_t* r4 = s.row(reflect101(2 * y + 2, s.height));
-    const auto vertical = [&](int c) noexcept { return r0[c] + r4[c] + 4 * (r1[c] + r3[c]) + 6 * r2[c]; };
+    const std::uint8_t* const r[5] = {s.row(reflect101(2 * y - 2, s.height)), s.row(reflect101(2 * y - 1, s.height)),
+                                      s.row(reflect101(2 * y, s.height)), s.row(reflect101(2 * y + 1, s.height)),
+                                      s.row(reflect101(2 * y + 2, s.height))};
+    const auto vertical = [&](int c) noexcept {
+      return static_cast<std::uint16_t>(r[0][c] + r[4][c] + 4 * (r[1][c] + r[3][c]) + 6 * r[2][c]);
+    };
     for (int c = c0; c < inner0; ++c) sums[c - c0] = vertical(reflect101(c, s.width));
-    for (int c = inner0; c <= inner1; ++c) sums[c - c0] = vertical(c);
-    for (int c = std::max(inner1 + 1, c0); c <= c1; ++c) sums[c - c0] = vertical(reflect101(c, s.width));
+    int c = inner0;
+#if MARIONETTE_LK_AVX2
+    if (wide && inner1 >= inner0) c += verticalSumsAvx2(r, inner0, inner1 + 1 - inner0, sums + (inner0 - c0));
+#endif
+    for (; c <= inner1; ++c) sums[c - c0] = vertical(c);
+    for (c = std::max(inner1 + 1, c0); c <= c1; ++c) sums[c - c0] = vertical(reflect101(c, s.width));
     std::uint8_t* out = const_cast<std::uint8_t*>(d.row(y));
-    for (int x = dstRegion.x; x < dstRegion.x + dstRegion.width; ++x) {
-      const int* q = sums + (2 * x - 2 - c0);
+    int x = dstRegion.x;
+#if MARIONETTE_LK_AVX2
+    if (wide) x += horizontalAvx2(sums + (2 * x - 2 - c0), dstRegion.x + dstRegion.width - x, out + x);
+#endif
+    for (; x < dstRegion.x + dstRegion.width; ++x) {
+      const std::uint16_t* q = sums + (2 * x - 2 - c0);
       const int v = q[0] + q[4] + 4 * (q[1] + q[3]) + 6 * q[2];
       out[x] = static_cast<std::uint8_t>((v + 128) >> 8);
     }
@@ -416,10 +477,6 @@ void gradientsSse2(const std::int16_t* P, int patchStride, int n, int stride, bo
   a22 = horizontalSum(t22);
 }
 
-bool haveAvx2() noexcept {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-}
 #endif
 
 void sampleFixed(LkKernels k, const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,

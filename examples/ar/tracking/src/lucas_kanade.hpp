@@ -31,8 +31,9 @@ class ImagePyramid {
   static constexpr int kMaxLevels = 8;
 
   // Buffers for `levels` levels above a width x height level 0. Allocates (the only call that
-  // does); false for a size < 1 or levels outside 0..kMaxLevels.
-  bool configure(int width, int height, int levels);
+  // does); false for a size < 1 or levels outside 0..kMaxLevels. `wide`: AVX2 where the CPU
+  // has it (the same bits; false for the scalar loops, which the tests compare it with).
+  bool configure(int width, int height, int levels, bool wide = true);
   // Every configured level from `image` (CV_8UC1 of the configured size; it must stay alive
   // and unchanged while the pyramid is used). False otherwise (the pyramid then has no level).
   bool build(const cv::Mat& image) noexcept;
@@ -49,9 +50,10 @@ class ImagePyramid {
 
  private:
   int width_ = 0, height_ = 0, configured_ = 0, built_ = 0;
+  bool wide_ = true;
   std::array<GreyLevel, kMaxLevels + 1> views_{};
   std::array<std::vector<std::uint8_t>, kMaxLevels> storage_;  // levels 1..
-  std::vector<int> columnSums_;                                 // one row of vertical sums
+  std::vector<std::uint16_t> columnSums_;                       // one row of vertical sums (at most 16 x 255)
 
   bool start(const cv::Mat& image) noexcept;
   void downsample(int level, cv::Rect dstRegion) noexcept;  // level - 1 -> level over dstRegion
