@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
 
 #include "dense_alignment.hpp"
+#include "dense_smear_taps.hpp"
 #include "marionette_ar/tracking/markerless_tracker.hpp"
 #include "planar_pose.hpp"
 #include "tracking/scenario_run.hpp"
@@ -126,6 +128,14 @@ TEST(DenseAlignment, RecoversThePoseSharpAndUnderASmearFromTwoDegreesOff) {
     cv::Vec3d guess = smearTurnFromMotion(kK, v.motion, c.exposure > 0 ? 0.35 : 0.0);
     guess = rotationFromRodrigues(cv::Vec3d(0, 0, 30 * kPi / 180)) * guess;
     ASSERT_TRUE(aligner.align(kK, target, v.pyramid, guess, start, params, result)) << c.name;
+    // The smear's taps in AVX2 lanes or one by one: the same alignment, to the bit.
+    DenseAlignmentOptions scalar = params;
+    scalar.wide = false;
+    DenseAlignment again;
+    ASSERT_TRUE(aligner.align(kK, target, v.pyramid, guess, start, scalar, again)) << c.name;
+    EXPECT_EQ(std::memcmp(&again.pose, &result.pose, sizeof(PlanarPose)), 0) << c.name;
+    EXPECT_EQ(std::memcmp(again.covariance.data(), result.covariance.data(), sizeof(double) * 36), 0) << c.name;
+    EXPECT_EQ(again.renders, result.renders) << c.name;
     const double position = positionErrorM(result.pose, truth), rotation = rotationErrorDeg(result.pose, truth);
     std::printf("%s: %.2f mm %.3f deg, zncc %.3f sigma %.1f, %d samples, sigma(pos) %.2f mm sigma(rot) %.3f deg\n",
                 c.name, position * 1e3, rotation, result.zncc, result.sigma, result.samples, result.positionSigma * 1e3,
@@ -158,6 +168,45 @@ TEST(DenseAlignment, RecoversThePoseSharpAndUnderASmearFromTwoDegreesOff) {
       EXPECT_EQ(cv::norm(result.smearTurn), 0.0) << c.name << ": a sharp start stays sharp";
     }
   }
+}
+
+// The smear's taps eight samples at a time (AVX2, where the CPU has it) give the scalar loop's
+// bits: lanes of 1 to 40 taps, lines that leave the keyframe at any tap or pass behind the
+// camera (the lane stops there, outside), groups of fewer than eight.
+TEST(DenseAlignment, WideSmearTapsGiveTheScalarLoopsBits) {
+  const cv::Mat keyframe = synthetic::standardTargetGrey(cv::Size(200, 150));
+  const GreyLevel level{keyframe.data, keyframe.cols, keyframe.rows, static_cast<std::ptrdiff_t>(keyframe.step)};
+  const float umax = static_cast<float>(keyframe.cols - 3), vmax = static_cast<float>(keyframe.rows - 3);
+  cv::RNG rng(11);
+  int inside = 0, outside = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    SmearTaps a;
+    a.count = 1 + trial % SmearTaps::kLanes;
+    for (int i = 0; i < a.count; ++i) {
+      a.taps[i] = rng.uniform(1, 41);
+      a.step[i] = 1.0 / a.taps[i];
+      const double w = rng.uniform(0.5, 2.0) * (trial % 50 == 0 ? -1 : 1);  // now and then behind the camera
+      a.hx[i] = rng.uniform(-20.0, 220.0) * w, a.hy[i] = rng.uniform(-20.0, 170.0) * w, a.hw[i] = w;
+      const double length = rng.uniform(0.0, 3.0);
+      a.dhx[i] = rng.uniform(-length, length) * w, a.dhy[i] = rng.uniform(-length, length) * w;
+      a.dhw[i] = rng.uniform(-0.02, 0.02) * w;
+    }
+    SmearTaps b = a;
+    walkSmearTaps(level, umax, vmax, a, true);
+    walkSmearTaps(level, umax, vmax, b, false);
+    for (int i = 0; i < a.count; ++i) {
+      ASSERT_EQ(a.inside[i], b.inside[i]) << "trial " << trial << " lane " << i;
+      if (!b.inside[i]) {
+        ++outside;
+        continue;
+      }
+      ++inside;
+      for (const auto member : {&SmearTaps::sum, &SmearTaps::gu, &SmearTaps::gv, &SmearTaps::mu, &SmearTaps::mv})
+        ASSERT_EQ(std::memcmp(&(a.*member)[i], &(b.*member)[i], sizeof(float)), 0) << "trial " << trial << " lane " << i;
+    }
+  }
+  EXPECT_GT(inside, 3000);
+  EXPECT_GT(outside, 3000);
 }
 
 // The re-entry search's probe (markerless_reentry.cpp): from a start 4 deg off under a 30 px

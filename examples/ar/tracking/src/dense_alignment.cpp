@@ -6,6 +6,7 @@
 #include <functional>
 #include <limits>
 
+#include "dense_smear_taps.hpp"
 #include "perspective_warp.hpp"
 #include "planar_pose.hpp"
 
@@ -24,19 +25,6 @@ struct DensePartGrid {
 };
 
 namespace {
-
-// Bilinear sample of a grey level and its gradient (the bilinear patch's, from the same four
-// pixels); the caller keeps (u, v) within [0, w - 2] x [0, h - 2].
-inline float bilinear(const GreyLevel& g, float u, float v, float& du, float& dv) noexcept {
-  const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
-  const float fx = u - static_cast<float>(x0), fy = v - static_cast<float>(y0);
-  const std::uint8_t* r0 = g.row(y0) + x0;
-  const std::uint8_t* r1 = r0 + g.stride;
-  const float a = r0[0], b = r0[1], c = r1[0], d = r1[1];
-  du = (1 - fy) * (b - a) + fy * (d - c);
-  dv = (1 - fx) * (c - a) + fx * (d - b);
-  return (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * c + fx * d);
-}
 
 GreyLevel viewOf(const cv::Mat& m) noexcept {
   return GreyLevel{m.ptr<std::uint8_t>(0), m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step)};
@@ -214,7 +202,8 @@ bool DenseAligner::prepareLevel(const cv::Matx33d& K, const DenseTarget& target,
   return out.count >= 16;
 }
 
-int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::Vec<double, 6>& smear, int maxTaps) noexcept {
+int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::Vec<double, 6>& smear, int maxTaps,
+                         bool wide) noexcept {
   cv::Matx33d frameToPlane;
   if (!invertHomography(planeToImage(level.k, pose), frameToPlane)) return 0;
   const cv::Matx33d a = level.planeToKeyframe * frameToPlane;  // frame-level pixel -> keyframe-level pixel
@@ -223,58 +212,52 @@ int DenseAligner::render(const Level& level, const PlanarPose& pose, const cv::V
   int valid = 0;
   float w[6];
   for (int i = 0; i < 6; ++i) w[i] = static_cast<float>(smear[i]);
-  for (int i = 0; i < level.count; ++i) {
-    Sample& sm = samples_[static_cast<std::size_t>(i)];
-    sm.valid = false;
-    sm.dx = sm.dy = 0;
-    for (std::size_t k = 0; k < 6; ++k) sm.dx += sm.motion[k] * w[k], sm.dy += sm.motion[6 + k] * w[k];
-    const double length = std::min(4096.0, static_cast<double>(std::hypot(sm.dx, sm.dy)));
-    // A tap every 1.5 px of the level: the keyframe's level is about as sharp as the frame's,
-    // and the line's box filter smooths more than that spacing loses.
-    const int taps = length < 0.5 ? 1 : std::clamp(static_cast<int>(std::ceil(length / 1.5)) + 1, 2, std::max(2, maxTaps));
-    float sum = 0, gu = 0, gv = 0, mu = 0, mv = 0;
-    bool inside = true;
-    // The taps lie on a line, so their homogeneous images do too: the first tap's, then a
-    // constant step (one division a tap).
-    const double step = 1.0 / taps;
-    const double x0 = sm.x + (0.5 * step - 0.5) * sm.dx, y0 = sm.y + (0.5 * step - 0.5) * sm.dy;
-    double hx = a(0, 0) * x0 + a(0, 1) * y0 + a(0, 2), hy = a(1, 0) * x0 + a(1, 1) * y0 + a(1, 2);
-    double hw = a(2, 0) * x0 + a(2, 1) * y0 + a(2, 2);
-    const double sx = step * sm.dx, sy = step * sm.dy;
-    const double dhx = a(0, 0) * sx + a(0, 1) * sy, dhy = a(1, 0) * sx + a(1, 1) * sy, dhw = a(2, 0) * sx + a(2, 1) * sy;
-    for (int k = 0; k < taps; ++k, hx += dhx, hy += dhy, hw += dhw) {
-      if (!(hw > 1e-12)) {
-        inside = false;
-        break;
-      }
-      const double iw = 1.0 / hw;
-      const auto u = static_cast<float>(hx * iw), v = static_cast<float>(hy * iw);
-      if (!(u >= 1.0f && v >= 1.0f && u <= umax && v <= vmax)) {
-        inside = false;
-        break;
-      }
-      float du = 0, dv = 0;
-      sum += bilinear(t, u, v, du, dv);
-      const auto c = static_cast<float>((k + 0.5) * step - 0.5);
-      gu += du, gv += dv;
-      mu += c * du, mv += c * dv;
+  SmearTaps group;
+  for (int first = 0; first < level.count; first += SmearTaps::kLanes) {
+    group.count = std::min(SmearTaps::kLanes, level.count - first);
+    for (int lane = 0; lane < group.count; ++lane) {
+      Sample& sm = samples_[static_cast<std::size_t>(first + lane)];
+      sm.valid = false;
+      sm.dx = sm.dy = 0;
+      for (std::size_t k = 0; k < 6; ++k) sm.dx += sm.motion[k] * w[k], sm.dy += sm.motion[6 + k] * w[k];
+      const double length = std::min(4096.0, static_cast<double>(std::hypot(sm.dx, sm.dy)));
+      // A tap every 1.5 px of the level: the keyframe's level is about as sharp as the frame's,
+      // and the line's box filter smooths more than that spacing loses.
+      const int taps = length < 0.5 ? 1 : std::clamp(static_cast<int>(std::ceil(length / 1.5)) + 1, 2, std::max(2, maxTaps));
+      // The taps lie on a line, so their homogeneous images do too: the first tap's, then a
+      // constant step (one division a tap).
+      const double step = 1.0 / taps;
+      const double x0 = sm.x + (0.5 * step - 0.5) * sm.dx, y0 = sm.y + (0.5 * step - 0.5) * sm.dy;
+      const double sx = step * sm.dx, sy = step * sm.dy;
+      group.taps[lane] = taps;
+      group.step[lane] = step;
+      group.hx[lane] = a(0, 0) * x0 + a(0, 1) * y0 + a(0, 2);
+      group.hy[lane] = a(1, 0) * x0 + a(1, 1) * y0 + a(1, 2);
+      group.hw[lane] = a(2, 0) * x0 + a(2, 1) * y0 + a(2, 2);
+      group.dhx[lane] = a(0, 0) * sx + a(0, 1) * sy;
+      group.dhy[lane] = a(1, 0) * sx + a(1, 1) * sy;
+      group.dhw[lane] = a(2, 0) * sx + a(2, 1) * sy;
     }
-    if (!inside) continue;
-    const float inv = 1.0f / static_cast<float>(taps);
-    sm.model = sum * inv;
-    gu *= inv, gv *= inv, mu *= inv, mv *= inv;
-    // Through the mapping's Jacobian at the pixel: the gradient per frame-level pixel.
-    const double px = a(0, 0) * sm.x + a(0, 1) * sm.y + a(0, 2), py = a(1, 0) * sm.x + a(1, 1) * sm.y + a(1, 2);
-    const double hz = a(2, 0) * sm.x + a(2, 1) * sm.y + a(2, 2);
-    const double u = px / hz, v = py / hz;
-    const double dudx = (a(0, 0) - u * a(2, 0)) / hz, dudy = (a(0, 1) - u * a(2, 1)) / hz;
-    const double dvdx = (a(1, 0) - v * a(2, 0)) / hz, dvdy = (a(1, 1) - v * a(2, 1)) / hz;
-    sm.gx = static_cast<float>(gu * dudx + gv * dvdx);
-    sm.gy = static_cast<float>(gu * dudy + gv * dvdy);
-    sm.mx = static_cast<float>(mu * dudx + mv * dvdx);
-    sm.my = static_cast<float>(mu * dudy + mv * dvdy);
-    sm.valid = true;
-    ++valid;
+    walkSmearTaps(t, umax, vmax, group, wide);
+    for (int lane = 0; lane < group.count; ++lane) {
+      if (!group.inside[lane]) continue;
+      Sample& sm = samples_[static_cast<std::size_t>(first + lane)];
+      const float inv = 1.0f / static_cast<float>(group.taps[lane]);
+      sm.model = group.sum[lane] * inv;
+      const float gu = group.gu[lane] * inv, gv = group.gv[lane] * inv, mu = group.mu[lane] * inv, mv = group.mv[lane] * inv;
+      // Through the mapping's Jacobian at the pixel: the gradient per frame-level pixel.
+      const double px = a(0, 0) * sm.x + a(0, 1) * sm.y + a(0, 2), py = a(1, 0) * sm.x + a(1, 1) * sm.y + a(1, 2);
+      const double hz = a(2, 0) * sm.x + a(2, 1) * sm.y + a(2, 2);
+      const double u = px / hz, v = py / hz;
+      const double dudx = (a(0, 0) - u * a(2, 0)) / hz, dudy = (a(0, 1) - u * a(2, 1)) / hz;
+      const double dvdx = (a(1, 0) - v * a(2, 0)) / hz, dvdy = (a(1, 1) - v * a(2, 1)) / hz;
+      sm.gx = static_cast<float>(gu * dudx + gv * dvdx);
+      sm.gy = static_cast<float>(gu * dudy + gv * dvdy);
+      sm.mx = static_cast<float>(mu * dudx + mv * dvdx);
+      sm.my = static_cast<float>(mu * dudy + mv * dvdy);
+      sm.valid = true;
+      ++valid;
+    }
   }
   return valid;
 }
@@ -498,12 +481,12 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
       if (level == params.fineLevel) return false;
       continue;
     }
-    if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16) return false;
+    if ((++out.renders, render(lv, pose, turn, params.maxTaps, params.wide)) < 16) return false;
     if (!searched) {  // the first level that shows the target
       searched = true;
       double score = 0;
       if (!searchShift(lv, params.searchRadius, pose, score)) return false;
-      if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16) return false;
+      if ((++out.renders, render(lv, pose, turn, params.maxTaps, params.wide)) < 16) return false;
     }
     if (!fitOf(lv, 0, fit)) return false;
     double mu = 1e-3;
@@ -532,7 +515,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
         if (cv::norm(cv::Vec3d(candidateTurn[0], candidateTurn[1], candidateTurn[2])) <= params.maxSmearTurn &&
             cv::norm(cv::Vec3d(candidateTurn[3], candidateTurn[4], candidateTurn[5])) <=
                 params.maxSmearTurn * cv::norm(candidate.tvec) &&
-            (++out.renders, render(lv, candidate, candidateTurn, params.maxTaps)) >= 16 && fitOf(lv, fit.sigma, trial) &&
+            (++out.renders, render(lv, candidate, candidateTurn, params.maxTaps, params.wide)) >= 16 && fitOf(lv, fit.sigma, trial) &&
             trial.cost < fit.cost) {
           pose = candidate;
           turn = candidateTurn;
@@ -546,7 +529,7 @@ bool DenseAligner::align(const cv::Matx33d& K, const DenseTarget& target, const 
       }
       if (!accepted) {
         // The samples hold the last rejected candidate: render the pose again.
-        if ((++out.renders, render(lv, pose, turn, params.maxTaps)) < 16 || !fitOf(lv, 0, fit)) return false;
+        if ((++out.renders, render(lv, pose, turn, params.maxTaps, params.wide)) < 16 || !fitOf(lv, 0, fit)) return false;
         break;
       }
       const double rotation = std::sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]);
@@ -628,7 +611,7 @@ bool DenseAligner::verify(const cv::Matx33d& K, const DenseTarget& target, const
   const cv::Vec<double, 6> smear(smearTurn[0], smearTurn[1], smearTurn[2], 0, 0, 0);
   out = DenseAlignment{};
   out.renders = 1;
-  if (render(lv, pose, smear, params.maxTaps) < 16) return false;
+  if (render(lv, pose, smear, params.maxTaps, params.wide) < 16) return false;
   const Moments moments = momentsOf(samples_.data(), lv.count);
   if (moments.n < 16 || !moments.textured()) return false;
   out.pose = pose;
@@ -649,7 +632,7 @@ bool DenseAligner::probe(const cv::Matx33d& K, const DenseTarget& target, const 
   Level lv;
   if (!prepareLevel(K, target, frame, start, std::min(params.coarseLevel, frame.levels()), params, lv)) return false;
   const cv::Vec<double, 6> smear(smearTurn[0], smearTurn[1], smearTurn[2], 0, 0, 0);
-  if (render(lv, start, smear, params.maxTaps) < 16) return false;
+  if (render(lv, start, smear, params.maxTaps, params.wide) < 16) return false;
   shifted = start;
   return searchShift(lv, params.searchRadius, shifted, score);
 }

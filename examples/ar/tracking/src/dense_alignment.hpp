@@ -47,6 +47,9 @@ struct DenseAlignmentOptions {
   // The turn over the exposure fitted with the pose (true), or kept as given (false: the pose
   // alone, under the smear the image's measured motion makes).
   bool fitSmear = true;
+  // The smear's taps eight samples at a time with AVX2 where the CPU has it (the same bits;
+  // false for the scalar loop, which the tests compare it with).
+  bool wide = true;
 };
 
 // The keyframe: its grey pyramid (level l is level 0 halved l times) and the mapping from the
@@ -144,7 +147,7 @@ class DenseAligner {
   struct Level;
   bool prepareLevel(const cv::Matx33d& K, const DenseTarget& target, const ImagePyramid& frame, const PlanarPose& pose,
                     int level, const DenseAlignmentOptions& params, Level& out) noexcept;
-  int render(const Level& level, const PlanarPose& pose, const cv::Vec<double, 6>& smear, int maxTaps) noexcept;
+  int render(const Level& level, const PlanarPose& pose, const cv::Vec<double, 6>& smear, int maxTaps, bool wide) noexcept;
   // The rendered samples' best integer shift against the frame (ZNCC), applied to `pose` as a
   // turn of the camera about its centre, and its score. False when no shift correlates.
   bool searchShift(const Level& level, int radius, PlanarPose& pose, double& score) noexcept;
