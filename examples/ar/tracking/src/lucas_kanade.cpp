@@ -195,11 +195,15 @@ struct Weights {
   std::int16_t w00, w01, w10, w11;
 };
 
+// lround of a weight (>= 0: ax, ay are fractions in [0, 1)): x + 0.5 is exact in a double and
+// truncation floors it, so this is lround's half-away-from-zero, inline (lround is a libm call).
+inline int roundWeight(float x) noexcept { return static_cast<int>(static_cast<double>(x) + 0.5); }
+
 Weights weightsOf(float ax, float ay) noexcept {
   const float scale = static_cast<float>(1 << kWeightBits);
-  const auto w00 = static_cast<int>(std::lround((1 - ax) * (1 - ay) * scale));
-  const auto w01 = static_cast<int>(std::lround(ax * (1 - ay) * scale));
-  const auto w10 = static_cast<int>(std::lround((1 - ax) * ay * scale));
+  const int w00 = roundWeight((1 - ax) * (1 - ay) * scale);
+  const int w01 = roundWeight(ax * (1 - ay) * scale);
+  const int w10 = roundWeight((1 - ax) * ay * scale);
   const int w11 = (1 << kWeightBits) - w00 - w01 - w10;
   return {static_cast<std::int16_t>(w00), static_cast<std::int16_t>(w01), static_cast<std::int16_t>(w10),
           static_cast<std::int16_t>(w11)};
