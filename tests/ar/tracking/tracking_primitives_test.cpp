@@ -57,6 +57,18 @@ cv::Matx33d motion(double degrees, double scale, double dx, double dy, double pe
 
 bool sameBits(const void* a, const void* b, std::size_t n) { return std::memcmp(a, b, n) == 0; }
 
+// The "wide" cases compare AVX2 with the scalar loops only where the CPU has AVX2 (elsewhere
+// both run the scalar ones): said in the log, so that a run without it is seen.
+void printSimdPath() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  const bool avx2 = __builtin_cpu_supports("avx2");
+#else
+  const bool avx2 = false;
+#endif
+  std::printf("[ simd ] AVX2 %s: the wide loops %s\n", avx2 ? "present" : "absent",
+              avx2 ? "are compared with the scalar ones" : "fall back to the scalar ones (nothing wide is compared)");
+}
+
 // With the AVX2 loops (where the CPU has them) and without, at sizes whose rows end inside a
 // vector's lanes.
 TEST(TrackingPrimitives, PyramidIsCvPyrDownToTheBit) {
@@ -244,6 +256,7 @@ TEST(TrackingPrimitives, KltRecoversKnownMotionAsWellAsOpenCv) {
 // columns to spare and a row below), outside it, for tiny and strided sources, and for
 // homographies that put the horizon in the region (w through 0, huge and NaN-free clamps).
 TEST(TrackingPrimitives, WarpWideAndScalarLoopsGiveTheSameBits) {
+  printSimdPath();
   const cv::Mat g = graf640();
   cv::Mat strided(300, 400, CV_8UC1, cv::Scalar(0));
   g(cv::Rect(0, 0, 397, 300)).copyTo(strided(cv::Rect(0, 0, 397, 300)));
@@ -276,6 +289,7 @@ TEST(TrackingPrimitives, WarpWideAndScalarLoopsGiveTheSameBits) {
 // them), the SSE2 loops and the portable ones give the same bits, at the windows the tracker
 // uses, at windows whose padded rows end halfway through sixteen lanes, and at the image's border.
 TEST(TrackingPrimitives, KltSimdAndPortableLoopsGiveTheSameBits) {
+  printSimdPath();
   KltCase c = knownMotion(motion(1, 1.01, 9.2, 3.1, 1e-5));
   ASSERT_GT(c.from.size(), 150u);
   // Points at and past the border too: the reflect-101 copy.

@@ -1,5 +1,7 @@
 #include "dense_smear_taps.hpp"
 
+#include <algorithm>
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define MARIONETTE_TAPS_AVX2 1
@@ -153,6 +155,10 @@ bool haveAvx2() noexcept {
 }  // namespace
 
 void walkSmearTaps(const GreyLevel& keyframe, float umax, float vmax, SmearTaps& taps, bool wide) noexcept {
+  // The gathers read 4 bytes from a tap's first pixel, on its row and the next: held to the
+  // bounds the caller's contract gives (a looser caller would read past the image).
+  umax = std::min(umax, static_cast<float>(keyframe.width - 3));
+  vmax = std::min(vmax, static_cast<float>(keyframe.height - 3));
 #if MARIONETTE_TAPS_AVX2
   if (wide && haveAvx2()) return walkAvx2(keyframe, umax, vmax, taps);
 #endif

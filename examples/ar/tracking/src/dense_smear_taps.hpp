@@ -24,8 +24,9 @@ struct SmearTaps {
   bool inside[kLanes]{};
 };
 
-// `keyframe` holds rows to spare below vmax + 1 and columns past umax + 1 (the gathers read 4
-// bytes from a tap's first pixel). wide: AVX2 where the CPU has it; false: the scalar loop.
+// Taps within [1, umax] x [1, vmax], which are held to width - 3 and height - 3 (the gathers read
+// 4 bytes from a tap's first pixel, on its row and the next). wide: AVX2 where the CPU has it;
+// false: the scalar loop.
 void walkSmearTaps(const GreyLevel& keyframe, float umax, float vmax, SmearTaps& taps, bool wide = true) noexcept;
 
 }  // namespace marionette::ar

@@ -143,7 +143,7 @@ void ImagePyramid::downsample(int level, cv::Rect dstRegion) noexcept {
   const int c0 = 2 * dstRegion.x - 2, c1 = 2 * (dstRegion.x + dstRegion.width - 1) + 2;
   const int inner0 = std::max(c0, 0), inner1 = std::min(c1, s.width - 1);
   std::uint16_t* sums = columnSums_.data();
-  bool wide = false;
+  [[maybe_unused]] bool wide = false;
 #if MARIONETTE_LK_AVX2
   wide = wide_ && haveAvx2();
 #endif
