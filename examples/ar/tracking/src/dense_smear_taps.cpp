@@ -2,10 +2,7 @@
 
 #include <algorithm>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define MARIONETTE_TAPS_AVX2 1
-#endif
+#include "cpu_avx2.hpp"
 
 namespace marionette::ar {
 
@@ -51,7 +48,7 @@ void walkScalar(const GreyLevel& t, float umax, float vmax, SmearTaps& g) noexce
   }
 }
 
-#if MARIONETTE_TAPS_AVX2
+#if MARIONETTE_TRACKING_AVX2
 // Eight doubles as two vectors of four.
 struct Doubles {
   __m256d lo, hi;
@@ -137,19 +134,10 @@ struct Doubles {
   _mm256_storeu_ps(g.gv, gv);
   _mm256_storeu_ps(g.mu, mu);
   _mm256_storeu_ps(g.mv, mv);
-  alignas(32) float failedLanes[8];
-  _mm256_store_ps(failedLanes, failed);
-  for (int i = 0; i < SmearTaps::kLanes; ++i) {
-    std::uint32_t bits = 0;
-    __builtin_memcpy(&bits, &failedLanes[i], sizeof bits);
-    g.inside[i] = bits == 0;
-  }
+  const int failedLanes = _mm256_movemask_ps(failed);
+  for (int i = 0; i < SmearTaps::kLanes; ++i) g.inside[i] = ((failedLanes >> i) & 1) == 0;
 }
 
-bool haveAvx2() noexcept {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-}
 #endif
 
 }  // namespace
@@ -159,8 +147,8 @@ void walkSmearTaps(const GreyLevel& keyframe, float umax, float vmax, SmearTaps&
   // bounds the caller's contract gives (a looser caller would read past the image).
   umax = std::min(umax, static_cast<float>(keyframe.width - 3));
   vmax = std::min(vmax, static_cast<float>(keyframe.height - 3));
-#if MARIONETTE_TAPS_AVX2
-  if (wide && haveAvx2()) return walkAvx2(keyframe, umax, vmax, taps);
+#if MARIONETTE_TRACKING_AVX2
+  if (wide && cpuHasAvx2()) return walkAvx2(keyframe, umax, vmax, taps);
 #endif
   static_cast<void>(wide);
   walkScalar(keyframe, umax, vmax, taps);

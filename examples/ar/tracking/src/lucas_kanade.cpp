@@ -8,10 +8,7 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define MARIONETTE_LK_AVX2 1
-#endif
+#include "cpu_avx2.hpp"
 
 namespace marionette::ar {
 
@@ -90,11 +87,7 @@ cv::Mat ImagePyramid::levelMat(int l) const noexcept {
 
 namespace {
 
-#if MARIONETTE_LK_AVX2
-bool haveAvx2() noexcept {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-}
+#if MARIONETTE_TRACKING_AVX2
 
 // The vertical 5-tap sums of columns c .. c + count - 1 (inside the rows), sixteen at a time
 // in 16 bits (at most 16 x 255): the same integers as the scalar loop. Returns the columns done.
@@ -143,10 +136,7 @@ void ImagePyramid::downsample(int level, cv::Rect dstRegion) noexcept {
   const int c0 = 2 * dstRegion.x - 2, c1 = 2 * (dstRegion.x + dstRegion.width - 1) + 2;
   const int inner0 = std::max(c0, 0), inner1 = std::min(c1, s.width - 1);
   std::uint16_t* sums = columnSums_.data();
-  [[maybe_unused]] bool wide = false;
-#if MARIONETTE_LK_AVX2
-  wide = wide_ && haveAvx2();
-#endif
+  [[maybe_unused]] const bool wide = wide_ && cpuHasAvx2();
   for (int y = dstRegion.y; y < dstRegion.y + dstRegion.height; ++y) {
     const std::uint8_t* const r[5] = {s.row(reflect101(2 * y - 2, s.height)), s.row(reflect101(2 * y - 1, s.height)),
                                       s.row(reflect101(2 * y, s.height)), s.row(reflect101(2 * y + 1, s.height)),
@@ -156,14 +146,14 @@ void ImagePyramid::downsample(int level, cv::Rect dstRegion) noexcept {
     };
     for (int c = c0; c < inner0; ++c) sums[c - c0] = vertical(reflect101(c, s.width));
     int c = inner0;
-#if MARIONETTE_LK_AVX2
+#if MARIONETTE_TRACKING_AVX2
     if (wide && inner1 >= inner0) c += verticalSumsAvx2(r, inner0, inner1 + 1 - inner0, sums + (inner0 - c0));
 #endif
     for (; c <= inner1; ++c) sums[c - c0] = vertical(c);
     for (c = std::max(inner1 + 1, c0); c <= c1; ++c) sums[c - c0] = vertical(reflect101(c, s.width));
     std::uint8_t* out = const_cast<std::uint8_t*>(d.row(y));
     int x = dstRegion.x;
-#if MARIONETTE_LK_AVX2
+#if MARIONETTE_TRACKING_AVX2
     if (wide) x += horizontalAvx2(sums + (2 * x - 2 - c0), dstRegion.x + dstRegion.width - x, out + x);
 #endif
     for (; x < dstRegion.x + dstRegion.width; ++x) {
@@ -342,7 +332,7 @@ void gradientsSse2(const std::int16_t* P, int patchStride, int n, int stride, bo
 }
 #endif
 
-#if MARIONETTE_LK_AVX2
+#if MARIONETTE_TRACKING_AVX2
 // Loads for the AVX2 loops (lambdas would not inherit their target).
 [[gnu::target("avx2")]] inline __m256i widenBytes(const std::uint8_t* q) noexcept {
   return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
@@ -485,7 +475,7 @@ void gradientsSse2(const std::int16_t* P, int patchStride, int n, int stride, bo
 
 void sampleFixed(LkKernels k, const std::uint8_t* first, std::ptrdiff_t stride, Weights w, int cols8, int rows,
                  std::int16_t* out) noexcept {
-#if MARIONETTE_LK_AVX2
+#if MARIONETTE_TRACKING_AVX2
   if (k == LkKernels::Avx2) return sampleFixedAvx2(first, stride, w, cols8, rows, out);
 #endif
 #if defined(__SSE2__)
@@ -497,7 +487,7 @@ void sampleFixed(LkKernels k, const std::uint8_t* first, std::ptrdiff_t stride, 
 
 void sumProducts(LkKernels k, const std::int16_t* samples, const std::int16_t* values, const std::int16_t* gx,
                  const std::int16_t* gy, int cols8, int rows, std::int64_t& sx, std::int64_t& sy) noexcept {
-#if MARIONETTE_LK_AVX2
+#if MARIONETTE_TRACKING_AVX2
   if (k == LkKernels::Avx2) return sumProductsAvx2(samples, values, gx, gy, cols8, rows, sx, sy);
 #endif
 #if defined(__SSE2__)
@@ -548,7 +538,7 @@ bool LucasKanade::trackOne(const GreyLevel& t, const GreyLevel& f, cv::Point2f p
   std::int64_t a11i = 0, a12i = 0, a22i = 0;
   const bool scharr = params.gradient == LkGradient::Scharr;
   bool simdGradients = false;
-#if MARIONETTE_LK_AVX2
+#if MARIONETTE_TRACKING_AVX2
   if (kernels == LkKernels::Avx2) {
     gradientsAvx2(P, patchStride, n, stride, scharr, values_.data(), gx_.data(), gy_.data(), a11i, a12i, a22i);
     simdGradients = true;
@@ -643,9 +633,7 @@ int LucasKanade::track(const ImagePyramid& templ, const ImagePyramid& frame, std
   while (top > 0 && (templ.level(top).width <= coarse || templ.level(top).height <= coarse)) --top;
   if (top < 0) top = 0;
   LkKernels kernels = params.simd ? LkKernels::Sse2 : LkKernels::Portable;
-#if MARIONETTE_LK_AVX2
-  if (params.simd && params.wide && haveAvx2()) kernels = LkKernels::Avx2;
-#endif
+  if (params.simd && params.wide && cpuHasAvx2()) kernels = LkKernels::Avx2;
 #if !defined(__SSE2__)
   if (kernels == LkKernels::Sse2) kernels = LkKernels::Portable;
 #endif

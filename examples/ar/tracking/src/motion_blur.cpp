@@ -3,11 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <functional>
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
+#include "cpu_avx2.hpp"
 
 namespace marionette::ar {
 
@@ -417,38 +414,12 @@ MotionBlur refineMotionBlur(const cv::Mat& sharp, const cv::Mat& frame, const st
 
 namespace {
 
-// Outputs lo .. hi - 1 of a sheared row as applyMotionBlur stores them: the line blur's value
-// (lineBlurAlong's, with the running sum's integers taken from prefix sums: the same integers,
-// the same float operations after them), rounded and clamped to a byte. `prefix` has room for
-// hi + 2K + 1 - lo entries.
-void blurredRowBytes(const int* line, int lo, int hi, int K, float scale, float end, int* prefix,
-                     std::uint8_t* out) noexcept {
-  if (K == 0) {
-    for (int i = lo; i < hi; ++i)
-      out[i] = static_cast<std::uint8_t>(std::min(std::max(static_cast<float>(line[i]) + 0.5f, 0.0f), 255.0f));
-    return;
-  }
-  // prefix[j - lo] = line[lo] + ... + line[j - 1]; output i's inner taps sum to
-  // prefix[i + 2K - lo] - prefix[i + 1 - lo].
-  const int jEnd = hi + 2 * K;
-  prefix[0] = 0;
-  for (int j = lo; j < jEnd; ++j) prefix[j - lo + 1] = prefix[j - lo] + line[j];
-  for (int i = lo; i < hi; ++i) {
-    const int inner = prefix[i + 2 * K - lo] - prefix[i + 1 - lo];
-    const float v = scale * (static_cast<float>(inner) + end * static_cast<float>(line[i] + line[i + 2 * K]));
-    out[i] = static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));  // minss/maxss: no branch
-  }
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same, eight outputs at a time (the same integer sums, the same float operations per lane,
-// truncation to an integer as the scalar cast): the same bits.
-[[gnu::target("avx2")]] void blurredRowBytesAvx2(const int* line, int lo, int hi, int K, float scale, float end,
-                                                 int* prefix, std::uint8_t* out) noexcept {
-  if (K == 0) return blurredRowBytes(line, lo, hi, K, scale, end, prefix, out);
-  const int jEnd = hi + 2 * K;
-  prefix[0] = 0;
-  for (int j = lo; j < jEnd; ++j) prefix[j - lo + 1] = prefix[j - lo] + line[j];
+#if MARIONETTE_TRACKING_AVX2
+// Outputs lo, lo + 8, ... eight at a time, as blurredRowBytes computes them (the same integer
+// sums, the same float operations per lane, truncation to an integer as the scalar cast): the
+// same bits. Returns the first output not done.
+[[gnu::target("avx2")]] int blurredBytesAvx2(const int* line, int lo, int hi, int K, float scale, float end,
+                                             const int* prefix, std::uint8_t* out) noexcept {
   const __m256 vs = _mm256_set1_ps(scale), ve = _mm256_set1_ps(end), half = _mm256_set1_ps(0.5f);
   const __m256 zero = _mm256_setzero_ps(), top = _mm256_set1_ps(255.0f);
   int i = lo;
@@ -462,21 +433,39 @@ void blurredRowBytes(const int* line, int lo, int hi, int K, float scale, float 
     const __m128i words = _mm_packus_epi32(_mm256_castsi256_si128(q), _mm256_extracti128_si256(q, 1));
     _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(words, words));
   }
-  for (; i < hi; ++i) {
-    const int inner = prefix[i + 2 * K - lo] - prefix[i + 1 - lo];
-    const float v = scale * (static_cast<float>(inner) + end * static_cast<float>(line[i] + line[i + 2 * K]));
-    out[i] = static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));
-  }
-}
-
-bool haveAvx2() noexcept {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
+  return i;
 }
 #endif
 
-// applyMotionBlur along one axis: each sheared row's values computed together, then stored (a
-// run of one shift at a time along x).
+// Outputs lo .. hi - 1 of a sheared row as applyMotionBlur stores them: the line blur's value
+// (lineBlurAlong's, with the running sum's integers taken from prefix sums: the same integers,
+// the same float operations after them), rounded and clamped to a byte; eight at a time with
+// AVX2 where `wide`. `prefix` has room for hi + 2K + 1 - lo entries.
+void blurredRowBytes(const int* line, int lo, int hi, int K, float scale, float end, int* prefix, std::uint8_t* out,
+                     bool wide) noexcept {
+  if (K == 0) {
+    for (int i = lo; i < hi; ++i)
+      out[i] = static_cast<std::uint8_t>(std::min(std::max(static_cast<float>(line[i]) + 0.5f, 0.0f), 255.0f));
+    return;
+  }
+  // prefix[j - lo] = line[lo] + ... + line[j - 1]; output i's inner taps sum to
+  // prefix[i + 2K - lo] - prefix[i + 1 - lo].
+  const int jEnd = hi + 2 * K;
+  prefix[0] = 0;
+  for (int j = lo; j < jEnd; ++j) prefix[j - lo + 1] = prefix[j - lo] + line[j];
+  int i = lo;
+#if MARIONETTE_TRACKING_AVX2
+  if (wide) i = blurredBytesAvx2(line, lo, hi, K, scale, end, prefix, out);
+#endif
+  static_cast<void>(wide);
+  for (; i < hi; ++i) {
+    const int inner = prefix[i + 2 * K - lo] - prefix[i + 1 - lo];
+    const float v = scale * (static_cast<float>(inner) + end * static_cast<float>(line[i] + line[i + 2 * K]));
+    out[i] = static_cast<std::uint8_t>(std::min(std::max(v + 0.5f, 0.0f), 255.0f));  // minss/maxss: no branch
+  }
+}
+
+// applyMotionBlur along one axis: each sheared row's values computed together, then stored.
 template <bool AlongX>
 bool applyAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, cv::Mat& out, MotionBlurScratch& scratch,
                 bool wide) noexcept {
@@ -487,14 +476,8 @@ bool applyAlong(const cv::Mat& image, const LineGeometry& g, const cv::Rect& r, 
   scratch.rowBytes.resize(need);
   int* prefix = scratch.prefix.data();
   std::uint8_t* bytes = scratch.rowBytes.data();
-  static_cast<void>(wide);
   return forEachLineRow<AlongX>(image, g, r, scratch, [&](int b, int lo, int hi, const int* line, const int* shift) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (wide) blurredRowBytesAvx2(line, lo, hi, K, g.scale, g.end, prefix, bytes);
-    else blurredRowBytes(line, lo, hi, K, g.scale, g.end, prefix, bytes);
-#else
-    blurredRowBytes(line, lo, hi, K, g.scale, g.end, prefix, bytes);
-#endif
+    blurredRowBytes(line, lo, hi, K, g.scale, g.end, prefix, bytes, wide);
     std::uint8_t* const data = out.data;
     const auto step = static_cast<std::ptrdiff_t>(out.step[0]);
     for (int i = lo; i < hi; ++i) {
@@ -511,9 +494,7 @@ void applyMotionBlur(const cv::Mat& image, const MotionBlur& blur, const cv::Rec
   if (!blur.any() || image.type() != CV_8UC1 || out.size() != image.size() || out.type() != CV_8UC1) return;
   const cv::Rect r = region & cv::Rect(0, 0, image.cols, image.rows);
   const LineGeometry g(blur);
-#if defined(__x86_64__) && defined(__GNUC__)
-  wide = wide && haveAvx2();
-#endif
+  wide = wide && cpuHasAvx2();
   (void)(g.alongX ? applyAlong<true>(image, g, r, out, scratch, wide) : applyAlong<false>(image, g, r, out, scratch, wide));
 }
 

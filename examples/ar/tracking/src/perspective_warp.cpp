@@ -6,9 +6,7 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
+#include "cpu_avx2.hpp"
 
 namespace marionette::ar {
 
@@ -71,20 +69,27 @@ struct WarpSource {
   }
 };
 
-// Pixels x0 .. x1 - 1 of row y. The same expression per pixel as OpenCV's (not an accumulated
-// sum): the same rounding.
+// Pixel x's source position, in 1/32 px, on the row whose terms are bx, by, bw (m's second and
+// third columns at y). The same expression per pixel as OpenCV's (not an accumulated sum): the
+// same rounding.
+inline void sourcePosition(const cv::Matx33d& m, double bx, double by, double bw, int x, int& X, int& Y) noexcept {
+  double w = bw + m(2, 0) * x;
+  w = w != 0 ? kSubpixel / w : 0.0;
+  X = roundToInt(std::clamp((bx + m(0, 0) * x) * w, -kCoordinateLimit, kCoordinateLimit));
+  Y = roundToInt(std::clamp((by + m(1, 0) * x) * w, -kCoordinateLimit, kCoordinateLimit));
+}
+
+// Pixels x0 .. x1 - 1 of row y.
 void warpRow(const WarpSource& src, const cv::Matx33d& m, int y, int x0, int x1, std::uint8_t* out) noexcept {
   const double bx = m(0, 1) * y + m(0, 2), by = m(1, 1) * y + m(1, 2), bw = m(2, 1) * y + m(2, 2);
   for (int x = x0; x < x1; ++x) {
-    double w = bw + m(2, 0) * x;
-    w = w != 0 ? kSubpixel / w : 0.0;
-    const double fx = std::clamp((bx + m(0, 0) * x) * w, -kCoordinateLimit, kCoordinateLimit);
-    const double fy = std::clamp((by + m(1, 0) * x) * w, -kCoordinateLimit, kCoordinateLimit);
-    out[x] = src.at(roundToInt(fx), roundToInt(fy));
+    int X = 0, Y = 0;
+    sourcePosition(m, bx, by, bw, x, X, Y);
+    out[x] = src.at(X, Y);
   }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if MARIONETTE_TRACKING_AVX2
 // The same row with AVX2, in chunks: the source positions of the chunk four pixels at a time
 // (the same double operations per lane, AVX2 without FMA: a multiply and an add round as the
 // scalar ones do; the same rounding to an integer, the current mode, as cvtsd2si), then the
@@ -121,13 +126,7 @@ void warpRow(const WarpSource& src, const cv::Matx33d& m, int y, int x0, int x1,
       _mm_store_si128(reinterpret_cast<__m128i*>(X + i), _mm256_cvtpd_epi32(fx));
       _mm_store_si128(reinterpret_cast<__m128i*>(Y + i), _mm256_cvtpd_epi32(fy));
     }
-    for (; i < n; ++i) {
-      const double x = c0 + i;
-      double w = bw + m(2, 0) * x;
-      w = w != 0 ? kSubpixel / w : 0.0;
-      X[i] = roundToInt(std::clamp((bx + m(0, 0) * x) * w, -kCoordinateLimit, kCoordinateLimit));
-      Y[i] = roundToInt(std::clamp((by + m(1, 0) * x) * w, -kCoordinateLimit, kCoordinateLimit));
-    }
+    for (; i < n; ++i) sourcePosition(m, bx, by, bw, c0 + i, X[i], Y[i]);
     std::uint8_t* o = out + c0;
     i = 0;
     for (; i + 8 <= n; i += 8) {
@@ -166,10 +165,6 @@ void warpRow(const WarpSource& src, const cv::Matx33d& m, int y, int x0, int x1,
   }
 }
 
-bool haveAvx2() noexcept {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-}
 #endif
 
 }  // namespace
@@ -181,8 +176,8 @@ bool warpPerspectiveRegion(const cv::Mat& src, const cv::Matx33d& srcToDst, cv::
   if (!invertHomography(srcToDst, m)) return false;
   region &= cv::Rect(0, 0, dst.cols, dst.rows);
   const WarpSource source{src.data, static_cast<std::ptrdiff_t>(src.step[0]), src.cols, src.rows, border};
-#if defined(__x86_64__) && defined(__GNUC__)
-  if (wide && haveAvx2()) {
+#if MARIONETTE_TRACKING_AVX2
+  if (wide && cpuHasAvx2()) {
     for (int y = region.y; y < region.y + region.height; ++y)
       warpRowAvx2(source, m, y, region.x, region.x + region.width, dst.ptr<std::uint8_t>(y));
     return true;
