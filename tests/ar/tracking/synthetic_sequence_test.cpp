@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -14,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "test_data.hpp"
+#include "tracking/scenario_run.hpp"
 #include "tracking/scenarios.hpp"
 #include "tracking/synthetic_sequence.hpp"
 #include "tracking/trajectory_metrics.hpp"
@@ -586,3 +589,94 @@ TEST(SyntheticSequenceMetrics, NothingTrackedAndMismatchedLengths) {
 }
 
 }  // namespace
+
+// The scene samples taken four at a time (AVX2, scene_samples_avx2.cpp) give the scalar loop's
+// bits, float for float, before the effects and the rounding: on the standard scene (the
+// target and the tiled floor, pinhole), through a lens that folds back at the corners (rays
+// with no inverse), and without a floor; from views close up (magnified texels, clamped edges),
+// at the horizon (sky, the floor fading into its mean), above and beside the target, rolled,
+// with the flat occluder bar and with a hand over the target; one sub-frame (every supersample) and five (each phase).
+TEST(SyntheticSequenceRender, WideSceneSamplesGiveTheScalarLoopsBits) {
+  if (!sceneSamplesWideAvailable()) {
+    std::printf("[ simd ] AVX2 absent: the scalar loop alone ran\n");
+    SUCCEED();
+    return;
+  }
+  std::printf("[ simd ] AVX2 present\n");
+  const SequenceRenderer standard = standardRenderer();
+  const cv::Mat target = cv::imread(standardTargetImage(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(target.empty());
+  cv::Mat targetRgb, floorRgb;
+  cv::cvtColor(target, targetRgb, cv::COLOR_BGR2RGB);
+  cv::resize(targetRgb, floorRgb, cv::Size(96, 80), 0, 0, cv::INTER_AREA);
+  const SequenceRenderer folded(PlanarScene{targetRgb, 0.4, floorRgb, 0.004}, camera640(-0.8));
+  const SequenceRenderer bare(PlanarScene{targetRgb, 0.4, cv::Mat(), 0.002}, camera640());
+  cv::RNG rng(40);
+  std::vector<glm::dmat4> poses = {
+      lookAtCameraToWorld({0, 0.6, 0.5}, {0, 0, 0}, {0, 1, 0}),         // the usual view
+      lookAtCameraToWorld({0.02, 0.05, 0.01}, {0.05, 0, 0}, {0, 1, 0}),  // close up: texels magnified
+      lookAtCameraToWorld({0, 0.12, 1.5}, {0, 0.05, -30}, {0, 1, 0}),    // the horizon: sky, a fading floor
+      lookAtCameraToWorld({0.3, 1.2, 0}, {0, 0, 0}, {1, 0, 0}),          // from above, rolled
+  };
+  for (int i = 0; i < 3; ++i) {
+    const glm::dvec3 eye(rng.uniform(-1.5, 1.5), rng.uniform(0.05, 2.0), rng.uniform(-1.5, 1.5));
+    const glm::dvec3 at(rng.uniform(-0.5, 0.5), 0, rng.uniform(-0.5, 0.5));
+    poses.push_back(lookAtCameraToWorld(eye, at, glm::dvec3(rng.uniform(-1, 1), 1, rng.uniform(-1, 1))));
+  }
+  // A soft-edged, half-transparent "hand" 10 cm above the target.
+  cv::Mat handRgba(60, 90, CV_8UC4);
+  for (int y = 0; y < handRgba.rows; ++y)
+    for (int x = 0; x < handRgba.cols; ++x) {
+      const double d = std::hypot((x - 45) / 45.0, (y - 30) / 30.0);
+      handRgba.at<cv::Vec4b>(y, x) = {200, 150, 120, cv::saturate_cast<uchar>(255 * std::clamp(1.5 - 1.5 * d, 0.0, 0.8))};
+    }
+  Occluder hand;
+  hand.texture = premultipliedTexture(handRgba);
+  hand.centre = {0.05, 0.1, 0.0};
+  hand.axisU = {0.003, 0, 0};
+  hand.axisV = {0, 0, 0.003};
+  int compared = 0, differing = 0;
+  double scalarMs = 0, wideMs = 0;  // printed, not judged (speed lives in benchmarks)
+  for (const SequenceRenderer* base : {&standard, &folded, &bare}) {
+    SequenceRenderer scalar = *base, wide = *base;
+    scalar.useWideSamples(false);
+    wide.useWideSamples(true);
+    ASSERT_TRUE(wide.wideSamples());
+    for (std::size_t p = 0; p < poses.size(); ++p) {
+      FrameEffects fx;
+      if (p % 3 == 1) fx.occluderFraction = 0.3, fx.occluderPhase = 0.4;
+      for (int subFrames : {1, 5}) {
+        std::vector<SubFrame> subs;
+        const glm::dmat4 nudge = glm::translate(glm::dmat4(1.0), glm::dvec3(0.002, 0, 0.001));
+        glm::dmat4 pose = poses[p];
+        for (int k = 0; k < subFrames; ++k, pose = nudge * pose) subs.push_back({pose, {}});
+        if (p % 3 != 1)  // a hand over the target: the scene behind it composited per sample
+          for (SubFrame& sub : subs) sub.occluders = {hand};
+        cv::Mat a, b;
+        const auto t0 = std::chrono::steady_clock::now();
+        scalar.renderLinear(subs, fx, a);
+        const auto t1 = std::chrono::steady_clock::now();
+        wide.renderLinear(subs, fx, b);
+        scalarMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
+        wideMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+        ASSERT_EQ(a.size(), b.size());
+        ASSERT_EQ(a.type(), b.type());
+        ++compared;
+        const bool same = std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+        differing += same ? 0 : 1;
+        EXPECT_TRUE(same) << "renderer " << (base == &standard ? "standard" : base == &folded ? "folded lens" : "no floor")
+                          << ", pose " << p << ", " << subFrames << " sub-frame(s): max difference "
+                          << cv::norm(a, b, cv::NORM_INF);
+      }
+    }
+  }
+  {  // the hand is in view where it is used (the composite path ran)
+    cv::Mat without, with;
+    standard.renderLinear({SubFrame{poses[0], {}}}, FrameEffects{}, without);
+    standard.renderLinear({SubFrame{poses[0], {hand}}}, FrameEffects{}, with);
+    EXPECT_GT(cv::norm(without, with, cv::NORM_L1) / static_cast<double>(without.total()), 1.0)
+        << "the hand should cover part of view 0";
+  }
+  std::printf("%d frames compared, %d differ; rendering %.0f ms scalar, %.0f ms wide\n", compared, differing, scalarMs,
+              wideMs);
+}

@@ -29,6 +29,7 @@
 #include <opencv2/core.hpp>
 
 #include "marionette_ar/tracking/camera_model.hpp"
+#include "tracking/scene_samples.hpp"
 
 namespace marionette::ar::synthetic {
 
@@ -102,6 +103,8 @@ class SequenceRenderer {
   // render()'s picture within rounding. Throws std::invalid_argument without a sub-frame or for
   // an occluder texture that is not CV_32FC4.
   void renderExposure(const std::vector<SubFrame>& subFrames, const FrameEffects& fx, cv::Mat& outRgb) const;
+  // The same exposure before fx's effects and the rounding: CV_32FC3, camera-sized, RGB.
+  void renderLinear(const std::vector<SubFrame>& subFrames, const FrameEffects& fx, cv::Mat& linear) const;
 
   // Share of the target's area (a 96 x ~72 grid of points over it) that is in front of the
   // camera and projects inside the image through the lens. The occluder does not count.
@@ -120,6 +123,11 @@ class SequenceRenderer {
   // camera-sized, 0..1. Renders nothing: what render() and renderExposure() give is unchanged.
   void targetCoverage(const std::vector<SubFrame>& subFrames, const FrameEffects& fx, cv::Mat& onTarget,
                       cv::Mat& hidden) const;
+
+  // Whether the scene samples are taken four at a time (AVX2, scene_samples.hpp) where the CPU
+  // can: the same bits either way; the bit-identity test renders both ways.
+  void useWideSamples(bool wide) noexcept { wide_ = wide && sceneSamplesWideAvailable(); }
+  [[nodiscard]] bool wideSamples() const noexcept { return wide_; }
 
   [[nodiscard]] const CameraModel& camera() const noexcept { return camera_; }
   [[nodiscard]] double targetWidth() const noexcept { return scene_.targetWidth; }
@@ -142,12 +150,17 @@ class SequenceRenderer {
   std::vector<cv::Vec2d> rays_;
   std::vector<double> columnRays_, rowRays_;
   [[nodiscard]] cv::Vec2d ray(int x, int y) const noexcept;  // supersample (x, y)'s
+  std::vector<SampleLevel> targetLevels_, floorLevels_;  // the pyramids as the wide samples read them
+  bool wide_ = sceneSamplesWideAvailable();
 
   struct View;  // one pose's plane mappings (synthetic_sequence.cpp)
   [[nodiscard]] View view(const glm::dmat4& cameraToWorld, const FrameEffects& fx,
                           const std::vector<Occluder>& occluders) const;
   [[nodiscard]] cv::Vec3f sceneSample(const View& v, int x, int y) const;  // supersample (x, y) without occluders
-  [[nodiscard]] cv::Vec3f sample(const View& v, int x, int y) const;       // with them
+  // With them; `scene`, when given, is sceneSample(v, x, y) already taken.
+  [[nodiscard]] cv::Vec3f sample(const View& v, int x, int y, const cv::Vec3f* scene = nullptr) const;
+  // Supersamples (x + stride * i, y), i < count, into out: sample()'s colours.
+  void samples(const View& v, int x, int stride, int y, int count, cv::Vec3f* out) const;
   // Supersample (x, y): 1 when its ray reaches the target (else 0), and that times the opacity
   // of the occluders in front (targetCoverage).
   void coverageSample(const View& v, int x, int y, float& onTarget, float& hidden) const;
