@@ -170,7 +170,7 @@ void setLevel(LaneLevels& l, int i, const SampleLevel& level, bool wrap) {
 
 [[gnu::target("avx2")]] int sceneSamplesAvx2(const SampleSource& s, int x, int stride, int y, int count,
                                              cv::Vec3f* out) noexcept {
-  if (!sceneSamplesWideAvailable()) return 0;
+  if (!sceneSamplesWideAvailable()) return 0;  // (a caller that did not ask first gets the scalar loop)
   const __m256d inf = _mm256_set1_pd(kInf), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
   const int ny = y + 1 < s.height ? y + 1 : y - 1;
   int done = 0;
@@ -192,7 +192,9 @@ void setLevel(LaneLevels& l, int i, const SampleLevel& level, bool wrap) {
     }
     Hit g{zero, zero, zero};
     if (s.groundOk) g = hit(s.toGround, r);
-    const int sky = ~_mm256_movemask_pd(g.ok) & 15;
+    // Sky where the ray misses the plane or meets it beyond what a double holds (as the scalar loop).
+    const __m256d finite = _mm256_and_pd(_mm256_cmp_pd(absolute(g.x), inf, _CMP_LT_OQ), _mm256_cmp_pd(absolute(g.y), inf, _CMP_LT_OQ));
+    const int sky = ~_mm256_movemask_pd(_mm256_and_pd(g.ok, finite)) & 15;
     // The footprint from the steps to the next sample across and down (sceneSample's loop:
     // std::max(a, b) is max_pd(b, a) and std::min(a, b) is min_pd(b, a), NaN included).
     const __m256d s0 = step(hit(s.toGround, loadRays(s, nxs, y)), g);
@@ -208,11 +210,11 @@ void setLevel(LaneLevels& l, int i, const SampleLevel& level, bool wrap) {
     const int onTarget = _mm256_movemask_pd(onTargetMask);
     // Texture coordinates and footprints in texels, the target's and the floor's (each only
     // where a lane needs it: the divisions are most of this loop's time).
-    __m256d cu = zero, cv = zero, cf = zero;
+    __m256d cu = zero, cw = zero, cf = zero;
     if (onTarget != 0) {
       const __m256d texel = _mm256_set1_pd(s.texel);
       cu = _mm256_sub_pd(_mm256_add_pd(_mm256_div_pd(g.x, texel), _mm256_set1_pd(0.5 * s.targetCols)), half);
-      cv = _mm256_sub_pd(_mm256_add_pd(_mm256_div_pd(g.y, texel), _mm256_set1_pd(0.5 * s.targetRows)), half);
+      cw = _mm256_sub_pd(_mm256_add_pd(_mm256_div_pd(g.y, texel), _mm256_set1_pd(0.5 * s.targetRows)), half);
       cf = _mm256_div_pd(footprint, texel);
     }
     if (onTarget != 15 && !s.floorEmpty) {
@@ -220,12 +222,12 @@ void setLevel(LaneLevels& l, int i, const SampleLevel& level, bool wrap) {
       const __m256d fv = _mm256_mul_pd(_mm256_div_pd(g.y, _mm256_set1_pd(s.floorPeriodZ)), _mm256_set1_pd(s.floorRows));
       const __m256d ff = _mm256_div_pd(footprint, _mm256_set1_pd(s.floorTexel));
       cu = _mm256_blendv_pd(fu, cu, onTargetMask);
-      cv = _mm256_blendv_pd(fv, cv, onTargetMask);
+      cw = _mm256_blendv_pd(fv, cw, onTargetMask);
       cf = _mm256_blendv_pd(ff, cf, onTargetMask);
     }
     alignas(32) double u[4], v[4], ft[4];
     _mm256_store_pd(u, cu);
-    _mm256_store_pd(v, cv);
+    _mm256_store_pd(v, cw);
     _mm256_store_pd(ft, cf);
     // Per lane (scalar, as fetchFiltered): the colour when it is flat, else the two levels.
     cv::Vec3f flat[4];

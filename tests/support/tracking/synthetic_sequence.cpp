@@ -309,7 +309,7 @@ SequenceRenderer::View SequenceRenderer::view(const glm::dmat4& cameraToWorld, c
     w.columnRays = columnRays_.data();
     w.rowRays = rowRays_.data();
   } else {
-    w.rays = rays_[0].val;
+    w.rays = reinterpret_cast<const double*>(rays_.data());  // Vec2d: two doubles each
   }
   w.width = camera_.width * kSupersample;
   w.height = camera_.height * kSupersample;
@@ -355,7 +355,8 @@ cv::Vec3f SequenceRenderer::sceneSample(const View& v, int x, int y) const {
   glm::dvec2 p, o;
   if (v.occW > 0 && hit(v.toOccluder, x, y, o) && o.x >= v.occX0 && o.x < v.occX0 + v.occW && std::abs(o.y) < 0.5 * td)
     return toVec3f(kOccluderRgb);
-  if (!v.groundOk || !hit(v.toGround, x, y, p)) return toVec3f(kSkyRgb);
+  // A ray that meets the plane beyond what a double holds (grazing): sky, as no texel is there.
+  if (!v.groundOk || !hit(v.toGround, x, y, p) || !std::isfinite(p.x) || !std::isfinite(p.y)) return toVec3f(kSkyRgb);
   // The sample's footprint on the plane from its steps to the next sample across and
   // down (the previous one at the last column or row). Filtering for the longer step
   // alone would blur grazing views across too; the 2x2 supersampling covers half of it.
@@ -547,7 +548,7 @@ void SequenceRenderer::renderExposure(const std::vector<SubFrame>& subFrames, co
 
 void SequenceRenderer::renderLinear(const std::vector<SubFrame>& subFrames, const FrameEffects& fx,
                                     cv::Mat& image) const {
-  if (subFrames.empty()) throw std::invalid_argument("renderExposure: no sub-frame");
+  if (subFrames.empty()) throw std::invalid_argument("renderLinear: no sub-frame");
   if (subFrames.size() == 1) {
     cv::Mat super;
     shade(view(subFrames[0].cameraToWorld, fx, subFrames[0].occluders), super);
