@@ -266,16 +266,15 @@ glm::dvec3 SequenceRenderer::targetPixelToWorld(double u, double v) const noexce
 }
 
 struct SequenceRenderer::View {
-  glm::dmat3 toGround, toOccluder;
-  bool groundOk = false;
-  double occW = 0, occX0 = 0;
-  double targetDepth = 0, texel = 0, floorTexel = 0;  // per sample otherwise
+  glm::dmat3 toGround, toOccluder;  // also in `source`, as arrays
   struct Plane {
     glm::dmat3 toTexture;  // OpenCV camera ray -> texel (a, b, 1) / depth
     const cv::Mat* texture;
   };
   std::vector<Plane> occluders;
-  SampleSource wide;  // the same, for sceneSamplesAvx2
+  // The rest of what a sample reads (the ground's and the bar's constants, the textures), for
+  // both sceneSample and sceneSamplesAvx2.
+  SampleSource source;
 };
 
 SequenceRenderer::View SequenceRenderer::view(const glm::dmat4& cameraToWorld, const FrameEffects& fx,
@@ -288,13 +287,13 @@ SequenceRenderer::View SequenceRenderer::view(const glm::dmat4& cameraToWorld, c
   // inverse is applied to the undistorted ray); w = 1 / depth, so w > 0 is in front.
   v.toGround = glm::inverse(glm::dmat3(r[0], r[2], t));
   v.toOccluder = glm::inverse(glm::dmat3(r[0], r[2], t + kOccluderHeight * r[1]));
-  v.groundOk = std::abs(glm::determinant(glm::dmat3(r[0], r[2], t))) > 1e-12;
+  v.source.groundOk = std::abs(glm::determinant(glm::dmat3(r[0], r[2], t))) > 1e-12;
   const double tw = scene_.targetWidth;
-  v.occW = std::clamp(fx.occluderFraction, 0.0, 1.0) * tw;
-  v.occX0 = -0.5 * tw + std::clamp(fx.occluderPhase, 0.0, 1.0) * (tw - v.occW);
-  v.targetDepth = targetDepth();
-  v.texel = tw / scene_.target.cols;
-  v.floorTexel = std::min(floorPeriodX_ / floor_.levels[0].cols, floorPeriodZ_ / floor_.levels[0].rows);
+  v.source.occW = std::clamp(fx.occluderFraction, 0.0, 1.0) * tw;
+  v.source.occX0 = -0.5 * tw + std::clamp(fx.occluderPhase, 0.0, 1.0) * (tw - v.source.occW);
+  v.source.targetDepth = targetDepth();
+  v.source.texel = tw / scene_.target.cols;
+  v.source.floorTexel = std::min(floorPeriodX_ / floor_.levels[0].cols, floorPeriodZ_ / floor_.levels[0].rows);
   for (const Occluder& o : occluders) {
     if (o.texture.empty() || o.texture.type() != CV_32FC4)
       throw std::invalid_argument("an occluder's texture must be a non-empty CV_32FC4 image");
@@ -304,7 +303,7 @@ SequenceRenderer::View SequenceRenderer::view(const glm::dmat4& cameraToWorld, c
     if (!(std::abs(glm::determinant(toCamera)) > 1e-18)) continue;  // seen edge-on: invisible
     v.occluders.push_back({glm::inverse(toCamera), &o.texture});
   }
-  SampleSource& w = v.wide;
+  SampleSource& w = v.source;
   if (rays_.empty()) {
     w.columnRays = columnRays_.data();
     w.rowRays = rowRays_.data();
@@ -318,13 +317,7 @@ SequenceRenderer::View SequenceRenderer::view(const glm::dmat4& cameraToWorld, c
       w.toGround[3 * c + k] = v.toGround[c][k];
       w.toOccluder[3 * c + k] = v.toOccluder[c][k];
     }
-  w.groundOk = v.groundOk;
-  w.occW = v.occW;
-  w.occX0 = v.occX0;
   w.targetWidth = tw;
-  w.targetDepth = v.targetDepth;
-  w.texel = v.texel;
-  w.floorTexel = v.floorTexel;
   w.targetCols = scene_.target.cols;
   w.targetRows = scene_.target.rows;
   w.floorPeriodX = floorPeriodX_;
@@ -351,12 +344,12 @@ cv::Vec3f SequenceRenderer::sceneSample(const View& v, int x, int y) const {
     p = {q.x / q.z, q.y / q.z};
     return true;
   };
-  const double tw = scene_.targetWidth, td = v.targetDepth;
+  const double tw = scene_.targetWidth, td = v.source.targetDepth;
   glm::dvec2 p, o;
-  if (v.occW > 0 && hit(v.toOccluder, x, y, o) && o.x >= v.occX0 && o.x < v.occX0 + v.occW && std::abs(o.y) < 0.5 * td)
+  if (v.source.occW > 0 && hit(v.toOccluder, x, y, o) && o.x >= v.source.occX0 && o.x < v.source.occX0 + v.source.occW && std::abs(o.y) < 0.5 * td)
     return toVec3f(kOccluderRgb);
   // A ray that meets the plane beyond what a double holds (grazing): sky, as no texel is there.
-  if (!v.groundOk || !hit(v.toGround, x, y, p) || !std::isfinite(p.x) || !std::isfinite(p.y)) return toVec3f(kSkyRgb);
+  if (!v.source.groundOk || !hit(v.toGround, x, y, p) || !std::isfinite(p.x) || !std::isfinite(p.y)) return toVec3f(kSkyRgb);
   // The sample's footprint on the plane from its steps to the next sample across and
   // down (the previous one at the last column or row). Filtering for the longer step
   // alone would blur grazing views across too; the 2x2 supersampling covers half of it.
@@ -372,7 +365,7 @@ cv::Vec3f SequenceRenderer::sceneSample(const View& v, int x, int y) const {
   const double footprint = std::max(minor, 0.5 * major);
   const bool onTarget = std::abs(p.x) < 0.5 * tw && std::abs(p.y) < 0.5 * td;
   if (onTarget) {
-    const double texel = v.texel;
+    const double texel = v.source.texel;
     const double u = p.x / texel + 0.5 * scene_.target.cols - 0.5;
     const double w = p.y / texel + 0.5 * scene_.target.rows - 0.5;
     return fetchFiltered(target_.levels, target_.mean, u, w, footprint / texel, false, 0);
@@ -380,7 +373,7 @@ cv::Vec3f SequenceRenderer::sceneSample(const View& v, int x, int y) const {
   if (scene_.floor.empty()) return floor_.mean;
   const double a = p.x / floorPeriodX_ * floor_.levels[0].cols;
   const double b = p.y / floorPeriodZ_ * floor_.levels[0].rows;
-  return fetchFiltered(floor_.levels, floor_.mean, a, b, footprint / v.floorTexel, true, 2);
+  return fetchFiltered(floor_.levels, floor_.mean, a, b, footprint / v.source.floorTexel, true, 2);
 }
 
 cv::Vec3f SequenceRenderer::sample(const View& v, int x, int y, const cv::Vec3f* scene) const {
@@ -419,18 +412,18 @@ cv::Vec3f SequenceRenderer::sample(const View& v, int x, int y, const cv::Vec3f*
 void SequenceRenderer::coverageSample(const View& v, int x, int y, float& onTarget, float& hidden) const {
   onTarget = hidden = 0;
   const cv::Vec2d r = ray(x, y);
-  if (std::isnan(r[0]) || !v.groundOk) return;
+  if (std::isnan(r[0]) || !v.source.groundOk) return;
   const glm::dvec3 q = v.toGround * glm::dvec3(r[0], r[1], 1.0);
   if (!(q.z > 0)) return;
   const double px = q.x / q.z, pz = q.y / q.z;
-  if (!(std::abs(px) < 0.5 * scene_.targetWidth && std::abs(pz) < 0.5 * v.targetDepth)) return;
+  if (!(std::abs(px) < 0.5 * scene_.targetWidth && std::abs(pz) < 0.5 * v.source.targetDepth)) return;
   onTarget = 1;
   // The light that passes every occluder in front, as sample() composites them.
-  if (v.occW > 0) {
+  if (v.source.occW > 0) {
     const glm::dvec3 o = v.toOccluder * glm::dvec3(r[0], r[1], 1.0);
     if (o.z > 0) {
       const double ox = o.x / o.z, oz = o.y / o.z;
-      if (ox >= v.occX0 && ox < v.occX0 + v.occW && std::abs(oz) < 0.5 * v.targetDepth) {
+      if (ox >= v.source.occX0 && ox < v.source.occX0 + v.source.occW && std::abs(oz) < 0.5 * v.source.targetDepth) {
         hidden = 1;
         return;
       }
@@ -479,7 +472,7 @@ void SequenceRenderer::targetCoverage(const std::vector<SubFrame>& subFrames, co
 
 void SequenceRenderer::samples(const View& v, int x, int stride, int y, int count, cv::Vec3f* out) const {
   // The scene four at a time where AVX2 can (the same bits), the hands over it per sample.
-  const int wide = wide_ ? sceneSamplesAvx2(v.wide, x, stride, y, count, out) : 0;
+  const int wide = wide_ ? sceneSamplesAvx2(v.source, x, stride, y, count, out) : 0;
   if (!v.occluders.empty())
     for (int i = 0; i < wide; ++i) out[i] = sample(v, x + stride * i, y, &out[i]);
   for (int i = wide; i < count; ++i) out[i] = sample(v, x + stride * i, y);
