@@ -656,7 +656,59 @@ void poseOpenCv(benchmark::State& state) {
 }  // namespace
 
 
+// A tracker's first frame: nothing predicts it, so it relocalizes (ORB over the whole frame).
+// The tracker is made outside the timing, as an application makes it before its first frame;
+// ORB's first frame-sized call is made there since session 40 (warmUpRelocalization).
+void markerlessFirstFrame(benchmark::State& state) {
+  const Orbit& o = orbit();
+  if (!orbitTracker(state, o)) return;
+  long relocalized = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::string error;
+    auto tracker = markerless(o, error);
+    state.ResumeTiming();
+    const TrackedPose p = tracker->update(view(o.frames[0]), 0.0);
+    benchmark::DoNotOptimize(p);
+    relocalized += tracker->lastFrame().relocalized;
+    state.PauseTiming();
+    tracker.reset();
+    state.ResumeTiming();
+  }
+  state.counters["relocalized"] = static_cast<double>(relocalized) / static_cast<double>(state.iterations());
+}
+
+// The tests' synthetic renderer (not the middleware): one stress-like exposure of 8 sub-frames
+// (a pan's smear across the target and the floor), its scene samples four at a time with AVX2
+// (arg 1) or one at a time (arg 0): the same bits (SyntheticSequenceRender.WideScene...), the
+// time that most of the tracking tests spend (docs/testing.md).
+void syntheticExposure(benchmark::State& state) {
+  cv::setNumThreads(1);
+  synthetic::SequenceRenderer renderer = synthetic::standardRenderer();
+  renderer.useWideSamples(state.range(0) != 0);
+  if (state.range(0) != 0 && !renderer.wideSamples()) {
+    state.SkipWithError("AVX2 absent");
+    return;
+  }
+  std::vector<synthetic::SubFrame> subFrames;
+  for (int k = 0; k < 8; ++k) {
+    const double a = 0.02 * k;  // radians of pan across the exposure
+    const glm::dvec3 eye(0.0, 0.55, 0.45);
+    subFrames.push_back({synthetic::lookAtCameraToWorld(eye, glm::dvec3(0.3 * std::sin(a), 0.0, -0.3 * std::cos(a) + 0.3),
+                                                        glm::dvec3(0, 1, 0)),
+                         {}});
+  }
+  cv::Mat linear;
+  for (auto _ : state) {
+    renderer.renderLinear(subFrames, synthetic::FrameEffects{}, linear);
+    benchmark::DoNotOptimize(linear.data);
+  }
+  state.counters["subframes"] = 8;
+}
+
 BENCHMARK(markerlessFrame)->Name("Tracking/MarkerlessFrame")->Unit(benchmark::kMillisecond);
+BENCHMARK(markerlessFirstFrame)->Name("Tracking/MarkerlessFirstFrame")->Unit(benchmark::kMillisecond);
+BENCHMARK(syntheticExposure)->Name("TrackingTestData/SyntheticExposure8")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 BENCHMARK(markerlessRelocalize)->Name("Tracking/MarkerlessRelocalize")->Unit(benchmark::kMillisecond);
 BENCHMARK(markerlessRelocalizeNoTarget)
     ->Name("Tracking/MarkerlessRelocalizeNoTarget")

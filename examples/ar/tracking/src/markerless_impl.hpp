@@ -389,6 +389,8 @@ struct MarkerlessTracker::Impl {
   // corners fall in the predicted view: twice what TRACKING needs agreeing.
   [[nodiscard]] int minFloorRetryCorners() const noexcept { return 2 * settings.minTrackingInliers; }
   bool relocalize(PlanarPose& out);
+  // Relocalization's ORB run once on a frame-sized image at construction (markerless_map.cpp).
+  void warmUpRelocalization();
   // A pose given, or carried by the image's motion through a look away: the newest of the way
   // out when the target is near the view and it turned kExitPathStepDeg from the last kept.
   void rememberExitPath(const PlanarPose& pose);

@@ -510,6 +510,7 @@ std::unique_ptr<MarkerlessTracker> MarkerlessTracker::fromTargetPixels(const Cam
       return nullptr;
     }
     impl->prepareKeyframe(0);
+    impl->warmUpRelocalization();
     return std::unique_ptr<MarkerlessTracker>(new MarkerlessTracker(std::move(impl)));
   } catch (const cv::Exception& e) {
     diagnostics.error("target", std::string("OpenCV failed: ") + e.what());
@@ -569,6 +570,7 @@ std::unique_ptr<MarkerlessTracker> MarkerlessTracker::fromMap(const CameraModel&
     impl->map = std::move(map);
     impl->map.keyframes.reserve(PlanarMap::kMaxKeyframes);  // the images stay where the pyramids view them
     for (std::size_t i = 0; i < impl->map.keyframes.size(); ++i) impl->prepareKeyframe(i);
+    impl->warmUpRelocalization();
     return std::unique_ptr<MarkerlessTracker>(new MarkerlessTracker(std::move(impl)));
   } catch (const cv::Exception& e) {
     diagnostics.error(mapName, std::string("OpenCV failed on the map: ") + e.what());
