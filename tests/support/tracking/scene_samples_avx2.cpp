@@ -11,25 +11,13 @@
 #include <cstdint>
 #include <limits>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define MARIONETTE_SCENE_SAMPLES_AVX2 1
-#else
-#define MARIONETTE_SCENE_SAMPLES_AVX2 0
-#endif
+#include "cpu_avx2.hpp"  // the tracker's one AVX2 check (examples/ar/tracking/src)
 
 namespace marionette::ar::synthetic {
 
-bool sceneSamplesWideAvailable() noexcept {
-#if MARIONETTE_SCENE_SAMPLES_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-#else
-  return false;
-#endif
-}
+bool sceneSamplesWideAvailable() noexcept { return cpuHasAvx2(); }
 
-#if MARIONETTE_SCENE_SAMPLES_AVX2
+#if MARIONETTE_TRACKING_AVX2
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -76,8 +64,7 @@ struct Hit {
 struct LaneLevels {
   alignas(32) std::int64_t base[4];  // the level's first byte
   alignas(32) std::int64_t step[4];
-  alignas(32) double cols[4], rows[4];
-  alignas(16) int colsInt[4], rowsInt[4], wrap[4];
+  alignas(16) int cols[4], rows[4], wrap[4];
 };
 
 // Wrapped lanes: std::fmod (scalar, rare) where |v| >= size, then + size below 0.
@@ -108,7 +95,9 @@ struct LaneLevels {
 
 // fetch(): bilinear at (x, y), edges wrapped or replicated per lane; the channels in c[3].
 [[gnu::target("avx2")]] void fetch4(const LaneLevels& l, __m256d x, __m256d y, __m128 c[3]) {
-  const __m256d w = _mm256_load_pd(l.cols), h = _mm256_load_pd(l.rows);
+  const __m128i wi = _mm_load_si128(reinterpret_cast<const __m128i*>(l.cols));
+  const __m128i hi = _mm_load_si128(reinterpret_cast<const __m128i*>(l.rows));
+  const __m256d w = _mm256_cvtepi32_pd(wi), h = _mm256_cvtepi32_pd(hi);  // exact
   const __m128i wrapI = _mm_load_si128(reinterpret_cast<const __m128i*>(l.wrap));
   const __m256d wrap = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(wrapI));
   x = _mm256_blendv_pd(clamped(x, w), wrapped(x, w, wrap), wrap);
@@ -117,8 +106,6 @@ struct LaneLevels {
   const __m128 ax = _mm256_cvtpd_ps(_mm256_sub_pd(x, fx)), ay = _mm256_cvtpd_ps(_mm256_sub_pd(y, fy));
   __m128i x0 = _mm256_cvttpd_epi32(fx), y0 = _mm256_cvttpd_epi32(fy);
   const __m128i one = _mm_set1_epi32(1);
-  const __m128i wi = _mm_load_si128(reinterpret_cast<const __m128i*>(l.colsInt));
-  const __m128i hi = _mm_load_si128(reinterpret_cast<const __m128i*>(l.rowsInt));
   const __m128i wm1 = _mm_sub_epi32(wi, one), hm1 = _mm_sub_epi32(hi, one);
   __m128i x1 = _mm_add_epi32(x0, one), y1 = _mm_add_epi32(y0, one);
   // Wrapped: at most one period back (x0 >= w, x1 >= w); clamped: x1 at most w - 1.
@@ -161,8 +148,6 @@ void setLevel(LaneLevels& l, int i, const SampleLevel& level, bool wrap) {
   l.step[i] = level.step;
   l.cols[i] = level.cols;
   l.rows[i] = level.rows;
-  l.colsInt[i] = level.cols;
-  l.rowsInt[i] = level.rows;
   l.wrap[i] = wrap ? -1 : 0;
 }
 
