@@ -10,11 +10,14 @@
 
 namespace marionette::ar::synthetic {
 
-// One pyramid level of a CV_32FC3 texture.
+// One pyramid level of a texture, RGB and a channel never read: CV_32FC4 (16 bytes a texel),
+// or CV_8UC4 (4 bytes) where every value of the level is a whole number 0-255, as a level made
+// from an 8-bit image is (the same values, a quarter of the memory traffic).
 struct SampleLevel {
   const unsigned char* data = nullptr;
   std::ptrdiff_t step = 0;  // bytes a row
   int cols = 0, rows = 0;
+  int texelBytes = 16;  // 16: float texels; 4: byte texels
 };
 
 // A texture pyramid as fetchFiltered reads it: `wrap` tiles (else edges replicate); past the

@@ -1,14 +1,18 @@
 // Four scene samples at a time (scene_samples.hpp). Each step is the scalar loop's own
 // operation in the same order (synthetic_sequence.cpp: hit, the footprint, fetchFiltered,
 // fetch), in IEEE double or float lanes: [[gnu::target("avx2")]] brings no FMA, so every
-// multiply and add rounds as the scalar code's. std::log2 and std::fmod stay scalar per lane,
-// and so do the texel loads (faster than AVX2's gathers on this machine's AMD cores).
+// multiply and add rounds as the scalar code's. std::log2 and std::fmod stay scalar per lane;
+// the texels are loaded as RGBA, one load each (4 bytes where a level holds whole bytes, else 16),
+// and filtered per lane across the channels (faster than AVX2's gathers of single channels on
+// this machine's AMD cores; the texel loads miss the cache more than anything else here).
 // SyntheticSequenceRender.WideSceneSamplesGiveTheScalarLoopsBits compares whole frames.
 #include "tracking/scene_samples.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <iterator>
 #include <limits>
 
 #include "cpu_avx2.hpp"  // the tracker's one AVX2 check (examples/ar/tracking/src)
@@ -60,13 +64,6 @@ struct Hit {
   return _mm256_blendv_pd(_mm256_set1_pd(kInf), length, n.ok);
 }
 
-// Per lane, the pyramid level one bilinear fetch reads.
-struct LaneLevels {
-  alignas(32) std::int64_t base[4];  // the level's first byte
-  alignas(32) std::int64_t step[4];
-  alignas(16) int cols[4], rows[4], wrap[4];
-};
-
 // Wrapped lanes: std::fmod (scalar, rare) where |v| >= size, then + size below 0.
 [[gnu::target("avx2")]] inline __m256d wrapped(__m256d v, __m256d size, __m256d wrap) {
   const __m256d far = _mm256_andnot_pd(_mm256_cmp_pd(absolute(v), size, _CMP_LT_OQ), wrap);
@@ -74,9 +71,9 @@ struct LaneLevels {
     alignas(32) double vs[4], ss[4];
     _mm256_store_pd(vs, v);
     _mm256_store_pd(ss, size);
-    for (int i = 0; i < 4; ++i)
-      if (m >> i & 1) vs[i] = std::fmod(vs[i], ss[i]);
-    v = _mm256_load_pd(vs);
+    // Rebuilt from registers (a vector load of the lanes' fresh stores would stall).
+    auto lane = [&](int i) { return m >> i & 1 ? std::fmod(vs[i], ss[i]) : vs[i]; };
+    v = _mm256_setr_pd(lane(0), lane(1), lane(2), lane(3));
   }
   return _mm256_blendv_pd(v, _mm256_add_pd(v, size), _mm256_cmp_pd(v, _mm256_setzero_pd(), _CMP_LT_OQ));
 }
@@ -93,12 +90,26 @@ struct LaneLevels {
   return _mm_sub_epi32(v, _mm_and_si128(_mm_cmpgt_epi32(v, last), size));
 }
 
-// fetch(): bilinear at (x, y), edges wrapped or replicated per lane; the channels in c[3].
-[[gnu::target("avx2")]] void fetch4(const LaneLevels& l, __m256d x, __m256d y, __m128 c[3]) {
-  const __m128i wi = _mm_load_si128(reinterpret_cast<const __m128i*>(l.cols));
-  const __m128i hi = _mm_load_si128(reinterpret_cast<const __m128i*>(l.rows));
+// One RGBA texel as floats, from bytes (exact: whole numbers 0-255) or from floats.
+[[gnu::target("avx2")]] inline __m128 loadTexel(std::int64_t address, bool bytes) {
+  const void* p = reinterpret_cast<const void*>(static_cast<std::uintptr_t>(address));
+  if (!bytes) return _mm_load_ps(static_cast<const float*>(p));
+  int packed;
+  std::memcpy(&packed, p, sizeof packed);
+  return _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(packed)));
+}
+
+// fetch(): bilinear at (x, y), edges wrapped or replicated per lane, for the lanes in `lanes`:
+// lane i's colour in px[i] (RGBA, A unused). The coordinates four lanes wide; the filter per
+// lane across the channels, each product and sum the scalar fetch's own.
+// `level[i]` is lane i's pyramid level; `wrapI` has lane i set where it wraps. (The lanes'
+// values are gathered from memory that is not written here: a vector load of four fresh
+// scalar stores would stall on store forwarding, which showed in the profile.)
+[[gnu::target("avx2")]] void fetch4(const SampleLevel* const level[4], __m128i wrapI, __m256d x, __m256d y, int lanes,
+                                    __m128 px[4]) {
+  const __m128i wi = _mm_setr_epi32(level[0]->cols, level[1]->cols, level[2]->cols, level[3]->cols);
+  const __m128i hi = _mm_setr_epi32(level[0]->rows, level[1]->rows, level[2]->rows, level[3]->rows);
   const __m256d w = _mm256_cvtepi32_pd(wi), h = _mm256_cvtepi32_pd(hi);  // exact
-  const __m128i wrapI = _mm_load_si128(reinterpret_cast<const __m128i*>(l.wrap));
   const __m256d wrap = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(wrapI));
   x = _mm256_blendv_pd(clamped(x, w), wrapped(x, w, wrap), wrap);
   y = _mm256_blendv_pd(clamped(y, h), wrapped(y, h, wrap), wrap);
@@ -113,42 +124,171 @@ struct LaneLevels {
   y0 = _mm_blendv_epi8(y0, back(y0, hi, hm1), wrapI);
   x1 = _mm_blendv_epi8(_mm_min_epi32(x1, wm1), back(x1, wi, wm1), wrapI);
   y1 = _mm_blendv_epi8(_mm_min_epi32(y1, hm1), back(y1, hi, hm1), wrapI);
-  const __m256i base = _mm256_load_si256(reinterpret_cast<const __m256i*>(l.base));
-  const __m256i stride = _mm256_load_si256(reinterpret_cast<const __m256i*>(l.step));
+  auto address = [&](int i) { return static_cast<long long>(reinterpret_cast<std::uintptr_t>(level[i]->data)); };
+  const __m256i base = _mm256_setr_epi64x(address(0), address(1), address(2), address(3));
+  const __m256i stride = _mm256_setr_epi64x(level[0]->step, level[1]->step, level[2]->step, level[3]->step);
   const __m256i row0 = _mm256_add_epi64(base, _mm256_mul_epi32(_mm256_cvtepi32_epi64(y0), stride));
   const __m256i row1 = _mm256_add_epi64(base, _mm256_mul_epi32(_mm256_cvtepi32_epi64(y1), stride));
-  const __m256i twelve = _mm256_set1_epi64x(12);
-  const __m256i col0 = _mm256_mul_epi32(_mm256_cvtepi32_epi64(x0), twelve);
-  const __m256i col1 = _mm256_mul_epi32(_mm256_cvtepi32_epi64(x1), twelve);
-  const __m256i a00 = _mm256_add_epi64(row0, col0), a01 = _mm256_add_epi64(row0, col1);
-  const __m256i a10 = _mm256_add_epi64(row1, col0), a11 = _mm256_add_epi64(row1, col1);
-  const __m128 onef = _mm_set1_ps(1.0f);
-  const __m128 omx = _mm_sub_ps(onef, ax), omy = _mm_sub_ps(onef, ay);
-  // The taps' addresses, then plain loads (0.71 of the scalar render's time against 0.74 with
-  // AVX2's gathers, on this machine's AMD cores).
+  const __m256i texelBytes = _mm256_setr_epi64x(level[0]->texelBytes, level[1]->texelBytes, level[2]->texelBytes,
+                                                 level[3]->texelBytes);
+  const __m256i col0 = _mm256_mul_epi32(_mm256_cvtepi32_epi64(x0), texelBytes);
+  const __m256i col1 = _mm256_mul_epi32(_mm256_cvtepi32_epi64(x1), texelBytes);
   alignas(32) std::int64_t at[4][4];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(at[0]), a00);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(at[1]), a01);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(at[2]), a10);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(at[3]), a11);
-  auto tap = [&at](int t, int k) {
-    auto f = [&](int i) { return reinterpret_cast<const float*>(static_cast<std::uintptr_t>(at[t][i]))[k]; };
-    return _mm_setr_ps(f(0), f(1), f(2), f(3));
-  };
-  for (int k = 0; k < 3; ++k) {
-    const __m128 p00 = tap(0, k), p01 = tap(1, k), p10 = tap(2, k), p11 = tap(3, k);
-    const __m128 top = _mm_add_ps(_mm_mul_ps(p00, omx), _mm_mul_ps(p01, ax));
-    const __m128 bottom = _mm_add_ps(_mm_mul_ps(p10, omx), _mm_mul_ps(p11, ax));
-    c[k] = _mm_add_ps(_mm_mul_ps(top, omy), _mm_mul_ps(bottom, ay));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at[0]), _mm256_add_epi64(row0, col0));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at[1]), _mm256_add_epi64(row0, col1));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at[2]), _mm256_add_epi64(row1, col0));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at[3]), _mm256_add_epi64(row1, col1));
+  const __m128 onef = _mm_set1_ps(1.0f);
+  alignas(16) float wx[2][4], wy[2][4];  // (1 - a, a) across and down, per lane
+  _mm_store_ps(wx[0], _mm_sub_ps(onef, ax));
+  _mm_store_ps(wx[1], ax);
+  _mm_store_ps(wy[0], _mm_sub_ps(onef, ay));
+  _mm_store_ps(wy[1], ay);
+  for (int i = 0; i < 4; ++i) {
+    if (!(lanes >> i & 1)) continue;
+    const bool bytes = level[i]->texelBytes == 4;
+    auto texel = [&](int t) { return loadTexel(at[t][i], bytes); };
+    const __m128 omx = _mm_set1_ps(wx[0][i]), sx = _mm_set1_ps(wx[1][i]);
+    const __m128 top = _mm_add_ps(_mm_mul_ps(texel(0), omx), _mm_mul_ps(texel(1), sx));
+    const __m128 bottom = _mm_add_ps(_mm_mul_ps(texel(2), omx), _mm_mul_ps(texel(3), sx));
+    px[i] = _mm_add_ps(_mm_mul_ps(top, _mm_set1_ps(wy[0][i])), _mm_mul_ps(bottom, _mm_set1_ps(wy[1][i])));
   }
 }
 
-void setLevel(LaneLevels& l, int i, const SampleLevel& level, bool wrap) {
-  l.base[i] = static_cast<std::int64_t>(reinterpret_cast<std::uintptr_t>(level.data));
-  l.step[i] = level.step;
-  l.cols[i] = level.cols;
-  l.rows[i] = level.rows;
-  l.wrap[i] = wrap ? -1 : 0;
+// 1 / 2^level, exact (a division per lane showed in the profile).
+constexpr double kLevelScale[] = {1.0,        1.0 / 2,    1.0 / 4,    1.0 / 8,    1.0 / 16,   1.0 / 32,
+                                  1.0 / 64,   1.0 / 128,  1.0 / 256,  1.0 / 512,  1.0 / 1024, 1.0 / 2048,
+                                  1.0 / 4096, 1.0 / 8192, 1.0 / 16384, 1.0 / 32768};
+
+
+// A group of four samples' geometry: texture coordinates and footprints in texels, and which
+// lanes see what.
+struct Group {
+  __m256d u, v, footprint;
+  int invalid, occluded, sky, onTarget;
+};
+
+// The geometry of samples xs[0..3] of row y: the rays, the planes they meet, the footprint.
+[[gnu::target("avx2")]] inline void geometry(const SampleSource& s, const int* xs, int y, Group& out) {
+  const __m256d inf = _mm256_set1_pd(kInf), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
+  const int ny = y + 1 < s.height ? y + 1 : y - 1;
+  int nxs[4];
+  for (int i = 0; i < 4; ++i) nxs[i] = xs[i] + 1 < s.width ? xs[i] + 1 : xs[i] - 1;
+  const Rays r = loadRays(s, xs, y);
+  out.invalid = _mm256_movemask_pd(_mm256_cmp_pd(r.x, r.x, _CMP_UNORD_Q));
+  out.occluded = 0;
+  if (s.occW > 0) {
+    const Hit o = hit(s.toOccluder, r);
+    __m256d in = _mm256_and_pd(o.ok, _mm256_cmp_pd(o.x, _mm256_set1_pd(s.occX0), _CMP_GE_OQ));
+    in = _mm256_and_pd(in, _mm256_cmp_pd(o.x, _mm256_set1_pd(s.occX0 + s.occW), _CMP_LT_OQ));
+    in = _mm256_and_pd(in, _mm256_cmp_pd(absolute(o.y), _mm256_set1_pd(0.5 * s.targetDepth), _CMP_LT_OQ));
+    out.occluded = _mm256_movemask_pd(in);
+  }
+  Hit g{zero, zero, zero};
+  if (s.groundOk) g = hit(s.toGround, r);
+  // Sky where the ray misses the plane or meets it beyond what a double holds (as the scalar loop).
+  const __m256d finite = _mm256_and_pd(_mm256_cmp_pd(absolute(g.x), inf, _CMP_LT_OQ), _mm256_cmp_pd(absolute(g.y), inf, _CMP_LT_OQ));
+  out.sky = ~_mm256_movemask_pd(_mm256_and_pd(g.ok, finite)) & 15;
+  // The footprint from the steps to the next sample across and down (sceneSample's loop:
+  // std::max(a, b) is max_pd(b, a) and std::min(a, b) is min_pd(b, a), NaN included).
+  const __m256d s0 = step(hit(s.toGround, loadRays(s, nxs, y)), g);
+  const __m256d s1 = step(hit(s.toGround, loadRays(s, xs, ny)), g);
+  const __m256d major0 = _mm256_max_pd(s0, zero), minor0 = _mm256_min_pd(s0, inf);
+  const __m256d skip = _mm256_cmp_pd(major0, inf, _CMP_EQ_OQ);  // the loop stops at an infinite step
+  const __m256d major = _mm256_blendv_pd(_mm256_max_pd(s1, major0), major0, skip);
+  const __m256d minor = _mm256_blendv_pd(_mm256_min_pd(s1, minor0), minor0, skip);
+  const __m256d footprint = _mm256_max_pd(_mm256_mul_pd(half, major), minor);
+  const __m256d onTargetMask =
+      _mm256_and_pd(_mm256_cmp_pd(absolute(g.x), _mm256_set1_pd(0.5 * s.targetWidth), _CMP_LT_OQ),
+                    _mm256_cmp_pd(absolute(g.y), _mm256_set1_pd(0.5 * s.targetDepth), _CMP_LT_OQ));
+  out.onTarget = _mm256_movemask_pd(onTargetMask);
+  // Texture coordinates and footprints in texels, the target's and the floor's (each only
+  // where a lane needs it: the divisions are most of this pass's time).
+  __m256d cu = zero, cw = zero, cf = zero;
+  if (out.onTarget != 0) {
+    const __m256d texel = _mm256_set1_pd(s.texel);
+    cu = _mm256_sub_pd(_mm256_add_pd(_mm256_div_pd(g.x, texel), _mm256_set1_pd(0.5 * s.targetCols)), half);
+    cw = _mm256_sub_pd(_mm256_add_pd(_mm256_div_pd(g.y, texel), _mm256_set1_pd(0.5 * s.targetRows)), half);
+    cf = _mm256_div_pd(footprint, texel);
+  }
+  if (out.onTarget != 15 && !s.floorEmpty) {
+    const __m256d fu = _mm256_mul_pd(_mm256_div_pd(g.x, _mm256_set1_pd(s.floorPeriodX)), _mm256_set1_pd(s.floorCols));
+    const __m256d fv = _mm256_mul_pd(_mm256_div_pd(g.y, _mm256_set1_pd(s.floorPeriodZ)), _mm256_set1_pd(s.floorRows));
+    const __m256d ff = _mm256_div_pd(footprint, _mm256_set1_pd(s.floorTexel));
+    cu = _mm256_blendv_pd(fu, cu, onTargetMask);
+    cw = _mm256_blendv_pd(fv, cw, onTargetMask);
+    cf = _mm256_blendv_pd(ff, cf, onTargetMask);
+  }
+  out.u = cu, out.v = cw, out.footprint = cf;
+}
+
+// The colours of a group whose geometry is known: flat, or filtered from two levels.
+[[gnu::target("avx2")]] void shadeGroup(const SampleSource& s, const Group& g, cv::Vec3f* out) {
+  alignas(32) double ft[4];
+  _mm256_store_pd(ft, g.footprint);
+  const int onTarget = g.onTarget;
+  // Per lane (scalar, as fetchFiltered): the colour when it is flat, else the two levels.
+  cv::Vec3f flat[4];
+  int fetched = 0, second = 0;
+  // The two levels per lane (lanes that read nothing name level 0 of the target, never read).
+  const SampleLevel* l0[4] = {s.target.levels, s.target.levels, s.target.levels, s.target.levels};
+  const SampleLevel* l1[4] = {s.target.levels, s.target.levels, s.target.levels, s.target.levels};
+  int a0[4] = {}, a1[4] = {};
+  float weight[4], fade[4];
+  for (int i = 0; i < 4; ++i) {
+    const SampleTexture& t = onTarget >> i & 1 ? s.target : s.floor;
+    weight[i] = 0, fade[i] = 0;
+    if (g.invalid >> i & 1) flat[i] = s.invalidLens;
+    else if (g.occluded >> i & 1) flat[i] = s.occluder;
+    else if (g.sky >> i & 1) flat[i] = s.sky;
+    else if (!(onTarget >> i & 1) && s.floorEmpty) flat[i] = s.floor.mean;
+    else {
+      const double lod = ft[i] > 1 ? std::log2(ft[i]) : 0.0;
+      const int last = t.count - 1;
+      if (lod >= last + t.fade) {
+        flat[i] = t.mean;
+      } else {
+        const int a = std::min(static_cast<int>(lod), last), b = std::min(a + 1, last);
+        l0[i] = &t.levels[a];
+        l1[i] = &t.levels[b];
+        a0[i] = a, a1[i] = b;
+        weight[i] = static_cast<float>(std::clamp(lod - a, 0.0, 1.0));
+        if (weight[i] > 0) second |= 1 << i;
+        if (t.fade > 0 && lod > last) fade[i] = static_cast<float>((lod - last) / t.fade);
+        fetched |= 1 << i;
+      }
+    }
+  }
+  if (!fetched) {
+    for (int i = 0; i < 4; ++i) out[i] = flat[i];
+    return;
+  }
+  const int wraps = (s.target.wrap ? onTarget : 0) | (s.floor.wrap ? ~onTarget & 15 : 0);
+  const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+  const __m128i wrapI = _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(wraps), bit), bit);
+  __m128 c[4], d[4];
+  const __m256d k0 = _mm256_setr_pd(kLevelScale[a0[0]], kLevelScale[a0[1]], kLevelScale[a0[2]], kLevelScale[a0[3]]);
+  fetch4(l0, wrapI, _mm256_mul_pd(g.u, k0), _mm256_mul_pd(g.v, k0), fetched, c);
+  if (second) {
+    const __m256d k1 = _mm256_setr_pd(kLevelScale[a1[0]], kLevelScale[a1[1]], kLevelScale[a1[2]], kLevelScale[a1[3]]);
+    fetch4(l1, wrapI, _mm256_mul_pd(g.u, k1), _mm256_mul_pd(g.v, k1), second, d);
+  }
+  for (int i = 0; i < 4; ++i) {
+    if (!(fetched >> i & 1)) {
+      out[i] = flat[i];
+      continue;
+    }
+    __m128 colour = _mm_mul_ps(c[i], _mm_set1_ps(1.0f - weight[i]));
+    if (second >> i & 1) colour = _mm_add_ps(colour, _mm_mul_ps(d[i], _mm_set1_ps(weight[i])));
+    if (fade[i] > 0) {
+      const cv::Vec3f& mu = onTarget >> i & 1 ? s.target.mean : s.floor.mean;
+      colour = _mm_add_ps(_mm_mul_ps(colour, _mm_set1_ps(1.0f - fade[i])),
+                          _mm_mul_ps(_mm_setr_ps(mu[0], mu[1], mu[2], 0.0f), _mm_set1_ps(fade[i])));
+    }
+    alignas(16) float rgba[4];
+    _mm_store_ps(rgba, colour);
+    out[i] = cv::Vec3f(rgba[0], rgba[1], rgba[2]);
+  }
 }
 
 }  // namespace
@@ -156,136 +296,19 @@ void setLevel(LaneLevels& l, int i, const SampleLevel& level, bool wrap) {
 [[gnu::target("avx2")]] int sceneSamplesAvx2(const SampleSource& s, int x, int stride, int y, int count,
                                              cv::Vec3f* out) noexcept {
   if (!sceneSamplesWideAvailable()) return 0;  // (a caller that did not ask first gets the scalar loop)
-  const __m256d inf = _mm256_set1_pd(kInf), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
-  const int ny = y + 1 < s.height ? y + 1 : y - 1;
-  int done = 0;
-  for (; done + 4 <= count; done += 4) {
-    int xs[4], nxs[4];
-    for (int i = 0; i < 4; ++i) {
-      xs[i] = x + stride * (done + i);
-      nxs[i] = xs[i] + 1 < s.width ? xs[i] + 1 : xs[i] - 1;
-    }
-    const Rays r = loadRays(s, xs, y);
-    const int invalid = _mm256_movemask_pd(_mm256_cmp_pd(r.x, r.x, _CMP_UNORD_Q));
-    int occluded = 0;
-    if (s.occW > 0) {
-      const Hit o = hit(s.toOccluder, r);
-      __m256d in = _mm256_and_pd(o.ok, _mm256_cmp_pd(o.x, _mm256_set1_pd(s.occX0), _CMP_GE_OQ));
-      in = _mm256_and_pd(in, _mm256_cmp_pd(o.x, _mm256_set1_pd(s.occX0 + s.occW), _CMP_LT_OQ));
-      in = _mm256_and_pd(in, _mm256_cmp_pd(absolute(o.y), _mm256_set1_pd(0.5 * s.targetDepth), _CMP_LT_OQ));
-      occluded = _mm256_movemask_pd(in);
-    }
-    Hit g{zero, zero, zero};
-    if (s.groundOk) g = hit(s.toGround, r);
-    // Sky where the ray misses the plane or meets it beyond what a double holds (as the scalar loop).
-    const __m256d finite = _mm256_and_pd(_mm256_cmp_pd(absolute(g.x), inf, _CMP_LT_OQ), _mm256_cmp_pd(absolute(g.y), inf, _CMP_LT_OQ));
-    const int sky = ~_mm256_movemask_pd(_mm256_and_pd(g.ok, finite)) & 15;
-    // The footprint from the steps to the next sample across and down (sceneSample's loop:
-    // std::max(a, b) is max_pd(b, a) and std::min(a, b) is min_pd(b, a), NaN included).
-    const __m256d s0 = step(hit(s.toGround, loadRays(s, nxs, y)), g);
-    const __m256d s1 = step(hit(s.toGround, loadRays(s, xs, ny)), g);
-    const __m256d major0 = _mm256_max_pd(s0, zero), minor0 = _mm256_min_pd(s0, inf);
-    const __m256d skip = _mm256_cmp_pd(major0, inf, _CMP_EQ_OQ);  // the loop stops at an infinite step
-    const __m256d major = _mm256_blendv_pd(_mm256_max_pd(s1, major0), major0, skip);
-    const __m256d minor = _mm256_blendv_pd(_mm256_min_pd(s1, minor0), minor0, skip);
-    const __m256d footprint = _mm256_max_pd(_mm256_mul_pd(half, major), minor);
-    const __m256d onTargetMask =
-        _mm256_and_pd(_mm256_cmp_pd(absolute(g.x), _mm256_set1_pd(0.5 * s.targetWidth), _CMP_LT_OQ),
-                      _mm256_cmp_pd(absolute(g.y), _mm256_set1_pd(0.5 * s.targetDepth), _CMP_LT_OQ));
-    const int onTarget = _mm256_movemask_pd(onTargetMask);
-    // Texture coordinates and footprints in texels, the target's and the floor's (each only
-    // where a lane needs it: the divisions are most of this loop's time).
-    __m256d cu = zero, cw = zero, cf = zero;
-    if (onTarget != 0) {
-      const __m256d texel = _mm256_set1_pd(s.texel);
-      cu = _mm256_sub_pd(_mm256_add_pd(_mm256_div_pd(g.x, texel), _mm256_set1_pd(0.5 * s.targetCols)), half);
-      cw = _mm256_sub_pd(_mm256_add_pd(_mm256_div_pd(g.y, texel), _mm256_set1_pd(0.5 * s.targetRows)), half);
-      cf = _mm256_div_pd(footprint, texel);
-    }
-    if (onTarget != 15 && !s.floorEmpty) {
-      const __m256d fu = _mm256_mul_pd(_mm256_div_pd(g.x, _mm256_set1_pd(s.floorPeriodX)), _mm256_set1_pd(s.floorCols));
-      const __m256d fv = _mm256_mul_pd(_mm256_div_pd(g.y, _mm256_set1_pd(s.floorPeriodZ)), _mm256_set1_pd(s.floorRows));
-      const __m256d ff = _mm256_div_pd(footprint, _mm256_set1_pd(s.floorTexel));
-      cu = _mm256_blendv_pd(fu, cu, onTargetMask);
-      cw = _mm256_blendv_pd(fv, cw, onTargetMask);
-      cf = _mm256_blendv_pd(ff, cf, onTargetMask);
-    }
-    alignas(32) double u[4], v[4], ft[4];
-    _mm256_store_pd(u, cu);
-    _mm256_store_pd(v, cw);
-    _mm256_store_pd(ft, cf);
-    // Per lane (scalar, as fetchFiltered): the colour when it is flat, else the two levels.
-    cv::Vec3f flat[4];
-    int fetched = 0;
-    LaneLevels l0, l1;  // every lane set below (no zeroing: it showed in the profile)
-    alignas(32) double scale0[4], scale1[4];
-    alignas(16) float weight[4], fade[4];
-    bool second = false;
-    for (int i = 0; i < 4; ++i) {
-      const SampleTexture& t = onTarget >> i & 1 ? s.target : s.floor;
-      scale0[i] = scale1[i] = 0;
-      weight[i] = 0, fade[i] = 0;
-      if (invalid >> i & 1) flat[i] = s.invalidLens;
-      else if (occluded >> i & 1) flat[i] = s.occluder;
-      else if (sky >> i & 1) flat[i] = s.sky;
-      else if (!(onTarget >> i & 1) && s.floorEmpty) flat[i] = s.floor.mean;
-      else {
-        const double lod = ft[i] > 1 ? std::log2(ft[i]) : 0.0;
-        const int last = t.count - 1;
-        if (lod >= last + t.fade) {
-          flat[i] = t.mean;
-        } else {
-          const int a = std::min(static_cast<int>(lod), last), b = std::min(a + 1, last);
-          setLevel(l0, i, t.levels[a], t.wrap);
-          setLevel(l1, i, t.levels[b], t.wrap);
-          scale0[i] = 1.0 / (1 << a);
-          scale1[i] = 1.0 / (1 << b);
-          weight[i] = static_cast<float>(std::clamp(lod - a, 0.0, 1.0));
-          second = second || weight[i] > 0;
-          if (t.fade > 0 && lod > last) fade[i] = static_cast<float>((lod - last) / t.fade);
-          fetched |= 1 << i;
-        }
-      }
-      if (!(fetched >> i & 1)) {  // lanes that read nothing read texel (0, 0) of a level that exists
-        setLevel(l0, i, s.target.levels[0], false);
-        setLevel(l1, i, s.target.levels[0], false);
-        u[i] = v[i] = 0;
-      }
-    }
-    if (fetched) {
-      const __m256d uu = _mm256_load_pd(u), vv = _mm256_load_pd(v);
-      __m128 c[3], d[3];
-      const __m256d k0 = _mm256_load_pd(scale0);
-      fetch4(l0, _mm256_mul_pd(uu, k0), _mm256_mul_pd(vv, k0), c);
-      const __m128 a = _mm_load_ps(weight), m = _mm_load_ps(fade);
-      const __m128 onef = _mm_set1_ps(1.0f), zerof = _mm_setzero_ps();
-      for (auto& ch : c) ch = _mm_mul_ps(ch, _mm_sub_ps(onef, a));
-      if (second) {
-        const __m256d k1 = _mm256_load_pd(scale1);
-        fetch4(l1, _mm256_mul_pd(uu, k1), _mm256_mul_pd(vv, k1), d);
-        const __m128 more = _mm_cmpgt_ps(a, zerof);
-        for (int k = 0; k < 3; ++k) c[k] = _mm_blendv_ps(c[k], _mm_add_ps(c[k], _mm_mul_ps(d[k], a)), more);
-      }
-      const __m128 fading = _mm_cmpgt_ps(m, zerof);
-      if (_mm_movemask_ps(fading)) {
-        alignas(16) float mean[3][4];
-        for (int i = 0; i < 4; ++i) {
-          const cv::Vec3f& mu = onTarget >> i & 1 ? s.target.mean : s.floor.mean;
-          for (int k = 0; k < 3; ++k) mean[k][i] = mu[k];
-        }
-        for (int k = 0; k < 3; ++k)
-          c[k] = _mm_blendv_ps(c[k], _mm_add_ps(_mm_mul_ps(c[k], _mm_sub_ps(onef, m)), _mm_mul_ps(_mm_load_ps(mean[k]), m)),
-                               fading);
-      }
-      alignas(16) float channel[3][4];
-      for (int k = 0; k < 3; ++k) _mm_store_ps(channel[k], c[k]);
-      for (int i = 0; i < 4; ++i)
-        out[done + i] = fetched >> i & 1 ? cv::Vec3f(channel[0][i], channel[1][i], channel[2][i]) : flat[i];
-    } else {
-      for (int i = 0; i < 4; ++i) out[done + i] = flat[i];
-    }
+  constexpr int kLevels = static_cast<int>(std::size(kLevelScale));
+  if (s.target.count > kLevels || s.floor.count > kLevels) return 0;  // (pyramids are 6-11 levels)
+  // (Eight groups' geometry first, then their shading, measured no faster: the texel loads'
+  // misses, not the divisions' latency, hold this loop back.)
+  const int whole = count / 4 * 4;
+  for (int done = 0; done < whole; done += 4) {
+    int xs[4];
+    for (int i = 0; i < 4; ++i) xs[i] = x + stride * (done + i);
+    Group g;
+    geometry(s, xs, y, g);
+    shadeGroup(s, g, out + done);
   }
-  return done;
+  return whole;
 }
 #else
 int sceneSamplesAvx2(const SampleSource&, int, int, int, int, cv::Vec3f*) noexcept { return 0; }

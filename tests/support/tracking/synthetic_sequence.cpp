@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include <glm/mat3x3.hpp>
 #include <opencv2/calib3d.hpp>
@@ -215,9 +216,17 @@ SequenceRenderer::SequenceRenderer(PlanarScene scene, CameraModel camera)
     floor_.mean = cv::Vec3f(float(fm[0]), float(fm[1]), float(fm[2]));
   }
 
-  for (auto [from, to] : {std::pair{&target_, &targetLevels_}, std::pair{&floor_, &floorLevels_}})
-    for (const cv::Mat& level : from->levels)
-      to->push_back({level.data, static_cast<std::ptrdiff_t>(level.step), level.cols, level.rows});
+  for (auto [from, rgba, to] : {std::tuple{&target_, &targetRgba_, &targetLevels_}, std::tuple{&floor_, &floorRgba_, &floorLevels_}})
+    for (const cv::Mat& level : from->levels) {
+      cv::Mat bytes, back;
+      level.convertTo(bytes, CV_8UC3);  // rounded and saturated: exact only where the level is whole bytes
+      bytes.convertTo(back, CV_32FC3);
+      const bool exact = cv::norm(back, level, cv::NORM_INF) == 0;
+      rgba->emplace_back();
+      cv::cvtColor(exact ? bytes : level, rgba->back(), cv::COLOR_BGR2BGRA);  // the fourth channel is never read
+      const cv::Mat& m = rgba->back();
+      to->push_back({m.data, static_cast<std::ptrdiff_t>(m.step), level.cols, level.rows, exact ? 4 : 16});
+    }
 
   // Where the radial model stops growing with the radius; beyond it no ray reaches the image.
   const Lens lens(camera_);

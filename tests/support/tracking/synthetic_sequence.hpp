@@ -150,7 +150,10 @@ class SequenceRenderer {
   std::vector<cv::Vec2d> rays_;
   std::vector<double> columnRays_, rowRays_;
   [[nodiscard]] cv::Vec2d ray(int x, int y) const noexcept;  // supersample (x, y)'s
-  std::vector<SampleLevel> targetLevels_, floorLevels_;  // the pyramids as the wide samples read them
+  // The pyramids as the wide samples read them: the same texels as RGBA, one load each
+  // (SampleLevel: bytes where the level's values are whole bytes).
+  std::vector<cv::Mat> targetRgba_, floorRgba_;
+  std::vector<SampleLevel> targetLevels_, floorLevels_;
   bool wide_ = sceneSamplesWideAvailable();
 
   struct View;  // one pose's plane mappings (synthetic_sequence.cpp)
