@@ -497,8 +497,12 @@ void SequenceRenderer::shade(const View& v, cv::Mat& out) const {
   });
 }
 
-void SequenceRenderer::accumulatePhase(const View& v, int dx, int dy, cv::Mat& sum) const {
-  // In tiles, so that neighbouring samples' texels are still in the cache.
+void SequenceRenderer::accumulateExposure(const std::vector<View>& views, cv::Mat& sum) const {
+  // The 2x2 positions in an order whose first two are already a diagonal pair.
+  constexpr int kPhase[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+  // In tiles, every sub-frame of a tile before the next tile: the sub-frames' views differ by a
+  // pixel or two, so the texels one reads are still in the cache for the next. Each pixel's sum
+  // is taken in sub-frame order, as one pass per sub-frame would.
   constexpr int kTile = 32;
   const int across = (camera_.width + kTile - 1) / kTile, down = (camera_.height + kTile - 1) / kTile;
   cv::parallel_for_(cv::Range(0, across * down), [&](const cv::Range& tiles) {
@@ -506,10 +510,13 @@ void SequenceRenderer::accumulatePhase(const View& v, int dx, int dy, cv::Mat& s
       const int x0 = tile % across * kTile, y0 = tile / across * kTile;
       const int n = std::min(x0 + kTile, camera_.width) - x0;
       cv::Vec3f colours[kTile];
-      for (int y = y0; y < std::min(y0 + kTile, camera_.height); ++y) {
-        samples(v, kSupersample * x0 + dx, kSupersample, kSupersample * y + dy, n, colours);
-        auto* row = sum.ptr<cv::Vec3f>(y) + x0;
-        for (int i = 0; i < n; ++i) row[i] += colours[i];
+      for (std::size_t k = 0; k < views.size(); ++k) {
+        const int dx = kPhase[k % 4][0], dy = kPhase[k % 4][1];
+        for (int y = y0; y < std::min(y0 + kTile, camera_.height); ++y) {
+          samples(views[k], kSupersample * x0 + dx, kSupersample, kSupersample * y + dy, n, colours);
+          auto* row = sum.ptr<cv::Vec3f>(y) + x0;
+          for (int i = 0; i < n; ++i) row[i] += colours[i];
+        }
       }
     }
   });
@@ -556,12 +563,11 @@ void SequenceRenderer::renderLinear(const std::vector<SubFrame>& subFrames, cons
     shade(view(subFrames[0].cameraToWorld, fx, subFrames[0].occluders), super);
     cv::resize(super, image, cv::Size(camera_.width, camera_.height), 0, 0, cv::INTER_AREA);
   } else {
-    // The 2x2 positions in an order whose first two are already a diagonal pair.
-    constexpr int kPhase[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+    std::vector<View> views;
+    views.reserve(subFrames.size());
+    for (const SubFrame& sub : subFrames) views.push_back(view(sub.cameraToWorld, fx, sub.occluders));
     image = cv::Mat::zeros(camera_.height, camera_.width, CV_32FC3);
-    for (std::size_t k = 0; k < subFrames.size(); ++k)
-      accumulatePhase(view(subFrames[k].cameraToWorld, fx, subFrames[k].occluders), kPhase[k % 4][0],
-                      kPhase[k % 4][1], image);
+    accumulateExposure(views, image);
     image *= 1.0 / static_cast<double>(subFrames.size());
   }
 }

@@ -168,8 +168,9 @@ class SequenceRenderer {
   // of the occluders in front (targetCoverage).
   void coverageSample(const View& v, int x, int y, float& onTarget, float& hidden) const;
   void shade(const View& v, cv::Mat& supersampled) const;
-  // Supersample (2x + dx, 2y + dy) of every pixel (x, y), added to a camera-sized sum.
-  void accumulatePhase(const View& v, int dx, int dy, cv::Mat& sum) const;
+  // Per sub-frame k, supersample (2x + dx, 2y + dy) of every pixel (x, y) added to a
+  // camera-sized sum, (dx, dy) cycling through the 2x2 positions.
+  void accumulateExposure(const std::vector<View>& views, cv::Mat& sum) const;
   void finish(cv::Mat& image, const FrameEffects& fx, cv::Mat& outRgb) const;  // the effects, rounding
   // The target's grid points (the visibility grid) that are in view, and the grid's size.
   [[nodiscard]] std::vector<glm::dvec3> targetPointsInView(const glm::dmat4& cameraToWorld, int& gridPoints) const;
