@@ -93,7 +93,7 @@ struct Hit {
 // One RGBA texel as floats, from bytes (exact: whole numbers 0-255) or from floats.
 [[gnu::target("avx2")]] inline __m128 loadTexel(std::int64_t address, bool bytes) {
   const void* p = reinterpret_cast<const void*>(static_cast<std::uintptr_t>(address));
-  if (!bytes) return _mm_load_ps(static_cast<const float*>(p));
+  if (!bytes) return _mm_loadu_ps(static_cast<const float*>(p));  // (as fast when aligned)
   int packed;
   std::memcpy(&packed, p, sizeof packed);
   return _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(packed)));
@@ -159,7 +159,6 @@ struct Hit {
 constexpr double kLevelScale[] = {1.0,        1.0 / 2,    1.0 / 4,    1.0 / 8,    1.0 / 16,   1.0 / 32,
                                   1.0 / 64,   1.0 / 128,  1.0 / 256,  1.0 / 512,  1.0 / 1024, 1.0 / 2048,
                                   1.0 / 4096, 1.0 / 8192, 1.0 / 16384, 1.0 / 32768};
-
 
 // A group of four samples' geometry: texture coordinates and footprints in texels, and which
 // lanes see what.
@@ -230,7 +229,8 @@ struct Group {
   // Per lane (scalar, as fetchFiltered): the colour when it is flat, else the two levels.
   cv::Vec3f flat[4];
   int fetched = 0, second = 0;
-  // The two levels per lane (lanes that read nothing name level 0 of the target, never read).
+  // The two levels per lane (lanes that read nothing name level 0 of the target: its size is
+  // read, no texel).
   const SampleLevel* l0[4] = {s.target.levels, s.target.levels, s.target.levels, s.target.levels};
   const SampleLevel* l1[4] = {s.target.levels, s.target.levels, s.target.levels, s.target.levels};
   int a0[4] = {}, a1[4] = {};
@@ -263,7 +263,8 @@ struct Group {
     for (int i = 0; i < 4; ++i) out[i] = flat[i];
     return;
   }
-  const int wraps = (s.target.wrap ? onTarget : 0) | (s.floor.wrap ? ~onTarget & 15 : 0);
+  // (Only fetched lanes wrap: the others' coordinates may be NaN or huge, std::fmod's slow case.)
+  const int wraps = ((s.target.wrap ? onTarget : 0) | (s.floor.wrap ? ~onTarget & 15 : 0)) & fetched;
   const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
   const __m128i wrapI = _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(wraps), bit), bit);
   __m128 c[4], d[4];

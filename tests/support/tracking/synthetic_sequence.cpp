@@ -16,6 +16,9 @@ namespace marionette::ar::synthetic {
 namespace {
 
 constexpr int kSupersample = 2;
+// The 2x2 supersample positions sub-frame k of an exposure takes (k % 4), in an order whose
+// first two are already a diagonal pair; targetCoverage counts the same samples.
+constexpr int kPhase[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
 constexpr int kFloorLevels = 6;  // floor pyramid levels; beyond them the floor's mean colour
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -455,7 +458,6 @@ void SequenceRenderer::targetCoverage(const std::vector<SubFrame>& subFrames, co
   onTarget = cv::Mat::zeros(camera_.height, camera_.width, CV_32FC1);
   hidden = cv::Mat::zeros(camera_.height, camera_.width, CV_32FC1);
   // The samples renderExposure averages: all four of the 2x2 for one sub-frame, else one each.
-  constexpr int kPhase[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
   const bool one = subFrames.size() == 1;
   const std::size_t views = one ? 4 : subFrames.size();
   for (std::size_t k = 0; k < views; ++k) {
@@ -498,11 +500,10 @@ void SequenceRenderer::shade(const View& v, cv::Mat& out) const {
 }
 
 void SequenceRenderer::accumulateExposure(const std::vector<View>& views, cv::Mat& sum) const {
-  // The 2x2 positions in an order whose first two are already a diagonal pair.
-  constexpr int kPhase[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
-  // In tiles, every sub-frame of a tile before the next tile: the sub-frames' views differ by a
-  // pixel or two, so the texels one reads are still in the cache for the next. Each pixel's sum
-  // is taken in sub-frame order, as one pass per sub-frame would.
+  // In tiles, every sub-frame of a tile before the next tile: the sub-frames' views differ
+  // little (a sub-frame per 2 px of image motion), so the texels one reads are mostly still in
+  // the cache for the next. Each pixel's sum is taken in sub-frame order, as one pass per
+  // sub-frame would.
   constexpr int kTile = 32;
   const int across = (camera_.width + kTile - 1) / kTile, down = (camera_.height + kTile - 1) / kTile;
   cv::parallel_for_(cv::Range(0, across * down), [&](const cv::Range& tiles) {
