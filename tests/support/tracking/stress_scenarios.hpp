@@ -25,7 +25,9 @@
 // speed (180 deg/s in all, drift and tremor included) nor the angular acceleration (1500 deg/s^2
 // for pans, 400 for the moderate classes) is exceeded. A turn pivots about a wrist 10..30 cm
 // behind the camera, so that the camera also moves. Times: frame i is the exposure centred on
-// i / 30 s; its pose (the truth a tracker should report) is the camera's at that instant.
+// i / 30 s; its pose (the truth a tracker should report) is the camera's at that instant. The
+// path and the plans of the turns are hand_held_path.hpp's; the hands, the photometric effects
+// and the frames are made here.
 //
 // Determinism: one SplitMix64 stream per (class, seed, purpose) and distributions written here
 // (uniform from the top 53 bits), so that the same seed gives the same poses and, with the same
