@@ -15,7 +15,6 @@
 #include <glm/mat3x3.hpp>
 #include <opencv2/calib3d.hpp>
 
-#include "marionette/core/split_mix.hpp"
 #include "tracking/hand_held_path.hpp"
 #include "tracking/trajectory_metrics.hpp"
 
